@@ -1,0 +1,97 @@
+#pragma once
+// Texture memory: mip pyramids of RGBA8 or float texels, and the byte address of every texel
+// under a linear, 4x4-tiled or Morton layout (what the texture cache sees). docs/architecture.md.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+namespace texsim {
+
+using Rgba = glm::vec4;  // colour in [0,1] (RGBA8) or any float (RGBA32F)
+
+enum class TexelFormat { Rgba8, Rgba32f };
+enum class TexelLayout { Linear, Tiled4x4, Morton };
+enum class AddressMode { Wrap, Clamp, Mirror };  // Vulkan REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT
+
+const char* to_string(TexelFormat f);
+const char* to_string(TexelLayout l);
+const char* to_string(AddressMode m);
+
+class Texture {
+ public:
+  struct Level {
+    int width = 0;
+    int height = 0;
+    uint64_t offset = 0;            // byte offset of the level inside the texture
+    std::vector<uint8_t> rgba8;     // Rgba8: 4 bytes per texel, row-major
+    std::vector<float> rgba32f;     // Rgba32f: 4 floats per texel, row-major
+  };
+
+  // Builds a texture from level-0 float RGBA texels (row-major, 4 floats per texel).
+  // With `build_mips`, the pyramid is made by 2x2 box filtering down to 1x1 (sizes
+  // floor(w/2), as Vulkan); texels are stored in `format` (Rgba8 rounds to nearest).
+  static Texture from_rgba(std::string name, int width, int height, const std::vector<float>& rgba,
+                           TexelFormat format, bool build_mips);
+  // Builds a texture from a complete list of float RGBA levels (e.g. a .tx file's MIP chain).
+  static Texture from_levels(std::string name, const std::vector<int>& widths,
+                             const std::vector<int>& heights,
+                             const std::vector<std::vector<float>>& levels, TexelFormat format);
+
+  const std::string& name() const { return name_; }
+  TexelFormat format() const { return format_; }
+  int levels() const { return static_cast<int>(levels_.size()); }
+  int width(int level) const { return levels_[level].width; }
+  int height(int level) const { return levels_[level].height; }
+  const Level& level(int l) const { return levels_[l]; }
+  int bytes_per_texel() const { return format_ == TexelFormat::Rgba8 ? 4 : 16; }
+
+  // Texel at integer coordinates already inside the level (addressing applied upstream).
+  Rgba texel(int level, int x, int y) const {
+    const Level& lv = levels_[level];
+    const size_t i = (static_cast<size_t>(y) * lv.width + x) * 4;
+    if (format_ == TexelFormat::Rgba8) {
+      constexpr float k = 1.0f / 255.0f;
+      return {lv.rgba8[i] * k, lv.rgba8[i + 1] * k, lv.rgba8[i + 2] * k, lv.rgba8[i + 3] * k};
+    }
+    return {lv.rgba32f[i], lv.rgba32f[i + 1], lv.rgba32f[i + 2], lv.rgba32f[i + 3]};
+  }
+
+  // Lays the levels out in memory at `base` with `layout`; returns the bytes used.
+  uint64_t place(uint64_t base, TexelLayout layout);
+  uint64_t base() const { return base_; }
+  TexelLayout layout() const { return layout_; }
+  // Byte address of a texel (after place()).
+  uint64_t address(int level, int x, int y) const {
+    const Level& lv = levels_[level];
+    return base_ + lv.offset + texel_index(lv, x, y) * static_cast<uint64_t>(bytes_per_texel());
+  }
+
+ private:
+  uint64_t texel_index(const Level& lv, int x, int y) const;
+  static uint64_t morton2(uint32_t x, uint32_t y);
+
+  std::string name_;
+  TexelFormat format_ = TexelFormat::Rgba8;
+  TexelLayout layout_ = TexelLayout::Linear;
+  uint64_t base_ = 0;
+  std::vector<Level> levels_;
+};
+
+// All textures of a scene, placed one after another in one address space.
+class TextureSet {
+ public:
+  int add(Texture t);  // returns the texture id
+  void place(TexelLayout layout);
+  int size() const { return static_cast<int>(textures_.size()); }
+  const Texture& operator[](int id) const { return textures_[id]; }
+  Texture& operator[](int id) { return textures_[id]; }
+  TexelLayout layout() const { return layout_; }
+
+ private:
+  std::vector<Texture> textures_;
+  TexelLayout layout_ = TexelLayout::Tiled4x4;
+};
+
+}  // namespace texsim

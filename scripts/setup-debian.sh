@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Installs texsim's build and test dependencies from Debian packages (run as root or with sudo).
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update
+$SUDO apt-get install -y --no-install-recommends \
+  build-essential cmake pkg-config git \
+  libglm-dev libopenimageio-dev openimageio-tools libhidapi-dev \
+  libcli11-dev libtomlplusplus-dev libmpfr-dev \
+  libgtest-dev libgmock-dev googletest libbenchmark-dev \
+  verilator yosys gnuplot-nox
