@@ -1,0 +1,25 @@
+#pragma once
+// PNG plots for studies, drawn by gnuplot (Debian gnuplot-nox, pngcairo terminal).
+#include <string>
+#include <vector>
+
+namespace texsim {
+
+struct PlotSeries {
+  std::string label;
+  std::vector<double> x, y;
+  bool lines = false;  // join the points (e.g. error over d); otherwise points only
+};
+
+struct PlotSpec {
+  std::string title, xlabel, ylabel;
+  bool logx = false, logy = false;
+  int width = 1200, height = 800;
+  std::vector<PlotSeries> series;
+};
+
+// Writes `spec` as a PNG at `path` (atomically); throws InputError if gnuplot fails.
+// Non-finite or (on a log axis) non-positive points are dropped, never plotted as garbage.
+void write_plot_png(const std::string& path, const PlotSpec& spec);
+
+}  // namespace texsim
