@@ -1,0 +1,89 @@
+#pragma once
+// Clocked pipeline kernel: in-order stages with latency, initiation interval and lanes, joined
+// by bounded FIFOs with back-pressure. Items carry timestamps through the stages
+// (start = max(arrival, stage free, FIFO space)), so no work is spent on idle cycles; the
+// model and its equivalence to a cycle-stepped simulation are in docs/timing-model.md.
+#include <cstdint>
+#include <iosfwd>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "blocks/timing_spec.h"
+
+namespace texsim {
+
+struct StageConfig {
+  std::string name;
+  TimingSpec timing;         // latency, ii, lanes
+  uint32_t fifo_depth = 4;   // capacity of the FIFO in front of this stage (>= 1)
+  // Items that may be inside the stage at once (issued, not yet passed on). 0 = enough for
+  // full pipelining: lanes * ceil(latency / ii). A memory stage sets it to its miss-queue depth.
+  uint32_t max_inflight = 0;
+};
+
+// Per-item variable cost in one stage (e.g. a cache miss, or a row set-up).
+struct ItemCost {
+  uint32_t extra_latency = 0;  // added to the stage latency for this item (non-blocking)
+  uint32_t extra_ii = 0;       // added to the stage's initiation interval (blocks the lane)
+};
+
+struct StageStats {
+  uint64_t items = 0;
+  uint64_t busy = 0;           // issue-slot cycles occupied (sum of ii per item, over lanes)
+  uint64_t stall_starved = 0;  // a lane was free but no item had arrived
+  uint64_t stall_blocked = 0;  // finished items could not leave (FIFO full / in-order retire)
+  uint64_t stall_full = 0;     // could not issue: in-flight limit reached (waiting on latency,
+                               // e.g. outstanding memory requests)
+  uint64_t stall_extra = 0;    // cycles added by ItemCost::extra_ii (e.g. blocking misses)
+  uint64_t last_done = 0;      // cycle the last item left this stage
+};
+
+class ClockedPipeline {
+ public:
+  // Throws std::invalid_argument if a configuration could never make progress
+  // (zero FIFO depth, zero lanes, zero ii or in-flight limit): the structural deadlock check.
+  explicit ClockedPipeline(std::vector<StageConfig> stages);
+
+  // Sends the next item in program order. `ready` is the cycle it is available at the input;
+  // `costs` is null or points at one ItemCost per stage. Returns the cycle it leaves the last
+  // stage. Throws DeadlockError if an item's progress stalls beyond the watchdog.
+  uint64_t issue(uint64_t ready = 0, const ItemCost* costs = nullptr);
+
+  // Total cycles: when the last item left the last stage.
+  uint64_t cycles() const { return cycles_; }
+  uint64_t items() const { return items_; }
+  int stage_count() const { return static_cast<int>(stages_.size()); }
+  const StageConfig& config(int s) const { return stages_[s].cfg; }
+  const StageStats& stats(int s) const { return stages_[s].stats; }
+  // Busy issue slots ÷ (cycles × lanes).
+  double utilisation(int s) const;
+
+  // Cycles one item may wait in one stage before the run is declared stuck.
+  void set_watchdog(uint64_t cycles) { watchdog_ = cycles; }
+  // Writes each stage's state (last start/leave times, FIFO occupancy) for a deadlock report.
+  void dump_state(std::ostream& os) const;
+
+ private:
+  struct Stage {
+    StageConfig cfg;
+    StageStats stats;
+    uint32_t inflight_cap = 1;
+    std::vector<uint64_t> lane_free;  // next cycle each lane can issue
+    std::vector<uint64_t> starts;     // ring: start cycle of the last fifo_depth items
+    std::vector<uint64_t> leaves;     // ring: leave cycle of the last inflight_cap items
+    uint64_t last_leave = 0;
+    uint64_t last_start = 0;
+  };
+  std::vector<Stage> stages_;
+  uint64_t items_ = 0;
+  uint64_t cycles_ = 0;
+  uint64_t watchdog_ = uint64_t{1} << 40;
+};
+
+class DeadlockError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace texsim
