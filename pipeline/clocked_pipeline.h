@@ -3,6 +3,7 @@
 // by bounded FIFOs with back-pressure. Items carry timestamps through the stages
 // (start = max(arrival, stage free, FIFO space)), so no work is spent on idle cycles; the
 // model and its equivalence to a cycle-stepped simulation are in docs/timing-model.md.
+#include <algorithm>
 #include <cstdint>
 #include <iosfwd>
 #include <stdexcept>
@@ -48,7 +49,13 @@ class ClockedPipeline {
   // Sends the next item in program order. `ready` is the cycle it is available at the input;
   // `costs` is null or points at one ItemCost per stage. Returns the cycle it leaves the last
   // stage. Throws DeadlockError if an item's progress stalls beyond the watchdog.
-  uint64_t issue(uint64_t ready = 0, const ItemCost* costs = nullptr);
+  uint64_t issue(uint64_t ready = 0, const ItemCost* costs = nullptr) {
+    return issue_with(ready, [costs](int s, uint64_t) { return costs ? costs[s] : ItemCost{}; });
+  }
+  // As issue(), but a stage's cost may depend on the cycle the item starts there (a cache
+  // miss is sent to DRAM at that cycle): `cost_at(stage, start_cycle) -> ItemCost`.
+  template <class CostFn>
+  uint64_t issue_with(uint64_t ready, CostFn&& cost_at);
 
   // Total cycles: when the last item left the last stage.
   uint64_t cycles() const { return cycles_; }
@@ -75,6 +82,8 @@ class ClockedPipeline {
     uint64_t last_leave = 0;
     uint64_t last_start = 0;
   };
+  [[noreturn]] void report_stuck(uint64_t item, int stage) const;
+
   std::vector<Stage> stages_;
   uint64_t items_ = 0;
   uint64_t cycles_ = 0;
@@ -85,5 +94,53 @@ class DeadlockError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+template <class CostFn>
+uint64_t ClockedPipeline::issue_with(uint64_t ready, CostFn&& cost_at) {
+  const uint64_t i = items_;
+  uint64_t arrival = ready;
+  const size_t n = stages_.size();
+  for (size_t s = 0; s < n; ++s) {
+    Stage& st = stages_[s];
+    const TimingSpec& t = st.cfg.timing;
+    uint64_t& lane_free = st.lane_free[t.lanes == 1 ? 0 : i % t.lanes];
+    const uint32_t slot = static_cast<uint32_t>(i % st.inflight_cap);
+    // The item i - inflight_cap must have left before this one can enter.
+    const uint64_t slot_free = i >= st.inflight_cap ? st.leaves[slot] : 0;
+    // Items issue in order from the FIFO head, so never before the previous item issued.
+    const uint64_t own_free = std::max(lane_free, slot_free);
+    const uint64_t start = std::max({arrival, own_free, st.last_start});
+    if (arrival > own_free) {
+      st.stats.stall_starved += arrival - own_free;
+    } else if (slot_free > std::max(lane_free, arrival)) {
+      st.stats.stall_full += slot_free - std::max(lane_free, arrival);
+    }
+    const ItemCost cost = cost_at(static_cast<int>(s), start);
+    const uint64_t ii = uint64_t{t.ii} + cost.extra_ii;
+    lane_free = start + ii;
+    st.stats.busy += ii;
+    st.stats.stall_extra += cost.extra_ii;
+    const uint64_t finish = start + t.latency + cost.extra_latency;
+    uint64_t leave = std::max(finish, st.last_leave);  // results retire in order
+    if (s + 1 < n) {
+      // Back-pressure: item i - depth must have left the next stage's input FIFO.
+      const Stage& next = stages_[s + 1];
+      const uint32_t depth = next.cfg.fifo_depth;
+      if (i >= depth) leave = std::max(leave, next.starts[i % depth]);
+    }
+    st.stats.stall_blocked += leave - finish;
+    if (leave - arrival > watchdog_) report_stuck(i, static_cast<int>(s));
+    st.starts[i % st.cfg.fifo_depth] = start;
+    st.leaves[slot] = leave;
+    st.last_leave = leave;
+    st.last_start = start;
+    st.stats.last_done = leave;
+    ++st.stats.items;
+    arrival = leave;
+  }
+  ++items_;
+  cycles_ = std::max(cycles_, arrival);
+  return arrival;
+}
 
 }  // namespace texsim
