@@ -1,0 +1,418 @@
+#include "traces/trace_csv.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+
+#include "blocks/input_error.h"
+#include "pipeline/atomic_file.h"
+
+namespace texsim {
+
+namespace {
+
+constexpr size_t kReadBufferBytes = 1u << 20;
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+// Trims spaces/tabs; `col` (0-based offset of s in the line) moves with the left edge.
+std::string_view trim(std::string_view s, size_t& col) {
+  size_t b = 0;
+  while (b < s.size() && is_space(s[b])) ++b;
+  size_t e = s.size();
+  while (e > b && is_space(s[e - 1])) --e;
+  col += b;
+  return s.substr(b, e - b);
+}
+
+std::string shown(std::string_view s) {
+  constexpr size_t kMax = 40;
+  std::string out;
+  out.reserve(kMax + 5);
+  out += '\'';
+  out.append(s.data(), std::min(s.size(), kMax));
+  out.append(s.size() > kMax ? "...'" : "'");
+  return out;
+}
+
+// Parses a whole token as an unsigned 32-bit integer; returns an error text or "".
+std::string parse_u32(std::string_view s, uint32_t& out) {
+  if (s.empty()) return "empty value where an unsigned integer is expected";
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+  if (ec == std::errc::result_out_of_range) return shown(s) + " is out of range for u32";
+  if (ec != std::errc() || ptr != s.data() + s.size()) return shown(s) + " is not an unsigned integer";
+  return {};
+}
+
+template <class T>
+std::string parse_float(std::string_view s, T& out, std::string_view field) {
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  if (s.empty()) return "empty value where a number is expected";
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+  if (ec == std::errc::result_out_of_range) {
+    return shown(s) + " is out of range for " + (sizeof(T) == 8 ? "f64" : "f32");
+  }
+  if (ec != std::errc() || ptr != s.data() + s.size()) return shown(s) + " is not a number";
+  if (!std::isfinite(out)) {
+    return "field '" + std::string(field) + "' is " + (std::isnan(out) ? "NaN" : "infinite");
+  }
+  return {};
+}
+
+struct Token {
+  std::string text;
+  size_t column;  // 1-based
+};
+
+}  // namespace
+
+std::string csv_quote_token(std::string_view s) {
+  const bool plain = !s.empty() && std::none_of(s.begin(), s.end(), [](char c) {
+    return c == ' ' || c == '\t' || c == '"' || c == '\\';
+  });
+  if (plain) return std::string(s);
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') q += '\\';
+    q += c;
+  }
+  q += '"';
+  return q;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reader
+
+TraceCsvReader::TraceCsvReader(const std::string& path, uint32_t records_per_chunk)
+    : path_(path), records_per_chunk_(std::max<uint32_t>(1, records_per_chunk)) {
+  file_ = open_trace_input(path_);
+  buf_.resize(kReadBufferBytes);
+  header_.version = kTraceVersion;
+  header_.encoding = TraceEncoding::Csv;
+  header_.records_per_chunk = records_per_chunk_;
+  std::string_view line;
+  while (next_line(line)) {
+    size_t col = 0;
+    const std::string_view t = trim(line, col);
+    if (t.empty()) continue;
+    if (t.front() == '#') {
+      parse_directive(line);
+      continue;
+    }
+    parse_columns(line);
+    ids_ = TextureIdSet(header_.textures);
+    return;
+  }
+  throw InputError(path_, "no column header line (expected a line naming the columns, e.g. " +
+                              std::string("frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy)"));
+}
+
+TraceCsvReader::~TraceCsvReader() = default;
+
+void TraceCsvReader::fail(size_t column, const std::string& what) const {
+  throw InputError(path_ + ":" + std::to_string(line_no_) + ":" + std::to_string(column), what);
+}
+
+bool TraceCsvReader::next_line(std::string_view& line) {
+  long_line_.clear();
+  for (;;) {
+    const char* start = buf_.data() + buf_begin_;
+    const size_t avail = buf_end_ - buf_begin_;
+    const void* nl = std::memchr(start, '\n', avail);
+    if (nl != nullptr) {
+      const auto len = static_cast<size_t>(static_cast<const char*>(nl) - start);
+      ++line_no_;
+      if (long_line_.size() + len > kCsvMaxLineBytes) {
+        fail(1, "line longer than " + std::to_string(kCsvMaxLineBytes) + " bytes");
+      }
+      if (long_line_.empty()) {
+        line = std::string_view(start, len);
+      } else {
+        long_line_.append(start, len);
+        line = long_line_;
+      }
+      buf_begin_ += len + 1;
+      if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+      return true;
+    }
+    // No newline in the buffer: keep the partial line and refill.
+    if (long_line_.size() + avail > kCsvMaxLineBytes) {
+      ++line_no_;
+      fail(1, "line longer than " + std::to_string(kCsvMaxLineBytes) + " bytes");
+    }
+    long_line_.append(start, avail);
+    buf_begin_ = buf_end_ = 0;
+    if (!eof_) {
+      const size_t n = std::fread(buf_.data(), 1, buf_.size(), file_.get());
+      if (n == 0) {
+        if (std::ferror(file_.get())) {
+          throw InputError(path_, std::string("read error: ") + std::strerror(errno));
+        }
+        eof_ = true;
+      }
+      buf_end_ = n;
+      continue;
+    }
+    if (long_line_.empty()) return false;
+    ++line_no_;  // last line without a newline
+    line = long_line_;
+    if (line.back() == '\r') line.remove_suffix(1);
+    return true;
+  }
+}
+
+void TraceCsvReader::parse_directive(std::string_view line) {
+  // "# texture <id> <name> <source> <width> <height>"; any other '#' line is a comment.
+  size_t i = line.find('#') + 1;
+  while (i < line.size() && is_space(line[i])) ++i;
+  constexpr std::string_view kWord = "texture";
+  if (line.substr(i, kWord.size()) != kWord) return;
+  const size_t after = i + kWord.size();
+  if (after < line.size() && !is_space(line[after])) return;  // e.g. "# textures are ..."
+  if (!column_field_.empty()) {
+    fail(i + 1, "texture directive after the column header line (directives must come first)");
+  }
+  std::vector<Token> tokens;
+  size_t p = after;
+  for (;;) {
+    while (p < line.size() && is_space(line[p])) ++p;
+    if (p >= line.size()) break;
+    Token tok{{}, p + 1};
+    if (line[p] == '"') {
+      ++p;
+      bool closed = false;
+      while (p < line.size()) {
+        const char c = line[p++];
+        if (c == '"') {
+          closed = true;
+          break;
+        }
+        if (c == '\\' && p < line.size()) {
+          tok.text += line[p++];
+        } else {
+          tok.text += c;
+        }
+      }
+      if (!closed) fail(tok.column, "unterminated quoted value");
+      if (p < line.size() && !is_space(line[p])) fail(p + 1, "expected a space after the closing quote");
+    } else {
+      while (p < line.size() && !is_space(line[p])) tok.text += line[p++];
+    }
+    tokens.push_back(std::move(tok));
+  }
+  if (tokens.size() != 5) {
+    fail(i + 1, "texture directive needs 5 values <id> <name> <source> <width> <height>, found " +
+                    std::to_string(tokens.size()));
+  }
+  TraceTexture t{};
+  std::string err;
+  if (!(err = parse_u32(tokens[0].text, t.id)).empty()) fail(tokens[0].column, "texture id: " + err);
+  t.name = tokens[1].text;
+  t.source = tokens[2].text;
+  if (!(err = parse_u32(tokens[3].text, t.width)).empty()) fail(tokens[3].column, "texture width: " + err);
+  if (!(err = parse_u32(tokens[4].text, t.height)).empty()) fail(tokens[4].column, "texture height: " + err);
+  if (header_.find_texture(t.id) != nullptr) {
+    fail(tokens[0].column, "texture id " + std::to_string(t.id) + " appears twice in the texture table");
+  }
+  if (header_.textures.size() >= kTraceMaxTextures) {
+    fail(i + 1, "more than " + std::to_string(kTraceMaxTextures) + " textures");
+  }
+  try {
+    validate_textures({t}, path_);
+  } catch (const InputError& e) {
+    // Re-anchor the message at this line; the entry index of a one-element check means nothing.
+    const std::string msg = e.what();
+    const size_t colon = msg.find("): ");
+    fail(i + 1, "texture " + std::to_string(t.id) + ": " +
+                    (colon == std::string::npos ? msg : msg.substr(colon + 3)));
+  }
+  header_.textures.push_back(std::move(t));
+}
+
+void TraceCsvReader::parse_columns(std::string_view line) {
+  const auto& specs = trace_field_specs();
+  std::vector<bool> seen(specs.size(), false);
+  size_t start = 0;
+  for (;;) {
+    const size_t comma = line.find(',', start);
+    const size_t end = comma == std::string_view::npos ? line.size() : comma;
+    size_t col = start;
+    const std::string_view name = trim(line.substr(start, end - start), col);
+    if (name.empty()) fail(col + 1, "empty column name");
+    int idx = -1;
+    for (size_t s = 0; s < specs.size(); ++s) {
+      if (specs[s].name == name) idx = static_cast<int>(s);
+    }
+    for (const TraceField& f : header_.fields) {
+      if (f.name == name) fail(col + 1, "column '" + std::string(name) + "' appears twice");
+    }
+    const TraceType type = idx >= 0 ? specs[static_cast<size_t>(idx)].type : TraceType::F64;
+    header_.fields.push_back({std::string(name), type, static_cast<uint32_t>(column_field_.size())});
+    column_field_.push_back(idx);
+    if (idx >= 0) seen[static_cast<size_t>(idx)] = true;
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  for (size_t s = 0; s < specs.size(); ++s) {
+    if (specs[s].required && !seen[s]) {
+      fail(1, "missing required column '" + std::string(specs[s].name) + "'");
+    }
+  }
+  header_.has_lod_bias = seen.back();
+}
+
+void TraceCsvReader::parse_record(std::string_view line, Fragment& f) {
+  f = Fragment{};
+  size_t start = 0;
+  size_t column = 0;
+  size_t tex_col = 1;
+  for (;;) {
+    const size_t comma = line.find(',', start);
+    const size_t end = comma == std::string_view::npos ? line.size() : comma;
+    if (column >= column_field_.size()) {
+      // Count them all for the message.
+      size_t n = column_field_.size() + 1;
+      for (size_t q = end; q < line.size(); ++q) n += line[q] == ',' ? 1 : 0;
+      fail(start + 1, "expected " + std::to_string(column_field_.size()) + " columns, found " +
+                          std::to_string(n));
+    }
+    size_t col = start;
+    const std::string_view val = trim(line.substr(start, end - start), col);
+    const int idx = column_field_[column];
+    std::string err;
+    if (idx >= 0) {
+      const std::string_view fname = trace_field_specs()[static_cast<size_t>(idx)].name;
+      switch (idx) {
+        case 0: err = parse_u32(val, f.frame); break;
+        case 1: err = parse_u32(val, f.prim); break;
+        case 2: err = parse_u32(val, f.x); break;
+        case 3: err = parse_u32(val, f.y); break;
+        case 4: err = parse_u32(val, f.tex); tex_col = col + 1; break;
+        case 5: err = parse_float(val, f.u, fname); break;
+        case 6: err = parse_float(val, f.v, fname); break;
+        case 7: err = parse_float(val, f.dudx, fname); break;
+        case 8: err = parse_float(val, f.dvdx, fname); break;
+        case 9: err = parse_float(val, f.dudy, fname); break;
+        case 10: err = parse_float(val, f.dvdy, fname); break;
+        default: err = parse_float(val, f.lod_bias, fname); break;
+      }
+      if (!err.empty()) fail(col + 1, "column '" + std::string(fname) + "': " + err);
+    }
+    ++column;
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  if (column != column_field_.size()) {
+    fail(line.size() + 1, "expected " + std::to_string(column_field_.size()) + " columns, found " +
+                              std::to_string(column));
+  }
+  if (!ids_.contains(f.tex)) {
+    fail(tex_col, "texture id " + std::to_string(f.tex) + " is not in the texture table");
+  }
+}
+
+size_t TraceCsvReader::next_chunk(std::vector<Fragment>& out) {
+  out.clear();
+  std::string_view line;
+  while (out.size() < records_per_chunk_ && next_line(line)) {
+    size_t col = 0;
+    const std::string_view t = trim(line, col);
+    if (t.empty()) continue;
+    if (t.front() == '#') {
+      parse_directive(line);  // a texture directive here is an error; comments pass
+      continue;
+    }
+    out.emplace_back();
+    parse_record(line, out.back());
+  }
+  return out.size();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writer
+
+TraceCsvWriter::TraceCsvWriter(const std::string& path, const TraceHeader& header)
+    : path_(path), temp_(temp_path_for(path)), has_lod_bias_(header.has_lod_bias) {
+  if (header.version != kTraceVersion) {
+    throw InputError(path_, "cannot write trace version " + std::to_string(header.version) +
+                                " (this writer writes version " + std::to_string(kTraceVersion) + ")");
+  }
+  validate_textures(header.textures, path_);
+  ids_ = TextureIdSet(header.textures);
+  std::string h = "# texsim trace, format v1, CSV form (traces/FORMAT.md)\n";
+  for (const TraceTexture& t : header.textures) {
+    h += "# texture " + std::to_string(t.id) + " " + csv_quote_token(t.name) + " " +
+         csv_quote_token(t.source) + " " + std::to_string(t.width) + " " + std::to_string(t.height) + "\n";
+  }
+  bool first = true;
+  for (const TraceField& f : canonical_fields(has_lod_bias_)) {
+    if (!first) h += ',';
+    h += f.name;
+    first = false;
+  }
+  h += '\n';
+  file_.reset(std::fopen(temp_.c_str(), "wb"));
+  if (!file_) throw InputError(path_, std::string("cannot open for writing: ") + std::strerror(errno));
+  put(h);
+}
+
+TraceCsvWriter::~TraceCsvWriter() {
+  if (!closed_) {
+    file_.reset();
+    std::remove(temp_.c_str());
+  }
+}
+
+void TraceCsvWriter::fail(const std::string& what) {
+  file_.reset();
+  std::remove(temp_.c_str());
+  closed_ = true;
+  throw InputError(path_, what);
+}
+
+void TraceCsvWriter::put(std::string_view s) {
+  if (std::fwrite(s.data(), 1, s.size(), file_.get()) != s.size()) {
+    fail(std::string("write failed: ") + std::strerror(errno));
+  }
+}
+
+void TraceCsvWriter::write(const Fragment& f) {
+  if (closed_) throw InputError(path_, "write after close");
+  const std::string bad = check_fragment(f, ids_, has_lod_bias_);
+  if (!bad.empty()) throw InputError(path_ + ": record " + std::to_string(records_), bad);
+  line_.clear();
+  // Shortest text that reads back to the same value: exact CSV <-> binary round trips.
+  auto num = [this](auto v, char sep) {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);  // 64 bytes hold any double
+    line_.append(buf, r.ptr);
+    line_ += sep;
+  };
+  num(f.frame, ',');
+  num(f.prim, ',');
+  num(f.x, ',');
+  num(f.y, ',');
+  num(f.tex, ',');
+  num(f.u, ',');
+  num(f.v, ',');
+  num(f.dudx, ',');
+  num(f.dvdx, ',');
+  num(f.dudy, ',');
+  num(f.dvdy, has_lod_bias_ ? ',' : '\n');
+  if (has_lod_bias_) num(f.lod_bias, '\n');
+  put(line_);
+  ++records_;
+}
+
+void TraceCsvWriter::close() {
+  if (closed_) return;
+  if (std::fflush(file_.get()) != 0) fail(std::string("write failed: ") + std::strerror(errno));
+  std::FILE* f = file_.release();
+  if (std::fclose(f) != 0) fail(std::string("write failed: ") + std::strerror(errno));
+  closed_ = true;
+  commit_temp(temp_, path_);
+}
+
+}  // namespace texsim

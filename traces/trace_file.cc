@@ -1,0 +1,704 @@
+#include "traces/trace_file.h"
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+
+#include <zlib.h>
+
+#include "blocks/input_error.h"
+#include "pipeline/atomic_file.h"
+#include "traces/trace_csv.h"
+
+namespace texsim {
+
+namespace {
+
+constexpr char kChunkTag[4] = {'C', 'H', 'N', 'K'};
+constexpr char kEndTag[4] = {'T', 'E', 'N', 'D'};
+constexpr uint32_t kFixedHeaderBytes = 32;
+constexpr uint32_t kFieldEntryBytes = 24;
+constexpr uint32_t kTextureEntryBytes = 20;  // without the name and source bytes
+constexpr uint32_t kChunkHeaderBytes = 12;
+constexpr uint32_t kTrailerBytes = 24;
+
+// Field indices in trace_field_specs() order.
+enum FieldIndex : size_t { kFrame, kPrim, kX, kY, kTex, kU, kV, kDudx, kDvdx, kDudy, kDvdy, kLodBias };
+
+// Little-endian loads and stores; the byte reversal only exists on a big-endian host.
+template <class T>
+T load_le(const unsigned char* p) {
+  T v;
+  if constexpr (std::endian::native == std::endian::little) {
+    std::memcpy(&v, p, sizeof v);
+  } else {
+    unsigned char b[sizeof(T)];
+    for (size_t i = 0; i < sizeof(T); ++i) b[i] = p[sizeof(T) - 1 - i];
+    std::memcpy(&v, b, sizeof v);
+  }
+  return v;
+}
+
+template <class T>
+void store_le(unsigned char* p, T v) {
+  if constexpr (std::endian::native == std::endian::little) {
+    std::memcpy(p, &v, sizeof v);
+  } else {
+    unsigned char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof v);
+    for (size_t i = 0; i < sizeof(T); ++i) p[i] = b[sizeof(T) - 1 - i];
+  }
+}
+
+template <class T>
+void append_le(std::vector<unsigned char>& out, T v) {
+  const size_t n = out.size();
+  out.resize(n + sizeof(T));
+  store_le(out.data() + n, v);
+}
+
+uint32_t crc_of(const unsigned char* p, size_t n) {
+  // Chunks are bounded by kTraceMaxChunkBytes (< 4 GiB), so one call covers them.
+  return static_cast<uint32_t>(::crc32(0L, p, static_cast<uInt>(n)));
+}
+
+std::string hex32(uint32_t v) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "0x%08x", v);
+  return buf;
+}
+
+bool valid_field_name(std::string_view s) {
+  if (s.empty() || s.size() >= kTraceFieldNameBytes) return false;
+  return std::all_of(s.begin(), s.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+  });
+}
+
+const char* nonfinite_word(double v) { return std::isnan(v) ? "NaN" : "infinite"; }
+
+}  // namespace
+
+void TraceFileCloser::operator()(std::FILE* f) const {
+  if (f != nullptr) std::fclose(f);
+}
+
+TraceFilePtr open_trace_input(const std::string& path, uint64_t* size) {
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(st)) throw InputError(path, "cannot open trace: no such file");
+  if (std::filesystem::is_directory(st)) throw InputError(path, "cannot open trace: is a directory");
+  if (!std::filesystem::is_regular_file(st)) {
+    throw InputError(path, "cannot open trace: not a regular file");
+  }
+  TraceFilePtr f(std::fopen(path.c_str(), "rb"));
+  if (!f) throw InputError(path, std::string("cannot open trace: ") + std::strerror(errno));
+  if (size != nullptr) {
+    *size = std::filesystem::file_size(path, ec);
+    if (ec) throw InputError(path, "cannot read the file size: " + ec.message());
+  }
+  return f;
+}
+
+const char* to_string(TraceType t) {
+  switch (t) {
+    case TraceType::U8: return "u8";
+    case TraceType::U16: return "u16";
+    case TraceType::U32: return "u32";
+    case TraceType::U64: return "u64";
+    case TraceType::I8: return "i8";
+    case TraceType::I16: return "i16";
+    case TraceType::I32: return "i32";
+    case TraceType::I64: return "i64";
+    case TraceType::F32: return "f32";
+    case TraceType::F64: return "f64";
+  }
+  return "?";
+}
+
+uint32_t type_size(TraceType t) {
+  switch (t) {
+    case TraceType::U8: case TraceType::I8: return 1;
+    case TraceType::U16: case TraceType::I16: return 2;
+    case TraceType::U32: case TraceType::I32: case TraceType::F32: return 4;
+    case TraceType::U64: case TraceType::I64: case TraceType::F64: return 8;
+  }
+  return 0;
+}
+
+bool is_valid_type_code(uint32_t code) { return code >= 1 && code <= 10; }
+
+const TraceTexture* TraceHeader::find_texture(uint32_t id) const {
+  for (const TraceTexture& t : textures) {
+    if (t.id == id) return &t;
+  }
+  return nullptr;
+}
+
+const std::vector<TraceFieldSpec>& trace_field_specs() {
+  static const std::vector<TraceFieldSpec> specs = {
+      {"frame", TraceType::U32, true}, {"prim", TraceType::U32, true},
+      {"x", TraceType::U32, true},     {"y", TraceType::U32, true},
+      {"tex", TraceType::U32, true},   {"u", TraceType::F64, true},
+      {"v", TraceType::F64, true},     {"dudx", TraceType::F64, true},
+      {"dvdx", TraceType::F64, true},  {"dudy", TraceType::F64, true},
+      {"dvdy", TraceType::F64, true},  {"lod_bias", TraceType::F32, false},
+  };
+  return specs;
+}
+
+std::vector<TraceField> canonical_fields(bool has_lod_bias) {
+  std::vector<TraceField> fields;
+  uint32_t offset = 0;
+  for (const TraceFieldSpec& s : trace_field_specs()) {
+    if (!s.required && !(s.name == "lod_bias" && has_lod_bias)) continue;
+    fields.push_back({std::string(s.name), s.type, offset});
+    offset += type_size(s.type);
+  }
+  return fields;
+}
+
+uint32_t canonical_record_size(bool has_lod_bias) {
+  uint32_t size = 0;
+  for (const TraceField& f : canonical_fields(has_lod_bias)) size += type_size(f.type);
+  return size;
+}
+
+void validate_textures(const std::vector<TraceTexture>& textures, const std::string& where) {
+  if (textures.size() > kTraceMaxTextures) {
+    throw InputError(where, "texture table has " + std::to_string(textures.size()) +
+                                " entries, more than the limit " + std::to_string(kTraceMaxTextures));
+  }
+  std::vector<uint32_t> ids;
+  ids.reserve(textures.size());
+  for (size_t i = 0; i < textures.size(); ++i) {
+    const TraceTexture& t = textures[i];
+    const std::string entry = "texture entry " + std::to_string(i) + " (id " + std::to_string(t.id) + "): ";
+    if (t.width < 1 || t.width > kTraceMaxTextureSize || t.height < 1 ||
+        t.height > kTraceMaxTextureSize) {
+      throw InputError(where, entry + "size " + std::to_string(t.width) + "x" +
+                                  std::to_string(t.height) + " is outside 1.." +
+                                  std::to_string(kTraceMaxTextureSize));
+    }
+    if (t.name.empty() || t.name.size() > kTraceMaxNameBytes) {
+      throw InputError(where, entry + "name length " + std::to_string(t.name.size()) +
+                                  " is outside 1.." + std::to_string(kTraceMaxNameBytes));
+    }
+    if (t.source.size() > kTraceMaxSourceBytes) {
+      throw InputError(where, entry + "source length " + std::to_string(t.source.size()) +
+                                  " exceeds " + std::to_string(kTraceMaxSourceBytes));
+    }
+    // Control characters would break the one-line CSV directive and terminal output.
+    auto has_control = [](const std::string& s) {
+      return std::any_of(s.begin(), s.end(), [](char c) {
+        const auto u = static_cast<unsigned char>(c);
+        return u < 0x20 || u == 0x7f;
+      });
+    };
+    if (has_control(t.name)) throw InputError(where, entry + "name contains a control character");
+    if (has_control(t.source)) throw InputError(where, entry + "source contains a control character");
+    ids.push_back(t.id);
+  }
+  std::sort(ids.begin(), ids.end());
+  const auto dup = std::adjacent_find(ids.begin(), ids.end());
+  if (dup != ids.end()) {
+    throw InputError(where, "texture id " + std::to_string(*dup) + " appears twice in the texture table");
+  }
+}
+
+TextureIdSet::TextureIdSet(const std::vector<TraceTexture>& textures) {
+  for (const TraceTexture& t : textures) sorted_.push_back(t.id);
+  std::sort(sorted_.begin(), sorted_.end());
+  // Small ids (the usual case: 0..N-1) get a direct table so the per-record check is one load.
+  if (!sorted_.empty() && sorted_.back() < 65536) {
+    dense_.assign(sorted_.back() + 1u, 0);
+    for (uint32_t id : sorted_) dense_[id] = 1;
+  }
+}
+
+bool TextureIdSet::contains(uint32_t id) const {
+  if (!dense_.empty()) return id < dense_.size() && dense_[id] != 0;
+  return std::binary_search(sorted_.begin(), sorted_.end(), id);
+}
+
+std::string check_fragment(const Fragment& f, const TextureIdSet& ids, bool has_lod_bias) {
+  const double vals[6] = {f.u, f.v, f.dudx, f.dvdx, f.dudy, f.dvdy};
+  for (size_t i = 0; i < 6; ++i) {
+    if (!std::isfinite(vals[i])) {
+      return std::string("field '") + std::string(trace_field_specs()[kU + i].name) + "' is " +
+             nonfinite_word(vals[i]);
+    }
+  }
+  if (has_lod_bias && !std::isfinite(f.lod_bias)) {
+    return std::string("field 'lod_bias' is ") + nonfinite_word(f.lod_bias);
+  }
+  if (!ids.contains(f.tex)) {
+    return "texture id " + std::to_string(f.tex) + " is not in the texture table";
+  }
+  return {};
+}
+
+bool has_csv_extension(const std::string& path) {
+  if (path.size() < 4) return false;
+  std::string ext = path.substr(path.size() - 4);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](char c) { return static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c); });
+  return ext == ".csv";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writer
+
+TraceWriter::TraceWriter(const std::string& path, const TraceHeader& header,
+                         uint32_t records_per_chunk)
+    : path_(path),
+      temp_(temp_path_for(path)),
+      has_lod_bias_(header.has_lod_bias),
+      record_size_(canonical_record_size(header.has_lod_bias)),
+      records_per_chunk_(records_per_chunk) {
+  if (header.version != kTraceVersion) {
+    throw InputError(path_, "cannot write trace version " + std::to_string(header.version) +
+                                " (this writer writes version " + std::to_string(kTraceVersion) + ")");
+  }
+  if (records_per_chunk_ < 1 || records_per_chunk_ > kTraceMaxRecordsPerChunk ||
+      uint64_t{records_per_chunk_} * record_size_ > kTraceMaxChunkBytes) {
+    throw InputError(path_, "records per chunk " + std::to_string(records_per_chunk_) +
+                                " is outside 1.." + std::to_string(kTraceMaxChunkBytes / record_size_));
+  }
+  validate_textures(header.textures, path_);
+  ids_ = TextureIdSet(header.textures);
+
+  const std::vector<TraceField> fields = canonical_fields(has_lod_bias_);
+  std::vector<unsigned char> h(kTraceMagic, kTraceMagic + sizeof kTraceMagic);
+  append_le<uint32_t>(h, kTraceVersion);
+  append_le<uint32_t>(h, 0);  // header size, patched below
+  append_le<uint32_t>(h, record_size_);
+  append_le<uint32_t>(h, records_per_chunk_);
+  append_le<uint32_t>(h, static_cast<uint32_t>(fields.size()));
+  append_le<uint32_t>(h, static_cast<uint32_t>(header.textures.size()));
+  for (const TraceField& f : fields) {
+    char name[kTraceFieldNameBytes] = {};
+    std::memcpy(name, f.name.data(), f.name.size());
+    h.insert(h.end(), name, name + kTraceFieldNameBytes);
+    append_le<uint32_t>(h, static_cast<uint32_t>(f.type));
+    append_le<uint32_t>(h, f.offset);
+  }
+  for (const TraceTexture& t : header.textures) {
+    append_le<uint32_t>(h, t.id);
+    append_le<uint32_t>(h, t.width);
+    append_le<uint32_t>(h, t.height);
+    append_le<uint32_t>(h, static_cast<uint32_t>(t.name.size()));
+    append_le<uint32_t>(h, static_cast<uint32_t>(t.source.size()));
+    h.insert(h.end(), t.name.begin(), t.name.end());
+    h.insert(h.end(), t.source.begin(), t.source.end());
+  }
+  const auto header_size = static_cast<uint32_t>(h.size() + 4);
+  if (header_size > kTraceMaxHeaderBytes) {
+    throw InputError(path_, "header would be " + std::to_string(header_size) +
+                                " bytes, more than the limit " + std::to_string(kTraceMaxHeaderBytes));
+  }
+  store_le<uint32_t>(h.data() + 12, header_size);
+  append_le<uint32_t>(h, crc_of(h.data(), h.size()));
+
+  file_.reset(std::fopen(temp_.c_str(), "wb"));
+  if (!file_) throw InputError(path_, std::string("cannot open for writing: ") + std::strerror(errno));
+  chunk_.resize(size_t{records_per_chunk_} * record_size_);
+  put(h.data(), h.size());  // on failure put() removes the temporary file
+}
+
+TraceWriter::~TraceWriter() {
+  if (!closed_) {
+    file_.reset();
+    std::remove(temp_.c_str());
+  }
+}
+
+void TraceWriter::fail(const std::string& what) {
+  file_.reset();
+  std::remove(temp_.c_str());
+  closed_ = true;
+  throw InputError(path_, what);
+}
+
+void TraceWriter::put(const void* data, size_t n) {
+  if (std::fwrite(data, 1, n, file_.get()) != n) {
+    fail(std::string("write failed: ") + std::strerror(errno));
+  }
+}
+
+void TraceWriter::write(const Fragment& f) {
+  if (closed_) throw InputError(path_, "write after close");
+  const std::string bad = check_fragment(f, ids_, has_lod_bias_);
+  if (!bad.empty()) throw InputError(path_ + ": record " + std::to_string(records_), bad);
+  // Canonical layout (packed, trace_field_specs() order): 5 x u32, 6 x f64, [f32].
+  unsigned char* p = chunk_.data() + size_t{in_chunk_} * record_size_;
+  store_le(p + 0, f.frame);
+  store_le(p + 4, f.prim);
+  store_le(p + 8, f.x);
+  store_le(p + 12, f.y);
+  store_le(p + 16, f.tex);
+  store_le(p + 20, f.u);
+  store_le(p + 28, f.v);
+  store_le(p + 36, f.dudx);
+  store_le(p + 44, f.dvdx);
+  store_le(p + 52, f.dudy);
+  store_le(p + 60, f.dvdy);
+  if (has_lod_bias_) store_le(p + 68, f.lod_bias);
+  ++records_;
+  if (++in_chunk_ == records_per_chunk_) flush_chunk();
+}
+
+void TraceWriter::flush_chunk() {
+  if (in_chunk_ == 0) return;
+  const size_t bytes = size_t{in_chunk_} * record_size_;
+  unsigned char h[kChunkHeaderBytes];
+  std::memcpy(h, kChunkTag, 4);
+  store_le<uint32_t>(h + 4, in_chunk_);
+  store_le<uint32_t>(h + 8, crc_of(chunk_.data(), bytes));
+  put(h, sizeof h);
+  put(chunk_.data(), bytes);
+  ++chunks_;
+  in_chunk_ = 0;
+}
+
+void TraceWriter::close() {
+  if (closed_) return;
+  flush_chunk();
+  unsigned char t[kTrailerBytes];
+  std::memcpy(t, kEndTag, 4);
+  store_le<uint64_t>(t + 8, chunks_);
+  store_le<uint64_t>(t + 16, records_);
+  store_le<uint32_t>(t + 4, crc_of(t + 8, 16));
+  put(t, sizeof t);
+  if (std::fflush(file_.get()) != 0) fail(std::string("write failed: ") + std::strerror(errno));
+  std::FILE* f = file_.release();
+  if (std::fclose(f) != 0) fail(std::string("write failed: ") + std::strerror(errno));
+  closed_ = true;
+  commit_temp(temp_, path_);  // removes the temporary file itself if the rename fails
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reader
+
+TraceReader::TraceReader(const std::string& path) : path_(path) {
+  file_ = open_trace_input(path_, &file_size_);
+  unsigned char magic[sizeof kTraceMagic] = {};
+  const size_t n = std::fread(magic, 1, sizeof magic, file_.get());
+  if (n == sizeof magic && std::memcmp(magic, kTraceMagic, sizeof magic) == 0) {
+    pos_ = n;
+    open_binary();
+    return;
+  }
+  file_.reset();
+  if (has_csv_extension(path_)) {
+    csv_ = std::make_unique<TraceCsvReader>(path_);
+    header_ = csv_->header();
+    return;
+  }
+  throw InputError(path_ + ": header",
+                   "bad magic: not a texsim binary trace (expected \"TEXSIMTR\" in the first 8 "
+                   "bytes) and not named .csv");
+}
+
+TraceReader::~TraceReader() = default;
+
+void TraceReader::read_exact(void* dst, size_t n, const std::string& where, const char* what) {
+  if (n > file_size_ - pos_) {
+    throw InputError(where, std::string("truncated file: ") + what + " needs " + std::to_string(n) +
+                                " bytes, only " + std::to_string(file_size_ - pos_) + " remain");
+  }
+  if (std::fread(dst, 1, n, file_.get()) != n) {
+    throw InputError(where, std::string("cannot read ") + what +
+                                (std::ferror(file_.get()) ? std::string(": ") + std::strerror(errno)
+                                                          : std::string(": file shrank while reading")));
+  }
+  pos_ += n;
+}
+
+void TraceReader::open_binary() {
+  const std::string where = path_ + ": header";
+  std::vector<unsigned char> h(kFixedHeaderBytes);
+  std::memcpy(h.data(), kTraceMagic, sizeof kTraceMagic);
+  read_exact(h.data() + pos_, kFixedHeaderBytes - pos_, where, "fixed header");
+  const auto version = load_le<uint32_t>(h.data() + 8);
+  const auto header_size = load_le<uint32_t>(h.data() + 12);
+  const auto record_size = load_le<uint32_t>(h.data() + 16);
+  const auto rpc = load_le<uint32_t>(h.data() + 20);
+  const auto field_count = load_le<uint32_t>(h.data() + 24);
+  const auto texture_count = load_le<uint32_t>(h.data() + 28);
+  if (version != kTraceVersion) {
+    throw InputError(where, "unknown version " + std::to_string(version) + " (this reader reads version " +
+                                std::to_string(kTraceVersion) + ")");
+  }
+  if (record_size < 1 || record_size > kTraceMaxRecordSize) {
+    throw InputError(where, "record size " + std::to_string(record_size) + " is outside 1.." +
+                                std::to_string(kTraceMaxRecordSize));
+  }
+  if (rpc < 1 || rpc > kTraceMaxRecordsPerChunk) {
+    throw InputError(where, "records per chunk " + std::to_string(rpc) + " is outside 1.." +
+                                std::to_string(kTraceMaxRecordsPerChunk));
+  }
+  if (uint64_t{rpc} * record_size > kTraceMaxChunkBytes) {
+    throw InputError(where, "chunk size " + std::to_string(uint64_t{rpc} * record_size) +
+                                " bytes exceeds the limit " + std::to_string(kTraceMaxChunkBytes));
+  }
+  if (field_count < 1 || field_count > kTraceMaxFields) {
+    throw InputError(where, "field count " + std::to_string(field_count) + " is outside 1.." +
+                                std::to_string(kTraceMaxFields));
+  }
+  if (texture_count > kTraceMaxTextures) {
+    throw InputError(where, "texture count " + std::to_string(texture_count) + " exceeds the limit " +
+                                std::to_string(kTraceMaxTextures));
+  }
+  const uint64_t least = uint64_t{kFixedHeaderBytes} + uint64_t{field_count} * kFieldEntryBytes +
+                         uint64_t{texture_count} * kTextureEntryBytes + 4;
+  if (header_size < least || header_size > kTraceMaxHeaderBytes) {
+    throw InputError(where, "header size " + std::to_string(header_size) + " is outside " +
+                                std::to_string(least) + ".." + std::to_string(kTraceMaxHeaderBytes) +
+                                " (for " + std::to_string(field_count) + " fields and " +
+                                std::to_string(texture_count) + " textures)");
+  }
+  h.resize(header_size);  // bounded by kTraceMaxHeaderBytes, and read_exact checks the file size
+  read_exact(h.data() + kFixedHeaderBytes, header_size - kFixedHeaderBytes, where, "header");
+  const auto stored_crc = load_le<uint32_t>(h.data() + header_size - 4);
+  const uint32_t crc = crc_of(h.data(), header_size - 4);
+  if (stored_crc != crc) {
+    throw InputError(where, "header CRC mismatch (stored " + hex32(stored_crc) + ", computed " +
+                                hex32(crc) + ")");
+  }
+
+  header_.version = version;
+  header_.encoding = TraceEncoding::Binary;
+  header_.record_size = record_size;
+  header_.records_per_chunk = rpc;
+  // Field layout.
+  const unsigned char* p = h.data() + kFixedHeaderBytes;
+  for (uint32_t i = 0; i < field_count; ++i, p += kFieldEntryBytes) {
+    const std::string fw = where + ", field " + std::to_string(i);
+    const auto* name_bytes = reinterpret_cast<const char*>(p);
+    const size_t len = strnlen(name_bytes, kTraceFieldNameBytes);
+    const std::string name(name_bytes, len);
+    if (len == kTraceFieldNameBytes || !valid_field_name(name)) {
+      throw InputError(fw, "bad field name (1-15 characters of [A-Za-z0-9_], NUL-padded to 16 bytes)");
+    }
+    const auto code = load_le<uint32_t>(p + 16);
+    const auto offset = load_le<uint32_t>(p + 20);
+    if (!is_valid_type_code(code)) {
+      throw InputError(fw, "field '" + name + "' has unknown type code " + std::to_string(code));
+    }
+    const auto type = static_cast<TraceType>(code);
+    if (uint64_t{offset} + type_size(type) > record_size) {
+      throw InputError(fw, "field '" + name + "' at byte " + std::to_string(offset) + " (" +
+                               to_string(type) + ") runs past the record size " +
+                               std::to_string(record_size));
+    }
+    for (const TraceField& other : header_.fields) {
+      if (other.name == name) throw InputError(fw, "field '" + name + "' appears twice");
+      const bool overlap = offset < other.offset + type_size(other.type) &&
+                           other.offset < offset + type_size(type);
+      if (overlap) {
+        throw InputError(fw, "field '" + name + "' overlaps field '" + other.name + "'");
+      }
+    }
+    header_.fields.push_back({name, type, offset});
+  }
+  // Texture table.
+  const unsigned char* end = h.data() + header_size - 4;
+  for (uint32_t i = 0; i < texture_count; ++i) {
+    const std::string tw = where + ", texture entry " + std::to_string(i);
+    if (static_cast<size_t>(end - p) < kTextureEntryBytes) {
+      throw InputError(tw, "entry runs past the end of the header");
+    }
+    TraceTexture t;
+    t.id = load_le<uint32_t>(p);
+    t.width = load_le<uint32_t>(p + 4);
+    t.height = load_le<uint32_t>(p + 8);
+    const auto name_len = load_le<uint32_t>(p + 12);
+    const auto source_len = load_le<uint32_t>(p + 16);
+    p += kTextureEntryBytes;
+    if (name_len > kTraceMaxNameBytes || source_len > kTraceMaxSourceBytes) {
+      throw InputError(tw, "name length " + std::to_string(name_len) + " or source length " +
+                               std::to_string(source_len) + " exceeds the limits " +
+                               std::to_string(kTraceMaxNameBytes) + " / " +
+                               std::to_string(kTraceMaxSourceBytes));
+    }
+    if (static_cast<size_t>(end - p) < size_t{name_len} + source_len) {
+      throw InputError(tw, "name and source run past the end of the header");
+    }
+    t.name.assign(reinterpret_cast<const char*>(p), name_len);
+    p += name_len;
+    t.source.assign(reinterpret_cast<const char*>(p), source_len);
+    p += source_len;
+    header_.textures.push_back(std::move(t));
+  }
+  if (p != end) {
+    throw InputError(where, std::to_string(end - p) + " unexplained bytes after the texture table");
+  }
+  validate_textures(header_.textures, where);
+  ids_ = TextureIdSet(header_.textures);
+
+  // Map the known fields by name; unknown ones are skipped, missing required ones are an error.
+  const auto& specs = trace_field_specs();
+  offsets_.assign(specs.size(), -1);
+  for (size_t s = 0; s < specs.size(); ++s) {
+    for (const TraceField& f : header_.fields) {
+      if (f.name != specs[s].name) continue;
+      if (f.type != specs[s].type) {
+        throw InputError(where, "field '" + f.name + "' has type " + to_string(f.type) +
+                                    ", expected " + to_string(specs[s].type));
+      }
+      offsets_[s] = f.offset;
+    }
+    if (offsets_[s] < 0 && specs[s].required) {
+      throw InputError(where, "missing required field '" + std::string(specs[s].name) + "'");
+    }
+  }
+  header_.has_lod_bias = offsets_[kLodBias] >= 0;
+}
+
+std::string TraceReader::chunk_where() const {
+  return path_ + ": chunk " + std::to_string(chunks_) + " at byte " + std::to_string(pos_);
+}
+
+std::string TraceReader::record_where(uint32_t r) const {
+  return path_ + ": chunk " + std::to_string(chunks_) + ", record " + std::to_string(r) +
+         " (trace record " + std::to_string(records_ + r) + ")";
+}
+
+size_t TraceReader::next_chunk(std::vector<Fragment>& out) {
+  out.clear();
+  if (csv_) {
+    const size_t n = csv_->next_chunk(out);
+    if (n > 0) {
+      ++chunks_;
+      records_ += n;
+    }
+    return n;
+  }
+  if (done_) return 0;
+  return next_binary_chunk(out);
+}
+
+size_t TraceReader::next_binary_chunk(std::vector<Fragment>& out) {
+  const std::string where = chunk_where();
+  if (pos_ == file_size_) {
+    throw InputError(where, "truncated file: ends after " + std::to_string(chunks_) + " chunks (" +
+                                std::to_string(records_) + " records) without the end marker");
+  }
+  unsigned char tag[4];
+  read_exact(tag, 4, where, "chunk tag");
+  if (std::memcmp(tag, kEndTag, 4) == 0) {
+    check_trailer();
+    done_ = true;
+    return 0;
+  }
+  if (std::memcmp(tag, kChunkTag, 4) != 0) {
+    throw InputError(where, "bad chunk tag " + hex32(load_le<uint32_t>(tag)) +
+                                " (expected \"CHNK\" or \"TEND\"): corrupt file");
+  }
+  unsigned char ch[8];
+  read_exact(ch, 8, where, "chunk header");
+  const auto count = load_le<uint32_t>(ch);
+  const auto stored_crc = load_le<uint32_t>(ch + 4);
+  if (count == 0) throw InputError(where, "empty chunk (record count 0)");
+  if (count > header_.records_per_chunk) {
+    throw InputError(where, "record count " + std::to_string(count) +
+                                " exceeds the header's records per chunk " +
+                                std::to_string(header_.records_per_chunk));
+  }
+  const size_t bytes = size_t{count} * header_.record_size;
+  if (bytes > file_size_ - pos_) {  // checked before allocating
+    throw InputError(where, "truncated chunk: " + std::to_string(count) + " records need " +
+                                std::to_string(bytes) + " bytes, only " +
+                                std::to_string(file_size_ - pos_) + " remain");
+  }
+  payload_.resize(bytes);
+  read_exact(payload_.data(), bytes, where, "chunk payload");
+  const uint32_t crc = crc_of(payload_.data(), bytes);
+  if (crc != stored_crc) {
+    throw InputError(where, "CRC mismatch (stored " + hex32(stored_crc) + ", computed " + hex32(crc) + ")");
+  }
+
+  out.resize(count);
+  const size_t rs = header_.record_size;
+  const int64_t* o = offsets_.data();
+  const bool lod = header_.has_lod_bias;
+  for (uint32_t r = 0; r < count; ++r) {
+    const unsigned char* p = payload_.data() + r * rs;
+    Fragment& f = out[r];
+    f.frame = load_le<uint32_t>(p + o[kFrame]);
+    f.prim = load_le<uint32_t>(p + o[kPrim]);
+    f.x = load_le<uint32_t>(p + o[kX]);
+    f.y = load_le<uint32_t>(p + o[kY]);
+    f.tex = load_le<uint32_t>(p + o[kTex]);
+    f.u = load_le<double>(p + o[kU]);
+    f.v = load_le<double>(p + o[kV]);
+    f.dudx = load_le<double>(p + o[kDudx]);
+    f.dvdx = load_le<double>(p + o[kDvdx]);
+    f.dudy = load_le<double>(p + o[kDudy]);
+    f.dvdy = load_le<double>(p + o[kDvdy]);
+    f.lod_bias = lod ? load_le<float>(p + o[kLodBias]) : 0.0f;
+    // One combined test on the hot path; the message is only built for a bad record.
+    const bool finite = std::isfinite(f.u) && std::isfinite(f.v) && std::isfinite(f.dudx) &&
+                        std::isfinite(f.dvdx) && std::isfinite(f.dudy) && std::isfinite(f.dvdy) &&
+                        std::isfinite(f.lod_bias);
+    if (!finite || !ids_.contains(f.tex)) {
+      throw InputError(record_where(r), check_fragment(f, ids_, lod));
+    }
+  }
+  ++chunks_;
+  records_ += count;
+  return count;
+}
+
+void TraceReader::check_trailer() {
+  const std::string where = path_ + ": end marker at byte " + std::to_string(pos_ - 4);
+  unsigned char t[kTrailerBytes - 4];
+  read_exact(t, sizeof t, where, "end marker");
+  const auto stored_crc = load_le<uint32_t>(t);
+  const uint32_t crc = crc_of(t + 4, 16);
+  if (stored_crc != crc) {
+    throw InputError(where, "end marker CRC mismatch (stored " + hex32(stored_crc) + ", computed " +
+                                hex32(crc) + ")");
+  }
+  const auto chunks = load_le<uint64_t>(t + 4);
+  const auto records = load_le<uint64_t>(t + 12);
+  if (chunks != chunks_ || records != records_) {
+    throw InputError(where, "end marker counts " + std::to_string(chunks) + " chunks and " +
+                                std::to_string(records) + " records, but the file holds " +
+                                std::to_string(chunks_) + " chunks and " + std::to_string(records_) +
+                                " records (chunks lost)");
+  }
+  if (pos_ != file_size_) {
+    throw InputError(where, std::to_string(file_size_ - pos_) + " unexpected bytes after the end marker");
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+
+void write_trace(const std::string& path, const TraceHeader& header,
+                 const std::vector<Fragment>& fragments) {
+  if (has_csv_extension(path)) {
+    TraceCsvWriter w(path, header);
+    for (const Fragment& f : fragments) w.write(f);
+    w.close();
+  } else {
+    TraceWriter w(path, header);
+    for (const Fragment& f : fragments) w.write(f);
+    w.close();
+  }
+}
+
+std::vector<Fragment> read_trace(const std::string& path, TraceHeader* header) {
+  TraceReader r(path);
+  std::vector<Fragment> all, chunk;
+  while (r.next_chunk(chunk) > 0) all.insert(all.end(), chunk.begin(), chunk.end());
+  if (header != nullptr) *header = r.header();
+  return all;
+}
+
+}  // namespace texsim

@@ -1,0 +1,190 @@
+#pragma once
+// Trace files, format v1 (traces/FORMAT.md): the binary writer and the streaming reader that
+// also opens the CSV form. The reader holds one chunk at a time, so its memory does not depend
+// on the length of the trace; every defect of the input is an InputError naming file and record.
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "traces/fragment.h"
+
+namespace texsim {
+
+inline constexpr uint32_t kTraceVersion = 1;
+inline constexpr char kTraceMagic[8] = {'T', 'E', 'X', 'S', 'I', 'M', 'T', 'R'};
+
+// Limits that a header must respect; anything beyond is treated as corruption, so a damaged
+// length can never make the reader allocate more than these bounds allow.
+inline constexpr uint32_t kTraceMaxRecordSize = 4096;
+inline constexpr uint32_t kTraceMaxFields = 256;
+inline constexpr uint32_t kTraceMaxTextures = 65536;
+inline constexpr uint32_t kTraceMaxTextureSize = 65536;
+inline constexpr uint32_t kTraceMaxNameBytes = 256;
+inline constexpr uint32_t kTraceMaxSourceBytes = 4096;
+inline constexpr uint32_t kTraceMaxHeaderBytes = 16u << 20;
+inline constexpr uint32_t kTraceMaxRecordsPerChunk = 1u << 24;
+inline constexpr uint64_t kTraceMaxChunkBytes = 256u << 20;
+inline constexpr uint32_t kTraceFieldNameBytes = 16;  // fixed-size, NUL-padded name in the layout
+
+// Type codes of the field layout (FORMAT.md, "Type codes").
+enum class TraceType : uint32_t {
+  U8 = 1, U16 = 2, U32 = 3, U64 = 4, I8 = 5, I16 = 6, I32 = 7, I64 = 8, F32 = 9, F64 = 10,
+};
+const char* to_string(TraceType t);
+uint32_t type_size(TraceType t);  // bytes; 0 for a code that is not a TraceType
+bool is_valid_type_code(uint32_t code);
+
+enum class TraceEncoding { Binary, Csv };
+
+// Closes a stdio file when its owner goes away (also when a constructor throws).
+struct TraceFileCloser {
+  void operator()(std::FILE* f) const;
+};
+using TraceFilePtr = std::unique_ptr<std::FILE, TraceFileCloser>;
+// Opens an existing regular file for reading, or throws InputError(path, why).
+TraceFilePtr open_trace_input(const std::string& path, uint64_t* size = nullptr);
+
+struct TraceField {
+  std::string name;
+  TraceType type = TraceType::U32;
+  uint32_t offset = 0;  // binary: byte offset inside the record; CSV: 0-based column index
+};
+
+struct TraceTexture {
+  uint32_t id;
+  std::string name;
+  std::string source;  // file path or procedural spec, e.g. "procedural:checker?size=512&cells=16"
+  uint32_t width, height;
+};
+
+struct TraceHeader {
+  uint32_t version = kTraceVersion;
+  bool has_lod_bias = false;
+  std::vector<TraceTexture> textures;
+  // Layout info, filled in by TraceReader. Writers always write the canonical layout for
+  // has_lod_bias (canonical_fields()) and ignore these.
+  TraceEncoding encoding = TraceEncoding::Binary;
+  uint32_t record_size = 0;        // binary only
+  uint32_t records_per_chunk = 0;  // most records in one chunk (CSV: records per next_chunk)
+  std::vector<TraceField> fields;  // every field/column of the input, known or skipped
+
+  const TraceTexture* find_texture(uint32_t id) const;
+};
+
+// The fields every trace carries, then the optional ones (name, type).
+struct TraceFieldSpec {
+  std::string_view name;
+  TraceType type;
+  bool required;
+};
+const std::vector<TraceFieldSpec>& trace_field_specs();
+// Canonical binary layout written by TraceWriter (packed, in trace_field_specs() order).
+std::vector<TraceField> canonical_fields(bool has_lod_bias);
+uint32_t canonical_record_size(bool has_lod_bias);
+
+// Checks a header's texture table (count, unique ids, sizes, name/source lengths and
+// characters); throws InputError(where, ...) naming the entry.
+void validate_textures(const std::vector<TraceTexture>& textures, const std::string& where);
+
+// Texture ids of a header, for the per-record "id is in the table" check.
+class TextureIdSet {
+ public:
+  TextureIdSet() = default;
+  explicit TextureIdSet(const std::vector<TraceTexture>& textures);
+  bool contains(uint32_t id) const;
+
+ private:
+  std::vector<uint32_t> sorted_;
+  std::vector<uint8_t> dense_;  // used when ids are small: dense_[id] != 0
+};
+
+// Checks one fragment (finite coordinates/derivatives/lod_bias, texture id in the table);
+// returns an empty string when it is valid, else what is wrong.
+std::string check_fragment(const Fragment& f, const TextureIdSet& ids, bool has_lod_bias);
+
+// Binary trace writer; writes to a temporary name and renames on close() (no half-written
+// file). The destructor without close() removes the temporary file.
+class TraceWriter {
+ public:
+  TraceWriter(const std::string& path, const TraceHeader& header,
+              uint32_t records_per_chunk = 4096);
+  ~TraceWriter();
+  TraceWriter(const TraceWriter&) = delete;
+  TraceWriter& operator=(const TraceWriter&) = delete;
+
+  void write(const Fragment& f);  // throws InputError for a NaN/Inf value or unknown texture id
+  void close();
+  uint64_t records_written() const { return records_; }
+
+ private:
+  void flush_chunk();
+  void put(const void* data, size_t n);
+  [[noreturn]] void fail(const std::string& what);
+
+  std::string path_, temp_;
+  TraceFilePtr file_;
+  bool has_lod_bias_ = false;
+  uint32_t record_size_ = 0;
+  uint32_t records_per_chunk_ = 0;
+  TextureIdSet ids_;
+  std::vector<unsigned char> chunk_;  // records_per_chunk_ * record_size_ bytes
+  uint32_t in_chunk_ = 0;
+  uint64_t chunks_ = 0;
+  uint64_t records_ = 0;
+  bool closed_ = false;
+};
+
+class TraceCsvReader;
+
+// Streaming reader of a binary (.trc) trace or its CSV form. A file that starts with the magic
+// is binary; otherwise a name ending in .csv is read as CSV; anything else is "bad magic".
+class TraceReader {
+ public:
+  explicit TraceReader(const std::string& path);
+  ~TraceReader();
+  TraceReader(const TraceReader&) = delete;
+  TraceReader& operator=(const TraceReader&) = delete;
+
+  const TraceHeader& header() const { return header_; }
+  // Replaces `out` with the next chunk's fragments (CSV: up to records_per_chunk lines) and
+  // returns their count; 0 at the end, after the trailer has been checked.
+  size_t next_chunk(std::vector<Fragment>& out);
+  uint64_t records_read() const { return records_; }
+  uint64_t chunks_read() const { return chunks_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  void open_binary();
+  void read_exact(void* dst, size_t n, const std::string& where, const char* what);
+  size_t next_binary_chunk(std::vector<Fragment>& out);
+  void check_trailer();
+  std::string chunk_where() const;
+  std::string record_where(uint32_t r) const;
+
+  std::string path_;
+  TraceHeader header_;
+  std::unique_ptr<TraceCsvReader> csv_;
+  TraceFilePtr file_;
+  uint64_t file_size_ = 0;
+  uint64_t pos_ = 0;
+  bool done_ = false;
+  uint64_t chunks_ = 0;
+  uint64_t records_ = 0;
+  std::vector<unsigned char> payload_;
+  TextureIdSet ids_;
+  // Byte offsets of the known fields in a record, in trace_field_specs() order (-1 = absent).
+  std::vector<int64_t> offsets_;
+};
+
+// Writes a whole trace, binary or CSV by the extension of `path` (".csv" = CSV).
+void write_trace(const std::string& path, const TraceHeader& header,
+                 const std::vector<Fragment>& fragments);
+// Reads a whole trace into memory (for small traces and tests; pipelines stream instead).
+std::vector<Fragment> read_trace(const std::string& path, TraceHeader* header = nullptr);
+
+bool has_csv_extension(const std::string& path);
+
+}  // namespace texsim
