@@ -1,0 +1,268 @@
+#include "blocks/texel_address_gen.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace texsim {
+
+const char* to_string(FilterMode m) {
+  switch (m) {
+    case FilterMode::Nearest: return "nearest";
+    case FilterMode::Bilinear: return "bilinear";
+    case FilterMode::Trilinear: return "trilinear";
+  }
+  return "?";
+}
+
+namespace {
+
+// Float texel coordinate to fixed point with `bits` fraction bits, round to nearest even (the
+// float→fixed converter of the datapath). |x| is limited to 2^30 texels first: beyond that a
+// float32 coordinate has no fraction bits left, and the limit keeps the integer in range.
+int64_t to_fixed(float x, int bits) {
+  constexpr float kLimit = 1073741824.0f;  // 2^30
+  x = std::clamp(x, -kLimit, kLimit);
+  return std::llrint(std::ldexp(x, bits));
+}
+
+float finite_or_zero(float x) { return std::isfinite(x) ? x : 0.0f; }
+
+}  // namespace
+
+TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r) {
+  r.reject_unknown({"filter", "address_u", "address_v", "sub_texel_bits", "mipmap_bits"});
+  Config c;
+  c.filter = static_cast<FilterMode>(
+      r.get_choice("filter", static_cast<int>(c.filter), {"nearest", "bilinear", "trilinear"}));
+  const std::vector<std::string_view> modes = {"wrap", "clamp", "mirror"};  // AddressMode order
+  c.address_u = static_cast<AddressMode>(r.get_choice("address_u", 0, modes));
+  c.address_v = static_cast<AddressMode>(r.get_choice("address_v", 0, modes));
+  c.sub_texel_bits = static_cast<int>(r.get_int("sub_texel_bits", c.sub_texel_bits, 1, 16));
+  c.mipmap_bits = static_cast<int>(r.get_int("mipmap_bits", c.mipmap_bits, 1, 16));
+  return c;
+}
+
+int32_t TexelAddressGen::address(int64_t i, int32_t size, AddressMode mode) {
+  switch (mode) {
+    case AddressMode::Wrap: {
+      const int64_t r = i % size;
+      return static_cast<int32_t>(r < 0 ? r + size : r);
+    }
+    case AddressMode::Clamp:
+      return static_cast<int32_t>(std::clamp<int64_t>(i, 0, size - 1));
+    case AddressMode::Mirror: {
+      // Vulkan MIRRORED_REPEAT: (size − 1) − mirror((i mod 2·size) − size),
+      // mirror(n) = n for n ≥ 0, −(1 + n) otherwise.
+      const int64_t two = 2 * static_cast<int64_t>(size);
+      int64_t t = i % two;
+      if (t < 0) t += two;
+      const int64_t n = t - size;
+      const int64_t m = n >= 0 ? n : -(1 + n);
+      return static_cast<int32_t>((size - 1) - m);
+    }
+  }
+  return 0;
+}
+
+TexelAddressGen::LevelSelect TexelAddressGen::select_levels(float lambda, int levels) const {
+  LevelSelect s;
+  const int32_t q = std::max(levels, 1) - 1;
+  if (std::isnan(lambda)) lambda = 0;
+  // d' = clamp(λ, 0, q) (level_base = 0), then to fixed point with mipmap_bits fraction bits.
+  const float d = std::clamp(lambda, 0.0f, static_cast<float>(q));
+  const int m = cfg_.mipmap_bits;
+  const int64_t one = int64_t{1} << m;
+  const int64_t dfix = std::llrint(std::ldexp(d, m));
+  if (cfg_.filter == FilterMode::Trilinear) {
+    s.d_hi = static_cast<int32_t>(dfix >> m);
+    s.d_lo = std::min(s.d_hi + 1, q);
+    s.delta = std::ldexp(static_cast<float>(dfix & (one - 1)), -m);
+  } else {
+    // Vulkan's preferred nearest(d') = ⌈d' + 0.5⌉ − 1 (rounds halves down), in fixed point:
+    // ⌈a / 2^m⌉ = (a + 2^m − 1) >> m.
+    const int64_t half = one >> 1;
+    s.d_hi = static_cast<int32_t>(((dfix + half + one - 1) >> m) - 1);
+    s.d_hi = std::clamp(s.d_hi, 0, q);
+    s.d_lo = s.d_hi;
+    s.delta = 0;
+  }
+  return s;
+}
+
+int TexelAddressGen::taps_per_probe() const {
+  switch (cfg_.filter) {
+    case FilterMode::Nearest: return 1;
+    case FilterMode::Bilinear: return 4;
+    case FilterMode::Trilinear: return 8;
+  }
+  return 1;
+}
+
+uint32_t TexelAddressGen::issue_cycles(const LodResult& lod) {
+  return static_cast<uint32_t>(std::clamp(lod.probes, 1, 16));
+}
+
+void TexelAddressGen::emit_level(const Texture& tex, int32_t level, float u, float v, float w,
+                                 FilterTaps& out) const {
+  const int32_t wl = tex.width(level), hl = tex.height(level);
+  const int b = cfg_.sub_texel_bits;
+  const int64_t mask = (int64_t{1} << b) - 1;
+  if (cfg_.filter == FilterMode::Nearest) {
+    // i = ⌊u·width⌋ on the fixed-point coordinate.
+    const int64_t xf = to_fixed(u * static_cast<float>(wl), b);
+    const int64_t yf = to_fixed(v * static_cast<float>(hl), b);
+    out.tap[out.count++] = {level, address(xf >> b, wl, cfg_.address_u),
+                            address(yf >> b, hl, cfg_.address_v), w};
+    return;
+  }
+  // i0 = ⌊u·width − ½⌋, α = frac(u·width − ½) with b fraction bits.
+  const int64_t xf = to_fixed(u * static_cast<float>(wl) - 0.5f, b);
+  const int64_t yf = to_fixed(v * static_cast<float>(hl) - 0.5f, b);
+  const int64_t i0 = xf >> b, j0 = yf >> b;
+  const float a = std::ldexp(static_cast<float>(xf & mask), -b);
+  const float be = std::ldexp(static_cast<float>(yf & mask), -b);
+  const int32_t x0 = address(i0, wl, cfg_.address_u), x1 = address(i0 + 1, wl, cfg_.address_u);
+  const int32_t y0 = address(j0, hl, cfg_.address_v), y1 = address(j0 + 1, hl, cfg_.address_v);
+  const float wi0 = 1.0f - a, wj0 = 1.0f - be;
+  out.tap[out.count++] = {level, x0, y0, wi0 * wj0 * w};
+  out.tap[out.count++] = {level, x1, y0, a * wj0 * w};
+  out.tap[out.count++] = {level, x0, y1, wi0 * be * w};
+  out.tap[out.count++] = {level, x1, y1, a * be * w};
+}
+
+void TexelAddressGen::taps(const Texture& tex, double u, double v, const LodResult& lod,
+                           FilterTaps& out, OpCounts& ops) const {
+  const int n = std::clamp(lod.probes, 1, 16);
+  const bool aniso = n > 1;
+  ops += ops_setup(aniso);
+  ops += ops_per_probe(aniso) * static_cast<uint64_t>(n);
+
+  const LevelSelect sel = select_levels(lod.lambda, tex.levels());
+  const float uf = finite_or_zero(static_cast<float>(u));
+  const float vf = finite_or_zero(static_cast<float>(v));
+  const float au = finite_or_zero(lod.axis_u), av = finite_or_zero(lod.axis_v);
+  const float inv_n = 1.0f / static_cast<float>(n);
+  out.count = 0;
+  for (int k = 0; k < n; ++k) {
+    // Probe k of N, centred on (u, v), one probe step apart (docs/filters.md §4).
+    const float off = static_cast<float>(k) - 0.5f * static_cast<float>(n - 1);
+    const float pu = aniso ? uf + off * au : uf;
+    const float pv = aniso ? vf + off * av : vf;
+    const float wp = aniso ? inv_n : 1.0f;
+    if (cfg_.filter == FilterMode::Trilinear) {
+      emit_level(tex, sel.d_hi, pu, pv, (1.0f - sel.delta) * wp, out);
+      emit_level(tex, sel.d_lo, pu, pv, sel.delta * wp, out);
+    } else {
+      emit_level(tex, sel.d_hi, pu, pv, wp, out);
+    }
+  }
+}
+
+// ---- operation counts and timing ----------------------------------------------------------
+
+OpCounts TexelAddressGen::ops_address(AddressMode m) {
+  OpCounts o;
+  switch (m) {
+    case AddressMode::Wrap:
+      // i mod size for any size: q = ⌊i·(1/size)⌋, r = i − q·size, fix-up compare.
+      o.mul = 2;
+      o.add = 1;
+      o.cmp = 1;
+      break;
+    case AddressMode::Clamp:
+      o.cmp = 2;  // max(0, ·), min(size − 1, ·)
+      break;
+    case AddressMode::Mirror:
+      // t = i mod 2·size (as wrap), n = t − size, mirror(n) (select + negate), (size−1) − m.
+      o.mul = 2;
+      o.add = 4;
+      o.cmp = 2;
+      break;
+  }
+  return o;
+}
+
+OpCounts TexelAddressGen::ops_level() const {
+  OpCounts o;
+  const bool linear = cfg_.filter != FilterMode::Nearest;
+  const uint64_t coords = linear ? 2 : 1;  // i0, i1 (and j0, j1) or one i (and j)
+  o.mul += 2;                              // u·width, v·height
+  if (linear) o.add += 2;                  // − ½
+  o.add += 2;                              // round to fixed point
+  if (linear) o.add += 2;                  // i1 = i0 + 1, j1 = j0 + 1
+  o += ops_address(cfg_.address_u) * coords;
+  o += ops_address(cfg_.address_v) * coords;
+  if (linear) {
+    o.add += 2;  // 1 − α, 1 − β
+    o.mul += 4;  // w_i · w_j
+  }
+  return o;
+}
+
+OpCounts TexelAddressGen::ops_setup(bool anisotropic) const {
+  OpCounts o;
+  const bool tri = cfg_.filter == FilterMode::Trilinear;
+  o.cmp += 2;  // d' = clamp(λ, 0, q)
+  o.add += 1;  // d' to fixed point
+  if (tri) {
+    o.add += 1;  // d_lo = d_hi + 1
+    o.cmp += 1;  // min(d_lo, q)
+    o.add += 1;  // 1 − δ
+  } else {
+    o.add += 1;  // ⌈d' + ½⌉ − 1
+  }
+  o.cmp += tri ? 4 : 2;  // level sizes max(1, size >> d) per level used
+  if (anisotropic) {
+    o.lut += 1;                 // 1/N
+    if (tri) o.mul += 2;        // (1 − δ)/N, δ/N
+  }
+  return o;
+}
+
+OpCounts TexelAddressGen::ops_per_probe(bool anisotropic) const {
+  const bool tri = cfg_.filter == FilterMode::Trilinear;
+  OpCounts o = ops_level() * (tri ? 2 : 1);
+  if (anisotropic) {
+    o.add += 1;  // probe offset counter k − (N−1)/2
+    o.mul += 2;  // offset · axis
+    o.add += 2;  // + (u, v)
+  }
+  // Per-tap scaling by the level weight and/or 1/N.
+  if (tri || anisotropic) o.mul += static_cast<uint64_t>(taps_per_probe());
+  return o;
+}
+
+TimingSpec TexelAddressGen::timing(const TechTable& tech) const {
+  const bool tri = cfg_.filter == FilterMode::Trilinear;
+  const bool linear = cfg_.filter != FilterMode::Nearest;
+  // Level selection: clamp (2 cmp), to fixed (add), rule (add; linear: add + min), sizes (cmp).
+  OpCounts setup;
+  setup.cmp = 2 + 1 + (tri ? 1 : 0);
+  setup.add = 2;
+  // Probe position: offset · axis + u.
+  OpCounts pos;
+  pos.mul = 1;
+  pos.add = 1;
+  // Coordinate: scale, − ½ (linear), round to fixed.
+  OpCounts coord;
+  coord.mul = 1;
+  coord.add = linear ? 2 : 1;
+  // Branch A: i1 = i0 + 1, then the slower of the two address modes.
+  OpCounts au = ops_address(cfg_.address_u), av = ops_address(cfg_.address_v);
+  double a = std::max(tech.path_latency(au), tech.path_latency(av));
+  if (linear) a += tech.lat(OpKind::Add);
+  // Branch B: 1 − α, w_i·w_j, then the level/probe weight.
+  double b = 0;
+  if (linear) b = tech.lat(OpKind::Add) + tech.lat(OpKind::Mul);
+  b += tech.lat(OpKind::Mul);  // × level weight or 1/N (present in the pipe, bypassed if 1)
+  const double lat = tech.path_latency(setup) + tech.path_latency(pos) +
+                     tech.path_latency(coord) + std::max(a, b);
+  TimingSpec t;
+  t.latency = std::max<uint32_t>(1, static_cast<uint32_t>(std::ceil(lat)));
+  t.ii = 1;  // one probe per cycle; a fragment takes issue_cycles() slots
+  t.lanes = 1;
+  t.area = tech.area_of(ops_setup(true) + ops_per_probe(true));
+  return t;
+}
+
+}  // namespace texsim

@@ -1,0 +1,95 @@
+#pragma once
+// Texel address generator: mip level selection, texel coordinates, address modes and filter
+// weights of the nearest, bilinear and trilinear filters, with anisotropic probes
+// (docs/filters.md §2–§4). One block for the three filters: they share one datapath (nearest
+// is its 1-tap degenerate case, trilinear runs it on two levels), selected by Config::filter.
+// Arithmetic: float32 coordinates, converted to fixed point with `sub_texel_bits` fraction
+// bits (round to nearest even); LOD to fixed point with `mipmap_bits` fraction bits; weights
+// are products of those fixed-point fractions (exact in float32) and 1/N.
+#include <array>
+#include <cstdint>
+
+#include "blocks/config_reader.h"
+#include "blocks/lod_unit.h"
+#include "blocks/op_counts.h"
+#include "blocks/tech_table.h"
+#include "blocks/texture_memory.h"
+#include "blocks/timing_spec.h"
+
+namespace texsim {
+
+// One texel to read: coordinates already addressed (inside the level), and its weight.
+struct TexelTap {
+  int32_t level;
+  int32_t x, y;
+  float w;
+};
+// All taps of one fragment: up to maxAniso (16) probes × 8 taps.
+struct FilterTaps {
+  std::array<TexelTap, 128> tap;
+  int count = 0;
+};
+
+// Nearest = VK_FILTER_NEAREST + VK_SAMPLER_MIPMAP_MODE_NEAREST; Bilinear = VK_FILTER_LINEAR +
+// MIPMAP_MODE_NEAREST; Trilinear = VK_FILTER_LINEAR + MIPMAP_MODE_LINEAR. The same filter
+// serves magnification and minification.
+enum class FilterMode { Nearest, Bilinear, Trilinear };
+const char* to_string(FilterMode m);
+
+// Texel address generator (docs/filters.md §2–§4): levels, texel coordinates, wrap/clamp/mirror
+// and weights of nearest/bilinear/trilinear taps, per anisotropic probe.
+class TexelAddressGen {
+ public:
+  struct Config {
+    FilterMode filter = FilterMode::Bilinear;
+    AddressMode address_u = AddressMode::Wrap;
+    AddressMode address_v = AddressMode::Wrap;
+    int sub_texel_bits = 8;  // fraction bits of texel coordinates (Vulkan subTexelPrecisionBits)
+    int mipmap_bits = 8;     // fraction bits of the LOD (Vulkan mipmapPrecisionBits)
+    // Keys: filter ("nearest"|"bilinear"|"trilinear"), address_u, address_v
+    // ("wrap"|"clamp"|"mirror"), sub_texel_bits (1..16), mipmap_bits (1..16).
+    static Config from_toml(const ConfigReader& r);
+  };
+
+  // Mip level(s) chosen for one fragment (Vulkan "Image Level(s) Selection").
+  struct LevelSelect {
+    int32_t d_hi = 0;   // the level for nearest mipmap mode; the finer level for linear
+    int32_t d_lo = 0;   // coarser level (linear mode); = d_hi otherwise
+    float delta = 0;    // weight of d_lo, a multiple of 2^-mipmap_bits (linear mode)
+  };
+
+  TexelAddressGen() = default;
+  explicit TexelAddressGen(const Config& c) : cfg_(c) {}
+  const Config& config() const { return cfg_; }
+
+  // Writes the taps of one fragment at normalised (u, v) into `out` (out.count set).
+  // Probes: lod.probes (clamped to 1..16) at (u, v) + (k − (N−1)/2)·(axis_u, axis_v),
+  // k = 0..N−1, each weighted 1/N. Non-finite u or v are treated as 0.
+  void taps(const Texture& tex, double u, double v, const LodResult& lod, FilterTaps& out,
+            OpCounts& ops) const;
+
+  // Level selection from λ on a pyramid of `levels` levels.
+  LevelSelect select_levels(float lambda, int levels) const;
+  // Vulkan's wrapping of one integer texel coordinate into [0, size).
+  static int32_t address(int64_t i, int32_t size, AddressMode mode);
+
+  // Taps per probe and issue slots (cycles at ii = 1) one fragment occupies.
+  int taps_per_probe() const;
+  static uint32_t issue_cycles(const LodResult& lod);
+  // Operations per fragment (level selection) and per probe; an anisotropic fragment
+  // (N > 1) adds 1/N per fragment and the probe offset and 1/N weighting per probe.
+  OpCounts ops_setup(bool anisotropic) const;
+  OpCounts ops_per_probe(bool anisotropic) const;
+  // Per-probe pipeline: latency of the critical path, ii = 1 probe per cycle, area of one
+  // probe's datapath (with the anisotropic offset/weight stage).
+  TimingSpec timing(const TechTable& tech) const;
+
+ private:
+  static OpCounts ops_address(AddressMode m);
+  OpCounts ops_level() const;
+  void emit_level(const Texture& tex, int32_t level, float u, float v, float w,
+                  FilterTaps& out) const;
+  Config cfg_;
+};
+
+}  // namespace texsim
