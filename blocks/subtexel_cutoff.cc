@@ -1,0 +1,62 @@
+#include "blocks/subtexel_cutoff.h"
+
+#include <cmath>
+#include <vector>
+
+namespace texsim {
+
+namespace {
+
+// The parts around the evaluator: |d| (sign test + negate), clamp to 0.5, combine with the
+// constant V(0.5) or V(0.5) − 1 (select + add), clamp W ≥ 0.
+OpCounts wrapper_ops() {
+  OpCounts o;
+  o.cmp = 1 + 1 + 1 + 1;
+  o.add = 1 + 1;
+  return o;
+}
+
+}  // namespace
+
+SubtexelCutoff::Config SubtexelCutoff::Config::from_toml(const ConfigReader& r) {
+  r.reject_unknown({"evaluator", "format", "lanes"});
+  Config c;
+  const std::vector<std::string_view> evs(kVdEvaluatorNames.begin(), kVdEvaluatorNames.end());
+  const std::vector<std::string_view> fmts(kVdFormatKeys.begin(), kVdFormatKeys.end());
+  c.evaluator = static_cast<VdEvaluatorKind>(
+      r.get_choice("evaluator", static_cast<int>(c.evaluator), evs));
+  c.format = static_cast<VdFormatKind>(r.get_choice("format", static_cast<int>(c.format), fmts));
+  c.lanes = static_cast<uint32_t>(r.get_int("lanes", c.lanes, 1, 64));
+  return c;
+}
+
+double SubtexelCutoff::weight(double d) const {
+  return visit_vd_format(cfg_.format, [&](auto fmt) {
+    using Fmt = decltype(fmt);
+    using SIn = typename Fmt::SIn;
+    return to_double(weight<Fmt>(vd_detail::quantize<SIn>(static_cast<long double>(d))));
+  });
+}
+
+OpCounts SubtexelCutoff::ops() const {
+  return visit_vd_evaluator(cfg_.evaluator, [](auto ev) { return ev.ops() + wrapper_ops(); });
+}
+
+OpCounts SubtexelCutoff::critical_path() const {
+  // Sign test → negate → clamp → evaluator → add → clamp; the constant select runs beside.
+  OpCounts w = wrapper_ops();
+  w.cmp -= 1;
+  return visit_vd_evaluator(cfg_.evaluator, [&](auto ev) { return ev.critical_path() + w; });
+}
+
+TimingSpec SubtexelCutoff::timing(const TechTable& tech) const {
+  TimingSpec t;
+  t.latency = static_cast<uint32_t>(std::ceil(tech.path_latency(critical_path())));
+  t.ii = 1;
+  t.lanes = cfg_.lanes;
+  // V(0.5) is a constant register per evaluator kind, not a second evaluator.
+  t.area = tech.area_of(ops()) * cfg_.lanes;
+  return t;
+}
+
+}  // namespace texsim

@@ -1,0 +1,93 @@
+#pragma once
+// Sub-texel cut-off volume W = V(0.5) − V(d) of a Gaussian texel (σ = 0.2) cut by a footprint
+// edge at signed distance d, with V(−d) = 1 − V(d), on a selectable V(d) evaluator block;
+// models the thesis's sub-texel weighting (docs/vd-evaluators.md §"Cut-off volume").
+// Arithmetic: the evaluator's format (float, double, or fixed u0.F/s3.F/u1.F, signed input
+// s1.F); W is clamped to ≥ 0 because P2 is not monotonic near d = 0.5.
+#include <cstdint>
+
+#include "blocks/config_reader.h"
+#include "blocks/op_counts.h"
+#include "blocks/tech_table.h"
+#include "blocks/timing_spec.h"
+#include "blocks/vd_evaluator_exact.h"
+#include "blocks/vd_evaluator_p1.h"
+#include "blocks/vd_evaluator_p2.h"
+#include "blocks/vd_evaluator_p3.h"
+#include "blocks/vd_evaluator_params.h"
+
+namespace texsim {
+
+// Calls f(Evaluator{}) with the V(d) evaluator block selected by `k`.
+template <class F>
+decltype(auto) visit_vd_evaluator(VdEvaluatorKind k, F&& f) {
+  switch (k) {
+    case VdEvaluatorKind::Exact: return f(VdEvaluatorExact{});
+    case VdEvaluatorKind::P3: return f(VdEvaluatorP3{});
+    case VdEvaluatorKind::P2: return f(VdEvaluatorP2{});
+    case VdEvaluatorKind::P1: break;
+  }
+  return f(VdEvaluatorP1{});
+}
+
+class SubtexelCutoff {
+ public:
+  struct Config {
+    VdEvaluatorKind evaluator = VdEvaluatorKind::P2;
+    VdFormatKind format = VdFormatKind::Float;  // used by the double-in/double-out entry
+    uint32_t lanes = 1;
+    // Keys: evaluator ("exact"|"p3"|"p2"|"p1"), format ("float"|"double"|"fx16"|"fx12"|
+    // "fx8"), lanes.
+    static Config from_toml(const ConfigReader& r);
+  };
+
+  SubtexelCutoff() = default;
+  explicit SubtexelCutoff(const Config& c) : cfg_(c) {}
+  const Config& config() const { return cfg_; }
+
+  // W for a cut line at signed distance d (texel units; d > 0: the centre is cut off).
+  // |d| is clamped to 0.5: d ≥ 0.5 gives 0, d ≤ −0.5 gives full_weight(). NaN gives 0 (the
+  // texel is dropped). The evaluator is the configured one; the format is Fmt.
+  template <class Fmt>
+  typename Fmt::Out weight(typename Fmt::SIn d) const {
+    using SIn = typename Fmt::SIn;
+    using In = typename Fmt::In;
+    using A = typename Fmt::Acc;
+    using Out = typename Fmt::Out;
+    const SIn half = vd_detail::quantize<SIn>(0.5L);
+    const SIn zero = vd_detail::quantize<SIn>(0.0L);
+    const bool neg = d < zero;
+    SIn a = neg ? -d : d;
+    if (!(a <= half)) a = half;  // also catches NaN
+    return visit_vd_evaluator(cfg_.evaluator, [&](auto ev) {
+      const Out v = ev.template eval<Fmt>(vd_detail::cast<In>(a));
+      const Out v_half = ev.template eval<Fmt>(vd_detail::cast<In>(half));
+      // W = V(0.5) − V(|d|) for d ≥ 0; V(0.5) − (1 − V(|d|)) = (V(0.5) − 1) + V(|d|) for d < 0.
+      A w = neg ? vd_detail::add<A>(
+                      vd_detail::sub<A>(v_half, vd_detail::quantize<A>(1.0L)), v)
+                : vd_detail::sub<A>(v_half, v);
+      const A a_zero = vd_detail::quantize<A>(0.0L);
+      if (w < a_zero) w = a_zero;
+      return vd_detail::cast<Out>(w);
+    });
+  }
+
+  // Weight of a texel wholly on the inner side: W(−0.5) = 2·V(0.5) − 1 (not 1: the Gaussian
+  // texel's tails outside [−0.5, 0.5] are not counted).
+  template <class Fmt>
+  typename Fmt::Out full_weight() const {
+    return weight<Fmt>(vd_detail::quantize<typename Fmt::SIn>(-0.5L));
+  }
+
+  // W in the configured format: d rounded into it, W returned as a double.
+  double weight(double d) const;
+
+  OpCounts ops() const;
+  OpCounts critical_path() const;
+  TimingSpec timing(const TechTable& tech) const;
+
+ private:
+  Config cfg_;
+};
+
+}  // namespace texsim
