@@ -23,6 +23,7 @@ ClockedPipeline::ClockedPipeline(std::vector<StageConfig> stages) {
     st.lane_free.assign(st.cfg.timing.lanes, 0);
     st.starts.assign(st.cfg.fifo_depth, 0);
     st.leaves.assign(st.inflight_cap, 0);
+    st.finishes.assign(st.inflight_cap, 0);
     stages_.push_back(std::move(st));
   }
 }

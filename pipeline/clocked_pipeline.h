@@ -31,12 +31,15 @@ struct ItemCost {
 
 struct StageStats {
   uint64_t items = 0;
+  // Issue-slot accounting: every cycle of every lane up to the stage's last issue is busy or
+  // one of the stall causes, so busy + stalls <= cycles × lanes.
   uint64_t busy = 0;           // issue-slot cycles occupied (sum of ii per item, over lanes)
-  uint64_t stall_starved = 0;  // a lane was free but no item had arrived
-  uint64_t stall_blocked = 0;  // finished items could not leave (FIFO full / in-order retire)
-  uint64_t stall_full = 0;     // could not issue: in-flight limit reached (waiting on latency,
-                               // e.g. outstanding memory requests)
-  uint64_t stall_extra = 0;    // cycles added by ItemCost::extra_ii (e.g. blocking misses)
+  uint64_t stall_starved = 0;  // a lane was free but no item had arrived (input FIFO empty)
+  uint64_t stall_blocked = 0;  // stage full because finished results could not leave
+                               // (downstream FIFO full: back-pressure)
+  uint64_t stall_full = 0;     // stage full because results were not ready yet (in-flight
+                               // limit reached waiting on latency, e.g. DRAM misses)
+  uint64_t stall_extra = 0;    // part of busy: cycles added by ItemCost::extra_ii
   uint64_t last_done = 0;      // cycle the last item left this stage
 };
 
@@ -79,6 +82,7 @@ class ClockedPipeline {
     std::vector<uint64_t> lane_free;  // next cycle each lane can issue
     std::vector<uint64_t> starts;     // ring: start cycle of the last fifo_depth items
     std::vector<uint64_t> leaves;     // ring: leave cycle of the last inflight_cap items
+    std::vector<uint64_t> finishes;   // ring: finish cycle of the same items
     uint64_t last_leave = 0;
     uint64_t last_start = 0;
   };
@@ -110,10 +114,13 @@ uint64_t ClockedPipeline::issue_with(uint64_t ready, CostFn&& cost_at) {
     // Items issue in order from the FIFO head, so never before the previous item issued.
     const uint64_t own_free = std::max(lane_free, slot_free);
     const uint64_t start = std::max({arrival, own_free, st.last_start});
-    if (arrival > own_free) {
-      st.stats.stall_starved += arrival - own_free;
-    } else if (slot_free > std::max(lane_free, arrival)) {
-      st.stats.stall_full += slot_free - std::max(lane_free, arrival);
+    if (arrival > lane_free) st.stats.stall_starved += std::min(arrival, start) - lane_free;
+    if (slot_free > std::max(lane_free, arrival)) {
+      // Waiting for item i - cap to leave: back-pressure if it had finished, else latency.
+      const uint64_t wait = slot_free - std::max(lane_free, arrival);
+      const uint64_t blocked = std::min(wait, st.leaves[slot] - st.finishes[slot]);
+      st.stats.stall_blocked += blocked;
+      st.stats.stall_full += wait - blocked;
     }
     const ItemCost cost = cost_at(static_cast<int>(s), start);
     const uint64_t ii = uint64_t{t.ii} + cost.extra_ii;
@@ -128,10 +135,10 @@ uint64_t ClockedPipeline::issue_with(uint64_t ready, CostFn&& cost_at) {
       const uint32_t depth = next.cfg.fifo_depth;
       if (i >= depth) leave = std::max(leave, next.starts[i % depth]);
     }
-    st.stats.stall_blocked += leave - finish;
     if (leave - arrival > watchdog_) report_stuck(i, static_cast<int>(s));
     st.starts[i % st.cfg.fifo_depth] = start;
     st.leaves[slot] = leave;
+    st.finishes[slot] = finish;
     st.last_leave = leave;
     st.last_start = start;
     st.stats.last_done = leave;

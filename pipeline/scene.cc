@@ -189,13 +189,13 @@ source = "procedural:grid?size=256&cells=8&line=3"
 
 [materials.floor]
 texture = "checker"
-filter = { mode = "trilinear", address = "wrap" }
+filter = { filter = "trilinear", address_u = "wrap", address_v = "wrap" }
 [materials.wall]
 texture = "noise"
-filter = { mode = "trilinear", address = "mirror" }
+filter = { filter = "trilinear", address_u = "mirror", address_v = "mirror" }
 [materials.panel]
 texture = "grid"
-filter = { mode = "bilinear", address = "clamp" }
+filter = { filter = "bilinear", address_u = "clamp", address_v = "clamp" }
 
 [[planes]]
 material = "floor"

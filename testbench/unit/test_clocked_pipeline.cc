@@ -145,6 +145,15 @@ TEST(ClockedPipeline, MatchesCycleSteppedReferenceOnRandomConfigs) {
     const auto want = reference(cfg, ready, cost);
     ASSERT_EQ(got, want) << "trial " << trial;
     EXPECT_EQ(p.cycles(), want.back());
+    for (int s = 0; s < p.stage_count(); ++s) {
+      const StageStats& st = p.stats(s);
+      // Issue-slot accounting never exceeds the cycles available (a last slot may run past the
+      // end by its ii (<= 3 + extra_ii <= 3) when ii > latency).
+      const uint64_t lanes = p.config(s).timing.lanes;
+      EXPECT_LE(st.busy + st.stall_starved + st.stall_blocked + st.stall_full,
+                p.cycles() * lanes + 6 * lanes)
+          << "trial " << trial << " stage " << s;
+    }
   }
 }
 

@@ -1,0 +1,151 @@
+#include "pipeline/texture_unit.h"
+
+#include <algorithm>
+
+#include "blocks/config_reader.h"
+#include "blocks/input_error.h"
+
+namespace texsim {
+
+namespace {
+enum Stage { kLod, kAddress, kCache, kBlend, kStages };
+}
+
+PipelineSetup PipelineSetup::from_toml(const toml::table& t, const std::string& source) {
+  PipelineSetup p;
+  ConfigReader r(t, source, "pipeline");
+  r.reject_unknown({"fifo_depth", "layout", "cache", "dram", "blend"});
+  p.fifo_depth = static_cast<uint32_t>(r.get_int("fifo_depth", p.fifo_depth, 1, 1 << 16));
+  p.layout = static_cast<TexelLayout>(r.get_choice("layout", static_cast<int>(p.layout),
+                                                   {"linear", "tiled4x4", "morton"}));
+  p.cache = TextureCache::Config::from_toml(r.sub("cache"));
+  p.dram = DramModel::Config::from_toml(r.sub("dram"));
+  p.blend = TexelBlend::Config::from_toml(r.sub("blend"));
+  return p;
+}
+
+MaterialSetup material_from_toml(const std::string& name, int texture, const toml::table& effects,
+                                 const std::string& source) {
+  MaterialSetup m;
+  m.name = name;
+  m.texture = texture;
+  ConfigReader r(effects, source, "materials." + name);
+  m.filter = TexelAddressGen::Config::from_toml(r.sub("filter"));
+  m.lod = LodUnit::Config::from_toml(r.sub("lod"));
+  return m;
+}
+
+TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
+                         const PipelineSetup& setup, const TechTable& tech, bool timing)
+    : textures_(textures), mats_(std::move(materials)), setup_(setup), tech_(tech), timing_(timing),
+      blend_(setup.blend), cache_(setup.cache), dram_(setup.dram) {
+  if (mats_.empty()) throw std::invalid_argument("texture unit: no materials");
+  textures_.place(setup.layout);
+  for (const auto& m : mats_) {
+    Path p;
+    p.lod = LodUnit(m.lod);
+    p.addr = TexelAddressGen(m.filter);
+    p.texture = m.texture;
+    paths_.push_back(p);
+  }
+  if (timing_) {
+    // One stage per hardware unit; a unit serving several materials is sized for the slowest.
+    TimingSpec lod_t{}, addr_t{};
+    for (const auto& p : paths_) {
+      const TimingSpec l = p.lod.timing(tech_), a = p.addr.timing(tech_);
+      lod_t.latency = std::max(lod_t.latency, l.latency);
+      addr_t.latency = std::max(addr_t.latency, a.latency);
+    }
+    TimingSpec cache_t;
+    cache_t.latency = setup.cache.hit_latency;
+    std::vector<StageConfig> st(kStages);
+    st[kLod] = {"lod", lod_t, setup.fifo_depth, 0};
+    st[kAddress] = {"address", addr_t, setup.fifo_depth, 0};
+    st[kCache] = {"cache", cache_t, setup.fifo_depth, setup.cache.miss_queue};
+    st[kBlend] = {"blend", blend_.timing(tech_), setup.fifo_depth, 0};
+    pipe_ = std::make_unique<ClockedPipeline>(std::move(st));
+  }
+}
+
+void TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start,
+                                ItemCost& cost) {
+  // Distinct lines of this fragment's taps: each is one tag look-up.
+  lines_.clear();
+  for (int i = 0; i < taps.count; ++i) {
+    const TexelTap& t = taps.tap[i];
+    const uint64_t line = cache_.line_of(tex.address(t.level, t.x, t.y));
+    if (std::find(lines_.begin(), lines_.end(), line) == lines_.end()) lines_.push_back(line);
+  }
+  const uint64_t line_bytes = setup_.cache.line_bytes;
+  uint64_t ready = start + setup_.cache.hit_latency;
+  for (uint64_t line : lines_) {
+    if (!cache_.access(line * line_bytes)) {
+      ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
+    }
+  }
+  cache_.count_texels(static_cast<uint64_t>(taps.count));
+  const uint32_t tpc = setup_.cache.texels_per_cycle;
+  cost.extra_ii = static_cast<uint32_t>((static_cast<uint32_t>(taps.count) + tpc - 1) / tpc) - 1;
+  cost.extra_latency = static_cast<uint32_t>(ready - (start + setup_.cache.hit_latency));
+}
+
+Rgba TextureUnit::process(const Fragment& f, int material) {
+  Path& p = paths_[static_cast<size_t>(material)];
+  const Texture& tex = textures_[p.texture];
+  const LodResult lod = p.lod.eval(f, tex.width(0), tex.height(0), p.lod_ops);
+  p.addr.taps(tex, f.u, f.v, lod, taps_, p.addr_ops);
+  const Rgba colour = blend_.blend(taps_, tex, p.blend_ops);
+  cache_ops_.mem += static_cast<uint64_t>(taps_.count);
+  if (frames_.empty() || frames_.back().frame != f.frame) {
+    if (!frames_.empty() && pipe_) frames_.back().cycles = pipe_->cycles();
+    frames_.push_back({f.frame, 0, 0});
+  }
+  ++frames_.back().fragments;
+  ++fragments_;
+  if (pipe_) {
+    ItemCost costs[kStages];
+    costs[kAddress].extra_ii = TexelAddressGen::issue_cycles(lod) - 1;
+    costs[kBlend].extra_ii = blend_.issue_cycles(taps_) - 1;
+    pipe_->issue_with(0, [&](int s, uint64_t start) {
+      if (s == kCache) cache_lookups(taps_, tex, start, costs[kCache]);
+      return costs[s];
+    });
+    frames_.back().cycles = pipe_->cycles();
+  }
+  return colour;
+}
+
+std::vector<BlockUse> TextureUnit::blocks() const {
+  std::map<std::string, BlockUse> by;
+  auto add = [&](const std::string& name, const std::string& arith, const TimingSpec& t,
+                 const OpCounts& ops, const std::string& mat) {
+    BlockUse& b = by[name];
+    b.name = name;
+    b.arithmetic = arith;
+    if (t.latency >= b.timing.latency) b.timing = t;
+    b.ops += ops;
+    if (std::find(b.materials.begin(), b.materials.end(), mat) == b.materials.end()) b.materials.push_back(mat);
+  };
+  for (size_t i = 0; i < paths_.size(); ++i) {
+    const Path& p = paths_[i];
+    const std::string& m = mats_[i].name;
+    add("lod", "float32, log2 by table", p.lod.timing(tech_), p.lod_ops, m);
+    add(std::string("filter.") + to_string(p.addr.config().filter),
+        "float32 coordinates; weights in u0." + std::to_string(p.addr.config().sub_texel_bits) +
+            ", mip fraction u0." + std::to_string(p.addr.config().mipmap_bits),
+        p.addr.timing(tech_), p.addr_ops, m);
+    add("blend", "float32 multiply-accumulate", blend_.timing(tech_), p.blend_ops, m);
+  }
+  std::vector<BlockUse> out;
+  for (auto& [k, v] : by) out.push_back(v);
+  BlockUse c;
+  c.name = "cache";
+  c.arithmetic = "tag compare";
+  c.timing.latency = setup_.cache.hit_latency;
+  c.ops = cache_ops_;
+  for (const auto& m : mats_) c.materials.push_back(m.name);
+  out.push_back(c);
+  return out;
+}
+
+}  // namespace texsim

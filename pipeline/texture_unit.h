@@ -1,0 +1,106 @@
+#pragma once
+// The clocked texture unit (ПНТ, first slice): LOD → texel address generation → texture cache
+// + DRAM → blend, built from a scene's materials. Only the blocks some material needs are
+// instantiated. docs/architecture.md describes the stages; docs/timing-model.md the timing.
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "blocks/dram_model.h"
+#include "blocks/lod_unit.h"
+#include "blocks/op_counts.h"
+#include "blocks/tech_table.h"
+#include "blocks/texel_address_gen.h"
+#include "blocks/texel_blend.h"
+#include "blocks/texture_cache.h"
+#include "blocks/texture_memory.h"
+#include "pipeline/clocked_pipeline.h"
+#include "traces/fragment.h"
+
+namespace texsim {
+
+struct MaterialSetup {
+  std::string name;
+  int texture = 0;
+  LodUnit::Config lod;
+  TexelAddressGen::Config filter;
+};
+
+struct PipelineSetup {
+  uint32_t fifo_depth = 4;
+  TexelLayout layout = TexelLayout::Tiled4x4;
+  TextureCache::Config cache;
+  DramModel::Config dram;
+  TexelBlend::Config blend;
+  // Reads [pipeline] (keys fifo_depth, layout, cache, dram, blend); errors name file:line:col.
+  static PipelineSetup from_toml(const toml::table& t, const std::string& source);
+};
+
+// Reads a material's effect tables ("filter", "lod") into a MaterialSetup.
+MaterialSetup material_from_toml(const std::string& name, int texture, const toml::table& effects,
+                                 const std::string& source);
+
+struct BlockUse {
+  std::string name;             // e.g. "lod", "filter.trilinear", "blend", "cache"
+  std::string arithmetic;       // which number format the datapath uses
+  TimingSpec timing;
+  OpCounts ops;                 // total over the run
+  std::vector<std::string> materials;  // materials that use it
+};
+
+struct FrameStats {
+  uint32_t frame = 0;
+  uint64_t fragments = 0;
+  uint64_t cycles = 0;  // cycles spent on this frame (last leave minus previous frame's)
+};
+
+class TextureUnit {
+ public:
+  // With `timing` false the unit is functional only: colours and op counts, no cache or clock.
+  TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials, const PipelineSetup& setup,
+              const TechTable& tech, bool timing);
+
+  // Filters one fragment with its material's blocks; in timing mode also sends it through the
+  // clocked pipeline and the cache. Fragments must arrive in order.
+  Rgba process(const Fragment& f, int material);
+
+  bool timing() const { return timing_; }
+  uint64_t fragments() const { return fragments_; }
+  uint64_t cycles() const { return pipe_ ? pipe_->cycles() : 0; }
+  std::vector<BlockUse> blocks() const;
+  const ClockedPipeline* pipeline() const { return pipe_.get(); }
+  const TextureCache& cache() const { return cache_; }
+  const DramModel& dram() const { return dram_; }
+  const std::vector<FrameStats>& frames() const { return frames_; }
+  const std::vector<MaterialSetup>& materials() const { return mats_; }
+
+ private:
+  struct Path {
+    LodUnit lod;
+    TexelAddressGen addr;
+    int texture = 0;
+    OpCounts lod_ops, addr_ops, blend_ops;
+  };
+  void cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start, ItemCost& cost);
+
+  TextureSet& textures_;
+  std::vector<MaterialSetup> mats_;
+  std::vector<Path> paths_;
+  PipelineSetup setup_;
+  TechTable tech_;
+  bool timing_;
+  TexelBlend blend_;
+  TextureCache cache_;
+  DramModel dram_;
+  std::unique_ptr<ClockedPipeline> pipe_;
+  FilterTaps taps_;
+  std::vector<uint64_t> lines_;  // distinct cache lines of the current fragment
+  uint64_t fragments_ = 0;
+  OpCounts cache_ops_;
+  std::vector<FrameStats> frames_;
+};
+
+}  // namespace texsim
