@@ -1,0 +1,155 @@
+#pragma once
+// UvApproximationTriangle: texture coordinates over a triangle from a biquadratic (6 exact
+// points: vertices + edge midpoints, 12 coefficients) or bicubic (10 points, 20 coefficients)
+// polynomial in the barycentric coordinates, evaluated along rows by forward differences
+// (seed 002's surface approximations; docs/coords-derivations.md §4.3).
+#include <algorithm>
+#include <array>
+#include <cstdint>
+
+#include "blocks/op_counts.h"
+#include "blocks/projective_map.h"
+#include "blocks/tech_table.h"
+#include "blocks/timing_spec.h"
+
+namespace texsim {
+
+class ConfigReader;
+
+class UvApproximationTriangle {
+ public:
+  enum class Order { Biquadratic = 2, Bicubic = 3 };
+  struct Config {
+    Order order = Order::Biquadratic;
+    Datapath datapath = Datapath::Spatial;
+    double min_denominator = 1.0 / 4096;  // an exact node with q below it rejects the triangle
+    static Config from_toml(const ConfigReader& r);
+  };
+  // Vertices in pixel-index coordinates (the pixel centre of pixel i is x = i).
+  struct Triangle {
+    double x[3] = {0, 0, 0};
+    double y[3] = {0, 0, 0};
+  };
+  static constexpr int kMaxTerms = 10;
+  // Per-triangle state: monomial coefficients in (l1, l2) and l = a·x + b·y + c for both.
+  template <class T> struct Setup {
+    std::array<T, kMaxTerms> cu{}, cv{};
+    T l1a{}, l1b{}, l1c{}, l2a{}, l2b{}, l2c{};
+    bool ok = false;
+  };
+
+  UvApproximationTriangle() = default;
+  explicit UvApproximationTriangle(const Config& c) : cfg_(c) {}
+  const Config& config() const { return cfg_; }
+  int nodes() const { return cfg_.order == Order::Biquadratic ? 6 : 10; }
+  // Barycentric (l1, l2) of node i, and the constant matrix taking node values to monomial
+  // coefficients (the inverse of the nodes' Vandermonde matrix, long double).
+  static std::array<long double, 2> node(Order o, int i);
+  static const std::array<std::array<long double, kMaxTerms>, kMaxTerms>& node_to_coeffs(Order o);
+
+  template <class T> Setup<T> setup_triangle(const MapCoeffs<T>& m, const Triangle& tri) const {
+    Setup<T> s;
+    if (!m.ok) return s;
+    const double lim = format_max<T>();
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(tri.x[k]) || !std::isfinite(tri.y[k]) || std::fabs(tri.x[k]) >= lim ||
+          std::fabs(tri.y[k]) >= lim) {
+        return s;
+      }
+    }
+    const T x0 = static_cast<T>(tri.x[0]), y0 = static_cast<T>(tri.y[0]);
+    const T e1x = static_cast<T>(tri.x[1]) - x0, e1y = static_cast<T>(tri.y[1]) - y0;
+    const T e2x = static_cast<T>(tri.x[2]) - x0, e2y = static_cast<T>(tri.y[2]) - y0;
+    const T det = e1x * e2y - e1y * e2x;
+    if (det == T{} || !is_finite_value(det)) return s;
+    const T r = static_cast<T>(1) / det;
+    // l1 = ((x-x0)·e2y - (y-y0)·e2x)/det, l2 = ((y-y0)·e1x - (x-x0)·e1y)/det.
+    s.l1a = e2y * r;
+    s.l1b = -(e2x * r);
+    s.l1c = -(s.l1a * x0 + s.l1b * y0);
+    s.l2a = -(e1y * r);
+    s.l2b = e1x * r;
+    s.l2c = -(s.l2a * x0 + s.l2b * y0);
+    const int nn = nodes();
+    std::array<T, kMaxTerms> pu{}, pv{};
+    for (int i = 0; i < nn; ++i) {
+      const auto l = node(cfg_.order, i);
+      const T xt = x0 + static_cast<T>(static_cast<double>(l[0])) * e1x +
+                   static_cast<T>(static_cast<double>(l[1])) * e2x;
+      const T yt = y0 + static_cast<T>(static_cast<double>(l[0])) * e1y +
+                   static_cast<T>(static_cast<double>(l[1])) * e2y;
+      const T q = m.G * xt + m.H * yt + m.I;
+      if (!is_finite_value(q) || !(q >= static_cast<T>(cfg_.min_denominator))) return s;
+      pu[i] = (m.A * xt + m.B * yt + m.C) / q;
+      pv[i] = (m.D * xt + m.E * yt + m.F) / q;
+    }
+    const auto& inv = node_to_coeffs(cfg_.order);
+    for (int j = 0; j < nn; ++j) {
+      T au{}, av{};
+      for (int i = 0; i < nn; ++i) {
+        if (inv[j][i] == 0) continue;
+        const T c = static_cast<T>(static_cast<double>(inv[j][i]));
+        au += c * pu[i];
+        av += c * pv[i];
+      }
+      s.cu[j] = au;
+      s.cv[j] = av;
+    }
+    s.ok = true;
+    for (int j = 0; j < nn; ++j) s.ok = s.ok && is_finite_value(s.cu[j]) && is_finite_value(s.cv[j]);
+    return s;
+  }
+
+  // Row evaluation: the polynomial at the first order+1 pixels, then forward differences.
+  template <class T> void eval_row(const Setup<T>& st, const RowSpan& s, UvSample* out) const {
+    if (s.n <= 0) return;
+    std::fill(out, out + s.n, UvSample{});
+    if (!st.ok) return;
+    const int order = static_cast<int>(cfg_.order);
+    const int np = std::min<int>(order + 1, s.n);
+    std::array<T, 4> du{}, dv{};
+    for (int i = 0; i < np; ++i) {
+      const T xt = static_cast<T>(s.x0 + i), yt = static_cast<T>(s.y);
+      const T a = st.l1a * xt + st.l1b * yt + st.l1c;
+      const T b = st.l2a * xt + st.l2b * yt + st.l2c;
+      du[i] = poly(st.cu, a, b);
+      dv[i] = poly(st.cv, a, b);
+    }
+    // Difference table in place: d[k] = Δ^k f(0).
+    for (int k = 1; k < np; ++k) {
+      for (int i = np - 1; i >= k; --i) {
+        du[i] = du[i] - du[i - 1];
+        dv[i] = dv[i] - dv[i - 1];
+      }
+    }
+    for (int32_t n = 0; n < s.n; ++n) {
+      const bool ok = !out_of_range(du[0]) && !out_of_range(dv[0]);
+      out[n] = ok ? UvSample{to_double(du[0]), to_double(dv[0]), true} : UvSample{};
+      for (int k = 0; k + 1 < np; ++k) {
+        du[k] += du[k + 1];
+        dv[k] += dv[k + 1];
+      }
+    }
+  }
+
+  OpCounts pixel_ops() const;
+  OpCounts pixel_critical_path() const;
+  OpCounts row_setup_ops() const;
+  OpCounts row_setup_critical_path() const;
+  OpCounts triangle_setup_ops() const;
+  OpCounts triangle_setup_critical_path() const;
+  TimingSpec timing(const TechTable& t) const;
+  TimingSpec row_setup_timing(const TechTable& t) const;
+  TimingSpec triangle_setup_timing(const TechTable& t) const;
+
+ private:
+  template <class T> T poly(const std::array<T, kMaxTerms>& c, T a, T b) const {
+    const T aa = a * a, ab = a * b, bb = b * b;
+    T p = c[0] + c[1] * a + c[2] * b + c[3] * aa + c[4] * ab + c[5] * bb;
+    if (cfg_.order == Order::Bicubic) p += c[6] * aa * a + c[7] * aa * b + c[8] * a * bb + c[9] * bb * b;
+    return p;
+  }
+  Config cfg_{};
+};
+
+}  // namespace texsim
