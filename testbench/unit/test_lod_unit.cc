@@ -241,6 +241,43 @@ TEST(LodUnit, RandomAgainstLongDoubleReference) {
   EXPECT_LT(n_mismatch, 20);
 }
 
+// Hard cases: footprints from 2^-74 to 2^63 texels, at the edges of float32's range for ρ².
+// Down to 2^-71 texels λ stays within 1e-5·|λ| of the reference. Below, the squares are
+// subnormal and lose bits: λ is then off by up to 2.5 but still below −69, which any
+// practical min_lod clamps. Tinier still, ρ² flushes to 0 and λ = −∞ clamps to min_lod;
+// above 2^64 texels ρ² overflows and λ clamps to max_lod.
+TEST(LodUnit, ExtremeScalesAgainstLongDouble) {
+  LodUnit::Config c;
+  c.min_lod = -1000;
+  c.max_lod = 1000;
+  double worst = 0;
+  for (AnisoMode m : {AnisoMode::Isotropic, AnisoMode::Vulkan}) {
+    c.aniso = m;
+    const LodUnit lod(c);
+    for (int k = -74; k <= 63; ++k) {
+      for (double frac : {1.0, 1.2345678, 1.9999999}) {
+        const double len = std::ldexp(frac, k);  // texels on a 1024² texture
+        const Fragment f = frag(len / 1024 * 0.6, len / 1024 * 0.8, 0, len / 1024 / 2.7);
+        OpCounts ops;
+        const LodResult r = lod.eval(f, 1024, 1024, ops);
+        const RefLod ref = reference(f, 1024, 1024, m, 16);
+        const double err = std::fabs(static_cast<double>(r.lambda - ref.lambda_base));
+        if (k < -71) {
+          EXPECT_LT(r.lambda, -69.0f) << "k=" << k;
+          continue;
+        }
+        worst = std::max(worst, err);
+        EXPECT_LT(err, 1e-5 * std::max(1.0, std::fabs(static_cast<double>(ref.lambda_base))))
+            << "k=" << k << " frac=" << frac;
+      }
+    }
+    OpCounts ops;
+    EXPECT_EQ(lod.eval(frag(1e-30, 0, 0, 1e-30), 1024, 1024, ops).lambda, -1000.0f);  // ρ² = 0
+    EXPECT_EQ(lod.eval(frag(1e17, 0, 0, 1e17), 1024, 1024, ops).lambda, 1000.0f);    // ρ² = inf
+  }
+  std::printf("extreme scales 2^-71..2^63 texels: max |λ - λ_ref| = %.3g\n", worst);
+}
+
 TEST(LodUnit, OpCountsAndTiming) {
   OpCounts ops;
   LodUnit iso;
