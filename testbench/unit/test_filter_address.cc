@@ -448,6 +448,36 @@ TEST(TexelAddressGen, OpCountsAndTiming) {
                                               4 * tech.lat(OpKind::Add)));
 }
 
+// Prints latency/area/op counts per filter and address mode under the default tech table
+// (docs/filters.md quotes this table), and checks the orderings an architect relies on.
+TEST(TexelAddressGen, TimingTable) {
+  const TechTable tech = TechTable::defaults();
+  std::printf("%-9s %-6s %7s %7s  per isotropic fragment: %4s %4s %4s\n", "filter", "mode",
+              "latency", "area", "add", "mul", "cmp");
+  double prev_area = 0;
+  for (FilterMode f : {FilterMode::Nearest, FilterMode::Bilinear, FilterMode::Trilinear}) {
+    double area_clamp = 0;
+    for (AddressMode m : {AddressMode::Clamp, AddressMode::Wrap, AddressMode::Mirror}) {
+      const auto g = gen(f, m, m);
+      const TimingSpec t = g.timing(tech);
+      const OpCounts o = g.ops_setup(false) + g.ops_per_probe(false);
+      std::printf("%-9s %-6s %7u %7.1f  %27lu %4lu %4lu\n", to_string(f), to_string(m),
+                  t.latency, t.area, static_cast<unsigned long>(o.add),
+                  static_cast<unsigned long>(o.mul), static_cast<unsigned long>(o.cmp));
+      if (m == AddressMode::Clamp) area_clamp = t.area;
+      EXPECT_GE(t.area, area_clamp);  // clamp is the cheapest address mode
+    }
+    EXPECT_GT(area_clamp, prev_area);  // nearest < bilinear < trilinear
+    prev_area = area_clamp;
+  }
+  for (int k : {4, 8}) {
+    TexelBlend::Config c;
+    c.taps_per_cycle = k;
+    const TimingSpec t = TexelBlend(c).timing(tech);
+    std::printf("blend, %d taps/cycle: latency %u, area %.1f\n", k, t.latency, t.area);
+  }
+}
+
 TEST(TexelAddressGen, ConfigFromToml) {
   auto parse = [](const std::string& text) {
     static toml::table t;

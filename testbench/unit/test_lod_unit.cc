@@ -309,6 +309,8 @@ TEST(LodUnit, OpCountsAndTiming) {
   slow.latency[static_cast<int>(OpKind::Div)] += 10;
   EXPECT_EQ(LodUnit(c).timing(slow).latency, tv.latency + 10);
   EXPECT_EQ(iso.timing(slow).latency, ti.latency);
+  std::printf("default tech: isotropic latency %u area %.1f; vulkan latency %u area %.1f\n",
+              ti.latency, ti.area, tv.latency, tv.area);
 }
 
 TEST(LodUnit, ConfigFromToml) {
