@@ -7,8 +7,8 @@ namespace texsim {
 
 namespace {
 
-// The parts around the evaluator: |d| (sign test + negate), clamp to 0.5, combine with the
-// constant V(0.5) or V(0.5) − 1 (select + add), clamp W ≥ 0.
+// The parts around the evaluator: |d| (sign test + negate), clamp to 0.5, V̂ = min(V̂, V̂(0.5)),
+// combine with the constant V(0.5) or V(0.5) − 1 (select + add).
 OpCounts wrapper_ops() {
   OpCounts o;
   o.cmp = 1 + 1 + 1 + 1;
@@ -43,7 +43,7 @@ OpCounts SubtexelCutoff::ops() const {
 }
 
 OpCounts SubtexelCutoff::critical_path() const {
-  // Sign test → negate → clamp → evaluator → add → clamp; the constant select runs beside.
+  // Sign test → negate → clamp → evaluator → min → add; the constant select runs beside.
   OpCounts w = wrapper_ops();
   w.cmp -= 1;
   return visit_vd_evaluator(cfg_.evaluator, [&](auto ev) { return ev.critical_path() + w; });

@@ -3,7 +3,7 @@
 // edge at signed distance d, with V(−d) = 1 − V(d), on a selectable V(d) evaluator block;
 // models the thesis's sub-texel weighting (docs/vd-evaluators.md §"Cut-off volume").
 // Arithmetic: the evaluator's format (float, double, or fixed u0.F/s3.F/u1.F, signed input
-// s1.F); W is clamped to ≥ 0 because P2 is not monotonic near d = 0.5.
+// s1.F); V̂ is clamped to V̂(0.5) because P2 and P3 are not monotonic near d = 0.5.
 #include <cstdint>
 
 #include "blocks/config_reader.h"
@@ -60,14 +60,15 @@ class SubtexelCutoff {
     SIn a = neg ? -d : d;
     if (!(a <= half)) a = half;  // also catches NaN
     return visit_vd_evaluator(cfg_.evaluator, [&](auto ev) {
-      const Out v = ev.template eval<Fmt>(vd_detail::cast<In>(a));
       const Out v_half = ev.template eval<Fmt>(vd_detail::cast<In>(half));
+      Out v = ev.template eval<Fmt>(vd_detail::cast<In>(a));
+      // P2 and P3 peak before d = 0.5; clamping V̂ to V̂(0.5) keeps W within [0, full] on both
+      // sides of the centre and W monotone, at the cost of one comparator.
+      if (v_half < v) v = v_half;
       // W = V(0.5) − V(|d|) for d ≥ 0; V(0.5) − (1 − V(|d|)) = (V(0.5) − 1) + V(|d|) for d < 0.
-      A w = neg ? vd_detail::add<A>(
-                      vd_detail::sub<A>(v_half, vd_detail::quantize<A>(1.0L)), v)
-                : vd_detail::sub<A>(v_half, v);
-      const A a_zero = vd_detail::quantize<A>(0.0L);
-      if (w < a_zero) w = a_zero;
+      const A w = neg ? vd_detail::add<A>(
+                            vd_detail::sub<A>(v_half, vd_detail::quantize<A>(1.0L)), v)
+                      : vd_detail::sub<A>(v_half, v);
       return vd_detail::cast<Out>(w);
     });
   }

@@ -347,7 +347,8 @@ int run_study_vd(const std::string& out_dir, std::ostream& log) {
       << "SubtexelCutoff with each evaluator against the exact Φ(0.5/σ) − Φ(d/σ) (double: grid of "
          "2·10^6 + 1 points; u0.16 format: every s1.16 code). The jump is Ŵ(0⁻) − Ŵ(0⁺) "
          "(= 2·V̂(0) − 1 when V̂(0) ≠ 0.5); min before clamp is the most negative "
-         "V̂(0.5) − V̂(d), which the block clamps to 0.\n\n"
+         "V̂(0.5) − V̂(d): where the polynomial peaks before d = 0.5 the block clamps V̂ to "
+         "V̂(0.5), so W stays within [0, 2·V̂(0.5) − 1].\n\n"
       << "| evaluator | format | max abs error | at d | jump at d = 0 | min before clamp |\n"
       << "|---|---|---|---|---|---|\n";
     for (const CutRow& c : cuts) {
