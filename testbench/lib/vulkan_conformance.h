@@ -49,6 +49,8 @@ struct ConformanceVerdict {
   double miss = 0;         // distance outside the closest acceptable range (0 when passing)
 };
 
+// Conformance checker for Vulkan isotropic texel filtering (docs/filters.md §7): acceptable
+// result set from LOD, sub-texel and mipmap precision rules; not a model of any hardware.
 class VulkanConformance {
  public:
   VulkanConformance(const VkSamplerState& sampler, const VkFilterPrecision& precision)
