@@ -85,6 +85,7 @@ class ClockedPipeline {
     std::vector<uint64_t> finishes;   // ring: finish cycle of the same items
     uint64_t last_leave = 0;
     uint64_t last_start = 0;
+    uint32_t fifo_pos = 0, slot_pos = 0, lane_pos = 0;  // item index modulo each ring size
   };
   [[noreturn]] void report_stuck(uint64_t item, int stage) const;
 
@@ -107,8 +108,9 @@ uint64_t ClockedPipeline::issue_with(uint64_t ready, CostFn&& cost_at) {
   for (size_t s = 0; s < n; ++s) {
     Stage& st = stages_[s];
     const TimingSpec& t = st.cfg.timing;
-    uint64_t& lane_free = st.lane_free[t.lanes == 1 ? 0 : i % t.lanes];
-    const uint32_t slot = static_cast<uint32_t>(i % st.inflight_cap);
+    // Ring positions are kept as wrapping counters: no divisions on the hot path.
+    uint64_t& lane_free = st.lane_free[st.lane_pos];
+    const uint32_t slot = st.slot_pos;
     // The item i - inflight_cap must have left before this one can enter.
     const uint64_t slot_free = i >= st.inflight_cap ? st.leaves[slot] : 0;
     // Items issue in order from the FIFO head, so never before the previous item issued.
@@ -132,11 +134,13 @@ uint64_t ClockedPipeline::issue_with(uint64_t ready, CostFn&& cost_at) {
     if (s + 1 < n) {
       // Back-pressure: item i - depth must have left the next stage's input FIFO.
       const Stage& next = stages_[s + 1];
-      const uint32_t depth = next.cfg.fifo_depth;
-      if (i >= depth) leave = std::max(leave, next.starts[i % depth]);
+      if (i >= next.cfg.fifo_depth) leave = std::max(leave, next.starts[next.fifo_pos]);
     }
     if (leave - arrival > watchdog_) report_stuck(i, static_cast<int>(s));
-    st.starts[i % st.cfg.fifo_depth] = start;
+    st.starts[st.fifo_pos] = start;
+    if (++st.fifo_pos == st.cfg.fifo_depth) st.fifo_pos = 0;
+    if (++st.slot_pos == st.inflight_cap) st.slot_pos = 0;
+    if (++st.lane_pos == st.cfg.timing.lanes) st.lane_pos = 0;
     st.leaves[slot] = leave;
     st.finishes[slot] = finish;
     st.last_leave = leave;

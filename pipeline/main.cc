@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   RunOptions run;
   auto* run_cmd = app.add_subcommand("run", "Simulate a scene (default: the built-in scene) or a trace; "
                                             "write report.json, report.md and images to --out");
-  run_cmd->add_option("scene", run.scene, "Scene file (TOML); omit for the built-in default scene");
+  run_cmd->add_option("scene", run.scene, "Scene file (TOML), or 'default' (the built-in scene, also used when both scene and --trace are omitted)");
   run_cmd->add_option("--trace", run.trace, "Fragment trace (.trc binary or .csv) to drive the texture unit");
   run_cmd->add_option("--out", run.out, "Output directory")->capture_default_str();
   run_cmd->add_flag("--functional", run.functional, "Functional only: colours and op counts, no cache or clock");

@@ -46,7 +46,7 @@ class Progress {
 RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   // Scene: a file, the built-in default, or (trace only) none.
   const bool use_scene = !opt.scene.empty() || opt.trace.empty();
-  Scene scene = opt.scene.empty() ? default_scene() : load_scene(opt.scene);
+  Scene scene = (opt.scene.empty() || opt.scene == "default") ? default_scene() : load_scene(opt.scene);
 
   // Textures and the map from fragment texture ids to loaded textures.
   TextureSet textures;
@@ -71,7 +71,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   std::vector<MaterialSetup> mats;
   if (use_scene) {
     for (const auto& m : scene.materials) {
-      mats.push_back(material_from_toml(m.name, m.texture, m.effects, scene.path));
+      mats.push_back(material_from_toml(m.name, m.texture, *m.effects, scene.path));
     }
   }
   if (mats.empty()) {
@@ -80,7 +80,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     d.filter.filter = FilterMode::Trilinear;
     mats.push_back(d);
   }
-  const PipelineSetup setup = PipelineSetup::from_toml(scene.pipeline, scene.path);
+  const PipelineSetup setup = PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : toml::table{}, scene.path);
   TextureUnit unit(textures, mats, setup, scene.tech, !opt.functional);
 
   std::vector<PlaneProjection> maps;

@@ -3,21 +3,13 @@
 #include <cstdio>
 #include <sstream>
 
-#include <toml++/toml.h>
+#include <nlohmann/json.hpp>
 
 #include "pipeline/atomic_file.h"
 
 namespace texsim {
 
 namespace {
-
-toml::table ops_table(const OpCounts& ops) {
-  toml::table t;
-  for (int k = 0; k < kOpKinds; ++k) {
-    t.insert(kOpKindNames[k], static_cast<int64_t>(ops.get(static_cast<OpKind>(k))));
-  }
-  return t;
-}
 
 std::string fmt(double v, int prec = 4) {
   char buf[64];
@@ -32,86 +24,60 @@ void write_run_reports(const std::string& dir, const RunInfo& info, const Textur
                        const AccuracyMetrics& acc) {
   const auto blocks = unit.blocks();
   const double frags = static_cast<double>(unit.fragments());
-  const auto i64 = [](uint64_t v) { return static_cast<int64_t>(v); };
 
-  toml::table j;
-  j.insert("scene", info.scene);
-  j.insert("trace", info.trace);
-  j.insert("mode", unit.timing() ? "timing" : "functional");
-  j.insert("fragments", i64(unit.fragments()));
-  j.insert("cycles", i64(unit.cycles()));
-  j.insert("cycles_per_fragment", frags > 0 ? static_cast<double>(unit.cycles()) / frags : 0.0);
-  toml::table jb;
+  using Json = nlohmann::ordered_json;
+  Json j;
+  j["scene"] = info.scene;
+  j["trace"] = info.trace;
+  j["mode"] = unit.timing() ? "timing" : "functional";
+  j["fragments"] = unit.fragments();
+  j["cycles"] = unit.cycles();
+  j["cycles_per_fragment"] = frags > 0 ? static_cast<double>(unit.cycles()) / frags : 0.0;
+  j["image"] = {{"width", info.width}, {"height", info.height}};
+  j["textures"] = info.textures;
   for (const auto& b : blocks) {
-    toml::table e;
-    e.insert("ops", ops_table(b.ops));
-    e.insert("ops_per_fragment", frags > 0 ? static_cast<double>(b.ops.total()) / frags : 0.0);
-    e.insert("latency", static_cast<int64_t>(b.timing.latency));
-    e.insert("ii", static_cast<int64_t>(b.timing.ii));
-    e.insert("area", b.timing.area);
-    e.insert("arithmetic", b.arithmetic);
-    toml::array mats;
-    for (const auto& m : b.materials) mats.push_back(m);
-    e.insert("materials", mats);
-    jb.insert(b.name, e);
+    Json e;
+    for (int k = 0; k < kOpKinds; ++k) e["ops"][std::string(kOpKindNames[k])] = b.ops.get(static_cast<OpKind>(k));
+    e["ops_per_fragment"] = frags > 0 ? static_cast<double>(b.ops.total()) / frags : 0.0;
+    e["latency"] = b.timing.latency;
+    e["ii"] = b.timing.ii;
+    e["area"] = b.timing.area;
+    e["arithmetic"] = b.arithmetic;
+    e["materials"] = b.materials;
+    j["blocks"][b.name] = e;
   }
-  j.insert("blocks", jb);
   if (const ClockedPipeline* p = unit.pipeline()) {
-    toml::table js;
     for (int s = 0; s < p->stage_count(); ++s) {
       const StageStats& st = p->stats(s);
-      toml::table e;
-      e.insert("latency", static_cast<int64_t>(p->config(s).timing.latency));
-      e.insert("busy", i64(st.busy));
-      e.insert("utilisation", p->utilisation(s));
-      toml::table stalls;
-      stalls.insert("starved", i64(st.stall_starved));
-      stalls.insert("blocked", i64(st.stall_blocked));
-      stalls.insert("full", i64(st.stall_full));
-      stalls.insert("multi_cycle", i64(st.stall_extra));
-      e.insert("stalls", stalls);
-      js.insert(p->config(s).name, e);
+      j["stages"][p->config(s).name] = {
+          {"latency", p->config(s).timing.latency},
+          {"busy", st.busy},
+          {"utilisation", p->utilisation(s)},
+          {"stalls", {{"starved", st.stall_starved}, {"blocked", st.stall_blocked},
+                      {"latency_full", st.stall_full}, {"multi_cycle", st.stall_extra}}}};
     }
-    j.insert("stages", js);
   }
   const auto& cs = unit.cache().stats();
-  toml::table jc;
-  jc.insert("hits", i64(cs.hits));
-  jc.insert("misses", i64(cs.misses));
-  jc.insert("accesses", i64(cs.accesses));
-  jc.insert("hit_rate", cs.accesses ? static_cast<double>(cs.hits) / static_cast<double>(cs.accesses) : 0.0);
-  jc.insert("texel_reads", i64(cs.texel_reads));
-  jc.insert("fill_bytes", i64(cs.fill_bytes));
-  jc.insert("size_bytes", static_cast<int64_t>(unit.cache().config().size_bytes));
-  jc.insert("ways", static_cast<int64_t>(unit.cache().config().ways));
-  jc.insert("line_bytes", static_cast<int64_t>(unit.cache().config().line_bytes));
-  j.insert("cache", jc);
-  toml::table jd;
-  jd.insert("requests", i64(unit.dram().stats().requests));
-  jd.insert("bytes", i64(unit.dram().stats().bytes));
-  jd.insert("busy_cycles", i64(unit.dram().stats().busy_cycles));
-  j.insert("dram", jd);
-  toml::array jf;
+  j["cache"] = {{"hits", cs.hits},
+                {"misses", cs.misses},
+                {"accesses", cs.accesses},
+                {"hit_rate", cs.accesses ? static_cast<double>(cs.hits) / static_cast<double>(cs.accesses) : 0.0},
+                {"texel_reads", cs.texel_reads},
+                {"fill_bytes", cs.fill_bytes},
+                {"size_bytes", unit.cache().config().size_bytes},
+                {"ways", unit.cache().config().ways},
+                {"line_bytes", unit.cache().config().line_bytes}};
+  j["dram"] = {{"requests", unit.dram().stats().requests},
+               {"bytes", unit.dram().stats().bytes},
+               {"busy_cycles", unit.dram().stats().busy_cycles}};
+  j["frames"] = Json::array();
   for (const auto& f : unit.frames()) {
-    toml::table e;
-    e.insert("frame", static_cast<int64_t>(f.frame));
-    e.insert("fragments", i64(f.fragments));
-    e.insert("cycles_end", i64(f.cycles));
-    jf.push_back(e);
+    j["frames"].push_back({{"frame", f.frame}, {"fragments", f.fragments}, {"cycles_end", f.cycles}});
   }
-  j.insert("frames", jf);
-  toml::table ja;
-  ja.insert("psnr_db", acc.psnr_db);
-  ja.insert("nmse", acc.nmse);
-  ja.insert("max_abs", acc.max_abs);
-  ja.insert("mean_abs", acc.mean_abs);
-  ja.insert("mse", acc.mse);
-  ja.insert("pixels", i64(acc.pixels));
-  ja.insert("reference", info.reference);
-  j.insert("accuracy", ja);
-  std::ostringstream js;
-  js << toml::json_formatter{j} << "\n";
-  write_file_atomic(dir + "/report.json", js.str());
+  j["accuracy"] = {{"psnr_db", acc.psnr_db}, {"nmse", acc.nmse},   {"max_abs", acc.max_abs},
+                   {"mean_abs", acc.mean_abs}, {"mse", acc.mse}, {"pixels", acc.pixels},
+                   {"reference", info.reference}};
+  write_file_atomic(dir + "/report.json", j.dump(2) + "\n");
 
   std::ostringstream md;
   md << "# texsim run report\n\n";

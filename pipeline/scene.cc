@@ -113,10 +113,9 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
       if (!tn->is_string()) mr.fail("texture", "expected a texture name");
       m.texture = texture_index(*tn->value<std::string>(), *tn);
       for (const auto& [ek, ev] : mt) {
-        if (ek.str() == "texture") continue;
-        if (!ev.is_table()) mr.fail(ek.str(), "expected a table of effect settings");
-        m.effects.insert(ek, ev);
+        if (ek.str() != "texture" && !ev.is_table()) mr.fail(ek.str(), "expected a table of effect settings");
       }
+      m.effects = &mt;
       s.materials.push_back(std::move(m));
     }
   }
@@ -153,7 +152,7 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   ConfigReader ref = top.sub("reference");
   ref.reject_unknown({"supersamples"});
   s.reference_supersamples = static_cast<int>(ref.get_int("supersamples", s.reference_supersamples, 1, 64));
-  if (const toml::table* p = top.subtable("pipeline")) s.pipeline = *p;
+  s.pipeline = top.subtable("pipeline");
   if (const toml::table* t = top.subtable("tech")) s.tech = TechTable::from_toml(*t, source_name);
   return s;
 }

@@ -29,7 +29,9 @@ struct SceneTexture {
 struct SceneMaterial {
   std::string name;
   int texture = 0;             // index into Scene::textures
-  toml::table effects;         // the material's effect tables (filter, lod, coords, ...)
+  // The material's table in the parsed document (effect tables filter, lod, coords, ...);
+  // points into Scene::root so messages keep their line:column.
+  const toml::table* effects = nullptr;
   int line = 0, column = 0;    // where it is declared, for messages
 };
 
@@ -51,7 +53,7 @@ struct Scene {
   std::vector<SceneMaterial> materials;
   std::vector<ScenePlane> planes;
   int reference_supersamples = 8;  // per axis, per pixel, for the ground truth
-  toml::table pipeline;            // [pipeline] table: fifo depth, layout, cache, dram
+  const toml::table* pipeline = nullptr;  // [pipeline] table (in root), or null
   TechTable tech = TechTable::defaults();
   std::shared_ptr<toml::table> root;  // the parsed document (keeps source positions)
 };

@@ -1,0 +1,78 @@
+// Fragments per second of the texture unit on one core: functional-only vs timing mode, for
+// bilinear and trilinear materials on a grazing checkerboard floor (fragments generated once,
+// in memory, so the trace reader is not what is measured; see bench_trace_stream for that).
+// Run: build/testbench/bench_texture_unit --benchmark_counters_tabular=true
+#include <benchmark/benchmark.h>
+
+#include "pipeline/fragment_generator.h"
+#include "pipeline/scene.h"
+#include "pipeline/texture_loader.h"
+#include "pipeline/texture_unit.h"
+
+namespace texsim {
+namespace {
+
+const char* kScene = R"(
+[output]
+width = 640
+height = 480
+[camera]
+position = [0.0, 1.0, 0.0]
+look_at = [0.0, 0.3, -10.0]
+[textures.checker]
+source = "procedural:checker?size=1024&cells=32"
+[materials.floor]
+texture = "checker"
+[[planes]]
+material = "floor"
+origin = [-100.0, 0.0, -0.5]
+edge_u = [200.0, 0.0, 0.0]
+edge_v = [0.0, 0.0, -200.0]
+uv_scale = [40.0, 40.0]
+)";
+
+struct Fixture {
+  Scene scene = parse_scene(kScene, "bench", "");
+  TextureSet textures;
+  std::vector<Fragment> frags;
+  Fixture() {
+    textures.add(load_texture(scene.textures[0].source, ""));
+    frags = generate_fragments(scene);
+  }
+};
+
+Fixture& fixture() {
+  static Fixture f;
+  return f;
+}
+
+void run(benchmark::State& state, FilterMode mode, bool timing) {
+  Fixture& fx = fixture();
+  MaterialSetup m;
+  m.name = "floor";
+  m.filter.filter = mode;
+  PipelineSetup setup;
+  uint64_t cycles = 0;
+  float sink = 0;
+  for (auto _ : state) {
+    TextureUnit unit(fx.textures, {m}, setup, TechTable::defaults(), timing);
+    for (const Fragment& f : fx.frags) sink += unit.process(f, 0).r;
+    cycles = unit.cycles();
+    benchmark::DoNotOptimize(sink);
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(fx.frags.size()));
+  state.counters["fragments"] = static_cast<double>(fx.frags.size());
+  state.counters["sim_cycles_per_frag"] = static_cast<double>(cycles) / static_cast<double>(fx.frags.size());
+}
+
+void BM_Bilinear_Functional(benchmark::State& s) { run(s, FilterMode::Bilinear, false); }
+void BM_Bilinear_Timing(benchmark::State& s) { run(s, FilterMode::Bilinear, true); }
+void BM_Trilinear_Functional(benchmark::State& s) { run(s, FilterMode::Trilinear, false); }
+void BM_Trilinear_Timing(benchmark::State& s) { run(s, FilterMode::Trilinear, true); }
+BENCHMARK(BM_Bilinear_Functional)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Bilinear_Timing)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Trilinear_Functional)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Trilinear_Timing)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace texsim

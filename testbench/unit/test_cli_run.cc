@@ -1,0 +1,257 @@
+// End-to-end tests of the texsim binary: `run` on the built-in scene writes the report keys,
+// images and accuracy; `trace gen` round-trips through `run --trace`; bad input gives one
+// clear message (file, line:column or record, what is wrong), exit code 2, and no outputs.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code;
+  std::string out;
+};
+
+Result sh(const std::string& args) {
+  const fs::path log = fs::temp_directory_path() / ("texsim_cli_" + std::to_string(::getpid()) + ".log");
+  const std::string cmd = std::string(TEXSIM_BINARY) + " " + args + " >" + log.string() + " 2>&1";
+  const int rc = std::system(cmd.c_str());
+  std::ifstream in(log);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  fs::remove(log);
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("texsim_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  void write(const std::string& name, const std::string& text) const { std::ofstream(path(name)) << text; }
+  // The output directory must hold no report and no temporary file after a failed run.
+  void expect_no_outputs(const std::string& out) const {
+    if (!fs::exists(out)) return;
+    for (const auto& e : fs::directory_iterator(out)) ADD_FAILURE() << "left behind: " << e.path();
+  }
+  fs::path dir_;
+};
+
+using Json = nlohmann::json;
+
+Json load_json(const std::string& path) {
+  std::ifstream in(path);
+  return Json::parse(in);
+}
+
+// Value at a dotted path ("blocks.lod.ops.lut"); block names contain dots, so the longest
+// matching key wins at each level.
+const Json* find(const Json& j, const std::string& path) {
+  if (path.empty()) return &j;
+  if (!j.is_object()) return nullptr;
+  for (size_t end = path.size(); end != std::string::npos && end > 0; end = path.rfind('.', end - 1)) {
+    const std::string key = path.substr(0, end);
+    if (j.contains(key)) {
+      const Json* r = find(j[key], end == path.size() ? "" : path.substr(end + 1));
+      if (r) return r;
+    }
+    if (end == 0) break;
+  }
+  return nullptr;
+}
+
+double num(const Json& j, const std::string& path) {
+  const Json* n = find(j, path);
+  if (n && n->is_number()) return n->get<double>();
+  ADD_FAILURE() << "missing numeric key " << path;
+  return 0;
+}
+
+TEST_F(Cli, RunDefaultSceneWritesReportImagesAndAccuracy) {
+  const std::string out = path("out");
+  const Result r = sh("run --no-progress --out " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find(out + "/report.json"), std::string::npos) << r.out;
+  for (const char* f : {"report.json", "report.md", "image.png", "reference.png", "error.png"}) {
+    EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
+  }
+  const Json j = load_json(out + "/report.json");
+  const double frags = num(j, "fragments");
+  EXPECT_GT(frags, 10000);
+  EXPECT_GT(num(j, "cycles"), frags);  // trilinear needs two cache cycles per fragment
+  EXPECT_GT(num(j, "blocks.lod.ops.lut"), 0);
+  EXPECT_EQ(num(j, "blocks.lod.ops.lut"), frags);  // one log2 per fragment
+  EXPECT_GT(num(j, "blocks.filter.trilinear.ops.mul"), 0);
+  EXPECT_GT(num(j, "blocks.filter.bilinear.ops.mul"), 0);
+  EXPECT_EQ(find(j, "blocks.filter.nearest"), nullptr);  // no material uses it: not instantiated
+  EXPECT_GT(num(j, "cache.hits"), num(j, "cache.misses"));
+  EXPECT_GT(num(j, "cache.misses"), 0);
+  // Filtering error against the supersampled ground truth: real, neither zero nor garbage.
+  EXPECT_GT(num(j, "accuracy.psnr_db"), 18.0);
+  EXPECT_LT(num(j, "accuracy.psnr_db"), 60.0);
+  EXPECT_GT(num(j, "accuracy.nmse"), 0.0);
+  EXPECT_LT(num(j, "accuracy.nmse"), 0.1);
+  EXPECT_GT(num(j, "accuracy.max_abs"), 0.0);
+  EXPECT_LE(num(j, "accuracy.max_abs"), 1.0);
+}
+
+TEST_F(Cli, FunctionalModeHasOpsButNoCycles) {
+  const std::string out = path("out");
+  const Result r = sh("run --functional --no-progress --out " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json j = load_json(out + "/report.json");
+  EXPECT_EQ(num(j, "cycles"), 0);
+  EXPECT_GT(num(j, "blocks.blend.ops.mul"), 0);
+}
+
+TEST_F(Cli, TraceGenThenRunTraceMatchesSceneRun) {
+  const std::string trc = path("default.trc"), csv = path("default.csv");
+  Result r = sh("trace gen default -o " + trc);
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = sh("trace convert " + trc + " " + csv);
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = sh("trace info " + csv);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("checker"), std::string::npos) << r.out;
+  ASSERT_EQ(sh("run --no-progress --out " + path("a")).code, 0);
+  // The default scene driven by its own trace: same fragments and materials, so the same
+  // cycles, cache behaviour and accuracy as the scene run.
+  r = sh("run default --no-progress --trace " + trc + " --out " + path("b"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json a = load_json(path("a") + "/report.json");
+  const Json b = load_json(path("b") + "/report.json");
+  EXPECT_EQ(num(a, "fragments"), num(b, "fragments"));
+  EXPECT_EQ(num(a, "cycles"), num(b, "cycles"));
+  EXPECT_EQ(num(a, "cache.misses"), num(b, "cache.misses"));
+  EXPECT_DOUBLE_EQ(num(a, "accuracy.psnr_db"), num(b, "accuracy.psnr_db"));
+  // Trace alone (one default trilinear/wrap material, footprint ground truth): still sane.
+  r = sh("run --no-progress --trace " + csv + " --out " + path("c"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json c = load_json(path("c") + "/report.json");
+  EXPECT_EQ(num(a, "fragments"), num(c, "fragments"));
+  EXPECT_GT(num(c, "accuracy.psnr_db"), 10.0);
+}
+
+TEST_F(Cli, SceneSyntaxErrorNamesLineAndColumn) {
+  write("bad.toml", "[output]\nwidth = 320\nheight = = 7\n");
+  const Result r = sh("run " + path("bad.toml") + " --out " + path("out"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("bad.toml:3:"), std::string::npos) << r.out;
+  expect_no_outputs(path("out"));
+}
+
+TEST_F(Cli, SceneTypeErrorNamesKeyLineAndColumn) {
+  write("bad.toml", "[output]\nwidth = \"wide\"\n");
+  const Result r = sh("run " + path("bad.toml") + " --out " + path("out"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("bad.toml:2:9"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("width"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("expected an integer"), std::string::npos) << r.out;
+  expect_no_outputs(path("out"));
+}
+
+TEST_F(Cli, SceneUnknownMaterialAndFilter) {
+  write("bad.toml",
+        "[textures.t]\nsource = \"procedural:checker\"\n[materials.m]\ntexture = \"t\"\n"
+        "filter = { filter = \"cubic\" }\n[[planes]]\nmaterial = \"m\"\n");
+  Result r = sh("run " + path("bad.toml") + " --out " + path("out"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("cubic"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("bad.toml:5:"), std::string::npos) << r.out;
+  write("bad2.toml", "[[planes]]\nmaterial = \"nope\"\n");
+  r = sh("run " + path("bad2.toml") + " --out " + path("out"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("bad2.toml:2:12: unknown material 'nope'"), std::string::npos) << r.out;
+  expect_no_outputs(path("out"));
+}
+
+TEST_F(Cli, MissingTextureFileNamesIt) {
+  write("s.toml", "[textures.t]\nsource = \"no_such.png\"\n[materials.m]\ntexture = \"t\"\n[[planes]]\nmaterial = \"m\"\n");
+  const Result r = sh("run " + path("s.toml") + " --out " + path("out"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("no_such.png: texture file not found"), std::string::npos) << r.out;
+  expect_no_outputs(path("out"));
+}
+
+TEST_F(Cli, UnreadableTextureNamesIt) {
+  write("junk.png", "this is not a png");
+  write("s.toml", "[textures.t]\nsource = \"junk.png\"\n[materials.m]\ntexture = \"t\"\n[[planes]]\nmaterial = \"m\"\n");
+  const Result r = sh("run " + path("s.toml") + " --out " + path("out"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("junk.png: cannot read texture"), std::string::npos) << r.out;
+  expect_no_outputs(path("out"));
+}
+
+TEST_F(Cli, NanCoordinateInTraceNamesRecord) {
+  write("t.csv",
+        "# texture 0 c \"procedural:checker?size=64\" 64 64\n"
+        "frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy\n"
+        "0,0,1,1,0,0.5,0.5,0.01,0,0,0.01\n"
+        "0,0,2,1,0,nan,0.5,0.01,0,0,0.01\n");
+  const Result r = sh("run --trace " + path("t.csv") + " --out " + path("out"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("t.csv:4"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("u"), std::string::npos) << r.out;
+  expect_no_outputs(path("out"));
+}
+
+TEST_F(Cli, CorruptedAndTruncatedBinaryTrace) {
+  const std::string trc = path("t.trc");
+  ASSERT_EQ(sh("trace gen default -o " + trc).code, 0);
+  const auto size = fs::file_size(trc);
+  {  // flip one byte in the middle of the payload: the chunk checksum must catch it
+    std::fstream f(trc, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekg(static_cast<std::streamoff>(size / 2));
+    char c = 0;
+    f.read(&c, 1);
+    c = static_cast<char>(c ^ 0x5A);
+    f.seekp(static_cast<std::streamoff>(size / 2));
+    f.write(&c, 1);
+  }
+  Result r = sh("run --trace " + trc + " --out " + path("out"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("t.trc"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("chunk"), std::string::npos) << r.out;
+  expect_no_outputs(path("out"));
+  ASSERT_EQ(sh("trace gen default -o " + trc).code, 0);
+  fs::resize_file(trc, size - 100);
+  r = sh("run --trace " + trc + " --out " + path("out"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("t.trc"), std::string::npos) << r.out;
+  expect_no_outputs(path("out"));
+}
+
+TEST_F(Cli, UnknownTraceVersion) {
+  const std::string trc = path("t.trc");
+  ASSERT_EQ(sh("trace gen default -o " + trc).code, 0);
+  {  // the version is the u32 after the 8-byte magic
+    std::fstream f(trc, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(8);
+    const char v[4] = {9, 0, 0, 0};
+    f.write(v, 4);
+  }
+  const Result r = sh("trace info " + trc);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("version 9"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, UnwritableOutputDirectory) {
+  write("file", "x");
+  const Result r = sh("run --no-progress --out " + path("file") + "/sub");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("cannot create output directory"), std::string::npos) << r.out;
+}
+
+}  // namespace
