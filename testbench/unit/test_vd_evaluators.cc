@@ -276,7 +276,7 @@ TEST(VdEvaluators, FloatGridMatchesDenseWindow) {
 }
 
 // Every float in [0, 0.5]: about 10⁹ inputs, tens of seconds, so only on request
-// (TEXSIM_VD_ALL_FLOATS=1). Checks the grid sweep found the true maximum.
+// (TEXSIM_VD_ALL_FLOATS=1). Checks the grid sweep found the true maximum of each polynomial.
 TEST(VdEvaluators, AllFloatsOnRequest) {
   if (!std::getenv("TEXSIM_VD_ALL_FLOATS")) GTEST_SKIP() << "set TEXSIM_VD_ALL_FLOATS=1";
   const auto all = measure_vd_error_all_floats(&std::cout);
@@ -285,7 +285,13 @@ TEST(VdEvaluators, AllFloatsOnRequest) {
     std::cout << vd_evaluator_name(s.evaluator) << ": all floats max " << s.max_abs << " at d = "
               << s.argmax_d << " (mean " << s.mean_abs << ", " << s.points << " inputs); grid max "
               << g.max_abs << " at d = " << g.argmax_d << "\n";
-    EXPECT_NEAR(s.max_abs, g.max_abs, 1e-9) << vd_evaluator_name(s.evaluator);
+    if (s.evaluator == VdEvaluatorKind::Exact) {
+      // erfcf's rounding noise: its largest excursion need not lie on the grid.
+      EXPECT_LE(s.max_abs, 1.2e-7);
+    } else {
+      EXPECT_NEAR(s.max_abs, g.max_abs, 1e-12) << vd_evaluator_name(s.evaluator);
+      EXPECT_EQ(s.argmax_d, g.argmax_d) << vd_evaluator_name(s.evaluator);
+    }
   }
 }
 
