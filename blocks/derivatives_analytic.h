@@ -26,9 +26,9 @@ class DerivativesAnalytic {
   // Functional core in T. The numerators w, t and denominator q advance by +A, +D, +G as in
   // UvIncrementalAdder (their ops are charged there); this block adds r = 1/q, u = w·r,
   // v = t·r and the four (a - g·u)·r.
-  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, Derivs* out) const {
+  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordDerivs* out) const {
     if (s.n <= 0) return;
-    std::fill(out, out + s.n, Derivs{});
+    std::fill(out, out + s.n, CoordDerivs{});
     if (!m.ok) return;
     const T yt = static_cast<T>(s.y), xt = static_cast<T>(s.x0);
     T w = m.A * xt + m.B * yt + m.C, t = m.D * xt + m.E * yt + m.F, q = m.G * xt + m.H * yt + m.I;

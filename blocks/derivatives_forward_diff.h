@@ -29,9 +29,9 @@ class DerivativesForwardDiff {
 
   // Functional core in T. The pixel's own w, t, q, u, v come from the coordinate block
   // (incremental, not charged here); the neighbours are this block's work.
-  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, Derivs* out) const {
+  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordDerivs* out) const {
     if (s.n <= 0) return;
-    std::fill(out, out + s.n, Derivs{});
+    std::fill(out, out + s.n, CoordDerivs{});
     if (!m.ok) return;
     const T yt = static_cast<T>(s.y), y1 = static_cast<T>(s.y + 1);
     T xt = static_cast<T>(s.x0);

@@ -53,9 +53,9 @@ class DerivativesIterative {
   }
 
   template <class T>
-  void eval_row(const MapCoeffs<T>& m, const Setup<T>& st, const RowSpan& s, Derivs* out) const {
+  void eval_row(const MapCoeffs<T>& m, const Setup<T>& st, const RowSpan& s, CoordDerivs* out) const {
     if (s.n <= 0) return;
-    std::fill(out, out + s.n, Derivs{});
+    std::fill(out, out + s.n, CoordDerivs{});
     if (!st.ok) return;
     const T yt = static_cast<T>(s.y), xt = static_cast<T>(s.x0);
     const T num_ux = st.p_ux + st.s_ux * yt, num_vx = st.p_vx + st.s_vx * yt;

@@ -27,20 +27,20 @@ class DerivativesQuad {
 
   // Functional core in T: the quad's coordinates come from Heckbert's formula in T (helper
   // pixels outside the primitive included, as a GPU runs them); the block subtracts.
-  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, Derivs* out) const {
+  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordDerivs* out) const {
     if (s.n <= 0) return;
-    std::fill(out, out + s.n, Derivs{});
+    std::fill(out, out + s.n, CoordDerivs{});
     if (!m.ok) return;
     UvHeckbertDirect::Config hc;
     hc.min_denominator = cfg_.min_denominator;
     const UvHeckbertDirect coords(hc);
     const int32_t qy = s.y & ~1;
     int32_t qx_done = INT32_MIN;
-    Derivs d{};
+    CoordDerivs d{};
     for (int32_t n = 0; n < s.n; ++n) {
       const int32_t qx = (s.x0 + n) & ~1;
       if (qx != qx_done) {
-        const UvSample p00 = coords.eval(m, qx, qy), p10 = coords.eval(m, qx + 1, qy),
+        const CoordSample p00 = coords.eval(m, qx, qy), p10 = coords.eval(m, qx + 1, qy),
                        p01 = coords.eval(m, qx, qy + 1);
         d = {};
         if (p00.valid && p10.valid && p01.valid) {

@@ -43,7 +43,7 @@ class EllipseSetup {
 
   // Functional core in T; inputs are a derivative block's outputs (T values widened to
   // double, so converting back is exact).
-  template <class T> EllipseCoeffs eval(const Derivs& d) const {
+  template <class T> EllipseCoeffs eval(const CoordDerivs& d) const {
     EllipseCoeffs e;
     if (!d.valid) return e;
     const T ux = static_cast<T>(d.ux), vx = static_cast<T>(d.vx);

@@ -2,7 +2,7 @@
 // ProjectiveMap: the 3x3 screen->texture map A..I of a textured plane seen by a pinhole camera,
 // in long double (the reference of every coordinate block); docs/coords-derivations.md §1.
 // Also the types shared by the coordinate-generation blocks (uv_*, derivatives_*,
-// ellipse_setup): their inputs (MapCoeffs<T>, RowSpan), outputs (UvSample, Derivs) and the
+// ellipse_setup): their inputs (MapCoeffs<T>, RowSpan), outputs (CoordSample, CoordDerivs) and the
 // derivation of a TimingSpec from op counts (Datapath), so that every block charges time alike.
 #include <cmath>
 #include <cstdint>
@@ -91,13 +91,13 @@ DerivsL forward_diff_derivs(const ProjectiveMap& m, long double x, long double y
 // A block's output coordinate, widened to double (exact for float and for Fixed up to 53
 // bits). Invalid = rejected (non-finite input, denominator below the limit, out of range):
 // u = v = 0 then, never NaN.
-struct UvSample {
+struct CoordSample {
   double u = 0, v = 0;
   bool valid = false;
 };
 
 // Screen-space derivatives (texels per pixel) as computed by a derivative block.
-struct Derivs {
+struct CoordDerivs {
   double ux = 0, vx = 0, uy = 0, vy = 0;
   bool valid = false;
 };

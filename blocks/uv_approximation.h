@@ -51,9 +51,9 @@ class UvApproximation {
   // Functional core in T: exact (Heckbert) values at the row's sample points s = i/order,
   // polynomial coefficients in s, then forward differences in the pixel index with step
   // h = 1/(n-1). A one-pixel row gets the exact value.
-  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, UvSample* out) const {
+  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordSample* out) const {
     if (s.n <= 0) return;
-    std::fill(out, out + s.n, UvSample{});
+    std::fill(out, out + s.n, CoordSample{});
     if (!m.ok) return;
     const int order = static_cast<int>(cfg_.order);
     const int np = s.n == 1 ? 1 : order + 1;
@@ -77,7 +77,7 @@ class UvApproximation {
     for (int32_t n = 0; n < s.n; ++n) {
       const bool ok = is_finite_value(du[0]) && is_finite_value(dv[0]) && !out_of_range(du[0]) &&
                       !out_of_range(dv[0]);
-      out[n] = ok ? UvSample{to_double(du[0]), to_double(dv[0]), true} : UvSample{};
+      out[n] = ok ? CoordSample{to_double(du[0]), to_double(dv[0]), true} : CoordSample{};
       for (int k = 0; k < order; ++k) {
         du[k] += du[k + 1];
         dv[k] += dv[k + 1];

@@ -101,9 +101,9 @@ class UvApproximationTriangle {
   }
 
   // Row evaluation: the polynomial at the first order+1 pixels, then forward differences.
-  template <class T> void eval_row(const Setup<T>& st, const RowSpan& s, UvSample* out) const {
+  template <class T> void eval_row(const Setup<T>& st, const RowSpan& s, CoordSample* out) const {
     if (s.n <= 0) return;
-    std::fill(out, out + s.n, UvSample{});
+    std::fill(out, out + s.n, CoordSample{});
     if (!st.ok) return;
     const int order = static_cast<int>(cfg_.order);
     const int np = std::min<int>(order + 1, s.n);
@@ -124,7 +124,7 @@ class UvApproximationTriangle {
     }
     for (int32_t n = 0; n < s.n; ++n) {
       const bool ok = !out_of_range(du[0]) && !out_of_range(dv[0]);
-      out[n] = ok ? UvSample{to_double(du[0]), to_double(dv[0]), true} : UvSample{};
+      out[n] = ok ? CoordSample{to_double(du[0]), to_double(dv[0]), true} : CoordSample{};
       for (int k = 0; k + 1 < np; ++k) {
         du[k] += du[k + 1];
         dv[k] += dv[k + 1];

@@ -69,9 +69,9 @@ class UvConstantDepth {
   // Values on the exact line at major = s0 + n (the rasterizer writes them to the pixel whose
   // centre is nearest the line: that offset is part of this method's error).
   template <class T>
-  void eval_row(const MapCoeffs<T>& m, const Setup<T>& st, const SlopedSpan& l, UvSample* out) const {
+  void eval_row(const MapCoeffs<T>& m, const Setup<T>& st, const SlopedSpan& l, CoordSample* out) const {
     if (l.n <= 0) return;
-    std::fill(out, out + l.n, UvSample{});
+    std::fill(out, out + l.n, CoordSample{});
     if (!st.ok || !std::isfinite(l.h) || std::fabs(l.h) >= format_max<T>()) return;
     const T h = static_cast<T>(l.h), s0 = static_cast<T>(l.s0);
     const T minor = st.k * s0 + h;
@@ -85,7 +85,7 @@ class UvConstantDepth {
     const T du = st.ak * r, dv = st.dk * r;
     for (int32_t n = 0; n < l.n; ++n) {
       const bool ok = !out_of_range(u) && !out_of_range(v);
-      out[n] = ok ? UvSample{to_double(u), to_double(v), true} : UvSample{};
+      out[n] = ok ? CoordSample{to_double(u), to_double(v), true} : CoordSample{};
       u += du;
       v += dv;
     }

@@ -31,7 +31,7 @@ class UvHeckbertDirect {
 
   // Functional core: arithmetic in T (float, double or Fixed<I,F>), every operation rounded
   // to T as the hardware does.
-  template <class T> UvSample eval(const MapCoeffs<T>& m, int32_t x, int32_t y) const {
+  template <class T> CoordSample eval(const MapCoeffs<T>& m, int32_t x, int32_t y) const {
     if (!m.ok) return {};
     const T xt = static_cast<T>(x), yt = static_cast<T>(y);
     const T q = m.G * xt + m.H * yt + m.I;
@@ -50,7 +50,7 @@ class UvHeckbertDirect {
     if (out_of_range(u) || out_of_range(v)) return {};
     return {to_double(u), to_double(v), true};
   }
-  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, UvSample* out) const {
+  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordSample* out) const {
     for (int32_t n = 0; n < s.n; ++n) out[n] = eval(m, s.x0 + n, s.y);
   }
 

@@ -37,10 +37,10 @@ class UvIncrementalAdder {
 
   // Functional core in T. Every add and the division round to T; in Fixed<I,F> the adds are
   // exact (so every form gives w_0 + n·A_q bit for bit), in float each add rounds.
-  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, UvSample* out) const {
+  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordSample* out) const {
     if (s.n <= 0) return;
     if (!m.ok) {
-      std::fill(out, out + s.n, UvSample{});
+      std::fill(out, out + s.n, CoordSample{});
       return;
     }
     const T yt = static_cast<T>(s.y);
@@ -48,7 +48,7 @@ class UvIncrementalAdder {
     const int32_t x0 = s.x0;
     T w = form_at(m.A, m.B, m.C, x0), z = form_at(m.G, m.H, m.I, x0), t = form_at(m.D, m.E, m.F, x0);
     if (!is_finite_value(w) || !is_finite_value(z) || !is_finite_value(t)) {
-      std::fill(out, out + s.n, UvSample{});
+      std::fill(out, out + s.n, CoordSample{});
       return;
     }
     switch (cfg_.form) {
@@ -120,7 +120,7 @@ class UvIncrementalAdder {
   TimingSpec row_setup_timing(const TechTable& t) const;
 
  private:
-  template <class T> UvSample divide(T w, T z, T t) const {
+  template <class T> CoordSample divide(T w, T z, T t) const {
     if (!is_finite_value(z) || !(z >= static_cast<T>(cfg_.min_denominator))) return {};
     T u{}, v{};
     if (cfg_.division == Division::Divide) {

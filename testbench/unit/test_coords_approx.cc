@@ -21,7 +21,7 @@ ProjectiveMap tilted(double tilt, double az = 20.0) {
   return ProjectiveMap::from_plane_view(pv).normalised(xs, ys, 1);
 }
 
-double row_error(const ProjectiveMap& m, const RowSpan& s, const std::vector<UvSample>& out) {
+double row_error(const ProjectiveMap& m, const RowSpan& s, const std::vector<CoordSample>& out) {
   double e = 0;
   for (int32_t n = 0; n < s.n; ++n) {
     if (!out[n].valid) return INFINITY;
@@ -57,7 +57,7 @@ TEST(UvApproximation, ExactOnAnAffineMapAndOrderedOnPerspective) {
   affine.G = 0; affine.H = 0; affine.I = 1;
   const ProjectiveMap persp = tilted(70);
   const RowSpan s{0, 120, 512};
-  std::vector<UvSample> out(512);
+  std::vector<CoordSample> out(512);
   double err[4] = {};
   for (auto o : {UvApproximation::Order::Affine, UvApproximation::Order::Quadratic,
                  UvApproximation::Order::Cubic}) {
@@ -81,7 +81,7 @@ TEST(UvApproximation, ShortSpans) {
   const UvApproximation b(c);
   for (int32_t n : {1, 2, 3}) {
     const RowSpan s{100, 150, n};
-    std::vector<UvSample> out(static_cast<size_t>(n));
+    std::vector<CoordSample> out(static_cast<size_t>(n));
     b.eval_row(to_coeffs<double>(m), s, out.data());
     EXPECT_LT(row_error(m, s, out), 1e-9) << n;  // a cubic through 4 exact points over <= 3 px
   }
@@ -113,7 +113,7 @@ TEST(UvApproximationTriangle, ReproducesNodesAndBeatsLowerOrder) {
     double e = 0;
     for (int32_t y = 60; y < 200; y += 20) {
       const RowSpan s{110, y, 60};
-      std::vector<UvSample> out(60);
+      std::vector<CoordSample> out(60);
       b.eval_row(st, s, out.data());
       e = std::max(e, row_error(m, s, out));
     }

@@ -42,7 +42,7 @@ TEST(UvConstantDepth, ExactOnTheLineInDouble) {
   ASSERT_TRUE(st.ok);
   const long double k = b.slope(m);
   const UvConstantDepth::SlopedSpan l{20, 40.0, 300};
-  std::vector<UvSample> out(300);
+  std::vector<CoordSample> out(300);
   b.eval_row(to_coeffs<double>(m), st, l, out.data());
   double e = 0;
   for (int n = 0; n < l.n; ++n) {
@@ -62,7 +62,7 @@ TEST(UvConstantDepth, PixelCentreErrorIsTheRoundedLineOffset) {
   const auto st = b.setup_triangle(to_coeffs<double>(m));
   const long double k = b.slope(m);
   const UvConstantDepth::SlopedSpan l{10, 100.0, 400};
-  std::vector<UvSample> out(400);
+  std::vector<CoordSample> out(400);
   b.eval_row(to_coeffs<double>(m), st, l, out.data());
   double worst_ratio = 0, worst = 0;
   for (int n = 0; n < l.n; ++n) {
@@ -91,7 +91,7 @@ TEST(UvConstantDepth, VerticalLinesWhenHVanishes) {
   c.axis = UvConstantDepth::Axis::X;  // forcing rows would need an infinite slope: rejected
   const UvConstantDepth f(c);
   EXPECT_FALSE(f.setup_triangle(to_coeffs<float>(m)).ok);
-  std::vector<UvSample> out(8, UvSample{1, 1, true});
+  std::vector<CoordSample> out(8, CoordSample{1, 1, true});
   f.eval_row(to_coeffs<float>(m), f.setup_triangle(to_coeffs<float>(m)), {0, 0.0, 8}, out.data());
   for (const auto& o : out) EXPECT_FALSE(o.valid || std::isnan(o.u) || std::isnan(o.v));
 }

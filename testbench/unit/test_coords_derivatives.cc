@@ -26,7 +26,7 @@ ProjectiveMap tilted(double tilt, double az = 20.0) {
   return ProjectiveMap::from_plane_view(pv).normalised(xs, ys, 1);
 }
 
-double deriv_err(const Derivs& d, const DerivsL& r) {
+double deriv_err(const CoordDerivs& d, const DerivsL& r) {
   if (!d.valid) return INFINITY;
   return std::max({std::fabs(d.ux - static_cast<double>(r.ux)), std::fabs(d.vx - static_cast<double>(r.vx)),
                    std::fabs(d.uy - static_cast<double>(r.uy)), std::fabs(d.vy - static_cast<double>(r.vy))});
@@ -36,7 +36,7 @@ const RowSpan kRow{5, 140, 480};
 
 TEST(DerivativesAnalytic, MatchesReference) {
   const ProjectiveMap m = tilted(70);
-  std::vector<Derivs> out(kRow.n);
+  std::vector<CoordDerivs> out(kRow.n);
   DerivativesAnalytic().eval_row(to_coeffs<double>(m), kRow, out.data());
   double e = 0;
   for (int n = 0; n < kRow.n; ++n) e = std::max(e, deriv_err(out[n], analytic_derivs(m, kRow.x0 + n, kRow.y)));
@@ -48,7 +48,7 @@ TEST(DerivativesForwardDiff, ClassicAndAcceleratedMatchForwardDifferences) {
   for (auto f : {DerivativesForwardDiff::Form::Classic, DerivativesForwardDiff::Form::Accelerated}) {
     DerivativesForwardDiff::Config c;
     c.form = f;
-    std::vector<Derivs> out(kRow.n);
+    std::vector<CoordDerivs> out(kRow.n);
     DerivativesForwardDiff(c).eval_row(to_coeffs<double>(m), kRow, out.data());
     double e = 0;
     for (int n = 0; n < kRow.n; ++n) e = std::max(e, deriv_err(out[n], forward_diff_derivs(m, kRow.x0 + n, kRow.y)));
@@ -58,7 +58,7 @@ TEST(DerivativesForwardDiff, ClassicAndAcceleratedMatchForwardDifferences) {
 
 TEST(DerivativesQuad, SharesTheTopLeftDifferences) {
   const ProjectiveMap m = tilted(60);
-  std::vector<Derivs> out(kRow.n);
+  std::vector<CoordDerivs> out(kRow.n);
   DerivativesQuad().eval_row(to_coeffs<double>(m), kRow, out.data());
   for (int n = 0; n < kRow.n; ++n) {
     const int32_t qx = (kRow.x0 + n) & ~1, qy = kRow.y & ~1;
@@ -70,7 +70,7 @@ TEST(DerivativesIterative, CorrectedFormulasEqualForwardDifferences) {
   const ProjectiveMap m = tilted(75, 35);
   DerivativesIterative::Config c;
   const DerivativesIterative it(c);
-  std::vector<Derivs> out(kRow.n);
+  std::vector<CoordDerivs> out(kRow.n);
   it.eval_row(to_coeffs<double>(m), it.setup_triangle(to_coeffs<double>(m)), kRow, out.data());
   double e = 0;
   for (int n = 0; n < kRow.n; ++n) e = std::max(e, deriv_err(out[n], forward_diff_derivs(m, kRow.x0 + n, kRow.y)));
@@ -83,7 +83,7 @@ TEST(DerivativesIterative, PrintedFormulasAreWrong) {
   DerivativesIterative::Config c;
   c.seed_misprints = true;
   const DerivativesIterative it(c);
-  std::vector<Derivs> out(kRow.n);
+  std::vector<CoordDerivs> out(kRow.n);
   it.eval_row(to_coeffs<double>(m), it.setup_triangle(to_coeffs<double>(m)), kRow, out.data());
   double ex = 0, ey = 0, eu = 0;
   for (int n = 0; n < kRow.n; ++n) {
@@ -116,7 +116,7 @@ TEST(EllipseSetup, NormalFormEqualsSquaredJacobian) {
 }
 
 TEST(EllipseSetup, UnitCircleMapsOntoTheNormalisedEllipse) {
-  const Derivs d{1.5, 0.25, -0.5, 2.0, true};
+  const CoordDerivs d{1.5, 0.25, -0.5, 2.0, true};
   for (auto form : {EllipseSetup::FForm::Determinant, EllipseSetup::FForm::AcMinusB2}) {
     EllipseSetup::Config c;
     c.f_form = form;
@@ -134,7 +134,7 @@ TEST(EllipseSetup, CancellationOfTheNormalFormInFloat) {
   // A thin footprint (nearly parallel Jacobian columns, extreme anisotropy): AC - B²/4
   // cancels in float (AC ~ 5.8e6, F = 0.09), the determinant does not.
   const double uy = static_cast<double>(40.01f);  // inputs as the float block sees them
-  const Derivs d{40.0, 30.0, uy, 30.0, true};
+  const CoordDerivs d{40.0, 30.0, uy, 30.0, true};
   const EllipseL r = ellipse_reference({40.0L, 30.0L, uy, 30.0L});
   EllipseSetup::Config c;
   const EllipseCoeffs det = EllipseSetup(c).eval<float>(d);

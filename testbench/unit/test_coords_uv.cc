@@ -68,7 +68,7 @@ TEST(ProjectiveMap, TranslatedShiftsCoordinates) {
 }
 
 template <class T> double max_row_error(const ProjectiveMap& m, const RowSpan& s,
-                                        const std::vector<UvSample>& out) {
+                                        const std::vector<CoordSample>& out) {
   double e = 0;
   for (int32_t n = 0; n < s.n; ++n) {
     EXPECT_TRUE(out[n].valid) << format_name<T>() << " n=" << n;
@@ -86,7 +86,7 @@ TEST(UvHeckbertDirect, ErrorPerFormat) {
     UvHeckbertDirect::Config c;
     c.form = form;
     const UvHeckbertDirect b(c);
-    std::vector<UvSample> out(512);
+    std::vector<CoordSample> out(512);
     b.eval_row(to_coeffs<double>(m), s, out.data());
     EXPECT_LT(max_row_error<double>(m, s, out), 1e-9);
     b.eval_row(to_coeffs<float>(m), s, out.data());
@@ -121,7 +121,7 @@ TEST(UvIncrementalAdder, FormsAgreeWithReferenceAndBound) {
     c.form = form;
     c.lanes = 4;
     const UvIncrementalAdder b(c);
-    std::vector<UvSample> out(static_cast<size_t>(s.n));
+    std::vector<CoordSample> out(static_cast<size_t>(s.n));
     b.eval_row(to_coeffs<float>(m), s, out.data());
     for (int32_t n = 0; n < s.n; ++n) {
       const double e = std::max(std::fabs(out[n].u - static_cast<double>(m.u(s.x0 + n, s.y))),
@@ -144,7 +144,7 @@ TEST(UvIncrementalAdder, FixedPointLanesAreBitIdentical) {
   const ProjectiveMap m = tilted(80);
   const RowSpan s{0, 150, 400};
   UvIncrementalAdder::Config c;
-  std::vector<UvSample> a(400), b(400);
+  std::vector<CoordSample> a(400), b(400);
   UvIncrementalAdder(c).eval_row(to_coeffs<Q16>(m), s, a.data());
   c.form = UvIncrementalAdder::Form::KLane;
   c.lanes = 8;
