@@ -57,7 +57,14 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     reader = std::make_unique<TraceReader>(opt.trace);
     const std::string dir = std::filesystem::path(opt.trace).parent_path().string();
     for (const auto& t : reader->header().textures) {
-      tex_index[t.id] = textures.add(load_texture(t.source, dir));
+      Texture tex = load_texture(t.source, dir);
+      if (static_cast<uint32_t>(tex.width(0)) != t.width || static_cast<uint32_t>(tex.height(0)) != t.height) {
+        throw InputError(opt.trace, "texture " + std::to_string(t.id) + " ('" + t.source + "') is " +
+                                        std::to_string(tex.width(0)) + "x" + std::to_string(tex.height(0)) +
+                                        " but the trace's texture table says " + std::to_string(t.width) +
+                                        "x" + std::to_string(t.height));
+      }
+      tex_index[t.id] = textures.add(std::move(tex));
       tex_names.push_back(t.name + " = " + t.source);
     }
   } else {
