@@ -8,8 +8,10 @@
 #include <CLI/CLI.hpp>
 
 #include "blocks/input_error.h"
+#include "pipeline/atomic_file.h"
 #include "pipeline/clocked_pipeline.h"
 #include "pipeline/run.h"
+#include "pipeline/study_vd.h"
 #include "traces/trace_tools.h"
 
 int main(int argc, char** argv) {
@@ -41,6 +43,12 @@ int main(int argc, char** argv) {
   conv->add_option("input", conv_in, "Input trace")->required();
   conv->add_option("output", conv_out, "Output trace")->required();
 
+  auto* study_cmd = app.add_subcommand("study", "Accuracy-vs-cost studies: tables (CSV, Markdown) and plots (PNG)");
+  study_cmd->require_subcommand(1);
+  std::string study_out = "out/study";
+  auto* vd = study_cmd->add_subcommand("vd", "V(d) evaluators (exact, P3, P2, P1): error over d in each number format");
+  for (auto* s : {vd}) s->add_option("--out", study_out, "Output directory")->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*run_cmd) {
@@ -51,6 +59,9 @@ int main(int argc, char** argv) {
       std::cout << "texsim trace gen: wrote " << n << " fragments to " << gen_out << "\n";
     } else if (*info) {
       return trace_info(info_in, std::cout);
+    } else if (*vd) {
+      ensure_dir(study_out);
+      return run_study_vd(study_out, std::cout);
     } else if (*conv) {
       trace_convert(conv_in, conv_out);
       std::cout << "texsim trace convert: wrote " << conv_out << "\n";
