@@ -7,6 +7,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "blocks/vd_evaluator_params.h"
 
@@ -46,6 +47,20 @@ struct VdSigmaFit {
   double max_abs = 0;
 };
 VdSigmaFit vd_best_sigma(VdEvaluatorKind k, double lo = 0.15, double hi = 0.25);
+
+// Max error (double, 2001-point grid) of the evaluator against the texel-normalised volume
+// (Φ(d/σ) − Φ(−0.5/σ)) / (2·Φ(0.5/σ) − 1), the other plausible reading of "V".
+double vd_error_vs_texel_normalised(VdEvaluatorKind k);
+
+// Minimax polynomial of the given degree for Φ(d/σ) on [0, 0.5] (Remez exchange in long double
+// on a 20001-point grid); with pin_half the constant term is fixed at 0.5 so that the symmetric
+// extension V(−d) = 1 − V(d) stays continuous at 0. max_abs is measured on a 200001-point grid.
+struct VdPolyFit {
+  std::vector<double> coef;  // increasing powers of d
+  double max_abs = 0;
+  double argmax_d = 0;
+};
+VdPolyFit vd_minimax_fit(int degree, bool pin_half);
 
 // W = V(0.5) − V(d) of SubtexelCutoff over d ∈ [−0.5, 0.5] against the exact volume.
 struct CutoffErrorStats {

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "blocks/input_error.h"
 #include "blocks/subtexel_cutoff.h"
@@ -261,6 +262,54 @@ TEST(VdEvaluators, SeedClaims) {
   for (auto k : {VdEvaluatorKind::P3, VdEvaluatorKind::P2, VdEvaluatorKind::P1}) {
     EXPECT_NEAR(vd_best_sigma(k).sigma, 0.2, 0.005) << vd_evaluator_name(k);
   }
+}
+
+// The seed's polynomials fit Φ(d/σ) better than the other plausible normalisation.
+TEST(VdEvaluators, TexelNormalisedVolumeFitsWorse) {
+  for (auto k : {VdEvaluatorKind::P3, VdEvaluatorKind::P2, VdEvaluatorKind::P1}) {
+    const auto m = measure_vd_error(k, VdFormatKind::Double, 100'000);
+    EXPECT_GT(vd_error_vs_texel_normalised(k), m.max_abs) << vd_evaluator_name(k);
+  }
+}
+
+// Minimax refits: no small change of any free coefficient lowers the maximum error, and the
+// quadratic refit meets the seed's P2 claim that the seed's own coefficients miss.
+double poly_max_err(const std::vector<double>& c) {
+  double m = 0;
+  for (int i = 0; i <= 20000; ++i) {
+    const long double d = 0.5L * i / 20000;
+    long double v = 0, p = 1;
+    for (double ci : c) {
+      v += ci * p;
+      p *= d;
+    }
+    m = std::max(m, static_cast<double>(std::fabs(v - vd_reference(d))));
+  }
+  return m;
+}
+
+TEST(VdEvaluators, MinimaxRefitIsLocallyOptimal) {
+  for (int degree : {2, 3}) {
+    for (bool pin : {true, false}) {
+      const VdPolyFit f = vd_minimax_fit(degree, pin);
+      ASSERT_EQ(f.coef.size(), static_cast<size_t>(degree + 1));
+      if (pin) {
+        EXPECT_EQ(f.coef[0], 0.5);
+      }
+      const double base = poly_max_err(f.coef);
+      EXPECT_NEAR(base, f.max_abs, 1e-6);
+      for (size_t j = pin ? 1 : 0; j < f.coef.size(); ++j) {
+        for (double step : {-1e-4, 1e-4}) {
+          auto c = f.coef;
+          c[j] += step;
+          EXPECT_GE(poly_max_err(c), base - 1e-7) << degree << " " << pin << " coef " << j;
+        }
+      }
+    }
+  }
+  const auto p2 = measure_vd_error(VdEvaluatorKind::P2, VdFormatKind::Double, 100'000);
+  EXPECT_LT(vd_minimax_fit(2, true).max_abs, *vd_seed_claim(VdEvaluatorKind::P2));
+  EXPECT_LT(vd_minimax_fit(2, true).max_abs, p2.max_abs);
 }
 
 // Grid + neighbourhood finds the same maximum as every float in a window around it.
