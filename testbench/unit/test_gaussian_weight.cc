@@ -257,6 +257,34 @@ TEST(GaussianWeight, OpsAndTiming) {
   EXPECT_GT(GaussianWeight(c).setup_timing(t).latency, 0u);
 }
 
+// Prints the default-table figures quoted in docs/gaussian-weights.md.
+TEST(GaussianWeight, DefaultTableFigures) {
+  const TechTable t = TechTable::defaults();
+  for (GaussianAxes a : {GaussianAxes::QuadraticForm, GaussianAxes::SeedAxes, GaussianAxes::SeedLiteral}) {
+    GaussianWeight::Config c;
+    c.axes = a;
+    const GaussianWeight g(c);
+    const OpCounts o = g.setup_ops();
+    std::printf("setup %d: mul %llu add %llu rcp %llu div %llu sqrt %llu cmp %llu | latency %u area %g\n",
+                static_cast<int>(a), static_cast<unsigned long long>(o.mul),
+                static_cast<unsigned long long>(o.add), static_cast<unsigned long long>(o.rcp),
+                static_cast<unsigned long long>(o.div), static_cast<unsigned long long>(o.sqrt),
+                static_cast<unsigned long long>(o.cmp), g.setup_timing(t).latency, g.setup_timing(t).area);
+    EXPECT_GT(g.setup_timing(t).latency, 0u);
+  }
+  for (GaussianWeightFunction f : {GaussianWeightFunction::Exp, GaussianWeightFunction::Pow8}) {
+    GaussianWeight::Config c;
+    c.function = f;
+    const GaussianWeight g(c);
+    const OpCounts o = g.texel_ops();
+    std::printf("texel %s: mul %llu add %llu cmp %llu lut %llu | latency %u area %g\n",
+                f == GaussianWeightFunction::Exp ? "exp" : "pow8", static_cast<unsigned long long>(o.mul),
+                static_cast<unsigned long long>(o.add), static_cast<unsigned long long>(o.cmp),
+                static_cast<unsigned long long>(o.lut), g.timing(t).latency, g.timing(t).area);
+    EXPECT_GT(g.timing(t).latency, 0u);
+  }
+}
+
 TEST(GaussianWeight, ConfigFromToml) {
   toml::table ok = toml::parse(std::string_view("function = \"exp\"\naxes = \"seed_axes\"\n"),
                                std::string_view("g.toml"));
