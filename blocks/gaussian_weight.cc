@@ -76,8 +76,8 @@ GaussianWeight::Config GaussianWeight::Config::from_toml(const ConfigReader& r) 
   Config c;
   c.function = static_cast<GaussianWeightFunction>(
       r.get_choice("function", static_cast<int>(c.function), {"exp", "pow8"}));
-  c.axes = static_cast<GaussianAxes>(r.get_choice(
-      "axes", static_cast<int>(c.axes), {"quadratic_form", "seed_axes", "seed_literal"}));
+  c.axes = static_cast<GaussianAxes>(r.get_choice("axes", static_cast<int>(c.axes),
+                                                  {"quadratic_form", "seed_axes", "seed_literal"}));
   c.lanes = static_cast<uint32_t>(r.get_int("lanes", c.lanes, 1, 64));
   return c;
 }

@@ -23,8 +23,8 @@ SubtexelCutoff::Config SubtexelCutoff::Config::from_toml(const ConfigReader& r) 
   Config c;
   const std::vector<std::string_view> evs(kVdEvaluatorNames.begin(), kVdEvaluatorNames.end());
   const std::vector<std::string_view> fmts(kVdFormatKeys.begin(), kVdFormatKeys.end());
-  c.evaluator = static_cast<VdEvaluatorKind>(
-      r.get_choice("evaluator", static_cast<int>(c.evaluator), evs));
+  c.evaluator =
+      static_cast<VdEvaluatorKind>(r.get_choice("evaluator", static_cast<int>(c.evaluator), evs));
   c.format = static_cast<VdFormatKind>(r.get_choice("format", static_cast<int>(c.format), fmts));
   c.lanes = static_cast<uint32_t>(r.get_int("lanes", c.lanes, 1, 64));
   return c;

@@ -22,10 +22,14 @@ namespace texsim {
 template <class F>
 decltype(auto) visit_vd_evaluator(VdEvaluatorKind k, F&& f) {
   switch (k) {
-    case VdEvaluatorKind::Exact: return f(VdEvaluatorExact{});
-    case VdEvaluatorKind::P3: return f(VdEvaluatorP3{});
-    case VdEvaluatorKind::P2: return f(VdEvaluatorP2{});
-    case VdEvaluatorKind::P1: break;
+    case VdEvaluatorKind::Exact:
+      return f(VdEvaluatorExact{});
+    case VdEvaluatorKind::P3:
+      return f(VdEvaluatorP3{});
+    case VdEvaluatorKind::P2:
+      return f(VdEvaluatorP2{});
+    case VdEvaluatorKind::P1:
+      break;
   }
   return f(VdEvaluatorP1{});
 }
@@ -66,9 +70,9 @@ class SubtexelCutoff {
       // sides of the centre and W monotone, at the cost of one comparator.
       if (v_half < v) v = v_half;
       // W = V(0.5) − V(|d|) for d ≥ 0; V(0.5) − (1 − V(|d|)) = (V(0.5) − 1) + V(|d|) for d < 0.
-      const A w = neg ? vd_detail::add<A>(
-                            vd_detail::sub<A>(v_half, vd_detail::quantize<A>(1.0L)), v)
-                      : vd_detail::sub<A>(v_half, v);
+      const A w =
+          neg ? vd_detail::add<A>(vd_detail::sub<A>(v_half, vd_detail::quantize<A>(1.0L)), v)
+              : vd_detail::sub<A>(v_half, v);
       return vd_detail::cast<Out>(w);
     });
   }

@@ -35,8 +35,7 @@ class VdEvaluatorExact {
     if constexpr (is_fixed_v<Out>) {
       // ROM content: Φ at the code's exact value, rounded once into Out.
       const long double x = static_cast<long double>(d.to_double());
-      return vd_detail::quantize<Out>(
-          0.5L * std::erfc(-x * VdSeedCoefficients::kInvSigmaSqrt2));
+      return vd_detail::quantize<Out>(0.5L * std::erfc(-x * VdSeedCoefficients::kInvSigmaSqrt2));
     } else {
       const Out k = static_cast<Out>(VdSeedCoefficients::kInvSigmaSqrt2);
       return static_cast<Out>(0.5) * std::erfc(-static_cast<Out>(d) * k);

@@ -40,10 +40,14 @@ inline constexpr std::string_view vd_evaluator_name(VdEvaluatorKind k) {
 // The seed's claimed maximum absolute error on [0, 0.5] (none for the exact evaluator).
 inline std::optional<double> vd_seed_claim(VdEvaluatorKind k) {
   switch (k) {
-    case VdEvaluatorKind::P3: return 5e-3;
-    case VdEvaluatorKind::P2: return 7e-3;
-    case VdEvaluatorKind::P1: return 1e-2;
-    case VdEvaluatorKind::Exact: break;
+    case VdEvaluatorKind::P3:
+      return 5e-3;
+    case VdEvaluatorKind::P2:
+      return 7e-3;
+    case VdEvaluatorKind::P1:
+      return 1e-2;
+    case VdEvaluatorKind::Exact:
+      break;
   }
   return std::nullopt;
 }
@@ -93,18 +97,23 @@ inline constexpr std::array<VdFormatKind, 5> kVdFormatKinds = {
     VdFormatKind::Float, VdFormatKind::Double, VdFormatKind::Fx16, VdFormatKind::Fx12,
     VdFormatKind::Fx8};
 // Config-file names of the formats.
-inline constexpr std::array<std::string_view, 5> kVdFormatKeys = {"float", "double", "fx16",
-                                                                  "fx12", "fx8"};
+inline constexpr std::array<std::string_view, 5> kVdFormatKeys = {"float", "double", "fx16", "fx12",
+                                                                  "fx8"};
 
 // Calls f(Format{}) with the format type selected by `k`.
 template <class F>
 decltype(auto) visit_vd_format(VdFormatKind k, F&& f) {
   switch (k) {
-    case VdFormatKind::Float: return f(VdFloatFormat<float>{});
-    case VdFormatKind::Double: return f(VdFloatFormat<double>{});
-    case VdFormatKind::Fx16: return f(VdFx16{});
-    case VdFormatKind::Fx12: return f(VdFx12{});
-    case VdFormatKind::Fx8: break;
+    case VdFormatKind::Float:
+      return f(VdFloatFormat<float>{});
+    case VdFormatKind::Double:
+      return f(VdFloatFormat<double>{});
+    case VdFormatKind::Fx16:
+      return f(VdFx16{});
+    case VdFormatKind::Fx12:
+      return f(VdFx12{});
+    case VdFormatKind::Fx8:
+      break;
   }
   return f(VdFx8{});
 }
@@ -177,8 +186,10 @@ To sub(A a, B b) {
 // Real value `x` rounded into T with T's rounding (coefficients, constants).
 template <class T>
 T quantize(long double x) {
-  if constexpr (is_fixed_v<T>) return T(static_cast<double>(x));
-  else return static_cast<T>(x);
+  if constexpr (is_fixed_v<T>)
+    return T(static_cast<double>(x));
+  else
+    return static_cast<T>(x);
 }
 
 // Smallest T value ≥ t: a comparator `d < ceil_to<T>(t)` then decides exactly as the real

@@ -45,7 +45,7 @@ struct ErrAcc {
   long double max_abs = -1;
   long double argmax = 0;
   long double sum = 0;
-  uint64_t counted = 0;   // points in the mean
+  uint64_t counted = 0;  // points in the mean
   uint64_t evaluated = 0;
   void add(long double d, long double err, bool in_mean) {
     const long double a = std::fabs(err);
@@ -77,7 +77,8 @@ VdErrorStats finish(const ErrAcc& acc, VdFormatKind f, std::string sweep) {
   const long double v = value_at<Ev, Fmt>(acc.argmax);
   s.signed_at_max = static_cast<double>(v - vd_reference_mpfr(acc.argmax));
   s.max_abs = std::fabs(s.signed_at_max);
-  s.mean_abs = acc.counted ? static_cast<double>(acc.sum / static_cast<long double>(acc.counted)) : 0;
+  s.mean_abs =
+      acc.counted ? static_cast<double>(acc.sum / static_cast<long double>(acc.counted)) : 0;
   s.points = acc.evaluated;
   s.sweep = std::move(sweep);
   return s;
@@ -99,7 +100,8 @@ VdErrorStats measure_typed(VdFormatKind f, uint64_t grid) {
     return finish<Ev, Fmt>(acc, f, "every code in [0, 0.5] (" + std::to_string(last + 1) + ")");
   } else {
     for (uint64_t i = 0; i <= grid; ++i) {
-      const In d = static_cast<In>(0.5L * static_cast<long double>(i) / static_cast<long double>(grid));
+      const In d =
+          static_cast<In>(0.5L * static_cast<long double>(i) / static_cast<long double>(grid));
       const long double x = static_cast<long double>(d);
       acc.add(x, static_cast<long double>(ev.template eval<Fmt>(d)) - vd_reference(x), true);
     }
@@ -117,8 +119,8 @@ VdErrorStats measure_typed(VdFormatKind f, uint64_t grid) {
       }
     }
     return finish<Ev, Fmt>(acc, f,
-                           "grid of " + std::to_string(grid + 1) + " + every " +
-                               format_name<In>() + " within 2^20 steps of its arg max");
+                           "grid of " + std::to_string(grid + 1) + " + every " + format_name<In>() +
+                               " within 2^20 steps of its arg max");
   }
 }
 
@@ -164,7 +166,8 @@ std::array<VdErrorStats, 4> measure_vd_error_all_floats(std::ostream* progress) 
     acc[1].add(x, static_cast<double>(e3.eval<Fmt>(d)) - ref, true);
     acc[2].add(x, static_cast<double>(e2.eval<Fmt>(d)) - ref, true);
     acc[3].add(x, static_cast<double>(e1.eval<Fmt>(d)) - ref, true);
-    if (progress && (b & ((1u << 27) - 1)) == 0) *progress << "  float bits " << b << " / " << last << "\n";
+    if (progress && (b & ((1u << 27) - 1)) == 0)
+      *progress << "  float bits " << b << " / " << last << "\n";
     if (b == last) break;
   }
   const std::string sweep = "every float in [0, 0.5] (" + std::to_string(uint64_t{last} + 1) + ")";
@@ -181,7 +184,8 @@ VdSigmaFit vd_best_sigma(VdEvaluatorKind k, double lo, double hi) {
   std::vector<long double> v(kGrid + 1);
   visit_vd_evaluator(k, [&](auto ev) {
     using Fmt = VdFloatFormat<double>;
-    for (int i = 0; i <= kGrid; ++i) v[static_cast<size_t>(i)] = ev.template eval<Fmt>(0.5 * i / kGrid);
+    for (int i = 0; i <= kGrid; ++i)
+      v[static_cast<size_t>(i)] = ev.template eval<Fmt>(0.5 * i / kGrid);
   });
   for (int s = 0; s <= kSigmas; ++s) {
     const long double sigma = lo + (hi - lo) * s / kSigmas;
@@ -205,7 +209,8 @@ double vd_error_vs_texel_normalised(VdEvaluatorKind k) {
     for (int i = 0; i <= kGrid; ++i) {
       const double d = 0.5 * i / kGrid;
       const long double ref = (vd_reference(d) - lo) / span;
-      m = std::max(m, std::fabs(static_cast<long double>(ev.template eval<VdFloatFormat<double>>(d)) - ref));
+      m = std::max(
+          m, std::fabs(static_cast<long double>(ev.template eval<VdFloatFormat<double>>(d)) - ref));
     }
   });
   return static_cast<double>(m);
@@ -214,7 +219,8 @@ double vd_error_vs_texel_normalised(VdEvaluatorKind k) {
 namespace {
 
 // Solves the n×n system M·x = r (Gaussian elimination, partial pivoting).
-std::vector<long double> solve(std::vector<std::vector<long double>> m, std::vector<long double> r) {
+std::vector<long double> solve(std::vector<std::vector<long double>> m,
+                               std::vector<long double> r) {
   const size_t n = r.size();
   for (size_t i = 0; i < n; ++i) {
     size_t p = i;
@@ -237,9 +243,9 @@ std::vector<long double> solve(std::vector<std::vector<long double>> m, std::vec
 }  // namespace
 
 VdPolyFit vd_minimax_fit(int degree, bool pin_half) {
-  const int k0 = pin_half ? 1 : 0;                 // lowest free power
+  const int k0 = pin_half ? 1 : 0;                         // lowest free power
   const size_t nb = static_cast<size_t>(degree + 1 - k0);  // free coefficients
-  const size_t n = nb + 1;                         // reference points (with the level E)
+  const size_t n = nb + 1;                                 // reference points (with the level E)
   const long double c0 = pin_half ? 0.5L : 0.0L;
   constexpr int kGrid = 20000;
   std::vector<long double> g, target;
@@ -249,8 +255,9 @@ VdPolyFit vd_minimax_fit(int degree, bool pin_half) {
   }
   std::vector<size_t> ref(n);
   for (size_t i = 0; i < n; ++i) {  // Chebyshev-like start
-    const long double t = 0.5L - 0.5L * std::cos(3.14159265358979323846L * static_cast<long double>(i) /
-                                                 static_cast<long double>(n - 1));
+    const long double t =
+        0.5L - 0.5L * std::cos(3.14159265358979323846L * static_cast<long double>(i) /
+                               static_cast<long double>(n - 1));
     ref[i] = static_cast<size_t>(std::lround(t * static_cast<long double>(g.size() - 1)));
   }
   std::vector<long double> coef(nb, 0.0L), err(g.size());
@@ -284,8 +291,10 @@ VdPolyFit vd_minimax_fit(int degree, bool pin_half) {
       }
     }
     while (ext.size() > n) {
-      if (std::fabs(err[ext.front()]) < std::fabs(err[ext.back()])) ext.erase(ext.begin());
-      else ext.pop_back();
+      if (std::fabs(err[ext.front()]) < std::fabs(err[ext.back()]))
+        ext.erase(ext.begin());
+      else
+        ext.pop_back();
     }
     if (ext.size() < n || ext == ref) break;
     ref = ext;
@@ -293,7 +302,8 @@ VdPolyFit vd_minimax_fit(int degree, bool pin_half) {
   VdPolyFit fit;
   fit.coef.assign(static_cast<size_t>(degree + 1), 0.0);
   fit.coef[0] = static_cast<double>(c0);
-  for (size_t j = 0; j < nb; ++j) fit.coef[j + static_cast<size_t>(k0)] = static_cast<double>(coef[j]);
+  for (size_t j = 0; j < nb; ++j)
+    fit.coef[j + static_cast<size_t>(k0)] = static_cast<double>(coef[j]);
   for (int i = 0; i <= 200000; ++i) {
     const long double d = 0.5L * i / 200000;
     long double v = 0, p = 1;
@@ -338,7 +348,8 @@ CutoffErrorStats measure_cutoff_error(VdEvaluatorKind k, VdFormatKind f) {
       minus_tiny = SIn::from_raw(-1);
     } else {
       constexpr int64_t kN = 1'000'000;
-      for (int64_t i = -kN; i <= kN; ++i) visit(static_cast<SIn>(0.5L * static_cast<long double>(i) / kN));
+      for (int64_t i = -kN; i <= kN; ++i)
+        visit(static_cast<SIn>(0.5L * static_cast<long double>(i) / kN));
       minus_tiny = -std::numeric_limits<SIn>::denorm_min();
     }
     st.jump_at_zero = to_double(cut.weight<Fmt>(minus_tiny)) -
@@ -378,8 +389,8 @@ int run_study_vd(const std::string& out_dir, std::ostream& log) {
         r.timing = ev.timing(tech);
       });
       r.claim = vd_seed_claim(k);
-      log << "  vd " << vd_evaluator_name(k) << " " << format_label(f) << ": max " << fmt_e(r.s.max_abs)
-          << " at d = " << fmt_g(r.s.argmax_d, 8) << "\n";
+      log << "  vd " << vd_evaluator_name(k) << " " << format_label(f) << ": max "
+          << fmt_e(r.s.max_abs) << " at d = " << fmt_g(r.s.argmax_d, 8) << "\n";
       rows.push_back(r);
     }
   }
@@ -392,12 +403,14 @@ int run_study_vd(const std::string& out_dir, std::ostream& log) {
          "add,mul,cmp,lut,latency_cycles,area,seed_claim,claim_holds\n";
     for (const Row& r : rows) {
       o << vd_evaluator_name(r.s.evaluator) << "," << format_label(r.s.format) << ","
-        << fmt_e(r.s.max_abs, 6) << "," << fmt_g(r.s.argmax_d, 10) << "," << fmt_e(r.s.signed_at_max, 6)
-        << "," << fmt_e(r.s.mean_abs, 6) << "," << r.s.points << ",\"" << r.s.sweep << "\","
-        << r.ops.add << "," << r.ops.mul << "," << r.ops.cmp << "," << r.ops.lut << ","
-        << r.timing.latency << "," << r.timing.area << ",";
-      if (r.claim) o << *r.claim << "," << (r.s.max_abs <= *r.claim ? "yes" : "no");
-      else o << ",";
+        << fmt_e(r.s.max_abs, 6) << "," << fmt_g(r.s.argmax_d, 10) << ","
+        << fmt_e(r.s.signed_at_max, 6) << "," << fmt_e(r.s.mean_abs, 6) << "," << r.s.points
+        << ",\"" << r.s.sweep << "\"," << r.ops.add << "," << r.ops.mul << "," << r.ops.cmp << ","
+        << r.ops.lut << "," << r.timing.latency << "," << r.timing.area << ",";
+      if (r.claim)
+        o << *r.claim << "," << (r.s.max_abs <= *r.claim ? "yes" : "no");
+      else
+        o << ",";
       o << "\n";
     }
     csv.commit();
@@ -452,7 +465,8 @@ int run_study_vd(const std::string& out_dir, std::ostream& log) {
       o << "| " << vd_evaluator_name(r.s.evaluator) << " | " << format_label(r.s.format) << " | "
         << fmt_e(r.s.max_abs) << " | " << fmt_g(r.s.argmax_d, 6) << " | " << fmt_e(r.s.mean_abs)
         << " | " << r.s.points << " | " << r.ops.add << " | " << r.ops.mul << " | " << r.ops.cmp
-        << " | " << r.ops.lut << " | " << r.timing.latency << " | " << fmt_g(r.timing.area) << " | ";
+        << " | " << r.ops.lut << " | " << r.timing.latency << " | " << fmt_g(r.timing.area)
+        << " | ";
       if (r.claim) {
         o << fmt_g(*r.claim, 2) << " | " << (r.s.max_abs <= *r.claim ? "yes" : "**no**") << " |\n";
       } else {
@@ -503,9 +517,9 @@ int run_study_vd(const std::string& out_dir, std::ostream& log) {
       << "| evaluator | format | max abs error | at d | jump at d = 0 | min before clamp |\n"
       << "|---|---|---|---|---|---|\n";
     for (const CutRow& c : cuts) {
-      o << "| " << vd_evaluator_name(c.k) << " | " << format_label(c.f) << " | " << fmt_e(c.s.max_abs)
-        << " | " << fmt_g(c.s.argmax_d, 6) << " | " << fmt_e(c.s.jump_at_zero) << " | "
-        << fmt_e(c.s.min_unclamped) << " |\n";
+      o << "| " << vd_evaluator_name(c.k) << " | " << format_label(c.f) << " | "
+        << fmt_e(c.s.max_abs) << " | " << fmt_g(c.s.argmax_d, 6) << " | " << fmt_e(c.s.jump_at_zero)
+        << " | " << fmt_e(c.s.min_unclamped) << " |\n";
     }
     md.commit();
   }
@@ -526,15 +540,15 @@ int run_study_vd(const std::string& out_dir, std::ostream& log) {
           const double d = 0.5 * i / kN;
           s.x.push_back(d);
           s.y.push_back(static_cast<double>(
-              static_cast<long double>(ev.template eval<VdFloatFormat<double>>(d)) - vd_reference(d)));
+              static_cast<long double>(ev.template eval<VdFloatFormat<double>>(d)) -
+              vd_reference(d)));
         }
       });
       p.series.push_back(std::move(s));
     }
     write_plot_png(out_dir + "/vd.png", p);
   }
-  const double secs =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   log << "study vd: wrote " << out_dir << "/vd.csv, vd.md, vd.png in " << fmt_g(secs, 3) << " s\n";
   return 0;
 }

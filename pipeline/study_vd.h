@@ -64,10 +64,10 @@ VdPolyFit vd_minimax_fit(int degree, bool pin_half);
 
 // W = V(0.5) − V(d) of SubtexelCutoff over d ∈ [−0.5, 0.5] against the exact volume.
 struct CutoffErrorStats {
-  double max_abs = 0;       // max |Ŵ(d) − W(d)|
+  double max_abs = 0;  // max |Ŵ(d) − W(d)|
   double argmax_d = 0;
-  double jump_at_zero = 0;  // Ŵ(0⁻) − Ŵ(0⁺): nonzero when the evaluator's V(0) ≠ 0.5
-  double min_unclamped = 0; // smallest V̂(0.5) − V̂(|d|) for d ≥ 0 before the clamp to 0
+  double jump_at_zero = 0;   // Ŵ(0⁻) − Ŵ(0⁺): nonzero when the evaluator's V(0) ≠ 0.5
+  double min_unclamped = 0;  // smallest V̂(0.5) − V̂(|d|) for d ≥ 0 before the clamp to 0
   uint64_t points = 0;
 };
 // Double: grid of 2·10^6 + 1 points; fixed formats: every s1.F code in [−0.5, 0.5].

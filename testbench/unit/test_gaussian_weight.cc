@@ -29,7 +29,8 @@ MaxAt pow8_vs_exp(double lo, double hi, int n) {
   MaxAt m;
   for (int i = 0; i <= n; ++i) {
     const double q = lo + (hi - lo) * i / n;
-    const double e = std::fabs(GaussianWeight::weight_pow8<D>(q) - GaussianWeight::weight_exp<D>(q));
+    const double e =
+        std::fabs(GaussianWeight::weight_pow8<D>(q) - GaussianWeight::weight_exp<D>(q));
     if (e > m.max) m = {e, q};
   }
   return m;
@@ -87,14 +88,15 @@ TEST(GaussianWeight, FixedPow8BitExactAndWithinBudget) {
     ASSERT_EQ(w.raw(), expect) << "q code " << code;
     const long double x = static_cast<long double>(q.to_double());
     const long double real = x < 16 ? std::pow(1.0L - x / 16, 8) : 0.0L;
-    const double err = static_cast<double>(std::fabs(static_cast<long double>(w.to_double()) - real));
+    const double err =
+        static_cast<double>(std::fabs(static_cast<long double>(w.to_double()) - real));
     if (err > worst) {
       worst = err;
       worst_q = static_cast<double>(x);
     }
   }
-  std::printf("u5.11->u1.15 power 8: max error vs real (1-q/16)^8 = %.3g (%.2f LSB) at q = %.5g\n", worst,
-              worst / Fx::W::lsb(), worst_q);
+  std::printf("u5.11->u1.15 power 8: max error vs real (1-q/16)^8 = %.3g (%.2f LSB) at q = %.5g\n",
+              worst, worst / Fx::W::lsb(), worst_q);
   // Rounding budget: ½ LSB per squaring, doubled by each later squaring (t ≤ 1): ½+1+2 = 3.5.
   EXPECT_LE(worst, 3.5 * Fx::W::lsb());
 }
@@ -103,8 +105,9 @@ TEST(GaussianWeight, FixedExpWithinHalfLsb) {
   for (int64_t code = 0; code < (int64_t{1} << 16); code += 3) {
     const Fx::Q q = Fx::Q::from_raw(code);
     const long double real = std::exp(-0.5L * static_cast<long double>(q.to_double()));
-    ASSERT_LE(std::fabs(static_cast<long double>(GaussianWeight::weight_exp<Fx>(q).to_double()) - real),
-              0.5L * Fx::W::lsb() + 1e-18L)
+    ASSERT_LE(
+        std::fabs(static_cast<long double>(GaussianWeight::weight_exp<Fx>(q).to_double()) - real),
+        0.5L * Fx::W::lsb() + 1e-18L)
         << code;
   }
 }
@@ -146,7 +149,8 @@ TEST(GaussianWeight, QuadraticFormIsScreenDistance) {
     const Jac j{u(rng), u(rng), u(rng), u(rng)};
     const double det = j.ux * j.vy - j.uy * j.vx;
     if (std::fabs(det) < 1e-3) continue;
-    const auto e = GaussianWeight::setup<double>(GaussianAxes::QuadraticForm, j.ux, j.vx, j.uy, j.vy);
+    const auto e =
+        GaussianWeight::setup<double>(GaussianAxes::QuadraticForm, j.ux, j.vx, j.uy, j.vy);
     ASSERT_FALSE(e.degenerate);
     const double x = u(rng), y = u(rng);
     const double q = GaussianWeight::q_of(e, j.ux * x + j.uy * y, j.vx * x + j.vy * y);
@@ -211,7 +215,8 @@ TEST(GaussianWeight, AxesErrorTable) {
 TEST(GaussianWeight, DegenerateFootprints) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
-  for (GaussianAxes rule : {GaussianAxes::QuadraticForm, GaussianAxes::SeedAxes, GaussianAxes::SeedLiteral}) {
+  for (GaussianAxes rule :
+       {GaussianAxes::QuadraticForm, GaussianAxes::SeedAxes, GaussianAxes::SeedLiteral}) {
     GaussianWeight::Config c;
     c.axes = rule;
     const GaussianWeight g(c);
@@ -242,10 +247,10 @@ TEST(GaussianWeight, OpsAndTiming) {
   t.latency[static_cast<int>(OpKind::Mul)] = 4;
   t.latency[static_cast<int>(OpKind::Lut)] = 9;
   // q: 2 mul + 2 add on the path; power 8: add, range select, three squarings.
-  EXPECT_EQ(p8.timing(t).latency, static_cast<uint32_t>(std::ceil(
-                                      5 * 4 + 3 * t.lat(OpKind::Add) + t.lat(OpKind::Cmp))));
-  EXPECT_EQ(ex.timing(t).latency, static_cast<uint32_t>(std::ceil(
-                                      3 * 4 + 2 * t.lat(OpKind::Add) + t.lat(OpKind::Cmp) + 9)));
+  EXPECT_EQ(p8.timing(t).latency,
+            static_cast<uint32_t>(std::ceil(5 * 4 + 3 * t.lat(OpKind::Add) + t.lat(OpKind::Cmp))));
+  EXPECT_EQ(ex.timing(t).latency, static_cast<uint32_t>(std::ceil(3 * 4 + 2 * t.lat(OpKind::Add) +
+                                                                  t.lat(OpKind::Cmp) + 9)));
   EXPECT_DOUBLE_EQ(p8.timing(t).area, t.area_of(p8.texel_ops()));
   // The seed's axis rules need square roots and divisions the quadratic form does not.
   c.axes = GaussianAxes::SeedLiteral;
@@ -260,16 +265,18 @@ TEST(GaussianWeight, OpsAndTiming) {
 // Prints the default-table figures quoted in docs/gaussian-weights.md.
 TEST(GaussianWeight, DefaultTableFigures) {
   const TechTable t = TechTable::defaults();
-  for (GaussianAxes a : {GaussianAxes::QuadraticForm, GaussianAxes::SeedAxes, GaussianAxes::SeedLiteral}) {
+  for (GaussianAxes a :
+       {GaussianAxes::QuadraticForm, GaussianAxes::SeedAxes, GaussianAxes::SeedLiteral}) {
     GaussianWeight::Config c;
     c.axes = a;
     const GaussianWeight g(c);
     const OpCounts o = g.setup_ops();
-    std::printf("setup %d: mul %llu add %llu rcp %llu div %llu sqrt %llu cmp %llu | latency %u area %g\n",
-                static_cast<int>(a), static_cast<unsigned long long>(o.mul),
-                static_cast<unsigned long long>(o.add), static_cast<unsigned long long>(o.rcp),
-                static_cast<unsigned long long>(o.div), static_cast<unsigned long long>(o.sqrt),
-                static_cast<unsigned long long>(o.cmp), g.setup_timing(t).latency, g.setup_timing(t).area);
+    std::printf(
+        "setup %d: mul %llu add %llu rcp %llu div %llu sqrt %llu cmp %llu | latency %u area %g\n",
+        static_cast<int>(a), static_cast<unsigned long long>(o.mul),
+        static_cast<unsigned long long>(o.add), static_cast<unsigned long long>(o.rcp),
+        static_cast<unsigned long long>(o.div), static_cast<unsigned long long>(o.sqrt),
+        static_cast<unsigned long long>(o.cmp), g.setup_timing(t).latency, g.setup_timing(t).area);
     EXPECT_GT(g.setup_timing(t).latency, 0u);
   }
   for (GaussianWeightFunction f : {GaussianWeightFunction::Exp, GaussianWeightFunction::Pow8}) {
@@ -278,9 +285,10 @@ TEST(GaussianWeight, DefaultTableFigures) {
     const GaussianWeight g(c);
     const OpCounts o = g.texel_ops();
     std::printf("texel %s: mul %llu add %llu cmp %llu lut %llu | latency %u area %g\n",
-                f == GaussianWeightFunction::Exp ? "exp" : "pow8", static_cast<unsigned long long>(o.mul),
-                static_cast<unsigned long long>(o.add), static_cast<unsigned long long>(o.cmp),
-                static_cast<unsigned long long>(o.lut), g.timing(t).latency, g.timing(t).area);
+                f == GaussianWeightFunction::Exp ? "exp" : "pow8",
+                static_cast<unsigned long long>(o.mul), static_cast<unsigned long long>(o.add),
+                static_cast<unsigned long long>(o.cmp), static_cast<unsigned long long>(o.lut),
+                g.timing(t).latency, g.timing(t).area);
     EXPECT_GT(g.timing(t).latency, 0u);
   }
 }
@@ -291,10 +299,14 @@ TEST(GaussianWeight, ConfigFromToml) {
   const auto c = GaussianWeight::Config::from_toml(ConfigReader(ok, "g.toml", "gaussian"));
   EXPECT_EQ(c.function, GaussianWeightFunction::Exp);
   EXPECT_EQ(c.axes, GaussianAxes::SeedAxes);
-  toml::table bad = toml::parse(std::string_view("function = \"pow4\"\n"), std::string_view("g.toml"));
-  EXPECT_THROW(GaussianWeight::Config::from_toml(ConfigReader(bad, "g.toml", "gaussian")), InputError);
-  toml::table typo = toml::parse(std::string_view("axis = \"seed_axes\"\n"), std::string_view("g.toml"));
-  EXPECT_THROW(GaussianWeight::Config::from_toml(ConfigReader(typo, "g.toml", "gaussian")), InputError);
+  toml::table bad =
+      toml::parse(std::string_view("function = \"pow4\"\n"), std::string_view("g.toml"));
+  EXPECT_THROW(GaussianWeight::Config::from_toml(ConfigReader(bad, "g.toml", "gaussian")),
+               InputError);
+  toml::table typo =
+      toml::parse(std::string_view("axis = \"seed_axes\"\n"), std::string_view("g.toml"));
+  EXPECT_THROW(GaussianWeight::Config::from_toml(ConfigReader(typo, "g.toml", "gaussian")),
+               InputError);
 }
 
 }  // namespace

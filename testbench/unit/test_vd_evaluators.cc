@@ -23,7 +23,8 @@ using S = VdSeedCoefficients;
 // Round-half-up right shift: floor(x / 2^s + 1/2) (C++20 >> on negatives is arithmetic).
 int64_t rhu(int64_t x, int s) { return (x + (int64_t{1} << (s - 1))) >> s; }
 int64_t coef_raw(double c, int fc) {
-  return static_cast<int64_t>(std::floor(static_cast<long double>(c) * std::ldexp(1.0L, fc) + 0.5L));
+  return static_cast<int64_t>(
+      std::floor(static_cast<long double>(c) * std::ldexp(1.0L, fc) + 0.5L));
 }
 
 template <class Fmt>
@@ -70,8 +71,10 @@ void check_bit_exact() {
   const int64_t last = int64_t{1} << (M::FIn - 1);
   for (int64_t code = 0; code <= last; ++code) {
     const In d = In::from_raw(code);
-    ASSERT_EQ(p2.eval<Fmt>(d).raw(), M::horner(S::kP2.data(), 2, code)) << Fmt::name() << " P2 code " << code;
-    ASSERT_EQ(p3.eval<Fmt>(d).raw(), M::horner(S::kP3.data(), 3, code)) << Fmt::name() << " P3 code " << code;
+    ASSERT_EQ(p2.eval<Fmt>(d).raw(), M::horner(S::kP2.data(), 2, code))
+        << Fmt::name() << " P2 code " << code;
+    ASSERT_EQ(p3.eval<Fmt>(d).raw(), M::horner(S::kP3.data(), 3, code))
+        << Fmt::name() << " P3 code " << code;
     ASSERT_EQ(p1.eval<Fmt>(d).raw(), M::p1(code)) << Fmt::name() << " P1 code " << code;
   }
 }
@@ -93,7 +96,8 @@ void check_exact_rom() {
   for (int64_t code = 0; code <= last; code += (In::kFracBits > 12 ? 7 : 1)) {
     const In d = In::from_raw(code);
     const long double ref = vd_reference_mpfr(static_cast<long double>(d.to_double()));
-    ASSERT_LE(std::fabs(static_cast<long double>(ex.eval<Fmt>(d).to_double()) - ref), half_lsb + 1e-18L)
+    ASSERT_LE(std::fabs(static_cast<long double>(ex.eval<Fmt>(d).to_double()) - ref),
+              half_lsb + 1e-18L)
         << Fmt::name() << " code " << code;
   }
 }
@@ -111,17 +115,21 @@ void check_float_formula() {
   const VdEvaluatorP3 p3;
   const VdEvaluatorP1 p1;
   const VdEvaluatorExact ex;
-  const T c20 = static_cast<T>(S::kP2[0]), c21 = static_cast<T>(S::kP2[1]), c22 = static_cast<T>(S::kP2[2]);
-  const T c30 = static_cast<T>(S::kP3[0]), c31 = static_cast<T>(S::kP3[1]), c32 = static_cast<T>(S::kP3[2]),
-          c33 = static_cast<T>(S::kP3[3]);
+  const T c20 = static_cast<T>(S::kP2[0]), c21 = static_cast<T>(S::kP2[1]),
+          c22 = static_cast<T>(S::kP2[2]);
+  const T c30 = static_cast<T>(S::kP3[0]), c31 = static_cast<T>(S::kP3[1]),
+          c32 = static_cast<T>(S::kP3[2]), c33 = static_cast<T>(S::kP3[3]);
   for (int i = 0; i <= 20000; ++i) {
     const T d = static_cast<T>(0.5L * i / 20000);
     EXPECT_EQ(p2.eval<Fmt>(d), (c22 * d + c21) * d + c20);
     EXPECT_EQ(p3.eval<Fmt>(d), ((c33 * d + c32) * d + c31) * d + c30);
-    const int seg = static_cast<long double>(d) < S::kP1Break[0] ? 0 : (static_cast<long double>(d) < S::kP1Break[1] ? 1 : 2);
+    const int seg = static_cast<long double>(d) < S::kP1Break[0]
+                        ? 0
+                        : (static_cast<long double>(d) < S::kP1Break[1] ? 1 : 2);
     const auto& c = S::kP1[static_cast<size_t>(seg)];
     EXPECT_EQ(p1.eval<Fmt>(d), static_cast<T>(c[1]) * d + static_cast<T>(c[0]));
-    EXPECT_EQ(ex.eval<Fmt>(d), static_cast<T>(0.5) * std::erfc(-d * static_cast<T>(S::kInvSigmaSqrt2)));
+    EXPECT_EQ(ex.eval<Fmt>(d),
+              static_cast<T>(0.5) * std::erfc(-d * static_cast<T>(S::kInvSigmaSqrt2)));
   }
 }
 
@@ -234,9 +242,12 @@ void check_quantisation_budget() {
   for (int64_t code = 0; code <= last; ++code) {
     const In d = In::from_raw(code);
     const double x = d.to_double();
-    EXPECT_LE(std::fabs(VdEvaluatorP2{}.eval<Fmt>(d).to_double() - VdEvaluatorP2{}.eval<D>(x)), 2 * lsb);
-    EXPECT_LE(std::fabs(VdEvaluatorP3{}.eval<Fmt>(d).to_double() - VdEvaluatorP3{}.eval<D>(x)), 2 * lsb);
-    EXPECT_LE(std::fabs(VdEvaluatorP1{}.eval<Fmt>(d).to_double() - VdEvaluatorP1{}.eval<D>(x)), 2 * lsb);
+    EXPECT_LE(std::fabs(VdEvaluatorP2{}.eval<Fmt>(d).to_double() - VdEvaluatorP2{}.eval<D>(x)),
+              2 * lsb);
+    EXPECT_LE(std::fabs(VdEvaluatorP3{}.eval<Fmt>(d).to_double() - VdEvaluatorP3{}.eval<D>(x)),
+              2 * lsb);
+    EXPECT_LE(std::fabs(VdEvaluatorP1{}.eval<Fmt>(d).to_double() - VdEvaluatorP1{}.eval<D>(x)),
+              2 * lsb);
   }
 }
 
@@ -317,8 +328,8 @@ TEST(VdEvaluators, FloatGridMatchesDenseWindow) {
   using F = VdFloatFormat<float>;
   const auto s = measure_vd_error(VdEvaluatorKind::P3, VdFormatKind::Float, 1'000'000);
   double m = 0;
-  for (float d = static_cast<float>(s.argmax_d) - 0.002f; d <= static_cast<float>(s.argmax_d) + 0.002f;
-       d = std::nextafter(d, 1.0f)) {
+  for (float d = static_cast<float>(s.argmax_d) - 0.002f;
+       d <= static_cast<float>(s.argmax_d) + 0.002f; d = std::nextafter(d, 1.0f)) {
     m = std::max(m, static_cast<double>(std::fabs(VdEvaluatorP3{}.eval<F>(d) - vd_reference(d))));
   }
   EXPECT_NEAR(s.max_abs, m, 1e-15);
@@ -331,9 +342,9 @@ TEST(VdEvaluators, AllFloatsOnRequest) {
   const auto all = measure_vd_error_all_floats(&std::cout);
   for (const auto& s : all) {
     const auto g = measure_vd_error(s.evaluator, VdFormatKind::Float);
-    std::cout << vd_evaluator_name(s.evaluator) << ": all floats max " << s.max_abs << " at d = "
-              << s.argmax_d << " (mean " << s.mean_abs << ", " << s.points << " inputs); grid max "
-              << g.max_abs << " at d = " << g.argmax_d << "\n";
+    std::cout << vd_evaluator_name(s.evaluator) << ": all floats max " << s.max_abs
+              << " at d = " << s.argmax_d << " (mean " << s.mean_abs << ", " << s.points
+              << " inputs); grid max " << g.max_abs << " at d = " << g.argmax_d << "\n";
     if (s.evaluator == VdEvaluatorKind::Exact) {
       // erfcf's rounding noise: its largest excursion need not lie on the grid.
       EXPECT_LE(s.max_abs, 1.2e-7);

@@ -1,7 +1,6 @@
 // `study vd`: the table, CSV and plot are written, complete and consistent with the
 // measurement functions, within the run-time budget.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <cstdlib>
@@ -29,11 +28,13 @@ std::vector<std::string> split(const std::string& line) {
   std::string cur;
   bool quoted = false;
   for (char c : line) {
-    if (c == '"') quoted = !quoted;
+    if (c == '"')
+      quoted = !quoted;
     else if (c == ',' && !quoted) {
       out.push_back(cur);
       cur.clear();
-    } else cur += c;
+    } else
+      cur += c;
   }
   out.push_back(cur);
   return out;
@@ -43,9 +44,10 @@ TEST(StudyVd, WritesTableCsvAndPlot) {
   // TEXSIM_STUDY_VD_OUT keeps the outputs in that directory (to read them); otherwise a
   // temporary directory is used and removed.
   const char* keep = std::getenv("TEXSIM_STUDY_VD_OUT");
-  const std::string dir =
-      keep ? std::string(keep)
-           : (std::filesystem::temp_directory_path() / ("texsim_study_vd_" + std::to_string(::getpid()))).string();
+  const std::string dir = keep ? std::string(keep)
+                               : (std::filesystem::temp_directory_path() /
+                                  ("texsim_study_vd_" + std::to_string(::getpid())))
+                                     .string();
   if (!keep) std::filesystem::remove_all(dir);
   std::ostringstream log;
   const std::clock_t c0 = std::clock();

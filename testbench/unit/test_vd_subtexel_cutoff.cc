@@ -28,9 +28,8 @@ void check_endpoints_and_sign(VdEvaluatorKind k) {
   using SIn = typename Fmt::SIn;
   using In = typename Fmt::In;
   const SubtexelCutoff cut = make(k);
-  const double v_half = visit_vd_evaluator(k, [](auto ev) {
-    return to_double(ev.template eval<Fmt>(vd_detail::quantize<In>(0.5L)));
-  });
+  const double v_half = visit_vd_evaluator(
+      k, [](auto ev) { return to_double(ev.template eval<Fmt>(vd_detail::quantize<In>(0.5L))); });
   const std::string what = std::string(vd_evaluator_name(k)) + " " + Fmt::name();
   EXPECT_EQ(to_double(cut.weight<Fmt>(vd_detail::quantize<SIn>(0.5L))), 0.0) << what;
   // Wholly inside: 2·V̂(0.5) − 1 (exact in every format: one subtraction of representable values).
@@ -82,7 +81,8 @@ TEST(SubtexelCutoff, JumpAtZeroIsTwiceTheOffsetOfVAtZero) {
     EXPECT_NEAR(dbl.jump_at_zero, expect[i], 1e-12) << vd_evaluator_name(k);
     const auto fx = measure_cutoff_error(k, VdFormatKind::Fx16);
     // One input LSB away from 0 the slope (≤ 2.3) adds at most 2.3 · 2^-16 to the step.
-    EXPECT_NEAR(fx.jump_at_zero, expect[i], 2.3 / 65536 + 2 * VdFx16::Out::lsb()) << vd_evaluator_name(k);
+    EXPECT_NEAR(fx.jump_at_zero, expect[i], 2.3 / 65536 + 2 * VdFx16::Out::lsb())
+        << vd_evaluator_name(k);
   }
   EXPECT_NE(expect[1], 0.0);
   EXPECT_NE(expect[3], 0.0);
@@ -94,7 +94,8 @@ TEST(SubtexelCutoff, ErrorBoundedByTwiceTheEvaluatorError) {
     for (VdFormatKind f : {VdFormatKind::Double, VdFormatKind::Fx16}) {
       const auto v = measure_vd_error(k, f, 1'000'000);
       const auto w = measure_cutoff_error(k, f);
-      EXPECT_LE(w.max_abs, 2 * v.max_abs + 1e-12) << vd_evaluator_name(k) << " " << static_cast<int>(f);
+      EXPECT_LE(w.max_abs, 2 * v.max_abs + 1e-12)
+          << vd_evaluator_name(k) << " " << static_cast<int>(f);
       EXPECT_GT(w.points, 60000u);
     }
   }
@@ -106,15 +107,16 @@ TEST(SubtexelCutoff, ErrorBoundedByTwiceTheEvaluatorError) {
 TEST(SubtexelCutoff, NegativeVolumeBeforeClampMatchesPolynomialShape) {
   const double dstar = -S::kP2[1] / (2 * S::kP2[2]);
   const double p2_dip = S::kP2[2] * (0.5 - dstar) * (0.5 - dstar);
-  EXPECT_NEAR(measure_cutoff_error(VdEvaluatorKind::P2, VdFormatKind::Double).min_unclamped, p2_dip, 1e-8);
+  EXPECT_NEAR(measure_cutoff_error(VdEvaluatorKind::P2, VdFormatKind::Double).min_unclamped, p2_dip,
+              1e-8);
   // P3: the dip from the cubic's stationary point in [0, 0.5].
   const double a = 3 * S::kP3[3], b = 2 * S::kP3[2], c = S::kP3[1];
   const double r = (-b - std::sqrt(b * b - 4 * a * c)) / (2 * a);
   ASSERT_GT(r, 0.45);
   ASSERT_LT(r, 0.5);
   auto p3 = [](double d) { return S::kP3[0] + d * (S::kP3[1] + d * (S::kP3[2] + d * S::kP3[3])); };
-  EXPECT_NEAR(measure_cutoff_error(VdEvaluatorKind::P3, VdFormatKind::Double).min_unclamped, p3(0.5) - p3(r),
-              1e-8);
+  EXPECT_NEAR(measure_cutoff_error(VdEvaluatorKind::P3, VdFormatKind::Double).min_unclamped,
+              p3(0.5) - p3(r), 1e-8);
   EXPECT_LT(p3(0.5) - p3(r), 0.0);
   EXPECT_GE(measure_cutoff_error(VdEvaluatorKind::Exact, VdFormatKind::Double).min_unclamped, 0.0);
   EXPECT_GE(measure_cutoff_error(VdEvaluatorKind::P1, VdFormatKind::Double).min_unclamped, 0.0);
@@ -127,14 +129,17 @@ TEST(SubtexelCutoff, NegativeVolumeBeforeClampMatchesPolynomialShape) {
 template <class Fmt>
 void check_monotone(int64_t n, double wiggle) {
   using SIn = typename Fmt::SIn;
-  const double p1_rise = (S::kP1[1][0] + S::kP1[1][1] * 0.305) - (S::kP1[2][0] + S::kP1[2][1] * 0.305);
+  const double p1_rise =
+      (S::kP1[1][0] + S::kP1[1][1] * 0.305) - (S::kP1[2][0] + S::kP1[2][1] * 0.305);
   ASSERT_GT(p1_rise, 0.0);
   for (VdEvaluatorKind k : kVdEvaluatorKinds) {
     const SubtexelCutoff cut = make(k);
     double max_rise = 0, at = 0, p1_max = 0;
     // Within each side of 0 (the step at 0 is the other test's subject).
     for (int side : {-1, 1}) {
-      auto input = [&](int64_t i) { return vd_detail::quantize<SIn>(0.5L * static_cast<long double>(i) / n); };
+      auto input = [&](int64_t i) {
+        return vd_detail::quantize<SIn>(0.5L * static_cast<long double>(i) / n);
+      };
       const int64_t first = side < 0 ? -n : 1, stop = side < 0 ? -1 : n;
       double prev = to_double(cut.weight<Fmt>(input(first)));
       for (int64_t i = first + 1; i <= stop; ++i) {
@@ -166,8 +171,10 @@ TEST(SubtexelCutoff, MonotoneExceptP1Breakpoint) {
 TEST(SubtexelCutoff, RuntimeFormatMatchesTemplate) {
   for (VdEvaluatorKind k : kVdEvaluatorKinds) {
     for (double d : {-0.6, -0.31, -0.1, 0.0, 0.04, 0.2, 0.4999, 0.7}) {
-      EXPECT_EQ(make(k, VdFormatKind::Fx16).weight(d), make(k).weight<VdFx16>(VdFx16::SIn(d)).to_double());
-      EXPECT_EQ(make(k, VdFormatKind::Fx8).weight(d), make(k).weight<VdFx8>(VdFx8::SIn(d)).to_double());
+      EXPECT_EQ(make(k, VdFormatKind::Fx16).weight(d),
+                make(k).weight<VdFx16>(VdFx16::SIn(d)).to_double());
+      EXPECT_EQ(make(k, VdFormatKind::Fx8).weight(d),
+                make(k).weight<VdFx8>(VdFx8::SIn(d)).to_double());
       EXPECT_EQ(make(k, VdFormatKind::Float).weight(d),
                 static_cast<double>(make(k).weight<VdFloatFormat<float>>(static_cast<float>(d))));
       EXPECT_EQ(make(k, VdFormatKind::Double).weight(d), make(k).weight<VdFloatFormat<double>>(d));
@@ -192,13 +199,15 @@ TEST(SubtexelCutoff, OpsAndTiming) {
 }
 
 TEST(SubtexelCutoff, ConfigFromToml) {
-  toml::table ok = toml::parse(std::string_view("evaluator = \"p1\"\nformat = \"fx12\"\nlanes = 2\n"),
-                               std::string_view("s.toml"));
+  toml::table ok =
+      toml::parse(std::string_view("evaluator = \"p1\"\nformat = \"fx12\"\nlanes = 2\n"),
+                  std::string_view("s.toml"));
   const auto c = SubtexelCutoff::Config::from_toml(ConfigReader(ok, "s.toml", "subtexel"));
   EXPECT_EQ(c.evaluator, VdEvaluatorKind::P1);
   EXPECT_EQ(c.format, VdFormatKind::Fx12);
   EXPECT_EQ(c.lanes, 2u);
-  toml::table bad = toml::parse(std::string_view("evaluator = \"p4\"\n"), std::string_view("s.toml"));
+  toml::table bad =
+      toml::parse(std::string_view("evaluator = \"p4\"\n"), std::string_view("s.toml"));
   try {
     SubtexelCutoff::Config::from_toml(ConfigReader(bad, "s.toml", "subtexel"));
     FAIL() << "unknown evaluator accepted";
@@ -206,7 +215,8 @@ TEST(SubtexelCutoff, ConfigFromToml) {
     EXPECT_NE(std::string(e.what()).find("evaluator"), std::string::npos);
   }
   toml::table typo = toml::parse(std::string_view("sigma = 0.3\n"), std::string_view("s.toml"));
-  EXPECT_THROW(SubtexelCutoff::Config::from_toml(ConfigReader(typo, "s.toml", "subtexel")), InputError);
+  EXPECT_THROW(SubtexelCutoff::Config::from_toml(ConfigReader(typo, "s.toml", "subtexel")),
+               InputError);
 }
 
 }  // namespace
