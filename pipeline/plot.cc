@@ -56,7 +56,7 @@ void write_plot_png(const std::string& path, const PlotSpec& spec) {
       data << "\n\n";
       if (s) gp << ", ";
       gp << quote(data_path) << " index " << block++ << " using 1:2 with "
-         << (ser.lines ? "linespoints" : "points") << " pt 7 ps 1.2 title " << quote(ser.label);
+         << (ser.lines ? "lines lw 2" : "points pt 7 ps 1.2") << " title " << quote(ser.label);
     }
     if (spec.series.empty()) gp << "0 notitle";
     gp << "\n";

@@ -8,7 +8,7 @@ namespace texsim {
 struct PlotSeries {
   std::string label;
   std::vector<double> x, y;
-  bool lines = false;  // join the points (e.g. error over d); otherwise points only
+  bool lines = false;  // a line without markers (e.g. error over d); otherwise points only
 };
 
 struct PlotSpec {
