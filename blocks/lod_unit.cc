@@ -28,7 +28,7 @@ LodUnit::Config LodUnit::Config::from_toml(const ConfigReader& r) {
   return c;
 }
 
-OpCounts LodUnit::ops_per_fragment() const {
+OpCounts LodUnit::count_ops(const Config& c) {
   OpCounts o;
   // Derivatives to texels (4 mul), squared lengths |(mux,mvx)|², |(muy,mvy)|² (4 mul, 2 add).
   // λ = ½·log2(ρ²) needs no square root: the ½ is an exponent decrement (1 add).
@@ -38,7 +38,7 @@ OpCounts LodUnit::ops_per_fragment() const {
   o.lut = 1;  // log2
   o.add += 2;  // sampler bias + fragment bias, then λ_base + bias
   o.cmp += 2;  // clamp to [min_lod, max_lod]
-  if (cfg_.aniso == AnisoMode::Vulkan) {
+  if (c.aniso == AnisoMode::Vulkan) {
     o.cmp += 1;            // ρmin² = min(ρx², ρy²)
     o.div += 1;            // ρmax²/ρmin²
     o.sqrt += 1;           // ρmax/ρmin
@@ -95,8 +95,7 @@ TimingSpec LodUnit::timing(const TechTable& tech) const {
   return t;
 }
 
-LodResult LodUnit::eval(const Fragment& f, int tex_w, int tex_h, OpCounts& ops) const {
-  ops += ops_per_fragment();
+LodResult LodUnit::eval(const Fragment& f, int tex_w, int tex_h) const {
   LodResult r;
   const float bias = cfg_.lod_bias + f.lod_bias;
   const float w = static_cast<float>(tex_w), h = static_cast<float>(tex_h);

@@ -38,23 +38,31 @@ class LodUnit {
     static Config from_toml(const ConfigReader& r);
   };
 
-  LodUnit() = default;
-  explicit LodUnit(const Config& c) : cfg_(c) {}
+  LodUnit() : LodUnit(Config{}) {}
+  explicit LodUnit(const Config& c) : cfg_(c), ops_(count_ops(c)) {}
   const Config& config() const { return cfg_; }
 
   // λ, probe count and probe step for fragment `f` on a texture whose level 0 is
   // tex_w × tex_h. Adds this fragment's operations to `ops`. Never returns NaN: non-finite
   // derivatives give λ_base = 0 (then bias and clamp as usual) and one probe.
-  LodResult eval(const Fragment& f, int tex_w, int tex_h, OpCounts& ops) const;
+  LodResult eval(const Fragment& f, int tex_w, int tex_h, OpCounts& ops) const {
+    ops += ops_;
+    return eval(f, tex_w, tex_h);
+  }
+  // The same without counting: a caller that counts fragments multiplies ops_per_fragment()
+  // by their number instead (the count does not depend on the data).
+  LodResult eval(const Fragment& f, int tex_w, int tex_h) const;
 
   // Operations per fragment of the datapath (the same for every fragment: the hardware
   // evaluates every path and selects).
-  OpCounts ops_per_fragment() const;
+  const OpCounts& ops_per_fragment() const { return ops_; }
   // Critical path (latency) and area of a fully pipelined unit (one fragment per cycle).
   TimingSpec timing(const TechTable& tech) const;
 
  private:
+  static OpCounts count_ops(const Config& c);
   Config cfg_;
+  OpCounts ops_;  // per fragment, fixed by the configuration
 };
 
 }  // namespace texsim

@@ -16,18 +16,73 @@ const char* to_string(FilterMode m) {
 
 namespace {
 
-// Float texel coordinate to fixed point with `bits` fraction bits, round to nearest even (the
+// Float texel coordinate to fixed point with `scale` = 2^bits, round to nearest even (the
 // float→fixed converter of the datapath). |x| is limited to 2^30 texels first: beyond that a
 // float32 coordinate has no fraction bits left, and the limit keeps the integer in range.
-int64_t to_fixed(float x, int bits) {
+// x·2^bits is exact (at most 2^46), so this equals rounding ldexp(x, bits).
+int64_t to_fixed(float x, float scale) {
   constexpr float kLimit = 1073741824.0f;  // 2^30
   x = std::clamp(x, -kLimit, kLimit);
-  return std::llrint(std::ldexp(x, bits));
+  return std::llrint(x * scale);
 }
 
 float finite_or_zero(float x) { return std::isfinite(x) ? x : 0.0f; }
 
+bool is_pow2(int64_t n) { return (n & (n - 1)) == 0; }
+
+// Euclidean i mod m (m > 0); a power-of-two m, the usual texture size, is a mask.
+int64_t mod_pos(int64_t i, int64_t m) {
+  if (is_pow2(m)) return i & (m - 1);
+  const int64_t r = i % m;
+  return r < 0 ? r + m : r;
+}
+
+int32_t wrap(int64_t i, int32_t size) { return static_cast<int32_t>(mod_pos(i, size)); }
+
+int32_t clamp_edge(int64_t i, int32_t size) {
+  return static_cast<int32_t>(std::clamp<int64_t>(i, 0, size - 1));
+}
+
+// Vulkan MIRRORED_REPEAT: (size − 1) − mirror((i mod 2·size) − size),
+// mirror(n) = n for n ≥ 0, −(1 + n) otherwise.
+int32_t mirror(int64_t i, int32_t size) {
+  const int64_t n = mod_pos(i, 2 * static_cast<int64_t>(size)) - size;
+  const int64_t m = n >= 0 ? n : -(1 + n);
+  return static_cast<int32_t>((size - 1) - m);
+}
+
+// The two neighbours i and i + 1 of a linear filter, addressed. Wrap derives i + 1 from i
+// (one modulo instead of two), as the hardware's incrementer does.
+void address_pair(int64_t i, int32_t size, AddressMode mode, int32_t& a, int32_t& b) {
+  switch (mode) {
+    case AddressMode::Wrap:
+      a = wrap(i, size);
+      b = a + 1 == size ? 0 : a + 1;
+      return;
+    case AddressMode::Clamp:
+      a = clamp_edge(i, size);
+      b = clamp_edge(i + 1, size);
+      return;
+    case AddressMode::Mirror:
+      a = mirror(i, size);
+      b = mirror(i + 1, size);
+      return;
+  }
+  a = b = 0;
+}
+
 }  // namespace
+
+TexelAddressGen::TexelAddressGen(const Config& c) : cfg_(c) {
+  fix_scale_ = std::ldexp(1.0f, cfg_.sub_texel_bits);
+  frac_scale_ = std::ldexp(1.0f, -cfg_.sub_texel_bits);
+  mip_scale_ = std::ldexp(1.0f, cfg_.mipmap_bits);
+  mip_frac_ = std::ldexp(1.0f, -cfg_.mipmap_bits);
+  for (int a = 0; a < 2; ++a) {
+    ops_setup_[a] = count_setup(a != 0);
+    ops_probe_[a] = count_probe(a != 0);
+  }
+}
 
 TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"filter", "address_u", "address_v", "sub_texel_bits", "mipmap_bits"});
@@ -44,22 +99,9 @@ TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r
 
 int32_t TexelAddressGen::address(int64_t i, int32_t size, AddressMode mode) {
   switch (mode) {
-    case AddressMode::Wrap: {
-      const int64_t r = i % size;
-      return static_cast<int32_t>(r < 0 ? r + size : r);
-    }
-    case AddressMode::Clamp:
-      return static_cast<int32_t>(std::clamp<int64_t>(i, 0, size - 1));
-    case AddressMode::Mirror: {
-      // Vulkan MIRRORED_REPEAT: (size − 1) − mirror((i mod 2·size) − size),
-      // mirror(n) = n for n ≥ 0, −(1 + n) otherwise.
-      const int64_t two = 2 * static_cast<int64_t>(size);
-      int64_t t = i % two;
-      if (t < 0) t += two;
-      const int64_t n = t - size;
-      const int64_t m = n >= 0 ? n : -(1 + n);
-      return static_cast<int32_t>((size - 1) - m);
-    }
+    case AddressMode::Wrap: return wrap(i, size);
+    case AddressMode::Clamp: return clamp_edge(i, size);
+    case AddressMode::Mirror: return mirror(i, size);
   }
   return 0;
 }
@@ -68,15 +110,16 @@ TexelAddressGen::LevelSelect TexelAddressGen::select_levels(float lambda, int le
   LevelSelect s;
   const int32_t q = std::max(levels, 1) - 1;
   if (std::isnan(lambda)) lambda = 0;
-  // d' = clamp(λ, 0, q) (level_base = 0), then to fixed point with mipmap_bits fraction bits.
+  // d' = clamp(λ, 0, q) (level_base = 0), then to fixed point with mipmap_bits fraction bits
+  // (d'·2^m is exact: d' ≤ q < 2^31, m ≤ 16).
   const float d = std::clamp(lambda, 0.0f, static_cast<float>(q));
   const int m = cfg_.mipmap_bits;
   const int64_t one = int64_t{1} << m;
-  const int64_t dfix = std::llrint(std::ldexp(d, m));
+  const int64_t dfix = std::llrint(d * mip_scale_);
   if (cfg_.filter == FilterMode::Trilinear) {
     s.d_hi = static_cast<int32_t>(dfix >> m);
     s.d_lo = std::min(s.d_hi + 1, q);
-    s.delta = std::ldexp(static_cast<float>(dfix & (one - 1)), -m);
+    s.delta = static_cast<float>(dfix & (one - 1)) * mip_frac_;
   } else {
     // Vulkan's preferred nearest(d') = ⌈d' + 0.5⌉ − 1 (rounds halves down), in fixed point:
     // ⌈a / 2^m⌉ = (a + 2^m − 1) >> m.
@@ -98,64 +141,68 @@ int TexelAddressGen::taps_per_probe() const {
   return 1;
 }
 
-uint32_t TexelAddressGen::issue_cycles(const LodResult& lod) {
-  return static_cast<uint32_t>(std::clamp(lod.probes, 1, 16));
-}
-
-void TexelAddressGen::emit_level(const Texture& tex, int32_t level, float u, float v, float w,
-                                 FilterTaps& out) const {
-  const int32_t wl = tex.width(level), hl = tex.height(level);
+TexelTap* TexelAddressGen::emit_level(const Texture& tex, int32_t level, float u, float v, float w,
+                                      TexelTap* out) const {
+  const Texture::Level& lv = tex.level(level);
+  const int32_t wl = lv.width, hl = lv.height;
   const int b = cfg_.sub_texel_bits;
   const int64_t mask = (int64_t{1} << b) - 1;
   if (cfg_.filter == FilterMode::Nearest) {
     // i = ⌊u·width⌋ on the fixed-point coordinate.
-    const int64_t xf = to_fixed(u * static_cast<float>(wl), b);
-    const int64_t yf = to_fixed(v * static_cast<float>(hl), b);
-    out.tap[out.count++] = {level, address(xf >> b, wl, cfg_.address_u),
-                            address(yf >> b, hl, cfg_.address_v), w};
-    return;
+    const int64_t xf = to_fixed(u * static_cast<float>(wl), fix_scale_);
+    const int64_t yf = to_fixed(v * static_cast<float>(hl), fix_scale_);
+    *out++ = {level, address(xf >> b, wl, cfg_.address_u), address(yf >> b, hl, cfg_.address_v), w};
+    return out;
   }
   // i0 = ⌊u·width − ½⌋, α = frac(u·width − ½) with b fraction bits.
-  const int64_t xf = to_fixed(u * static_cast<float>(wl) - 0.5f, b);
-  const int64_t yf = to_fixed(v * static_cast<float>(hl) - 0.5f, b);
-  const int64_t i0 = xf >> b, j0 = yf >> b;
-  const float a = std::ldexp(static_cast<float>(xf & mask), -b);
-  const float be = std::ldexp(static_cast<float>(yf & mask), -b);
-  const int32_t x0 = address(i0, wl, cfg_.address_u), x1 = address(i0 + 1, wl, cfg_.address_u);
-  const int32_t y0 = address(j0, hl, cfg_.address_v), y1 = address(j0 + 1, hl, cfg_.address_v);
+  const int64_t xf = to_fixed(u * static_cast<float>(wl) - 0.5f, fix_scale_);
+  const int64_t yf = to_fixed(v * static_cast<float>(hl) - 0.5f, fix_scale_);
+  const float a = static_cast<float>(xf & mask) * frac_scale_;
+  const float be = static_cast<float>(yf & mask) * frac_scale_;
+  int32_t x0, x1, y0, y1;
+  address_pair(xf >> b, wl, cfg_.address_u, x0, x1);
+  address_pair(yf >> b, hl, cfg_.address_v, y0, y1);
   const float wi0 = 1.0f - a, wj0 = 1.0f - be;
-  out.tap[out.count++] = {level, x0, y0, wi0 * wj0 * w};
-  out.tap[out.count++] = {level, x1, y0, a * wj0 * w};
-  out.tap[out.count++] = {level, x0, y1, wi0 * be * w};
-  out.tap[out.count++] = {level, x1, y1, a * be * w};
+  out[0] = {level, x0, y0, wi0 * wj0 * w};
+  out[1] = {level, x1, y0, a * wj0 * w};
+  out[2] = {level, x0, y1, wi0 * be * w};
+  out[3] = {level, x1, y1, a * be * w};
+  return out + 4;
 }
 
 void TexelAddressGen::taps(const Texture& tex, double u, double v, const LodResult& lod,
-                           FilterTaps& out, OpCounts& ops) const {
-  const int n = std::clamp(lod.probes, 1, 16);
-  const bool aniso = n > 1;
-  ops += ops_setup(aniso);
-  ops += ops_per_probe(aniso) * static_cast<uint64_t>(n);
-
+                           FilterTaps& out) const {
+  const int n = static_cast<int>(issue_cycles(lod));
   const LevelSelect sel = select_levels(lod.lambda, tex.levels());
   const float uf = finite_or_zero(static_cast<float>(u));
   const float vf = finite_or_zero(static_cast<float>(v));
-  const float au = finite_or_zero(lod.axis_u), av = finite_or_zero(lod.axis_v);
-  const float inv_n = 1.0f / static_cast<float>(n);
-  out.count = 0;
-  for (int k = 0; k < n; ++k) {
-    // Probe k of N, centred on (u, v), one probe step apart (docs/filters.md §4).
-    const float off = static_cast<float>(k) - 0.5f * static_cast<float>(n - 1);
-    const float pu = aniso ? uf + off * au : uf;
-    const float pv = aniso ? vf + off * av : vf;
-    const float wp = aniso ? inv_n : 1.0f;
-    if (cfg_.filter == FilterMode::Trilinear) {
-      emit_level(tex, sel.d_hi, pu, pv, (1.0f - sel.delta) * wp, out);
-      emit_level(tex, sel.d_lo, pu, pv, sel.delta * wp, out);
+  const bool tri = cfg_.filter == FilterMode::Trilinear;
+  TexelTap* t = out.tap.data();
+  if (n == 1) {
+    // One probe at (u, v) with weight 1.
+    if (tri) {
+      t = emit_level(tex, sel.d_hi, uf, vf, 1.0f - sel.delta, t);
+      t = emit_level(tex, sel.d_lo, uf, vf, sel.delta, t);
     } else {
-      emit_level(tex, sel.d_hi, pu, pv, wp, out);
+      t = emit_level(tex, sel.d_hi, uf, vf, 1.0f, t);
+    }
+  } else {
+    const float au = finite_or_zero(lod.axis_u), av = finite_or_zero(lod.axis_v);
+    const float inv_n = 1.0f / static_cast<float>(n);
+    for (int k = 0; k < n; ++k) {
+      // Probe k of N, centred on (u, v), one probe step apart (docs/filters.md §4).
+      const float off = static_cast<float>(k) - 0.5f * static_cast<float>(n - 1);
+      const float pu = uf + off * au;
+      const float pv = vf + off * av;
+      if (tri) {
+        t = emit_level(tex, sel.d_hi, pu, pv, (1.0f - sel.delta) * inv_n, t);
+        t = emit_level(tex, sel.d_lo, pu, pv, sel.delta * inv_n, t);
+      } else {
+        t = emit_level(tex, sel.d_hi, pu, pv, inv_n, t);
+      }
     }
   }
+  out.count = static_cast<int>(t - out.tap.data());
 }
 
 // ---- operation counts and timing ----------------------------------------------------------
@@ -199,7 +246,7 @@ OpCounts TexelAddressGen::ops_level() const {
   return o;
 }
 
-OpCounts TexelAddressGen::ops_setup(bool anisotropic) const {
+OpCounts TexelAddressGen::count_setup(bool anisotropic) const {
   OpCounts o;
   const bool tri = cfg_.filter == FilterMode::Trilinear;
   o.cmp += 2;  // d' = clamp(λ, 0, q)
@@ -219,7 +266,7 @@ OpCounts TexelAddressGen::ops_setup(bool anisotropic) const {
   return o;
 }
 
-OpCounts TexelAddressGen::ops_per_probe(bool anisotropic) const {
+OpCounts TexelAddressGen::count_probe(bool anisotropic) const {
   const bool tri = cfg_.filter == FilterMode::Trilinear;
   OpCounts o = ops_level() * (tri ? 2 : 1);
   if (anisotropic) {

@@ -58,15 +58,23 @@ class TexelAddressGen {
     float delta = 0;    // weight of d_lo, a multiple of 2^-mipmap_bits (linear mode)
   };
 
-  TexelAddressGen() = default;
-  explicit TexelAddressGen(const Config& c) : cfg_(c) {}
+  TexelAddressGen() : TexelAddressGen(Config{}) {}
+  explicit TexelAddressGen(const Config& c);
   const Config& config() const { return cfg_; }
 
   // Writes the taps of one fragment at normalised (u, v) into `out` (out.count set).
   // Probes: lod.probes (clamped to 1..16) at (u, v) + (k − (N−1)/2)·(axis_u, axis_v),
   // k = 0..N−1, each weighted 1/N. Non-finite u or v are treated as 0.
   void taps(const Texture& tex, double u, double v, const LodResult& lod, FilterTaps& out,
-            OpCounts& ops) const;
+            OpCounts& ops) const {
+    const bool aniso = issue_cycles(lod) > 1;
+    ops += ops_setup_[aniso];
+    ops += ops_probe_[aniso] * issue_cycles(lod);
+    taps(tex, u, v, lod, out);
+  }
+  // The same without counting: the count depends only on the probe number N, so a caller
+  // may count fragments and probes and multiply ops_setup() and ops_per_probe() at the end.
+  void taps(const Texture& tex, double u, double v, const LodResult& lod, FilterTaps& out) const;
 
   // Level selection from λ on a pyramid of `levels` levels.
   LevelSelect select_levels(float lambda, int levels) const;
@@ -75,11 +83,13 @@ class TexelAddressGen {
 
   // Taps per probe and issue slots (cycles at ii = 1) one fragment occupies.
   int taps_per_probe() const;
-  static uint32_t issue_cycles(const LodResult& lod);
+  static uint32_t issue_cycles(const LodResult& lod) {
+    return static_cast<uint32_t>(lod.probes < 1 ? 1 : (lod.probes > 16 ? 16 : lod.probes));
+  }
   // Operations per fragment (level selection) and per probe; an anisotropic fragment
   // (N > 1) adds 1/N per fragment and the probe offset and 1/N weighting per probe.
-  OpCounts ops_setup(bool anisotropic) const;
-  OpCounts ops_per_probe(bool anisotropic) const;
+  const OpCounts& ops_setup(bool anisotropic) const { return ops_setup_[anisotropic]; }
+  const OpCounts& ops_per_probe(bool anisotropic) const { return ops_probe_[anisotropic]; }
   // Per-probe pipeline: latency of the critical path, ii = 1 probe per cycle, area of one
   // probe's datapath (with the anisotropic offset/weight stage).
   TimingSpec timing(const TechTable& tech) const;
@@ -87,9 +97,18 @@ class TexelAddressGen {
  private:
   static OpCounts ops_address(AddressMode m);
   OpCounts ops_level() const;
-  void emit_level(const Texture& tex, int32_t level, float u, float v, float w,
-                  FilterTaps& out) const;
+  OpCounts count_setup(bool anisotropic) const;
+  OpCounts count_probe(bool anisotropic) const;
+  TexelTap* emit_level(const Texture& tex, int32_t level, float u, float v, float w,
+                       TexelTap* out) const;
   Config cfg_;
+  // Fixed by the configuration, so computed once: the converters' scale factors (powers of
+  // two, so the products are exact and equal to ldexp) and the operation counts.
+  float fix_scale_ = 256.0f;        // 2^sub_texel_bits
+  float frac_scale_ = 1.0f / 256;   // 2^-sub_texel_bits
+  float mip_scale_ = 256.0f;        // 2^mipmap_bits
+  float mip_frac_ = 1.0f / 256;     // 2^-mipmap_bits
+  OpCounts ops_setup_[2], ops_probe_[2];  // [anisotropic]
 };
 
 }  // namespace texsim

@@ -28,11 +28,26 @@ class TexelBlend {
   const Config& config() const { return cfg_; }
 
   // Σ w_k · texel_k over taps.tap[0 .. count). Counts one memory read, 4 mul and 4 add per tap.
-  Rgba blend(const FilterTaps& taps, const Texture& tex, OpCounts& ops) const;
+  Rgba blend(const FilterTaps& taps, const Texture& tex, OpCounts& ops) const {
+    ops += ops_per_tap() * static_cast<uint64_t>(taps.count > 0 ? taps.count : 0);
+    return blend(taps, tex);
+  }
+  // The same without counting (the count is ops_per_tap() times the number of taps).
+  Rgba blend(const FilterTaps& taps, const Texture& tex) const;
 
   // Cycles one fragment occupies the datapath: ⌈count / taps_per_cycle⌉ (at least 1).
-  uint32_t issue_cycles(const FilterTaps& taps) const;
-  OpCounts ops_per_tap() const;
+  uint32_t issue_cycles(const FilterTaps& taps) const {
+    const int g = cfg_.taps_per_cycle > 1 ? cfg_.taps_per_cycle : 1;
+    const int c = (taps.count + g - 1) / g;
+    return static_cast<uint32_t>(c > 1 ? c : 1);
+  }
+  static OpCounts ops_per_tap() {
+    OpCounts o;
+    o.mem = 1;  // one texel read
+    o.mul = 4;  // w · RGBA
+    o.add = 4;  // RGBA accumulate (tree levels + group accumulation: one add per product)
+    return o;
+  }
   // Latency: texel read, multiply, log2(taps_per_cycle) adder levels, accumulate. ii = 1 group.
   TimingSpec timing(const TechTable& tech) const;
 

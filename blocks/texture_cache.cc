@@ -38,26 +38,28 @@ TextureCache::TextureCache(const Config& c) : cfg_(c) {
   sets_ = c.size_bytes / (c.ways * c.line_bytes);
   if (!std::has_single_bit(sets_)) throw std::invalid_argument("texture cache: sets must be 2^n");
   line_shift_ = static_cast<uint32_t>(std::countr_zero(c.line_bytes));
-  tags_.assign(static_cast<size_t>(sets_) * c.ways, kInvalid);
-  stamp_.assign(tags_.size(), 0);
+  ways_.assign(static_cast<size_t>(sets_) * c.ways, Way{kInvalid, 0});
 }
 
-bool TextureCache::access(uint64_t addr) {
-  const uint64_t line = addr >> line_shift_;
-  const size_t base = static_cast<size_t>(line & (sets_ - 1)) * cfg_.ways;
+bool TextureCache::access_line(uint64_t line) {
+  Way* set = ways_.data() + static_cast<size_t>(line & (sets_ - 1)) * cfg_.ways;
+  const uint32_t ways = cfg_.ways;
   ++stats_.accesses;
   ++clock_;
-  size_t victim = base;
-  for (size_t w = base; w < base + cfg_.ways; ++w) {
-    if (tags_[w] == line) {
-      stamp_[w] = clock_;
+  for (uint32_t w = 0; w < ways; ++w) {
+    if (set[w].tag == line) {
+      set[w].stamp = clock_;
       ++stats_.hits;
       return true;
     }
-    if (stamp_[w] < stamp_[victim]) victim = w;  // empty ways have stamp 0: filled first
   }
-  tags_[victim] = line;
-  stamp_[victim] = clock_;
+  // Miss: the least recently used way (the first of equals; empty ways have stamp 0).
+  uint32_t victim = 0;
+  for (uint32_t w = 1; w < ways; ++w) {
+    if (set[w].stamp < set[victim].stamp) victim = w;
+  }
+  set[victim].tag = line;
+  set[victim].stamp = clock_;
   ++stats_.misses;
   stats_.fill_bytes += cfg_.line_bytes;
   return false;

@@ -32,7 +32,9 @@ class TextureCache {
   explicit TextureCache(const Config& c);
   // Looks up the line holding byte address `addr`; on a miss the LRU way is refilled.
   // Returns true on a hit.
-  bool access(uint64_t addr);
+  bool access(uint64_t addr) { return access_line(line_of(addr)); }
+  // The same for a line number (addr >> log2(line_bytes)).
+  bool access_line(uint64_t line);
   uint64_t line_of(uint64_t addr) const { return addr >> line_shift_; }
   const Config& config() const { return cfg_; }
   const Stats& stats() const { return stats_; }
@@ -45,8 +47,12 @@ class TextureCache {
   uint32_t sets_ = 1;
   uint32_t line_shift_ = 6;
   uint64_t clock_ = 0;
-  std::vector<uint64_t> tags_;   // sets_ * ways; kInvalid = empty
-  std::vector<uint64_t> stamp_;  // last use, for LRU
+  // One set's ways side by side: a look-up reads one contiguous block.
+  struct Way {
+    uint64_t tag;    // line number; kInvalid = empty
+    uint64_t stamp;  // last use, for LRU (0 = never used)
+  };
+  std::vector<Way> ways_;  // sets_ * ways
   Stats stats_;
 };
 

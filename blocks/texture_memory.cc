@@ -102,33 +102,6 @@ Texture Texture::from_levels(std::string name, const std::vector<int>& widths,
   return t;
 }
 
-uint64_t Texture::morton2(uint32_t x, uint32_t y) {
-  auto spread = [](uint64_t v) {
-    v &= 0xffffffffULL;
-    v = (v | (v << 16)) & 0x0000ffff0000ffffULL;
-    v = (v | (v << 8)) & 0x00ff00ff00ff00ffULL;
-    v = (v | (v << 4)) & 0x0f0f0f0f0f0f0f0fULL;
-    v = (v | (v << 2)) & 0x3333333333333333ULL;
-    v = (v | (v << 1)) & 0x5555555555555555ULL;
-    return v;
-  };
-  return spread(x) | (spread(y) << 1);
-}
-
-uint64_t Texture::texel_index(const Level& lv, int x, int y) const {
-  const auto ux = static_cast<uint64_t>(x), uy = static_cast<uint64_t>(y);
-  switch (layout_) {
-    case TexelLayout::Linear: return uy * static_cast<uint64_t>(lv.width) + ux;
-    case TexelLayout::Tiled4x4: {
-      const uint64_t tiles_x = (static_cast<uint64_t>(lv.width) + 3) / 4;
-      const uint64_t tile = (uy >> 2) * tiles_x + (ux >> 2);
-      return tile * 16 + (uy & 3) * 4 + (ux & 3);
-    }
-    case TexelLayout::Morton: return morton2(static_cast<uint32_t>(x), static_cast<uint32_t>(y));
-  }
-  return 0;
-}
-
 uint64_t Texture::place(uint64_t base, TexelLayout layout) {
   base_ = base;
   layout_ = layout;

@@ -68,9 +68,35 @@ class Texture {
     return base_ + lv.offset + texel_index(lv, x, y) * static_cast<uint64_t>(bytes_per_texel());
   }
 
+  // Index of a texel in the level's storage order under `layout` (inline: the cache model
+  // computes one per texel read, and the layout switch is the same for a whole run).
+  static uint64_t texel_index(TexelLayout layout, const Level& lv, int x, int y) {
+    const auto ux = static_cast<uint64_t>(x), uy = static_cast<uint64_t>(y);
+    switch (layout) {
+      case TexelLayout::Linear: return uy * static_cast<uint64_t>(lv.width) + ux;
+      case TexelLayout::Tiled4x4: {
+        const uint64_t tiles_x = (static_cast<uint64_t>(lv.width) + 3) / 4;
+        const uint64_t tile = (uy >> 2) * tiles_x + (ux >> 2);
+        return tile * 16 + (uy & 3) * 4 + (ux & 3);
+      }
+      case TexelLayout::Morton: return morton2(static_cast<uint32_t>(x), static_cast<uint32_t>(y));
+    }
+    return 0;
+  }
+  // Bits of v spread to the even bit positions (Morton interleave of one coordinate).
+  static uint64_t spread_bits(uint32_t v) {
+    uint64_t s = v;
+    s = (s | (s << 16)) & 0x0000ffff0000ffffULL;
+    s = (s | (s << 8)) & 0x00ff00ff00ff00ffULL;
+    s = (s | (s << 4)) & 0x0f0f0f0f0f0f0f0fULL;
+    s = (s | (s << 2)) & 0x3333333333333333ULL;
+    s = (s | (s << 1)) & 0x5555555555555555ULL;
+    return s;
+  }
+  static uint64_t morton2(uint32_t x, uint32_t y) { return spread_bits(x) | (spread_bits(y) << 1); }
+
  private:
-  uint64_t texel_index(const Level& lv, int x, int y) const;
-  static uint64_t morton2(uint32_t x, uint32_t y);
+  uint64_t texel_index(const Level& lv, int x, int y) const { return texel_index(layout_, lv, x, y); }
 
   std::string name_;
   TexelFormat format_ = TexelFormat::Rgba8;

@@ -1,6 +1,7 @@
 #include "pipeline/texture_unit.h"
 
 #include <algorithm>
+#include <bit>
 
 #include "blocks/config_reader.h"
 #include "blocks/input_error.h"
@@ -69,17 +70,24 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
 
 void TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start,
                                 ItemCost& cost) {
-  // Distinct lines of this fragment's taps: each is one tag look-up.
-  lines_.clear();
+  // Distinct lines of this fragment's taps, in order of first use: each is one tag look-up.
+  const TexelLayout layout = tex.layout();
+  const uint64_t base = tex.base();
+  const auto bpt = static_cast<uint64_t>(tex.bytes_per_texel());
+  const uint32_t shift = static_cast<uint32_t>(std::countr_zero(setup_.cache.line_bytes));
+  int n = 0;
   for (int i = 0; i < taps.count; ++i) {
-    const TexelTap& t = taps.tap[i];
-    const uint64_t line = cache_.line_of(tex.address(t.level, t.x, t.y));
-    if (std::find(lines_.begin(), lines_.end(), line) == lines_.end()) lines_.push_back(line);
+    const TexelTap& t = taps.tap[static_cast<size_t>(i)];
+    const Texture::Level& lv = tex.level(t.level);
+    const uint64_t addr = base + lv.offset + Texture::texel_index(layout, lv, t.x, t.y) * bpt;
+    const uint64_t line = addr >> shift;
+    int k = 0;
+    while (k < n && lines_[static_cast<size_t>(k)] != line) ++k;
+    if (k == n) lines_[static_cast<size_t>(n++)] = line;
   }
-  const uint64_t line_bytes = setup_.cache.line_bytes;
   uint64_t ready = start + setup_.cache.hit_latency;
-  for (uint64_t line : lines_) {
-    if (!cache_.access(line * line_bytes)) {
+  for (int k = 0; k < n; ++k) {
+    if (!cache_.access_line(lines_[static_cast<size_t>(k)])) {
       ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
     }
   }
@@ -92,10 +100,13 @@ void TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint
 Rgba TextureUnit::process(const Fragment& f, int material) {
   Path& p = paths_[static_cast<size_t>(material)];
   const Texture& tex = textures_[p.texture];
-  const LodResult lod = p.lod.eval(f, tex.width(0), tex.height(0), p.lod_ops);
-  p.addr.taps(tex, f.u, f.v, lod, taps_, p.addr_ops);
-  const Rgba colour = blend_.blend(taps_, tex, p.blend_ops);
-  cache_ops_.mem += static_cast<uint64_t>(taps_.count);
+  const LodResult lod = p.lod.eval(f, tex.width(0), tex.height(0));
+  p.addr.taps(tex, f.u, f.v, lod, taps_);
+  const Rgba colour = blend_.blend(taps_, tex);
+  const uint32_t probes = TexelAddressGen::issue_cycles(lod);
+  ++p.fragments;
+  p.aniso_fragments += probes > 1;
+  p.probes += probes;
   if (frames_.empty() || frames_.back().frame != f.frame) {
     if (!frames_.empty() && pipe_) frames_.back().cycles = pipe_->cycles();
     frames_.push_back({f.frame, 0, 0});
@@ -104,7 +115,7 @@ Rgba TextureUnit::process(const Fragment& f, int material) {
   ++fragments_;
   if (pipe_) {
     ItemCost costs[kStages];
-    costs[kAddress].extra_ii = TexelAddressGen::issue_cycles(lod) - 1;
+    costs[kAddress].extra_ii = probes - 1;
     costs[kBlend].extra_ii = blend_.issue_cycles(taps_) - 1;
     pipe_->issue_with(0, [&](int s, uint64_t start) {
       if (s == kCache) cache_lookups(taps_, tex, start, costs[kCache]);
@@ -126,15 +137,23 @@ std::vector<BlockUse> TextureUnit::blocks() const {
     b.ops += ops;
     if (std::find(b.materials.begin(), b.materials.end(), mat) == b.materials.end()) b.materials.push_back(mat);
   };
+  OpCounts cache_ops;
   for (size_t i = 0; i < paths_.size(); ++i) {
     const Path& p = paths_[i];
     const std::string& m = mats_[i].name;
-    add("lod", "float32, log2 by table", p.lod.timing(tech_), p.lod_ops, m);
+    // Per-fragment and per-probe counts times the fragments and probes seen (see Path).
+    const uint64_t iso = p.fragments - p.aniso_fragments;  // one probe each
+    const uint64_t aniso_probes = p.probes - iso;
+    const uint64_t taps = p.probes * static_cast<uint64_t>(p.addr.taps_per_probe());
+    const OpCounts addr_ops = p.addr.ops_setup(false) * iso + p.addr.ops_setup(true) * p.aniso_fragments +
+                              p.addr.ops_per_probe(false) * iso + p.addr.ops_per_probe(true) * aniso_probes;
+    add("lod", "float32, log2 by table", p.lod.timing(tech_), p.lod.ops_per_fragment() * p.fragments, m);
     add(std::string("filter.") + to_string(p.addr.config().filter),
         "float32 coordinates; weights in u0." + std::to_string(p.addr.config().sub_texel_bits) +
             ", mip fraction u0." + std::to_string(p.addr.config().mipmap_bits),
-        p.addr.timing(tech_), p.addr_ops, m);
-    add("blend", "float32 multiply-accumulate", blend_.timing(tech_), p.blend_ops, m);
+        p.addr.timing(tech_), addr_ops, m);
+    add("blend", "float32 multiply-accumulate", blend_.timing(tech_), TexelBlend::ops_per_tap() * taps, m);
+    cache_ops.mem += taps;  // every tap is a texel read through the cache
   }
   std::vector<BlockUse> out;
   for (auto& [k, v] : by) out.push_back(v);
@@ -142,7 +161,7 @@ std::vector<BlockUse> TextureUnit::blocks() const {
   c.name = "cache";
   c.arithmetic = "tag compare";
   c.timing.latency = setup_.cache.hit_latency;
-  c.ops = cache_ops_;
+  c.ops = cache_ops;
   for (const auto& m : mats_) c.materials.push_back(m.name);
   out.push_back(c);
   return out;

@@ -2,6 +2,7 @@
 // The clocked texture unit (ПНТ, first slice): LOD → texel address generation → texture cache
 // + DRAM → blend, built from a scene's materials. Only the blocks some material needs are
 // instantiated. docs/architecture.md describes the stages; docs/timing-model.md the timing.
+#include <array>
 #include <map>
 #include <memory>
 #include <string>
@@ -78,11 +79,16 @@ class TextureUnit {
   const std::vector<MaterialSetup>& materials() const { return mats_; }
 
  private:
+  // One material's blocks. Op counts depend only on the probe number N of each fragment, so
+  // the hot path counts fragments and probes and blocks() multiplies the per-fragment and
+  // per-probe counts of the blocks: exact, and three increments instead of three OpCounts sums.
   struct Path {
     LodUnit lod;
     TexelAddressGen addr;
     int texture = 0;
-    OpCounts lod_ops, addr_ops, blend_ops;
+    uint64_t fragments = 0;
+    uint64_t aniso_fragments = 0;  // fragments with N > 1
+    uint64_t probes = 0;           // Σ N over all fragments
   };
   void cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start, ItemCost& cost);
 
@@ -97,9 +103,8 @@ class TextureUnit {
   DramModel dram_;
   std::unique_ptr<ClockedPipeline> pipe_;
   FilterTaps taps_;
-  std::vector<uint64_t> lines_;  // distinct cache lines of the current fragment
+  std::array<uint64_t, 128> lines_{};  // distinct cache lines of the current fragment
   uint64_t fragments_ = 0;
-  OpCounts cache_ops_;
   std::vector<FrameStats> frames_;
 };
 
