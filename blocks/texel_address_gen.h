@@ -46,8 +46,9 @@ class TexelAddressGen {
     AddressMode address_v = AddressMode::Wrap;
     int sub_texel_bits = 8;  // fraction bits of texel coordinates (Vulkan subTexelPrecisionBits)
     int mipmap_bits = 8;     // fraction bits of the LOD (Vulkan mipmapPrecisionBits)
-    // Keys: filter ("nearest"|"bilinear"|"trilinear"), address_u, address_v
-    // ("wrap"|"clamp"|"mirror"), sub_texel_bits (1..16), mipmap_bits (1..16).
+    // Keys: mode ("nearest"|"bilinear"|"trilinear"); address ("wrap"|"clamp"|"mirror") for
+    // both axes, or address_u and address_v separately (not both forms at once);
+    // sub_texel_bits (1..16), mipmap_bits (1..16).
     static Config from_toml(const ConfigReader& r);
   };
 

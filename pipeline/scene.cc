@@ -188,13 +188,13 @@ source = "procedural:grid?size=256&cells=8&line=3"
 
 [materials.floor]
 texture = "checker"
-filter = { filter = "trilinear", address_u = "wrap", address_v = "wrap" }
+filter = { mode = "trilinear", address = "wrap" }
 [materials.wall]
 texture = "noise"
-filter = { filter = "trilinear", address_u = "mirror", address_v = "mirror" }
+filter = { mode = "trilinear", address = "mirror" }
 [materials.panel]
 texture = "grid"
-filter = { filter = "bilinear", address_u = "clamp", address_v = "clamp" }
+filter = { mode = "bilinear", address = "clamp" }
 
 [[planes]]
 material = "floor"

@@ -165,7 +165,7 @@ TEST_F(Cli, SceneTypeErrorNamesKeyLineAndColumn) {
 TEST_F(Cli, SceneUnknownMaterialAndFilter) {
   write("bad.toml",
         "[textures.t]\nsource = \"procedural:checker\"\n[materials.m]\ntexture = \"t\"\n"
-        "filter = { filter = \"cubic\" }\n[[planes]]\nmaterial = \"m\"\n");
+        "filter = { mode = \"cubic\" }\n[[planes]]\nmaterial = \"m\"\n");
   Result r = sh("run " + path("bad.toml") + " --out " + path("out"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("cubic"), std::string::npos) << r.out;

@@ -485,7 +485,7 @@ TEST(TexelAddressGen, ConfigFromToml) {
     return TexelAddressGen::Config::from_toml(ConfigReader(t, "m.toml", "filter"));
   };
   const auto c = parse(
-      "filter = 'trilinear'\naddress_u = 'mirror'\naddress_v = 'clamp'\nsub_texel_bits = 6\n"
+      "mode = 'trilinear'\naddress_u = 'mirror'\naddress_v = 'clamp'\nsub_texel_bits = 6\n"
       "mipmap_bits = 4\n");
   EXPECT_EQ(c.filter, FilterMode::Trilinear);
   EXPECT_EQ(c.address_u, AddressMode::Mirror);
@@ -496,8 +496,16 @@ TEST(TexelAddressGen, ConfigFromToml) {
   EXPECT_EQ(d.filter, FilterMode::Bilinear);
   EXPECT_EQ(d.address_u, AddressMode::Wrap);
   EXPECT_EQ(d.sub_texel_bits, 8);
-  EXPECT_THROW(parse("filters = 'nearest'\n"), InputError);
-  EXPECT_THROW(parse("filter = 'cubic'\n"), InputError);
+  // `address` sets both axes; it may not be combined with an axis of its own.
+  const auto e = parse("mode = 'nearest'\naddress = 'mirror'\n");
+  EXPECT_EQ(e.filter, FilterMode::Nearest);
+  EXPECT_EQ(e.address_u, AddressMode::Mirror);
+  EXPECT_EQ(e.address_v, AddressMode::Mirror);
+  EXPECT_THROW(parse("address = 'clamp'\naddress_u = 'wrap'\n"), InputError);
+  EXPECT_THROW(parse("address = 'clamp'\naddress_v = 'clamp'\n"), InputError);
+  EXPECT_THROW(parse("address = 'border'\n"), InputError);
+  EXPECT_THROW(parse("filter = 'nearest'\n"), InputError);  // the old name of `mode`
+  EXPECT_THROW(parse("mode = 'cubic'\n"), InputError);
   EXPECT_THROW(parse("sub_texel_bits = 0\n"), InputError);
   EXPECT_THROW(parse("address_u = 'border'\n"), InputError);
   static toml::table bt;
