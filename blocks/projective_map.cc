@@ -91,7 +91,7 @@ ProjectiveMap ProjectiveMap::from_plane(const Vec3L& origin, const Vec3L& axis_u
   return m;
 }
 
-ProjectiveMap ProjectiveMap::from_plane_view(const PlaneView& pv) {
+PlaneFrame plane_frame(const PlaneView& pv) {
   constexpr long double kDeg = 3.14159265358979323846264338327950288L / 180.0L;
   const long double d = pv.distance;
   const long double s = d / (pv.camera.focal_px * pv.texels_per_pixel);  // texel size
@@ -103,7 +103,17 @@ ProjectiveMap ProjectiveMap::from_plane_view(const PlaneView& pv) {
   const Vec3L hit{0, 0, d};
   const Vec3L origin = add(hit, add(scale(au, -static_cast<long double>(pv.u_offset)),
                                     scale(av, -static_cast<long double>(pv.v_offset))));
-  return from_plane(origin, au, av, pv.camera);
+  return {origin, au, av};
+}
+
+void project_to_pixel(const Vec3L& p, const PinholeCamera& cam, long double& x, long double& y) {
+  x = cam.focal_px * p.x / p.z + cam.cx - 0.5L;
+  y = cam.focal_px * p.y / p.z + cam.cy - 0.5L;
+}
+
+ProjectiveMap ProjectiveMap::from_plane_view(const PlaneView& pv) {
+  const PlaneFrame f = plane_frame(pv);
+  return from_plane(f.origin, f.axis_u, f.axis_v, pv.camera);
 }
 
 DerivsL analytic_derivs(const ProjectiveMap& m, long double x, long double y) {
@@ -116,6 +126,25 @@ DerivsL analytic_derivs(const ProjectiveMap& m, long double x, long double y) {
 DerivsL forward_diff_derivs(const ProjectiveMap& m, long double x, long double y) {
   const long double u0 = m.u(x, y), v0 = m.v(x, y);
   return {m.u(x + 1, y) - u0, m.v(x + 1, y) - v0, m.u(x, y + 1) - u0, m.v(x, y + 1) - v0};
+}
+
+double quotient_error_bound(double w, double z, double dw, double dz, bool reciprocal, bool fixed,
+                            double unit) {
+  if (!(z - dz > 0)) return std::numeric_limits<double>::infinity();
+  const double u = std::fabs(w) / z;
+  // |(w+δw)/(z+δz) − w/z| = |δw − u·δz| / |z + δz| <= (dw + u·dz)/(z − dz).
+  const double du = (dw + u * dz) / (z - dz);
+  if (!reciprocal) return du + (fixed ? unit / 2 : unit * (u + du));
+  // r = 1/ẑ rounded (<= unit/2 or unit·r), then ŵ·r rounded.
+  const double wmag = std::fabs(w) + dw;
+  return du + (fixed ? unit / 2 * (1 + wmag) : 2.01 * unit * (u + du));
+}
+
+double linear_form_error_bound(long double a, long double b, long double c, long double x,
+                               long double y, bool fixed, double unit) {
+  if (fixed) return unit / 2 * static_cast<double>(std::fabs(x) + std::fabs(y) + 1);
+  // Rounding a, b, c (1 each) and the products and sums (<= 3 more along any term).
+  return 4.01 * unit * static_cast<double>(std::fabs(a * x) + std::fabs(b * y) + std::fabs(c));
 }
 
 Datapath parse_datapath(const ConfigReader& r, Datapath def) {

@@ -42,6 +42,14 @@ struct PlaneView {
   PinholeCamera camera{};
 };
 
+// View-space frame of a textured plane: texel (u, v) sits at origin + u·axis_u + v·axis_v.
+struct PlaneFrame {
+  Vec3L origin, axis_u, axis_v;
+};
+PlaneFrame plane_frame(const PlaneView& pv);
+// Pixel-index coordinates (centre of pixel i at x = i) of a view-space point with Z > 0.
+void project_to_pixel(const Vec3L& p, const PinholeCamera& cam, long double& x, long double& y);
+
 // Screen (pixel index) -> texture (texels) map:
 //   u = (A x + B y + C) / (G x + H y + I),  v = (D x + E y + F) / (G x + H y + I)
 // with x, y pixel indices (the half-pixel centre offset is folded into C, F, I). As built by
@@ -149,6 +157,26 @@ template <class T> MapCoeffs<T> to_coeffs(const ProjectiveMap& m) {
   }
   c.ok = ok;
   return c;
+}
+
+// ----- Error bounds (docs/coords-derivations.md §3.3) -----
+
+// Bound on |ŵ/ẑ − w/z| (texels) after the division step of a block, given |ŵ − w| <= dw and
+// |ẑ − z| <= dz at the exact values w, z (z > dz > = 0), for a number format with `unit` = the
+// LSB (fixed, round to nearest: each rounding <= unit/2) or the unit roundoff (float: each
+// rounding <= unit·|result|). `reciprocal` = r = 1/ẑ then ŵ·r (two roundings, the first
+// scaled by |ŵ|). +inf if z <= dz.
+double quotient_error_bound(double w, double z, double dw, double dz, bool reciprocal, bool fixed,
+                            double unit);
+// Error of a linear form a·x + b·y + c evaluated in the format (coefficients rounded into it,
+// then two products and two sums): fixed-point products of integers are exact, so only the
+// coefficients' rounding counts; in float every operation rounds.
+double linear_form_error_bound(long double a, long double b, long double c, long double x,
+                               long double y, bool fixed, double unit);
+template <class T> constexpr bool format_is_fixed() { return is_fixed_v<T>; }
+template <class T> constexpr double format_unit() {
+  if constexpr (is_fixed_v<T>) return T::lsb();
+  else return static_cast<double>(std::numeric_limits<T>::epsilon()) / 2;
 }
 
 // ----- Timing from op counts -----

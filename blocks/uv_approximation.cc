@@ -5,9 +5,10 @@
 namespace texsim {
 
 UvApproximation::Config UvApproximation::Config::from_toml(const ConfigReader& r) {
-  r.reject_unknown({"order", "datapath", "min_denominator"});
+  r.reject_unknown({"order", "segment", "datapath", "min_denominator"});
   Config c;
   c.order = static_cast<Order>(1 + r.get_choice("order", 1, {"affine", "quadratic", "cubic"}));
+  c.segment = static_cast<int>(r.get_int("segment", c.segment, 0, 1 << 20));
   c.datapath = parse_datapath(r, c.datapath);
   c.min_denominator = r.get_double("min_denominator", c.min_denominator);
   if (!(c.min_denominator > 0)) r.fail("min_denominator", "must be > 0");

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "blocks/op_counts.h"
 #include "blocks/projective_map.h"
@@ -38,6 +39,9 @@ class UvApproximation {
   enum class Order { Affine = 1, Quadratic = 2, Cubic = 3 };
   struct Config {
     Order order = Order::Quadratic;
+    // Longest span one polynomial covers; longer rows are cut into segments of this many
+    // pixels, each with its own set-up (0 = the whole row: the seed's form).
+    int segment = 0;
     Datapath datapath = Datapath::Spatial;
     double min_denominator = 1.0 / 4096;  // exact points with q below it reject the row
     static Config from_toml(const ConfigReader& r);
@@ -48,11 +52,23 @@ class UvApproximation {
   const Config& config() const { return cfg_; }
   int points() const { return static_cast<int>(cfg_.order) + 1; }
 
-  // Functional core in T: exact (Heckbert) values at the row's sample points s = i/order,
+  // The spans that get their own polynomial (one per segment).
+  std::vector<RowSpan> segments(const RowSpan& s) const {
+    std::vector<RowSpan> v;
+    const int32_t len = cfg_.segment > 0 ? cfg_.segment : std::max(1, s.n);
+    for (int32_t a = 0; a < s.n; a += len) v.push_back({s.x0 + a, s.y, std::min(len, s.n - a)});
+    return v;
+  }
+
+  // Functional core in T: exact (Heckbert) values at the span's sample points s = i/order,
   // polynomial coefficients in s, then forward differences in the pixel index with step
-  // h = 1/(n-1). A one-pixel row gets the exact value.
+  // h = 1/(n-1). A one-pixel span gets the exact value.
   template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordSample* out) const {
     if (s.n <= 0) return;
+    if (cfg_.segment > 0 && s.n > cfg_.segment) {
+      for (const RowSpan& g : segments(s)) eval_row(m, g, out + (g.x0 - s.x0));
+      return;
+    }
     std::fill(out, out + s.n, CoordSample{});
     if (!m.ok) return;
     const int order = static_cast<int>(cfg_.order);

@@ -119,24 +119,26 @@ OpCounts UvApproximationTriangle::pixel_critical_path() const {
 }
 
 OpCounts UvApproximationTriangle::row_setup_ops() const {
-  const bool cubic = cfg_.order == Order::Bicubic;
-  const uint64_t pts = cubic ? 4 : 3;
-  OpCounts per_point;
-  per_point.mul = 4;  // l1, l2 = a·x + b·y + c
-  per_point.add = 4;
-  per_point.mul += cubic ? 7 : 3;  // monomials a², ab, b² (and a³, a²b, ab², b³)
-  const uint64_t terms = cubic ? 10 : 6;
-  per_point.mul += 2 * (terms - 1);  // coefficient products, u and v
-  per_point.add += 2 * (terms - 1);
-  OpCounts o = per_point * pts;
-  o.add += 2 * (cubic ? 6 : 3);  // difference table, u and v
+  // a0, b0 (barycentrics at the row start): 4 mul + 4 add. Row polynomials of the monomials:
+  // a², ab, b² 10 mul + 1 add (and a³, a²b, ab², b³ from them: 24 mul + 8 add). Per
+  // coordinate: the coefficients e_d = Σ c_j·m_j,d and the difference table (the ×2 and ×6
+  // by a shift-add counted as one add / one mul).
+  OpCounts o;
+  if (cfg_.order == Order::Biquadratic) {
+    o.mul = 4 + 10 + 2 * 13;
+    o.add = 4 + 1 + 2 * (11 + 2);
+  } else {
+    o.mul = 4 + 10 + 24 + 2 * (29 + 1);
+    o.add = 4 + 1 + 8 + 2 * (26 + 3);
+  }
   return o;
 }
 
 OpCounts UvApproximationTriangle::row_setup_critical_path() const {
   OpCounts p;
-  p.mul = cfg_.order == Order::Bicubic ? 4 : 3;  // l, monomial, coefficient product
-  p.add = 2 + (cfg_.order == Order::Bicubic ? 4 : 3) + static_cast<uint64_t>(cfg_.order);
+  const bool cubic = cfg_.order == Order::Bicubic;
+  p.mul = cubic ? 4 : 3;  // a0 -> monomials (-> cubic monomials) -> c·m
+  p.add = cubic ? 6 : 5;  // a0 sums, coefficient sums, difference table
   return p;
 }
 

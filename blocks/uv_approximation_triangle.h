@@ -100,32 +100,54 @@ class UvApproximationTriangle {
     return s;
   }
 
-  // Row evaluation: the polynomial at the first order+1 pixels, then forward differences.
+  // Row evaluation: the polynomial restricted to the row, as a polynomial in the pixel index
+  // n (l1 = a0 + α·n, l2 = b0 + β·n substituted into the monomials), then its forward
+  // differences from those coefficients. (Differencing sampled values instead would amplify
+  // their rounding by up to n³/6 over the row in the cubic case.)
   template <class T> void eval_row(const Setup<T>& st, const RowSpan& s, CoordSample* out) const {
     if (s.n <= 0) return;
     std::fill(out, out + s.n, CoordSample{});
     if (!st.ok) return;
-    const int order = static_cast<int>(cfg_.order);
-    const int np = std::min<int>(order + 1, s.n);
-    std::array<T, 4> du{}, dv{};
-    for (int i = 0; i < np; ++i) {
-      const T xt = static_cast<T>(s.x0 + i), yt = static_cast<T>(s.y);
-      const T a = st.l1a * xt + st.l1b * yt + st.l1c;
-      const T b = st.l2a * xt + st.l2b * yt + st.l2c;
-      du[i] = poly(st.cu, a, b);
-      dv[i] = poly(st.cv, a, b);
+    const bool cubic = cfg_.order == Order::Bicubic;
+    const int order = cubic ? 3 : 2;
+    const T xt = static_cast<T>(s.x0), yt = static_cast<T>(s.y);
+    const T a0 = st.l1a * xt + st.l1b * yt + st.l1c, al = st.l1a;
+    const T b0 = st.l2a * xt + st.l2b * yt + st.l2c, be = st.l2a;
+    using Poly = std::array<T, 4>;
+    const T one = static_cast<T>(1), two = static_cast<T>(2);
+    std::array<Poly, kMaxTerms> mono{};
+    mono[0] = {one, T{}, T{}, T{}};
+    mono[1] = {a0, al, T{}, T{}};
+    mono[2] = {b0, be, T{}, T{}};
+    mono[3] = {a0 * a0, two * (a0 * al), al * al, T{}};
+    mono[4] = {a0 * b0, a0 * be + al * b0, al * be, T{}};
+    mono[5] = {b0 * b0, two * (b0 * be), be * be, T{}};
+    auto times_linear = [](const Poly& p, T c0, T c1) {
+      return Poly{p[0] * c0, p[0] * c1 + p[1] * c0, p[1] * c1 + p[2] * c0, p[2] * c1};
+    };
+    if (cubic) {
+      mono[6] = times_linear(mono[3], a0, al);
+      mono[7] = times_linear(mono[3], b0, be);
+      mono[8] = times_linear(mono[5], a0, al);
+      mono[9] = times_linear(mono[5], b0, be);
     }
-    // Difference table in place: d[k] = Δ^k f(0).
-    for (int k = 1; k < np; ++k) {
-      for (int i = np - 1; i >= k; --i) {
-        du[i] = du[i] - du[i - 1];
-        dv[i] = dv[i] - dv[i - 1];
+    const int terms = nodes();
+    auto row_poly = [&](const std::array<T, kMaxTerms>& c) {
+      Poly e{};
+      for (int j = 0; j < terms; ++j) {
+        for (int d = 0; d <= order; ++d) {
+          if (!(mono[j][d] == T{})) e[d] += c[j] * mono[j][d];
+        }
       }
-    }
+      // Forward differences of e0 + e1 n + e2 n² + e3 n³ at n = 0.
+      const T six = static_cast<T>(6);
+      return Poly{e[0], e[1] + e[2] + e[3], two * e[2] + six * e[3], six * e[3]};
+    };
+    Poly du = row_poly(st.cu), dv = row_poly(st.cv);
     for (int32_t n = 0; n < s.n; ++n) {
       const bool ok = !out_of_range(du[0]) && !out_of_range(dv[0]);
       out[n] = ok ? CoordSample{to_double(du[0]), to_double(dv[0]), true} : CoordSample{};
-      for (int k = 0; k + 1 < np; ++k) {
+      for (int k = 0; k < order; ++k) {
         du[k] += du[k + 1];
         dv[k] += dv[k + 1];
       }
@@ -143,12 +165,6 @@ class UvApproximationTriangle {
   TimingSpec triangle_setup_timing(const TechTable& t) const;
 
  private:
-  template <class T> T poly(const std::array<T, kMaxTerms>& c, T a, T b) const {
-    const T aa = a * a, ab = a * b, bb = b * b;
-    T p = c[0] + c[1] * a + c[2] * b + c[3] * aa + c[4] * ab + c[5] * bb;
-    if (cfg_.order == Order::Bicubic) p += c[6] * aa * a + c[7] * aa * b + c[8] * a * bb + c[9] * bb * b;
-    return p;
-  }
   Config cfg_{};
 };
 

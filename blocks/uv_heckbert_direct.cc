@@ -1,5 +1,7 @@
 #include "blocks/uv_heckbert_direct.h"
 
+#include <algorithm>
+
 #include "blocks/config_reader.h"
 
 namespace texsim {
@@ -42,6 +44,19 @@ OpCounts UvHeckbertDirect::pixel_critical_path() const {
     p.mul += 1;
   }
   return p;
+}
+
+double UvHeckbertDirect::bound_impl(const ProjectiveMap& m, int32_t x, int32_t y, bool fixed,
+                                    double unit) const {
+  const long double xl = x, yl = y;
+  const double dw = linear_form_error_bound(m.A, m.B, m.C, xl, yl, fixed, unit);
+  const double dt = linear_form_error_bound(m.D, m.E, m.F, xl, yl, fixed, unit);
+  const double dz = linear_form_error_bound(m.G, m.H, m.I, xl, yl, fixed, unit);
+  const double z = static_cast<double>(m.den(xl, yl));
+  const bool rcp = cfg_.form == Form::Reciprocal;
+  return std::max(
+      quotient_error_bound(static_cast<double>(m.num_u(xl, yl)), z, dw, dz, rcp, fixed, unit),
+      quotient_error_bound(static_cast<double>(m.num_v(xl, yl)), z, dt, dz, rcp, fixed, unit));
 }
 
 TimingSpec UvHeckbertDirect::timing(const TechTable& t) const {

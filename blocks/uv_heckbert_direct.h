@@ -54,6 +54,12 @@ class UvHeckbertDirect {
     for (int32_t n = 0; n < s.n; ++n) out[n] = eval(m, s.x0 + n, s.y);
   }
 
+  // A-priori bound (texels) on the error at pixel (x, y) in format T
+  // (docs/coords-derivations.md §3.3); +inf where the denominator is within its error of 0.
+  template <class T> double error_bound(const ProjectiveMap& m, int32_t x, int32_t y) const {
+    return bound_impl(m, x, y, format_is_fixed<T>(), format_unit<T>());
+  }
+
   OpCounts pixel_ops() const;
   OpCounts pixel_critical_path() const;
   OpCounts row_setup_ops() const { return {}; }
@@ -62,6 +68,7 @@ class UvHeckbertDirect {
   TimingSpec row_setup_timing(const TechTable&) const { return TimingSpec{0, 0, 1, 0.0}; }
 
  private:
+  double bound_impl(const ProjectiveMap& m, int32_t x, int32_t y, bool fixed, double unit) const;
   Config cfg_{};
 };
 

@@ -119,36 +119,20 @@ double UvIncrementalAdder::bound_impl(const ProjectiveMap& m, const RowSpan& s, 
     return static_cast<double>(
         std::max(std::fabs(a * x_lo + b * y + c), std::fabs(a * x_hi + b * y + c)));
   };
-  auto start_err = [&](long double a, long double b, long double c) {
-    if (fixed) return unit / 2 * (std::fabs(static_cast<double>(xs)) + std::fabs(s.y) + 1.0);
-    return 4.01 * unit *
-           static_cast<double>(std::fabs(a * xs) + std::fabs(b * y) + std::fabs(c));
-  };
-  auto accum_err = [&](long double a, long double b, long double c) {
-    if (fixed) return increments * unit / 2;
-    return 2.0 * increments * unit * static_cast<double>(std::fabs(a)) +
+  // Start value at xs, then `increments` copies of the rounded increment and `roundings`
+  // rounded additions (float: each <= unit·max|w| over the lane's range; fixed: exact).
+  auto err = [&](long double a, long double b, long double c) {
+    const double start = linear_form_error_bound(a, b, c, xs, y, fixed, unit);
+    if (fixed) return start + increments * unit / 2;
+    return start + 2.0 * increments * unit * static_cast<double>(std::fabs(a)) +
            roundings * unit * range_max(a, b, c) * (1 + 1e-6);
   };
-  const double dw = start_err(m.A, m.B, m.C) + accum_err(m.A, m.B, m.C);
-  const double dt = start_err(m.D, m.E, m.F) + accum_err(m.D, m.E, m.F);
-  const double dz = start_err(m.G, m.H, m.I) + accum_err(m.G, m.H, m.I);
+  const double dw = err(m.A, m.B, m.C), dt = err(m.D, m.E, m.F), dz = err(m.G, m.H, m.I);
   const double z = static_cast<double>(m.den(x, y));
-  if (!(z - dz > 0)) return std::numeric_limits<double>::infinity();
-  const double u = std::fabs(static_cast<double>(m.num_u(x, y))) / z;
-  const double v = std::fabs(static_cast<double>(m.num_v(x, y))) / z;
-  const double wmag = std::fabs(static_cast<double>(m.num_u(x, y))) + dw;
-  const double tmag = std::fabs(static_cast<double>(m.num_v(x, y))) + dt;
-  double du = (dw + u * dz) / (z - dz);
-  double dv = (dt + v * dz) / (z - dz);
-  if (cfg_.division == Division::Divide) {
-    du += fixed ? unit / 2 : unit * (u + du);
-    dv += fixed ? unit / 2 : unit * (v + dv);
-  } else {
-    // r = 1/z rounded, then w·r rounded.
-    du += fixed ? unit / 2 * (1 + wmag) : 2.01 * unit * (u + du);
-    dv += fixed ? unit / 2 * (1 + tmag) : 2.01 * unit * (v + dv);
-  }
-  return std::max(du, dv);
+  const bool rcp = cfg_.division == Division::Reciprocal;
+  return std::max(
+      quotient_error_bound(static_cast<double>(m.num_u(x, y)), z, dw, dz, rcp, fixed, unit),
+      quotient_error_bound(static_cast<double>(m.num_v(x, y)), z, dt, dz, rcp, fixed, unit));
 }
 
 }  // namespace texsim
