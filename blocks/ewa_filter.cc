@@ -17,6 +17,7 @@ const char* to_string(EwaFilter::Weight w) {
     case EwaFilter::Weight::Exp: return "exp";
     case EwaFilter::Weight::Pow8: return "pow8";
     case EwaFilter::Weight::Map: return "map";
+    case EwaFilter::Weight::Uniform: return "uniform";
   }
   return "?";
 }
@@ -139,7 +140,7 @@ EwaFilter::Config EwaFilter::Config::from_toml(const ConfigReader& r) {
                     "address_u", "address_v", "lanes", "weight_map"});
   Config c;
   c.weight = static_cast<Weight>(
-      r.get_choice("weight", static_cast<int>(c.weight), {"lut", "exp", "pow8", "map"}));
+      r.get_choice("weight", static_cast<int>(c.weight), {"lut", "exp", "pow8", "map", "uniform"}));
   c.lut_size = static_cast<int>(r.get_int("lut_size", c.lut_size, 2, 1 << 16));
   c.lut_bits = static_cast<int>(r.get_int("lut_bits", c.lut_bits, 0, 30));
   c.alpha = r.get_double("alpha", c.alpha);
@@ -225,6 +226,7 @@ double EwaFilter::weight_of(double q) const {
     case Weight::Pow8:
       return GaussianWeight::weight_pow8<GaussianWeightFormat<double>>(2.0 * cfg_.alpha * q);
     case Weight::Map: return map_ ? map_->function(q) : 0.0;
+    case Weight::Uniform: return 1.0;
   }
   return 0.0;
 }
@@ -297,6 +299,7 @@ OpCounts weight_ops(EwaFilter::Weight w) {
       o.mul = 1 + 3;
       break;
     case EwaFilter::Weight::Map: break;  // WeightMap::ops_per_read, added where used
+    case EwaFilter::Weight::Uniform: break;
   }
   return o;
 }
@@ -622,6 +625,7 @@ TimingSpec EwaFilter::timing(const TechTable& tech) const {
     case Weight::Map:
       if (map_) texel += map_->read_critical_path();
       break;
+    case Weight::Uniform: break;
   }
   path += texel;
   path.rcp += 1;
@@ -654,6 +658,7 @@ std::string EwaFilter::arithmetic() const {
     case Weight::Exp: q += "; weights exp(-alpha Q) computed"; break;
     case Weight::Pow8: q += "; weights (1 - alpha Q/8)^8 computed"; break;
     case Weight::Map: q += "; weights read from a " + (map_ ? map_->name() : std::string("?")) + " map"; break;
+    case Weight::Uniform: q += "; uniform weights"; break;
   }
   return q;
 }

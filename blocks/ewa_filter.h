@@ -82,13 +82,13 @@ using EwaQFixed = Fixed<18, 30, Signedness::Signed, Rounding::HalfEven, Overflow
 
 class EwaFilter {
  public:
-  enum class Weight : int { Lut, Exp, Pow8, Map };
+  enum class Weight : int { Lut, Exp, Pow8, Map, Uniform };
   enum class Mip : int { Nearest, Linear };
   enum class Scan : int { Box, RowSpan };
   enum class Arith : int { Float, Double, Fixed };
 
   struct Config {
-    Weight weight = Weight::Lut;
+    Weight weight = Weight::Lut;  // Uniform: weight 1 inside the ellipse (no pixel model)
     int lut_size = 256;          // Gaussian table entries over Q ∈ [0, 1)
     int lut_bits = 16;           // fraction bits of a table entry (0 = float entries)
     double alpha = 2.0;          // weight exp(−α·Q): σ = R/√(2α) pixels
@@ -103,7 +103,7 @@ class EwaFilter {
     AddressMode address_u = AddressMode::Wrap;
     AddressMode address_v = AddressMode::Wrap;
     int lanes = 4;               // texels whose weight is evaluated per cycle
-    // Keys: weight (lut|exp|pow8|map), lut_size, lut_bits, alpha, radius_px, max_aniso,
+    // Keys: weight (lut|exp|pow8|map|uniform), lut_size, lut_bits, alpha, radius_px, max_aniso,
     // texel_budget, reconstruction, minor_texels, mip (nearest|linear), scan (box|row_span),
     // arith (float|double|fixed), address_u, address_v (wrap|clamp|mirror), lanes, and the
     // subtable weight_map (WeightMap::Config) for weight = "map".

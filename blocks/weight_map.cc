@@ -101,15 +101,18 @@ float WeightMap::read(float x, float y, uint32_t& reads) const {
     i0 = std::min(static_cast<int>(fl), cfg_.size - 2);
     t = s - static_cast<float>(i0);
   };
+  // The datapath issues its entry reads whatever the range test decides (the test selects 0
+  // afterwards), so every call counts its reads.
+  const bool radial = cfg_.kind == Kind::RadialR || cfg_.kind == Kind::RadialR2;
+  reads += radial ? 2u : 4u;
   if (!std::isfinite(x) || !std::isfinite(y)) return 0.0f;
-  if (cfg_.kind == Kind::RadialR || cfg_.kind == Kind::RadialR2) {
+  if (radial) {
     const float r2 = x * x + y * y;
     if (r2 > 1.0f) return 0.0f;
     const float s = (cfg_.kind == Kind::RadialR ? std::sqrt(r2) : r2) * last;
     int i0 = 0;
     float t = 0;
     split(s, i0, t);
-    reads += 2;
     return lerp(entry(i0, 0), entry(i0 + 1, 0), t);
   }
   float sx = 0, sy = 0;
@@ -128,7 +131,6 @@ float WeightMap::read(float x, float y, uint32_t& reads) const {
   float tx = 0, ty = 0;
   split(sx, i0, tx);
   split(sy, j0, ty);
-  reads += 4;
   const float top = lerp(entry(i0, j0), entry(i0 + 1, j0), tx);
   const float bot = lerp(entry(i0, j0 + 1), entry(i0 + 1, j0 + 1), tx);
   return lerp(top, bot, ty);

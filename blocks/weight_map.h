@@ -58,7 +58,8 @@ class WeightMap {
 
   // Weight at normalised footprint coordinates (x, y) (r = 1 is the footprint's edge): a
   // bilinear read (2-D kinds) or linear read (1-D kinds) of the map, 0 outside the domain.
-  // Adds the entries read to `reads`. Entry k of an axis sits at t = k/(size − 1), so the
+  // Adds the entries read to `reads` (4 or 2 per call: the datapath reads before the range
+  // test selects). Entry k of an axis sits at t = k/(size − 1), so the
   // centre and the edge r = 1 are entries, not interpolated.
   float read(float x, float y, uint32_t& reads) const;
 
