@@ -27,6 +27,7 @@
 #include "pipeline/scene.h"
 #include "pipeline/texture_loader.h"
 #include "testbench/lib/footprint_reference.h"
+#include "testbench/lib/oiio_peer.h"
 
 namespace texsim {
 
@@ -639,6 +640,30 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
       methods.push_back(ewa_method(nm, "weight map", d, tech, wm));
       methods.back().compare_to = "ewa pow8 computed";
     }
+  }
+
+  if (opt.oiio) {
+    // OpenImageIO's TextureSystem on the same queries: one .tx per texture, made on first use.
+    auto peers = std::make_shared<std::map<const Texture*, std::unique_ptr<OiioPeer>>>();
+    Method m;
+    m.name = "OpenImageIO TextureSystem aniso 16";
+    m.family = "oiio";
+    m.arithmetic = "OpenImageIO (float, MipModeAniso, bilinear, box-filtered MIP chain)";
+    m.hardware = false;
+    const std::string dir = out_dir;
+    m.run = [peers, dir](const Texture& tex, const Fragment& f, std::vector<TexelRef>&, OpCounts&) {
+      auto& p = (*peers)[&tex];
+      if (!p) {
+        OiioPeer::Config pc;
+        pc.max_aniso = 16;
+        p = std::make_unique<OiioPeer>(tex, pc);
+      }
+      FilterOutput o;
+      o.colour = p->lookup(f);
+      return o;
+    };
+    m.issue = [](const FilterStats&) { return 1u; };
+    methods.push_back(m);
   }
 
   std::vector<Row> rows;
