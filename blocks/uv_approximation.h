@@ -115,19 +115,22 @@ class UvApproximation {
     std::array<T, 4> d{};
     const T two = static_cast<T>(2), six = static_cast<T>(6);
     switch (cfg_.order) {
+      // The coefficients other than the constant term are differences of the samples, so
+      // they are formed from q_i = p_i - p_0: small numbers, no overflow of a fixed-point
+      // format's range by the sums (9·u0 - 22.5·u1 ... would exceed s16.16 for u > 1456).
       case Order::Affine:
         d = {p[0], (p[1] - p[0]) * h, T{}, T{}};
         break;
       case Order::Quadratic: {
-        const auto c = quadratic_coeffs(p[0], p[1], p[2]);
+        const auto c = quadratic_coeffs(T{}, p[1] - p[0], p[2] - p[0]);
         const T a1h = c[0] * h;  // (A1·h)·h keeps precision in fixed point where h^2 underflows
-        d = {c[2], (a1h + c[1]) * h, two * a1h * h, T{}};
+        d = {p[0], (a1h + c[1]) * h, two * a1h * h, T{}};
         break;
       }
       case Order::Cubic: {
-        const auto c = cubic_coeffs(p[0], p[1], p[2], p[3]);
+        const auto c = cubic_coeffs(T{}, p[1] - p[0], p[2] - p[0], p[3] - p[0]);
         const T c3h = c[0] * h;
-        d = {c[3], ((c3h + c[1]) * h + c[2]) * h, (six * c3h + two * c[1]) * h * h,
+        d = {p[0], ((c3h + c[1]) * h + c[2]) * h, (six * c3h + two * c[1]) * h * h,
              six * c3h * h * h};
         break;
       }

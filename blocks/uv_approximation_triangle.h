@@ -83,10 +83,18 @@ class UvApproximationTriangle {
       pu[i] = (m.A * xt + m.B * yt + m.C) / q;
       pv[i] = (m.D * xt + m.E * yt + m.F) / q;
     }
+    // Node 0 is the vertex (l1, l2) = (0, 0): the constant coefficient is its value and every
+    // other row of the matrix sums to zero, so the matrix is applied to the differences from
+    // node 0 (small numbers: no overflow of fixed-point ranges, less cancellation in float).
     const auto& inv = node_to_coeffs(cfg_.order);
+    const T u0 = pu[0], v0 = pv[0];
+    for (int i = 0; i < nn; ++i) {
+      pu[i] = pu[i] - u0;
+      pv[i] = pv[i] - v0;
+    }
     for (int j = 0; j < nn; ++j) {
       T au{}, av{};
-      for (int i = 0; i < nn; ++i) {
+      for (int i = 1; i < nn; ++i) {
         if (inv[j][i] == 0) continue;
         const T c = static_cast<T>(static_cast<double>(inv[j][i]));
         au += c * pu[i];
@@ -95,6 +103,8 @@ class UvApproximationTriangle {
       s.cu[j] = au;
       s.cv[j] = av;
     }
+    s.cu[0] = s.cu[0] + u0;
+    s.cv[0] = s.cv[0] + v0;
     s.ok = true;
     for (int j = 0; j < nn; ++j) s.ok = s.ok && is_finite_value(s.cu[j]) && is_finite_value(s.cv[j]);
     return s;
