@@ -731,29 +731,30 @@ int run_study_coords(const std::string& out_dir, std::ostream& log) {
   const StudyCoordsOptions o;
   const StudyCoordsResult r = measure_study_coords(o, &log);
   ensure_dir(out_dir);
-  // Plot: error against cycles at the steepest tilt not above 85°: one series per method,
-  // its points the number formats (errors below 1e-16 drawn at 1e-16).
+  // Plot: error against cycles at the steepest tilt not above 85°: one series per number
+  // format, one point per method (the method of each point is in the tables of coords.md);
+  // errors in pixels, those below 1e-12 drawn at 1e-12.
   double pt = o.tilts.empty() ? 0 : o.tilts.front();
   for (double t : o.tilts) {
     if (t <= 85 && t >= pt) pt = t;
   }
   PlotSpec spec;
   spec.title = "Texture coordinates at " + tilt_name(pt) +
-               "° tilt: max error vs cycles per pixel (shared datapath); points = number formats";
+               "° tilt: max error vs cycles per pixel (shared datapath), one point per method";
   spec.xlabel = "cycles per pixel (coordinate stage + filter II " +
                 std::to_string(o.filter_ii.empty() ? 1u : o.filter_ii.front()) + ")";
-  spec.ylabel = "max |error| (texels)";
+  spec.ylabel = "max |error| (pixels of footprint)";
   spec.logy = true;
   std::map<std::string, size_t> series;
   for (const auto& c : r.coords) {
     if (c.tilt != pt || c.cpp_shared.empty()) continue;
-    if (!series.count(c.method)) {
-      series[c.method] = spec.series.size();
-      spec.series.push_back({c.method, {}, {}, false});
+    if (!series.count(c.format)) {
+      series[c.format] = spec.series.size();
+      spec.series.push_back({c.format, {}, {}, false});
     }
-    auto& s = spec.series[series[c.method]];
+    auto& s = spec.series[series[c.format]];
     s.x.push_back(c.cpp_shared.front());
-    s.y.push_back(std::max(c.max_err, 1e-16));
+    s.y.push_back(std::max(c.max_err_px, 1e-12));
   }
   write_plot_png(out_dir + "/coords.png", spec);
   write_file_atomic(out_dir + "/coords.csv", study_coords_csv(o, r));
