@@ -674,7 +674,7 @@ std::string study_coords_markdown(const StudyCoordsOptions& o, const StudyCoords
   md << "\n**Constant-depth lines: \"T − q divisions removed per triangle\"** (seed 002), "
         "summed over the plane's triangles. Divisions = div + rcp operations.\n\n"
         "| tilt ° | T pixels | q raster rows | lines walked | divisions Heckbert (rcp form) | "
-        "divisions constant-depth | removed | seed's T − q | max error, double |\n"
+        "divisions constant-depth | removed | seed's T − q | max error, double (texels / pixels) |\n"
         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (double t : o.tilts) {
     const CoordStudyRow* cd = find_coord(r, t, "constant-depth", ref_fmt);
@@ -685,7 +685,7 @@ std::string study_coords_markdown(const StudyCoordsOptions& o, const StudyCoords
        << " | " << hr->divisions << " | " << cd->divisions << " | "
        << static_cast<int64_t>(hr->divisions) - static_cast<int64_t>(cd->divisions) << " | "
        << static_cast<int64_t>(p->pixels) - static_cast<int64_t>(p->rows) << " | "
-       << fmt(cd->max_err) << " |\n";
+       << fmt(cd->max_err) << " / " << fmt(cd->max_err_px) << " |\n";
   }
   return md.str();
 }
