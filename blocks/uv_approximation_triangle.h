@@ -60,9 +60,16 @@ class UvApproximationTriangle {
     const T x0 = static_cast<T>(tri.x[0]), y0 = static_cast<T>(tri.y[0]);
     const T e1x = static_cast<T>(tri.x[1]) - x0, e1y = static_cast<T>(tri.y[1]) - y0;
     const T e2x = static_cast<T>(tri.x[2]) - x0, e2y = static_cast<T>(tri.y[2]) - y0;
-    const T det = e1x * e2y - e1y * e2x;
-    if (det == T{} || !is_finite_value(det)) return s;
+    // Fixed point saturates silently: a product at a rail means the triangle is too large for
+    // the format (vertices far off-screen), so it is rejected rather than mis-interpolated.
+    const T p1 = e1x * e2y, p2 = e1y * e2x;
+    const T det = p1 - p2;
+    if (det == T{} || !is_finite_value(det) || out_of_range(p1) || out_of_range(p2) ||
+        out_of_range(det)) {
+      return s;
+    }
     const T r = static_cast<T>(1) / det;
+    if (out_of_range(r) || r == T{}) return s;
     // l1 = ((x-x0)·e2y - (y-y0)·e2x)/det, l2 = ((y-y0)·e1x - (x-x0)·e1y)/det.
     s.l1a = e2y * r;
     s.l1b = -(e2x * r);
