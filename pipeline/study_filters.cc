@@ -11,6 +11,9 @@
 
 #include "blocks/dram_model.h"
 #include "blocks/ewa_filter.h"
+#include "blocks/feline_filter.h"
+#include "blocks/multi_probe_filter.h"
+#include "blocks/spaf_filter.h"
 #include "blocks/lod_unit.h"
 #include "blocks/tech_table.h"
 #include "blocks/texel_address_gen.h"
@@ -161,6 +164,24 @@ Method ewa_method(const std::string& name, const std::string& family, const EwaF
     m.tmu_ops_per_map_read = static_cast<double>(r.arithmetic());
     m.map_bytes = wm.bytes();
   }
+  return m;
+}
+
+// A block with filter(), timing() and issue_cycles() as one method.
+template <class Block>
+Method block_method(const std::string& name, const std::string& family, std::shared_ptr<const Block> b,
+                    const TechTable& tech, const std::string& arithmetic) {
+  Method m;
+  m.name = name;
+  m.family = family;
+  m.arithmetic = arithmetic;
+  m.run = [b](const Texture& tex, const Fragment& f, std::vector<TexelRef>& fetched, OpCounts& ops) {
+    return b->filter(tex, f, &fetched, ops);
+  };
+  m.front = TimingSpec{1, 1, 1, 0};
+  m.filter = b->timing(tech);
+  m.issue = [b](const FilterStats& s) { return b->issue_cycles(s); };
+  m.area = m.filter.area;
   return m;
 }
 
@@ -642,6 +663,42 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
     }
   }
 
+  {
+    const std::string probe_arith = "float32 set-up and positions, trilinear probes (u0.8 weights), float32 blend";
+    MultiProbeFilter::Config mp;
+    methods.push_back(block_method("multi-ellipse probes α=1 max 15", "probes",
+                                   std::make_shared<const MultiProbeFilter>(mp), tech, probe_arith));
+    MultiProbeFilter::Config mp2 = mp;
+    mp2.alpha = 2;
+    methods.push_back(block_method("multi-ellipse probes α=2 max 15", "probes",
+                                   std::make_shared<const MultiProbeFilter>(mp2), tech, probe_arith));
+    mp2 = mp;
+    mp2.seed_theta = true;
+    methods.push_back(block_method("multi-ellipse probes α=1, θ as printed", "probes",
+                                   std::make_shared<const MultiProbeFilter>(mp2), tech, probe_arith));
+    mp2 = mp;
+    mp2.temporal = true;
+    methods.push_back(block_method("multi-ellipse probes α=1, half per frame", "probes",
+                                   std::make_shared<const MultiProbeFilter>(mp2), tech, probe_arith));
+    FelineFilter::Config fc;
+    methods.push_back(block_method("feline (major axis, Gaussian) max 16", "probes",
+                                   std::make_shared<const FelineFilter>(fc), tech, probe_arith));
+    fc.axis = FelineFilter::Axis::Parallelogram;
+    fc.weights = FelineFilter::Weights::Equal;
+    methods.push_back(block_method("texram (longer side, equal) max 16", "probes",
+                                   std::make_shared<const FelineFilter>(fc), tech, probe_arith));
+    SpafFilter::Config sc;
+    const std::string spaf_arith = "float32 edge functions and Q, 4x4 sub-texel masks, float32 blend";
+    methods.push_back(block_method("spaf 4x4 mask, budget 64", "spaf", std::make_shared<const SpafFilter>(sc),
+                                   tech, spaf_arith));
+    sc.texel_budget = 256;
+    methods.push_back(block_method("spaf 4x4 mask, budget 256", "spaf", std::make_shared<const SpafFilter>(sc),
+                                   tech, spaf_arith));
+    sc.half_px = 0.5;
+    sc.gaussian = false;
+    methods.push_back(block_method("spaf area only (pixel square), budget 256", "spaf",
+                                   std::make_shared<const SpafFilter>(sc), tech, spaf_arith));
+  }
   if (opt.oiio) {
     // OpenImageIO's TextureSystem on the same queries: one .tx per texture, made on first use.
     auto peers = std::make_shared<std::map<const Texture*, std::unique_ptr<OiioPeer>>>();

@@ -1,0 +1,60 @@
+#pragma once
+// Feline-style trilinear probes (McCormack et al.; Texram; seed 004): N trilinear probes along
+// a line through the footprint centre — the longer side of the parallelogram spanned by the
+// two derivative vectors (Texram) or the ellipse's major axis (Feline) — at the LOD of the
+// shorter axis, equally or Gaussian weighted (docs/anisotropic-filters.md §5).
+// Arithmetic: float32 set-up and probe positions; trilinear probes (u0.8 weights); float32 blend.
+#include <cstdint>
+#include <vector>
+
+#include "blocks/config_reader.h"
+#include "blocks/ewa_filter.h"
+#include "blocks/multi_probe_filter.h"
+#include "blocks/op_counts.h"
+#include "blocks/tech_table.h"
+#include "blocks/texel_address_gen.h"
+#include "blocks/texture_memory.h"
+#include "blocks/timing_spec.h"
+#include "traces/fragment.h"
+
+namespace texsim {
+
+class FelineFilter {
+ public:
+  enum class Axis : int { Parallelogram, Ellipse };
+  enum class Weights : int { Equal, Gaussian };
+  struct Config {
+    Axis axis = Axis::Ellipse;
+    Weights weights = Weights::Gaussian;
+    int max_probes = 16;        // ≤ 31
+    double weight_alpha = 2.0;  // Gaussian: exp(−w_α·t²), t ∈ (−1, 1) along the line
+    double radius_px = 1.0;     // the line spans ±R pixels of footprint
+    double max_aniso = 64;      // Ellipse axis: minor stretched to ≥ major/max_aniso
+    AddressMode address_u = AddressMode::Wrap;
+    AddressMode address_v = AddressMode::Wrap;
+    // Keys: axis (parallelogram|ellipse), weights (equal|gaussian), max_probes, weight_alpha,
+    // radius_px, max_aniso, address_u, address_v.
+    static Config from_toml(const ConfigReader& r);
+  };
+
+  FelineFilter() : FelineFilter(Config{}) {}
+  explicit FelineFilter(const Config& c);
+  const Config& config() const { return cfg_; }
+
+  // Probes of one fragment: N = min(⌈|line|/minor⌉, max_probes) at the centres of N equal
+  // segments of the line ±line, t_k = (2k + 1 − N)/N; λ = log2(max(minor, |line|/N)).
+  ProbeSet probes(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st = nullptr) const;
+  FilterOutput filter(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
+                      OpCounts& ops) const;
+
+  uint32_t issue_cycles(const FilterStats& s) const { return s.probes > 0 ? s.probes : 1; }
+  OpCounts setup_ops() const;
+  OpCounts per_probe_ops() const;
+  TimingSpec timing(const TechTable& tech) const;
+
+ private:
+  Config cfg_;
+  TexelAddressGen addr_;
+};
+
+}  // namespace texsim
