@@ -65,7 +65,8 @@ class ClockedPipeline {
   uint64_t items() const { return items_; }
   int stage_count() const { return static_cast<int>(stages_.size()); }
   const StageConfig& config(int s) const { return stages_[s].cfg; }
-  const StageStats& stats(int s) const { return stages_[s].stats; }
+  // A snapshot of stage s's counters, refreshed by each call.
+  const StageStats& stats(int s) const;
   // Busy issue slots ÷ (cycles × lanes).
   double utilisation(int s) const;
 
@@ -75,24 +76,40 @@ class ClockedPipeline {
   void dump_state(std::ostream& os) const;
 
  private:
-  struct Stage {
-    StageConfig cfg;
-    StageStats stats;
-    uint32_t inflight_cap = 1;
-    std::vector<uint64_t> lane_free;  // next cycle each lane can issue
-    std::vector<uint64_t> starts;     // ring: start cycle of the last fifo_depth items
-    std::vector<uint64_t> leaves;     // ring: leave cycle of the last inflight_cap items
-    std::vector<uint64_t> finishes;   // ring: finish cycle of the same items
+  // Per-stage state the kernel touches for every item, kept small and apart from the
+  // configuration. The per-item history a stage needs (lane free times, start, leave and
+  // finish cycles) is kept in rings of one power-of-two size P >= every lane count, FIFO
+  // depth and in-flight limit: item i writes position i mod P and reads item i − k at
+  // (i − k) mod P, so no ring position has to be stored or advanced.
+  struct Hot {
     uint64_t last_leave = 0;
     uint64_t last_start = 0;
-    uint32_t fifo_pos = 0, slot_pos = 0, lane_pos = 0;  // item index modulo each ring size
+    uint32_t latency = 1, ii = 1;
+    uint32_t lanes = 1;       // item i issues on the lane item i − lanes used
+    uint32_t cap = 1;         // in-flight limit: item i − cap must have left
+    uint32_t next_depth = 1;  // FIFO in front of the next stage: item i − depth left it
+    // Counters; busy (= items · ii + extra) and last_done (= last_leave) follow from them.
+    uint64_t starved = 0, blocked = 0, full = 0, extra = 0;
   };
-  [[noreturn]] void report_stuck(uint64_t item, int stage) const;
+  struct Stage {
+    StageConfig cfg;
+    uint32_t inflight_cap = 1;
+    mutable StageStats stats;  // filled from Hot by stats()
+  };
+  // Ring layout: stage s owns ring_[4Ps .. 4P(s+1)): lane free | start | leave | finish.
+  // A sentinel stage n (never written) makes the last stage read "no back-pressure".
+  enum Ring : uint64_t { kLane = 0, kStart = 1, kLeave = 2, kFinish = 3, kRings = 4 };
+  uint64_t items_of(size_t s) const;
+  [[noreturn]] void report_stuck(uint64_t item, int stage);
 
   std::vector<Stage> stages_;
+  std::vector<Hot> hot_;
+  std::vector<uint64_t> ring_;
+  uint64_t ring_mask_ = 0;  // P − 1
   uint64_t items_ = 0;
   uint64_t cycles_ = 0;
   uint64_t watchdog_ = uint64_t{1} << 40;
+  int stuck_stage_ = -1;  // stage that raised DeadlockError (its earlier stages took the item)
 };
 
 class DeadlockError : public std::runtime_error {
@@ -103,50 +120,48 @@ class DeadlockError : public std::runtime_error {
 template <class CostFn>
 uint64_t ClockedPipeline::issue_with(uint64_t ready, CostFn&& cost_at) {
   const uint64_t i = items_;
-  uint64_t arrival = ready;
+  const uint64_t mask = ring_mask_, p = mask + 1;
+  const uint64_t w = i & mask;  // this item's position in every ring
+  uint64_t* r = ring_.data();
+  Hot* const hot = hot_.data();
   const size_t n = stages_.size();
-  for (size_t s = 0; s < n; ++s) {
-    Stage& st = stages_[s];
-    const TimingSpec& t = st.cfg.timing;
-    // Ring positions are kept as wrapping counters: no divisions on the hot path.
-    uint64_t& lane_free = st.lane_free[st.lane_pos];
-    const uint32_t slot = st.slot_pos;
-    // The item i - inflight_cap must have left before this one can enter.
-    const uint64_t slot_free = i >= st.inflight_cap ? st.leaves[slot] : 0;
+  const uint64_t watchdog = watchdog_;
+  uint64_t arrival = ready;
+  // The rings start zeroed and item i − k (k <= P) for i < k reads a cell not yet written,
+  // so a predecessor that does not exist reads as cycle 0, which constrains nothing.
+  for (size_t s = 0; s < n; ++s, r += kRings * p) {
+    Hot& st = hot[s];
+    // Everything this stage needs is read before the first store (ring and counters are all
+    // uint64_t, so a store would make the compiler reload them).
+    const uint64_t free_at = r[kLane * p + ((i - st.lanes) & mask)];
+    // The item i − inflight_cap must have left before this one can enter.
+    const uint64_t old = (i - st.cap) & mask;
+    const uint64_t slot_free = r[kLeave * p + old], slot_finish = r[kFinish * p + old];
+    // Back-pressure: item i − depth must have left the next stage's input FIFO.
+    const uint64_t next_start = r[(kRings + kStart) * p + ((i - st.next_depth) & mask)];
+    const uint64_t last_start = st.last_start, last_leave = st.last_leave;
     // Items issue in order from the FIFO head, so never before the previous item issued.
-    const uint64_t own_free = std::max(lane_free, slot_free);
-    const uint64_t start = std::max({arrival, own_free, st.last_start});
-    if (arrival > lane_free) st.stats.stall_starved += std::min(arrival, start) - lane_free;
-    if (slot_free > std::max(lane_free, arrival)) {
-      // Waiting for item i - cap to leave: back-pressure if it had finished, else latency.
-      const uint64_t wait = slot_free - std::max(lane_free, arrival);
-      const uint64_t blocked = std::min(wait, st.leaves[slot] - st.finishes[slot]);
-      st.stats.stall_blocked += blocked;
-      st.stats.stall_full += wait - blocked;
+    const uint64_t avail = std::max(free_at, arrival);
+    const uint64_t start = std::max(std::max(avail, slot_free), last_start);
+    if (slot_free > avail) {
+      // Waiting for item i − cap to leave: back-pressure if it had finished, else latency.
+      const uint64_t wait = slot_free - avail;
+      const uint64_t blocked = std::min(wait, slot_free - slot_finish);
+      st.blocked += blocked;
+      st.full += wait - blocked;
     }
     const ItemCost cost = cost_at(static_cast<int>(s), start);
-    const uint64_t ii = uint64_t{t.ii} + cost.extra_ii;
-    lane_free = start + ii;
-    st.stats.busy += ii;
-    st.stats.stall_extra += cost.extra_ii;
-    const uint64_t finish = start + t.latency + cost.extra_latency;
-    uint64_t leave = std::max(finish, st.last_leave);  // results retire in order
-    if (s + 1 < n) {
-      // Back-pressure: item i - depth must have left the next stage's input FIFO.
-      const Stage& next = stages_[s + 1];
-      if (i >= next.cfg.fifo_depth) leave = std::max(leave, next.starts[next.fifo_pos]);
-    }
-    if (leave - arrival > watchdog_) report_stuck(i, static_cast<int>(s));
-    st.starts[st.fifo_pos] = start;
-    if (++st.fifo_pos == st.cfg.fifo_depth) st.fifo_pos = 0;
-    if (++st.slot_pos == st.inflight_cap) st.slot_pos = 0;
-    if (++st.lane_pos == st.cfg.timing.lanes) st.lane_pos = 0;
-    st.leaves[slot] = leave;
-    st.finishes[slot] = finish;
+    const uint64_t finish = start + st.latency + cost.extra_latency;
+    const uint64_t leave = std::max(std::max(finish, last_leave), next_start);  // in order
+    r[kLane * p + w] = start + st.ii + cost.extra_ii;
+    if (leave - arrival > watchdog) report_stuck(i, static_cast<int>(s));
+    r[kStart * p + w] = start;
+    r[kLeave * p + w] = leave;
+    r[kFinish * p + w] = finish;
     st.last_leave = leave;
     st.last_start = start;
-    st.stats.last_done = leave;
-    ++st.stats.items;
+    st.starved += avail - free_at;  // start >= arrival: a starved lane waited until arrival
+    st.extra += cost.extra_ii;
     arrival = leave;
   }
   ++items_;
