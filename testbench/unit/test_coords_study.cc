@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <iostream>
 #include <set>
 
 #include "blocks/input_error.h"
@@ -113,6 +115,16 @@ TEST(StudyCoords, SmallStudyIsConsistent) {
   size_t lines = 0;
   for (char ch : csv) lines += ch == '\n';
   EXPECT_EQ(lines, 1 + r.coords.size() + r.derivs.size());
+}
+
+// The full study (about 20 s), run on request (one command line):
+//   TEXSIM_STUDY_OUT=/tmp/coords build/testbench/test_coords_study
+//   --gtest_also_run_disabled_tests --gtest_filter='*FullStudy*'
+// (the same as `texsim study coords --out /tmp/coords` once the CLI carries it).
+TEST(StudyCoords, DISABLED_FullStudy) {
+  const char* out = std::getenv("TEXSIM_STUDY_OUT");
+  ASSERT_NE(out, nullptr) << "set TEXSIM_STUDY_OUT to the output directory";
+  EXPECT_EQ(run_study_coords(out, std::cerr), 0);
 }
 
 }  // namespace
