@@ -392,8 +392,11 @@ struct LevelScan {
       }
     }
     Acc wsum = 0;
+    // Operations are counted per kind of step and multiplied out once (the count depends only
+    // on how many rows, box texels and inside texels there were).
+    uint64_t rows = 0, visits = 0, insides = 0;
     for (int64_t j = j0; j <= j1; ++j) {
-      ops += per_row;
+      ++rows;
       const S Vs = static_cast<S>(j) - vc;
       int64_t ia = i0, ib = i1;
       if (span) {
@@ -412,9 +415,9 @@ struct LevelScan {
       T q = (a * U0 + b * V) * U0 + cc * V * V;
       T dq = a * (U0 + U0 + one) + b * V;
       S mx = mxu * U0s + mxv * Vs, my = myu * U0s + myv * Vs;
+      visits += static_cast<uint64_t>(ib - ia + 1);
       for (int64_t i = ia; i <= ib; ++i) {
         ++st.visited;
-        ops += per_visit;
         if (q < one) {
           const T qq = q < zero ? zero : q;
           float w = 0;
@@ -423,7 +426,7 @@ struct LevelScan {
           } else {
             w = static_cast<float>(filt.weight_of(to_double(qq)));
           }
-          ops += per_inside;
+          ++insides;
           const int32_t x = TexelAddressGen::address(i, wl, c.address_u);
           if (fetched) fetched->push_back({level, x, y});
           ++st.texels;
@@ -438,6 +441,9 @@ struct LevelScan {
         my += myu;
       }
     }
+    ops += per_row * rows;
+    ops += per_visit * visits;
+    ops += per_inside * insides;
     return wsum;
   }
 };

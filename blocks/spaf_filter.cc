@@ -166,11 +166,12 @@ FilterOutput SpafFilter::filter(const Texture& tex, const Fragment& f, std::vect
   const uint64_t full = bits == 64 ? ~uint64_t{0} : (uint64_t{1} << bits) - 1;
   glm::vec4 sum(0);
   float wsum = 0;
+  uint64_t visits = 0, partials = 0, insides = 0;  // operations multiplied out at the end
   for (int64_t j = j0; j <= j1; ++j) {
     const int32_t y = TexelAddressGen::address(j, hl, cfg_.address_v);
     for (int64_t i = i0; i <= i1; ++i) {
       ++st.visited;
-      ops += visit;
+      ++visits;
       uint64_t m = full;
       bool out_side = false;
       for (int k = 0; k < 4 && !out_side; ++k) {
@@ -178,7 +179,7 @@ FilterOutput SpafFilter::filter(const Texture& tex, const Fragment& f, std::vect
         if (e <= -0.5) {
           out_side = true;
         } else if (e < 0.5) {
-          ops += partial;
+          ++partials;
           m &= mask(deu[k], dev[k], e);
         }
       }
@@ -190,7 +191,7 @@ FilterOutput SpafFilter::filter(const Texture& tex, const Fragment& f, std::vect
         const double q = (qa * U + qb * V) * U + qc * V * V;
         w *= static_cast<float>(std::exp(-cfg_.alpha * q));
       }
-      ops += inside;
+      ++insides;
       const int32_t x = TexelAddressGen::address(i, wl, cfg_.address_u);
       if (fetched) fetched->push_back({level, x, y});
       ++st.texels;
@@ -198,6 +199,9 @@ FilterOutput SpafFilter::filter(const Texture& tex, const Fragment& f, std::vect
       wsum += w;
     }
   }
+  ops += visit * visits;
+  ops += partial * partials;
+  ops += inside * insides;
   OpCounts norm;
   norm.cmp = 1;
   norm.rcp = 1;

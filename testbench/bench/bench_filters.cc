@@ -1,0 +1,196 @@
+// Lookups per second of each anisotropic filter method against OpenImageIO's TextureSystem on
+// the same queries (one run, one core), functional only and in timing mode (the filter's
+// fetched texels through the texture cache and the clocked pipeline).
+// Queries: a plane at 8:1 anisotropy (centre), photo texture crate-base.png, 128×128 pixels.
+// Run: build/testbench/bench_filters --benchmark_counters_tabular=true
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <memory>
+#include <sstream>
+#include <vector>
+
+#include "blocks/dram_model.h"
+#include "blocks/ewa_filter.h"
+#include "blocks/feline_filter.h"
+#include "blocks/multi_probe_filter.h"
+#include "blocks/spaf_filter.h"
+#include "blocks/texture_cache.h"
+#include "blocks/weight_map.h"
+#include "pipeline/clocked_pipeline.h"
+#include "pipeline/plane_projection.h"
+#include "pipeline/scene.h"
+#include "pipeline/texture_loader.h"
+#include "testbench/lib/oiio_peer.h"
+
+namespace texsim {
+namespace {
+
+std::string scene_text(double aniso) {
+  // The study's view geometry (pipeline/study_filters.cc): tilt acos(1/N), fov 20°.
+  const double D = 10, th = std::acos(1.0 / aniso), cs = std::cos(th), sn = std::sin(th);
+  const double su = 0.8 * D, sv = 1.5 * D, pixel = 2 * D * std::tan(10 * 3.14159265358979 / 180) / 128;
+  const double texel = pixel / 1.5;
+  std::ostringstream s;
+  s.precision(17);
+  s << "[output]\nwidth = 128\nheight = 128\n[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\n"
+    << "fov_y = 20.0\n[textures.t]\nsource = \"x\"\n[materials.m]\ntexture = \"t\"\n[[planes]]\nmaterial = \"m\"\n"
+    << "origin = [" << -su / 2 << ", " << -0.5 * D * cs << ", " << -D + 0.5 * D * sn << "]\n"
+    << "edge_u = [" << su << ", 0.0, 0.0]\nedge_v = [0.0, " << sv * cs << ", " << -sv * sn << "]\n"
+    << "uv_scale = [" << su / (texel * 512) << ", " << sv / (texel * 512) << "]\n";
+  return s.str();
+}
+
+struct Fixture {
+  Texture tex = load_texture("/usr/share/glmark2/textures/crate-base.png", "");
+  std::vector<Fragment> frags;
+  Fixture() {
+    tex.place(0, TexelLayout::Tiled4x4);
+    const Scene scene = parse_scene(scene_text(8), "bench", "");
+    const PlaneProjection proj(scene, scene.planes[0]);
+    for (int y = 0; y < 128; ++y) {
+      for (int x = 0; x < 128; ++x) {
+        const UvSample s = proj.at(x + 0.5, y + 0.5);
+        if (!s.inside) continue;
+        Fragment f;
+        f.x = static_cast<uint32_t>(x);
+        f.y = static_cast<uint32_t>(y);
+        f.u = s.u;
+        f.v = s.v;
+        f.dudx = s.dudx;
+        f.dvdx = s.dvdx;
+        f.dudy = s.dudy;
+        f.dvdy = s.dvdy;
+        frags.push_back(f);
+      }
+    }
+  }
+};
+
+Fixture& fixture() {
+  static Fixture f;
+  return f;
+}
+
+// Timing mode: the fetched texels' cache lines through the cache (+DRAM) and a 3-stage
+// pipeline (filter, cache, blend), as study filters does.
+struct Timing {
+  TextureCache cache;
+  DramModel dram;
+  ClockedPipeline pipe;
+  std::vector<uint64_t> lines;
+  Timing()
+      : pipe({{"filter", TimingSpec{40, 1, 1, 0}, 4, 0},
+              {"cache", TimingSpec{4, 1, 1, 0}, 4, 32},
+              {"blend", TimingSpec{6, 1, 1, 0}, 4, 0}}) {}
+  void issue(const Texture& tex, const std::vector<TexelRef>& fetched, uint32_t filter_cycles) {
+    lines.clear();
+    for (const TexelRef& t : fetched) lines.push_back(cache.line_of(tex.address(t.level, t.x, t.y)));
+    std::sort(lines.begin(), lines.end());
+    lines.erase(std::unique(lines.begin(), lines.end()), lines.end());
+    const auto n = static_cast<uint32_t>(fetched.size());
+    ItemCost cost[3];
+    cost[0].extra_ii = filter_cycles - 1;
+    cost[1].extra_ii = n ? (n + 3) / 4 - 1 : 0;
+    cost[2].extra_ii = n ? (n + 7) / 8 - 1 : 0;
+    pipe.issue_with(0, [&](int s, uint64_t start) {
+      if (s == 1) {
+        uint64_t ready = start + 4;
+        for (uint64_t l : lines) {
+          if (!cache.access(l * 64)) ready = std::max(ready, dram.read(start, 64));
+        }
+        cost[1].extra_latency = static_cast<uint32_t>(ready - (start + 4));
+      }
+      return cost[s];
+    });
+  }
+};
+
+template <class Block>
+void run_block(benchmark::State& state, const Block& b, bool timing) {
+  Fixture& fx = fixture();
+  std::vector<TexelRef> fetched;
+  fetched.reserve(4096);
+  float sink = 0;
+  uint64_t texels = 0, cycles = 0;
+  for (auto _ : state) {
+    std::unique_ptr<Timing> t;
+    if (timing) t = std::make_unique<Timing>();
+    for (const Fragment& f : fx.frags) {
+      fetched.clear();
+      OpCounts ops;
+      const FilterOutput o = b.filter(fx.tex, f, timing ? &fetched : nullptr, ops);
+      sink += o.colour.r;
+      texels += o.stats.texels;
+      if (t) t->issue(fx.tex, fetched, b.issue_cycles(o.stats));
+    }
+    if (t) cycles = t->pipe.cycles();
+  }
+  benchmark::DoNotOptimize(sink);
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(fx.frags.size()));
+  state.counters["lookups/s"] = benchmark::Counter(static_cast<double>(state.iterations() * fx.frags.size()),
+                                                   benchmark::Counter::kIsRate);
+  state.counters["texels/lookup"] =
+      static_cast<double>(texels) / static_cast<double>(state.iterations() * fx.frags.size());
+  if (timing) state.counters["cycles/frag"] = static_cast<double>(cycles) / static_cast<double>(fx.frags.size());
+}
+
+void BM_Ewa(benchmark::State& state, EwaFilter::Config c, bool timing) { run_block(state, EwaFilter(c), timing); }
+
+EwaFilter::Config ewa_cfg(EwaFilter::Weight w, EwaFilter::Arith a = EwaFilter::Arith::Float) {
+  EwaFilter::Config c;
+  c.weight = w;
+  c.arith = a;
+  return c;
+}
+
+void BM_EwaMap(benchmark::State& state, WeightMap::Kind k, bool timing) {
+  EwaFilter::Config c;
+  c.weight = EwaFilter::Weight::Map;
+  WeightMap::Config m;
+  m.kind = k;
+  m.size = 64;
+  m.function = WeightMap::Function::Pow8;
+  run_block(state, EwaFilter(c, std::make_shared<const WeightMap>(m)), timing);
+}
+
+void BM_MultiProbe(benchmark::State& state, bool timing) { run_block(state, MultiProbeFilter(), timing); }
+void BM_Feline(benchmark::State& state, bool timing) { run_block(state, FelineFilter(), timing); }
+void BM_Spaf(benchmark::State& state, bool timing) { run_block(state, SpafFilter(), timing); }
+
+void BM_Oiio(benchmark::State& state) {
+  Fixture& fx = fixture();
+  OiioPeer::Config pc;
+  pc.max_aniso = 16;
+  const OiioPeer peer(fx.tex, pc);
+  float sink = 0;
+  for (const Fragment& f : fx.frags) sink += peer.lookup(f).r;  // warm the tile cache
+  for (auto _ : state) {
+    for (const Fragment& f : fx.frags) sink += peer.lookup(f).r;
+  }
+  benchmark::DoNotOptimize(sink);
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(fx.frags.size()));
+  state.counters["lookups/s"] = benchmark::Counter(static_cast<double>(state.iterations() * fx.frags.size()),
+                                                   benchmark::Counter::kIsRate);
+}
+
+BENCHMARK(BM_Oiio)->Name("oiio_texturesystem_aniso16")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ewa, ewa_lut_float, ewa_cfg(EwaFilter::Weight::Lut), false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ewa, ewa_lut_fixed, ewa_cfg(EwaFilter::Weight::Lut, EwaFilter::Arith::Fixed), false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ewa, ewa_exp_double, ewa_cfg(EwaFilter::Weight::Exp, EwaFilter::Arith::Double), false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ewa, ewa_pow8_float, ewa_cfg(EwaFilter::Weight::Pow8), false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EwaMap, ewa_map_quarter, WeightMap::Kind::Quarter, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EwaMap, ewa_map_radial_r2, WeightMap::Kind::RadialR2, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Feline, feline, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Spaf, spaf, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ewa, ewa_lut_float_timing, ewa_cfg(EwaFilter::Weight::Lut), true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EwaMap, ewa_map_quarter_timing, WeightMap::Kind::Quarter, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe_timing, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Feline, feline_timing, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Spaf, spaf_timing, true)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace texsim
