@@ -5,6 +5,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "blocks/config_reader.h"
 #include "blocks/derivatives_analytic.h"
 #include "blocks/derivatives_forward_diff.h"
 #include "blocks/derivatives_iterative.h"
@@ -506,6 +507,26 @@ std::unique_ptr<EllipseGenerator> EllipseGenerator::create(const std::string& fo
                                                            const std::string& format,
                                                            Datapath dp) {
   return make_for_format<EllipseGenImpl, EllipseGenerator>(format, form, dp);
+}
+
+CoordUnitConfig CoordUnitConfig::from_toml(const ConfigReader& r) {
+  r.reject_unknown({"method", "derivs", "format", "datapath"});
+  CoordUnitConfig c;
+  auto choose = [&](std::string_view key, const std::vector<std::string>& names,
+                    const std::string& def, bool allow_none) {
+    std::vector<std::string_view> choices(names.begin(), names.end());
+    if (allow_none) choices.push_back("none");
+    int d = 0;
+    for (size_t i = 0; i < choices.size(); ++i) {
+      if (choices[i] == def) d = static_cast<int>(i);
+    }
+    return std::string(choices[static_cast<size_t>(r.get_choice(key, d, choices))]);
+  };
+  c.coords = choose("method", CoordGenerator::method_names(), c.coords, false);
+  c.derivs = choose("derivs", DerivGenerator::method_names(), c.derivs, true);
+  c.format = choose("format", coord_format_names(), c.format, false);
+  c.datapath = parse_datapath(r, c.datapath);
+  return c;
 }
 
 CoordUnit::CoordUnit(const CoordUnitConfig& c) : cfg_(c) {

@@ -17,6 +17,8 @@
 
 namespace texsim {
 
+class ConfigReader;
+
 // A screen triangle to texture: its map (normalised: q <= 1 on its pixels), its vertices
 // (pixel-index coordinates: the centre of pixel i is x = i) and the pixels it covers, as
 // raster rows.
@@ -113,6 +115,9 @@ struct CoordUnitConfig {
   std::string derivs = "analytic";  // or "none"
   std::string format = "float";
   Datapath datapath = Datapath::Spatial;
+  // A material's `coords` table: keys method, derivs, format, datapath; unknown keys and
+  // unknown names are InputErrors naming the file, line, block and key.
+  static CoordUnitConfig from_toml(const ConfigReader& r);
 };
 
 struct CoordUnitFragment {

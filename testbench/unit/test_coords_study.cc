@@ -7,6 +7,7 @@
 #include <iostream>
 #include <set>
 
+#include "blocks/config_reader.h"
 #include "blocks/input_error.h"
 #include "blocks/uv_heckbert_direct.h"
 #include "pipeline/coord_method.h"
@@ -31,6 +32,25 @@ TEST(CoordMethod, UnknownNamesAreInputErrors) {
   EXPECT_THROW(EllipseGenerator::create("nope", "double"), InputError);
   for (const auto& m : CoordGenerator::method_names()) {
     for (const auto& f : coord_format_names()) EXPECT_NO_THROW(CoordGenerator::create(m, f));
+  }
+}
+
+TEST(CoordMethod, MaterialConfigFromToml) {
+  const auto t = toml::parse("method = 'constant-depth'\nderivs = 'iterative'\nformat = 's24.36'\n");
+  const CoordUnitConfig c = CoordUnitConfig::from_toml(ConfigReader(t, "scene.toml", "material 'floor'"));
+  EXPECT_EQ(c.coords, "constant-depth");
+  EXPECT_EQ(c.derivs, "iterative");
+  EXPECT_EQ(c.format, "s24.36");
+  EXPECT_NO_THROW(CoordUnit{c});
+  const auto bad = toml::parse("method = 'heckbert'\nformt = 'float'\n");
+  EXPECT_THROW(CoordUnitConfig::from_toml(ConfigReader(bad, "scene.toml", "material 'floor'")), InputError);
+  const auto bad2 = toml::parse("method = 'fast'\n");
+  try {
+    CoordUnitConfig::from_toml(ConfigReader(bad2, "scene.toml", "material 'floor'"));
+    FAIL() << "unknown method accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("method"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("scene.toml"), std::string::npos);
   }
 }
 
