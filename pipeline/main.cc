@@ -11,6 +11,8 @@
 #include "pipeline/atomic_file.h"
 #include "pipeline/clocked_pipeline.h"
 #include "pipeline/run.h"
+#include "pipeline/study_coords.h"
+#include "pipeline/study_filters.h"
 #include "pipeline/study_vd.h"
 #include "traces/trace_tools.h"
 
@@ -47,7 +49,11 @@ int main(int argc, char** argv) {
   study_cmd->require_subcommand(1);
   std::string study_out = "out/study";
   auto* vd = study_cmd->add_subcommand("vd", "V(d) evaluators (exact, P3, P2, P1): error over d in each number format");
-  for (auto* s : {vd}) s->add_option("--out", study_out, "Output directory")->capture_default_str();
+  auto* coords = study_cmd->add_subcommand(
+      "coords", "Texture-coordinate and derivative blocks: error in texels vs ops and cycles per pixel");
+  auto* filters = study_cmd->add_subcommand(
+      "filters", "Anisotropic filters vs ground truth and OpenImageIO: error vs cycles and texels fetched");
+  for (auto* s : {vd, coords, filters}) s->add_option("--out", study_out, "Output directory")->capture_default_str();
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -59,9 +65,11 @@ int main(int argc, char** argv) {
       std::cout << "texsim trace gen: wrote " << n << " fragments to " << gen_out << "\n";
     } else if (*info) {
       return trace_info(info_in, std::cout);
-    } else if (*vd) {
+    } else if (*vd || *coords || *filters) {
       ensure_dir(study_out);
-      return run_study_vd(study_out, std::cout);
+      if (*vd) return run_study_vd(study_out, std::cout);
+      if (*coords) return run_study_coords(study_out, std::cout);
+      return run_study_filters(study_out, std::cout);
     } else if (*conv) {
       trace_convert(conv_in, conv_out);
       std::cout << "texsim trace convert: wrote " << conv_out << "\n";
