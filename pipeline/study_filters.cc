@@ -389,8 +389,10 @@ void write_outputs(const std::string& out_dir, const std::vector<Row>& rows, con
       } else {
         o << ",,,";
       }
-      o << fmt_g(per(r.fallbacks, r.fragments), 4) << "," << r.latency << "," << fmt_g(r.area, 5) << ","
-        << fmt_g(r.fragments ? 1e9 * r.seconds / static_cast<double>(r.fragments) : 0, 4) << ",";
+      o << fmt_g(per(r.fallbacks, r.fragments), 4) << ",";
+      if (r.hardware) o << r.latency << "," << fmt_g(r.area, 5) << ",";
+      else o << ",,";
+      o << fmt_g(r.fragments ? 1e9 * r.seconds / static_cast<double>(r.fragments) : 0, 4) << ",";
       if (!r.compare_to.empty() && r.sref_pair > 0) o << fmt_g(r.se_pair / r.sref_pair, 5);
       o << "," << csv_quote(r.compare_to) << "," << csv_quote(r.arithmetic) << "\n";
     }
@@ -432,8 +434,9 @@ void write_outputs(const std::string& out_dir, const std::vector<Row>& rows, con
       } else {
         o << "— | — | — | ";
       }
-      o << ops_cells(p.ops, p.fragments, " | ") << " | " << fmt_g(100.0 * per(p.fallbacks, p.fragments), 3)
-        << " | " << p.latency << " | " << fmt_g(p.area, 4) << " |\n";
+      o << ops_cells(p.ops, p.fragments, " | ") << " | " << fmt_g(100.0 * per(p.fallbacks, p.fragments), 3) << " | ";
+      if (p.hardware) o << p.latency << " | " << fmt_g(p.area, 4) << " |\n";
+      else o << "— | — |\n";
     }
     // PSNR by anisotropy, per texture.
     for (const char* tname : {"checker", "photo", "noise"}) {
