@@ -560,9 +560,12 @@ void write_outputs(const std::string& out_dir, const std::vector<Row>& rows, con
   plot(out_dir + "/filters.png", true);
   plot(out_dir + "/filters_texels.png", false);
   for (const Pooled& p : all) {
-    log << "  " << p.method << ": PSNR " << fmt_g(p.psnr(), 4) << " dB, NMSE " << fmt_g(p.nmse(), 3)
-        << ", texels/frag " << fmt_g(per(p.texels, p.fragments), 4) << ", cycles/frag "
-        << fmt_g(per(p.cycles, p.fragments), 4) << ", " << fmt_g(p.fragments ? 1e9 * p.seconds / static_cast<double>(p.fragments) : 0, 4)
+    log << "  " << p.method << ": PSNR " << fmt_g(p.psnr(), 4) << " dB, NMSE " << fmt_g(p.nmse(), 3);
+    if (p.hardware) {
+      log << ", texels/frag " << fmt_g(per(p.texels, p.fragments), 4) << ", cycles/frag "
+          << fmt_g(per(p.cycles, p.fragments), 4);
+    }
+    log << ", " << fmt_g(p.fragments ? 1e9 * p.seconds / static_cast<double>(p.fragments) : 0, 4)
         << " ns/lookup\n";
   }
 }
