@@ -20,10 +20,10 @@ namespace {
 // float→fixed converter of the datapath). |x| is limited to 2^30 texels first: beyond that a
 // float32 coordinate has no fraction bits left, and the limit keeps the integer in range.
 // x·2^bits is exact (at most 2^46), so this equals rounding ldexp(x, bits).
-int64_t to_fixed(float x, float scale) {
+inline int64_t to_fixed(float x, float scale) {
   constexpr float kLimit = 1073741824.0f;  // 2^30
   x = std::clamp(x, -kLimit, kLimit);
-  return std::llrint(x * scale);
+  return TexelAddressGen::round_half_even(x * scale);
 }
 
 float finite_or_zero(float x) { return std::isfinite(x) ? x : 0.0f; }
@@ -53,7 +53,7 @@ int32_t mirror(int64_t i, int32_t size) {
 
 // The two neighbours i and i + 1 of a linear filter, addressed. Wrap derives i + 1 from i
 // (one modulo instead of two), as the hardware's incrementer does.
-void address_pair(int64_t i, int32_t size, AddressMode mode, int32_t& a, int32_t& b) {
+[[gnu::always_inline]] inline void address_pair(int64_t i, int32_t size, AddressMode mode, int32_t& a, int32_t& b) {
   switch (mode) {
     case AddressMode::Wrap:
       a = wrap(i, size);
@@ -123,7 +123,7 @@ TexelAddressGen::LevelSelect TexelAddressGen::select_levels(float lambda, int le
   const float d = std::clamp(lambda, 0.0f, static_cast<float>(q));
   const int m = cfg_.mipmap_bits;
   const int64_t one = int64_t{1} << m;
-  const int64_t dfix = std::llrint(d * mip_scale_);
+  const int64_t dfix = round_half_even(d * mip_scale_);
   if (cfg_.filter == FilterMode::Trilinear) {
     s.d_hi = static_cast<int32_t>(dfix >> m);
     s.d_lo = std::min(s.d_hi + 1, q);
@@ -149,19 +149,24 @@ int TexelAddressGen::taps_per_probe() const {
   return 1;
 }
 
-TexelTap* TexelAddressGen::emit_level(const Texture& tex, int32_t level, float u, float v, float w,
-                                      TexelTap* out) const {
+[[gnu::always_inline]] inline TexelTap* TexelAddressGen::emit_nearest(const Texture& tex, int32_t level, float u, float v,
+                                               float w, TexelTap* out) const {
+  const Texture::Level& lv = tex.level(level);
+  const int32_t wl = lv.width, hl = lv.height;
+  const int b = cfg_.sub_texel_bits;
+  // i = ⌊u·width⌋ on the fixed-point coordinate.
+  const int64_t xf = to_fixed(u * static_cast<float>(wl), fix_scale_);
+  const int64_t yf = to_fixed(v * static_cast<float>(hl), fix_scale_);
+  *out = {level, address(xf >> b, wl, cfg_.address_u), address(yf >> b, hl, cfg_.address_v), w};
+  return out + 1;
+}
+
+[[gnu::always_inline]] inline TexelTap* TexelAddressGen::emit_linear(const Texture& tex, int32_t level, float u, float v,
+                                              float w, TexelTap* out) const {
   const Texture::Level& lv = tex.level(level);
   const int32_t wl = lv.width, hl = lv.height;
   const int b = cfg_.sub_texel_bits;
   const int64_t mask = (int64_t{1} << b) - 1;
-  if (cfg_.filter == FilterMode::Nearest) {
-    // i = ⌊u·width⌋ on the fixed-point coordinate.
-    const int64_t xf = to_fixed(u * static_cast<float>(wl), fix_scale_);
-    const int64_t yf = to_fixed(v * static_cast<float>(hl), fix_scale_);
-    *out++ = {level, address(xf >> b, wl, cfg_.address_u), address(yf >> b, hl, cfg_.address_v), w};
-    return out;
-  }
   // i0 = ⌊u·width − ½⌋, α = frac(u·width − ½) with b fraction bits.
   const int64_t xf = to_fixed(u * static_cast<float>(wl) - 0.5f, fix_scale_);
   const int64_t yf = to_fixed(v * static_cast<float>(hl) - 0.5f, fix_scale_);
@@ -184,15 +189,16 @@ void TexelAddressGen::taps(const Texture& tex, double u, double v, const LodResu
   const LevelSelect sel = select_levels(lod.lambda, tex.levels());
   const float uf = finite_or_zero(static_cast<float>(u));
   const float vf = finite_or_zero(static_cast<float>(v));
-  const bool tri = cfg_.filter == FilterMode::Trilinear;
   TexelTap* t = out.tap.data();
   if (n == 1) {
     // One probe at (u, v) with weight 1.
-    if (tri) {
-      t = emit_level(tex, sel.d_hi, uf, vf, 1.0f - sel.delta, t);
-      t = emit_level(tex, sel.d_lo, uf, vf, sel.delta, t);
-    } else {
-      t = emit_level(tex, sel.d_hi, uf, vf, 1.0f, t);
+    switch (cfg_.filter) {
+      case FilterMode::Nearest: t = emit_nearest(tex, sel.d_hi, uf, vf, 1.0f, t); break;
+      case FilterMode::Bilinear: t = emit_linear(tex, sel.d_hi, uf, vf, 1.0f, t); break;
+      case FilterMode::Trilinear:
+        t = emit_linear(tex, sel.d_hi, uf, vf, 1.0f - sel.delta, t);
+        t = emit_linear(tex, sel.d_lo, uf, vf, sel.delta, t);
+        break;
     }
   } else {
     const float au = finite_or_zero(lod.axis_u), av = finite_or_zero(lod.axis_v);
@@ -202,11 +208,13 @@ void TexelAddressGen::taps(const Texture& tex, double u, double v, const LodResu
       const float off = static_cast<float>(k) - 0.5f * static_cast<float>(n - 1);
       const float pu = uf + off * au;
       const float pv = vf + off * av;
-      if (tri) {
-        t = emit_level(tex, sel.d_hi, pu, pv, (1.0f - sel.delta) * inv_n, t);
-        t = emit_level(tex, sel.d_lo, pu, pv, sel.delta * inv_n, t);
-      } else {
-        t = emit_level(tex, sel.d_hi, pu, pv, inv_n, t);
+      switch (cfg_.filter) {
+        case FilterMode::Nearest: t = emit_nearest(tex, sel.d_hi, pu, pv, inv_n, t); break;
+        case FilterMode::Bilinear: t = emit_linear(tex, sel.d_hi, pu, pv, inv_n, t); break;
+        case FilterMode::Trilinear:
+          t = emit_linear(tex, sel.d_hi, pu, pv, (1.0f - sel.delta) * inv_n, t);
+          t = emit_linear(tex, sel.d_lo, pu, pv, sel.delta * inv_n, t);
+          break;
       }
     }
   }

@@ -7,6 +7,7 @@
 // bits (round to nearest even); LOD to fixed point with `mipmap_bits` fraction bits; weights
 // are products of those fixed-point fractions (exact in float32) and 1/N.
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "blocks/config_reader.h"
@@ -82,6 +83,18 @@ class TexelAddressGen {
   // Vulkan's wrapping of one integer texel coordinate into [0, size).
   static int32_t address(int64_t i, int32_t size, AddressMode mode);
 
+  // The float→fixed converters' rounding: nearest integer, ties to even (= std::llrint in the
+  // default rounding mode, without the library call). Below 2^23 adding and subtracting 2^23
+  // rounds to an integer in float32 arithmetic; larger floats are integers already.
+  static int64_t round_half_even(float x) {
+    constexpr float k = 8388608.0f;  // 2^23
+    if (std::fabs(x) < k) {
+      const float c = std::copysign(k, x);
+      return static_cast<int64_t>((x + c) - c);
+    }
+    return std::llrint(x);  // integers, and NaN (never reached from the datapath)
+  }
+
   // Taps per probe and issue slots (cycles at ii = 1) one fragment occupies.
   int taps_per_probe() const;
   static uint32_t issue_cycles(const LodResult& lod) {
@@ -100,8 +113,10 @@ class TexelAddressGen {
   OpCounts ops_level() const;
   OpCounts count_setup(bool anisotropic) const;
   OpCounts count_probe(bool anisotropic) const;
-  TexelTap* emit_level(const Texture& tex, int32_t level, float u, float v, float w,
-                       TexelTap* out) const;
+  TexelTap* emit_nearest(const Texture& tex, int32_t level, float u, float v, float w,
+                         TexelTap* out) const;
+  TexelTap* emit_linear(const Texture& tex, int32_t level, float u, float v, float w,
+                        TexelTap* out) const;
   Config cfg_;
   // Fixed by the configuration, so computed once: the converters' scale factors (powers of
   // two, so the products are exact and equal to ldexp) and the operation counts.

@@ -41,28 +41,16 @@ TextureCache::TextureCache(const Config& c) : cfg_(c) {
   ways_.assign(static_cast<size_t>(sets_) * c.ways, Way{kInvalid, 0});
 }
 
-bool TextureCache::access_line(uint64_t line) {
-  Way* set = ways_.data() + static_cast<size_t>(line & (sets_ - 1)) * cfg_.ways;
-  const uint32_t ways = cfg_.ways;
-  ++stats_.accesses;
-  ++clock_;
-  for (uint32_t w = 0; w < ways; ++w) {
-    if (set[w].tag == line) {
-      set[w].stamp = clock_;
-      ++stats_.hits;
-      return true;
-    }
-  }
-  // Miss: the least recently used way (the first of equals; empty ways have stamp 0).
+void TextureCache::fill(Way* set, uint64_t line) {
+  // The least recently used way (the first of equals; empty ways have stamp 0).
   uint32_t victim = 0;
-  for (uint32_t w = 1; w < ways; ++w) {
+  for (uint32_t w = 1; w < cfg_.ways; ++w) {
     if (set[w].stamp < set[victim].stamp) victim = w;
   }
   set[victim].tag = line;
   set[victim].stamp = clock_;
   ++stats_.misses;
   stats_.fill_bytes += cfg_.line_bytes;
-  return false;
 }
 
 }  // namespace texsim

@@ -33,8 +33,23 @@ class TextureCache {
   // Looks up the line holding byte address `addr`; on a miss the LRU way is refilled.
   // Returns true on a hit.
   bool access(uint64_t addr) { return access_line(line_of(addr)); }
-  // The same for a line number (addr >> log2(line_bytes)).
-  bool access_line(uint64_t line);
+  // The same for a line number (addr >> log2(line_bytes)). Inline: a hit is the common case
+  // and costs a few compares.
+  bool access_line(uint64_t line) {
+    Way* set = ways_.data() + static_cast<size_t>(line & (sets_ - 1)) * cfg_.ways;
+    ++stats_.accesses;
+    ++clock_;
+    for (uint32_t w = 0; w < cfg_.ways; ++w) {
+      if (set[w].tag == line) {
+        set[w].stamp = clock_;
+        ++stats_.hits;
+        return true;
+      }
+    }
+    fill(set, line);
+    return false;
+  }
+  uint32_t line_shift() const { return line_shift_; }
   uint64_t line_of(uint64_t addr) const { return addr >> line_shift_; }
   const Config& config() const { return cfg_; }
   const Stats& stats() const { return stats_; }
@@ -43,6 +58,9 @@ class TextureCache {
   void count_texels(uint64_t n) { stats_.texel_reads += n; }
 
  private:
+  struct Way;
+  void fill(Way* set, uint64_t line);  // miss: refill the LRU way of `set`
+
   Config cfg_;
   uint32_t sets_ = 1;
   uint32_t line_shift_ = 6;

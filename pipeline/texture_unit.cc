@@ -1,7 +1,6 @@
 #include "pipeline/texture_unit.h"
 
 #include <algorithm>
-#include <bit>
 
 #include "blocks/config_reader.h"
 #include "blocks/input_error.h"
@@ -68,24 +67,47 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
   }
 }
 
-void TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start,
-                                ItemCost& cost) {
-  // Distinct lines of this fragment's taps, in order of first use: each is one tag look-up.
-  const TexelLayout layout = tex.layout();
-  const uint64_t base = tex.base();
+namespace {
+
+// Distinct cache lines of a fragment's taps, in order of first use, under layout L (a
+// template argument, so the address arithmetic has no layout switch per texel). Taps of one
+// level come together, so the level's base address is looked up once per run of taps.
+template <TexelLayout L>
+int distinct_lines(const FilterTaps& taps, const Texture& tex, uint32_t shift, uint64_t* lines) {
   const auto bpt = static_cast<uint64_t>(tex.bytes_per_texel());
-  const uint32_t shift = static_cast<uint32_t>(std::countr_zero(setup_.cache.line_bytes));
   int n = 0;
+  int32_t level = -1;
+  const Texture::Level* lv = nullptr;
+  uint64_t level_base = 0;
   for (int i = 0; i < taps.count; ++i) {
     const TexelTap& t = taps.tap[static_cast<size_t>(i)];
-    const Texture::Level& lv = tex.level(t.level);
-    const uint64_t addr = base + lv.offset + Texture::texel_index(layout, lv, t.x, t.y) * bpt;
-    const uint64_t line = addr >> shift;
+    if (t.level != level) {
+      level = t.level;
+      lv = &tex.level(level);
+      level_base = tex.base() + lv->offset;
+    }
+    const uint64_t line = (level_base + Texture::texel_index(L, *lv, t.x, t.y) * bpt) >> shift;
     int k = 0;
-    while (k < n && lines_[static_cast<size_t>(k)] != line) ++k;
-    if (k == n) lines_[static_cast<size_t>(n++)] = line;
+    while (k < n && lines[k] != line) ++k;
+    if (k == n) lines[n++] = line;
   }
-  uint64_t ready = start + setup_.cache.hit_latency;
+  return n;
+}
+
+}  // namespace
+
+void TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start,
+                                ItemCost& cost) {
+  // Each distinct line of the fragment's taps is one tag look-up.
+  const uint32_t shift = cache_.line_shift();
+  int n = 0;
+  switch (tex.layout()) {
+    case TexelLayout::Linear: n = distinct_lines<TexelLayout::Linear>(taps, tex, shift, lines_.data()); break;
+    case TexelLayout::Tiled4x4: n = distinct_lines<TexelLayout::Tiled4x4>(taps, tex, shift, lines_.data()); break;
+    case TexelLayout::Morton: n = distinct_lines<TexelLayout::Morton>(taps, tex, shift, lines_.data()); break;
+  }
+  const uint64_t hit_ready = start + setup_.cache.hit_latency;
+  uint64_t ready = hit_ready;
   for (int k = 0; k < n; ++k) {
     if (!cache_.access_line(lines_[static_cast<size_t>(k)])) {
       ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
@@ -94,7 +116,7 @@ void TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint
   cache_.count_texels(static_cast<uint64_t>(taps.count));
   const uint32_t tpc = setup_.cache.texels_per_cycle;
   cost.extra_ii = static_cast<uint32_t>((static_cast<uint32_t>(taps.count) + tpc - 1) / tpc) - 1;
-  cost.extra_latency = static_cast<uint32_t>(ready - (start + setup_.cache.hit_latency));
+  cost.extra_latency = static_cast<uint32_t>(ready - hit_ready);
 }
 
 Rgba TextureUnit::process(const Fragment& f, int material) {

@@ -3,13 +3,17 @@
 // double-precision reference filter written here; op counts, timing and config parsing.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <map>
 #include <random>
 
 #include "blocks/input_error.h"
 #include "blocks/texel_address_gen.h"
 #include "blocks/texel_blend.h"
+#include "pipeline/texture_unit.h"
 
 namespace texsim {
 namespace {
@@ -403,6 +407,152 @@ TEST(TexelBlend, WeightedSumAndTree) {
   t.tap[2] = {0, 1, 1, 0.25f};
   OpCounts ops;
   EXPECT_EQ(TexelBlend().blend(t, flat, ops), Rgba(0.5f));
+}
+
+// The converters' rounding without a library call must be std::llrint (ties to even) bit for
+// bit: exhaustively over [2^21, 2^25) of both signs, where the 2^23 trick switches over, and
+// on a stride through every other finite float below 2^62.
+TEST(TexelAddressGen, RoundHalfEvenMatchesLlrint) {
+  auto check = [](float x) {
+    ASSERT_EQ(TexelAddressGen::round_half_even(x), std::llrint(x)) << std::hexfloat << x;
+  };
+  for (float sign : {1.0f, -1.0f}) {
+    for (float x = std::ldexp(1.0f, 21); x < std::ldexp(1.0f, 25);
+         x = std::nextafter(x, std::numeric_limits<float>::infinity())) {
+      check(sign * x);
+    }
+  }
+  for (uint32_t bits = 0; bits < 0xff000000u; bits += 97) {
+    float x;
+    std::memcpy(&x, &bits, sizeof x);
+    if (std::isfinite(x) && std::fabs(x) < std::ldexp(1.0f, 62)) check(x);
+  }
+  // Hard cases: halves (ties go to the even neighbour), ±0, subnormals, just below 2^23.
+  for (float x : {0.5f, 1.5f, 2.5f, -0.5f, -1.5f, -2.5f, 0.0f, -0.0f, 1e-45f, -1e-45f,
+                  8388607.5f, -8388607.5f, 4194303.5f, 8388608.0f, 16777215.0f}) {
+    check(x);
+  }
+  EXPECT_EQ(TexelAddressGen::round_half_even(2.5f), 2);
+  EXPECT_EQ(TexelAddressGen::round_half_even(-3.5f), -4);
+  EXPECT_EQ(TexelAddressGen::round_half_even(8388607.5f), 8388608);
+}
+
+// Reference for the blend order of docs/filters.md §5: groups of taps_per_cycle taps in tap
+// order, a binary tree in each group (pairs, an odd last element passed up), the group sums
+// accumulated from 0. Written with plain Rgba arithmetic and Texture::texel.
+Rgba reference_blend(const FilterTaps& t, const Texture& tex, int g) {
+  Rgba acc(0.0f);
+  for (int base = 0; base < t.count; base += g) {
+    const int n = std::min(g, t.count - base);
+    std::vector<Rgba> p;
+    for (int k = 0; k < n; ++k) {
+      const TexelTap& tk = t.tap[static_cast<size_t>(base + k)];
+      p.push_back(tex.texel(tk.level, tk.x, tk.y) * tk.w);
+    }
+    while (p.size() > 1) {
+      std::vector<Rgba> q;
+      for (size_t k = 0; k + 1 < p.size(); k += 2) q.push_back(p[k] + p[k + 1]);
+      if (p.size() % 2) q.push_back(p.back());
+      p = q;
+    }
+    acc += p[0];
+  }
+  return acc;
+}
+
+// The blend's fast paths (one bilinear or trilinear probe, RGBA8 widening) give exactly the
+// reference's bits, for every group size, tap count and texel format.
+TEST(TexelBlend, BitExactAgainstReferenceOrder) {
+  std::mt19937_64 rng(77);
+  for (TexelFormat fmt : {TexelFormat::Rgba8, TexelFormat::Rgba32f}) {
+    const Texture tex = random_texture(13, 6, 31, fmt);
+    std::uniform_int_distribution<int> lv(0, tex.levels() - 1);
+    std::uniform_real_distribution<float> wd(0, 1);
+    for (int tpc : {1, 2, 4, 8, 16, 32}) {
+      TexelBlend::Config c;
+      c.taps_per_cycle = tpc;
+      const TexelBlend b(c);
+      for (int it = 0; it < 400; ++it) {
+        FilterTaps t;
+        t.count = it % 3 == 0 ? 4 : (it % 3 == 1 ? 8 : 1 + static_cast<int>(rng() % 40));
+        for (int k = 0; k < t.count; ++k) {
+          const int l = lv(rng);
+          t.tap[static_cast<size_t>(k)] = {l, static_cast<int32_t>(rng() % static_cast<uint64_t>(tex.width(l))),
+                                           static_cast<int32_t>(rng() % static_cast<uint64_t>(tex.height(l))),
+                                           wd(rng) - (it % 7 == 0 ? 0.5f : 0.0f)};
+        }
+        const Rgba got = b.blend(t, tex), want = reference_blend(t, tex, tpc);
+        for (int ch = 0; ch < 4; ++ch) {
+          ASSERT_EQ(std::bit_cast<uint32_t>(got[ch]), std::bit_cast<uint32_t>(want[ch]))
+              << "count " << t.count << " taps_per_cycle " << tpc << " channel " << ch;
+        }
+      }
+    }
+  }
+}
+
+// The texture unit counts fragments and probes and multiplies the blocks' per-fragment and
+// per-probe counts at report time; that must equal summing each call's own count, and its
+// colours must be the blocks' colours bit for bit, in both modes.
+TEST(TextureUnit, CountedOpsAndColoursEqualPerCallBlocks) {
+  TextureSet ts;
+  ts.add(random_texture(64, 32, 5, TexelFormat::Rgba8));
+  ts.add(random_texture(300, 7, 6, TexelFormat::Rgba32f));
+  std::vector<MaterialSetup> mats(3);
+  mats[0].name = "a";
+  mats[0].filter.filter = FilterMode::Bilinear;
+  mats[0].lod.aniso = AnisoMode::Vulkan;
+  mats[0].lod.max_aniso = 8;
+  mats[1].name = "b";
+  mats[1].texture = 1;
+  mats[1].filter.filter = FilterMode::Trilinear;
+  mats[1].filter.address_u = AddressMode::Mirror;
+  mats[2].name = "c";
+  mats[2].filter.filter = FilterMode::Nearest;
+  mats[2].filter.address_v = AddressMode::Clamp;
+  mats[2].lod.aniso = AnisoMode::Vulkan;
+  for (bool timing : {false, true}) {
+    TextureUnit unit(ts, mats, PipelineSetup{}, TechTable::defaults(), timing);
+    const TexelBlend blend(PipelineSetup{}.blend);
+    std::vector<OpCounts> lod_ops(3), addr_ops(3), blend_ops(3);
+    uint64_t taps_total = 0;
+    std::mt19937_64 rng(21);
+    std::uniform_real_distribution<double> uv(-2, 2), d(-0.2, 0.2);
+    for (int i = 0; i < 3000; ++i) {
+      Fragment f;
+      f.frame = static_cast<uint32_t>(i / 1000);
+      f.u = uv(rng);
+      f.v = uv(rng);
+      f.dudx = d(rng);
+      f.dvdx = d(rng) * 0.1;
+      f.dudy = d(rng) * 0.1;
+      f.dvdy = d(rng);
+      const int m = i % 3;
+      const Rgba got = unit.process(f, m);
+      const Texture& tex = ts[mats[static_cast<size_t>(m)].texture];
+      const LodResult lod = LodUnit(mats[static_cast<size_t>(m)].lod)
+                                .eval(f, tex.width(0), tex.height(0), lod_ops[static_cast<size_t>(m)]);
+      FilterTaps t;
+      TexelAddressGen(mats[static_cast<size_t>(m)].filter).taps(tex, f.u, f.v, lod, t, addr_ops[static_cast<size_t>(m)]);
+      const Rgba want = blend.blend(t, tex, blend_ops[static_cast<size_t>(m)]);
+      taps_total += static_cast<uint64_t>(t.count);
+      for (int ch = 0; ch < 4; ++ch) {
+        ASSERT_EQ(std::bit_cast<uint32_t>(got[ch]), std::bit_cast<uint32_t>(want[ch])) << i;
+      }
+    }
+    EXPECT_GT(addr_ops[0].lut, 0u);  // some fragments were anisotropic
+    std::map<std::string, OpCounts> want;
+    want["lod"] = lod_ops[0] + lod_ops[1] + lod_ops[2];
+    want["filter.bilinear"] = addr_ops[0];
+    want["filter.trilinear"] = addr_ops[1];
+    want["filter.nearest"] = addr_ops[2];
+    want["blend"] = blend_ops[0] + blend_ops[1] + blend_ops[2];
+    want["cache"].mem = taps_total;
+    const auto blocks = unit.blocks();
+    ASSERT_EQ(blocks.size(), want.size());
+    for (const BlockUse& b : blocks) EXPECT_EQ(b.ops, want[b.name]) << b.name << " timing " << timing;
+    EXPECT_EQ(unit.fragments(), 3000u);
+  }
 }
 
 TEST(TexelAddressGen, OpCountsAndTiming) {
