@@ -35,7 +35,7 @@ ClockedPipeline::ClockedPipeline(std::vector<StageConfig> stages) {
   for (size_t s = 0; s + 1 < stages_.size(); ++s) hot_[s].next_depth = stages_[s + 1].cfg.fifo_depth;
   const uint64_t p = std::bit_ceil(longest);
   ring_mask_ = p - 1;
-  ring_.assign((stages_.size() + 1) * kRings * p, 0);
+  ring_.assign((stages_.size() + 1) * p, Entry{0, 0, 0, 0});
 }
 
 uint64_t ClockedPipeline::items_of(size_t s) const {
@@ -88,7 +88,7 @@ void ClockedPipeline::dump_state(std::ostream& os) const {
       uint64_t f = 0;
       if (issued > l) {
         const uint64_t j = issued - 1 - (issued - 1 - l) % h.lanes;
-        f = ring_[s * kRings * p + kLane * p + (j & ring_mask_)];
+        f = ring_[s * p + (j & ring_mask_)].lane_free;
       }
       os << " " << f;
     }

@@ -8,6 +8,7 @@
 #include <iosfwd>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "blocks/timing_spec.h"
@@ -58,7 +59,20 @@ class ClockedPipeline {
   // As issue(), but a stage's cost may depend on the cycle the item starts there (a cache
   // miss is sent to DRAM at that cycle): `cost_at(stage, start_cycle) -> ItemCost`.
   template <class CostFn>
-  uint64_t issue_with(uint64_t ready, CostFn&& cost_at);
+  uint64_t issue_with(uint64_t ready, CostFn&& cost_at) {
+    // Common stage counts get the stage sequence unrolled at compile time, so cost_at sees a
+    // constant stage index and the per-stage addresses are fixed offsets.
+    switch (stages_.size()) {
+      case 3: return issue_unrolled(ready, cost_at, std::make_index_sequence<3>{});
+      case 4: return issue_unrolled(ready, cost_at, std::make_index_sequence<4>{});
+      default: {
+        const ItemCtx c = item_ctx();
+        uint64_t arrival = ready;
+        for (size_t s = 0; s < stages_.size(); ++s) arrival = step(c, s, arrival, cost_at);
+        return retire(arrival);
+      }
+    }
+  }
 
   // Total cycles: when the last item left the last stage.
   uint64_t cycles() const { return cycles_; }
@@ -77,9 +91,9 @@ class ClockedPipeline {
 
  private:
   // Per-stage state the kernel touches for every item, kept small and apart from the
-  // configuration. The per-item history a stage needs (lane free times, start, leave and
-  // finish cycles) is kept in rings of one power-of-two size P >= every lane count, FIFO
-  // depth and in-flight limit: item i writes position i mod P and reads item i − k at
+  // configuration. The per-item history a stage needs (lane free time, start, leave and
+  // finish cycles) is kept in a ring of one power-of-two size P >= every lane count, FIFO
+  // depth and in-flight limit: item i writes entry i mod P and reads item i − k at
   // (i − k) mod P, so no ring position has to be stored or advanced.
   struct Hot {
     uint64_t last_leave = 0;
@@ -91,54 +105,45 @@ class ClockedPipeline {
     // Counters; busy (= items · ii + extra) and last_done (= last_leave) follow from them.
     uint64_t starved = 0, blocked = 0, full = 0, extra = 0;
   };
+  // One item's history in one stage.
+  struct Entry {
+    uint64_t lane_free;  // when the lane it used can issue again
+    uint64_t start, leave, finish;
+  };
   struct Stage {
     StageConfig cfg;
     uint32_t inflight_cap = 1;
     mutable StageStats stats;  // filled from Hot by stats()
   };
-  // Ring layout: stage s owns ring_[4Ps .. 4P(s+1)): lane free | start | leave | finish.
-  // A sentinel stage n (never written) makes the last stage read "no back-pressure".
-  enum Ring : uint64_t { kLane = 0, kStart = 1, kLeave = 2, kFinish = 3, kRings = 4 };
-  uint64_t items_of(size_t s) const;
-  [[noreturn]] void report_stuck(uint64_t item, int stage);
 
-  std::vector<Stage> stages_;
-  std::vector<Hot> hot_;
-  std::vector<uint64_t> ring_;
-  uint64_t ring_mask_ = 0;  // P − 1
-  uint64_t items_ = 0;
-  uint64_t cycles_ = 0;
-  uint64_t watchdog_ = uint64_t{1} << 40;
-  int stuck_stage_ = -1;  // stage that raised DeadlockError (its earlier stages took the item)
-};
-
-class DeadlockError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-template <class CostFn>
-uint64_t ClockedPipeline::issue_with(uint64_t ready, CostFn&& cost_at) {
-  const uint64_t i = items_;
-  const uint64_t mask = ring_mask_, p = mask + 1;
-  const uint64_t w = i & mask;  // this item's position in every ring
-  uint64_t* r = ring_.data();
-  Hot* const hot = hot_.data();
-  const size_t n = stages_.size();
-  const uint64_t watchdog = watchdog_;
-  uint64_t arrival = ready;
-  // The rings start zeroed and item i − k (k <= P) for i < k reads a cell not yet written,
-  // so a predecessor that does not exist reads as cycle 0, which constrains nothing.
-  for (size_t s = 0; s < n; ++s, r += kRings * p) {
-    Hot& st = hot[s];
+  // Stage s of the current item, arriving at `arrival`; returns when it leaves. Stage s owns
+  // ring_[sP .. (s + 1)P); a sentinel stage n (never written) makes the last stage read
+  // "no back-pressure". The rings start zeroed and item i − k (k <= P) for i < k reads an
+  // entry not yet written, so a predecessor that does not exist reads as cycle 0.
+  // What every stage of one item needs, loaded once per item (held in registers: reloading
+  // members after each uint64_t store would be needed otherwise).
+  struct ItemCtx {
+    uint64_t i, mask, watchdog;
+    Entry* ring;
+    Hot* hot;
+  };
+  ItemCtx item_ctx() {
+    return {items_, ring_mask_, watchdog_, ring_.data(), hot_.data()};
+  }
+  template <class CostFn>
+  [[gnu::always_inline]] uint64_t step(const ItemCtx& c, size_t s, uint64_t arrival,
+                                       CostFn& cost_at) {
+    const uint64_t i = c.i, mask = c.mask;
+    Hot& st = c.hot[s];
+    Entry* const e = c.ring + s * (mask + 1);
     // Everything this stage needs is read before the first store (ring and counters are all
     // uint64_t, so a store would make the compiler reload them).
-    const uint64_t free_at = r[kLane * p + ((i - st.lanes) & mask)];
+    const uint64_t free_at = e[(i - st.lanes) & mask].lane_free;
     // The item i − inflight_cap must have left before this one can enter.
-    const uint64_t old = (i - st.cap) & mask;
-    const uint64_t slot_free = r[kLeave * p + old], slot_finish = r[kFinish * p + old];
+    const Entry& old = e[(i - st.cap) & mask];
+    const uint64_t slot_free = old.leave, slot_finish = old.finish;
     // Back-pressure: item i − depth must have left the next stage's input FIFO.
-    const uint64_t next_start = r[(kRings + kStart) * p + ((i - st.next_depth) & mask)];
+    const uint64_t next_start = e[mask + 1 + ((i - st.next_depth) & mask)].start;
     const uint64_t last_start = st.last_start, last_leave = st.last_leave;
     // Items issue in order from the FIFO head, so never before the previous item issued.
     const uint64_t avail = std::max(free_at, arrival);
@@ -153,20 +158,46 @@ uint64_t ClockedPipeline::issue_with(uint64_t ready, CostFn&& cost_at) {
     const ItemCost cost = cost_at(static_cast<int>(s), start);
     const uint64_t finish = start + st.latency + cost.extra_latency;
     const uint64_t leave = std::max(std::max(finish, last_leave), next_start);  // in order
-    r[kLane * p + w] = start + st.ii + cost.extra_ii;
-    if (leave - arrival > watchdog) report_stuck(i, static_cast<int>(s));
-    r[kStart * p + w] = start;
-    r[kLeave * p + w] = leave;
-    r[kFinish * p + w] = finish;
+    Entry& me = e[i & mask];
+    me.lane_free = start + st.ii + cost.extra_ii;
+    if (leave - arrival > c.watchdog) report_stuck(i, static_cast<int>(s));
+    me.start = start;
+    me.leave = leave;
+    me.finish = finish;
     st.last_leave = leave;
     st.last_start = start;
     st.starved += avail - free_at;  // start >= arrival: a starved lane waited until arrival
     st.extra += cost.extra_ii;
-    arrival = leave;
+    return leave;
   }
-  ++items_;
-  cycles_ = std::max(cycles_, arrival);
-  return arrival;
-}
+  template <class CostFn, size_t... kStage>
+  uint64_t issue_unrolled(uint64_t ready, CostFn& cost_at, std::index_sequence<kStage...>) {
+    const ItemCtx c = item_ctx();
+    uint64_t arrival = ready;
+    ((arrival = step(c, kStage, arrival, cost_at)), ...);
+    return retire(arrival);
+  }
+  uint64_t retire(uint64_t leave) {
+    ++items_;
+    cycles_ = std::max(cycles_, leave);
+    return leave;
+  }
+  uint64_t items_of(size_t s) const;
+  [[noreturn]] void report_stuck(uint64_t item, int stage);
+
+  std::vector<Stage> stages_;
+  std::vector<Hot> hot_;
+  std::vector<Entry> ring_;
+  uint64_t ring_mask_ = 0;  // P − 1
+  uint64_t items_ = 0;
+  uint64_t cycles_ = 0;
+  uint64_t watchdog_ = uint64_t{1} << 40;
+  int stuck_stage_ = -1;  // stage that raised DeadlockError (its earlier stages took the item)
+};
+
+class DeadlockError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 }  // namespace texsim
