@@ -69,17 +69,31 @@ class Texture {
   }
 
   // Index of a texel in the level's storage order under `layout` (inline: the cache model
-  // computes one per texel read, and the layout switch is the same for a whole run).
+  // computes one per texel read, and the layout switch is the same for a whole run). Every
+  // layout's index is a sum of a row part and a column part, so the four texels of a 2x2
+  // footprint need two of each.
   static uint64_t texel_index(TexelLayout layout, const Level& lv, int x, int y) {
-    const auto ux = static_cast<uint64_t>(x), uy = static_cast<uint64_t>(y);
+    return row_index(layout, lv, y) + col_index(layout, x);
+  }
+  static uint64_t row_index(TexelLayout layout, const Level& lv, int y) {
+    const auto uy = static_cast<uint64_t>(y);
     switch (layout) {
-      case TexelLayout::Linear: return uy * static_cast<uint64_t>(lv.width) + ux;
+      case TexelLayout::Linear: return uy * static_cast<uint64_t>(lv.width);
       case TexelLayout::Tiled4x4: {
+        // Row of 4x4 tiles (16 texels each), then the row inside the tile.
         const uint64_t tiles_x = (static_cast<uint64_t>(lv.width) + 3) / 4;
-        const uint64_t tile = (uy >> 2) * tiles_x + (ux >> 2);
-        return tile * 16 + (uy & 3) * 4 + (ux & 3);
+        return (uy >> 2) * tiles_x * 16 + (uy & 3) * 4;
       }
-      case TexelLayout::Morton: return morton2(static_cast<uint32_t>(x), static_cast<uint32_t>(y));
+      case TexelLayout::Morton: return spread_bits(static_cast<uint32_t>(y)) << 1;
+    }
+    return 0;
+  }
+  static uint64_t col_index(TexelLayout layout, int x) {
+    const auto ux = static_cast<uint64_t>(x);
+    switch (layout) {
+      case TexelLayout::Linear: return ux;
+      case TexelLayout::Tiled4x4: return (ux >> 2) * 16 + (ux & 3);
+      case TexelLayout::Morton: return spread_bits(static_cast<uint32_t>(x));  // bits disjoint from y's
     }
     return 0;
   }
@@ -93,7 +107,6 @@ class Texture {
     s = (s | (s << 1)) & 0x5555555555555555ULL;
     return s;
   }
-  static uint64_t morton2(uint32_t x, uint32_t y) { return spread_bits(x) | (spread_bits(y) << 1); }
 
  private:
   uint64_t texel_index(const Level& lv, int x, int y) const { return texel_index(layout_, lv, x, y); }

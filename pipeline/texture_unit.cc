@@ -69,27 +69,51 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
 
 namespace {
 
+// Adds `line` to lines[0 .. n) unless present (order of first use kept).
+inline void add_line(uint64_t line, uint64_t* lines, int& n) {
+  int k = 0;
+  while (k < n && lines[k] != line) ++k;
+  if (k == n) lines[n++] = line;
+}
+
 // Distinct cache lines of a fragment's taps, in order of first use, under layout L (a
-// template argument, so the address arithmetic has no layout switch per texel). Taps of one
-// level come together, so the level's base address is looked up once per run of taps.
+// template argument, so the address arithmetic has no layout switch per texel). A linear
+// filter's taps come in 2x2 quads (x0,y0) (x1,y0) (x0,y1) (x1,y1) on one level: their
+// addresses are level base + row part + column part, two of each per quad.
 template <TexelLayout L>
 int distinct_lines(const FilterTaps& taps, const Texture& tex, uint32_t shift, uint64_t* lines) {
   const auto bpt = static_cast<uint64_t>(tex.bytes_per_texel());
   int n = 0;
-  int32_t level = -1;
-  const Texture::Level* lv = nullptr;
-  uint64_t level_base = 0;
-  for (int i = 0; i < taps.count; ++i) {
-    const TexelTap& t = taps.tap[static_cast<size_t>(i)];
-    if (t.level != level) {
-      level = t.level;
-      lv = &tex.level(level);
-      level_base = tex.base() + lv->offset;
+  int i = 0;
+  for (; i + 4 <= taps.count; i += 4) {
+    const TexelTap* q = &taps.tap[static_cast<size_t>(i)];
+    const bool quad = q[1].level == q[0].level && q[2].level == q[0].level &&
+                      q[3].level == q[0].level && q[1].y == q[0].y && q[2].x == q[0].x &&
+                      q[3].x == q[1].x && q[3].y == q[2].y;
+    if (!quad) break;
+    const Texture::Level& lv = tex.level(q[0].level);
+    const uint64_t base = tex.base() + lv.offset;
+    const uint64_t r0 = Texture::row_index(L, lv, q[0].y), r1 = Texture::row_index(L, lv, q[2].y);
+    const uint64_t c0 = Texture::col_index(L, q[0].x), c1 = Texture::col_index(L, q[1].x);
+    const uint64_t l00 = (base + (r0 + c0) * bpt) >> shift, l10 = (base + (r0 + c1) * bpt) >> shift;
+    const uint64_t l01 = (base + (r1 + c0) * bpt) >> shift, l11 = (base + (r1 + c1) * bpt) >> shift;
+    if (n == 0) {
+      // First quad: its distinct lines without a search.
+      lines[n++] = l00;
+      if (l10 != l00) lines[n++] = l10;
+      if (l01 != l00 && l01 != l10) lines[n++] = l01;
+      if (l11 != l00 && l11 != l10 && l11 != l01) lines[n++] = l11;
+    } else {
+      add_line(l00, lines, n);
+      add_line(l10, lines, n);
+      add_line(l01, lines, n);
+      add_line(l11, lines, n);
     }
-    const uint64_t line = (level_base + Texture::texel_index(L, *lv, t.x, t.y) * bpt) >> shift;
-    int k = 0;
-    while (k < n && lines[k] != line) ++k;
-    if (k == n) lines[n++] = line;
+  }
+  for (; i < taps.count; ++i) {  // nearest taps, or anything not in quads
+    const TexelTap& t = taps.tap[static_cast<size_t>(i)];
+    const Texture::Level& lv = tex.level(t.level);
+    add_line((tex.base() + lv.offset + Texture::texel_index(L, lv, t.x, t.y) * bpt) >> shift, lines, n);
   }
   return n;
 }
@@ -100,18 +124,17 @@ void TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint
                                 ItemCost& cost) {
   // Each distinct line of the fragment's taps is one tag look-up.
   const uint32_t shift = cache_.line_shift();
+  uint64_t lines[128];
   int n = 0;
   switch (tex.layout()) {
-    case TexelLayout::Linear: n = distinct_lines<TexelLayout::Linear>(taps, tex, shift, lines_.data()); break;
-    case TexelLayout::Tiled4x4: n = distinct_lines<TexelLayout::Tiled4x4>(taps, tex, shift, lines_.data()); break;
-    case TexelLayout::Morton: n = distinct_lines<TexelLayout::Morton>(taps, tex, shift, lines_.data()); break;
+    case TexelLayout::Linear: n = distinct_lines<TexelLayout::Linear>(taps, tex, shift, lines); break;
+    case TexelLayout::Tiled4x4: n = distinct_lines<TexelLayout::Tiled4x4>(taps, tex, shift, lines); break;
+    case TexelLayout::Morton: n = distinct_lines<TexelLayout::Morton>(taps, tex, shift, lines); break;
   }
   const uint64_t hit_ready = start + setup_.cache.hit_latency;
   uint64_t ready = hit_ready;
   for (int k = 0; k < n; ++k) {
-    if (!cache_.access_line(lines_[static_cast<size_t>(k)])) {
-      ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
-    }
+    if (!cache_.access_line(lines[k])) ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
   }
   cache_.count_texels(static_cast<uint64_t>(taps.count));
   const uint32_t tpc = setup_.cache.texels_per_cycle;

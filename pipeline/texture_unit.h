@@ -2,7 +2,6 @@
 // The clocked texture unit (ПНТ, first slice): LOD → texel address generation → texture cache
 // + DRAM → blend, built from a scene's materials. Only the blocks some material needs are
 // instantiated. docs/architecture.md describes the stages; docs/timing-model.md the timing.
-#include <array>
 #include <map>
 #include <memory>
 #include <string>
@@ -103,7 +102,6 @@ class TextureUnit {
   DramModel dram_;
   std::unique_ptr<ClockedPipeline> pipe_;
   FilterTaps taps_;
-  std::array<uint64_t, 128> lines_{};  // distinct cache lines of the current fragment
   uint64_t fragments_ = 0;
   std::vector<FrameStats> frames_;
 };

@@ -78,6 +78,39 @@ TEST(TextureCache, TiledLayoutBeatsLinearOnA2dWalk) {
   EXPECT_LT(misses[1], misses[0]);
 }
 
+// Byte addresses under each layout against independent statements of the layouts (the
+// model computes them as level base + row part + column part), on odd level sizes.
+TEST(TextureMemory, AddressesMatchLayoutDefinitions) {
+  std::vector<float> rgba(37 * 23 * 4, 0.25f);
+  for (TexelFormat fmt : {TexelFormat::Rgba8, TexelFormat::Rgba32f}) {
+    Texture t = Texture::from_rgba("t", 37, 23, rgba, fmt, true);
+    for (TexelLayout layout : {TexelLayout::Linear, TexelLayout::Tiled4x4, TexelLayout::Morton}) {
+      t.place(4096, layout);
+      for (int l = 0; l < t.levels(); ++l) {
+        const uint64_t w = static_cast<uint64_t>(t.width(l));
+        const uint64_t level_base = t.address(l, 0, 0);
+        for (uint64_t y = 0; y < static_cast<uint64_t>(t.height(l)); ++y) {
+          for (uint64_t x = 0; x < w; ++x) {
+            uint64_t index = 0;
+            if (layout == TexelLayout::Linear) index = y * w + x;
+            if (layout == TexelLayout::Tiled4x4) {
+              index = ((y / 4) * ((w + 3) / 4) + x / 4) * 16 + (y % 4) * 4 + x % 4;
+            }
+            if (layout == TexelLayout::Morton) {
+              for (int b = 0; b < 16; ++b) {
+                index |= ((x >> b) & 1) << (2 * b) | ((y >> b) & 1) << (2 * b + 1);
+              }
+            }
+            ASSERT_EQ(t.address(l, static_cast<int>(x), static_cast<int>(y)),
+                      level_base + index * static_cast<uint64_t>(t.bytes_per_texel()))
+                << to_string(layout) << " level " << l << " (" << x << ", " << y << ")";
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST(TextureCache, RejectsBadGeometry) {
   toml::table t{{"line_bytes", 48}};
   EXPECT_THROW(TextureCache::Config::from_toml(ConfigReader(t, "scene.toml", "cache")),
