@@ -46,6 +46,13 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     p.lod = LodUnit(m.lod);
     p.addr = TexelAddressGen(m.filter);
     p.texture = m.texture;
+    const uint32_t tpc = setup.cache.texels_per_cycle;
+    for (int n = 1; n <= 16; ++n) {
+      FilterTaps t;
+      t.count = n * p.addr.taps_per_probe();
+      p.blend_extra_ii[n] = blend_.issue_cycles(t) - 1;
+      p.cache_extra_ii[n] = (static_cast<uint32_t>(t.count) + tpc - 1) / tpc - 1;
+    }
     paths_.push_back(p);
   }
   if (timing_) {
@@ -120,8 +127,7 @@ int distinct_lines(const FilterTaps& taps, const Texture& tex, uint32_t shift, u
 
 }  // namespace
 
-void TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start,
-                                ItemCost& cost) {
+uint32_t TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start) {
   // Each distinct line of the fragment's taps is one tag look-up.
   const uint32_t shift = cache_.line_shift();
   uint64_t lines[128];
@@ -137,9 +143,7 @@ void TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint
     if (!cache_.access_line(lines[k])) ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
   }
   cache_.count_texels(static_cast<uint64_t>(taps.count));
-  const uint32_t tpc = setup_.cache.texels_per_cycle;
-  cost.extra_ii = static_cast<uint32_t>((static_cast<uint32_t>(taps.count) + tpc - 1) / tpc) - 1;
-  cost.extra_latency = static_cast<uint32_t>(ready - hit_ready);
+  return static_cast<uint32_t>(ready - hit_ready);
 }
 
 Rgba TextureUnit::process(const Fragment& f, int material) {
@@ -159,14 +163,18 @@ Rgba TextureUnit::process(const Fragment& f, int material) {
   ++frames_.back().fragments;
   ++fragments_;
   if (pipe_) {
-    ItemCost costs[kStages];
-    costs[kAddress].extra_ii = probes - 1;
-    costs[kBlend].extra_ii = blend_.issue_cycles(taps_) - 1;
+    // Per-stage costs: the address stage issues one probe per cycle, cache and blend take
+    // their texels in groups, and a miss in the cache stage waits for DRAM.
     pipe_->issue_with(0, [&](int s, uint64_t start) {
-      if (s == kCache) cache_lookups(taps_, tex, start, costs[kCache]);
-      return costs[s];
+      ItemCost c;
+      if (s == kAddress) c.extra_ii = probes - 1;
+      if (s == kCache) {
+        c.extra_ii = p.cache_extra_ii[probes];
+        c.extra_latency = cache_lookups(taps_, tex, start);
+      }
+      if (s == kBlend) c.extra_ii = p.blend_extra_ii[probes];
+      return c;
     });
-    frames_.back().cycles = pipe_->cycles();
   }
   return colour;
 }

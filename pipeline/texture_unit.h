@@ -74,7 +74,11 @@ class TextureUnit {
   const ClockedPipeline* pipeline() const { return pipe_.get(); }
   const TextureCache& cache() const { return cache_; }
   const DramModel& dram() const { return dram_; }
-  const std::vector<FrameStats>& frames() const { return frames_; }
+  const std::vector<FrameStats>& frames() const {
+    // The current frame's cycles are the pipeline's so far (set here, not per fragment).
+    if (pipe_ && !frames_.empty()) frames_.back().cycles = pipe_->cycles();
+    return frames_;
+  }
   const std::vector<MaterialSetup>& materials() const { return mats_; }
 
  private:
@@ -88,8 +92,14 @@ class TextureUnit {
     uint64_t fragments = 0;
     uint64_t aniso_fragments = 0;  // fragments with N > 1
     uint64_t probes = 0;           // Σ N over all fragments
+    // Extra issue cycles in the blend and cache stages for N = 1..16 probes (N × taps per
+    // probe taps at taps_per_cycle and texels_per_cycle): a table instead of two divisions.
+    uint32_t blend_extra_ii[17] = {};
+    uint32_t cache_extra_ii[17] = {};
   };
-  void cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start, ItemCost& cost);
+  // Tag look-ups of the fragment's distinct lines at cycle `start`; returns the cycles the
+  // cache stage waits beyond its hit latency (DRAM refills).
+  uint32_t cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start);
 
   TextureSet& textures_;
   std::vector<MaterialSetup> mats_;
@@ -103,7 +113,7 @@ class TextureUnit {
   std::unique_ptr<ClockedPipeline> pipe_;
   FilterTaps taps_;
   uint64_t fragments_ = 0;
-  std::vector<FrameStats> frames_;
+  mutable std::vector<FrameStats> frames_;
 };
 
 }  // namespace texsim
