@@ -89,11 +89,13 @@ class TexelAddressGen {
   // rounds to an integer in float32 arithmetic; larger floats are integers already.
   static int64_t round_half_even(float x) {
     constexpr float k = 8388608.0f;  // 2^23
-    if (std::fabs(x) < k) {
+    const float a = std::fabs(x);
+    if (a < k) {
       const float c = std::copysign(k, x);
       return static_cast<int64_t>((x + c) - c);
     }
-    return std::llrint(x);  // integers, and NaN (never reached from the datapath)
+    if (a < 4611686018427387904.0f) return static_cast<int64_t>(x);  // an integer below 2^62
+    return std::llrint(x);  // huge, and NaN (never reached from the datapath)
   }
 
   // Taps per probe and issue slots (cycles at ii = 1) one fragment occupies.
