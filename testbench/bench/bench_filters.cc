@@ -89,7 +89,7 @@ struct Timing {
     std::sort(lines.begin(), lines.end());
     lines.erase(std::unique(lines.begin(), lines.end()), lines.end());
     const auto n = static_cast<uint32_t>(fetched.size());
-    ItemCost cost[3];
+    ItemCost cost[4];  // the kernel's unrolled 4-stage path is instantiated too
     cost[0].extra_ii = filter_cycles - 1;
     cost[1].extra_ii = n ? (n + 3) / 4 - 1 : 0;
     cost[2].extra_ii = n ? (n + 7) / 8 - 1 : 0;
