@@ -107,6 +107,18 @@ TEST_F(Cli, RunDefaultSceneWritesReportImagesAndAccuracy) {
   EXPECT_LE(num(j, "accuracy.max_abs"), 1.0);
 }
 
+TEST_F(Cli, PhotoSceneWithAnisotropyAndMortonLayout) {
+  // Photographs from Debian's glmark2-data (installed by scripts/setup-debian.sh).
+  const std::string out = path("out");
+  const Result r = sh(std::string("run ") + TEXSIM_SOURCE_DIR + "/scenes/photo.toml --no-progress --out " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json j = load_json(out + "/report.json");
+  EXPECT_GT(num(j, "fragments"), 50000);
+  // Vulkan anisotropic LOD on the floor: several probes per fragment, so more address cycles.
+  EXPECT_GT(num(j, "cycles_per_fragment"), 2.0);
+  EXPECT_GT(num(j, "accuracy.psnr_db"), 15.0);
+}
+
 TEST_F(Cli, FunctionalModeHasOpsButNoCycles) {
   const std::string out = path("out");
   const Result r = sh("run --functional --no-progress --out " + out);
