@@ -3,9 +3,9 @@
 // in memory, so the trace reader is not what is measured; see bench_trace_stream for that).
 // Run: build/testbench/bench_texture_unit --benchmark_counters_tabular=true
 // Wall-clock figures move with other load on the machine: compare binaries side by side in one
-// session, or count instructions per fragment, which load does not change:
-//   valgrind --tool=callgrind --toggle-collect='texsim::TextureUnit::process*' \
-//     build/testbench/bench_texture_unit --benchmark_filter='BM_Bilinear_Timing$' \
+// session, or count instructions per fragment, which load does not change (one command):
+//   valgrind --tool=callgrind --toggle-collect='texsim::TextureUnit::process*'
+//     build/testbench/bench_texture_unit --benchmark_filter='BM_Bilinear_Timing$'
 //     --benchmark_min_time=0.000001
 // (one iteration; the collected total divided by the `fragments` counter).
 #include <benchmark/benchmark.h>
