@@ -124,11 +124,11 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     }
     const Rgba c = unit.process(g, material);
     const Texture& tex = textures[static_cast<int>(g.tex)];
-    const auto& fc = mats[static_cast<size_t>(material)].filter;
+    const MaterialSetup& ms = mats[static_cast<size_t>(material)];
     const glm::dvec4 r = (use_scene && !maps.empty())
-                         ? ground_truth_exact(tex, fc.address_u, fc.address_v, maps[f.prim],
+                         ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), maps[f.prim],
                                               static_cast<int>(f.x), static_cast<int>(f.y), n)
-                         : ground_truth_footprint(tex, fc.address_u, fc.address_v, g, n);
+                         : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, n);
     if (f.x >= (1u << 14) || f.y >= (1u << 14)) {
       throw InputError(opt.trace, "record " + std::to_string(index) + ": pixel (" + std::to_string(f.x) +
                                       ", " + std::to_string(f.y) + ") is outside the 16384x16384 image limit");

@@ -32,6 +32,7 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
   ConfigReader r(effects, source, "materials." + name);
   m.filter = TexelAddressGen::Config::from_toml(r.sub("filter"));
   m.lod = LodUnit::Config::from_toml(r.sub("lod"));
+  m.footprint = FootprintFilter::from_material(r);
   return m;
 }
 
@@ -46,6 +47,7 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     p.lod = LodUnit(m.lod);
     p.addr = TexelAddressGen(m.filter);
     p.texture = m.texture;
+    p.footprint = m.footprint.get();
     const uint32_t tpc = setup.cache.texels_per_cycle;
     for (int n = 1; n <= 16; ++n) {
       FilterTaps t;
@@ -59,7 +61,8 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     // One stage per hardware unit; a unit serving several materials is sized for the slowest.
     TimingSpec lod_t{}, addr_t{};
     for (const auto& p : paths_) {
-      const TimingSpec l = p.lod.timing(tech_), a = p.addr.timing(tech_);
+      const TimingSpec l = p.lod.timing(tech_);
+      const TimingSpec a = p.footprint ? p.footprint->timing(tech_) : p.addr.timing(tech_);
       lod_t.latency = std::max(lod_t.latency, l.latency);
       addr_t.latency = std::max(addr_t.latency, a.latency);
     }
@@ -146,9 +149,59 @@ uint32_t TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, 
   return static_cast<uint32_t>(ready - hit_ready);
 }
 
+void TextureUnit::count_frame(const Fragment& f) {
+  if (frames_.empty() || frames_.back().frame != f.frame) {
+    if (!frames_.empty() && pipe_) frames_.back().cycles = pipe_->cycles();
+    frames_.push_back({f.frame, 0, 0});
+  }
+  ++frames_.back().fragments;
+  ++fragments_;
+}
+
+uint32_t TextureUnit::cache_lookups(const std::vector<TexelRef>& texels, const Texture& tex,
+                                    uint64_t start) {
+  lines_.clear();
+  for (const TexelRef& t : texels) lines_.push_back(cache_.line_of(tex.address(t.level, t.x, t.y)));
+  std::sort(lines_.begin(), lines_.end());
+  lines_.erase(std::unique(lines_.begin(), lines_.end()), lines_.end());
+  const uint64_t hit_ready = start + setup_.cache.hit_latency;
+  uint64_t ready = hit_ready;
+  for (uint64_t line : lines_) {
+    if (!cache_.access_line(line)) ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
+  }
+  cache_.count_texels(texels.size());
+  return static_cast<uint32_t>(ready - hit_ready);
+}
+
+// A footprint filter is one block that scans, weights and accumulates: it occupies the address
+// stage for its issue cycles, its texels go through the cache, and the blend stage normalises.
+Rgba TextureUnit::process_footprint(const Fragment& f, Path& p, const Texture& tex) {
+  fetched_.clear();
+  const FilterOutput out = p.footprint->filter(tex, f, &fetched_, p.footprint_ops);
+  ++p.fragments;
+  p.footprint_texels += fetched_.size();
+  count_frame(f);
+  if (pipe_) {
+    const auto n = static_cast<uint32_t>(fetched_.size());
+    const uint32_t tpc = setup_.cache.texels_per_cycle;
+    const uint32_t scan = p.footprint->issue_cycles(out.stats);
+    pipe_->issue_with(0, [&](int s, uint64_t start) {
+      ItemCost c;
+      if (s == kAddress) c.extra_ii = scan > 0 ? scan - 1 : 0;
+      if (s == kCache) {
+        c.extra_ii = n > 0 ? (n + tpc - 1) / tpc - 1 : 0;
+        c.extra_latency = cache_lookups(fetched_, tex, start);
+      }
+      return c;
+    });
+  }
+  return out.colour;
+}
+
 Rgba TextureUnit::process(const Fragment& f, int material) {
   Path& p = paths_[static_cast<size_t>(material)];
   const Texture& tex = textures_[p.texture];
+  if (p.footprint) return process_footprint(f, p, tex);
   const LodResult lod = p.lod.eval(f, tex.width(0), tex.height(0));
   p.addr.taps(tex, f.u, f.v, lod, taps_);
   const Rgba colour = blend_.blend(taps_, tex);
@@ -156,12 +209,7 @@ Rgba TextureUnit::process(const Fragment& f, int material) {
   ++p.fragments;
   p.aniso_fragments += probes > 1;
   p.probes += probes;
-  if (frames_.empty() || frames_.back().frame != f.frame) {
-    if (!frames_.empty() && pipe_) frames_.back().cycles = pipe_->cycles();
-    frames_.push_back({f.frame, 0, 0});
-  }
-  ++frames_.back().fragments;
-  ++fragments_;
+  count_frame(f);
   if (pipe_) {
     // Per-stage costs: the address stage issues one probe per cycle, cache and blend take
     // their texels in groups, and a miss in the cache stage waits for DRAM.
@@ -194,6 +242,11 @@ std::vector<BlockUse> TextureUnit::blocks() const {
   for (size_t i = 0; i < paths_.size(); ++i) {
     const Path& p = paths_[i];
     const std::string& m = mats_[i].name;
+    if (p.footprint) {
+      add(p.footprint->name(), p.footprint->arithmetic(), p.footprint->timing(tech_), p.footprint_ops, m);
+      cache_ops.mem += p.footprint_texels;
+      continue;
+    }
     // Per-fragment and per-probe counts times the fragments and probes seen (see Path).
     const uint64_t iso = p.fragments - p.aniso_fragments;  // one probe each
     const uint64_t aniso_probes = p.probes - iso;

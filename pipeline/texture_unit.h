@@ -18,6 +18,7 @@
 #include "blocks/texture_cache.h"
 #include "blocks/texture_memory.h"
 #include "pipeline/clocked_pipeline.h"
+#include "pipeline/footprint_filter.h"
 #include "traces/fragment.h"
 
 namespace texsim {
@@ -27,6 +28,11 @@ struct MaterialSetup {
   int texture = 0;
   LodUnit::Config lod;
   TexelAddressGen::Config filter;
+  // A footprint filter (EWA, multi-probe, Feline, SPAF) replaces the LOD → address → blend
+  // path for this material when set; null for the classic path.
+  std::shared_ptr<const FootprintFilter> footprint;
+  AddressMode address_u() const { return footprint ? footprint->address_u() : filter.address_u; }
+  AddressMode address_v() const { return footprint ? footprint->address_v() : filter.address_v; }
 };
 
 struct PipelineSetup {
@@ -95,11 +101,17 @@ class TextureUnit {
     // Extra issue cycles in the blend and cache stages for N = 1..16 probes (N × taps per
     // probe taps at taps_per_cycle and texels_per_cycle): a table instead of two divisions.
     uint32_t blend_extra_ii[17] = {};
+    const FootprintFilter* footprint = nullptr;  // set: this path is one footprint filter block
+    OpCounts footprint_ops;                      // counted per call (data-dependent)
+    uint64_t footprint_texels = 0;
     uint32_t cache_extra_ii[17] = {};
   };
   // Tag look-ups of the fragment's distinct lines at cycle `start`; returns the cycles the
   // cache stage waits beyond its hit latency (DRAM refills).
   uint32_t cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start);
+  uint32_t cache_lookups(const std::vector<TexelRef>& texels, const Texture& tex, uint64_t start);
+  Rgba process_footprint(const Fragment& f, Path& p, const Texture& tex);
+  void count_frame(const Fragment& f);
 
   TextureSet& textures_;
   std::vector<MaterialSetup> mats_;
@@ -112,6 +124,8 @@ class TextureUnit {
   DramModel dram_;
   std::unique_ptr<ClockedPipeline> pipe_;
   FilterTaps taps_;
+  std::vector<TexelRef> fetched_;  // texels of the current footprint-filter fragment
+  std::vector<uint64_t> lines_;
   uint64_t fragments_ = 0;
   mutable std::vector<FrameStats> frames_;
 };

@@ -119,6 +119,31 @@ TEST_F(Cli, PhotoSceneWithAnisotropyAndMortonLayout) {
   EXPECT_GT(num(j, "accuracy.psnr_db"), 15.0);
 }
 
+TEST_F(Cli, FootprintFiltersPerMaterial) {
+  // Each material instantiates only its own filter block; the report names who uses what.
+  const std::string out = path("out");
+  const Result r = sh(std::string("run ") + TEXSIM_SOURCE_DIR + "/scenes/footprint_filters.toml --no-progress --out " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json j = load_json(out + "/report.json");
+  for (const char* b : {"filter.ewa", "filter.feline", "filter.spaf", "filter.trilinear"}) {
+    const Json* e = find(j, std::string("blocks.") + b);
+    ASSERT_NE(e, nullptr) << b;
+    EXPECT_EQ((*e)["materials"].size(), 1u) << b;
+    EXPECT_GT(num(j, std::string("blocks.") + b + ".ops.mul"), 0) << b;
+  }
+  EXPECT_EQ(find(j, "blocks.filter.multi_probe"), nullptr);  // no material names it
+  EXPECT_EQ(find(j, "blocks.lod")->at("materials").size(), 1u);  // only the trilinear one
+  // EWA scans many texels per fragment: far more cycles per fragment than trilinear alone.
+  EXPECT_GT(num(j, "cycles_per_fragment"), 4.0);
+  // Two footprint filters in one material are rejected with the place.
+  write("two.toml", "[textures.t]\nsource = \"procedural:checker\"\n[materials.m]\ntexture = \"t\"\n"
+                    "ewa = {}\nspaf = {}\n[[planes]]\nmaterial = \"m\"\n");
+  const Result bad = sh("run " + path("two.toml") + " --out " + path("out2"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("two.toml:6:"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("one footprint filter"), std::string::npos) << bad.out;
+}
+
 TEST_F(Cli, FunctionalModeHasOpsButNoCycles) {
   const std::string out = path("out");
   const Result r = sh("run --functional --no-progress --out " + out);
