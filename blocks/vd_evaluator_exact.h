@@ -11,6 +11,7 @@
 #include "blocks/op_counts.h"
 #include "blocks/tech_table.h"
 #include "blocks/timing_spec.h"
+#include "blocks/vd_evaluator_common.h"
 #include "blocks/vd_evaluator_params.h"
 
 namespace texsim {
@@ -19,11 +20,7 @@ class VdEvaluatorExact {
  public:
   static constexpr VdEvaluatorKind kKind = VdEvaluatorKind::Exact;
 
-  struct Config {
-    uint32_t lanes = 1;  // parallel copies of the datapath
-    // Keys: lanes.
-    static Config from_toml(const ConfigReader& r);
-  };
+  using Config = VdEvaluatorConfig;
 
   VdEvaluatorExact() = default;
   explicit VdEvaluatorExact(const Config& c) : cfg_(c) {}
@@ -58,7 +55,9 @@ class VdEvaluatorExact {
     return o;
   }
   static constexpr OpCounts critical_path() { return ops(); }
-  TimingSpec timing(const TechTable& tech) const;
+  TimingSpec timing(const TechTable& tech) const {
+    return vd_pipelined_timing(tech, ops(), critical_path(), cfg_.lanes);
+  }
 
  private:
   Config cfg_;

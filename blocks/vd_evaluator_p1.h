@@ -8,6 +8,7 @@
 #include "blocks/op_counts.h"
 #include "blocks/tech_table.h"
 #include "blocks/timing_spec.h"
+#include "blocks/vd_evaluator_common.h"
 #include "blocks/vd_evaluator_params.h"
 
 namespace texsim {
@@ -16,11 +17,7 @@ class VdEvaluatorP1 {
  public:
   static constexpr VdEvaluatorKind kKind = VdEvaluatorKind::P1;
 
-  struct Config {
-    uint32_t lanes = 1;  // parallel copies of the datapath
-    // Keys: lanes.
-    static Config from_toml(const ConfigReader& r);
-  };
+  using Config = VdEvaluatorConfig;
 
   VdEvaluatorP1() = default;
   explicit VdEvaluatorP1(const Config& c) : cfg_(c) {}
@@ -56,7 +53,9 @@ class VdEvaluatorP1 {
     o.cmp = 2;
     return o;
   }
-  TimingSpec timing(const TechTable& tech) const;
+  TimingSpec timing(const TechTable& tech) const {
+    return vd_pipelined_timing(tech, ops(), critical_path(), cfg_.lanes);
+  }
 
  private:
   Config cfg_;

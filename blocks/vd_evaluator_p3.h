@@ -9,6 +9,7 @@
 #include "blocks/op_counts.h"
 #include "blocks/tech_table.h"
 #include "blocks/timing_spec.h"
+#include "blocks/vd_evaluator_common.h"
 #include "blocks/vd_evaluator_params.h"
 
 namespace texsim {
@@ -17,11 +18,7 @@ class VdEvaluatorP3 {
  public:
   static constexpr VdEvaluatorKind kKind = VdEvaluatorKind::P3;
 
-  struct Config {
-    uint32_t lanes = 1;  // parallel copies of the datapath
-    // Keys: lanes.
-    static Config from_toml(const ConfigReader& r);
-  };
+  using Config = VdEvaluatorConfig;
 
   VdEvaluatorP3() = default;
   explicit VdEvaluatorP3(const Config& c) : cfg_(c) {}
@@ -50,7 +47,9 @@ class VdEvaluatorP3 {
   }
   static constexpr OpCounts critical_path() { return ops(); }
   // Fully pipelined: one evaluation per cycle per lane.
-  TimingSpec timing(const TechTable& tech) const;
+  TimingSpec timing(const TechTable& tech) const {
+    return vd_pipelined_timing(tech, ops(), critical_path(), cfg_.lanes);
+  }
 
  private:
   Config cfg_;
