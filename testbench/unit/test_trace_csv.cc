@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "blocks/input_error.h"
+#include "testbench/lib/temp_dir.h"
 #include "traces/trace_csv.h"
 #include "traces/trace_file.h"
 
@@ -22,26 +23,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class TempDir {
- public:
-  TempDir() {
-    static int n = 0;
-    path_ = fs::temp_directory_path() /
-            ("texsim_trace_csv_" + std::to_string(::getpid()) + "_" + std::to_string(n++));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  size_t entries() const {
-    return static_cast<size_t>(std::distance(fs::directory_iterator(path_), fs::directory_iterator()));
-  }
-
- private:
-  fs::path path_;
-};
 
 void spit(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -128,7 +109,7 @@ TraceHeader header(bool lod) {
 TEST(TraceCsv, ExactRoundTripWithAndWithoutLodBias) {
   for (bool lod : {true, false}) {
     SCOPED_TRACE(lod ? "with lod_bias" : "without lod_bias");
-    TempDir dir;
+    TempDir dir("texsim_trace_csv");
     const std::string path = dir.file("t.csv");
     const auto frags = random_fragments(2000, lod, 21);
     write_trace(path, header(lod), frags);
@@ -148,7 +129,7 @@ TEST(TraceCsv, ExactRoundTripWithAndWithoutLodBias) {
 }
 
 TEST(TraceCsv, StreamsInChunks) {
-  TempDir dir;
+  TempDir dir("texsim_trace_csv");
   const std::string path = dir.file("long.csv");
   const auto frags = random_fragments(10000, false, 22);
   write_trace(path, header(false), frags);
@@ -166,7 +147,7 @@ TEST(TraceCsv, StreamsInChunks) {
 }
 
 TEST(TraceCsv, CsvToBinaryAndBackIsIdentical) {
-  TempDir dir;
+  TempDir dir("texsim_trace_csv");
   const auto frags = random_fragments(777, true, 23);
   const std::string a = dir.file("a.csv"), b = dir.file("b.trc"), c = dir.file("c.csv");
   write_trace(a, header(true), frags);
@@ -178,7 +159,7 @@ TEST(TraceCsv, CsvToBinaryAndBackIsIdentical) {
 TEST(TraceCsv, HandWrittenLiberties) {
   // Comments anywhere, blank lines, CRLF, spaces around values, a leading '+', columns in any
   // order, an unknown column (skipped), quoted directive values, no newline at the end.
-  TempDir dir;
+  TempDir dir("texsim_trace_csv");
   const std::string path = dir.file("hand.csv");
   spit(path,
        "# a comment\r\n"
@@ -218,7 +199,7 @@ TEST(TraceCsv, HandWrittenLiberties) {
 
 TEST(TraceCsv, OpenedByExtensionOnlyWhenNotBinary) {
   // A binary trace named .csv is still binary (content wins); a CSV named .trc is bad magic.
-  TempDir dir;
+  TempDir dir("texsim_trace_csv");
   const std::string bin_as_csv = dir.file("really_binary.csv.trc");
   write_trace(bin_as_csv, header(false), random_fragments(3, false, 24));
   const std::string renamed = dir.file("really_binary.csv");
@@ -238,7 +219,7 @@ const char* kHead =
 
 void expect_csv_error(const std::string& body, const std::string& where, const std::string& what,
                       const std::string& head = kHead) {
-  TempDir dir;
+  TempDir dir("texsim_trace_csv");
   const std::string path = dir.file("bad.csv");
   spit(path, head + body);
   SCOPED_TRACE(body);
@@ -280,7 +261,7 @@ TEST(TraceCsvErrors, ColumnHeaderProblems) {
   expect_csv_error("", "2:44", "column 'dudx' appears twice",
                    "# texture 0 t p 8 8\nframe,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy,dudx\n");
   expect_csv_error("", "1:7", "empty column name", "frame,,prim\n");
-  TempDir dir;
+  TempDir dir("texsim_trace_csv");
   const std::string path = dir.file("only_comments.csv");
   spit(path, "# texture 0 t p 8 8\n# nothing else\n\n");
   expect_input_error([&] { TraceReader r(path); }, {path, "no column header line"});
@@ -323,7 +304,7 @@ TEST(TraceCsvErrors, LineNumbersStayRightAcrossReadBuffers) {
 // ---- writer ---------------------------------------------------------------------------------
 
 TEST(TraceCsvWriter, FailedWriteLeavesNoFile) {
-  TempDir dir;
+  TempDir dir("texsim_trace_csv");
   const std::string path = dir.file("out.csv");
   {
     TraceCsvWriter w(path, header(true));

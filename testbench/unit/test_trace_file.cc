@@ -19,6 +19,7 @@
 #include <zlib.h>
 
 #include "blocks/input_error.h"
+#include "testbench/lib/temp_dir.h"
 #include "traces/trace_file.h"
 
 namespace texsim {
@@ -28,26 +29,6 @@ namespace fs = std::filesystem;
 
 // ---- helpers ---------------------------------------------------------------------------------
 
-class TempDir {
- public:
-  TempDir() {
-    static int n = 0;
-    path_ = fs::temp_directory_path() /
-            ("texsim_trace_file_" + std::to_string(::getpid()) + "_" + std::to_string(n++));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  size_t entries() const {
-    return static_cast<size_t>(std::distance(fs::directory_iterator(path_), fs::directory_iterator()));
-  }
-
- private:
-  fs::path path_;
-};
 
 bool same_bits(double a, double b) { return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b); }
 bool same_bits(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b); }
@@ -281,7 +262,7 @@ std::vector<unsigned char> build_file(const FileSpec& s, size_t chunks, size_t p
 // ---- round trips -------------------------------------------------------------------------------
 
 TEST(TraceFile, RoundTripWithLodBiasManyChunks) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   const std::string path = dir.file("many.trc");
   const TraceHeader h = sample_header(true);
   const auto frags = random_fragments(10007, true, {0, 7, 1000000}, 1);
@@ -319,7 +300,7 @@ TEST(TraceFile, RoundTripWithLodBiasManyChunks) {
 }
 
 TEST(TraceFile, RoundTripWithoutLodBias) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   const std::string path = dir.file("nolod.trc");
   auto frags = random_fragments(5000, false, {0, 7}, 2);
   write_trace(path, sample_header(false), frags);
@@ -335,7 +316,7 @@ TEST(TraceFile, RoundTripWithoutLodBias) {
 }
 
 TEST(TraceFile, EmptyTraceRoundTrips) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   const std::string path = dir.file("empty.trc");
   write_trace(path, sample_header(true), {});
   TraceReader r(path);
@@ -347,7 +328,7 @@ TEST(TraceFile, EmptyTraceRoundTrips) {
 
 TEST(TraceFile, WriterOutputMatchesTheDocumentedBytes) {
   // The builder above encodes FORMAT.md independently; the writer must produce the same bytes.
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   FileSpec s;
   s.records_per_chunk = 5;
   std::vector<Fragment> frags;
@@ -363,7 +344,7 @@ TEST(TraceFile, WriterOutputMatchesTheDocumentedBytes) {
 }
 
 TEST(TraceFile, UnknownExtraFieldsAreSkippedAndOrderIsFree) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   FileSpec s;
   // Fields in another order with unknown ones ("depth" f32, "normal_x" f64) in between.
   s.fields = {{"depth", 9, 0},   {"dvdy", 10, 4},  {"tex", 3, 12},  {"u", 10, 16},     {"v", 10, 24},
@@ -394,7 +375,7 @@ size_t peak_heap_while_streaming(const std::string& path, uint64_t* records) {
 }
 
 TEST(TraceFile, StreamingMemoryDoesNotDependOnLength) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   const TraceHeader h = sample_header(true);
   const std::string small = dir.file("small.trc"), large = dir.file("large.trc");
   for (const auto& [path, n] : {std::pair{small, size_t{20000}}, std::pair{large, size_t{400000}}}) {
@@ -421,19 +402,19 @@ TEST(TraceFile, StreamingMemoryDoesNotDependOnLength) {
 // ---- bad input: files and headers --------------------------------------------------------------
 
 TEST(TraceFileErrors, MissingFile) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   const std::string path = dir.file("nope.trc");
   expect_input_error([&] { TraceReader r(path); }, {path, "no such file"});
 }
 
 TEST(TraceFileErrors, Directory) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   const std::string path = dir.file("");
   expect_input_error([&] { TraceReader r(path); }, {path, "is a directory"});
 }
 
 TEST(TraceFileErrors, BadMagic) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   const std::string path = dir.file("text.trc");
   spit(path, std::vector<unsigned char>{'h', 'e', 'l', 'l', 'o', ' ', 'w', 'o', 'r', 'l', 'd', '\n'});
   expect_input_error([&] { TraceReader r(path); }, {path, "header", "bad magic"});
@@ -444,7 +425,7 @@ TEST(TraceFileErrors, BadMagic) {
 
 // Writes the header of `s` plus a valid end marker and expects the reader to reject it.
 void expect_header_error(const FileSpec& s, const std::vector<std::string>& parts) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   const std::string path = dir.file("bad_header.trc");
   auto bytes = build_header(s);
   const auto t = build_trailer(0, 0);
@@ -498,7 +479,7 @@ TEST(TraceFileErrors, AbsurdHeaderSizeDoesNotAllocate) {
   s.header_size_override = 100;  // smaller than its own field table
   expect_header_error(s, {"header size 100"});
   // A header size within limits but past the end of the file: truncated, not allocated blindly.
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   const std::string path = dir.file("short.trc");
   FileSpec big;
   big.header_size_override = 8u << 20;
@@ -521,7 +502,7 @@ TEST(TraceFileErrors, TextureSizes) {
 }
 
 TEST(TraceFileErrors, HeaderCrcMismatch) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   const std::string path = dir.file("crc_header.trc");
   auto bytes = build_file(FileSpec{}, 1, 3);
   bytes[32 + 12 * 24 + 20 + 2] ^= 0x20;  // a letter of the first texture's name
@@ -555,7 +536,7 @@ TEST(TraceFileErrors, LayoutProblems) {
 
 TEST(TraceFileErrors, TruncatedAtEveryByte) {
   // Cut a valid 3-chunk file at every length: the reader must report it, never crash or hang.
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   FileSpec s;
   s.records_per_chunk = 4;
   const auto bytes = build_file(s, 3, 4);
@@ -570,7 +551,7 @@ TEST(TraceFileErrors, TruncatedAtEveryByte) {
 }
 
 TEST(TraceFileErrors, MissingEndMarkerNamesTheChunk) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   FileSpec s;
   s.records_per_chunk = 4;
   auto bytes = build_file(s, 3, 4);
@@ -581,7 +562,7 @@ TEST(TraceFileErrors, MissingEndMarkerNamesTheChunk) {
 }
 
 TEST(TraceFileErrors, ChunkCrcMismatch) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   FileSpec s;
   s.records_per_chunk = 4;
   auto bytes = build_file(s, 3, 4);
@@ -596,7 +577,7 @@ TEST(TraceFileErrors, ChunkCrcMismatch) {
 }
 
 TEST(TraceFileErrors, ChunkCountsAndTags) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   FileSpec s;
   s.records_per_chunk = 4;
   const auto good = build_file(s, 2, 4);
@@ -621,7 +602,7 @@ TEST(TraceFileErrors, ChunkCountsAndTags) {
 }
 
 TEST(TraceFileErrors, NonFiniteValuesNameTheRecord) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   FileSpec s;
   s.records_per_chunk = 4;
   const std::string path = dir.file("nan.trc");
@@ -667,7 +648,7 @@ TEST(TraceFileErrors, NonFiniteValuesNameTheRecord) {
 }
 
 TEST(TraceFileErrors, TextureIdNotInTable) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   FileSpec s;
   s.records_per_chunk = 8;
   auto frags = random_fragments(8, true, {0, 3}, 7);
@@ -684,7 +665,7 @@ TEST(TraceFileErrors, TextureIdNotInTable) {
 }
 
 TEST(TraceFileErrors, EndMarkerProblems) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   FileSpec s;
   s.records_per_chunk = 4;
   const std::string path = dir.file("end.trc");
@@ -710,7 +691,7 @@ TEST(TraceFileErrors, EndMarkerProblems) {
 
 TEST(TraceFileErrors, RandomCorruptionNeverCrashes) {
   // Flip random bytes of a valid file: every outcome is a clean read or an InputError.
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   FileSpec s;
   s.records_per_chunk = 8;
   const auto good = build_file(s, 4, 8);
@@ -742,7 +723,7 @@ TEST(TraceFileErrors, RandomCorruptionNeverCrashes) {
 // ---- writer failures -------------------------------------------------------------------------
 
 TEST(TraceWriterFailure, BadRecordLeavesNoFile) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   const std::string path = dir.file("out.trc");
   {
     TraceWriter w(path, sample_header(true), 16);
@@ -760,7 +741,7 @@ TEST(TraceWriterFailure, BadRecordLeavesNoFile) {
 }
 
 TEST(TraceWriterFailure, FailedWriteKeepsThePreviousFile) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   const std::string path = dir.file("keep.trc");
   write_trace(path, sample_header(false), random_fragments(10, false, {0}, 9));
   const auto before = slurp(path);
@@ -778,7 +759,7 @@ TEST(TraceWriterFailure, FailedWriteKeepsThePreviousFile) {
 }
 
 TEST(TraceWriterFailure, UnwritableDestinations) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   const std::string nodir = dir.file("missing/dir/out.trc");
   expect_input_error([&] { TraceWriter w(nodir, sample_header(true)); }, {nodir, "cannot open for writing"});
   EXPECT_FALSE(fs::exists(nodir));
@@ -795,7 +776,7 @@ TEST(TraceWriterFailure, UnwritableDestinations) {
 }
 
 TEST(TraceWriterFailure, BadHeaderOrChunkSizeIsRejectedBeforeWriting) {
-  TempDir dir;
+  TempDir dir("texsim_trace_file");
   const std::string path = dir.file("h.trc");
   TraceHeader h = sample_header(true);
   h.textures[0].height = 0;

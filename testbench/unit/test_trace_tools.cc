@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "blocks/input_error.h"
+#include "testbench/lib/temp_dir.h"
 #include "traces/trace_file.h"
 #include "traces/trace_tools.h"
 
@@ -21,26 +22,6 @@ namespace fs = std::filesystem;
 
 const std::string kSamples = std::string(TEXSIM_SOURCE_DIR) + "/traces/samples/";
 
-class TempDir {
- public:
-  TempDir() {
-    static int n = 0;
-    path_ = fs::temp_directory_path() /
-            ("texsim_trace_tools_" + std::to_string(::getpid()) + "_" + std::to_string(n++));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  size_t entries() const {
-    return static_cast<size_t>(std::distance(fs::directory_iterator(path_), fs::directory_iterator()));
-  }
-
- private:
-  fs::path path_;
-};
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -92,7 +73,7 @@ TEST(TraceTools, SampleSummaryMatchesTheHandWrittenFile) {
 
 TEST(TraceTools, BinarySampleIsTheConvertedCsvSample) {
   // Keeps traces/samples/basic.trc in step with basic.csv and with the writer.
-  TempDir dir;
+  TempDir dir("texsim_trace_tools");
   const std::string out = dir.file("basic.trc");
   trace_convert(kSamples + "basic.csv", out);
   EXPECT_EQ(slurp(out), slurp(kSamples + "basic.trc"));
@@ -116,7 +97,7 @@ TEST(TraceTools, InfoPrintsHeaderTexturesCountsAndRanges) {
 }
 
 TEST(TraceTools, ConvertRoundTripsBytesAndDropsUnknownColumns) {
-  TempDir dir;
+  TempDir dir("texsim_trace_tools");
   const std::string csv = dir.file("in.csv"), bin = dir.file("mid.trc"), csv2 = dir.file("out.csv"),
                     bin2 = dir.file("again.trc");
   spit(csv,
@@ -139,7 +120,7 @@ TEST(TraceTools, ConvertRoundTripsBytesAndDropsUnknownColumns) {
 }
 
 TEST(TraceTools, FailedConvertLeavesNoOutput) {
-  TempDir dir;
+  TempDir dir("texsim_trace_tools");
   const std::string csv = dir.file("bad.csv"), out = dir.file("out.trc");
   std::string text = "# texture 0 a p 8 8\nframe,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy\n";
   for (int i = 0; i < 5000; ++i) text += "0,0,0,0,0,0.5,0.5,0,0,0,0\n";
@@ -153,7 +134,7 @@ TEST(TraceTools, FailedConvertLeavesNoOutput) {
 }
 
 TEST(TraceTools, InfoOnBadInputThrowsNamingTheFile) {
-  TempDir dir;
+  TempDir dir("texsim_trace_tools");
   const std::string missing = dir.file("missing.trc");
   std::ostringstream out;
   EXPECT_NE(message_of([&] { trace_info(missing, out); }).find(missing + ": cannot open trace"),
@@ -161,7 +142,7 @@ TEST(TraceTools, InfoOnBadInputThrowsNamingTheFile) {
 }
 
 TEST(TraceTools, FrameListIsBounded) {
-  TempDir dir;
+  TempDir dir("texsim_trace_tools");
   const std::string path = dir.file("frames.trc");
   TraceHeader h;
   h.textures = {{0, "t", "p", 8, 8}};
