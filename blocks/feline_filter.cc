@@ -154,12 +154,7 @@ OpCounts FelineFilter::per_probe_ops() const {
     o.mul += 1;
     o.lut += 1;
   }
-  o += addr_.ops_per_probe(false);
-  OpCounts blend;
-  blend.mem = 8;
-  blend.mul = 32;
-  blend.add = 32;
-  o += blend + probe_blend_ops();
+  o += addr_.ops_per_probe(false) + trilinear_probe_blend_ops();
   return o;
 }
 

@@ -1,5 +1,7 @@
 #include "blocks/multi_probe_filter.h"
 
+#include "blocks/texel_blend.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -11,6 +13,8 @@ OpCounts probe_blend_ops() {
   o.add = 4 + 1;  // accumulate RGBA, Σw
   return o;
 }
+
+OpCounts trilinear_probe_blend_ops() { return TexelBlend::ops_per_tap() * 8 + probe_blend_ops(); }
 
 OpCounts probe_normalise_ops() {
   OpCounts o;
@@ -40,11 +44,7 @@ FilterOutput run_probes(const TexelAddressGen& addr, const Texture& tex, const P
       if (fetched) fetched->push_back({tp.level, tp.x, tp.y});
       finest = std::min(finest, tp.level);
     }
-    OpCounts blend;  // TexelBlend: one read, 4 mul, 4 add per tap
-    blend.mem = 1;
-    blend.mul = 4;
-    blend.add = 4;
-    ops += blend * static_cast<uint64_t>(taps.count);
+    ops += TexelBlend::ops_per_tap() * static_cast<uint64_t>(taps.count);
     ops += probe_blend_ops();
     out.stats.texels += static_cast<uint32_t>(taps.count);
     sum += probes.w[ku] * c;
@@ -194,12 +194,7 @@ OpCounts MultiProbeFilter::per_probe_ops() const {
   o.mul = 3;
   o.add = 2;
   o.lut = 1;
-  o += addr_.ops_per_probe(false);
-  OpCounts blend;
-  blend.mem = 8;
-  blend.mul = 32;
-  blend.add = 32;
-  o += blend + probe_blend_ops();
+  o += addr_.ops_per_probe(false) + trilinear_probe_blend_ops();
   return o;
 }
 

@@ -39,6 +39,8 @@ FilterOutput run_probes(const TexelAddressGen& addr, const Texture& tex, const P
 // Operations of run_probes per probe besides TexelAddressGen's (blend 8 taps, weighting) and
 // per fragment (normalisation).
 OpCounts probe_blend_ops();
+// A trilinear probe's blend (8 taps through TexelBlend) plus its weighting.
+OpCounts trilinear_probe_blend_ops();
 OpCounts probe_normalise_ops();
 
 class MultiProbeFilter {
