@@ -528,45 +528,33 @@ std::string study_coords_markdown(const StudyCoordsOptions& o, const StudyCoords
        << c->triangles << " | " << list(c->cpp_spatial) << " | " << list(c->cpp_shared) << " |\n";
   }
 
-  // Accuracy.
-  md << "\n## Coordinate methods: maximum error in texels\n\n(rej = pixels the block "
-        "rejected: denominator below its limit or a result out of the format's range.)\n\n"
-        "| method | format |";
-  for (double t : o.tilts) md << " " << tilt_name(t) << "° |";
-  md << " mean at " << tilt_name(o.tilts.empty() ? 0 : o.tilts.back()) << "° |\n|---|---|";
-  for (size_t i = 0; i <= o.tilts.size(); ++i) md << "---:|";
-  md << "\n";
-  for (const auto& m : cm) {
-    for (const auto& f : fm) {
-      md << "| " << m << " | " << f << " |";
-      for (double t : o.tilts) {
-        const CoordStudyRow* c = find_coord(r, t, m, f);
-        md << " " << (c ? err_cell(c->max_err, c->rejected, c->pixels) : "—") << " |";
+  // Accuracy: the same table in texels and in pixels.
+  auto error_table = [&](const char* heading, double CoordStudyRow::*max_err,
+                         double CoordStudyRow::*mean_err) {
+    md << heading << "| method | format |";
+    for (double t : o.tilts) md << " " << tilt_name(t) << "° |";
+    md << " mean at " << tilt_name(o.tilts.empty() ? 0 : o.tilts.back()) << "° |\n|---|---|";
+    for (size_t i = 0; i <= o.tilts.size(); ++i) md << "---:|";
+    md << "\n";
+    for (const auto& m : cm) {
+      for (const auto& f : fm) {
+        md << "| " << m << " | " << f << " |";
+        for (double t : o.tilts) {
+          const CoordStudyRow* c = find_coord(r, t, m, f);
+          md << " " << (c ? err_cell(c->*max_err, c->rejected, c->pixels) : "—") << " |";
+        }
+        const CoordStudyRow* last = o.tilts.empty() ? nullptr : find_coord(r, o.tilts.back(), m, f);
+        md << " " << (last ? fmt(last->*mean_err) : "—") << " |\n";
       }
-      const CoordStudyRow* last = o.tilts.empty() ? nullptr : find_coord(r, o.tilts.back(), m, f);
-      md << " " << (last ? fmt(last->mean_err) : "—") << " |\n";
     }
-  }
-
-  md << "\n## Coordinate methods: maximum error in pixels (error ÷ texels per pixel)\n\n"
-        "The same errors divided by the pixel's footprint size: how far the sample point "
-        "moves, in pixels. Below 1/256 a texture address of 8 sub-texel bits is exact.\n\n"
-        "| method | format |";
-  for (double t : o.tilts) md << " " << tilt_name(t) << "° |";
-  md << " mean at " << tilt_name(o.tilts.empty() ? 0 : o.tilts.back()) << "° |\n|---|---|";
-  for (size_t i = 0; i <= o.tilts.size(); ++i) md << "---:|";
-  md << "\n";
-  for (const auto& m : cm) {
-    for (const auto& f : fm) {
-      md << "| " << m << " | " << f << " |";
-      for (double t : o.tilts) {
-        const CoordStudyRow* c = find_coord(r, t, m, f);
-        md << " " << (c ? err_cell(c->max_err_px, c->rejected, c->pixels) : "—") << " |";
-      }
-      const CoordStudyRow* last = o.tilts.empty() ? nullptr : find_coord(r, o.tilts.back(), m, f);
-      md << " " << (last ? fmt(last->mean_err_px) : "—") << " |\n";
-    }
-  }
+  };
+  error_table("\n## Coordinate methods: maximum error in texels\n\n(rej = pixels the block "
+              "rejected: denominator below its limit or a result out of the format's range.)\n\n",
+              &CoordStudyRow::max_err, &CoordStudyRow::mean_err);
+  error_table("\n## Coordinate methods: maximum error in pixels (error ÷ texels per pixel)\n\n"
+              "The same errors divided by the pixel's footprint size: how far the sample point "
+              "moves, in pixels. Below 1/256 a texture address of 8 sub-texel bits is exact.\n\n",
+              &CoordStudyRow::max_err_px, &CoordStudyRow::mean_err_px);
 
   // Derivatives.
   md << "\n## Derivative blocks: maximum relative error against the exact derivatives\n\n"
