@@ -10,6 +10,7 @@
 #include "pipeline/atomic_file.h"
 #include "pipeline/fragment_generator.h"
 #include "pipeline/plane_projection.h"
+#include "pipeline/procedural_texture.h"
 #include "pipeline/run_report.h"
 #include "pipeline/scene.h"
 #include "pipeline/texture_loader.h"
@@ -197,7 +198,7 @@ uint64_t generate_scene_trace(const std::string& scene_path, const std::string& 
   for (size_t i = 0; i < scene.textures.size(); ++i) {
     const Texture t = load_texture(scene.textures[i].source, scene.base_dir);
     std::string src = scene.textures[i].source;
-    if (!src.starts_with("procedural:")) {
+    if (!is_procedural_source(src)) {
       // Paths in the trace are absolute so the trace can be moved away from the scene.
       src = std::filesystem::absolute(resolve_texture_path(src, scene.base_dir)).string();
     }

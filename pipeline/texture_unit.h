@@ -60,7 +60,7 @@ struct BlockUse {
 struct FrameStats {
   uint32_t frame = 0;
   uint64_t fragments = 0;
-  uint64_t cycles = 0;  // cycles spent on this frame (last leave minus previous frame's)
+  uint64_t cycles = 0;  // cycle at which the frame's last fragment left the pipeline
 };
 
 class TextureUnit {
@@ -85,7 +85,6 @@ class TextureUnit {
     if (pipe_ && !frames_.empty()) frames_.back().cycles = pipe_->cycles();
     return frames_;
   }
-  const std::vector<MaterialSetup>& materials() const { return mats_; }
 
  private:
   // One material's blocks. Op counts depend only on the probe number N of each fragment, so

@@ -197,7 +197,6 @@ template <class T> constexpr double to_double(T x) {
   if constexpr (requires { x.to_double(); }) return x.to_double();
   else return static_cast<double>(x);
 }
-template <class T> constexpr T from_double(double x) { return static_cast<T>(x); }
 
 template <class T> struct is_fixed : std::false_type {};
 template <int I, int F, Signedness S, Rounding R, Overflow O>
