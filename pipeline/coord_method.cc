@@ -439,6 +439,23 @@ template <class T> class EllipseGenImpl final : public EllipseGenerator {
 
 }  // namespace
 
+std::vector<Vec3L> clip_polygon_z(const std::vector<Vec3L>& poly, long double z, bool keep_above) {
+  std::vector<Vec3L> out;
+  const size_t n = poly.size();
+  auto inside = [&](const Vec3L& p) { return keep_above ? p.z >= z : p.z <= z; };
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3L& a = poly[i];
+    const Vec3L& b = poly[(i + 1) % n];
+    const bool ia = inside(a), ib = inside(b);
+    if (ia) out.push_back(a);
+    if (ia != ib) {
+      const long double t = (z - a.z) / (b.z - a.z);
+      out.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), z});
+    }
+  }
+  return out;
+}
+
 std::vector<RowSpan> rasterize_rows(const double x[3], const double y[3], int32_t w, int32_t h) {
   std::vector<RowSpan> rows;
   const long double area = (static_cast<long double>(x[1]) - x[0]) * (static_cast<long double>(y[2]) - y[0]) -
@@ -542,17 +559,17 @@ std::vector<StageConfig> CoordUnit::stages(const TechTable& t) const {
 
 void CoordUnit::generate(const CoordTriangle& tri, const TechTable& t,
                          std::vector<CoordUnitFragment>& out, std::vector<ItemCost>& costs,
-                         OpCounts& ops) const {
+                         OpCounts& coord_ops, OpCounts& deriv_ops) const {
   std::vector<CoordFragment> frags;
   std::vector<ItemCost> ccost;
   CoordGeneratorStats stats;
-  coords_->generate(tri, t, frags, ccost, ops, stats);
+  coords_->generate(tri, t, frags, ccost, coord_ops, stats);
   std::vector<CoordDerivs> ders;
   std::vector<ItemCost> dcost;
   // Row index: where row y's derivatives start in `ders`, and its x0.
   std::unordered_map<int32_t, std::pair<size_t, int32_t>> row_at;
   if (derivs_) {
-    derivs_->generate(tri, t, ders, dcost, ops);
+    derivs_->generate(tri, t, ders, dcost, deriv_ops);
     size_t base = 0;
     for (const RowSpan& r : tri.rows) {
       if (r.n <= 0) continue;

@@ -29,6 +29,9 @@ struct CoordTriangle {
   std::vector<RowSpan> rows;
 };
 
+// Sutherland–Hodgman clip of a view-space polygon against Z >= z (keep_above) or Z <= z.
+std::vector<Vec3L> clip_polygon_z(const std::vector<Vec3L>& poly, long double z, bool keep_above);
+
 // Pixels of `tri` covered (centre inside, edges inclusive) within [0,w)×[0,h), as rows.
 std::vector<RowSpan> rasterize_rows(const double x[3], const double y[3], int32_t w, int32_t h);
 
@@ -134,8 +137,10 @@ class CoordUnit {
   std::vector<StageConfig> stages(const TechTable& t) const;
   // Fragments of a triangle in the coordinate method's traversal order; `costs` gets one
   // ItemCost per fragment per stage (stage-major within each fragment: costs[i*S + s]).
+  // Operations go to `coord_ops` (coordinate block) and `deriv_ops` (derivative block).
   void generate(const CoordTriangle& tri, const TechTable& t, std::vector<CoordUnitFragment>& out,
-                std::vector<ItemCost>& costs, OpCounts& ops) const;
+                std::vector<ItemCost>& costs, OpCounts& coord_ops, OpCounts& deriv_ops) const;
+  bool has_derivs() const { return derivs_ != nullptr; }
 
  private:
   CoordUnitConfig cfg_;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "pipeline/coord_method.h"
+
 namespace texsim {
 
 namespace {
@@ -43,6 +45,63 @@ PlaneProjection::PlaneProjection(const Scene& scene, const ScenePlane& plane) {
   A = su * a_[0] + ou * G; B = su * a_[1] + ou * H; C = su * a_[2] + ou * I;
   D = sv * b_[0] + ov * G; E = sv * b_[1] + ov * H; F = sv * b_[2] + ov * I;
   near_ = cam.near;
+  const V3 c = lv(cam.position);
+  const V3 o = lv(plane.origin);
+  const V3 corners[4] = {o, o + eu, o + eu + ev, o + ev};
+  for (int k = 0; k < 3; ++k) {
+    const V cv[3] = {c.x, c.y, c.z}, rv[3] = {r.x, r.y, r.z}, uv[3] = {up.x, up.y, up.z},
+            fv[3] = {f.x, f.y, f.z};
+    cam_[k] = cv[k];
+    right_[k] = rv[k];
+    up_[k] = uv[k];
+    fwd_[k] = fv[k];
+  }
+  for (int i = 0; i < 4; ++i) {
+    corner_[i][0] = corners[i].x;
+    corner_[i][1] = corners[i].y;
+    corner_[i][2] = corners[i].z;
+  }
+  tan_half_ = th;
+  aspect_ = aspect;
+  width_ = scene.width;
+  height_ = scene.height;
+}
+
+std::vector<glm::dvec2> PlaneProjection::screen_polygon() const {
+  std::vector<Vec3L> poly;
+  for (const auto& p : corner_) {
+    const V d[3] = {p[0] - cam_[0], p[1] - cam_[1], p[2] - cam_[2]};
+    auto along = [&](const long double* a) { return d[0] * a[0] + d[1] * a[1] + d[2] * a[2]; };
+    poly.push_back({along(right_), along(up_), along(fwd_)});  // view space, Z forward
+  }
+  poly = clip_polygon_z(poly, static_cast<V>(near_), true);
+  std::vector<glm::dvec2> out;
+  if (poly.size() < 3) return out;
+  // Inverse of the view ray D0 + x Dx + y Dy at continuous pixel coordinates, then the
+  // half-pixel shift to pixel-index coordinates.
+  for (const Vec3L& p : poly) {
+    const V xs = (p.x / p.z + tan_half_ * aspect_) * width_ / (2 * tan_half_ * aspect_);
+    const V ys = (tan_half_ - p.y / p.z) * height_ / (2 * tan_half_);
+    out.emplace_back(static_cast<double>(xs - 0.5L), static_cast<double>(ys - 0.5L));
+  }
+  return out;
+}
+
+ProjectiveMap PlaneProjection::texel_map(int tw, int th) const {
+  // Continuous x = index + 1/2: fold the half pixel into C, F and I; scale u, v to texels.
+  ProjectiveMap m;
+  const V w = tw, h = th;
+  m.A = A * w;
+  m.B = B * w;
+  m.C = (C + (A + B) / 2) * w;
+  m.D = D * h;
+  m.E = E * h;
+  m.F = (F + (D + E) / 2) * h;
+  m.G = G;
+  m.H = H;
+  m.I = I + (G + H) / 2;
+  // In front of the camera depth = depth_num_ / q > 0: make q positive there.
+  return depth_num_ < 0 ? m.scaled(-1) : m;
 }
 
 UvSample PlaneProjection::at(double xd, double yd) const {

@@ -12,6 +12,7 @@
 #include "pipeline/plane_projection.h"
 #include "pipeline/procedural_texture.h"
 #include "pipeline/run_report.h"
+#include "pipeline/scene_front_end.h"
 #include "pipeline/scene.h"
 #include "pipeline/texture_loader.h"
 #include "pipeline/texture_unit.h"
@@ -82,6 +83,15 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
       mats.push_back(material_from_toml(m.name, m.texture, *m.effects, scene.path));
     }
   }
+  if (!opt.trace.empty()) {
+    // Trace fragments carry their coordinates: a material's coordinate unit has nothing to do.
+    for (auto& m : mats) {
+      if (!m.coords) continue;
+      log << "texsim run: note: material '" << m.name
+          << "': coords ignored, the trace's fragments carry their own coordinates\n";
+      m.coords.reset();
+    }
+  }
   if (mats.empty()) {
     MaterialSetup d;
     d.name = "default";
@@ -106,12 +116,38 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   int max_x = width - 1, max_y = height - 1;
   Progress progress(opt.progress);
   const int n = scene.reference_supersamples;
+  // A fragment's colour (null: not textured, the background stays) and its ground truth.
+  auto record = [&](const Fragment& f, const Fragment& g, int material, const Rgba* colour) {
+    const Texture& tex = textures[static_cast<int>(g.tex)];
+    const MaterialSetup& ms = mats[static_cast<size_t>(material)];
+    const glm::dvec4 r = (use_scene && !maps.empty())
+                         ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), maps[f.prim],
+                                              static_cast<int>(f.x), static_cast<int>(f.y), n)
+                         : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, n);
+    const int x = static_cast<int>(f.x), y = static_cast<int>(f.y);
+    if (x >= img.width || y >= img.height) {
+      // Grow geometrically (traces do not declare their extent); cropped at the end.
+      const int w = x < img.width ? img.width : std::min(1 << 14, std::max(x + 1, 2 * img.width));
+      const int h = y < img.height ? img.height : std::min(1 << 14, std::max(y + 1, 2 * img.height));
+      img.resize(w, h, scene.background);
+      ref.resize(w, h, scene.background);
+    }
+    max_x = std::max(max_x, x);
+    max_y = std::max(max_y, y);
+    if (colour) img.set(x, y, *colour);
+    ref.set(x, y, glm::vec4(r.x, r.y, r.z, r.w));
+    progress.tick(++count);
+  };
   auto handle = [&](const Fragment& f, uint64_t index) {
     auto it = tex_index.find(f.tex);
     if (it == tex_index.end()) {
       throw InputError(opt.trace.empty() ? scene.path : opt.trace,
                        "record " + std::to_string(index) + ": texture id " + std::to_string(f.tex) +
                            " is not in the texture table");
+    }
+    if (f.x >= (1u << 14) || f.y >= (1u << 14)) {
+      throw InputError(opt.trace, "record " + std::to_string(index) + ": pixel (" + std::to_string(f.x) +
+                                      ", " + std::to_string(f.y) + ") is outside the 16384x16384 image limit");
     }
     Fragment g = f;
     g.tex = static_cast<uint32_t>(it->second);
@@ -124,35 +160,20 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
       material = scene.planes[f.prim].material;
     }
     const Rgba c = unit.process(g, material);
-    const Texture& tex = textures[static_cast<int>(g.tex)];
-    const MaterialSetup& ms = mats[static_cast<size_t>(material)];
-    const glm::dvec4 r = (use_scene && !maps.empty())
-                         ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), maps[f.prim],
-                                              static_cast<int>(f.x), static_cast<int>(f.y), n)
-                         : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, n);
-    if (f.x >= (1u << 14) || f.y >= (1u << 14)) {
-      throw InputError(opt.trace, "record " + std::to_string(index) + ": pixel (" + std::to_string(f.x) +
-                                      ", " + std::to_string(f.y) + ") is outside the 16384x16384 image limit");
-    }
-    const int x = static_cast<int>(f.x), y = static_cast<int>(f.y);
-    if (x >= img.width || y >= img.height) {
-      // Grow geometrically (traces do not declare their extent); cropped at the end.
-      const int w = x < img.width ? img.width : std::min(1 << 14, std::max(x + 1, 2 * img.width));
-      const int h = y < img.height ? img.height : std::min(1 << 14, std::max(y + 1, 2 * img.height));
-      img.resize(w, h, scene.background);
-      ref.resize(w, h, scene.background);
-    }
-    max_x = std::max(max_x, x);
-    max_y = std::max(max_y, y);
-    img.set(x, y, c);
-    ref.set(x, y, glm::vec4(r.x, r.y, r.z, r.w));
-    progress.tick(++count);
+    record(f, g, material, &c);
   };
   if (reader) {
     uint64_t index = 0;
     while (reader->next_chunk(chunk) > 0) {
       for (const Fragment& f : chunk) handle(f, index++);
     }
+  } else if (unit.front_stages() > 0) {
+    // Some material computes its own coordinates: planes drawn one by one through the front end.
+    draw_scene_front_end(scene, maps, unit, [&](const Fragment& f, int material, const Rgba* c) {
+      Fragment g = f;
+      g.tex = static_cast<uint32_t>(tex_index.at(f.tex));
+      record(f, g, material, c);
+    });
   } else {
     uint64_t index = 0;
     generate_fragments(scene, 0, [&](const Fragment& f) { handle(f, index++); });

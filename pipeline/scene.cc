@@ -103,7 +103,7 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
       if (!v.is_table()) throw InputError(at(source_name, v), "materials." + name + ": expected a table");
       const toml::table& mt = *v.as_table();
       ConfigReader mr(mt, source_name, "materials." + name);
-      mr.reject_unknown({"texture", "filter", "lod", "ewa", "multi_probe", "feline", "spaf"});
+      mr.reject_unknown({"texture", "filter", "lod", "coords", "ewa", "multi_probe", "feline", "spaf"});
       SceneMaterial m;
       m.name = name;
       m.line = static_cast<int>(v.source().begin.line);

@@ -23,24 +23,6 @@ const std::vector<std::string>& or_all(const std::vector<std::string>& v,
   return v.empty() ? all : v;
 }
 
-// Sutherland–Hodgman clip of a view-space polygon against Z >= z (keep_above) or Z <= z.
-std::vector<Vec3L> clip_z(const std::vector<Vec3L>& poly, long double z, bool keep_above) {
-  std::vector<Vec3L> out;
-  const size_t n = poly.size();
-  auto inside = [&](const Vec3L& p) { return keep_above ? p.z >= z : p.z <= z; };
-  for (size_t i = 0; i < n; ++i) {
-    const Vec3L& a = poly[i];
-    const Vec3L& b = poly[(i + 1) % n];
-    const bool ia = inside(a), ib = inside(b);
-    if (ia) out.push_back(a);
-    if (ia != ib) {
-      const long double t = (z - a.z) / (b.z - a.z);
-      out.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), z});
-    }
-  }
-  return out;
-}
-
 StageConfig filter_stage(uint32_t latency, uint32_t ii) {
   StageConfig s;
   s.name = "filter";
@@ -115,8 +97,8 @@ StudyPlane make_study_plane(const StudyCoordsOptions& o, double tilt) {
       const long double u0 = ti * tile, v0 = tj * tile;
       std::vector<Vec3L> poly = {at(u0, v0), at(u0 + tile, v0), at(u0 + tile, v0 + tile),
                                  at(u0, v0 + tile)};
-      poly = clip_z(poly, o.z_near, true);
-      poly = clip_z(poly, o.z_far, false);
+      poly = clip_polygon_z(poly, o.z_near, true);
+      poly = clip_polygon_z(poly, o.z_far, false);
       if (poly.size() < 3) continue;
       std::vector<long double> px(poly.size()), py(poly.size());
       for (size_t i = 0; i < poly.size(); ++i) project_to_pixel(poly[i], pv.camera, px[i], py[i]);

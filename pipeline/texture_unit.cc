@@ -1,6 +1,7 @@
 #include "pipeline/texture_unit.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "blocks/config_reader.h"
 #include "blocks/input_error.h"
@@ -9,6 +10,7 @@ namespace texsim {
 
 namespace {
 enum Stage { kLod, kAddress, kCache, kBlend, kStages };
+constexpr int kMaxFront = 2;  // coordinate and derivative stages (a constant bound for the compiler)
 }
 
 PipelineSetup PipelineSetup::from_toml(const toml::table& t, const std::string& source) {
@@ -33,6 +35,15 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
   m.filter = TexelAddressGen::Config::from_toml(r.sub("filter"));
   m.lod = LodUnit::Config::from_toml(r.sub("lod"));
   m.footprint = FootprintFilter::from_material(r);
+  if (r.subtable("coords")) {
+    const ConfigReader c = r.sub("coords");
+    m.coords = std::make_shared<const CoordUnit>(CoordUnitConfig::from_toml(c));
+    if (!m.coords->has_derivs() && (m.footprint || m.filter.filter == FilterMode::Trilinear)) {
+      c.fail("derivs", std::string("'none' leaves the ") +
+                           (m.footprint ? m.footprint->name() : "filter.trilinear") +
+                           " of this material without the derivatives it needs");
+    }
+  }
   return m;
 }
 
@@ -48,6 +59,11 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     p.addr = TexelAddressGen(m.filter);
     p.texture = m.texture;
     p.footprint = m.footprint.get();
+    p.coords = m.coords.get();
+    if (p.coords) {
+      p.front_count = p.coords->has_derivs() ? 2 : 1;
+      front_ = std::max(front_, p.front_count);
+    }
     const uint32_t tpc = setup.cache.texels_per_cycle;
     for (int n = 1; n <= 16; ++n) {
       FilterTaps t;
@@ -68,11 +84,31 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     }
     TimingSpec cache_t;
     cache_t.latency = setup.cache.hit_latency;
-    std::vector<StageConfig> st(kStages);
-    st[kLod] = {"lod", lod_t, setup.fifo_depth, 0};
-    st[kAddress] = {"address", addr_t, setup.fifo_depth, 0};
-    st[kCache] = {"cache", cache_t, setup.fifo_depth, setup.cache.miss_queue};
-    st[kBlend] = {"blend", blend_.timing(tech_), setup.fifo_depth, 0};
+    std::vector<StageConfig> st(static_cast<size_t>(front_ + kStages));
+    // Front end: one stage per coordinate-unit stage, sized for the slowest and widest unit;
+    // each unit's own throughput comes back through front_extra (per-fragment issue cycles).
+    static const char* const front_names[2] = {"coords", "derivs"};
+    for (int s = 0; s < front_; ++s) {
+      TimingSpec t{};
+      for (const auto& p : paths_) {
+        if (p.front_count <= s) continue;
+        const TimingSpec u = p.coords->stages(tech_)[static_cast<size_t>(s)].timing;
+        t.latency = std::max(t.latency, u.latency);
+        t.lanes = std::max(t.lanes, u.lanes);
+      }
+      t.ii = 1;
+      for (auto& p : paths_) {
+        if (p.front_count <= s) continue;
+        const TimingSpec u = p.coords->stages(tech_)[static_cast<size_t>(s)].timing;
+        p.front_extra[s] = (u.ii * t.lanes + u.lanes - 1) / u.lanes - 1;
+      }
+      st[static_cast<size_t>(s)] = {front_names[s], t, setup.fifo_depth, 0};
+    }
+    const auto at = [&](int stage) -> StageConfig& { return st[static_cast<size_t>(front_ + stage)]; };
+    at(kLod) = {"lod", lod_t, setup.fifo_depth, 0};
+    at(kAddress) = {"address", addr_t, setup.fifo_depth, 0};
+    at(kCache) = {"cache", cache_t, setup.fifo_depth, setup.cache.miss_queue};
+    at(kBlend) = {"blend", blend_.timing(tech_), setup.fifo_depth, 0};
     pipe_ = std::make_unique<ClockedPipeline>(std::move(st));
   }
 }
@@ -175,7 +211,8 @@ uint32_t TextureUnit::cache_lookups(const std::vector<TexelRef>& texels, const T
 
 // A footprint filter is one block that scans, weights and accumulates: it occupies the address
 // stage for its issue cycles, its texels go through the cache, and the blend stage normalises.
-Rgba TextureUnit::process_footprint(const Fragment& f, Path& p, const Texture& tex) {
+Rgba TextureUnit::process_footprint(const Fragment& f, Path& p, const Texture& tex,
+                                    const ItemCost* front) {
   fetched_.clear();
   const FilterOutput out = p.footprint->filter(tex, f, &fetched_, p.footprint_ops);
   ++p.fragments;
@@ -185,10 +222,12 @@ Rgba TextureUnit::process_footprint(const Fragment& f, Path& p, const Texture& t
     const auto n = static_cast<uint32_t>(fetched_.size());
     const uint32_t tpc = setup_.cache.texels_per_cycle;
     const uint32_t scan = p.footprint->issue_cycles(out.stats);
+    const int addr = front_ + kAddress, cache = front_ + kCache;
     pipe_->issue_with(0, [&](int s, uint64_t start) {
+      if (s < kMaxFront && s < front_) return front_cost(p, front, s);
       ItemCost c;
-      if (s == kAddress) c.extra_ii = scan > 0 ? scan - 1 : 0;
-      if (s == kCache) {
+      if (s == addr) c.extra_ii = scan > 0 ? scan - 1 : 0;
+      if (s == cache) {
         c.extra_ii = n > 0 ? (n + tpc - 1) / tpc - 1 : 0;
         c.extra_latency = cache_lookups(fetched_, tex, start);
       }
@@ -198,10 +237,26 @@ Rgba TextureUnit::process_footprint(const Fragment& f, Path& p, const Texture& t
   return out.colour;
 }
 
-Rgba TextureUnit::process(const Fragment& f, int material) {
+void TextureUnit::generate_coords(int material, const CoordTriangle& tri,
+                                  std::vector<CoordUnitFragment>& out, std::vector<ItemCost>& costs) {
+  Path& p = paths_[static_cast<size_t>(material)];
+  if (!p.coords) throw std::logic_error("generate_coords: material has no coordinate unit");
+  const size_t before = out.size();
+  p.coords->generate(tri, tech_, out, costs, p.coord_ops, p.deriv_ops);
+  front_stats_.generated += out.size() - before;
+}
+
+void TextureUnit::drop(int material, const ItemCost* front, bool rejected) {
+  const Path& p = paths_[static_cast<size_t>(material)];
+  ++(rejected ? front_stats_.rejected : front_stats_.occluded);
+  if (!pipe_ || !front) return;
+  for (int s = 0; s < p.front_count; ++s) pending_front_[s] += 1 + p.front_extra[s] + front[s].extra_ii;
+}
+
+Rgba TextureUnit::process(const Fragment& f, int material, const ItemCost* front) {
   Path& p = paths_[static_cast<size_t>(material)];
   const Texture& tex = textures_[p.texture];
-  if (p.footprint) return process_footprint(f, p, tex);
+  if (p.footprint) return process_footprint(f, p, tex, front);
   const LodResult lod = p.lod.eval(f, tex.width(0), tex.height(0));
   p.addr.taps(tex, f.u, f.v, lod, taps_);
   const Rgba colour = blend_.blend(taps_, tex);
@@ -213,14 +268,16 @@ Rgba TextureUnit::process(const Fragment& f, int material) {
   if (pipe_) {
     // Per-stage costs: the address stage issues one probe per cycle, cache and blend take
     // their texels in groups, and a miss in the cache stage waits for DRAM.
+    const int addr = front_ + kAddress, cache = front_ + kCache, blend = front_ + kBlend;
     pipe_->issue_with(0, [&](int s, uint64_t start) {
+      if (s < kMaxFront && s < front_) return front_cost(p, front, s);
       ItemCost c;
-      if (s == kAddress) c.extra_ii = probes - 1;
-      if (s == kCache) {
+      if (s == addr) c.extra_ii = probes - 1;
+      if (s == cache) {
         c.extra_ii = p.cache_extra_ii[probes];
         c.extra_latency = cache_lookups(taps_, tex, start);
       }
-      if (s == kBlend) c.extra_ii = p.blend_extra_ii[probes];
+      if (s == blend) c.extra_ii = p.blend_extra_ii[probes];
       return c;
     });
   }
@@ -230,20 +287,29 @@ Rgba TextureUnit::process(const Fragment& f, int material) {
 std::vector<BlockUse> TextureUnit::blocks() const {
   std::map<std::string, BlockUse> by;
   auto add = [&](const std::string& name, const std::string& arith, const TimingSpec& t,
-                 const OpCounts& ops, const std::string& mat) {
+                 const OpCounts& ops, const std::string& mat, uint64_t texels = 0) {
     BlockUse& b = by[name];
     b.name = name;
     b.arithmetic = arith;
     if (t.latency >= b.timing.latency) b.timing = t;
     b.ops += ops;
+    b.texels += texels;
     if (std::find(b.materials.begin(), b.materials.end(), mat) == b.materials.end()) b.materials.push_back(mat);
   };
   OpCounts cache_ops;
   for (size_t i = 0; i < paths_.size(); ++i) {
     const Path& p = paths_[i];
     const std::string& m = mats_[i].name;
+    if (p.coords) {
+      const CoordUnitConfig& cc = p.coords->config();
+      const std::vector<StageConfig> st = p.coords->stages(tech_);
+      const std::string arith = cc.format + ", " + datapath_name(cc.datapath) + " datapath";
+      add("coords." + cc.coords, arith, st[0].timing, p.coord_ops, m);
+      if (p.coords->has_derivs()) add("derivs." + cc.derivs, arith, st[1].timing, p.deriv_ops, m);
+    }
     if (p.footprint) {
-      add(p.footprint->name(), p.footprint->arithmetic(), p.footprint->timing(tech_), p.footprint_ops, m);
+      add(p.footprint->name(), p.footprint->arithmetic(), p.footprint->timing(tech_), p.footprint_ops, m,
+          p.footprint_texels);
       cache_ops.mem += p.footprint_texels;
       continue;
     }
@@ -257,7 +323,7 @@ std::vector<BlockUse> TextureUnit::blocks() const {
     add(std::string("filter.") + to_string(p.addr.config().filter),
         "float32 coordinates; weights in u0." + std::to_string(p.addr.config().sub_texel_bits) +
             ", mip fraction u0." + std::to_string(p.addr.config().mipmap_bits),
-        p.addr.timing(tech_), addr_ops, m);
+        p.addr.timing(tech_), addr_ops, m, taps);
     add("blend", "float32 multiply-accumulate", blend_.timing(tech_), TexelBlend::ops_per_tap() * taps, m);
     cache_ops.mem += taps;  // every tap is a texel read through the cache
   }
@@ -268,6 +334,7 @@ std::vector<BlockUse> TextureUnit::blocks() const {
   c.arithmetic = "tag compare";
   c.timing.latency = setup_.cache.hit_latency;
   c.ops = cache_ops;
+  c.texels = cache_ops.mem;
   for (const auto& m : mats_) c.materials.push_back(m.name);
   out.push_back(c);
   return out;

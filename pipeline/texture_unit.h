@@ -18,6 +18,7 @@
 #include "blocks/texture_cache.h"
 #include "blocks/texture_memory.h"
 #include "pipeline/clocked_pipeline.h"
+#include "pipeline/coord_method.h"
 #include "pipeline/footprint_filter.h"
 #include "traces/fragment.h"
 
@@ -31,6 +32,9 @@ struct MaterialSetup {
   // A footprint filter (EWA, multi-probe, Feline, SPAF) replaces the LOD → address → blend
   // path for this material when set; null for the classic path.
   std::shared_ptr<const FootprintFilter> footprint;
+  // A coordinate unit (material table `coords`) computes this material's texture coordinates
+  // and derivatives in front of LOD; null when fragments arrive with their coordinates.
+  std::shared_ptr<const CoordUnit> coords;
   AddressMode address_u() const { return footprint ? footprint->address_u() : filter.address_u; }
   AddressMode address_v() const { return footprint ? footprint->address_v() : filter.address_v; }
 };
@@ -45,7 +49,9 @@ struct PipelineSetup {
   static PipelineSetup from_toml(const toml::table& t, const std::string& source);
 };
 
-// Reads a material's effect tables ("filter", "lod") into a MaterialSetup.
+// Reads a material's effect tables (filter, lod, coords, or a footprint filter) into a
+// MaterialSetup. A coordinate unit without derivatives (`derivs = "none"`) is refused for
+// trilinear and footprint filters, which need them.
 MaterialSetup material_from_toml(const std::string& name, int texture, const toml::table& effects,
                                  const std::string& source);
 
@@ -54,7 +60,15 @@ struct BlockUse {
   std::string arithmetic;       // which number format the datapath uses
   TimingSpec timing;
   OpCounts ops;                 // total over the run
+  uint64_t texels = 0;          // texels it fetched through the cache over the run
   std::vector<std::string> materials;  // materials that use it
+};
+
+// Fragments a coordinate front end produced and what became of them.
+struct FrontEndStats {
+  uint64_t generated = 0;  // pixels the coordinate units computed
+  uint64_t occluded = 0;   // left after the front end: hidden by a nearer plane, or covered twice
+  uint64_t rejected = 0;   // coordinates rejected by the block (not textured)
 };
 
 struct FrameStats {
@@ -70,8 +84,26 @@ class TextureUnit {
               const TechTable& tech, bool timing);
 
   // Filters one fragment with its material's blocks; in timing mode also sends it through the
-  // clocked pipeline and the cache. Fragments must arrive in order.
-  Rgba process(const Fragment& f, int material);
+  // clocked pipeline and the cache. Fragments must arrive in order. `front` is null, or the
+  // fragment's costs in the coordinate front end (one per stage of its material's coordinate
+  // unit, as CoordUnit::generate gives them).
+  Rgba process(const Fragment& f, int material, const ItemCost* front = nullptr);
+
+  // Coordinate front end: the stages (0, 1 or 2: coordinates, derivatives) in front of LOD,
+  // present only when some material has a coordinate unit.
+  int front_stages() const { return front_; }
+  const MaterialSetup& material(int m) const { return mats_[static_cast<size_t>(m)]; }
+  const Texture& texture_of(int m) const { return textures_[mats_[static_cast<size_t>(m)].texture]; }
+  // Runs material m's coordinate unit over a screen triangle (its map in texels of the
+  // material's texture): fragments in the unit's traversal order and their front-end costs;
+  // counts the unit's operations.
+  void generate_coords(int material, const CoordTriangle& tri, std::vector<CoordUnitFragment>& out,
+                       std::vector<ItemCost>& costs);
+  // A generated fragment that leaves after the front end (occluded, covered twice, or its
+  // coordinates rejected): its front-end issue cycles are charged to the next fragment in those
+  // stages; it costs nothing further.
+  void drop(int material, const ItemCost* front, bool rejected);
+  const FrontEndStats& front_end_stats() const { return front_stats_; }
 
   bool timing() const { return timing_; }
   uint64_t fragments() const { return fragments_; }
@@ -104,12 +136,27 @@ class TextureUnit {
     OpCounts footprint_ops;                      // counted per call (data-dependent)
     uint64_t footprint_texels = 0;
     uint32_t cache_extra_ii[17] = {};
+    // Coordinate front end of this material (null: none).
+    const CoordUnit* coords = nullptr;
+    OpCounts coord_ops, deriv_ops;
+    int front_count = 0;          // its unit's stages (costs per fragment)
+    // Added issue cycles per front-end stage so the shared stage (sized for the widest unit)
+    // gives this unit its own throughput: ceil(ii × lanes_stage / lanes_unit) − 1.
+    uint32_t front_extra[2] = {};
   };
   // Tag look-ups of the fragment's distinct lines at cycle `start`; returns the cycles the
   // cache stage waits beyond its hit latency (DRAM refills).
   uint32_t cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start);
   uint32_t cache_lookups(const std::vector<TexelRef>& texels, const Texture& tex, uint64_t start);
-  Rgba process_footprint(const Fragment& f, Path& p, const Texture& tex);
+  Rgba process_footprint(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  // Cost of front-end stage s for a fragment of path p (with the dropped fragments' cycles).
+  ItemCost front_cost(const Path& p, const ItemCost* front, int s) {
+    ItemCost c;
+    if (front && s < p.front_count) c = front[s];
+    c.extra_ii += p.front_extra[s] + pending_front_[s];
+    pending_front_[s] = 0;
+    return c;
+  }
   void count_frame(const Fragment& f);
 
   TextureSet& textures_;
@@ -126,6 +173,9 @@ class TextureUnit {
   std::vector<TexelRef> fetched_;  // texels of the current footprint-filter fragment
   std::vector<uint64_t> lines_;
   uint64_t fragments_ = 0;
+  int front_ = 0;
+  uint32_t pending_front_[2] = {};  // issue cycles of dropped fragments, per front-end stage
+  FrontEndStats front_stats_;
   mutable std::vector<FrameStats> frames_;
 };
 

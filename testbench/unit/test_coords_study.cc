@@ -82,7 +82,7 @@ TEST(CoordMethod, CoordUnitGivesFragmentsDerivativesAndCosts) {
     std::vector<CoordUnitFragment> frags;
     std::vector<ItemCost> costs;
     OpCounts ops;
-    for (const auto& tri : sp.tris) unit.generate(tri, t, frags, costs, ops);
+    for (const auto& tri : sp.tris) unit.generate(tri, t, frags, costs, ops, ops);
     ASSERT_EQ(costs.size(), 2 * frags.size());
     EXPECT_EQ(frags.size(), sp.pixels);
     double worst = 0;
