@@ -11,7 +11,8 @@
 namespace texsim {
 
 ImageRgb::ImageRgb(int w, int h, glm::dvec3 background)
-    : width(w), height(h), rgb(static_cast<size_t>(w) * h * 3), covered(static_cast<size_t>(w) * h, 0) {
+    : width(w), height(h), rgb(static_cast<size_t>(w) * h * 3), covered(static_cast<size_t>(w) * h, 0),
+      label(static_cast<size_t>(w) * h, -1) {
   for (size_t i = 0; i < static_cast<size_t>(w) * h; ++i) {
     rgb[i * 3] = static_cast<float>(background.x);
     rgb[i * 3 + 1] = static_cast<float>(background.y);
@@ -19,13 +20,14 @@ ImageRgb::ImageRgb(int w, int h, glm::dvec3 background)
   }
 }
 
-void ImageRgb::set(int x, int y, const glm::vec4& c) {
+void ImageRgb::set(int x, int y, const glm::vec4& c, int32_t lbl) {
   if (x < 0 || y < 0 || x >= width || y >= height) return;
   const size_t i = static_cast<size_t>(y) * width + x;
   rgb[i * 3] = c.r;
   rgb[i * 3 + 1] = c.g;
   rgb[i * 3 + 2] = c.b;
   covered[i] = 1;
+  label[i] = lbl;
 }
 
 void ImageRgb::resize(int w, int h, glm::dvec3 background) {
@@ -35,16 +37,17 @@ void ImageRgb::resize(int w, int h, glm::dvec3 background) {
       const size_t s = static_cast<size_t>(y) * width + x, d = static_cast<size_t>(y) * w + x;
       for (int c = 0; c < 3; ++c) g.rgb[d * 3 + c] = rgb[s * 3 + c];
       g.covered[d] = covered[s];
+      g.label[d] = label[s];
     }
   }
   *this = std::move(g);
 }
 
-AccuracyMetrics compare_images(const ImageRgb& img, const ImageRgb& ref) {
+AccuracyMetrics compare_images(const ImageRgb& img, const ImageRgb& ref, int32_t only_label) {
   AccuracyMetrics m;
   double se = 0, sref = 0, sabs = 0;
   for (size_t i = 0; i < img.covered.size(); ++i) {
-    if (!img.covered[i]) continue;
+    if (!img.covered[i] || (only_label >= 0 && img.label[i] != only_label)) continue;
     ++m.pixels;
     for (int c = 0; c < 3; ++c) {
       const double e = static_cast<double>(img.rgb[i * 3 + c]) - ref.rgb[i * 3 + c];

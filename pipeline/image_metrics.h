@@ -13,8 +13,9 @@ struct ImageRgb {
   int width = 0, height = 0;
   std::vector<float> rgb;         // 3 floats per pixel
   std::vector<uint8_t> covered;   // 1 where a fragment wrote
+  std::vector<int32_t> label;     // what wrote each pixel (e.g. its material); -1 = nothing
   ImageRgb(int w, int h, glm::dvec3 background);
-  void set(int x, int y, const glm::vec4& c);
+  void set(int x, int y, const glm::vec4& c, int32_t lbl = 0);
   // Grows the image (keeping its pixels); new pixels get `background`.
   void resize(int w, int h, glm::dvec3 background);
 };
@@ -28,8 +29,9 @@ struct AccuracyMetrics {
   double mean_abs = 0;
 };
 
-// Compares the covered pixels of `img` with `ref` (same size).
-AccuracyMetrics compare_images(const ImageRgb& img, const ImageRgb& ref);
+// Compares the covered pixels of `img` with `ref` (same size); with `only_label` >= 0, only
+// the pixels of img labelled so.
+AccuracyMetrics compare_images(const ImageRgb& img, const ImageRgb& ref, int32_t only_label = -1);
 
 // Writes an 8-bit PNG (or any OIIO format by extension) atomically; throws InputError.
 void write_image(const std::string& path, const ImageRgb& img);

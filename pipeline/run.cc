@@ -134,7 +134,9 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     }
     max_x = std::max(max_x, x);
     max_y = std::max(max_y, y);
-    if (colour) img.set(x, y, *colour);
+    // A pixel whose coordinates were rejected keeps the background, and counts as an error.
+    const glm::dvec3& bg = scene.background;
+    img.set(x, y, colour ? *colour : glm::vec4(glm::dvec4(bg, 1.0)), material);
     ref.set(x, y, glm::vec4(r.x, r.y, r.z, r.w));
     progress.tick(++count);
   };
@@ -196,6 +198,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   info.width = width;
   info.height = height;
   info.textures = tex_names;
+  for (int m = 0; m < unit.material_count(); ++m) info.material_accuracy.push_back(compare_images(img, ref, m));
   info.reference = "Ground truth: level-0 texture, bilinear reconstruction in double, box-filtered over "
                    "each pixel with " + std::to_string(n) + "x" + std::to_string(n) + " samples " +
                    ((use_scene && !maps.empty()) ? "mapped exactly through each plane's projective map."

@@ -17,6 +17,33 @@ std::string fmt(double v, int prec = 4) {
   return buf;
 }
 
+// One material's method and what it cost: its blocks' operations and texels over its fragments.
+struct MaterialRow {
+  std::string name;
+  uint64_t fragments = 0;
+  std::vector<std::string> blocks;
+  OpCounts ops;
+  uint64_t texels = 0;
+  AccuracyMetrics acc;
+  double per_fragment(double v) const { return fragments > 0 ? v / static_cast<double>(fragments) : 0.0; }
+};
+
+std::vector<MaterialRow> material_rows(const RunInfo& info, const TextureUnit& unit) {
+  std::vector<MaterialRow> rows;
+  for (int m = 0; m < unit.material_count(); ++m) {
+    MaterialRow r;
+    r.name = unit.material(m).name;
+    r.fragments = unit.material_fragments(m);
+    for (const BlockUse& b : unit.material_blocks(m)) {
+      r.blocks.push_back(b.name);
+      r.ops += b.ops;
+      r.texels += b.texels;
+    }
+    if (static_cast<size_t>(m) < info.material_accuracy.size()) r.acc = info.material_accuracy[static_cast<size_t>(m)];
+    rows.push_back(r);
+  }
+  return rows;
+}
 
 }  // namespace
 
@@ -44,6 +71,8 @@ void write_run_reports(const std::string& dir, const RunInfo& info, const Textur
     e["area"] = b.timing.area;
     e["arithmetic"] = b.arithmetic;
     e["materials"] = b.materials;
+    e["texels"] = b.texels;
+    e["texels_per_fragment"] = frags > 0 ? static_cast<double>(b.texels) / frags : 0.0;
     j["blocks"][b.name] = e;
   }
   if (const ClockedPipeline* p = unit.pipeline()) {
@@ -77,6 +106,23 @@ void write_run_reports(const std::string& dir, const RunInfo& info, const Textur
   j["accuracy"] = {{"psnr_db", acc.psnr_db}, {"nmse", acc.nmse},   {"max_abs", acc.max_abs},
                    {"mean_abs", acc.mean_abs}, {"mse", acc.mse}, {"pixels", acc.pixels},
                    {"reference", info.reference}};
+  // Accuracy next to cost, material by material (each material is one method variant).
+  const std::vector<MaterialRow> rows = material_rows(info, unit);
+  for (const MaterialRow& r : rows) {
+    Json e;
+    e["fragments"] = r.fragments;
+    e["blocks"] = r.blocks;
+    for (int k = 0; k < kOpKinds; ++k) e["ops"][std::string(kOpKindNames[k])] = r.ops.get(static_cast<OpKind>(k));
+    e["ops_per_fragment"] = r.per_fragment(static_cast<double>(r.ops.total()));
+    e["texels_per_fragment"] = r.per_fragment(static_cast<double>(r.texels));
+    e["accuracy"] = {{"psnr_db", r.acc.psnr_db}, {"nmse", r.acc.nmse}, {"max_abs", r.acc.max_abs},
+                     {"mean_abs", r.acc.mean_abs}, {"pixels", r.acc.pixels}};
+    j["materials"][r.name] = e;
+  }
+  if (unit.front_stages() > 0) {
+    const FrontEndStats& fe = unit.front_end_stats();
+    j["front_end"] = {{"generated", fe.generated}, {"occluded", fe.occluded}, {"rejected", fe.rejected}};
+  }
   write_file_atomic(dir + "/report.json", j.dump(2) + "\n");
 
   std::ostringstream md;
@@ -93,19 +139,35 @@ void write_run_reports(const std::string& dir, const RunInfo& info, const Textur
   md << "| PSNR (dB) | NMSE | max abs error | mean abs error | pixels |\n|---|---|---|---|---|\n";
   md << "| " << fmt(acc.psnr_db) << " | " << fmt(acc.nmse) << " | " << fmt(acc.max_abs) << " | "
      << fmt(acc.mean_abs) << " | " << acc.pixels << " |\n\n";
-  md << "## Blocks (instantiated for this scene's materials)\n\n";
+  md << "## Materials: accuracy next to cost\n\n"
+        "| material | blocks | fragments | PSNR (dB) | NMSE | max abs error | ops/fragment | texels/fragment |\n"
+        "|---|---|---|---|---|---|---|---|\n";
+  for (const MaterialRow& r : rows) {
+    std::string names;
+    for (const auto& b : r.blocks) names += (names.empty() ? "" : ", ") + b;
+    md << "| " << r.name << " | " << names << " | " << r.fragments << " | " << fmt(r.acc.psnr_db) << " | "
+       << fmt(r.acc.nmse) << " | " << fmt(r.acc.max_abs) << " | " << fmt(r.per_fragment(static_cast<double>(r.ops.total())))
+       << " | " << fmt(r.per_fragment(static_cast<double>(r.texels))) << " |\n";
+  }
+  if (unit.front_stages() > 0) {
+    const FrontEndStats& fe = unit.front_end_stats();
+    md << "\nCoordinate front end: " << fe.generated << " pixels computed, " << fe.occluded
+       << " left after it (occluded or on a shared triangle edge), " << fe.rejected
+       << " rejected (coordinates the format cannot hold; drawn as background).\n";
+  }
+  md << "\n## Blocks (instantiated for this scene's materials)\n\n";
   md << "| block | materials | arithmetic | latency | area |";
   for (auto k : kOpKindNames) md << " " << k << " |";
-  md << " ops/fragment |\n|---|---|---|---|---|";
+  md << " ops/fragment | texels |\n|---|---|---|---|---|";
   for (int k = 0; k < kOpKinds; ++k) md << "---|";
-  md << "---|\n";
+  md << "---|---|\n";
   for (const auto& b : blocks) {
     std::string mats;
     for (const auto& m : b.materials) mats += (mats.empty() ? "" : ", ") + m;
     md << "| " << b.name << " | " << mats << " | " << b.arithmetic << " | " << b.timing.latency << " | "
        << fmt(b.timing.area) << " |";
     for (int k = 0; k < kOpKinds; ++k) md << " " << b.ops.get(static_cast<OpKind>(k)) << " |";
-    md << " " << fmt(frags > 0 ? static_cast<double>(b.ops.total()) / frags : 0) << " |\n";
+    md << " " << fmt(frags > 0 ? static_cast<double>(b.ops.total()) / frags : 0) << " | " << b.texels << " |\n";
   }
   if (const ClockedPipeline* p = unit.pipeline()) {
     md << "\n## Pipeline stages\n\n| stage | latency | utilisation | starved | blocked | in-flight full | multi-cycle |\n"

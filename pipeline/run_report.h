@@ -14,6 +14,7 @@ struct RunInfo {
   std::string reference;   // how the ground truth was made
   int width = 0, height = 0;
   std::vector<std::string> textures;
+  std::vector<AccuracyMetrics> material_accuracy;  // per material of the texture unit
 };
 
 // Writes DIR/report.json and DIR/report.md (atomically).

@@ -284,48 +284,57 @@ Rgba TextureUnit::process(const Fragment& f, int material, const ItemCost* front
   return colour;
 }
 
-std::vector<BlockUse> TextureUnit::blocks() const {
-  std::map<std::string, BlockUse> by;
+std::vector<BlockUse> TextureUnit::material_blocks(int material) const {
+  const Path& p = paths_[static_cast<size_t>(material)];
+  const std::string& m = mats_[static_cast<size_t>(material)].name;
+  std::vector<BlockUse> out;
   auto add = [&](const std::string& name, const std::string& arith, const TimingSpec& t,
-                 const OpCounts& ops, const std::string& mat, uint64_t texels = 0) {
-    BlockUse& b = by[name];
-    b.name = name;
-    b.arithmetic = arith;
-    if (t.latency >= b.timing.latency) b.timing = t;
-    b.ops += ops;
-    b.texels += texels;
-    if (std::find(b.materials.begin(), b.materials.end(), mat) == b.materials.end()) b.materials.push_back(mat);
+                 const OpCounts& ops, uint64_t texels = 0) {
+    out.push_back({name, arith, t, ops, texels, {m}});
   };
-  OpCounts cache_ops;
-  for (size_t i = 0; i < paths_.size(); ++i) {
-    const Path& p = paths_[i];
-    const std::string& m = mats_[i].name;
-    if (p.coords) {
-      const CoordUnitConfig& cc = p.coords->config();
-      const std::vector<StageConfig> st = p.coords->stages(tech_);
-      const std::string arith = cc.format + ", " + datapath_name(cc.datapath) + " datapath";
-      add("coords." + cc.coords, arith, st[0].timing, p.coord_ops, m);
-      if (p.coords->has_derivs()) add("derivs." + cc.derivs, arith, st[1].timing, p.deriv_ops, m);
+  if (p.coords) {
+    const CoordUnitConfig& cc = p.coords->config();
+    const std::vector<StageConfig> st = p.coords->stages(tech_);
+    const std::string arith = cc.format + ", " + datapath_name(cc.datapath) + " datapath";
+    // The format is part of the name: two materials with one method in two formats are two units.
+    add("coords." + cc.coords + "[" + cc.format + "]", arith, st[0].timing, p.coord_ops);
+    if (p.coords->has_derivs()) add("derivs." + cc.derivs + "[" + cc.format + "]", arith, st[1].timing, p.deriv_ops);
+  }
+  if (p.footprint) {
+    add(p.footprint->name(), p.footprint->arithmetic(), p.footprint->timing(tech_), p.footprint_ops,
+        p.footprint_texels);
+    return out;
+  }
+  // Per-fragment and per-probe counts times the fragments and probes seen (see Path).
+  const uint64_t iso = p.fragments - p.aniso_fragments;  // one probe each
+  const uint64_t aniso_probes = p.probes - iso;
+  const uint64_t taps = p.probes * static_cast<uint64_t>(p.addr.taps_per_probe());
+  const OpCounts addr_ops = p.addr.ops_setup(false) * iso + p.addr.ops_setup(true) * p.aniso_fragments +
+                            p.addr.ops_per_probe(false) * iso + p.addr.ops_per_probe(true) * aniso_probes;
+  add("lod", "float32, log2 by table", p.lod.timing(tech_), p.lod.ops_per_fragment() * p.fragments);
+  add(std::string("filter.") + to_string(p.addr.config().filter),
+      "float32 coordinates; weights in u0." + std::to_string(p.addr.config().sub_texel_bits) +
+          ", mip fraction u0." + std::to_string(p.addr.config().mipmap_bits),
+      p.addr.timing(tech_), addr_ops, taps);
+  add("blend", "float32 multiply-accumulate", blend_.timing(tech_), TexelBlend::ops_per_tap() * taps);
+  return out;
+}
+
+std::vector<BlockUse> TextureUnit::blocks() const {
+  // One entry per block kind over all materials (a unit serving several materials once).
+  std::map<std::string, BlockUse> by;
+  uint64_t texels = 0;
+  for (int i = 0; i < material_count(); ++i) {
+    for (const BlockUse& u : material_blocks(i)) {
+      BlockUse& b = by[u.name];
+      b.name = u.name;
+      b.arithmetic = u.arithmetic;
+      if (u.timing.latency >= b.timing.latency) b.timing = u.timing;
+      b.ops += u.ops;
+      b.texels += u.texels;
+      b.materials.push_back(u.materials.front());
+      texels += u.texels;
     }
-    if (p.footprint) {
-      add(p.footprint->name(), p.footprint->arithmetic(), p.footprint->timing(tech_), p.footprint_ops, m,
-          p.footprint_texels);
-      cache_ops.mem += p.footprint_texels;
-      continue;
-    }
-    // Per-fragment and per-probe counts times the fragments and probes seen (see Path).
-    const uint64_t iso = p.fragments - p.aniso_fragments;  // one probe each
-    const uint64_t aniso_probes = p.probes - iso;
-    const uint64_t taps = p.probes * static_cast<uint64_t>(p.addr.taps_per_probe());
-    const OpCounts addr_ops = p.addr.ops_setup(false) * iso + p.addr.ops_setup(true) * p.aniso_fragments +
-                              p.addr.ops_per_probe(false) * iso + p.addr.ops_per_probe(true) * aniso_probes;
-    add("lod", "float32, log2 by table", p.lod.timing(tech_), p.lod.ops_per_fragment() * p.fragments, m);
-    add(std::string("filter.") + to_string(p.addr.config().filter),
-        "float32 coordinates; weights in u0." + std::to_string(p.addr.config().sub_texel_bits) +
-            ", mip fraction u0." + std::to_string(p.addr.config().mipmap_bits),
-        p.addr.timing(tech_), addr_ops, m, taps);
-    add("blend", "float32 multiply-accumulate", blend_.timing(tech_), TexelBlend::ops_per_tap() * taps, m);
-    cache_ops.mem += taps;  // every tap is a texel read through the cache
   }
   std::vector<BlockUse> out;
   for (auto& [k, v] : by) out.push_back(v);
@@ -333,8 +342,8 @@ std::vector<BlockUse> TextureUnit::blocks() const {
   c.name = "cache";
   c.arithmetic = "tag compare";
   c.timing.latency = setup_.cache.hit_latency;
-  c.ops = cache_ops;
-  c.texels = cache_ops.mem;
+  c.ops.mem = texels;  // every texel a filter fetched is one read through the cache
+  c.texels = texels;
   for (const auto& m : mats_) c.materials.push_back(m.name);
   out.push_back(c);
   return out;

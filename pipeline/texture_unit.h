@@ -109,6 +109,11 @@ class TextureUnit {
   uint64_t fragments() const { return fragments_; }
   uint64_t cycles() const { return pipe_ ? pipe_->cycles() : 0; }
   std::vector<BlockUse> blocks() const;
+  // The blocks material m used, with only its own operations and texels (cache excluded).
+  std::vector<BlockUse> material_blocks(int m) const;
+  // Fragments material m textured.
+  uint64_t material_fragments(int m) const { return paths_[static_cast<size_t>(m)].fragments; }
+  int material_count() const { return static_cast<int>(mats_.size()); }
   const ClockedPipeline* pipeline() const { return pipe_.get(); }
   const TextureCache& cache() const { return cache_; }
   const DramModel& dram() const { return dram_; }

@@ -144,6 +144,44 @@ TEST_F(Cli, FootprintFiltersPerMaterial) {
   EXPECT_NE(bad.out.find("one footprint filter"), std::string::npos) << bad.out;
 }
 
+TEST_F(Cli, CoordinateUnitsPerMaterial) {
+  // Materials with a coords table get their coordinates from their own unit, in a front end
+  // the report shows as stages and blocks, with accuracy next to cost per material.
+  const std::string out = path("out");
+  const Result r = sh(std::string("run ") + TEXSIM_SOURCE_DIR + "/scenes/coords.toml --no-progress --out " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json j = load_json(out + "/report.json");
+  ASSERT_TRUE(j["stages"].contains("coords"));
+  ASSERT_TRUE(j["stages"].contains("derivs"));
+  for (const char* b : {"coords.heckbert[float]", "coords.incremental[s20.28]", "coords.incremental[s16.16]",
+                        "coords.constant-depth[float]", "coords.quadratic-32[float]", "derivs.iterative[s20.28]"}) {
+    ASSERT_TRUE(j["blocks"].contains(b)) << b;
+    EXPECT_GT(j["blocks"][b]["ops"]["add"].get<double>(), 0) << b;
+  }
+  // Mirror-image strips (same geometry): the s16.16 adders lose the map's precision (G, H keep
+  // 8 significant bits, docs/study-coords.md), s20.28 keeps it.
+  const double inc = num(j, "materials.incremental.accuracy.psnr_db");
+  const double s16 = num(j, "materials.incremental_s16.accuracy.psnr_db");
+  const double hk = num(j, "materials.heckbert.accuracy.psnr_db");
+  const double cd = num(j, "materials.constant_depth.accuracy.psnr_db");
+  EXPECT_GT(inc, s16 + 6) << inc << " vs " << s16;
+  EXPECT_NEAR(hk, cd, 1.0);
+  EXPECT_EQ(num(j, "materials.incremental.fragments"), num(j, "materials.incremental_s16.fragments"));
+  EXPECT_EQ(num(j, "front_end.rejected"), 0);
+  EXPECT_GT(num(j, "front_end.generated"), 0);
+  // Texels per block add up to the cache's texel reads.
+  EXPECT_EQ(num(j, "blocks.filter.trilinear.texels"), num(j, "cache.texel_reads"));
+  // The same scene from a trace: the trace's coordinates are used, and the log says so.
+  const std::string trc = path("coords.trc");
+  ASSERT_EQ(sh(std::string("trace gen ") + TEXSIM_SOURCE_DIR + "/scenes/coords.toml -o " + trc).code, 0);
+  const Result t = sh(std::string("run ") + TEXSIM_SOURCE_DIR + "/scenes/coords.toml --no-progress --trace " + trc +
+                      " --out " + path("t"));
+  ASSERT_EQ(t.code, 0) << t.out;
+  EXPECT_NE(t.out.find("coords ignored"), std::string::npos) << t.out;
+  const Json tj = load_json(path("t") + "/report.json");
+  EXPECT_FALSE(tj["stages"].contains("coords"));
+}
+
 TEST_F(Cli, FunctionalModeHasOpsButNoCycles) {
   const std::string out = path("out");
   const Result r = sh("run --functional --no-progress --out " + out);

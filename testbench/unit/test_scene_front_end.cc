@@ -166,7 +166,7 @@ TEST(SceneFrontEnd, OccludedPixelsCostFrontEndWorkOnly) {
   EXPECT_NEAR(static_cast<double>(b.frags.size()), static_cast<double>(ref.size()), 0.01 * static_cast<double>(ref.size()));
   // The coordinate block's ops count every generated pixel, hidden ones included.
   for (const BlockUse& u : b.blocks) {
-    if (u.name == "coords.incremental") {
+    if (u.name == "coords.incremental[double]") {
       EXPECT_GE(u.ops.div, 2 * b.stats.generated);
     }
   }
@@ -186,7 +186,7 @@ TEST(SceneFrontEnd, InstantiatedOnlyWhenAMaterialAsksAndChargedInCycles) {
   ASSERT_EQ(fast.frags.size(), slow.frags.size());
   bool found = false;
   for (const BlockUse& u : fast.blocks) {
-    if (u.name != "coords.heckbert") continue;
+    if (u.name != "coords.heckbert[float]") continue;
     found = true;
     // Heckbert direct: 6 mul, 6 add (numerators, denominator), 2 div per pixel (docs/study-coords.md).
     EXPECT_EQ(u.ops.div, 2 * fast.stats.generated);
