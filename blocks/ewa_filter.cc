@@ -137,7 +137,7 @@ Rgba bilinear_fallback(const Texture& tex, int level, double u, double v, Addres
 EwaFilter::Config EwaFilter::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"weight", "lut_size", "lut_bits", "alpha", "radius_px", "max_aniso",
                     "texel_budget", "reconstruction", "minor_texels", "mip", "scan", "arith",
-                    "address_u", "address_v", "lanes", "weight_map"});
+                    "address_u", "address_v", "lanes", "weight_map", "edge", "vd"});
   Config c;
   c.weight = static_cast<Weight>(
       r.get_choice("weight", static_cast<int>(c.weight), {"lut", "exp", "pow8", "map", "uniform"}));
@@ -168,6 +168,12 @@ EwaFilter::Config EwaFilter::Config::from_toml(const ConfigReader& r) {
   c.lanes = static_cast<int>(r.get_int("lanes", c.lanes, 1, 64));
   if (c.weight != Weight::Map && r.table().contains("weight_map")) {
     r.fail("weight_map", "is only used with weight = \"map\"");
+  }
+  c.edge = static_cast<Edge>(r.get_choice("edge", static_cast<int>(c.edge), {"none", "vd"}));
+  if (c.edge == Edge::Vd) {
+    c.vd = SubtexelCutoff::Config::from_toml(r.sub("vd"));
+  } else if (r.table().contains("vd")) {
+    r.fail("vd", "is only used with edge = \"vd\"");
   }
   return c;
 }
@@ -351,9 +357,30 @@ struct LevelScan {
             cc = to_t<T>(static_cast<double>(cs));
     const T one = to_t<T>(1.0), zero = to_t<T>(0.0), two_a = a + a;
     const bool span = c.scan == EwaFilter::Scan::RowSpan;
+    // Edge cut-off: only texels with Q > qband can lie within half a texel of the boundary
+    // (|∇√Q| ≤ 1/minor radius, so d > −½ needs √Q > 1 − ½/minor radius).
+    const bool cutoff = c.edge == EwaFilter::Edge::Vd;
+    const SubtexelCutoff cut = filt.cutoff();
+    T qband = zero, gy_step = zero;
+    if (cutoff) {
+      ops += filt.ops_edge_setup();
+      const S th = (static_cast<S>(suu) + static_cast<S>(svv)) * S(0.5);
+      const S dh = (static_cast<S>(suu) - static_cast<S>(svv)) * S(0.5);
+      const S lmin = th - std::sqrt(dh * dh + static_cast<S>(suv) * static_cast<S>(suv));
+      const S am = std::sqrt(std::max(lmin, S(0)));
+      const S t = am > S(0.5) ? S(1) - S(0.5) / am : S(0);
+      qband = to_t<T>(static_cast<double>(t * t));
+      gy_step = b;
+    }
     const S inv2a = span ? S(1) / (S(2) * as) : S(0);
     if (span) ops.rcp += 1;
     OpCounts per_row = row_ops(c.scan) + address_mode_ops(c.address_v);
+    if (cutoff) {
+      OpCounts g;  // row start of ∂Q/∂V = bU0 + 2cV
+      g.mul = 2;
+      g.add = 1;
+      per_row += g;
+    }
     if (c.weight == EwaFilter::Weight::Map) {
       // Row start of the transform (x, y) = M·(U0, V).
       OpCounts m;
@@ -365,6 +392,7 @@ struct LevelScan {
     }
     const OpCounts per_visit = filt.ops_per_visit();
     const OpCounts per_inside = filt.ops_per_inside();
+    const OpCounts per_edge = cutoff ? filt.ops_per_edge_texel() : OpCounts{};
     const WeightMap* map = filt.weight_map();
     // Weight-map transform: per-footprint constants (x, y) = M·(U, V).
     S mxu = 0, mxv = 0, myu = 0, myv = 0;
@@ -394,7 +422,7 @@ struct LevelScan {
     Acc wsum = 0;
     // Operations are counted per kind of step and multiplied out once (the count depends only
     // on how many rows, box texels and inside texels there were).
-    uint64_t rows = 0, visits = 0, insides = 0;
+    uint64_t rows = 0, visits = 0, insides = 0, edges = 0;
     for (int64_t j = j0; j <= j1; ++j) {
       ++rows;
       const S Vs = static_cast<S>(j) - vc;
@@ -415,6 +443,7 @@ struct LevelScan {
       T q = (a * U0 + b * V) * U0 + cc * V * V;
       T dq = a * (U0 + U0 + one) + b * V;
       S mx = mxu * U0s + mxv * Vs, my = myu * U0s + myv * Vs;
+      T gy = cutoff ? b * U0 + (cc + cc) * V : zero;  // ∂Q/∂V, stepped by b along the row
       visits += static_cast<uint64_t>(ib - ia + 1);
       for (int64_t i = ia; i <= ib; ++i) {
         ++st.visited;
@@ -425,6 +454,16 @@ struct LevelScan {
             w = map->read(static_cast<float>(mx), static_cast<float>(my), st.map_reads);
           } else {
             w = static_cast<float>(filt.weight_of(to_double(qq)));
+          }
+          if (cutoff && q > qband) {
+            // d = (√Q − 1)/|∇√Q| = 2(Q − √Q)/|∇Q|: the distance to the tangent of the boundary
+            // at the texel's radial projection onto it (exact on the axes and for circles).
+            ++edges;
+            const S qs = static_cast<S>(to_double(qq));
+            const S gx = static_cast<S>(to_double(dq - a));  // ∂Q/∂U = 2aU + bV = dQ − a
+            const S gv = static_cast<S>(to_double(gy));
+            const S d = EwaFilter::boundary_distance(qs, gx, gv);
+            w *= static_cast<float>(cut.fraction(static_cast<double>(d)));
           }
           ++insides;
           const int32_t x = TexelAddressGen::address(i, wl, c.address_u);
@@ -437,6 +476,7 @@ struct LevelScan {
         }
         q = q + dq;
         dq = dq + two_a;
+        if (cutoff) gy = gy + gy_step;
         mx += mxu;
         my += myu;
       }
@@ -444,6 +484,7 @@ struct LevelScan {
     ops += per_row * rows;
     ops += per_visit * visits;
     ops += per_inside * insides;
+    ops += per_edge * edges;
     return wsum;
   }
 };
@@ -455,6 +496,35 @@ OpCounts EwaFilter::ops_per_visit() const {
   o.cmp = 1;  // Q < 1
   o.add = 2;  // Q += dQ, dQ += 2a
   if (cfg_.weight == Weight::Map && map_) o += map_->ops_per_step();
+  if (cfg_.edge == Edge::Vd) o.add += 1;  // ∂Q/∂V += b
+  return o;
+}
+
+OpCounts EwaFilter::ops_edge_setup() const {
+  OpCounts o;
+  if (cfg_.edge != Edge::Vd) return o;
+  // λ₋ of Σ_l: (Σuu ± Σvv)/2 (2 add, 2 mul), d² + Σuv² (2 mul, 1 add), √, t − s (1 add);
+  // minor radius √λ₋; band 1 − ½/r (rcp, 1 add, r > ½ 1 cmp), squared (1 mul); 2c (1 add).
+  o.add = 2 + 1 + 1 + 1 + 1;
+  o.mul = 2 + 2 + 1;
+  o.sqrt = 2;
+  o.rcp = 1;
+  o.cmp = 1;
+  return o;
+}
+
+OpCounts EwaFilter::ops_per_edge_texel() const {
+  OpCounts o;
+  if (cfg_.edge != Edge::Vd) return o;
+  // ∂Q/∂U = dQ − a (1 add); |∇Q|² (2 mul, 1 add), ∇Q ≠ 0 (1 cmp); √Q (1 sqrt); 1/|∇Q|
+  // (1 sqrt, 1 rcp); Q − √Q (1 add); d = 2(Q − √Q)/|∇Q| (1 mul, the 2 an exponent
+  // increment); the cut-off and its fraction; weight × fraction (1 mul).
+  o.add = 1 + 1 + 1;
+  o.mul = 2 + 1 + 1;
+  o.cmp = 1;
+  o.sqrt = 2;
+  o.rcp = 1;
+  o += cutoff().ops() + SubtexelCutoff::fraction_extra_ops();
   return o;
 }
 
@@ -465,6 +535,7 @@ OpCounts EwaFilter::ops_per_inside() const {
   o.mem += 1;  // texel read
   o.mul += 4;  // w·RGBA
   o.add += 4 + 1;  // RGBA accumulate, Σw
+  if (cfg_.edge == Edge::Vd) o.cmp += 1;  // Q > band
   return o;
 }
 
@@ -633,6 +704,15 @@ TimingSpec EwaFilter::timing(const TechTable& tech) const {
       break;
     case Weight::Uniform: break;
   }
+  if (cfg_.edge == Edge::Vd) {
+    // ∂Q/∂U → |∇Q|² → 1/|∇Q| → d → cut-off → × 1/W(−½), select → w × fraction.
+    texel.add += 1 + 1;
+    texel.mul += 1 + 1 + 1 + 1;
+    texel.sqrt += 1;
+    texel.rcp += 1;
+    texel.cmp += 1;
+    texel += cutoff().critical_path();
+  }
   path += texel;
   path.rcp += 1;
   path.mul += 1;
@@ -645,7 +725,21 @@ TimingSpec EwaFilter::timing(const TechTable& tech) const {
                    level_setup_ops() + row_ops(cfg_.scan) + normalise_ops();
   OpCounts lane = ops_per_visit() + ops_per_inside();
   lane.mem = 0;
-  t.area = tech.area_of(units) + tech.area_of(lane) * static_cast<double>(t.lanes);
+  double cut_area = 0;
+  if (cfg_.edge == Edge::Vd) {
+    // Per lane the distance datapath and vd.lanes cut-off units; the band set-up once.
+    const SubtexelCutoff cut = cutoff();
+    units += ops_edge_setup();
+    OpCounts dist = ops_per_edge_texel();
+    const OpCounts c = cut.ops();
+    dist.add -= c.add;
+    dist.mul -= c.mul;
+    dist.cmp -= c.cmp;
+    dist.lut -= c.lut;
+    lane += dist;
+    cut_area = cut.timing(tech).area;
+  }
+  t.area = tech.area_of(units) + (tech.area_of(lane) + cut_area) * static_cast<double>(t.lanes);
   return t;
 }
 
@@ -665,6 +759,10 @@ std::string EwaFilter::arithmetic() const {
     case Weight::Pow8: q += "; weights (1 - alpha Q/8)^8 computed"; break;
     case Weight::Map: q += "; weights read from a " + (map_ ? map_->name() : std::string("?")) + " map"; break;
     case Weight::Uniform: q += "; uniform weights"; break;
+  }
+  if (cfg_.edge == Edge::Vd) {
+    q += "; " + cutoff().name() + " edge cut-off, boundary distance in " +
+         (cfg_.arith == Arith::Double ? "double" : "float32");
   }
   return q;
 }

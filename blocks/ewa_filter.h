@@ -2,19 +2,24 @@
 // EWA filter (Greene & Heckbert): footprint set-up with max-anisotropy clamp, reconstruction
 // term and texel budget, level selection from the minor axis, bounding-box (or row-span) scan
 // with incremental Q, and Gaussian weights from a LUT, computed (exp or power-8) or read from
-// a weight map (docs/anisotropic-filters.md §1–§3).
+// a weight map (docs/anisotropic-filters.md §1–§3); optionally a V(d) sub-texel cut-off of the
+// texels within half a texel of the ellipse boundary (§9).
 // Arithmetic: set-up in float or double; per-texel Q in float, double or fixed s18.30;
-// colour accumulation in float (double for the double datapath).
+// colour accumulation in float (double for the double datapath); with edge = "vd" the boundary
+// distance in float (double for the double datapath) and the cut-off fraction in the cut-off's
+// format (float, double, fixed u0.F/s1.F/u1.F).
 // This header also holds the types the anisotropic filter family shares (TexelRef, FilterStats,
 // FilterOutput, the footprint set-up), so a cache model sees every filter the same way.
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "blocks/config_reader.h"
 #include "blocks/op_counts.h"
+#include "blocks/subtexel_cutoff.h"
 #include "blocks/tech_table.h"
 #include "blocks/texture_memory.h"
 #include "blocks/timing_spec.h"
@@ -86,6 +91,7 @@ class EwaFilter {
   enum class Mip : int { Nearest, Linear };
   enum class Scan : int { Box, RowSpan };
   enum class Arith : int { Float, Double, Fixed };
+  enum class Edge : int { None, Vd };
 
   struct Config {
     Weight weight = Weight::Lut;  // Uniform: weight 1 inside the ellipse (no pixel model)
@@ -103,10 +109,16 @@ class EwaFilter {
     AddressMode address_u = AddressMode::Wrap;
     AddressMode address_v = AddressMode::Wrap;
     int lanes = 4;               // texels whose weight is evaluated per cycle
+    // Vd: a texel inside the ellipse whose centre lies within half a texel of the boundary
+    // Q = 1 gets its weight × W(d)/W(−½) (SubtexelCutoff), d the distance to the boundary in
+    // texels (d < 0 inside). vd.lanes = cut-off units per texel lane.
+    Edge edge = Edge::None;
+    SubtexelCutoff::Config vd;
     // Keys: weight (lut|exp|pow8|map|uniform), lut_size, lut_bits, alpha, radius_px, max_aniso,
     // texel_budget, reconstruction, minor_texels, mip (nearest|linear), scan (box|row_span),
-    // arith (float|double|fixed), address_u, address_v (wrap|clamp|mirror), lanes, and the
-    // subtable weight_map (WeightMap::Config) for weight = "map".
+    // arith (float|double|fixed), address_u, address_v (wrap|clamp|mirror), lanes, the
+    // subtable weight_map (WeightMap::Config) for weight = "map", edge (none|vd) and the
+    // subtable vd (SubtexelCutoff::Config: evaluator, format, lanes) for edge = "vd".
     static Config from_toml(const ConfigReader& r);
   };
 
@@ -121,6 +133,7 @@ class EwaFilter {
   const Config& config() const { return cfg_; }
   const std::vector<double>& lut() const { return lut_; }
   const WeightMap* weight_map() const { return map_.get(); }
+  SubtexelCutoff cutoff() const { return SubtexelCutoff(cfg_.vd); }
 
   // Filters one fragment (u, v and derivatives in normalised coordinates). Appends every
   // texel read to `fetched` (if not null) and adds the operations performed to `ops`.
@@ -131,6 +144,17 @@ class EwaFilter {
   FilterOutput filter_t(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
                         OpCounts& ops) const;
 
+  // Signed distance in texels from a point to the ellipse boundary Q = 1 (negative inside),
+  // from Q ≥ 0 and ∇Q = (∂Q/∂U, ∂Q/∂V) there: d = (√Q − 1)/|∇√Q| = 2(Q − √Q)/|∇Q|, the
+  // distance to the boundary's tangent at the point's radial projection onto it (exact on the
+  // axes and for circles; docs/anisotropic-filters.md §9). ∇Q = 0 (the centre) gives −∞.
+  template <class S>
+  static S boundary_distance(S q, S gx, S gy) {
+    const S g2 = gx * gx + gy * gy;
+    if (!(g2 > S(0))) return -std::numeric_limits<S>::infinity();
+    return S(2) * (q - std::sqrt(q)) / std::sqrt(g2);
+  }
+
   // Weight of a texel at normalised distance Q (the configured source; Map excluded).
   double weight_of(double q) const;
 
@@ -140,6 +164,10 @@ class EwaFilter {
   // read, multiply-accumulate).
   OpCounts ops_per_visit() const;
   OpCounts ops_per_inside() const;
+  // With edge = "vd": per level, the band set-up (minor radius, Q threshold); per texel in the
+  // band, the boundary distance, the cut-off and the weight's scaling.
+  OpCounts ops_edge_setup() const;
+  OpCounts ops_per_edge_texel() const;
   // Latency: set-up, one texel's path and the normalisation in sequence; ii = 1 per lane
   // group; area: set-up + `lanes` texel datapaths + normaliser.
   TimingSpec timing(const TechTable& tech) const;

@@ -38,6 +38,24 @@ double SubtexelCutoff::weight(double d) const {
   });
 }
 
+double SubtexelCutoff::fraction(double d) const {
+  return visit_vd_format(cfg_.format, [&](auto fmt) {
+    using Fmt = decltype(fmt);
+    const Fraction<Fmt> frac(*this);
+    return to_double(frac(vd_detail::quantize<typename Fmt::SIn>(static_cast<long double>(d))));
+  });
+}
+
+std::string SubtexelCutoff::name() const {
+  std::string ev(vd_evaluator_name(cfg_.evaluator));
+  if (ev.size() == 2 && ev[0] == 'p') ev[0] = 'P';  // P3, P2, P1 as the thesis writes them
+  std::string s = "V(d) " + ev + " " + std::string(kVdFormatKeys[static_cast<size_t>(cfg_.format)]);
+  if (cfg_.format != VdFormatKind::Float && cfg_.format != VdFormatKind::Double) {
+    s += " (" + visit_vd_format(cfg_.format, [](auto fmt) { return decltype(fmt)::name(); }) + ")";
+  }
+  return s;
+}
+
 OpCounts SubtexelCutoff::ops() const {
   return visit_vd_evaluator(cfg_.evaluator, [](auto ev) { return ev.ops() + wrapper_ops(); });
 }

@@ -5,6 +5,7 @@
 // Arithmetic: the evaluator's format (float, double, or fixed u0.F/s3.F/u1.F, signed input
 // s1.F); V̂ is clamped to V̂(0.5) because P2 and P3 are not monotonic near d = 0.5.
 #include <cstdint>
+#include <string>
 
 #include "blocks/config_reader.h"
 #include "blocks/op_counts.h"
@@ -86,6 +87,42 @@ class SubtexelCutoff {
 
   // W in the configured format: d rounded into it, W returned as a double.
   double weight(double d) const;
+
+  // W(d)/W(−½): the part of a wholly inside texel's volume that remains, in Fmt's output
+  // type, as a filter's coverage factor. W(−½) and 1/W(−½) (rounded into Out) are constant
+  // registers; per call one multiply and one select (exactly 1 once W reaches W(−½)).
+  template <class Fmt>
+  class Fraction {
+   public:
+    using SIn = typename Fmt::SIn;
+    using Out = typename Fmt::Out;
+    explicit Fraction(const SubtexelCutoff& c)
+        : cut_(&c),
+          full_(c.full_weight<Fmt>()),
+          inv_full_(vd_detail::quantize<Out>(1.0L / static_cast<long double>(to_double(full_)))),
+          one_(vd_detail::quantize<Out>(1.0L)) {}
+    Out operator()(SIn d) const {
+      const Out w = cut_->weight<Fmt>(d);
+      return w < full_ ? vd_detail::mul<Out>(w, inv_full_) : one_;
+    }
+    Out one() const { return one_; }
+
+   private:
+    const SubtexelCutoff* cut_;
+    Out full_, inv_full_, one_;
+  };
+  // Fraction in the configured format: d rounded into it, the fraction returned as a double.
+  double fraction(double d) const;
+  // Operations of one Fraction call beyond ops(): the multiply by 1/W(−½) and the select.
+  static OpCounts fraction_extra_ops() {
+    OpCounts o;
+    o.mul = 1;
+    o.cmp = 1;
+    return o;
+  }
+
+  // Evaluator and format for reports, e.g. "V(d) P2 fx16 (u0.16/s3.15/u1.15)".
+  std::string name() const;
 
   OpCounts ops() const;
   OpCounts critical_path() const;

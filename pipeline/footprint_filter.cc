@@ -58,7 +58,8 @@ std::unique_ptr<FootprintFilter> FootprintFilter::from_material(const ConfigRead
     } else if (key == "feline") {
       f = make<FelineFilter>(material, "feline", "float32 trilinear probes");
     } else {
-      f = make<SpafFilter>(material, "spaf", "float32 edge functions; sub-texel mask table, popcount");
+      const auto cfg = SpafFilter::Config::from_toml(material.sub(key));
+      f = std::make_unique<FootprintFilterOf<SpafFilter>>(cfg, "filter.spaf", SpafFilter(cfg).arithmetic());
     }
   }
   return f;
