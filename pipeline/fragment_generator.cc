@@ -21,18 +21,10 @@ void generate_fragments(const Scene& scene, uint32_t frame,
         }
       }
       if (best < 0) continue;
-      Fragment f;
+      Fragment f = hit.fragment(static_cast<uint32_t>(x), static_cast<uint32_t>(y));
       f.frame = frame;
       f.prim = static_cast<uint32_t>(best);
-      f.x = static_cast<uint32_t>(x);
-      f.y = static_cast<uint32_t>(y);
       f.tex = static_cast<uint32_t>(scene.materials[scene.planes[best].material].texture);
-      f.u = hit.u;
-      f.v = hit.v;
-      f.dudx = hit.dudx;
-      f.dvdx = hit.dvdx;
-      f.dudy = hit.dudy;
-      f.dvdy = hit.dvdy;
       emit(f);
     }
   }

@@ -8,6 +8,7 @@
 
 #include "blocks/projective_map.h"
 #include "pipeline/scene.h"
+#include "traces/fragment.h"
 
 namespace texsim {
 
@@ -16,6 +17,20 @@ struct UvSample {
   double dudx = 0, dvdx = 0, dudy = 0, dvdy = 0;  // analytic derivatives at (x, y)
   double depth = 0;       // distance along the view direction
   bool inside = false;    // on the plane's parallelogram, in front of the near plane
+
+  // A fragment of pixel (x, y) with these coordinates and derivatives.
+  Fragment fragment(uint32_t x, uint32_t y) const {
+    Fragment f;
+    f.x = x;
+    f.y = y;
+    f.u = u;
+    f.v = v;
+    f.dudx = dudx;
+    f.dvdx = dvdx;
+    f.dudy = dudy;
+    f.dvdy = dvdy;
+    return f;
+  }
 };
 
 class PlaneProjection {

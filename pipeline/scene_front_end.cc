@@ -93,17 +93,11 @@ void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>
             const size_t k = pixel(x, r.y);
             if (owner[k] != static_cast<int32_t>(p) || done[k]) continue;
             done[k] = 1;
-            const UvSample s = maps[p].at(x + 0.5, r.y + 0.5);
-            f.x = static_cast<uint32_t>(x);
-            f.y = static_cast<uint32_t>(r.y);
-            f.u = s.u;
-            f.v = s.v;
-            f.dudx = s.dudx;
-            f.dvdx = s.dvdx;
-            f.dudy = s.dudy;
-            f.dvdy = s.dvdy;
-            const Rgba c = unit.process(f, m);
-            emit(f, m, &c);
+            Fragment e = maps[p].at(x + 0.5, r.y + 0.5).fragment(static_cast<uint32_t>(x), static_cast<uint32_t>(r.y));
+            e.prim = f.prim;
+            e.tex = f.tex;
+            const Rgba c = unit.process(e, m);
+            emit(e, m, &c);
           }
         }
         continue;

@@ -52,16 +52,7 @@ struct Fixture {
       for (int x = 0; x < 128; ++x) {
         const UvSample s = proj.at(x + 0.5, y + 0.5);
         if (!s.inside) continue;
-        Fragment f;
-        f.x = static_cast<uint32_t>(x);
-        f.y = static_cast<uint32_t>(y);
-        f.u = s.u;
-        f.v = s.v;
-        f.dudx = s.dudx;
-        f.dvdx = s.dvdx;
-        f.dudy = s.dudy;
-        f.dvdy = s.dvdy;
-        frags.push_back(f);
+        frags.push_back(s.fragment(static_cast<uint32_t>(x), static_cast<uint32_t>(y)));
       }
     }
   }
