@@ -271,7 +271,7 @@ FilterOutput SpafFilter::filter_t(const Texture& tex, const Fragment& f, std::ve
     ops += fixed_guard_ops();
     const S ub = std::max(std::fabs(U0), std::fabs(static_cast<S>(i1) - uc)) + S(1);
     const S vb = std::max(std::fabs(V0), std::fabs(static_cast<S>(j1) - vc)) + S(1);
-    const S qbound = (qa * ub + std::fabs(qb) * vb) * ub + qc * vb * vb;
+    const S qbound = cfg_.gaussian ? (qa * ub + std::fabs(qb) * vb) * ub + qc * vb * vb : S(0);
     const S ebound = std::max(std::max(ec[0], ec[1]), std::max(ec[2], ec[3])) + ub + vb;
     const S limit = static_cast<S>(std::ldexp(1.0, T::kIntBits - 3));  // a quarter of the range
     if (!(qbound < limit) || !(ebound < limit)) return fallback(level);

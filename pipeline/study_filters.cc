@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <sstream>
+#include <tuple>
 
 #include "blocks/dram_model.h"
 #include "blocks/ewa_filter.h"
@@ -627,6 +628,19 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
     d = c;
     d.minor_texels = 2;
     methods.push_back(ewa_method("ewa lut256 minor 2 texels", "ewa", d, tech));
+    // V(d) sub-texel cut-off of the texels within half a texel of the ellipse boundary.
+    for (const auto& [k, fk, label] : {std::tuple{VdEvaluatorKind::Exact, VdFormatKind::Double, "exact double"},
+                                      std::tuple{VdEvaluatorKind::P2, VdFormatKind::Fx16, "P2 fx16"}}) {
+      d = c;
+      d.edge = EwaFilter::Edge::Vd;
+      d.vd.evaluator = k;
+      d.vd.format = fk;
+      methods.push_back(ewa_method(std::string("ewa lut256 edge V(d) ") + label, "ewa", d, tech));
+    }
+    // Control for the cut-off: a smaller reconstruction term also narrows the edge weights.
+    d = c;
+    d.reconstruction = 0.5;
+    methods.push_back(ewa_method("ewa lut256 reconstruction 0.5", "ewa", d, tech));
     d = c;
     d.weight = EwaFilter::Weight::Uniform;
     methods.push_back(ewa_method("ewa uniform weights", "weights", d, tech));
@@ -729,6 +743,46 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
     sc.gaussian = false;
     methods.push_back(block_method("spaf area only (pixel square), budget 256", "spaf",
                                    std::make_shared<const SpafFilter>(sc), tech, spaf_arith));
+    // V(d) coverage instead of sub-texel masks (vd.lanes cut-off units per lane), and the
+    // edge-function/Q datapath in double and fixed point.
+    auto spaf_row = [&](const std::string& name, const SpafFilter::Config& cfg) {
+      auto b = std::make_shared<const SpafFilter>(cfg);
+      methods.push_back(block_method(name, "spaf", b, tech, b->arithmetic()));
+    };
+    struct VdRow {
+      VdEvaluatorKind k;
+      VdFormatKind f;
+      uint32_t units;
+      int budget;
+      const char* label;
+    };
+    for (const VdRow& vr : {VdRow{VdEvaluatorKind::Exact, VdFormatKind::Double, 1, 64, "exact double"},
+                            VdRow{VdEvaluatorKind::Exact, VdFormatKind::Fx16, 1, 64, "exact fx16"},
+                            VdRow{VdEvaluatorKind::P3, VdFormatKind::Fx16, 1, 64, "P3 fx16"},
+                            VdRow{VdEvaluatorKind::P2, VdFormatKind::Float, 1, 64, "P2 float"},
+                            VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 1, 64, "P2 fx16"},
+                            VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 4, 64, "P2 fx16 x4 units"},
+                            VdRow{VdEvaluatorKind::P1, VdFormatKind::Fx16, 1, 64, "P1 fx16"},
+                            VdRow{VdEvaluatorKind::P1, VdFormatKind::Fx8, 1, 64, "P1 fx8"},
+                            VdRow{VdEvaluatorKind::Exact, VdFormatKind::Double, 1, 256, "exact double"},
+                            VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 1, 256, "P2 fx16"}}) {
+      SpafFilter::Config vc;
+      vc.texel_budget = vr.budget;
+      vc.coverage = SpafFilter::Coverage::Vd;
+      vc.vd.evaluator = vr.k;
+      vc.vd.format = vr.f;
+      vc.vd.lanes = vr.units;
+      spaf_row(std::string("spaf V(d) ") + vr.label + ", budget " + std::to_string(vr.budget), vc);
+    }
+    for (int budget : {64, 256}) {
+      SpafFilter::Config fc2;
+      fc2.texel_budget = budget;
+      fc2.arith = SpafFilter::Arith::Fixed;
+      spaf_row("spaf 4x4 mask, budget " + std::to_string(budget) + ", fixed " + SpafFixed::name(), fc2);
+    }
+    SpafFilter::Config dc;
+    dc.arith = SpafFilter::Arith::Double;
+    spaf_row("spaf 4x4 mask, budget 64, double", dc);
   }
   if (opt.oiio) {
     // OpenImageIO's TextureSystem on the same queries: one .tx per texture, made on first use.

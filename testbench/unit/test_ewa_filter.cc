@@ -1,9 +1,11 @@
 // EWA filter: constant textures are reproduced, the result matches the Gaussian-footprint
 // reference on smooth textures, the fixed-point Q datapath tracks double, the weight table's
 // error is within its analytic bound, texel counts obey the budget, and op counts agree with
-// the texels reported.
+// the texels reported; the V(d) edge cut-off: its boundary distance against geometry, its
+// weights on a circle, and edge = "none" leaving every variant unchanged.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -252,6 +254,150 @@ TEST(EwaFilter, AnisotropyClampAndLevel) {
   EXPECT_EQ(ewa.filter(tex, f, nullptr, ops).stats.level, 3);
 }
 
+// The boundary distance d = 2(Q − √Q)/|∇Q| against the Euclidean distance to the ellipse
+// (nearest boundary point: a 4000-point search refined by golden section): exact on circles
+// and on the axes. Elsewhere the tangent at the point's radial projection is not the nearest
+// point's: for |d| ≤ ½ and a minor radius of 1–4 texels (the reconstruction term's floor is 1)
+// the error grows with the axis ratio, worst near the ends of the major axis, where the
+// boundary's radius of curvature (minor²/major) falls below the half-texel band.
+TEST(EwaFilter, BoundaryDistanceAgainstGeometry) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> uni(0, 1);
+  struct Case {
+    double ratio, max_bound, p95_bound;
+  };
+  for (const Case& cs : {Case{1, 1e-9, 1e-9}, Case{2, 0.04, 0.02}, Case{4, 0.15, 0.06}, Case{16, 0.6, 0.2}}) {
+    std::vector<double> errs;
+    for (int k = 0; k < 400; ++k) {
+      const double rb = 1 + 3 * uni(rng), ra = rb * cs.ratio, th = uni(rng) * kPi;
+      const double c = std::cos(th), s = std::sin(th);
+      const double qa = c * c / (ra * ra) + s * s / (rb * rb);
+      const double qc = s * s / (ra * ra) + c * c / (rb * rb);
+      const double qb = 2 * c * s * (1 / (ra * ra) - 1 / (rb * rb));
+      // A point about t from the boundary along its normal (t ∈ [−½, ½]), in the ellipse frame.
+      const double phi = uni(rng) * 2 * kPi, t = uni(rng) - 0.5;
+      const double bx = ra * std::cos(phi), by = rb * std::sin(phi);
+      const double nx = bx / (ra * ra), ny = by / (rb * rb), nn = std::hypot(nx, ny);
+      const double px = bx + t * nx / nn, py = by + t * ny / nn;
+      const double U = c * px - s * py, V = s * px + c * py;
+      const double q = (qa * U + qb * V) * U + qc * V * V;
+      const double d = EwaFilter::boundary_distance(q, 2 * qa * U + qb * V, qb * U + 2 * qc * V);
+      auto dist = [&](double a) { return std::hypot(ra * std::cos(a) - px, rb * std::sin(a) - py); };
+      int best = 0;
+      for (int i = 1; i < 4000; ++i) {
+        if (dist(2 * kPi * i / 4000) < dist(2 * kPi * best / 4000)) best = i;
+      }
+      double lo = 2 * kPi * (best - 1) / 4000, hi = 2 * kPi * (best + 1) / 4000;
+      for (int it = 0; it < 100; ++it) {
+        const double m1 = lo + (hi - lo) * 0.382, m2 = lo + (hi - lo) * 0.618;
+        if (dist(m1) < dist(m2)) hi = m2;
+        else lo = m1;
+      }
+      const double exact = (q < 1 ? -1 : 1) * dist(0.5 * (lo + hi));
+      if (std::fabs(exact) > 0.5) continue;  // the band the cut-off uses
+      errs.push_back(std::fabs(d - exact));
+    }
+    std::sort(errs.begin(), errs.end());
+    const double worst = errs.back(), p95 = errs[errs.size() * 95 / 100];
+    std::printf("EWA boundary distance, axis ratio %g: max error %.4f, 95th percentile %.4f texel (%zu points)\n",
+                cs.ratio, worst, p95, errs.size());
+    EXPECT_LE(worst, cs.max_bound) << cs.ratio;
+    EXPECT_LE(p95, cs.p95_bound) << cs.ratio;
+    EXPECT_GT(errs.size(), 300u);
+  }
+  // On the axes: exact for any distance.
+  const double ra = 4, rb = 1.5;
+  for (double t : {-0.5, -0.2, 0.3}) {
+    const double x = ra + t, qx = (x / ra) * (x / ra);
+    EXPECT_NEAR(EwaFilter::boundary_distance(qx, 2 * x / (ra * ra), 0.0), t, 1e-12);
+    const double y = rb + t, qy = (y / rb) * (y / rb);
+    EXPECT_NEAR(EwaFilter::boundary_distance(qy, 0.0, 2 * y / (rb * rb)), t, 1e-12);
+  }
+  EXPECT_EQ(EwaFilter::boundary_distance(0.0, 0.0, 0.0), -std::numeric_limits<double>::infinity());
+}
+
+// edge = "none" leaves EWA as it was: a configured but unused cut-off changes no bit, no op
+// count, no timing and no arithmetic string.
+TEST(EwaFilter, EdgeNoneIsUnchanged) {
+  const Texture tex = make_texture(128, smooth);
+  std::mt19937 rng(10);
+  std::uniform_real_distribution<double> uni(0, 1);
+  for (EwaFilter::Arith ar : {EwaFilter::Arith::Float, EwaFilter::Arith::Double, EwaFilter::Arith::Fixed}) {
+    EwaFilter::Config a;
+    a.arith = ar;
+    EwaFilter::Config b = a;
+    b.vd.evaluator = VdEvaluatorKind::P1;
+    b.vd.format = VdFormatKind::Fx8;
+    const EwaFilter ea(a), eb(b);
+    for (int k = 0; k < 200; ++k) {
+      const double major = std::exp2(uni(rng) * 7 - 1), minor = major / (1 + 20 * uni(rng));
+      const Fragment f = footprint(uni(rng), uni(rng), major, minor, uni(rng) * kPi, 128);
+      OpCounts o1, o2;
+      const FilterOutput x = ea.filter(tex, f, nullptr, o1), y = eb.filter(tex, f, nullptr, o2);
+      for (int ch = 0; ch < 4; ++ch) ASSERT_EQ(x.colour[ch], y.colour[ch]);
+      ASSERT_EQ(o1, o2);
+      ASSERT_EQ(x.stats.visited, y.stats.visited);
+    }
+    const TechTable tech = TechTable::defaults();
+    EXPECT_EQ(ea.timing(tech).latency, eb.timing(tech).latency);
+    EXPECT_EQ(ea.timing(tech).area, eb.timing(tech).area);
+    EXPECT_EQ(ea.arithmetic(), eb.arithmetic());
+    EXPECT_EQ(ea.arithmetic().find("V(d)"), std::string::npos);
+  }
+}
+
+// With uniform weights on a circular footprint every texel's weight is its cut-off fraction
+// W(d)/W(−½) at d = ρ − R (ρ its centre's distance from the footprint centre, R the circle's
+// radius with the reconstruction term), exact for circles: a texture that is 1 on one texel
+// and 0 elsewhere returns that texel's fraction over the sum of all fractions (0 outside).
+TEST(EwaFilter, EdgeCutoffWeightsOnACircle) {
+  const int size = 64, cx = 30, cy = 33;
+  const double ox = 0.3, oy = -0.2;  // footprint centre off the texel centre
+  for (VdEvaluatorKind k : {VdEvaluatorKind::Exact, VdEvaluatorKind::P2}) {
+    EwaFilter::Config c;
+    c.arith = EwaFilter::Arith::Double;
+    c.weight = EwaFilter::Weight::Uniform;
+    c.minor_texels = 64;  // level 0
+    c.edge = EwaFilter::Edge::Vd;
+    c.vd.evaluator = k;
+    c.vd.format = VdFormatKind::Double;
+    const EwaFilter ewa(c);
+    const SubtexelCutoff cut = ewa.cutoff();
+    const double rpx = 2.8, R = std::sqrt(rpx * rpx + c.reconstruction);
+    auto weight = [&](int x, int y) {
+      const double rho = std::hypot(x - (cx + ox), y - (cy + oy));
+      if (!(rho < R)) return 0.0;
+      return rho > R - 0.5 ? cut.fraction(rho - R) : 1.0;
+    };
+    double sum = 0;
+    for (int y = 0; y < size; ++y) {
+      for (int x = 0; x < size; ++x) sum += weight(x, y);
+    }
+    const Fragment f = footprint((cx + ox + 0.5) / size, (cy + oy + 0.5) / size, rpx, rpx, 0.0, size);
+    int band = 0;
+    for (int ty = cy - 4; ty <= cy + 4; ++ty) {
+      for (int tx = cx - 4; tx <= cx + 4; ++tx) {
+        std::vector<float> px(static_cast<size_t>(size) * size * 4, 0.0f);
+        px[static_cast<size_t>(ty * size + tx) * 4] = 1.0f;
+        const Texture tex = Texture::from_rgba("one", size, size, px, TexelFormat::Rgba32f, false);
+        OpCounts ops;
+        const FilterOutput o = ewa.filter(tex, f, nullptr, ops);
+        const double w = weight(tx, ty);
+        EXPECT_NEAR(o.colour.r, w / sum, 1e-6) << vd_evaluator_name(k) << " " << tx << "," << ty;
+        if (w > 0 && w < 1) ++band;
+      }
+    }
+    EXPECT_GE(band, 8);  // the test reaches the band
+    const std::vector<float> flat(static_cast<size_t>(size) * size * 4, 0.5f);
+    const Texture ft = Texture::from_rgba("flat", size, size, flat, TexelFormat::Rgba32f, false);
+    OpCounts ops;
+    EXPECT_NEAR(ewa.filter(ft, f, nullptr, ops).colour.r, 0.5, 1e-6);
+    EXPECT_GT(ops.sqrt, 0u);
+    EXPECT_GT(ewa.timing(TechTable::defaults()).latency,
+              EwaFilter(EwaFilter::Config{}).timing(TechTable::defaults()).latency);
+  }
+}
+
 TEST(EwaFilter, ConfigFromToml) {
   auto t = toml::parse(R"(weight = "pow8"
 lut_size = 64
@@ -267,6 +413,13 @@ address_u = "clamp"
   EXPECT_EQ(c.scan, EwaFilter::Scan::RowSpan);
   EXPECT_EQ(c.arith, EwaFilter::Arith::Fixed);
   EXPECT_EQ(c.address_u, AddressMode::Clamp);
+  auto vd = toml::parse("edge = \"vd\"\nvd = { evaluator = \"exact\", format = \"fx12\" }\n");
+  const EwaFilter::Config cv = EwaFilter::Config::from_toml(ConfigReader(vd, "t.toml", "ewa"));
+  EXPECT_EQ(cv.edge, EwaFilter::Edge::Vd);
+  EXPECT_EQ(cv.vd.evaluator, VdEvaluatorKind::Exact);
+  EXPECT_EQ(cv.vd.format, VdFormatKind::Fx12);
+  EXPECT_NE(EwaFilter(cv).arithmetic().find("V(d) exact fx12"), std::string::npos);
+  EXPECT_EQ(c.edge, EwaFilter::Edge::None);
   auto bad = toml::parse("lut_sise = 3\n");
   EXPECT_THROW(EwaFilter::Config::from_toml(ConfigReader(bad, "t.toml", "ewa")), InputError);
   auto bad2 = toml::parse("max_aniso = 0.5\n");

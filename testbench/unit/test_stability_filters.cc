@@ -9,6 +9,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "blocks/ewa_filter.h"
@@ -61,6 +62,10 @@ std::vector<Subject> subjects(AddressMode am = AddressMode::Wrap) {
   c = EwaFilter::Config{};
   c.reconstruction = 0;
   ewa("ewa no reconstruction", c);
+  c = EwaFilter::Config{};
+  c.edge = EwaFilter::Edge::Vd;
+  c.vd.format = VdFormatKind::Fx16;
+  ewa("ewa V(d) edge P2 fx16", c);
   MultiProbeFilter::Config mc;
   mc.address_u = mc.address_v = am;
   auto mp = std::make_shared<const MultiProbeFilter>(mc);
@@ -89,6 +94,21 @@ std::vector<Subject> subjects(AddressMode am = AddressMode::Wrap) {
                  return sp->filter(t, fr, v, o);
                },
                4 * 64 + 4, [sp](const FilterStats& st) { return sp->issue_cycles(st); }, 4 * 64 / 4 + 1});
+  // V(d) coverage (one cut-off unit per lane: a texel takes up to 4 slots) and fixed point.
+  for (const auto& [name, cov, ar] :
+       {std::tuple{"spaf V(d) P1 fx8", SpafFilter::Coverage::Vd, SpafFilter::Arith::Float},
+        std::tuple{"spaf fixed", SpafFilter::Coverage::Mask, SpafFilter::Arith::Fixed}}) {
+    SpafFilter::Config vc = sc;
+    vc.coverage = cov;
+    vc.vd.evaluator = VdEvaluatorKind::P1;
+    vc.vd.format = VdFormatKind::Fx8;
+    vc.arith = ar;
+    auto sv = std::make_shared<const SpafFilter>(vc);
+    s.push_back({name, [sv](const Texture& t, const Fragment& fr, std::vector<TexelRef>* v, OpCounts& o) {
+                   return sv->filter(t, fr, v, o);
+                 },
+                 4 * 64 + 4, [sv](const FilterStats& st) { return sv->issue_cycles(st); }, 4 * 4 * 64 / 4 + 1});
+  }
   return s;
 }
 
@@ -269,7 +289,7 @@ TEST(StabilityFilters, BordersInEachAddressMode) {
     const float rw = EwaFilter(cw).filter(tex, f, nullptr, ops).colour.r;
     const float rcl = EwaFilter(cc).filter(tex, f, nullptr, ops).colour.r;
     EXPECT_GT(rw - rcl, 0.2f);
-    EXPECT_EQ(subjects().size(), 9u);
+    EXPECT_EQ(subjects().size(), 12u);
   }
   for (AddressMode am : {AddressMode::Wrap, AddressMode::Clamp, AddressMode::Mirror}) {
     FootprintReferenceConfig rc;
