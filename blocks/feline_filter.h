@@ -3,8 +3,19 @@
 // a line through the footprint centre — the longer side of the parallelogram spanned by the
 // two derivative vectors (Texram) or the ellipse's major axis (Feline) — at the LOD of the
 // shorter axis, equally or Gaussian weighted (docs/anisotropic-filters.md §5).
-// Arithmetic: float32 set-up and probe positions; trilinear probes (u0.8 weights); float32 blend.
+// Arithmetic (Config::arith): set-up = line, minor size, N, LOD, probe positions and weights.
+//  - float:  the ellipse footprint set-up in float32, the rest (and the parallelogram axis) in
+//            double (the block's original model, kept bit-identical).
+//  - double: double throughout.
+//  - fixed:  the ProbeFx formats of multi_probe_filter.h (round half up, saturating): the
+//            ellipse's Σ, eigenvalues and 2θ from the shared fixed footprint set-up (one CORDIC
+//            vectoring), the half line R_major·(cos θ, sin θ) by CORDIC rotation, lengths by a
+//            digit-recurrence square root, N = ⌈|line|/minor⌉ by a 6-step restoring divider,
+//            1/N from a 32-entry table, log2 and the Gaussian's exp2 from 1024-entry tables.
+// In every mode the probes are trilinear lookups through the texel address generator (float32
+// coordinates, u0.8 weights) blended in float32.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "blocks/config_reader.h"
@@ -30,10 +41,11 @@ class FelineFilter {
     double weight_alpha = 2.0;  // Gaussian: exp(−w_α·t²), t ∈ (−1, 1) along the line
     double radius_px = 1.0;     // the line spans ±R pixels of footprint
     double max_aniso = 64;      // Ellipse axis: minor stretched to ≥ major/max_aniso
+    ProbeArith arith = ProbeArith::Float;  // set-up arithmetic (see the header comment)
     AddressMode address_u = AddressMode::Wrap;
     AddressMode address_v = AddressMode::Wrap;
     // Keys: axis (parallelogram|ellipse), weights (equal|gaussian), max_probes, weight_alpha,
-    // radius_px, max_aniso, address_u, address_v.
+    // radius_px, max_aniso, arith (float|double|fixed), address_u, address_v.
     static Config from_toml(const ConfigReader& r);
   };
 
@@ -44,15 +56,22 @@ class FelineFilter {
   // Probes of one fragment: N = min(⌈|line|/minor⌉, max_probes) at the centres of N equal
   // segments of the line ±line, t_k = (2k + 1 − N)/N; λ = log2(max(minor, |line|/N)).
   ProbeSet probes(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st = nullptr) const;
+  // The set-up in one number format: T = float, double or ProbeFx.
+  template <class T>
+  ProbeSet probes_t(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st = nullptr) const;
   FilterOutput filter(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
                       OpCounts& ops) const;
 
   uint32_t issue_cycles(const FilterStats& s) const { return s.probes > 0 ? s.probes : 1; }
   OpCounts setup_ops() const;
   OpCounts per_probe_ops() const;
+  OpCounts probe_setup_ops() const;  // per probe: position and weight only
   TimingSpec timing(const TechTable& tech) const;
+  // Name of the arithmetic for reports.
+  std::string arithmetic() const;
 
  private:
+  ProbeSet probes_fixed(const Texture& tex, const Fragment& f, FilterStats* st) const;
   Config cfg_;
   TexelAddressGen addr_;
 };

@@ -1,15 +1,22 @@
 // Feline-style trilinear probes: the line is the longer parallelogram side (Texram) or the
 // ellipse's major axis (Feline); N, positions, weights and LOD follow the documented rules;
-// constant textures are exact and texel counts agree.
+// constant textures are exact and texel counts agree. The double and fixed set-ups against a
+// long-double reference, their hard cases, colours on a photograph, op counts and timing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <string>
 #include <vector>
 
 #include <toml++/toml.h>
 
 #include "blocks/feline_filter.h"
 #include "blocks/input_error.h"
+#include "pipeline/texture_loader.h"
 
 namespace texsim {
 namespace {
@@ -111,7 +118,338 @@ TEST(Feline, Config) {
   EXPECT_EQ(c.max_probes, 8);
   auto bad = toml::parse("axis = \"diagonal\"\n");
   EXPECT_THROW(FelineFilter::Config::from_toml(ConfigReader(bad, "s.toml", "feline")), InputError);
+  EXPECT_EQ(c.arith, ProbeArith::Float);
+  auto fx = toml::parse("arith = \"double\"\n");
+  EXPECT_EQ(FelineFilter::Config::from_toml(ConfigReader(fx, "s.toml", "feline")).arith, ProbeArith::Double);
+  auto badarith = toml::parse("arith = 3\n");
+  try {
+    (void)FelineFilter::Config::from_toml(ConfigReader(badarith, "s.toml", "feline"));
+    ADD_FAILURE() << "arith = 3 accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("arith"), std::string::npos) << e.what();
+  }
   EXPECT_GT(FelineFilter().timing(TechTable::defaults()).latency, 10u);
+}
+
+// ---- double and fixed set-up ------------------------------------------------------------
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The probes from the documented rules in long double.
+struct RefProbes {
+  int n = 1;
+  long double u[ProbeSet::kMax]{}, v[ProbeSet::kMax]{}, w[ProbeSet::kMax]{};
+  long double lambda = 0, q = 0, len = 0;
+  bool special = false;
+};
+
+RefProbes reference(const FelineFilter::Config& c, const Fragment& f, int w0, int h0) {
+  using L = long double;
+  RefProbes r;
+  r.u[0] = f.u;
+  r.v[0] = f.v;
+  r.w[0] = 1;
+  const L sw = static_cast<L>(w0) * c.radius_px, sh = static_cast<L>(h0) * c.radius_px;
+  const L ux = f.dudx * sw, uy = f.dudy * sw, vx = f.dvdx * sh, vy = f.dvdy * sh;
+  L lu, lv, minor;
+  if (c.axis == FelineFilter::Axis::Parallelogram) {
+    const L la = std::hypot(ux, vx), lb = std::hypot(uy, vy);
+    lu = la >= lb ? ux : uy;
+    lv = la >= lb ? vx : vy;
+    minor = std::min(la, lb);
+  } else {
+    const L suu = ux * ux + uy * uy, suv = ux * vx + uy * vy, svv = vx * vx + vy * vy;
+    const L t = (suu + svv) / 2, d = (suu - svv) / 2, s = std::hypot(d, suv);
+    const L lp = t + s;
+    L lm = std::max(t - s, L(0));
+    const L a2 = static_cast<L>(c.max_aniso) * c.max_aniso;
+    if (lp > a2 * lm) lm = lp / a2;
+    const L th = std::atan2(suv, d) / 2;
+    lu = std::sqrt(lp) * std::cos(th);
+    lv = std::sqrt(lp) * std::sin(th);
+    minor = std::sqrt(lm);
+  }
+  r.len = std::hypot(lu, lv);
+  if (!(r.len > 0)) {
+    r.special = true;
+    return r;
+  }
+  r.q = minor > 0 ? r.len / minor : 1e9L;
+  const int n = std::clamp(static_cast<int>(std::min(std::ceil(r.q), static_cast<L>(c.max_probes))), 1, c.max_probes);
+  r.n = n;
+  r.lambda = std::log2(std::max(minor, r.len / n)) + f.lod_bias;
+  for (int k = 0; k < n; ++k) {
+    const L t = static_cast<L>(2 * k + 1 - n) / n;
+    r.u[k] = f.u + t * lu / w0;
+    r.v[k] = f.v + t * lv / h0;
+    r.w[k] = c.weights == FelineFilter::Weights::Equal ? 1 : std::exp(-c.weight_alpha * t * t);
+  }
+  return r;
+}
+
+struct Deviation {
+  double pos = 0, pos_abs = 0, w = 0, lambda = 0;  // pos: worst ratio to the bound
+  int compared = 0, n_mismatch = 0, near_boundary = 0;
+};
+
+// Position bound (texels of level 0): rel·(1 + |line|) for the angle and length roundings, plus
+// for the fixed datapath the s16.32 rounding of the centre and of the per-probe offset times the
+// probe's index, (N + 1)·max(w0, h0)·2^-33, and the s16.24 derivatives' 2^-24. `pos` records the
+// worst ratio to the bound.
+void compare(const ProbeSet& p, const RefProbes& r, int w0, int h0, int max_probes, double rel, bool fixed,
+             Deviation& d) {
+  const long double frac = std::fabs(r.q - std::nearbyint(r.q));
+  if (!r.special && r.q < max_probes + 1 && frac < 1e-4L * r.q) {
+    ++d.near_boundary;
+    return;
+  }
+  if (p.n != r.n) {
+    ++d.n_mismatch;
+    return;
+  }
+  ++d.compared;
+  // The ellipse's line at θ or θ + π: the same probes in reverse order.
+  double best = 1e300, best_w = 0;
+  for (bool reversed : {false, true}) {
+    double e = 0, ew = 0;
+    for (int k = 0; k < p.n; ++k) {
+      const auto i = static_cast<size_t>(k), j = static_cast<size_t>(reversed ? p.n - 1 - k : k);
+      e = std::max(e, static_cast<double>(std::max(std::fabs((p.u[i] - r.u[j]) * w0), std::fabs((p.v[i] - r.v[j]) * h0))));
+      ew = std::max(ew, static_cast<double>(std::fabs(p.w[i] - r.w[j])));
+    }
+    if (e < best) {
+      best = e;
+      best_w = ew;
+    }
+  }
+  d.pos_abs = std::max(d.pos_abs, best);
+  const double bound = rel * static_cast<double>(1 + r.len) + (fixed ? (p.n + 1) * std::max(w0, h0) * std::exp2(-33) + std::exp2(-24) : 0.0);
+  d.pos = std::max(d.pos, best / bound);
+  d.w = std::max(d.w, best_w);
+  if (!r.special && r.lambda > -1) d.lambda = std::max(d.lambda, static_cast<double>(std::fabs(p.lambda - r.lambda)));
+}
+
+Fragment random_footprint(std::mt19937& rng, int w0, int h0, bool general) {
+  std::uniform_real_distribution<double> uni(0, 1);
+  Fragment f;
+  f.u = uni(rng) * 4 - 2;
+  f.v = uni(rng) * 4 - 2;
+  double ux, vx, uy, vy;
+  if (general) {
+    auto comp = [&] { return (uni(rng) < 0.5 ? -1 : 1) * std::exp2(uni(rng) * 14 - 4); };
+    ux = comp();
+    vx = comp();
+    uy = comp();
+    vy = comp();
+  } else {
+    const double major = std::exp2(uni(rng) * 15 - 3), minor = major / (1 + 199 * uni(rng) * uni(rng));
+    const double th = uni(rng) * kPi, c = std::cos(th), s = std::sin(th);
+    ux = major * c;
+    vx = major * s;
+    uy = -minor * s;
+    vy = minor * c;
+  }
+  f.dudx = ux / w0;
+  f.dvdx = vx / h0;
+  f.dudy = uy / w0;
+  f.dvdy = vy / h0;
+  f.lod_bias = static_cast<float>(uni(rng) - 0.5);
+  return f;
+}
+
+TEST(Feline, DoubleAndFixedAgainstLongDoubleReference) {
+  // Bounds as for the multi-ellipse probes (test_multi_probe_filter.cc): positions within
+  // 10⁻⁹·(1 + |line|) texel (double); fixed: 3·10⁻⁶·(1 + |line|) for the two CORDIC residual
+  // angles of the ellipse's line, 4·10⁻⁹·(1 + |line|) for the parallelogram's (no CORDIC: the
+  // u1.32 1/N times up to 31), plus the centre's, offsets' and derivatives' roundings (compare());
+  // Gaussian weights within the 2^-f table's 3.4·10⁻⁴ + ½ LSB of u1.15; λ within the log2
+  // table's 1.44·2^-11 = 7.0·10⁻⁴ (log2 of a length, not ½·log2 of its square) + rounding.
+  const std::vector<std::pair<int, int>> sizes = {{256, 256}, {384, 96}};
+  for (ProbeArith a : {ProbeArith::Double, ProbeArith::Fixed}) {
+    for (auto axis : {FelineFilter::Axis::Ellipse, FelineFilter::Axis::Parallelogram}) {
+      Deviation d;
+      FelineFilter::Config c;
+      c.arith = a;
+      c.axis = axis;
+      c.max_probes = 31;
+      for (auto [w0, h0] : sizes) {
+        std::vector<float> px(static_cast<size_t>(w0) * static_cast<size_t>(h0) * 4, 0.5f);
+        const Texture tex = Texture::from_rgba("t", w0, h0, px, TexelFormat::Rgba32f, true);
+        const FelineFilter fl(c);
+        std::mt19937 rng(12);
+        for (int k = 0; k < 3000; ++k) {
+          const Fragment f = random_footprint(rng, w0, h0, k % 3 == 0);
+          OpCounts ops;
+          const double rel = a == ProbeArith::Double ? 1e-9 : axis == FelineFilter::Axis::Ellipse ? 3e-6 : 4e-9;
+          compare(fl.probes(tex, f, ops), reference(c, f, w0, h0), w0, h0, c.max_probes, rel,
+                  a == ProbeArith::Fixed, d);
+        }
+      }
+      std::printf("feline %s %s vs long double: %d compared, %d near an N boundary, %d N mismatches; "
+                  "positions %.3g texel (%.3g of the bound), weights %.3g, lambda %.3g\n",
+                  axis == FelineFilter::Axis::Ellipse ? "ellipse" : "parallelogram", to_string(a), d.compared,
+                  d.near_boundary, d.n_mismatch, d.pos_abs, d.pos, d.w, d.lambda);
+      EXPECT_EQ(d.n_mismatch, 0);
+      EXPECT_GT(d.compared, 5800);
+      EXPECT_LE(d.pos, 1.0);
+      if (a == ProbeArith::Double) {
+        EXPECT_LT(d.w, 1e-7);
+        EXPECT_LT(d.lambda, 2e-6);
+      } else {
+        EXPECT_LT(d.w, 3.4e-4 + 1.6e-5);
+        EXPECT_LT(d.lambda, 7.1e-4 + 1e-5);
+      }
+    }
+  }
+}
+
+TEST(Feline, HardCasesDefinedInEveryArithmetic) {
+  std::vector<float> px(256 * 256 * 4);
+  for (size_t i = 0; i < px.size(); ++i) px[i] = static_cast<float>((i * 2654435761u) % 1000) / 1000.0f;
+  const Texture tex = Texture::from_rgba("n", 256, 256, px, TexelFormat::Rgba32f, true);
+  const Rgba mean = tex.texel(tex.levels() - 1, 0, 0);
+  for (ProbeArith a : {ProbeArith::Float, ProbeArith::Double, ProbeArith::Fixed}) {
+    for (auto axis : {FelineFilter::Axis::Ellipse, FelineFilter::Axis::Parallelogram}) {
+      SCOPED_TRACE(std::string(to_string(a)) + (axis == FelineFilter::Axis::Ellipse ? " ellipse" : " parallelogram"));
+      FelineFilter::Config c;
+      c.arith = a;
+      c.axis = axis;
+      const FelineFilter fl(c);
+      ProbeSet p;
+      FilterOutput o;
+      auto run = [&](const Fragment& f) {
+        OpCounts ops;
+        p = fl.probes(tex, f, ops);
+        std::vector<TexelRef> fetched;
+        o = fl.filter(tex, f, &fetched, ops);
+        for (int ch = 0; ch < 4; ++ch) ASSERT_TRUE(std::isfinite(o.colour[ch]));
+        ASSERT_EQ(fetched.size(), o.stats.texels);
+      };
+      // Anisotropy 10⁴:1: N = max_probes and the LOD grows to |line|/N.
+      Fragment f;
+      f.u = 0.3;
+      f.v = 0.6;
+      f.dudx = 4000 * std::cos(0.7) / 256;
+      f.dvdx = 4000 * std::sin(0.7) / 256;
+      f.dudy = -0.4 * std::sin(0.7) / 256;
+      f.dvdy = 0.4 * std::cos(0.7) / 256;
+      run(f);
+      EXPECT_EQ(p.n, 16);
+      EXPECT_NEAR(p.lambda, std::log2(4000.0 / 16), 1e-3);
+      // det = 0 (parallel derivative vectors): the ellipse clamps the minor axis to 1/64 of the
+      // major; the parallelogram's minor is the shorter vector: N = max_probes either way.
+      f.dudx = 8.0 / 256;
+      f.dvdx = 4.0 / 256;
+      f.dudy = 16.0 / 256;
+      f.dvdy = 8.0 / 256;
+      run(f);
+      EXPECT_EQ(p.n, axis == FelineFilter::Axis::Ellipse ? 16 : 2);
+      // Zero derivatives: one probe at level 0.
+      f.dudx = f.dvdx = f.dudy = f.dvdy = 0;
+      run(f);
+      EXPECT_EQ(p.n, 1);
+      EXPECT_LT(p.lambda, -1e20f);
+      for (double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+                         -std::numeric_limits<double>::infinity()}) {
+        f.dvdy = bad;
+        run(f);
+        EXPECT_TRUE(o.stats.bad_input);
+        EXPECT_EQ(p.n, 1);
+        EXPECT_LT(p.lambda, -1e20f);
+      }
+      // 10⁶-texel derivatives: every read from the 1×1 level.
+      f.dudx = 1e6 / 256;
+      f.dvdx = 3e5 / 256;
+      f.dudy = -2e5 / 256;
+      f.dvdy = 9e5 / 256;
+      run(f);
+      for (int ch = 0; ch < 4; ++ch) EXPECT_NEAR(o.colour[ch], mean[ch], 1e-5);
+      f.u = std::numeric_limits<double>::infinity();
+      f.dudx = 3.0 / 256;
+      f.dvdx = f.dudy = 0;
+      f.dvdy = 1.0 / 256;
+      run(f);
+    }
+  }
+}
+
+TEST(Feline, FixedColoursTrackDoubleOnAPhotograph) {
+  const Texture tex = load_texture("/usr/share/glmark2/textures/crate-base.png", "");
+  const int w0 = tex.width(0), h0 = tex.height(0);
+  for (auto axis : {FelineFilter::Axis::Ellipse, FelineFilter::Axis::Parallelogram}) {
+    FelineFilter::Config cd, cx;
+    cd.axis = cx.axis = axis;
+    cd.arith = ProbeArith::Double;
+    cx.arith = ProbeArith::Fixed;
+    const FelineFilter fd(cd), fx(cx);
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> uni(0, 1);
+    double worst = 0, sum = 0;
+    int n = 0;
+    for (int k = 0; k < 600; ++k) {
+      const double major = std::exp2(uni(rng) * 9 - 1), minor = major / (1 + 63 * uni(rng));
+      const double th = uni(rng) * kPi;
+      Fragment f;
+      f.u = uni(rng);
+      f.v = uni(rng);
+      f.dudx = major * std::cos(th) / w0;
+      f.dvdx = major * std::sin(th) / h0;
+      f.dudy = -minor * std::sin(th) / w0;
+      f.dvdy = minor * std::cos(th) / h0;
+      OpCounts ops;
+      const FilterOutput a = fd.filter(tex, f, nullptr, ops), b = fx.filter(tex, f, nullptr, ops);
+      ASSERT_EQ(a.stats.probes, b.stats.probes);
+      for (int ch = 0; ch < 3; ++ch) {
+        const double e = std::fabs(a.colour[ch] - b.colour[ch]);
+        worst = std::max(worst, e);
+        sum += e;
+        ++n;
+      }
+    }
+    std::printf("feline %s on crate-base.png: fixed vs double max %.3g mean %.3g\n",
+                axis == FelineFilter::Axis::Ellipse ? "ellipse" : "parallelogram", worst, sum / n);
+    // At most one address-generator quantisation step (1/256 of a texel difference) moves.
+    EXPECT_LT(worst, 1.0 / 256);
+    EXPECT_LT(sum / n, 1e-4);
+  }
+}
+
+TEST(Feline, OpsAndTimingFollowTheArithmetic) {
+  const Texture tex = flat(256, 0.5f);
+  TexelAddressGen::Config ac;
+  ac.filter = FilterMode::Trilinear;
+  const TexelAddressGen addr(ac);
+  const TechTable tech = TechTable::defaults();
+  for (auto axis : {FelineFilter::Axis::Ellipse, FelineFilter::Axis::Parallelogram}) {
+    FelineFilter::Config cf, cx;
+    cf.axis = cx.axis = axis;
+    cx.arith = ProbeArith::Fixed;
+    const FelineFilter ff(cf), fx(cx);
+    for (const FelineFilter* fl : {&ff, &fx}) {
+      Fragment f;
+      f.u = f.v = 0.4;
+      f.dudx = 20.0 / 256;
+      f.dvdy = 3.0 / 256;
+      OpCounts ops;
+      const FilterOutput o = fl->filter(tex, f, nullptr, ops);
+      ASSERT_EQ(o.stats.probes, 7u);
+      EXPECT_EQ(ops, fl->setup_ops() + (fl->per_probe_ops() + addr.ops_setup(false)) * 7u + probe_normalise_ops());
+    }
+    const OpCounts sf = ff.setup_ops(), sx = fx.setup_ops();
+    EXPECT_EQ(sx.rcp, 0u);  // the divider and the 1/N table replace both reciprocals
+    EXPECT_EQ(sx.sqrt, 2u);
+    const TimingSpec tf = ff.timing(tech), tx = fx.timing(tech);
+    EXPECT_EQ(tx.ii, 1u);
+    if (axis == FelineFilter::Axis::Ellipse) {
+      EXPECT_EQ(sf.lut - sx.lut, 2u);  // atan2, cos, sin, log2 → 1/N, log2
+      EXPECT_GE(sx.add, sf.add + 2 * 3 * ProbeFx::kCordicSteps - 10);
+      EXPECT_GT(tx.latency, tf.latency + 2 * ProbeFx::kCordicSteps);
+    } else {
+      EXPECT_EQ(sx.lut, sf.lut + 1);  // the 1/N table
+      EXPECT_GT(tx.latency, tf.latency);  // the 6-step divider against rcp + mul
+    }
+    EXPECT_NE(fx.arithmetic().find(ProbeFx::Coord::name()), std::string::npos);
+  }
 }
 
 }  // namespace

@@ -1,17 +1,23 @@
 // Multi-ellipse probes (Mavridis & Papaioannou, seed 004 eq. 12–17): probe count, spacing and
 // span from the formulas, probes on the major axis, the printed θ formula's quadrant error,
 // temporal subsets, Gaussian weights, constant textures exact, bounded error on smooth ones.
+// The double and fixed set-ups against a long-double reference of the probes, their hard
+// cases, their colours on a photograph, and their op counts and timing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <toml++/toml.h>
 
 #include "blocks/input_error.h"
 #include "blocks/multi_probe_filter.h"
+#include "pipeline/texture_loader.h"
 #include "testbench/lib/footprint_reference.h"
 
 namespace texsim {
@@ -149,12 +155,402 @@ TEST(MultiProbe, ConfigAndTiming) {
   EXPECT_THROW(MultiProbeFilter::Config::from_toml(ConfigReader(even, "s.toml", "multi_probe")), InputError);
   auto unknown = toml::parse("probes = 8\n");
   EXPECT_THROW(MultiProbeFilter::Config::from_toml(ConfigReader(unknown, "s.toml", "multi_probe")), InputError);
+  EXPECT_EQ(c.arith, ProbeArith::Float);
+  auto fx = toml::parse("arith = \"fixed\"\n");
+  EXPECT_EQ(MultiProbeFilter::Config::from_toml(ConfigReader(fx, "s.toml", "multi_probe")).arith, ProbeArith::Fixed);
+  auto bad = toml::parse("arith = \"half\"\n");
+  try {
+    (void)MultiProbeFilter::Config::from_toml(ConfigReader(bad, "s.toml", "multi_probe"));
+    ADD_FAILURE() << "arith = half accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("arith"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("s.toml"), std::string::npos) << e.what();
+  }
   const TimingSpec ts = MultiProbeFilter().timing(TechTable::defaults());
   EXPECT_GT(ts.latency, 20u);
   EXPECT_GT(ts.area, 100.0);
   FilterStats s;
   s.probes = 7;
   EXPECT_EQ(MultiProbeFilter().issue_cycles(s), 7u);
+}
+
+// ---- double and fixed set-up ------------------------------------------------------------
+
+// The probes from the documented formulas in long double: Σ = R²·J·Jᵀ, λ± = t ± |(d, Σuv)|,
+// the clamp λ₋ ≥ λ₊/maxA² (eigenvectors unchanged, so θ is that of Σ), N, L, step, positions,
+// weights and λ.
+struct RefProbes {
+  int n = 1;
+  long double u[ProbeSet::kMax]{}, v[ProbeSet::kMax]{}, w[ProbeSet::kMax]{};
+  long double lambda = 0;
+  long double q = 0;      // 2·R_major/(α·R_minor): N = ⌈q − 1⌉ (odd, clamped)
+  long double rmaj = 0;
+  bool special = false;   // a point or overflow: one probe, λ = ±1e30
+};
+
+RefProbes reference(const MultiProbeFilter::Config& c, const Fragment& f, int w0, int h0) {
+  using L = long double;
+  RefProbes r;
+  const L sw = static_cast<L>(w0) * c.radius_px, sh = static_cast<L>(h0) * c.radius_px;
+  const L ux = f.dudx * sw, uy = f.dudy * sw, vx = f.dvdx * sh, vy = f.dvdy * sh;
+  const L suu = ux * ux + uy * uy, suv = ux * vx + uy * vy, svv = vx * vx + vy * vy;
+  const L t = (suu + svv) / 2, d = (suu - svv) / 2, s = std::hypot(d, suv);
+  const L lp = t + s;
+  L lm = std::max(t - s, L(0));
+  const L a2 = static_cast<L>(c.max_aniso) * c.max_aniso;
+  if (lp > a2 * lm) lm = lp / a2;
+  r.u[0] = f.u;
+  r.v[0] = f.v;
+  r.w[0] = 1;
+  if (!(lm > 0)) {
+    r.special = true;
+    return r;
+  }
+  r.rmaj = std::sqrt(lp);
+  const L ar = c.alpha * std::sqrt(lm);
+  r.lambda = std::log2(ar) + f.lod_bias;
+  r.q = 2 * r.rmaj / ar;
+  int n = std::max(static_cast<int>(std::ceil(std::min(r.q, L(1e6)) - 1)), 1);
+  if (n % 2 == 0) ++n;
+  n = std::min(n, c.max_probes);
+  r.n = n;
+  if (n == 1) return r;
+  const L step = 2 * std::max(r.rmaj - ar, L(0)) / (n - 1);
+  const L th = c.seed_theta ? (d == 0 ? (suv == 0 ? L(0) : std::copysign(std::acos(L(-1)) / 4, suv))
+                                      : std::atan(suv / d) / 2)
+                            : std::atan2(suv, d) / 2;
+  const int half = (n - 1) / 2;
+  for (int k = -half; k <= half; ++k) {
+    const auto i = static_cast<size_t>(k + half);
+    r.u[i] = f.u + k * step * std::cos(th) / w0;
+    r.v[i] = f.v + k * step * std::sin(th) / h0;
+    const L dd = k * step / r.rmaj;
+    r.w[i] = std::exp(-c.weight_alpha * dd * dd);
+  }
+  return r;
+}
+
+// Worst deviations of one arithmetic from the reference.
+struct Deviation {
+  double pos = 0;     // worst ratio of a position error to its bound (see compare())
+  double pos_abs = 0; // texels of level 0
+  double w = 0, lambda = 0;
+  int compared = 0, n_mismatch = 0, near_boundary = 0;
+};
+
+// Position bound (texels of level 0): rel·(1 + |line|) for the angle and length roundings, plus
+// for the fixed datapath the s16.32 rounding of the centre and of the per-probe offset times the
+// probe's index, (N + 1)·max(w0, h0)·2^-33, and the s16.24 derivatives' 2^-24. `pos` records the
+// worst ratio to the bound.
+void compare(const ProbeSet& p, const RefProbes& r, int w0, int h0, int max_probes, double rel, bool fixed,
+             Deviation& d) {
+  // N is decided by q against integers: a q within 10⁻⁴ of one may go either way.
+  const long double frac = std::fabs(r.q - std::nearbyint(r.q));
+  if (!r.special && r.q < max_probes + 2 && frac < 1e-4L * r.q) {
+    ++d.near_boundary;
+    return;
+  }
+  if (p.n != r.n) {
+    ++d.n_mismatch;
+    return;
+  }
+  ++d.compared;
+  // θ and θ + π give the same probes in reverse order (2θ = ±π is one point for the datapath):
+  // compare against whichever order is closer.
+  double best = 1e300, best_w = 0;
+  for (bool reversed : {false, true}) {
+    double e = 0, ew = 0;
+    for (int k = 0; k < p.n; ++k) {
+      const auto i = static_cast<size_t>(k), j = static_cast<size_t>(reversed ? p.n - 1 - k : k);
+      e = std::max(e, static_cast<double>(std::max(std::fabs((p.u[i] - r.u[j]) * w0), std::fabs((p.v[i] - r.v[j]) * h0))));
+      ew = std::max(ew, static_cast<double>(std::fabs(p.w[i] - r.w[j])));
+    }
+    if (e < best) {
+      best = e;
+      best_w = ew;
+    }
+  }
+  d.pos_abs = std::max(d.pos_abs, best);
+  const double bound = rel * static_cast<double>(1 + r.rmaj) + (fixed ? (p.n + 1) * std::max(w0, h0) * std::exp2(-33) + std::exp2(-24) : 0.0);
+  d.pos = std::max(d.pos, best / bound);
+  d.w = std::max(d.w, best_w);
+  // λ of magnified footprints (negative) only selects level 0.
+  if (!r.special && r.lambda > -1) d.lambda = std::max(d.lambda, static_cast<double>(std::fabs(p.lambda - r.lambda)));
+}
+
+Fragment random_footprint(std::mt19937& rng, int w0, int h0, bool general) {
+  std::uniform_real_distribution<double> uni(0, 1);
+  Fragment f;
+  f.u = uni(rng) * 4 - 2;
+  f.v = uni(rng) * 4 - 2;
+  double ux, vx, uy, vy;
+  if (general) {  // independent derivative vectors (sheared footprints)
+    auto comp = [&] { return (uni(rng) < 0.5 ? -1 : 1) * std::exp2(uni(rng) * 14 - 4); };
+    ux = comp();
+    vx = comp();
+    uy = comp();
+    vy = comp();
+  } else {  // axes major ≥ minor at angle θ, anisotropy up to 200:1 (clamped beyond 64)
+    const double major = std::exp2(uni(rng) * 15 - 3), minor = major / (1 + 199 * uni(rng) * uni(rng));
+    const double th = uni(rng) * kPi, c = std::cos(th), s = std::sin(th);
+    ux = major * c;
+    vx = major * s;
+    uy = -minor * s;
+    vy = minor * c;
+  }
+  f.dudx = ux / w0;
+  f.dvdx = vx / h0;
+  f.dudy = uy / w0;
+  f.dvdy = vy / h0;
+  f.lod_bias = static_cast<float>(uni(rng) - 0.5);
+  return f;
+}
+
+Texture sized(int w, int h) {
+  std::vector<float> px(static_cast<size_t>(w) * static_cast<size_t>(h) * 4, 0.5f);
+  return Texture::from_rgba("t", w, h, px, TexelFormat::Rgba32f, true);
+}
+
+TEST(MultiProbe, DoubleAndFixedAgainstLongDoubleReference) {
+  // Bounds (texels of level 0 for positions, see compare()): double — rounding of doubles,
+  // 10⁻⁹·(1 + R_major); fixed — the CORDIC residual angles (vectoring atan(2^-19) halved with θ,
+  // rotation atan(2^-19): 2.9·10⁻⁶ rad) on offsets up to R_major, with the s16.24/s17.24
+  // roundings 3·10⁻⁶·(1 + R_major), plus the centre's, offsets' and derivatives' roundings
+  // (compare()). Weights: the 2^-f table's index rounding ln2·2^-11 = 3.4·10⁻⁴ plus ½ LSB of u1.15;
+  // λ: log2 table 1.44·2^-11/2 = 3.5·10⁻⁴ plus s8.16 rounding, and the float LOD output
+  // 2^-24·|λ|.
+  const std::vector<std::pair<int, int>> sizes = {{256, 256}, {384, 96}};
+  for (ProbeArith a : {ProbeArith::Double, ProbeArith::Fixed}) {
+    for (bool seed : {false, true}) {
+      Deviation d;
+      for (auto [w0, h0] : sizes) {
+        const Texture tex = sized(w0, h0);
+        MultiProbeFilter::Config c;
+        c.arith = a;
+        c.max_probes = 31;
+        c.seed_theta = seed;
+        for (double alpha : {1.0, 2.0}) {
+          c.alpha = alpha;
+          const MultiProbeFilter mp(c);
+          std::mt19937 rng(11);
+          for (int k = 0; k < 1500; ++k) {
+            const Fragment f = random_footprint(rng, w0, h0, k % 3 == 0);
+            OpCounts ops;
+            compare(mp.probes(tex, f, ops), reference(c, f, w0, h0), w0, h0, c.max_probes,
+                    a == ProbeArith::Fixed ? 3e-6 : 1e-9, a == ProbeArith::Fixed, d);
+          }
+        }
+      }
+      std::printf("multi-probe %s%s vs long double: %d compared, %d near an N boundary, %d N mismatches; "
+                  "positions %.3g texel (%.3g of the bound), weights %.3g, lambda %.3g\n",
+                  to_string(a), seed ? " (printed θ)" : "", d.compared, d.near_boundary, d.n_mismatch, d.pos_abs,
+                  d.pos, d.w, d.lambda);
+      EXPECT_EQ(d.n_mismatch, 0);
+      EXPECT_GT(d.compared, 5500);
+      EXPECT_LT(d.near_boundary, 60);
+      EXPECT_LE(d.pos, 1.0);
+      if (a == ProbeArith::Double) {
+        EXPECT_LT(d.w, 1e-7);  // the float weight output: 2^-24
+        EXPECT_LT(d.lambda, 2e-6);
+      } else {
+        EXPECT_LT(d.w, 3.4e-4 + 1.6e-5);
+        EXPECT_LT(d.lambda, 3.5e-4 + 1e-5);
+      }
+    }
+  }
+}
+
+TEST(MultiProbe, FixedPointUnitsWithinTheirBounds) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> uni(0, 1);
+  double e_sqrt = 0, e_log = 0, e_exp = 0, e_vec = 0, e_mag = 0, e_rot = 0;
+  for (int k = 0; k < 20000; ++k) {
+    // √: rounded to nearest from the exact raw value: ≤ ½ LSB of s17.16 (+ the input's rounding).
+    const ProbeFx::Sigma x(std::exp2(uni(rng) * 58 - 27));
+    const double r = probe_fx::sqrt_len(x).to_double();
+    e_sqrt = std::max(e_sqrt, std::fabs(r - std::sqrt(x.to_double())) / ProbeFx::Len::lsb());
+    // log2 and 2^-y from the 10-bit tables.
+    const double y = std::exp2(uni(rng) * 40 - 20);
+    e_log = std::max(e_log, std::fabs(probe_fx::log2_of(ProbeFx::Sigma(y).raw(), 28).to_double() - std::log2(ProbeFx::Sigma(y).to_double())));
+    const ProbeFx::Arg ya(uni(rng) * 20);
+    e_exp = std::max(e_exp, std::fabs(probe_fx::exp2_neg(ya).to_double() - std::exp2(-ya.to_double())));
+    // CORDIC vectoring and rotation.
+    const double px = (uni(rng) - 0.5) * std::exp2(uni(rng) * 40 - 10), py = (uni(rng) - 0.5) * std::exp2(uni(rng) * 40 - 10);
+    ProbeFx::Sigma mag;
+    const ProbeFx::Sigma sx(px), sy(py);
+    const double ang = probe_fx::vector_angle(sx, sy, false, mag).to_double();
+    const double exact = std::atan2(sy.to_double(), sx.to_double());
+    double da = std::fabs(ang - exact);
+    da = std::min(da, 2 * kPi - da);
+    const double hyp = std::hypot(sx.to_double(), sy.to_double());
+    if (hyp > 1e-3) e_vec = std::max(e_vec, da);
+    // Magnitude: the inputs' own rounding aside, the CORDIC is normalised (2^-59 relative), so
+    // what remains is 1/K's and the result's rounding: ≤ 10⁻⁹ relative + 1 LSB.
+    e_mag = std::max(e_mag, (std::fabs(mag.to_double() / probe_fx::cordic_gain() - hyp) - ProbeFx::Sigma::lsb()) / hyp);
+    const double th = (uni(rng) - 0.5) * kPi;
+    const double len = std::exp2(uni(rng) * 20 - 4);
+    ProbeFx::Vec rx, ry;
+    probe_fx::rotate(ProbeFx::Vec(len / probe_fx::cordic_gain()), ProbeFx::Angle(th), rx, ry);
+    e_rot = std::max(e_rot, std::hypot(rx.to_double() - len * std::cos(th), ry.to_double() - len * std::sin(th)) / len);
+  }
+  std::printf("fixed units: sqrt %.3g LSB, log2 %.3g, exp2 %.3g, vectoring angle %.3g rad, magnitude %.3g rel, "
+              "rotation %.3g rel\n", e_sqrt, e_log, e_exp, e_vec, e_mag, e_rot);
+  EXPECT_LE(e_sqrt, 0.5 + 1e-9 + 0.5 * ProbeFx::Sigma::lsb() / ProbeFx::Len::lsb());
+  EXPECT_LE(e_log, std::log2(std::exp(1.0)) * std::exp2(-11) + std::exp2(-17));  // index ±2^-11, slope ≤ 1/ln2
+  EXPECT_LE(e_exp, std::log(2.0) * std::exp2(-11) + std::exp2(-16) + 1e-9);       // slope ≤ ln2, ½ LSB u1.15
+  EXPECT_LE(e_vec, std::atan(std::exp2(-19)) + 1e-6);  // residual after 20 steps (+ truncation)
+  EXPECT_LE(e_mag, 1e-9);
+  EXPECT_LE(e_rot, std::atan(std::exp2(-19)) + 1e-6);
+  // Exact points: log2 of powers of two, 2^0 = 1, √ of squares.
+  EXPECT_EQ(probe_fx::log2_of(int64_t{1} << 40, 28).to_double(), 12.0);
+  EXPECT_EQ(probe_fx::exp2_neg(ProbeFx::Arg(0.0)).to_double(), 1.0);
+  EXPECT_EQ(probe_fx::exp2_neg(ProbeFx::Arg(3.0)).to_double(), 0.125);
+  EXPECT_EQ(probe_fx::sqrt_len(ProbeFx::Sigma(2.25)).to_double(), 1.5);
+}
+
+TEST(MultiProbe, HardCasesDefinedInEveryArithmetic) {
+  const Texture tex = smooth_texture(256);
+  // The texture mean: the 1×1 level.
+  const Rgba mean = tex.texel(tex.levels() - 1, 0, 0);
+  for (ProbeArith a : {ProbeArith::Float, ProbeArith::Double, ProbeArith::Fixed}) {
+    SCOPED_TRACE(to_string(a));
+    MultiProbeFilter::Config c;
+    c.arith = a;
+    const MultiProbeFilter mp(c);
+    auto run = [&](const Fragment& f, ProbeSet& p, FilterOutput& o) {
+      OpCounts ops;
+      p = mp.probes(tex, f, ops);
+      std::vector<TexelRef> fetched;
+      o = mp.filter(tex, f, &fetched, ops);
+      for (int ch = 0; ch < 4; ++ch) ASSERT_TRUE(std::isfinite(o.colour[ch]));
+      ASSERT_EQ(fetched.size(), o.stats.texels);
+    };
+    ProbeSet p;
+    FilterOutput o;
+    // Anisotropy 10⁴:1: clamped to 64:1, so N = max_probes and λ = log2(R_major/64).
+    Fragment f = footprint(0.3, 0.6, 4000, 0.4, 0.7, 256);
+    run(f, p, o);
+    EXPECT_EQ(p.n, 15);
+    EXPECT_NEAR(p.lambda, std::log2(4000.0 / 64), 1e-3);
+    for (int k = 0; k < p.n; ++k) {  // on the major axis
+      const double du = (p.u[static_cast<size_t>(k)] - 0.3) * 256, dv = (p.v[static_cast<size_t>(k)] - 0.6) * 256;
+      EXPECT_NEAR(-du * std::sin(0.7) + dv * std::cos(0.7), 0.0, 2e-3);
+    }
+    // det = 0: parallel derivative vectors. The clamp makes R_minor = R_major/64.
+    f = Fragment{};
+    f.u = f.v = 0.5;
+    f.dudx = 8.0 / 256;
+    f.dvdx = 4.0 / 256;
+    f.dudy = 16.0 / 256;
+    f.dvdy = 8.0 / 256;
+    run(f, p, o);
+    EXPECT_EQ(p.n, 15);
+    EXPECT_NEAR(p.lambda, std::log2(std::sqrt(80.0 * 5) / 64), 1e-3);  // λ₊ = |(8,4)|² + |(16,8)|²
+    // Zero derivatives: a point, one probe at level 0.
+    f.dudx = f.dvdx = f.dudy = f.dvdy = 0;
+    run(f, p, o);
+    EXPECT_EQ(p.n, 1);
+    EXPECT_LT(p.lambda, -1e20f);
+    // NaN and ±Inf derivatives: flagged, the same point footprint.
+    for (double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+                       -std::numeric_limits<double>::infinity()}) {
+      f.dudx = bad;
+      run(f, p, o);
+      EXPECT_TRUE(o.stats.bad_input);
+      EXPECT_EQ(p.n, 1);
+      EXPECT_LT(p.lambda, -1e20f);
+    }
+    // Derivatives of 10⁶ texels (fixed: saturate s16.16 → most minified level; float/double:
+    // λ ≈ 14 > the top level): every read is the 1×1 level, the colour is the texture mean.
+    f.dudx = 1e6 / 256;
+    f.dvdx = 3e5 / 256;
+    f.dudy = -2e5 / 256;
+    f.dvdy = 9e5 / 256;
+    run(f, p, o);
+    for (int ch = 0; ch < 4; ++ch) EXPECT_NEAR(o.colour[ch], mean[ch], 1e-5);
+    // NaN coordinates: replaced by 0.
+    f = footprint(std::numeric_limits<double>::quiet_NaN(), 0.5, 12, 2, 0.3, 256);
+    run(f, p, o);
+  }
+}
+
+TEST(MultiProbe, FixedColoursTrackDoubleOnAPhotograph) {
+  const Texture tex = load_texture("/usr/share/glmark2/textures/crate-base.png", "");
+  const int w0 = tex.width(0), h0 = tex.height(0);
+  MultiProbeFilter::Config cd, cx, cf;
+  cd.arith = ProbeArith::Double;
+  cx.arith = ProbeArith::Fixed;
+  const MultiProbeFilter md(cd), mx(cx), mf(cf);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> uni(0, 1);
+  double worst = 0, sum = 0, worst_float = 0;
+  int n = 0;
+  for (int k = 0; k < 600; ++k) {
+    const double major = std::exp2(uni(rng) * 9 - 1), minor = major / (1 + 63 * uni(rng));
+    const double th = uni(rng) * kPi;
+    Fragment f;
+    f.u = uni(rng);
+    f.v = uni(rng);
+    f.dudx = major * std::cos(th) / w0;
+    f.dvdx = major * std::sin(th) / h0;
+    f.dudy = -minor * std::sin(th) / w0;
+    f.dvdy = minor * std::cos(th) / h0;
+    OpCounts ops;
+    const FilterOutput a = md.filter(tex, f, nullptr, ops), b = mx.filter(tex, f, nullptr, ops),
+                       c = mf.filter(tex, f, nullptr, ops);
+    ASSERT_EQ(a.stats.probes, b.stats.probes);
+    for (int ch = 0; ch < 3; ++ch) {
+      const double e = std::fabs(a.colour[ch] - b.colour[ch]);
+      worst = std::max(worst, e);
+      sum += e;
+      ++n;
+      worst_float = std::max(worst_float, static_cast<double>(std::fabs(a.colour[ch] - c.colour[ch])));
+    }
+  }
+  std::printf("multi-probe on crate-base.png: fixed vs double max %.3g mean %.3g; float vs double max %.3g\n",
+              worst, sum / n, worst_float);
+  // A position or λ change far below the address generator's 2^-8 steps can still move one
+  // quantisation step (a u0.8 bilinear weight or the trilinear level weight by 1/256): the
+  // colour then moves by at most 1/256 of a neighbouring texel difference.
+  EXPECT_LT(worst, 1.0 / 256);
+  EXPECT_LT(sum / n, 1e-4);
+}
+
+TEST(MultiProbe, OpsAndTimingFollowTheArithmetic) {
+  const Texture tex = smooth_texture(256);
+  TexelAddressGen::Config ac;
+  ac.filter = FilterMode::Trilinear;
+  const TexelAddressGen addr(ac);
+  MultiProbeFilter::Config cf, cx;
+  cx.arith = ProbeArith::Fixed;
+  const MultiProbeFilter mf(cf), mx(cx);
+  // The counted operations of a fragment are the declared set-up, per-probe and normalisation.
+  for (const MultiProbeFilter* m : {&mf, &mx}) {
+    const Fragment f = footprint(0.4, 0.4, 20, 2, 0.5, 256);
+    OpCounts ops;
+    const FilterOutput o = m->filter(tex, f, nullptr, ops);
+    ASSERT_GT(o.stats.probes, 1u);
+    const OpCounts expect = m->setup_ops() + (m->per_probe_ops() + addr.ops_setup(false)) * o.stats.probes +
+                            probe_normalise_ops();
+    EXPECT_EQ(ops, expect);
+  }
+  // Fixed: θ, cos and sin by two CORDIC passes instead of three tables; the probe-count
+  // quotient by a short divider instead of a reciprocal; one divider for step/R_major.
+  const OpCounts sf = mf.setup_ops(), sx = mx.setup_ops();
+  EXPECT_EQ(sf.lut - sx.lut, 2u);  // atan2, cos, sin → log2 and 1/(N − 1) tables only
+  EXPECT_EQ(sx.rcp, 0u);
+  EXPECT_EQ(sx.div, 1u);
+  EXPECT_EQ(sx.sqrt, 2u);
+  EXPECT_GE(sx.add, sf.add + 2 * 3 * ProbeFx::kCordicSteps - 10);
+  EXPECT_EQ(mx.probe_setup_ops().add, mf.probe_setup_ops().add + 1);
+  // Latency: two CORDIC passes of add + compare per step in sequence.
+  const TechTable tech = TechTable::defaults();
+  const TimingSpec tf = mf.timing(tech), tx = mx.timing(tech);
+  EXPECT_GT(tx.latency, tf.latency + 2 * ProbeFx::kCordicSteps);
+  EXPECT_EQ(tx.ii, 1u);
+  EXPECT_GT(tx.area, tf.area);
+  EXPECT_NE(mx.arithmetic().find(ProbeFx::Deriv::name()), std::string::npos);
+  EXPECT_NE(mf.arithmetic().find("float32"), std::string::npos);
 }
 
 }  // namespace
