@@ -709,7 +709,8 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
   }
 
   {
-    const std::string probe_arith = "float32 set-up and positions, trilinear probes (u0.8 weights), float32 blend";
+    const std::string probe_arith =
+        "float32 footprint set-up, positions and weights in double, trilinear probes (u0.8 weights), float32 blend";
     MultiProbeFilter::Config mp;
     methods.push_back(block_method("multi-ellipse probes α=1 max 15", "probes",
                                    std::make_shared<const MultiProbeFilter>(mp), tech, probe_arith));
@@ -725,9 +726,20 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
     mp2.temporal = true;
     methods.push_back(block_method("multi-ellipse probes α=1, half per frame", "probes",
                                    std::make_shared<const MultiProbeFilter>(mp2), tech, probe_arith));
+    mp2 = mp;
+    mp2.arith = ProbeArith::Fixed;
+    methods.push_back(block_method("multi-ellipse probes α=1 max 15, fixed", "probes",
+                                   std::make_shared<const MultiProbeFilter>(mp2), tech,
+                                   MultiProbeFilter(mp2).arithmetic()));
+    methods.back().compare_to = "multi-ellipse probes α=1 max 15";
     FelineFilter::Config fc;
     methods.push_back(block_method("feline (major axis, Gaussian) max 16", "probes",
                                    std::make_shared<const FelineFilter>(fc), tech, probe_arith));
+    FelineFilter::Config fx = fc;
+    fx.arith = ProbeArith::Fixed;
+    methods.push_back(block_method("feline (major axis, Gaussian) max 16, fixed", "probes",
+                                   std::make_shared<const FelineFilter>(fx), tech, FelineFilter(fx).arithmetic()));
+    methods.back().compare_to = "feline (major axis, Gaussian) max 16";
     fc.axis = FelineFilter::Axis::Parallelogram;
     fc.weights = FelineFilter::Weights::Equal;
     methods.push_back(block_method("texram (longer side, equal) max 16", "probes",
