@@ -28,13 +28,14 @@
 namespace texsim {
 
 // Fixed-point edge functions and Q of SPAF: one 48-bit format for both. 20 integer bits (with
-// sign): |E| ≤ the scanned box's width + height ≤ 2·4·texel_budget, and Q at the box corners,
-// about 1–2·aniso² for a footprint fitted to the budget, stays below 2^18 up to ~360:1; the
-// set-up checks both bounds and takes the bilinear fallback beyond them, so a value never
-// saturates mid-row (an incremental datapath cannot recover from a clipped value). 28 fraction
-// bits: stepping E and Q over a box of n texels side drifts by ≤ n·2^-29 in E and
-// ≈ n²·2^-29 in Q (1.2·10⁻⁴ for n = 256; the default budget's boxes are 8–16 texels wide).
-// HalfUp: the cheapest rounding (one constant into the adder tree).
+// sign): |E| ≤ the scanned box's width + height ≤ 2·4·texel_budget, and Q and its steps at the
+// box corners ≤ 3·Qb, Qb about 1–2·aniso² for a footprint fitted to the budget. The set-up
+// checks both against 2^17 (a quarter of the range) and takes the bilinear fallback beyond, so
+// a value never saturates mid-row (an incremental datapath cannot recover from a clipped
+// value): an 8-texel footprint at 34° falls back from 512:1, one along a texel row from
+// 4096:1. 28 fraction bits: stepping E and Q over a box of n texels side drifts by ≤ n·2^-29
+// in E and ≈ n²·2^-29 in Q (1.2·10⁻⁴ for n = 256; the default budget's boxes are 8–16 texels
+// wide). HalfUp: the cheapest rounding (one constant into the adder tree).
 using SpafFixed = Fixed<20, 28, Signedness::Signed, Rounding::HalfUp, Overflow::Saturate>;
 
 class SpafFilter {
