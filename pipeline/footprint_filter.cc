@@ -3,6 +3,7 @@
 #include "blocks/feline_filter.h"
 #include "blocks/multi_probe_filter.h"
 #include "blocks/spaf_filter.h"
+#include "blocks/weight_map.h"
 
 namespace texsim {
 
@@ -11,8 +12,7 @@ namespace {
 template <class Block>
 class FootprintFilterOf final : public FootprintFilter {
  public:
-  FootprintFilterOf(const typename Block::Config& c, std::string name, std::string arith)
-      : block_(c), name_(std::move(name)), arith_(std::move(arith)) {}
+  FootprintFilterOf(Block block, std::string name) : block_(std::move(block)), name_(std::move(name)) {}
   FilterOutput filter(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
                       OpCounts& ops) const override {
     return block_.filter(tex, f, fetched, ops);
@@ -20,19 +20,34 @@ class FootprintFilterOf final : public FootprintFilter {
   uint32_t issue_cycles(const FilterStats& s) const override { return block_.issue_cycles(s); }
   TimingSpec timing(const TechTable& tech) const override { return block_.timing(tech); }
   std::string name() const override { return name_; }
-  std::string arithmetic() const override { return arith_; }
+  std::string arithmetic() const override { return block_.arithmetic(); }
   AddressMode address_u() const override { return block_.config().address_u; }
   AddressMode address_v() const override { return block_.config().address_v; }
 
  private:
   Block block_;
-  std::string name_, arith_;
+  std::string name_;
 };
 
 template <class Block>
-std::unique_ptr<FootprintFilter> make(const ConfigReader& r, const char* key, std::string arith) {
-  const auto cfg = Block::Config::from_toml(r.sub(key));
-  return std::make_unique<FootprintFilterOf<Block>>(cfg, std::string("filter.") + key, std::move(arith));
+std::unique_ptr<FootprintFilter> make(const ConfigReader& r, std::string_view key) {
+  return std::make_unique<FootprintFilterOf<Block>>(Block(Block::Config::from_toml(r.sub(key))),
+                                                    "filter." + std::string(key));
+}
+
+// EWA, with the weight map its `weight_map` table describes when weight = "map" (the map's
+// alpha defaults to the filter's).
+std::unique_ptr<FootprintFilter> make_ewa(const ConfigReader& material) {
+  const ConfigReader r = material.sub("ewa");
+  const EwaFilter::Config cfg = EwaFilter::Config::from_toml(r);
+  std::shared_ptr<const WeightMap> map;
+  if (cfg.weight == EwaFilter::Weight::Map) {
+    const ConfigReader mr = r.sub("weight_map");
+    WeightMap::Config m = WeightMap::Config::from_toml(mr);
+    if (!mr.table().contains("alpha")) m.alpha = cfg.alpha;
+    map = std::make_shared<const WeightMap>(m);
+  }
+  return std::make_unique<FootprintFilterOf<EwaFilter>>(EwaFilter(cfg, map), "filter.ewa");
 }
 
 }  // namespace
@@ -50,16 +65,13 @@ std::unique_ptr<FootprintFilter> FootprintFilter::from_material(const ConfigRead
     if (f) material.fail(key, "a material takes one footprint filter; it already has '" + chosen + "'");
     chosen = key;
     if (key == "ewa") {
-      const auto cfg = EwaFilter::Config::from_toml(material.sub(key));
-      const EwaFilter probe(cfg);
-      f = std::make_unique<FootprintFilterOf<EwaFilter>>(cfg, "filter.ewa", probe.arithmetic());
+      f = make_ewa(material);
     } else if (key == "multi_probe") {
-      f = make<MultiProbeFilter>(material, "multi_probe", "float32; Gaussian probe weights");
+      f = make<MultiProbeFilter>(material, key);
     } else if (key == "feline") {
-      f = make<FelineFilter>(material, "feline", "float32 trilinear probes");
+      f = make<FelineFilter>(material, key);
     } else {
-      const auto cfg = SpafFilter::Config::from_toml(material.sub(key));
-      f = std::make_unique<FootprintFilterOf<SpafFilter>>(cfg, "filter.spaf", SpafFilter(cfg).arithmetic());
+      f = make<SpafFilter>(material, key);
     }
   }
   return f;

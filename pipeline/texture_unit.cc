@@ -321,23 +321,36 @@ std::vector<BlockUse> TextureUnit::material_blocks(int material) const {
 }
 
 std::vector<BlockUse> TextureUnit::blocks() const {
-  // One entry per block kind over all materials (a unit serving several materials once).
-  std::map<std::string, BlockUse> by;
+  // One entry per hardware unit: materials share a unit when they use the same block with the
+  // same arithmetic. A block used with two configurations is two units, told apart by their
+  // materials ("filter.ewa[floor]").
+  std::map<std::pair<std::string, std::string>, BlockUse> by;
+  std::map<std::string, int> configs;
   uint64_t texels = 0;
   for (int i = 0; i < material_count(); ++i) {
     for (const BlockUse& u : material_blocks(i)) {
-      BlockUse& b = by[u.name];
-      b.name = u.name;
-      b.arithmetic = u.arithmetic;
-      if (u.timing.latency >= b.timing.latency) b.timing = u.timing;
-      b.ops += u.ops;
-      b.texels += u.texels;
-      b.materials.push_back(u.materials.front());
+      auto [it, fresh] = by.try_emplace({u.name, u.arithmetic}, u);
+      BlockUse& b = it->second;
+      if (fresh) {
+        ++configs[u.name];
+      } else {
+        if (u.timing.latency >= b.timing.latency) b.timing = u.timing;
+        b.ops += u.ops;
+        b.texels += u.texels;
+        b.materials.push_back(u.materials.front());
+      }
       texels += u.texels;
     }
   }
   std::vector<BlockUse> out;
-  for (auto& [k, v] : by) out.push_back(v);
+  for (auto& [k, v] : by) {
+    if (configs[v.name] > 1) {
+      std::string mats;
+      for (const auto& m : v.materials) mats += (mats.empty() ? "" : ",") + m;
+      v.name += "[" + mats + "]";
+    }
+    out.push_back(v);
+  }
   BlockUse c;
   c.name = "cache";
   c.arithmetic = "tag compare";

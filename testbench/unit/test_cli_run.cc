@@ -182,6 +182,30 @@ TEST_F(Cli, CoordinateUnitsPerMaterial) {
   EXPECT_FALSE(tj["stages"].contains("coords"));
 }
 
+TEST_F(Cli, OneBlockInTwoConfigurationsIsTwoUnitsAndWeightMapKeysAreRead) {
+  write("two_ewa.toml",
+        "[textures.t]\nsource = \"procedural:checker?size=64&cells=8\"\n"
+        "[materials.lut]\ntexture = \"t\"\newa = { weight = \"lut\" }\n"
+        "[materials.map]\ntexture = \"t\"\n"
+        "ewa = { weight = \"map\", weight_map = { kind = \"radial_r2\", size = 32, element = \"u8\" } }\n"
+        "[[planes]]\nmaterial = \"lut\"\norigin = [-2.0, 0.0, -1.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, -8.0]\n"
+        "[[planes]]\nmaterial = \"map\"\norigin = [0.0, 0.0, -1.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, -8.0]\n");
+  const Result r = sh("run " + path("two_ewa.toml") + " --no-progress --out " + path("out"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json j = load_json(path("out") + "/report.json");
+  ASSERT_TRUE(j["blocks"].contains("filter.ewa[lut]")) << j["blocks"].dump();
+  ASSERT_TRUE(j["blocks"].contains("filter.ewa[map]")) << j["blocks"].dump();
+  const std::string map_arith = j["blocks"]["filter.ewa[map]"]["arithmetic"].get<std::string>();
+  EXPECT_NE(map_arith.find("32"), std::string::npos) << map_arith;   // the map's size and
+  EXPECT_NE(map_arith.find("u8"), std::string::npos) << map_arith;   // element format as set
+  // A typo inside the weight map's table is an error, not ignored.
+  write("typo.toml", "[textures.t]\nsource = \"procedural:checker\"\n[materials.m]\ntexture = \"t\"\n"
+                     "ewa = { weight = \"map\", weight_map = { sise = 32 } }\n[[planes]]\nmaterial = \"m\"\n");
+  const Result bad = sh("run " + path("typo.toml") + " --out " + path("out2"));
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("sise"), std::string::npos) << bad.out;
+}
+
 TEST_F(Cli, FunctionalModeHasOpsButNoCycles) {
   const std::string out = path("out");
   const Result r = sh("run --functional --no-progress --out " + out);
