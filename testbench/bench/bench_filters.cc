@@ -145,9 +145,38 @@ void BM_EwaMap(benchmark::State& state, WeightMap::Kind k, bool timing) {
   run_block(state, EwaFilter(c, std::make_shared<const WeightMap>(m)), timing);
 }
 
-void BM_MultiProbe(benchmark::State& state, bool timing) { run_block(state, MultiProbeFilter(), timing); }
-void BM_Feline(benchmark::State& state, bool timing) { run_block(state, FelineFilter(), timing); }
-void BM_Spaf(benchmark::State& state, bool timing) { run_block(state, SpafFilter(), timing); }
+void BM_MultiProbe(benchmark::State& state, ProbeArith a, bool timing) {
+  MultiProbeFilter::Config c;
+  c.arith = a;
+  run_block(state, MultiProbeFilter(c), timing);
+}
+void BM_Feline(benchmark::State& state, ProbeArith a, bool timing) {
+  FelineFilter::Config c;
+  c.arith = a;
+  run_block(state, FelineFilter(c), timing);
+}
+void BM_Spaf(benchmark::State& state, SpafFilter::Config c, bool timing) { run_block(state, SpafFilter(c), timing); }
+
+// V(d) P2 cut-off in u0.16 (the RTL format): SPAF coverage or EWA edge weighting.
+SubtexelCutoff::Config vd_p2_fx16() {
+  SubtexelCutoff::Config v;
+  v.evaluator = VdEvaluatorKind::P2;
+  v.format = VdFormatKind::Fx16;
+  return v;
+}
+SpafFilter::Config spaf_cfg(SpafFilter::Coverage cov, SpafFilter::Arith a = SpafFilter::Arith::Float) {
+  SpafFilter::Config c;
+  c.coverage = cov;
+  c.arith = a;
+  if (cov == SpafFilter::Coverage::Vd) c.vd = vd_p2_fx16();
+  return c;
+}
+EwaFilter::Config ewa_edge_cfg() {
+  EwaFilter::Config c = ewa_cfg(EwaFilter::Weight::Lut);
+  c.edge = EwaFilter::Edge::Vd;
+  c.vd = vd_p2_fx16();
+  return c;
+}
 
 void BM_Oiio(benchmark::State& state) {
   Fixture& fx = fixture();
@@ -174,14 +203,23 @@ BENCHMARK_CAPTURE(BM_Ewa, ewa_exp_double, ewa_cfg(EwaFilter::Weight::Exp, EwaFil
 BENCHMARK_CAPTURE(BM_Ewa, ewa_pow8_float, ewa_cfg(EwaFilter::Weight::Pow8), false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_EwaMap, ewa_map_quarter, WeightMap::Kind::Quarter, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_EwaMap, ewa_map_radial_r2, WeightMap::Kind::RadialR2, false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe, false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Feline, feline, false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Spaf, spaf, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ewa, ewa_edge_vd_p2_fx16, ewa_edge_cfg(), false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe, ProbeArith::Float, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe_fixed, ProbeArith::Fixed, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Feline, feline, ProbeArith::Float, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Feline, feline_fixed, ProbeArith::Fixed, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Spaf, spaf, spaf_cfg(SpafFilter::Coverage::Mask), false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Spaf, spaf_fixed, spaf_cfg(SpafFilter::Coverage::Mask, SpafFilter::Arith::Fixed), false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Spaf, spaf_vd_p2_fx16, spaf_cfg(SpafFilter::Coverage::Vd), false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Ewa, ewa_lut_float_timing, ewa_cfg(EwaFilter::Weight::Lut), true)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_EwaMap, ewa_map_quarter_timing, WeightMap::Kind::Quarter, true)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe_timing, true)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Feline, feline_timing, true)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Spaf, spaf_timing, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ewa, ewa_edge_vd_p2_fx16_timing, ewa_edge_cfg(), true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe_timing, ProbeArith::Float, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Feline, feline_timing, ProbeArith::Float, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Spaf, spaf_timing, spaf_cfg(SpafFilter::Coverage::Mask), true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Spaf, spaf_vd_p2_fx16_timing, spaf_cfg(SpafFilter::Coverage::Vd), true)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace texsim
