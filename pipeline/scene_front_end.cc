@@ -66,6 +66,7 @@ void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>
       for (const RowSpan& r : t.rows) {
         for (int32_t x = r.x0; x < r.x0 + r.n; ++x) {
           const double d = maps[p].at(x + 0.5, r.y + 0.5).depth;
+          if (!(d > 0)) continue;  // on the horizon line: nothing of the plane is seen there
           const size_t k = pixel(x, r.y);
           if (d < depth[k]) {
             depth[k] = d;
@@ -119,6 +120,7 @@ void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>
         f.x = static_cast<uint32_t>(g.x);
         f.y = static_cast<uint32_t>(g.y);
         if (!g.uv.valid) {
+          f.u = f.v = f.dudx = f.dvdx = f.dudy = f.dvdy = 0;  // none: the pixel is not textured
           unit.drop(m, front, true);
           emit(f, m, nullptr);
           continue;
