@@ -17,6 +17,7 @@
 #include "blocks/feline_filter.h"
 #include "blocks/input_error.h"
 #include "pipeline/texture_loader.h"
+#include "testbench/lib/probe_reference.h"
 
 namespace texsim {
 namespace {
@@ -133,41 +134,25 @@ TEST(Feline, Config) {
 
 // ---- double and fixed set-up ------------------------------------------------------------
 
-constexpr double kPi = 3.14159265358979323846;
-
-// The probes from the documented rules in long double.
-struct RefProbes {
-  int n = 1;
-  long double u[ProbeSet::kMax]{}, v[ProbeSet::kMax]{}, w[ProbeSet::kMax]{};
-  long double lambda = 0, q = 0, len = 0;
-  bool special = false;
-};
-
+// The probes from the documented rules in long double. q = |line|/minor: N = ⌈q⌉, clamped.
 RefProbes reference(const FelineFilter::Config& c, const Fragment& f, int w0, int h0) {
   using L = long double;
   RefProbes r;
   r.u[0] = f.u;
   r.v[0] = f.v;
   r.w[0] = 1;
-  const L sw = static_cast<L>(w0) * c.radius_px, sh = static_cast<L>(h0) * c.radius_px;
-  const L ux = f.dudx * sw, uy = f.dudy * sw, vx = f.dvdx * sh, vy = f.dvdy * sh;
+  const RefEllipse e = reference_ellipse(f, w0, h0, c.radius_px, c.max_aniso);
   L lu, lv, minor;
   if (c.axis == FelineFilter::Axis::Parallelogram) {
-    const L la = std::hypot(ux, vx), lb = std::hypot(uy, vy);
-    lu = la >= lb ? ux : uy;
-    lv = la >= lb ? vx : vy;
+    const L la = std::hypot(e.ux, e.vx), lb = std::hypot(e.uy, e.vy);
+    lu = la >= lb ? e.ux : e.uy;
+    lv = la >= lb ? e.vx : e.vy;
     minor = std::min(la, lb);
   } else {
-    const L suu = ux * ux + uy * uy, suv = ux * vx + uy * vy, svv = vx * vx + vy * vy;
-    const L t = (suu + svv) / 2, d = (suu - svv) / 2, s = std::hypot(d, suv);
-    const L lp = t + s;
-    L lm = std::max(t - s, L(0));
-    const L a2 = static_cast<L>(c.max_aniso) * c.max_aniso;
-    if (lp > a2 * lm) lm = lp / a2;
-    const L th = std::atan2(suv, d) / 2;
-    lu = std::sqrt(lp) * std::cos(th);
-    lv = std::sqrt(lp) * std::sin(th);
-    minor = std::sqrt(lm);
+    const L th = std::atan2(e.suv, e.d) / 2;
+    lu = std::sqrt(e.major2) * std::cos(th);
+    lv = std::sqrt(e.major2) * std::sin(th);
+    minor = std::sqrt(e.minor2);
   }
   r.len = std::hypot(lu, lv);
   if (!(r.len > 0)) {
@@ -187,81 +172,11 @@ RefProbes reference(const FelineFilter::Config& c, const Fragment& f, int w0, in
   return r;
 }
 
-struct Deviation {
-  double pos = 0, pos_abs = 0, w = 0, lambda = 0;  // pos: worst ratio to the bound
-  int compared = 0, n_mismatch = 0, near_boundary = 0;
-};
-
-// Position bound (texels of level 0): rel·(1 + |line|) for the angle and length roundings, plus
-// for the fixed datapath the s16.32 rounding of the centre and of the per-probe offset times the
-// probe's index, (N + 1)·max(w0, h0)·2^-33, and the s16.24 derivatives' 2^-24. `pos` records the
-// worst ratio to the bound.
-void compare(const ProbeSet& p, const RefProbes& r, int w0, int h0, int max_probes, double rel, bool fixed,
-             Deviation& d) {
-  const long double frac = std::fabs(r.q - std::nearbyint(r.q));
-  if (!r.special && r.q < max_probes + 1 && frac < 1e-4L * r.q) {
-    ++d.near_boundary;
-    return;
-  }
-  if (p.n != r.n) {
-    ++d.n_mismatch;
-    return;
-  }
-  ++d.compared;
-  // The ellipse's line at θ or θ + π: the same probes in reverse order.
-  double best = 1e300, best_w = 0;
-  for (bool reversed : {false, true}) {
-    double e = 0, ew = 0;
-    for (int k = 0; k < p.n; ++k) {
-      const auto i = static_cast<size_t>(k), j = static_cast<size_t>(reversed ? p.n - 1 - k : k);
-      e = std::max(e, static_cast<double>(std::max(std::fabs((p.u[i] - r.u[j]) * w0), std::fabs((p.v[i] - r.v[j]) * h0))));
-      ew = std::max(ew, static_cast<double>(std::fabs(p.w[i] - r.w[j])));
-    }
-    if (e < best) {
-      best = e;
-      best_w = ew;
-    }
-  }
-  d.pos_abs = std::max(d.pos_abs, best);
-  const double bound = rel * static_cast<double>(1 + r.len) + (fixed ? (p.n + 1) * std::max(w0, h0) * std::exp2(-33) + std::exp2(-24) : 0.0);
-  d.pos = std::max(d.pos, best / bound);
-  d.w = std::max(d.w, best_w);
-  if (!r.special && r.lambda > -1) d.lambda = std::max(d.lambda, static_cast<double>(std::fabs(p.lambda - r.lambda)));
-}
-
-Fragment random_footprint(std::mt19937& rng, int w0, int h0, bool general) {
-  std::uniform_real_distribution<double> uni(0, 1);
-  Fragment f;
-  f.u = uni(rng) * 4 - 2;
-  f.v = uni(rng) * 4 - 2;
-  double ux, vx, uy, vy;
-  if (general) {
-    auto comp = [&] { return (uni(rng) < 0.5 ? -1 : 1) * std::exp2(uni(rng) * 14 - 4); };
-    ux = comp();
-    vx = comp();
-    uy = comp();
-    vy = comp();
-  } else {
-    const double major = std::exp2(uni(rng) * 15 - 3), minor = major / (1 + 199 * uni(rng) * uni(rng));
-    const double th = uni(rng) * kPi, c = std::cos(th), s = std::sin(th);
-    ux = major * c;
-    vx = major * s;
-    uy = -minor * s;
-    vy = minor * c;
-  }
-  f.dudx = ux / w0;
-  f.dvdx = vx / h0;
-  f.dudy = uy / w0;
-  f.dvdy = vy / h0;
-  f.lod_bias = static_cast<float>(uni(rng) - 0.5);
-  return f;
-}
-
 TEST(Feline, DoubleAndFixedAgainstLongDoubleReference) {
   // Bounds as for the multi-ellipse probes (test_multi_probe_filter.cc): positions within
   // 10⁻⁹·(1 + |line|) texel (double); fixed: 3·10⁻⁶·(1 + |line|) for the two CORDIC residual
   // angles of the ellipse's line, 4·10⁻⁹·(1 + |line|) for the parallelogram's (no CORDIC: the
-  // u1.32 1/N times up to 31), plus the centre's, offsets' and derivatives' roundings (compare());
+  // u1.32 1/N times up to 31), plus the centre's, offsets' and derivatives' roundings (ProbeBound);
   // Gaussian weights within the 2^-f table's 3.4·10⁻⁴ + ½ LSB of u1.15; λ within the log2
   // table's 1.44·2^-11 = 7.0·10⁻⁴ (log2 of a length, not ½·log2 of its square) + rounding.
   const std::vector<std::pair<int, int>> sizes = {{256, 256}, {384, 96}};
@@ -281,14 +196,13 @@ TEST(Feline, DoubleAndFixedAgainstLongDoubleReference) {
           const Fragment f = random_footprint(rng, w0, h0, k % 3 == 0);
           OpCounts ops;
           const double rel = a == ProbeArith::Double ? 1e-9 : axis == FelineFilter::Axis::Ellipse ? 3e-6 : 4e-9;
-          compare(fl.probes(tex, f, ops), reference(c, f, w0, h0), w0, h0, c.max_probes, rel,
-                  a == ProbeArith::Fixed, d);
+          // N = ⌈q⌉ reaches max_probes for every q above max_probes + 1.
+          const ProbeBound b{w0, h0, rel, a == ProbeArith::Fixed, c.max_probes + 1};
+          compare_probes(fl.probes(tex, f, ops), reference(c, f, w0, h0), b, d);
         }
       }
-      std::printf("feline %s %s vs long double: %d compared, %d near an N boundary, %d N mismatches; "
-                  "positions %.3g texel (%.3g of the bound), weights %.3g, lambda %.3g\n",
-                  axis == FelineFilter::Axis::Ellipse ? "ellipse" : "parallelogram", to_string(a), d.compared,
-                  d.near_boundary, d.n_mismatch, d.pos_abs, d.pos, d.w, d.lambda);
+      std::printf("feline %s %s vs long double: %s\n", axis == FelineFilter::Axis::Ellipse ? "ellipse" : "parallelogram",
+                  to_string(a), describe(d).c_str());
       EXPECT_EQ(d.n_mismatch, 0);
       EXPECT_GT(d.compared, 5800);
       EXPECT_LE(d.pos, 1.0);
@@ -383,34 +297,19 @@ TEST(Feline, FixedColoursTrackDoubleOnAPhotograph) {
     cx.arith = ProbeArith::Fixed;
     const FelineFilter fd(cd), fx(cx);
     std::mt19937 rng(9);
-    std::uniform_real_distribution<double> uni(0, 1);
-    double worst = 0, sum = 0;
-    int n = 0;
+    ColourDeviation dev;
     for (int k = 0; k < 600; ++k) {
-      const double major = std::exp2(uni(rng) * 9 - 1), minor = major / (1 + 63 * uni(rng));
-      const double th = uni(rng) * kPi;
-      Fragment f;
-      f.u = uni(rng);
-      f.v = uni(rng);
-      f.dudx = major * std::cos(th) / w0;
-      f.dvdx = major * std::sin(th) / h0;
-      f.dudy = -minor * std::sin(th) / w0;
-      f.dvdy = minor * std::cos(th) / h0;
+      const Fragment f = random_ellipse_footprint(rng, w0, h0);
       OpCounts ops;
       const FilterOutput a = fd.filter(tex, f, nullptr, ops), b = fx.filter(tex, f, nullptr, ops);
       ASSERT_EQ(a.stats.probes, b.stats.probes);
-      for (int ch = 0; ch < 3; ++ch) {
-        const double e = std::fabs(a.colour[ch] - b.colour[ch]);
-        worst = std::max(worst, e);
-        sum += e;
-        ++n;
-      }
+      dev.add(a.colour, b.colour);
     }
     std::printf("feline %s on crate-base.png: fixed vs double max %.3g mean %.3g\n",
-                axis == FelineFilter::Axis::Ellipse ? "ellipse" : "parallelogram", worst, sum / n);
+                axis == FelineFilter::Axis::Ellipse ? "ellipse" : "parallelogram", dev.worst, dev.mean());
     // At most one address-generator quantisation step (1/256 of a texel difference) moves.
-    EXPECT_LT(worst, 1.0 / 256);
-    EXPECT_LT(sum / n, 1e-4);
+    EXPECT_LT(dev.worst, 1.0 / 256);
+    EXPECT_LT(dev.mean(), 1e-4);
   }
 }
 

@@ -19,6 +19,7 @@
 #include "blocks/multi_probe_filter.h"
 #include "pipeline/texture_loader.h"
 #include "testbench/lib/footprint_reference.h"
+#include "testbench/lib/probe_reference.h"
 
 namespace texsim {
 namespace {
@@ -41,15 +42,7 @@ Texture smooth_texture(int size) {
 }
 
 Fragment footprint(double u, double v, double major, double minor, double theta, int size) {
-  Fragment f;
-  f.u = u;
-  f.v = v;
-  const double c = std::cos(theta), s = std::sin(theta);
-  f.dudx = major * c / size;
-  f.dvdx = major * s / size;
-  f.dudy = -minor * s / size;
-  f.dvdy = minor * c / size;
-  return f;
+  return ellipse_fragment(u, v, major, minor, theta, size, size);
 }
 
 TEST(MultiProbe, ProbeCountSpacingAndAxis) {
@@ -176,134 +169,42 @@ TEST(MultiProbe, ConfigAndTiming) {
 
 // ---- double and fixed set-up ------------------------------------------------------------
 
-// The probes from the documented formulas in long double: Σ = R²·J·Jᵀ, λ± = t ± |(d, Σuv)|,
-// the clamp λ₋ ≥ λ₊/maxA² (eigenvectors unchanged, so θ is that of Σ), N, L, step, positions,
-// weights and λ.
-struct RefProbes {
-  int n = 1;
-  long double u[ProbeSet::kMax]{}, v[ProbeSet::kMax]{}, w[ProbeSet::kMax]{};
-  long double lambda = 0;
-  long double q = 0;      // 2·R_major/(α·R_minor): N = ⌈q − 1⌉ (odd, clamped)
-  long double rmaj = 0;
-  bool special = false;   // a point or overflow: one probe, λ = ±1e30
-};
-
+// The probes from the documented formulas in long double: the clamped ellipse
+// (reference_ellipse(); eigenvectors unchanged by the clamp, so θ is that of Σ), N, L, step,
+// positions, weights and λ. q = 2·R_major/(α·R_minor): N = ⌈q − 1⌉ (odd, clamped); len = R_major.
 RefProbes reference(const MultiProbeFilter::Config& c, const Fragment& f, int w0, int h0) {
   using L = long double;
   RefProbes r;
-  const L sw = static_cast<L>(w0) * c.radius_px, sh = static_cast<L>(h0) * c.radius_px;
-  const L ux = f.dudx * sw, uy = f.dudy * sw, vx = f.dvdx * sh, vy = f.dvdy * sh;
-  const L suu = ux * ux + uy * uy, suv = ux * vx + uy * vy, svv = vx * vx + vy * vy;
-  const L t = (suu + svv) / 2, d = (suu - svv) / 2, s = std::hypot(d, suv);
-  const L lp = t + s;
-  L lm = std::max(t - s, L(0));
-  const L a2 = static_cast<L>(c.max_aniso) * c.max_aniso;
-  if (lp > a2 * lm) lm = lp / a2;
+  const RefEllipse e = reference_ellipse(f, w0, h0, c.radius_px, c.max_aniso);
   r.u[0] = f.u;
   r.v[0] = f.v;
   r.w[0] = 1;
-  if (!(lm > 0)) {
+  if (!(e.minor2 > 0)) {
     r.special = true;
     return r;
   }
-  r.rmaj = std::sqrt(lp);
-  const L ar = c.alpha * std::sqrt(lm);
+  r.len = std::sqrt(e.major2);
+  const L ar = c.alpha * std::sqrt(e.minor2);
   r.lambda = std::log2(ar) + f.lod_bias;
-  r.q = 2 * r.rmaj / ar;
+  r.q = 2 * r.len / ar;
   int n = std::max(static_cast<int>(std::ceil(std::min(r.q, L(1e6)) - 1)), 1);
   if (n % 2 == 0) ++n;
   n = std::min(n, c.max_probes);
   r.n = n;
   if (n == 1) return r;
-  const L step = 2 * std::max(r.rmaj - ar, L(0)) / (n - 1);
-  const L th = c.seed_theta ? (d == 0 ? (suv == 0 ? L(0) : std::copysign(std::acos(L(-1)) / 4, suv))
-                                      : std::atan(suv / d) / 2)
-                            : std::atan2(suv, d) / 2;
+  const L step = 2 * std::max(r.len - ar, L(0)) / (n - 1);
+  const L th = c.seed_theta ? (e.d == 0 ? (e.suv == 0 ? L(0) : std::copysign(std::acos(L(-1)) / 4, e.suv))
+                                        : std::atan(e.suv / e.d) / 2)
+                            : std::atan2(e.suv, e.d) / 2;
   const int half = (n - 1) / 2;
   for (int k = -half; k <= half; ++k) {
     const auto i = static_cast<size_t>(k + half);
     r.u[i] = f.u + k * step * std::cos(th) / w0;
     r.v[i] = f.v + k * step * std::sin(th) / h0;
-    const L dd = k * step / r.rmaj;
+    const L dd = k * step / r.len;
     r.w[i] = std::exp(-c.weight_alpha * dd * dd);
   }
   return r;
-}
-
-// Worst deviations of one arithmetic from the reference.
-struct Deviation {
-  double pos = 0;     // worst ratio of a position error to its bound (see compare())
-  double pos_abs = 0; // texels of level 0
-  double w = 0, lambda = 0;
-  int compared = 0, n_mismatch = 0, near_boundary = 0;
-};
-
-// Position bound (texels of level 0): rel·(1 + |line|) for the angle and length roundings, plus
-// for the fixed datapath the s16.32 rounding of the centre and of the per-probe offset times the
-// probe's index, (N + 1)·max(w0, h0)·2^-33, and the s16.24 derivatives' 2^-24. `pos` records the
-// worst ratio to the bound.
-void compare(const ProbeSet& p, const RefProbes& r, int w0, int h0, int max_probes, double rel, bool fixed,
-             Deviation& d) {
-  // N is decided by q against integers: a q within 10⁻⁴ of one may go either way.
-  const long double frac = std::fabs(r.q - std::nearbyint(r.q));
-  if (!r.special && r.q < max_probes + 2 && frac < 1e-4L * r.q) {
-    ++d.near_boundary;
-    return;
-  }
-  if (p.n != r.n) {
-    ++d.n_mismatch;
-    return;
-  }
-  ++d.compared;
-  // θ and θ + π give the same probes in reverse order (2θ = ±π is one point for the datapath):
-  // compare against whichever order is closer.
-  double best = 1e300, best_w = 0;
-  for (bool reversed : {false, true}) {
-    double e = 0, ew = 0;
-    for (int k = 0; k < p.n; ++k) {
-      const auto i = static_cast<size_t>(k), j = static_cast<size_t>(reversed ? p.n - 1 - k : k);
-      e = std::max(e, static_cast<double>(std::max(std::fabs((p.u[i] - r.u[j]) * w0), std::fabs((p.v[i] - r.v[j]) * h0))));
-      ew = std::max(ew, static_cast<double>(std::fabs(p.w[i] - r.w[j])));
-    }
-    if (e < best) {
-      best = e;
-      best_w = ew;
-    }
-  }
-  d.pos_abs = std::max(d.pos_abs, best);
-  const double bound = rel * static_cast<double>(1 + r.rmaj) + (fixed ? (p.n + 1) * std::max(w0, h0) * std::exp2(-33) + std::exp2(-24) : 0.0);
-  d.pos = std::max(d.pos, best / bound);
-  d.w = std::max(d.w, best_w);
-  // λ of magnified footprints (negative) only selects level 0.
-  if (!r.special && r.lambda > -1) d.lambda = std::max(d.lambda, static_cast<double>(std::fabs(p.lambda - r.lambda)));
-}
-
-Fragment random_footprint(std::mt19937& rng, int w0, int h0, bool general) {
-  std::uniform_real_distribution<double> uni(0, 1);
-  Fragment f;
-  f.u = uni(rng) * 4 - 2;
-  f.v = uni(rng) * 4 - 2;
-  double ux, vx, uy, vy;
-  if (general) {  // independent derivative vectors (sheared footprints)
-    auto comp = [&] { return (uni(rng) < 0.5 ? -1 : 1) * std::exp2(uni(rng) * 14 - 4); };
-    ux = comp();
-    vx = comp();
-    uy = comp();
-    vy = comp();
-  } else {  // axes major ≥ minor at angle θ, anisotropy up to 200:1 (clamped beyond 64)
-    const double major = std::exp2(uni(rng) * 15 - 3), minor = major / (1 + 199 * uni(rng) * uni(rng));
-    const double th = uni(rng) * kPi, c = std::cos(th), s = std::sin(th);
-    ux = major * c;
-    vx = major * s;
-    uy = -minor * s;
-    vy = minor * c;
-  }
-  f.dudx = ux / w0;
-  f.dvdx = vx / h0;
-  f.dudy = uy / w0;
-  f.dvdy = vy / h0;
-  f.lod_bias = static_cast<float>(uni(rng) - 0.5);
-  return f;
 }
 
 Texture sized(int w, int h) {
@@ -312,11 +213,11 @@ Texture sized(int w, int h) {
 }
 
 TEST(MultiProbe, DoubleAndFixedAgainstLongDoubleReference) {
-  // Bounds (texels of level 0 for positions, see compare()): double — rounding of doubles,
+  // Bounds (texels of level 0 for positions, see ProbeBound): double — rounding of doubles,
   // 10⁻⁹·(1 + R_major); fixed — the CORDIC residual angles (vectoring atan(2^-19) halved with θ,
   // rotation atan(2^-19): 2.9·10⁻⁶ rad) on offsets up to R_major, with the s16.24/s17.24
   // roundings 3·10⁻⁶·(1 + R_major), plus the centre's, offsets' and derivatives' roundings
-  // (compare()). Weights: the 2^-f table's index rounding ln2·2^-11 = 3.4·10⁻⁴ plus ½ LSB of u1.15;
+  // (ProbeBound). Weights: the 2^-f table's index rounding ln2·2^-11 = 3.4·10⁻⁴ plus ½ LSB of u1.15;
   // λ: log2 table 1.44·2^-11/2 = 3.5·10⁻⁴ plus s8.16 rounding, and the float LOD output
   // 2^-24·|λ|.
   const std::vector<std::pair<int, int>> sizes = {{256, 256}, {384, 96}};
@@ -336,15 +237,14 @@ TEST(MultiProbe, DoubleAndFixedAgainstLongDoubleReference) {
           for (int k = 0; k < 1500; ++k) {
             const Fragment f = random_footprint(rng, w0, h0, k % 3 == 0);
             OpCounts ops;
-            compare(mp.probes(tex, f, ops), reference(c, f, w0, h0), w0, h0, c.max_probes,
-                    a == ProbeArith::Fixed ? 3e-6 : 1e-9, a == ProbeArith::Fixed, d);
+            // N = ⌈q − 1⌉ reaches max_probes for every q above max_probes + 2.
+            const ProbeBound b{w0, h0, a == ProbeArith::Fixed ? 3e-6 : 1e-9, a == ProbeArith::Fixed, c.max_probes + 2};
+            compare_probes(mp.probes(tex, f, ops), reference(c, f, w0, h0), b, d);
           }
         }
       }
-      std::printf("multi-probe %s%s vs long double: %d compared, %d near an N boundary, %d N mismatches; "
-                  "positions %.3g texel (%.3g of the bound), weights %.3g, lambda %.3g\n",
-                  to_string(a), seed ? " (printed θ)" : "", d.compared, d.near_boundary, d.n_mismatch, d.pos_abs,
-                  d.pos, d.w, d.lambda);
+      std::printf("multi-probe %s%s vs long double: %s\n", to_string(a), seed ? " (printed θ)" : "",
+                  describe(d).c_str());
       EXPECT_EQ(d.n_mismatch, 0);
       EXPECT_GT(d.compared, 5500);
       EXPECT_LT(d.near_boundary, 60);
@@ -482,38 +382,23 @@ TEST(MultiProbe, FixedColoursTrackDoubleOnAPhotograph) {
   cx.arith = ProbeArith::Fixed;
   const MultiProbeFilter md(cd), mx(cx), mf(cf);
   std::mt19937 rng(8);
-  std::uniform_real_distribution<double> uni(0, 1);
-  double worst = 0, sum = 0, worst_float = 0;
-  int n = 0;
+  ColourDeviation dev, dev_float;
   for (int k = 0; k < 600; ++k) {
-    const double major = std::exp2(uni(rng) * 9 - 1), minor = major / (1 + 63 * uni(rng));
-    const double th = uni(rng) * kPi;
-    Fragment f;
-    f.u = uni(rng);
-    f.v = uni(rng);
-    f.dudx = major * std::cos(th) / w0;
-    f.dvdx = major * std::sin(th) / h0;
-    f.dudy = -minor * std::sin(th) / w0;
-    f.dvdy = minor * std::cos(th) / h0;
+    const Fragment f = random_ellipse_footprint(rng, w0, h0);
     OpCounts ops;
     const FilterOutput a = md.filter(tex, f, nullptr, ops), b = mx.filter(tex, f, nullptr, ops),
                        c = mf.filter(tex, f, nullptr, ops);
     ASSERT_EQ(a.stats.probes, b.stats.probes);
-    for (int ch = 0; ch < 3; ++ch) {
-      const double e = std::fabs(a.colour[ch] - b.colour[ch]);
-      worst = std::max(worst, e);
-      sum += e;
-      ++n;
-      worst_float = std::max(worst_float, static_cast<double>(std::fabs(a.colour[ch] - c.colour[ch])));
-    }
+    dev.add(a.colour, b.colour);
+    dev_float.add(a.colour, c.colour);
   }
   std::printf("multi-probe on crate-base.png: fixed vs double max %.3g mean %.3g; float vs double max %.3g\n",
-              worst, sum / n, worst_float);
+              dev.worst, dev.mean(), dev_float.worst);
   // A position or λ change far below the address generator's 2^-8 steps can still move one
   // quantisation step (a u0.8 bilinear weight or the trilinear level weight by 1/256): the
   // colour then moves by at most 1/256 of a neighbouring texel difference.
-  EXPECT_LT(worst, 1.0 / 256);
-  EXPECT_LT(sum / n, 1e-4);
+  EXPECT_LT(dev.worst, 1.0 / 256);
+  EXPECT_LT(dev.mean(), 1e-4);
 }
 
 TEST(MultiProbe, OpsAndTimingFollowTheArithmetic) {
