@@ -1,6 +1,7 @@
 #pragma once
-// The clocked texture unit (ПНТ, first slice): LOD → texel address generation → texture cache
-// + DRAM → blend, built from a scene's materials. Only the blocks some material needs are
+// The clocked texture unit (ПНТ, first slice): [coordinates → derivatives, when a material has a
+// coordinate unit] → LOD → texel address generation → texture cache + DRAM → blend, built from
+// a scene's materials. Only the blocks some material needs are
 // instantiated. docs/architecture.md describes the stages; docs/timing-model.md the timing.
 #include <map>
 #include <memory>
