@@ -39,21 +39,19 @@ FelineFilter::FelineFilter(const Config& c) : cfg_(c) {
 }
 
 ProbeSet FelineFilter::probes(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st) const {
+  ops += setup_ops();
   switch (cfg_.arith) {
-    case ProbeArith::Float: return probes_t<float>(tex, f, ops, st);
-    case ProbeArith::Double: return probes_t<double>(tex, f, ops, st);
-    case ProbeArith::Fixed: return probes_t<ProbeFx>(tex, f, ops, st);
+    case ProbeArith::Float: return probes_t<float>(tex, f, st);
+    case ProbeArith::Double: return probes_t<double>(tex, f, st);
+    case ProbeArith::Fixed: return probes_fixed(tex, f, st);
   }
   return {};
 }
 
 template <class T>
-ProbeSet FelineFilter::probes_t(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st) const {
-  static_assert(std::is_same_v<T, float> || std::is_same_v<T, double> || std::is_same_v<T, ProbeFx>);
-  ops += setup_ops();
-  if constexpr (std::is_same_v<T, ProbeFx>) {
-    return probes_fixed(tex, f, st);
-  } else {
+ProbeSet FelineFilter::probes_t(const Texture& tex, const Fragment& f, FilterStats* st) const {
+  static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>);
+  {
     // Ellipse footprint set-up in T; everything else in double (T = float: the original model).
     ProbeSet p;
     const double w0 = tex.width(0), h0 = tex.height(0);
@@ -124,9 +122,8 @@ ProbeSet FelineFilter::probes_t(const Texture& tex, const Fragment& f, OpCounts&
   }
 }
 
-template ProbeSet FelineFilter::probes_t<float>(const Texture&, const Fragment&, OpCounts&, FilterStats*) const;
-template ProbeSet FelineFilter::probes_t<double>(const Texture&, const Fragment&, OpCounts&, FilterStats*) const;
-template ProbeSet FelineFilter::probes_t<ProbeFx>(const Texture&, const Fragment&, OpCounts&, FilterStats*) const;
+template ProbeSet FelineFilter::probes_t<float>(const Texture&, const Fragment&, FilterStats*) const;
+template ProbeSet FelineFilter::probes_t<double>(const Texture&, const Fragment&, FilterStats*) const;
 
 ProbeSet FelineFilter::probes_fixed(const Texture& tex, const Fragment& f, FilterStats* st) const {
   using Deriv = ProbeFx::Deriv;
@@ -228,10 +225,7 @@ FilterOutput FelineFilter::filter(const Texture& tex, const Fragment& f, std::ve
                                   OpCounts& ops) const {
   FilterStats st;
   const ProbeSet p = probes(tex, f, ops, &st);
-  ops += probe_setup_ops() * static_cast<uint64_t>(p.n);
-  FilterOutput o = run_probes(addr_, tex, p, fetched, ops);
-  o.stats.bad_input = st.bad_input;
-  return o;
+  return run_probes(addr_, tex, p, probe_setup_ops(), st.bad_input, fetched, ops);
 }
 
 OpCounts FelineFilter::setup_ops() const {
@@ -299,7 +293,7 @@ OpCounts FelineFilter::probe_setup_ops() const {
 }
 
 OpCounts FelineFilter::per_probe_ops() const {
-  return probe_setup_ops() + addr_.ops_per_probe(false) + trilinear_probe_blend_ops();
+  return probe_lane_ops(addr_, probe_setup_ops());
 }
 
 TimingSpec FelineFilter::timing(const TechTable& tech) const {
@@ -341,20 +335,7 @@ TimingSpec FelineFilter::timing(const TechTable& tech) const {
     path.mul += 2;
     path.cmp += 1;
   }
-  OpCounts tail;
-  tail.mem = 1;
-  tail.mul = 2;
-  tail.add = 4;
-  tail.rcp = 1;
-  TimingSpec t;
-  t.latency = static_cast<uint32_t>(std::ceil(tech.path_latency(path) + tech.path_latency(tail))) +
-              addr_.timing(tech).latency;
-  t.ii = 1;
-  t.lanes = 1;
-  OpCounts lane = per_probe_ops();
-  lane.mem = 0;
-  t.area = tech.area_of(setup_ops()) + tech.area_of(lane) + tech.area_of(probe_normalise_ops());
-  return t;
+  return probe_filter_timing(tech, path, addr_, setup_ops(), probe_setup_ops());
 }
 
 std::string FelineFilter::arithmetic() const {

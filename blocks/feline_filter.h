@@ -56,9 +56,6 @@ class FelineFilter {
   // Probes of one fragment: N = min(⌈|line|/minor⌉, max_probes) at the centres of N equal
   // segments of the line ±line, t_k = (2k + 1 − N)/N; λ = log2(max(minor, |line|/N)).
   ProbeSet probes(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st = nullptr) const;
-  // The set-up in one number format: T = float, double or ProbeFx.
-  template <class T>
-  ProbeSet probes_t(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st = nullptr) const;
   FilterOutput filter(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
                       OpCounts& ops) const;
 
@@ -71,6 +68,9 @@ class FelineFilter {
   std::string arithmetic() const;
 
  private:
+  // The set-up in one number format (T = float or double; fixed point: probes_fixed).
+  template <class T>
+  ProbeSet probes_t(const Texture& tex, const Fragment& f, FilterStats* st) const;
   ProbeSet probes_fixed(const Texture& tex, const Fragment& f, FilterStats* st) const;
   Config cfg_;
   TexelAddressGen addr_;

@@ -31,8 +31,11 @@ OpCounts probe_normalise_ops() {
 }
 
 FilterOutput run_probes(const TexelAddressGen& addr, const Texture& tex, const ProbeSet& probes,
-                        std::vector<TexelRef>* fetched, OpCounts& ops) {
+                        const OpCounts& probe_setup, bool bad_input, std::vector<TexelRef>* fetched,
+                        OpCounts& ops) {
   FilterOutput out;
+  out.stats.bad_input = bad_input;
+  ops += probe_setup * static_cast<uint64_t>(probes.n);
   FilterTaps taps;
   LodResult lod;
   lod.lambda = probes.lambda;
@@ -68,6 +71,28 @@ FilterOutput run_probes(const TexelAddressGen& addr, const Texture& tex, const P
     out.colour = plain * (1.0f / static_cast<float>(probes.n));
   }
   return out;
+}
+
+OpCounts probe_lane_ops(const TexelAddressGen& addr, const OpCounts& probe_setup) {
+  return probe_setup + addr.ops_per_probe(false) + trilinear_probe_blend_ops();
+}
+
+TimingSpec probe_filter_timing(const TechTable& tech, const OpCounts& setup_path, const TexelAddressGen& addr,
+                               const OpCounts& setup_ops, const OpCounts& probe_setup) {
+  OpCounts tail;  // blend of one probe's taps, weighting, normalisation
+  tail.mem = 1;
+  tail.mul = 2;
+  tail.add = 4;
+  tail.rcp = 1;
+  TimingSpec t;
+  t.latency = static_cast<uint32_t>(std::ceil(tech.path_latency(setup_path) + tech.path_latency(tail))) +
+              addr.timing(tech).latency;
+  t.ii = 1;
+  t.lanes = 1;
+  OpCounts lane = probe_lane_ops(addr, probe_setup);
+  lane.mem = 0;
+  t.area = tech.area_of(setup_ops) + tech.area_of(lane) + tech.area_of(probe_normalise_ops());
+  return t;
 }
 
 const char* to_string(ProbeArith a) {
@@ -385,21 +410,19 @@ double MultiProbeFilter::major_angle(double suu, double suv, double svv, bool se
 }
 
 ProbeSet MultiProbeFilter::probes(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st) const {
+  ops += setup_ops();
   switch (cfg_.arith) {
-    case ProbeArith::Float: return probes_t<float>(tex, f, ops, st);
-    case ProbeArith::Double: return probes_t<double>(tex, f, ops, st);
-    case ProbeArith::Fixed: return probes_t<ProbeFx>(tex, f, ops, st);
+    case ProbeArith::Float: return probes_t<float>(tex, f, st);
+    case ProbeArith::Double: return probes_t<double>(tex, f, st);
+    case ProbeArith::Fixed: return probes_fixed(tex, f, st);
   }
   return {};
 }
 
 template <class T>
-ProbeSet MultiProbeFilter::probes_t(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st) const {
-  static_assert(std::is_same_v<T, float> || std::is_same_v<T, double> || std::is_same_v<T, ProbeFx>);
-  ops += setup_ops();
-  if constexpr (std::is_same_v<T, ProbeFx>) {
-    return probes_fixed(tex, f, st);
-  } else {
+ProbeSet MultiProbeFilter::probes_t(const Texture& tex, const Fragment& f, FilterStats* st) const {
+  static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>);
+  {
     // Footprint set-up in T; the rest in double from it (T = float: the original model).
     ProbeSet p;
     const int w0 = tex.width(0), h0 = tex.height(0);
@@ -448,9 +471,8 @@ ProbeSet MultiProbeFilter::probes_t(const Texture& tex, const Fragment& f, OpCou
   }
 }
 
-template ProbeSet MultiProbeFilter::probes_t<float>(const Texture&, const Fragment&, OpCounts&, FilterStats*) const;
-template ProbeSet MultiProbeFilter::probes_t<double>(const Texture&, const Fragment&, OpCounts&, FilterStats*) const;
-template ProbeSet MultiProbeFilter::probes_t<ProbeFx>(const Texture&, const Fragment&, OpCounts&, FilterStats*) const;
+template ProbeSet MultiProbeFilter::probes_t<float>(const Texture&, const Fragment&, FilterStats*) const;
+template ProbeSet MultiProbeFilter::probes_t<double>(const Texture&, const Fragment&, FilterStats*) const;
 
 ProbeSet MultiProbeFilter::probes_fixed(const Texture& tex, const Fragment& f, FilterStats* st) const {
   using Len = ProbeFx::Len;
@@ -521,10 +543,7 @@ FilterOutput MultiProbeFilter::filter(const Texture& tex, const Fragment& f, std
                                       OpCounts& ops) const {
   FilterStats st;
   const ProbeSet p = probes(tex, f, ops, &st);
-  ops += probe_setup_ops() * static_cast<uint64_t>(p.n);
-  FilterOutput o = run_probes(addr_, tex, p, fetched, ops);
-  o.stats.bad_input = st.bad_input;
-  return o;
+  return run_probes(addr_, tex, p, probe_setup_ops(), st.bad_input, fetched, ops);
 }
 
 OpCounts MultiProbeFilter::setup_ops() const {
@@ -566,7 +585,7 @@ OpCounts MultiProbeFilter::probe_setup_ops() const {
 }
 
 OpCounts MultiProbeFilter::per_probe_ops() const {
-  return probe_setup_ops() + addr_.ops_per_probe(false) + trilinear_probe_blend_ops();
+  return probe_lane_ops(addr_, probe_setup_ops());
 }
 
 TimingSpec MultiProbeFilter::timing(const TechTable& tech) const {
@@ -592,20 +611,7 @@ TimingSpec MultiProbeFilter::timing(const TechTable& tech) const {
     path.lut = 1;
     path.cmp = 2;
   }
-  const TimingSpec a = addr_.timing(tech);
-  OpCounts tail;
-  tail.mem = 1;
-  tail.mul = 2;
-  tail.add = 4;
-  tail.rcp = 1;
-  TimingSpec t;
-  t.latency = static_cast<uint32_t>(std::ceil(tech.path_latency(path) + tech.path_latency(tail))) + a.latency;
-  t.ii = 1;
-  t.lanes = 1;
-  OpCounts lane = per_probe_ops();
-  lane.mem = 0;
-  t.area = tech.area_of(setup_ops()) + tech.area_of(lane) + tech.area_of(probe_normalise_ops());
-  return t;
+  return probe_filter_timing(tech, path, addr_, setup_ops(), probe_setup_ops());
 }
 
 std::string MultiProbeFilter::arithmetic() const {

@@ -42,10 +42,19 @@ struct ProbeSet {
 
 // Runs each probe as a trilinear lookup (TexelAddressGen, one probe per cycle), blends its 8
 // taps and sums the probes with their weights, normalised by Σw (all weights zero: the
-// probes' plain mean). Appends the taps' texels to `fetched`; counts address, blend and
-// weighting operations.
+// probes' plain mean). Appends the taps' texels to `fetched`; counts each probe's set-up
+// (`probe_setup`: position and weight), address, blend and weighting operations. `bad_input`
+// is the set-up's verdict on the fragment, passed to the output's stats.
 FilterOutput run_probes(const TexelAddressGen& addr, const Texture& tex, const ProbeSet& probes,
-                        std::vector<TexelRef>* fetched, OpCounts& ops);
+                        const OpCounts& probe_setup, bool bad_input, std::vector<TexelRef>* fetched,
+                        OpCounts& ops);
+// One probe lane of a probe filter: its set-up, trilinear address and blend with weighting.
+OpCounts probe_lane_ops(const TexelAddressGen& addr, const OpCounts& probe_setup);
+// Timing of a probe filter: the set-up's critical path `setup_path`, then one probe's address
+// path, blend and normalisation; II 1 (one probe per cycle); area of the set-up (`setup_ops`),
+// one probe lane and the normalisation.
+TimingSpec probe_filter_timing(const TechTable& tech, const OpCounts& setup_path, const TexelAddressGen& addr,
+                               const OpCounts& setup_ops, const OpCounts& probe_setup);
 // Operations of run_probes per probe besides TexelAddressGen's (blend 8 taps, weighting) and
 // per fragment (normalisation).
 OpCounts probe_blend_ops();
@@ -173,9 +182,6 @@ class MultiProbeFilter {
   // The probes of one fragment (positions, weights, LOD) in the configured arithmetic; adds
   // the set-up operations.
   ProbeSet probes(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st = nullptr) const;
-  // The set-up in one number format: T = float, double or ProbeFx.
-  template <class T>
-  ProbeSet probes_t(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st = nullptr) const;
   FilterOutput filter(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
                       OpCounts& ops) const;
 
@@ -193,6 +199,9 @@ class MultiProbeFilter {
   std::string arithmetic() const;
 
  private:
+  // The set-up in one number format (T = float or double; fixed point: probes_fixed).
+  template <class T>
+  ProbeSet probes_t(const Texture& tex, const Fragment& f, FilterStats* st) const;
   ProbeSet probes_fixed(const Texture& tex, const Fragment& f, FilterStats* st) const;
   Config cfg_;
   TexelAddressGen addr_;
