@@ -18,6 +18,7 @@
 #include "blocks/spaf_filter.h"
 #include "blocks/weight_map.h"
 #include "testbench/lib/footprint_reference.h"
+#include "testbench/lib/filter_fixtures.h"
 
 namespace texsim {
 namespace {
@@ -112,24 +113,6 @@ std::vector<Subject> subjects(AddressMode am = AddressMode::Wrap) {
   return s;
 }
 
-Texture noise_texture(int w, int h, uint32_t seed) {
-  std::vector<float> px(static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> uni(0.1f, 0.9f);
-  for (size_t i = 0; i < px.size(); ++i) px[i] = (i % 4 == 3) ? 1.0f : uni(rng);
-  return Texture::from_rgba("n", w, h, px, TexelFormat::Rgba8, true);
-}
-
-Fragment frag(double u, double v, double ux, double vx, double uy, double vy, int size) {
-  Fragment f;
-  f.u = u;
-  f.v = v;
-  f.dudx = ux / size;
-  f.dvdx = vx / size;
-  f.dudy = uy / size;
-  f.dvdy = vy / size;
-  return f;
-}
 
 // Common checks: finite colour inside the texture's value range (all weights are ≥ 0, so the
 // result is a convex combination), texel and cycle bounds, fetched coordinates in range.
@@ -166,9 +149,9 @@ TEST(StabilityFilters, ZeroAreaFootprints) {
   const Texture tex = noise_texture(128, 128, 1);
   for (const Subject& s : subjects()) {
     // Parallel derivative vectors, one zero vector, both zero.
-    run(s, tex, frag(0.3, 0.6, 8, 4, 16, 8, 128), "parallel");
-    run(s, tex, frag(0.3, 0.6, 8, 4, 0, 0, 128), "one zero vector");
-    run(s, tex, frag(0.3, 0.6, 0, 0, 0, 0, 128), "point");
+    run(s, tex, texel_fragment(0.3, 0.6, 8, 4, 16, 8, 128), "parallel");
+    run(s, tex, texel_fragment(0.3, 0.6, 8, 4, 0, 0, 128), "one zero vector");
+    run(s, tex, texel_fragment(0.3, 0.6, 0, 0, 0, 0, 128), "point");
   }
   // EWA without reconstruction: a point footprint between texel centres has no texel inside →
   // the documented fallback, the bilinear sample at the centre of level 0.
@@ -176,7 +159,7 @@ TEST(StabilityFilters, ZeroAreaFootprints) {
   c.reconstruction = 0;
   const EwaFilter e(c);
   OpCounts ops, ops2;
-  const Fragment f = frag(0.3 + 0.25 / 128, 0.6 + 0.25 / 128, 0, 0, 0, 0, 128);
+  const Fragment f = texel_fragment(0.3 + 0.25 / 128, 0.6 + 0.25 / 128, 0, 0, 0, 0, 128);
   const FilterOutput o = e.filter(tex, f, nullptr, ops);
   EXPECT_TRUE(o.stats.fallback);
   const Rgba b = bilinear_fallback(tex, 0, f.u, f.v, AddressMode::Wrap, AddressMode::Wrap, nullptr, ops2);
@@ -188,7 +171,7 @@ TEST(StabilityFilters, MagnificationMatchesReference) {
   FootprintReferenceConfig rc;
   for (const Subject& s : subjects()) {
     for (double size : {0.01, 0.1, 0.5}) {
-      const Fragment f = frag(0.4, 0.7, size, 0, 0, size, 64);
+      const Fragment f = texel_fragment(0.4, 0.7, size, 0, 0, size, 64);
       const FilterOutput o = run(s, tex, f, "magnification");
       EXPECT_EQ(o.stats.level, 0) << s.name;
       // Much smaller than a texel: every method returns a blend of the 2×2 (EWA: 3×3 with
@@ -205,7 +188,7 @@ TEST(StabilityFilters, ExtremeAnisotropyIsClampedAndBounded) {
   for (const Subject& s : subjects()) {
     for (double th : {0.0, 0.3, 0.785, 1.2}) {
       const double major = 1e4 * 0.5, minor = 0.5;  // 10⁴:1
-      const Fragment f = frag(0.5, 0.5, major * std::cos(th), major * std::sin(th), -minor * std::sin(th),
+      const Fragment f = texel_fragment(0.5, 0.5, major * std::cos(th), major * std::sin(th), -minor * std::sin(th),
                               minor * std::cos(th), 256);
       run(s, tex, f, "aniso 1e4");
     }
@@ -217,7 +200,7 @@ TEST(StabilityFilters, HugeDerivativesGiveTheTextureMean) {
   const Rgba mean = tex.texel(tex.levels() - 1, 0, 0);  // the 1×1 level
   for (const Subject& s : subjects()) {
     for (double d : {1e6, 1e12, 1e30}) {
-      const Fragment f = frag(0.2, 0.9, d, 0.3 * d, -0.2 * d, d, 64);
+      const Fragment f = texel_fragment(0.2, 0.9, d, 0.3 * d, -0.2 * d, d, 64);
       const FilterOutput o = run(s, tex, f, "huge derivatives");
       EXPECT_EQ(o.stats.level, tex.levels() - 1) << s.name << " " << d;
       for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(o.colour[ch], mean[ch], 1e-5) << s.name << " " << d;
@@ -229,15 +212,15 @@ TEST(StabilityFilters, NonFiniteInputsTakeThePointFootprint) {
   const Texture tex = noise_texture(64, 64, 5);
   for (const Subject& s : subjects()) {
     OpCounts ops;
-    const FilterOutput ref = s.run(tex, frag(0.25, 0.5, 0, 0, 0, 0, 64), nullptr, ops);
+    const FilterOutput ref = s.run(tex, texel_fragment(0.25, 0.5, 0, 0, 0, 0, 64), nullptr, ops);
     for (double bad : {kNaN, kInf, -kInf}) {
-      const FilterOutput a = run(s, tex, frag(0.25, 0.5, bad, 1, 1, 1, 64), "non-finite derivative");
+      const FilterOutput a = run(s, tex, texel_fragment(0.25, 0.5, bad, 1, 1, 1, 64), "non-finite derivative");
       EXPECT_TRUE(a.stats.bad_input) << s.name;
       for (int ch = 0; ch < 4; ++ch) EXPECT_EQ(a.colour[ch], ref.colour[ch]) << s.name;
-      Fragment f = frag(bad, 0.5, 1, 0, 0, 1, 64);
+      Fragment f = texel_fragment(bad, 0.5, 1, 0, 0, 1, 64);
       const FilterOutput b = run(s, tex, f, "non-finite u");
       (void)b;
-      f = frag(0.25, bad, 1, 0, 0, 1, 64);
+      f = texel_fragment(0.25, bad, 1, 0, 0, 1, 64);
       run(s, tex, f, "non-finite v");
     }
   }
@@ -253,7 +236,7 @@ TEST(StabilityFilters, AllWeightsZeroFallsBack) {
   c.reconstruction = 0;
   const EwaFilter e(c);
   OpCounts ops, ops2;
-  const Fragment f = frag(0.5, 0.5, 0.8, 0, 0, 0.8, 64);  // centre on a texel corner
+  const Fragment f = texel_fragment(0.5, 0.5, 0.8, 0, 0, 0.8, 64);  // centre on a texel corner
   const FilterOutput o = e.filter(tex, f, nullptr, ops);
   EXPECT_TRUE(o.stats.fallback);
   const Rgba b = bilinear_fallback(tex, 0, 0.5, 0.5, AddressMode::Wrap, AddressMode::Wrap, nullptr, ops2);
@@ -262,7 +245,7 @@ TEST(StabilityFilters, AllWeightsZeroFallsBack) {
   MultiProbeFilter::Config mc;
   mc.weight_alpha = 64;
   const MultiProbeFilter mp(mc);
-  const FilterOutput p = mp.filter(tex, frag(0.5, 0.5, 2000, 0, 0, 1, 64), nullptr, ops);
+  const FilterOutput p = mp.filter(tex, texel_fragment(0.5, 0.5, 2000, 0, 0, 1, 64), nullptr, ops);
   EXPECT_TRUE(std::isfinite(p.colour.r));
 }
 
@@ -285,7 +268,7 @@ TEST(StabilityFilters, BordersInEachAddressMode) {
     EwaFilter::Config cw, cc;
     cc.address_u = cc.address_v = AddressMode::Clamp;
     OpCounts ops;
-    const Fragment f = frag(0.0, 0.5, 3, 0.5, -0.5, 2, size);
+    const Fragment f = texel_fragment(0.0, 0.5, 3, 0.5, -0.5, 2, size);
     const float rw = EwaFilter(cw).filter(tex, f, nullptr, ops).colour.r;
     const float rcl = EwaFilter(cc).filter(tex, f, nullptr, ops).colour.r;
     EXPECT_GT(rw - rcl, 0.2f);
@@ -296,7 +279,7 @@ TEST(StabilityFilters, BordersInEachAddressMode) {
     rc.address_u = rc.address_v = am;
     for (const Subject& s : subjects(am)) {
       for (double u : {0.0, -0.3 / size, 1.0 + 0.2 / size}) {
-        const Fragment f = frag(u, 0.0, 3, 0.5, -0.5, 2, size);
+        const Fragment f = texel_fragment(u, 0.0, 3, 0.5, -0.5, 2, size);
         const FilterOutput o = run(s, tex, f, std::string("border ") + to_string(am));
         const glm::dvec4 ref = footprint_reference_affine(tex, f, rc).colour;
         // Wrap mixes both ends of the ramp (0.1 and 0.9): each method must follow the mode.
@@ -316,7 +299,7 @@ TEST(StabilityFilters, OneTexelTextures) {
       for (double d : {0.0, 0.01, 1.0, 50.0, 1e6}) {
         std::vector<TexelRef> fetched;
         OpCounts ops;
-        const FilterOutput o = s.run(tex, frag(0.37, -2.5, d, 0.5 * d, 0.1 * d, d, 1), &fetched, ops);
+        const FilterOutput o = s.run(tex, texel_fragment(0.37, -2.5, d, 0.5 * d, 0.1 * d, d, 1), &fetched, ops);
         EXPECT_NEAR(o.colour.r, 0.2, 1e-6) << s.name;
         EXPECT_NEAR(o.colour.g, 0.4, 1e-6) << s.name;
         EXPECT_NEAR(o.colour.b, 0.6, 1e-6) << s.name;

@@ -21,6 +21,7 @@
 #include "pipeline/footprint_filter.h"
 #include "pipeline/scene.h"
 #include "pipeline/study_vd.h"
+#include "testbench/lib/filter_fixtures.h"
 
 namespace texsim {
 namespace {
@@ -166,42 +167,24 @@ TEST(VdWeighting, CoverageInUnitIntervalForAnyInput) {
   }
 }
 
-Texture noise(int size, uint32_t seed) {
-  std::vector<float> px(static_cast<size_t>(size) * static_cast<size_t>(size) * 4);
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> uni(0.1f, 0.9f);
-  for (size_t i = 0; i < px.size(); ++i) px[i] = (i % 4 == 3) ? 1.0f : uni(rng);
-  return Texture::from_rgba("n", size, size, px, TexelFormat::Rgba8, true);
-}
-
-Fragment frag(double u, double v, double ux, double vx, double uy, double vy, int size) {
-  Fragment f;
-  f.u = u;
-  f.v = v;
-  f.dudx = ux / size;
-  f.dvdx = vx / size;
-  f.dudy = uy / size;
-  f.dvdy = vy / size;
-  return f;
-}
 
 // Non-finite, degenerate, extreme and ordinary fragments: every V(d)-weighted filter returns a
 // finite colour inside the texels' range (weights ≥ 0, normalised) and counts what it fetched.
 TEST(VdWeighting, FiltersStayFiniteAndInRange) {
-  const Texture tex = noise(64, 3);
+  const Texture tex = noise_texture(64, 64, 3);
   const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
   std::vector<Fragment> frags = {
-      frag(0.3, 0.6, 0, 0, 0, 0, 64),         frag(0.3, 0.6, 8, 4, 16, 8, 64),   // point, parallel
-      frag(nan, 0.6, 2, 0, 0, 2, 64),         frag(0.3, inf, 2, 0, 0, 2, 64),    // bad u, v
-      frag(0.3, 0.6, nan, 1, 1, 1, 64),       frag(0.3, 0.6, inf, 1, -inf, 1, 64),
-      frag(0.3, 0.6, 5000, 0.5, -0.01, 0.5, 64),  // 10⁴:1
-      frag(0.3, 0.6, 1e12, 3e11, -2e11, 1e12, 64),  // far beyond the texture
-      frag(0.3, 0.6, 0.01, 0, 0, 0.01, 64)};         // magnified
+      texel_fragment(0.3, 0.6, 0, 0, 0, 0, 64),         texel_fragment(0.3, 0.6, 8, 4, 16, 8, 64),   // point, parallel
+      texel_fragment(nan, 0.6, 2, 0, 0, 2, 64),         texel_fragment(0.3, inf, 2, 0, 0, 2, 64),    // bad u, v
+      texel_fragment(0.3, 0.6, nan, 1, 1, 1, 64),       texel_fragment(0.3, 0.6, inf, 1, -inf, 1, 64),
+      texel_fragment(0.3, 0.6, 5000, 0.5, -0.01, 0.5, 64),  // 10⁴:1
+      texel_fragment(0.3, 0.6, 1e12, 3e11, -2e11, 1e12, 64),  // far beyond the texture
+      texel_fragment(0.3, 0.6, 0.01, 0, 0, 0.01, 64)};         // magnified
   std::mt19937 rng(4);
   std::uniform_real_distribution<double> uni(0, 1);
   for (int i = 0; i < 100; ++i) {
     const double major = std::exp2(uni(rng) * 8 - 1), minor = major / (1 + 30 * uni(rng)), th = uni(rng) * kPi;
-    frags.push_back(frag(uni(rng), uni(rng), major * std::cos(th), major * std::sin(th), -minor * std::sin(th),
+    frags.push_back(texel_fragment(uni(rng), uni(rng), major * std::cos(th), major * std::sin(th), -minor * std::sin(th),
                          minor * std::cos(th), 64));
   }
   auto check = [&](const std::string& name, const auto& filt) {
