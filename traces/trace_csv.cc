@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstring>
 
-#include "blocks/input_error.h"
-#include "pipeline/atomic_file.h"
+#include "blocks/base/input_error.h"
+#include "blocks/base/atomic_file.h"
 
 namespace texsim {
 

@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "traces/fragment.h"
+#include "blocks/base/fragment.h"
 #include "traces/trace_file.h"
 
 namespace texsim {

@@ -10,8 +10,8 @@
 
 #include <zlib.h>
 
-#include "blocks/input_error.h"
-#include "pipeline/atomic_file.h"
+#include "blocks/base/input_error.h"
+#include "blocks/base/atomic_file.h"
 #include "traces/trace_csv.h"
 
 namespace texsim {

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "traces/fragment.h"
+#include "blocks/base/fragment.h"
 
 namespace texsim {
 

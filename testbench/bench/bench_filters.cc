@@ -10,24 +10,24 @@
 #include <sstream>
 #include <vector>
 
-#include "blocks/dram_model.h"
-#include "blocks/ewa_filter.h"
-#include "blocks/feline_filter.h"
-#include "blocks/multi_probe_filter.h"
-#include "blocks/spaf_filter.h"
-#include "blocks/texture_cache.h"
-#include "blocks/weight_map.h"
-#include "pipeline/clocked_pipeline.h"
-#include "pipeline/plane_projection.h"
-#include "pipeline/scene.h"
-#include "pipeline/texture_loader.h"
-#include "testbench/lib/oiio_peer.h"
+#include "blocks/texture/memory/dram_model.h"
+#include "blocks/texture/footprint/ewa_filter.h"
+#include "blocks/texture/footprint/feline_filter.h"
+#include "blocks/texture/footprint/multi_probe_filter.h"
+#include "blocks/texture/footprint/spaf_filter.h"
+#include "blocks/texture/memory/texture_cache.h"
+#include "blocks/texture/footprint/weight_map.h"
+#include "pipeline/kernel/clocked_pipeline.h"
+#include "pipeline/geometry/plane_projection.h"
+#include "pipeline/scene/scene.h"
+#include "pipeline/scene/texture_loader.h"
+#include "pipeline/reference/oiio_peer.h"
 
 namespace texsim {
 namespace {
 
 std::string scene_text(double aniso) {
-  // The study's view geometry (pipeline/study_filters.cc): tilt acos(1/N), fov 20°.
+  // The study's view geometry (pipeline/studies/study_filters.cc): tilt acos(1/N), fov 20°.
   const double D = 10, th = std::acos(1.0 / aniso), cs = std::cos(th), sn = std::sin(th);
   const double su = 0.8 * D, sv = 1.5 * D, pixel = 2 * D * std::tan(10 * 3.14159265358979 / 180) / 128;
   const double texel = pixel / 1.5;

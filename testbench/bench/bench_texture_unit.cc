@@ -10,10 +10,10 @@
 // (one iteration; the collected total divided by the `fragments` counter).
 #include <benchmark/benchmark.h>
 
-#include "pipeline/fragment_generator.h"
-#include "pipeline/scene.h"
-#include "pipeline/texture_loader.h"
-#include "pipeline/texture_unit.h"
+#include "pipeline/raster/fragment_generator.h"
+#include "pipeline/scene/scene.h"
+#include "pipeline/scene/texture_loader.h"
+#include "pipeline/texture/texture_unit.h"
 
 namespace texsim {
 namespace {

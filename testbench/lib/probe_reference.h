@@ -1,5 +1,5 @@
 #pragma once
-// Long-double reference of the probe filters' set-up (blocks/feline_filter, blocks/multi_probe_filter):
+// Long-double reference of the probe filters' set-up (blocks/texture/footprint/feline_filter, blocks/texture/footprint/multi_probe_filter):
 // the footprint ellipse both derive their line from, the comparison of a block's ProbeSet with
 // the reference probes under a position bound, and the random footprints that drive it. Each
 // filter's own rules (N, positions, weights, λ) stay in its test. Not a hardware block: a
@@ -7,9 +7,9 @@
 #include <random>
 #include <string>
 
-#include "blocks/multi_probe_filter.h"
-#include "blocks/texture_memory.h"
-#include "traces/fragment.h"
+#include "blocks/texture/footprint/multi_probe_filter.h"
+#include "blocks/texture/memory/texture_memory.h"
+#include "blocks/base/fragment.h"
 
 namespace texsim {
 

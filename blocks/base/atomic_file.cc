@@ -1,0 +1,59 @@
+#include "blocks/base/atomic_file.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <unistd.h>
+
+#include "blocks/base/input_error.h"
+
+namespace texsim {
+
+std::string temp_path_for(const std::string& path) {
+  return path + ".tmp." + std::to_string(::getpid());
+}
+
+void commit_temp(const std::string& temp, const std::string& path) {
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    const std::string err = std::strerror(errno);
+    std::remove(temp.c_str());
+    throw InputError(path, "cannot write output file: " + err);
+  }
+}
+
+void write_file_atomic(const std::string& path, const std::string& content) {
+  AtomicTextFile f(path);
+  f.out() << content;
+  f.commit();
+}
+
+void ensure_dir(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir)) {
+    throw InputError(dir, "cannot create output directory" + (ec ? ": " + ec.message() : ""));
+  }
+}
+
+AtomicTextFile::AtomicTextFile(std::string path) : path_(std::move(path)), temp_(temp_path_for(path_)) {
+  out_.open(temp_, std::ios::binary | std::ios::trunc);
+  if (!out_) throw InputError(path_, std::string("cannot open for writing: ") + std::strerror(errno));
+}
+
+AtomicTextFile::~AtomicTextFile() {
+  if (!committed_) {
+    out_.close();
+    std::remove(temp_.c_str());
+  }
+}
+
+void AtomicTextFile::commit() {
+  out_.flush();
+  if (!out_) throw InputError(path_, "write failed");
+  out_.close();
+  commit_temp(temp_, path_);
+  committed_ = true;
+}
+
+}  // namespace texsim

@@ -1,0 +1,36 @@
+#pragma once
+// Technology table: latency (cycles) and area (relative units) of one operator of each kind.
+// Every block derives its timing and area from this table, never from scattered constants.
+#include <array>
+#include <string>
+
+#include "blocks/base/op_counts.h"
+
+namespace toml { inline namespace v3 { class table; } }
+
+namespace texsim {
+
+struct TechTable {
+  // Latency in cycles of one operator of each kind (pipelined: one new operation per cycle).
+  std::array<double, kOpKinds> latency{};
+  // Area of one operator instance, in adder-equivalents (a 32-bit adder = 1).
+  std::array<double, kOpKinds> area{};
+  // Clock of the texture pipeline, for converting cycles to time in reports.
+  double clock_mhz = 500.0;
+
+  double lat(OpKind k) const { return latency[static_cast<int>(k)]; }
+  double ar(OpKind k) const { return area[static_cast<int>(k)]; }
+
+  // Defaults: a generic FPGA/ASIC-like float32 datapath (docs/timing-model.md explains them).
+  static TechTable defaults();
+  // Overrides defaults from a TOML table with keys latency.<kind>, area.<kind>, clock_mhz.
+  // Throws ConfigError naming the source, line, column and key on a bad value.
+  static TechTable from_toml(const toml::table& t, const std::string& source);
+
+  // Cycles along a critical path that performs `path` operations in sequence.
+  double path_latency(const OpCounts& path) const;
+  // Area of a datapath that instantiates `units` operators of each kind.
+  double area_of(const OpCounts& units) const;
+};
+
+}  // namespace texsim

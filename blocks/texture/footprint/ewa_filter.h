@@ -1,0 +1,186 @@
+#pragma once
+// EWA filter (Greene & Heckbert): footprint set-up with max-anisotropy clamp, reconstruction
+// term and texel budget, level selection from the minor axis, bounding-box (or row-span) scan
+// with incremental Q, and Gaussian weights from a LUT, computed (exp or power-8) or read from
+// a weight map (docs/anisotropic-filters.md §1–§3); optionally a V(d) sub-texel cut-off of the
+// texels within half a texel of the ellipse boundary (§9).
+// Arithmetic: set-up in float or double; per-texel Q in float, double or fixed s18.30;
+// colour accumulation in float (double for the double datapath); with edge = "vd" the boundary
+// distance in float (double for the double datapath) and the cut-off fraction in the cut-off's
+// format (float, double, fixed u0.F/s1.F/u1.F).
+// This header also holds the types the anisotropic filter family shares (TexelRef, FilterStats,
+// FilterOutput, the footprint set-up), so a cache model sees every filter the same way.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "blocks/base/config_reader.h"
+#include "blocks/base/op_counts.h"
+#include "blocks/texture/subtexel/subtexel_cutoff.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/texture/memory/texture_memory.h"
+#include "blocks/base/timing_spec.h"
+#include "rtl_model/number/fixed.h"
+#include "blocks/base/fragment.h"
+
+namespace texsim {
+
+class WeightMap;
+
+// A texel a filter read: level and addressed coordinates (what the texture cache sees).
+struct TexelRef {
+  int32_t level;
+  int32_t x, y;
+};
+
+// What one filtered lookup did besides producing a colour.
+struct FilterStats {
+  uint32_t visited = 0;    // scan slots: texels (or probes) whose weight was evaluated
+  uint32_t texels = 0;     // texels read from texture memory
+  uint32_t map_reads = 0;  // weight-map entries read (4 per bilinear map read)
+  uint32_t probes = 0;     // probes issued (probe-based filters)
+  int32_t level = 0;       // finest level read
+  bool fallback = false;   // all weights were zero: the bilinear fallback was used
+  bool bad_input = false;  // non-finite coordinates or derivatives were replaced
+};
+
+struct FilterOutput {
+  Rgba colour{0, 0, 0, 0};
+  FilterStats stats;
+};
+
+// Per-coordinate operations of the addressing modes (the table of docs/filters.md §3).
+OpCounts address_mode_ops(AddressMode m);
+
+// Footprint of one fragment in level-0 texels as the covariance Σ = R²·J·Jᵀ of the pixel
+// footprint (J = derivatives in texels per pixel, R = footprint radius in pixels), after the
+// max-anisotropy clamp: the ellipse Q(U, V) = (U, V)·Σ⁻¹·(U, V)ᵀ ≤ 1 is the footprint.
+struct Footprint {
+  double suu = 0, suv = 0, svv = 0;  // Σ (level 0 texels²)
+  double major2 = 0, minor2 = 0;     // eigenvalues of Σ after the clamp (major ≥ minor)
+  double aniso = 1;                  // √(major2/minor2) before the clamp (∞ for det = 0)
+  bool clamped = false;              // the minor axis was stretched to major/max_aniso
+  bool bad_input = false;            // non-finite derivatives: point footprint used
+  bool overflow = false;             // Σ overflowed the set-up format: most minified level
+};
+
+// Set-up shared by the family: Σ from the derivatives, eigenvalues, and the clamp
+// Σ' = Σ + δ·e_min·e_minᵀ with e_min·e_minᵀ = (λ₊I − Σ)/(λ₊ − λ₋), δ = λ₊/maxAniso² − λ₋
+// (no angle needed). In S = float or double. Adds its operations to `ops`.
+template <class S>
+Footprint footprint_setup(const Fragment& f, int w0, int h0, double radius_px, double max_aniso,
+                          OpCounts& ops);
+OpCounts footprint_setup_ops();
+
+// Bilinear sample of one level at normalised (u, v): the family's fallback when every weight
+// is zero. Appends its four texels to `fetched` and counts its operations.
+Rgba bilinear_fallback(const Texture& tex, int level, double u, double v, AddressMode au,
+                       AddressMode av, std::vector<TexelRef>* fetched, OpCounts& ops);
+
+// A fixed-point Q datapath: 18 integer bits (with sign) hold Q at the bounding-box corners of
+// footprints up to 256:1 anisotropy; 30 fraction bits keep the incremental drift along a row of
+// 1024 texels below 2.5·10⁻⁴ (docs/anisotropic-filters.md §1.4).
+using EwaQFixed = Fixed<18, 30, Signedness::Signed, Rounding::HalfEven, Overflow::Saturate>;
+
+class EwaFilter {
+ public:
+  enum class Weight : int { Lut, Exp, Pow8, Map, Uniform };
+  enum class Mip : int { Nearest, Linear };
+  enum class Scan : int { Box, RowSpan };
+  enum class Arith : int { Float, Double, Fixed };
+  enum class Edge : int { None, Vd };
+
+  struct Config {
+    Weight weight = Weight::Lut;  // Uniform: weight 1 inside the ellipse (no pixel model)
+    int lut_size = 256;          // Gaussian table entries over Q ∈ [0, 1)
+    int lut_bits = 16;           // fraction bits of a table entry (0 = float entries)
+    double alpha = 2.0;          // weight exp(−α·Q): σ = R/√(2α) pixels
+    double radius_px = 1.0;      // R: the ellipse Q = 1 is the pixel footprint scaled by R
+    double max_aniso = 16;       // minor axis stretched to at least major/max_aniso
+    int texel_budget = 1024;     // bounding-box texels per level at most (coarser level else)
+    double reconstruction = 1.0; // texel² added to Σ's diagonal at the level read (0 = off)
+    double minor_texels = 1.0;   // level: minor radius / 2^level ∈ [minor_texels, 2·minor_texels)
+    Mip mip = Mip::Nearest;
+    Scan scan = Scan::Box;
+    Arith arith = Arith::Float;
+    AddressMode address_u = AddressMode::Wrap;
+    AddressMode address_v = AddressMode::Wrap;
+    int lanes = 4;               // texels whose weight is evaluated per cycle
+    // Vd: a texel inside the ellipse whose centre lies within half a texel of the boundary
+    // Q = 1 gets its weight × W(d)/W(−½) (SubtexelCutoff), d the distance to the boundary in
+    // texels (d < 0 inside). vd.lanes = cut-off units per texel lane.
+    Edge edge = Edge::None;
+    SubtexelCutoff::Config vd;
+    // Keys: weight (lut|exp|pow8|map|uniform), lut_size, lut_bits, alpha, radius_px, max_aniso,
+    // texel_budget, reconstruction, minor_texels, mip (nearest|linear), scan (box|row_span),
+    // arith (float|double|fixed), address_u, address_v (wrap|clamp|mirror), lanes, the
+    // subtable weight_map (WeightMap::Config) for weight = "map", edge (none|vd) and the
+    // subtable vd (SubtexelCutoff::Config: evaluator, format, lanes) for edge = "vd".
+    static Config from_toml(const ConfigReader& r);
+  };
+
+  EwaFilter();
+  explicit EwaFilter(const Config& c);
+  // With weight = Map, `map` supplies the weights (the filter keeps a shared reference).
+  EwaFilter(const Config& c, std::shared_ptr<const WeightMap> map);
+  ~EwaFilter();
+  EwaFilter(const EwaFilter&);
+  EwaFilter& operator=(const EwaFilter&);
+
+  const Config& config() const { return cfg_; }
+  const std::vector<double>& lut() const { return lut_; }
+  const WeightMap* weight_map() const { return map_.get(); }
+  SubtexelCutoff cutoff() const { return SubtexelCutoff(cfg_.vd); }
+
+  // Filters one fragment (u, v and derivatives in normalised coordinates). Appends every
+  // texel read to `fetched` (if not null) and adds the operations performed to `ops`.
+  FilterOutput filter(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
+                      OpCounts& ops) const;
+  // The datapath in one number format: T = float, double or EwaQFixed.
+  template <class T>
+  FilterOutput filter_t(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
+                        OpCounts& ops) const;
+
+  // Signed distance in texels from a point to the ellipse boundary Q = 1 (negative inside),
+  // from Q ≥ 0 and ∇Q = (∂Q/∂U, ∂Q/∂V) there: d = (√Q − 1)/|∇√Q| = 2(Q − √Q)/|∇Q|, the
+  // distance to the boundary's tangent at the point's radial projection onto it (exact on the
+  // axes and for circles; docs/anisotropic-filters.md §9). ∇Q = 0 (the centre) gives −∞.
+  template <class S>
+  static S boundary_distance(S q, S gx, S gy) {
+    const S g2 = gx * gx + gy * gy;
+    if (!(g2 > S(0))) return -std::numeric_limits<S>::infinity();
+    return S(2) * (q - std::sqrt(q)) / std::sqrt(g2);
+  }
+
+  // Weight of a texel at normalised distance Q (the configured source; Map excluded).
+  double weight_of(double q) const;
+
+  // Scan cycles one fragment occupies: ⌈visited / lanes⌉, at least 1.
+  uint32_t issue_cycles(const FilterStats& s) const;
+  // Operations per box texel (scan + inside test) and per texel inside (weight, address,
+  // read, multiply-accumulate).
+  OpCounts ops_per_visit() const;
+  OpCounts ops_per_inside() const;
+  // With edge = "vd": per level, the band set-up (minor radius, Q threshold); per texel in the
+  // band, the boundary distance, the cut-off and the weight's scaling.
+  OpCounts ops_edge_setup() const;
+  OpCounts ops_per_edge_texel() const;
+  // Latency: set-up, one texel's path and the normalisation in sequence; ii = 1 per lane
+  // group; area: set-up + `lanes` texel datapaths + normaliser.
+  TimingSpec timing(const TechTable& tech) const;
+  // Name of the arithmetic for reports.
+  std::string arithmetic() const;
+
+ private:
+  void build_lut();
+  Config cfg_;
+  std::vector<double> lut_;
+  std::shared_ptr<const WeightMap> map_;
+};
+
+const char* to_string(EwaFilter::Weight w);
+
+}  // namespace texsim

@@ -1,0 +1,36 @@
+#pragma once
+// DRAM behind the texture cache: fixed access latency plus a bandwidth-limited channel that
+// serialises line transfers (docs/timing-model.md#memory).
+#include <cstdint>
+
+#include "blocks/base/config_reader.h"
+
+namespace texsim {
+
+class DramModel {
+ public:
+  struct Config {
+    uint32_t latency = 100;        // cycles from request to first data
+    double bytes_per_cycle = 16;   // channel bandwidth
+    static Config from_toml(const ConfigReader& r);
+  };
+  struct Stats {
+    uint64_t requests = 0;
+    uint64_t bytes = 0;
+    uint64_t busy_cycles = 0;  // cycles the channel was transferring
+  };
+
+  DramModel();
+  explicit DramModel(const Config& c) : cfg_(c) {}
+  // A read of `bytes` issued at cycle `now`; returns the cycle its data has fully arrived.
+  uint64_t read(uint64_t now, uint32_t bytes);
+  const Stats& stats() const { return stats_; }
+  const Config& config() const { return cfg_; }
+
+ private:
+  Config cfg_;
+  double channel_free_ = 0;  // cycle the channel finishes its current transfer
+  Stats stats_;
+};
+
+}  // namespace texsim

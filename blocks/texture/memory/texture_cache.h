@@ -1,0 +1,77 @@
+#pragma once
+// Texture cache: set-associative, LRU replacement, read-only (texels are never written back).
+// Cycle costs are charged by the pipeline's cache stage (docs/timing-model.md#memory).
+#include <cstdint>
+#include <vector>
+
+#include "blocks/base/config_reader.h"
+#include "blocks/base/timing_spec.h"
+
+namespace texsim {
+
+class TextureCache {
+ public:
+  struct Config {
+    uint32_t size_bytes = 16 * 1024;
+    uint32_t ways = 4;
+    uint32_t line_bytes = 64;
+    uint32_t hit_latency = 4;       // tag check + data read, cycles
+    uint32_t texels_per_cycle = 4;  // tag look-ups per cycle (one bilinear quad)
+    uint32_t miss_queue = 32;       // fragments in flight (latency-hiding FIFO depth)
+    static Config from_toml(const ConfigReader& r);  // validates: powers of two, sizes fit
+  };
+  struct Stats {
+    uint64_t accesses = 0;  // line look-ups (one per distinct line per fragment)
+    uint64_t hits = 0;
+    uint64_t misses = 0;
+    uint64_t texel_reads = 0;  // texels delivered to the filter
+    uint64_t fill_bytes = 0;   // bytes brought in from DRAM
+  };
+
+  TextureCache();
+  explicit TextureCache(const Config& c);
+  // Looks up the line holding byte address `addr`; on a miss the LRU way is refilled.
+  // Returns true on a hit.
+  bool access(uint64_t addr) { return access_line(line_of(addr)); }
+  // The same for a line number (addr >> log2(line_bytes)). Inline: a hit is the common case
+  // and costs a few compares.
+  bool access_line(uint64_t line) {
+    Way* set = ways_.data() + static_cast<size_t>(line & (sets_ - 1)) * cfg_.ways;
+    ++stats_.accesses;
+    ++clock_;
+    for (uint32_t w = 0; w < cfg_.ways; ++w) {
+      if (set[w].tag == line) {
+        set[w].stamp = clock_;
+        ++stats_.hits;
+        return true;
+      }
+    }
+    fill(set, line);
+    return false;
+  }
+  uint32_t line_shift() const { return line_shift_; }
+  uint64_t line_of(uint64_t addr) const { return addr >> line_shift_; }
+  const Config& config() const { return cfg_; }
+  const Stats& stats() const { return stats_; }
+  Stats& stats() { return stats_; }
+  uint32_t sets() const { return sets_; }
+  void count_texels(uint64_t n) { stats_.texel_reads += n; }
+
+ private:
+  struct Way;
+  void fill(Way* set, uint64_t line);  // miss: refill the LRU way of `set`
+
+  Config cfg_;
+  uint32_t sets_ = 1;
+  uint32_t line_shift_ = 6;
+  uint64_t clock_ = 0;
+  // One set's ways side by side: a look-up reads one contiguous block.
+  struct Way {
+    uint64_t tag;    // line number; kInvalid = empty
+    uint64_t stamp;  // last use, for LRU (0 = never used)
+  };
+  std::vector<Way> ways_;  // sets_ * ways
+  Stats stats_;
+};
+
+}  // namespace texsim

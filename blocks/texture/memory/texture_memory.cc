@@ -1,0 +1,143 @@
+#include "blocks/texture/memory/texture_memory.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace texsim {
+
+const char* to_string(TexelFormat f) { return f == TexelFormat::Rgba8 ? "rgba8" : "rgba32f"; }
+const char* to_string(TexelLayout l) {
+  switch (l) {
+    case TexelLayout::Linear: return "linear";
+    case TexelLayout::Tiled4x4: return "tiled4x4";
+    case TexelLayout::Morton: return "morton";
+  }
+  return "?";
+}
+const char* to_string(AddressMode m) {
+  switch (m) {
+    case AddressMode::Wrap: return "wrap";
+    case AddressMode::Clamp: return "clamp";
+    case AddressMode::Mirror: return "mirror";
+  }
+  return "?";
+}
+
+namespace {
+
+Texture::Level make_level(int w, int h, const std::vector<float>& rgba, TexelFormat format) {
+  Texture::Level lv;
+  lv.width = w;
+  lv.height = h;
+  const size_t n = static_cast<size_t>(w) * h * 4;
+  if (rgba.size() < n) throw std::invalid_argument("texture level data smaller than its size");
+  if (format == TexelFormat::Rgba8) {
+    lv.rgba8.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      const float c = std::clamp(rgba[i], 0.0f, 1.0f);
+      lv.rgba8[i] = static_cast<uint8_t>(std::lround(c * 255.0f));
+    }
+  } else {
+    lv.rgba32f.assign(rgba.begin(), rgba.begin() + static_cast<std::ptrdiff_t>(n));
+  }
+  return lv;
+}
+
+// 2x2 box filter to floor(w/2) x floor(h/2) (at least 1); odd edges clamp.
+std::vector<float> downsample(const std::vector<float>& src, int w, int h, int& nw, int& nh) {
+  nw = std::max(1, w / 2);
+  nh = std::max(1, h / 2);
+  std::vector<float> dst(static_cast<size_t>(nw) * nh * 4);
+  for (int y = 0; y < nh; ++y) {
+    for (int x = 0; x < nw; ++x) {
+      const int x0 = std::min(2 * x, w - 1), x1 = std::min(2 * x + 1, w - 1);
+      const int y0 = std::min(2 * y, h - 1), y1 = std::min(2 * y + 1, h - 1);
+      for (int c = 0; c < 4; ++c) {
+        auto at = [&](int xx, int yy) { return src[(static_cast<size_t>(yy) * w + xx) * 4 + c]; };
+        dst[(static_cast<size_t>(y) * nw + x) * 4 + c] =
+            0.25f * (at(x0, y0) + at(x1, y0) + at(x0, y1) + at(x1, y1));
+      }
+    }
+  }
+  return dst;
+}
+
+}  // namespace
+
+Texture Texture::from_rgba(std::string name, int width, int height, const std::vector<float>& rgba,
+                           TexelFormat format, bool build_mips) {
+  if (width <= 0 || height <= 0) throw std::invalid_argument("texture size must be positive");
+  Texture t;
+  t.name_ = std::move(name);
+  t.format_ = format;
+  std::vector<float> cur = rgba;
+  int w = width, h = height;
+  t.levels_.push_back(make_level(w, h, cur, format));
+  while (build_mips && (w > 1 || h > 1)) {
+    int nw = 0, nh = 0;
+    cur = downsample(cur, w, h, nw, nh);
+    w = nw;
+    h = nh;
+    t.levels_.push_back(make_level(w, h, cur, format));
+  }
+  t.place(0, TexelLayout::Linear);
+  return t;
+}
+
+Texture Texture::from_levels(std::string name, const std::vector<int>& widths,
+                             const std::vector<int>& heights,
+                             const std::vector<std::vector<float>>& levels, TexelFormat format) {
+  if (levels.empty() || widths.size() != levels.size() || heights.size() != levels.size()) {
+    throw std::invalid_argument("texture level lists disagree");
+  }
+  Texture t;
+  t.name_ = std::move(name);
+  t.format_ = format;
+  for (size_t i = 0; i < levels.size(); ++i) {
+    if (widths[i] <= 0 || heights[i] <= 0) throw std::invalid_argument("bad level size");
+    t.levels_.push_back(make_level(widths[i], heights[i], levels[i], format));
+  }
+  t.place(0, TexelLayout::Linear);
+  return t;
+}
+
+uint64_t Texture::place(uint64_t base, TexelLayout layout) {
+  base_ = base;
+  layout_ = layout;
+  uint64_t off = 0;
+  for (auto& lv : levels_) {
+    lv.offset = off;
+    uint64_t texels = 0;
+    const auto w = static_cast<uint64_t>(lv.width), h = static_cast<uint64_t>(lv.height);
+    switch (layout) {
+      case TexelLayout::Linear: texels = w * h; break;
+      case TexelLayout::Tiled4x4: texels = ((w + 3) / 4) * ((h + 3) / 4) * 16; break;
+      case TexelLayout::Morton: {
+        uint64_t s = 1;
+        while (s < std::max(w, h)) s <<= 1;
+        texels = s * s;
+        break;
+      }
+    }
+    off += (texels * static_cast<uint64_t>(bytes_per_texel()) + 255) & ~uint64_t{255};
+  }
+  return off;
+}
+
+int TextureSet::add(Texture t) {
+  textures_.push_back(std::move(t));
+  place(layout_);
+  return size() - 1;
+}
+
+void TextureSet::place(TexelLayout layout) {
+  layout_ = layout;
+  uint64_t base = 0;
+  for (auto& t : textures_) {
+    const uint64_t used = t.place(base, layout);
+    base += (used + 4095) & ~uint64_t{4095};  // each texture starts on a 4 KiB page
+  }
+}
+
+}  // namespace texsim

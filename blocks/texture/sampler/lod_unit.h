@@ -1,0 +1,122 @@
+#pragma once
+// LOD unit: scale factor, anisotropy ratio and LOD λ of one fragment from its derivatives, as
+// the front of a texture filter pipe computes them (docs/filters.md §1, Vulkan "Scale Factor
+// Operation, LOD Operation"). Arithmetic: float32 throughout; log2 is a table look-up.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "blocks/base/config_reader.h"
+#include "blocks/base/op_counts.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/base/timing_spec.h"
+#include "blocks/base/fragment.h"
+
+namespace texsim {
+
+enum class AnisoMode { Isotropic, Vulkan };
+
+// Output of the LOD unit for one fragment. `lambda` is Vulkan's λ: after bias and the
+// [min_lod, max_lod] clamp, before the clamp to the pyramid (the filter's level selection does
+// that, as it knows the texture). `probes` = N ≥ 1; (axis_u, axis_v) is the step between
+// neighbouring probes along the major axis in normalised coordinates (0 when N = 1).
+struct LodResult {
+  float lambda = 0;
+  int probes = 1;
+  float axis_u = 0, axis_v = 0;
+};
+
+// LOD unit (docs/filters.md §1): isotropic ρ or the Vulkan anisotropic rule N = min(⌈ρmax/ρmin⌉,
+// maxAniso), λ = log2(ρmax/N), then bias and clamp.
+class LodUnit {
+ public:
+  struct Config {
+    AnisoMode aniso = AnisoMode::Isotropic;
+    int max_aniso = 16;    // 1..16 (FilterTaps holds 16 probes × 8 taps)
+    float lod_bias = 0;    // sampler bias, added to the fragment's own lod_bias
+    float min_lod = 0;
+    float max_lod = 1000;
+    // Keys: aniso ("isotropic"|"vulkan"), max_aniso, lod_bias, min_lod, max_lod.
+    static Config from_toml(const ConfigReader& r);
+  };
+
+  LodUnit() : LodUnit(Config{}) {}
+  explicit LodUnit(const Config& c) : cfg_(c), ops_(count_ops(c)) {}
+  const Config& config() const { return cfg_; }
+
+  // λ, probe count and probe step for fragment `f` on a texture whose level 0 is
+  // tex_w × tex_h. Adds this fragment's operations to `ops`. Never returns NaN: non-finite
+  // derivatives give λ_base = 0 (then bias and clamp as usual) and one probe.
+  LodResult eval(const Fragment& f, int tex_w, int tex_h, OpCounts& ops) const {
+    ops += ops_;
+    return eval(f, tex_w, tex_h);
+  }
+  // The same without counting: a caller that counts fragments multiplies ops_per_fragment()
+  // by their number instead (the count does not depend on the data).
+  LodResult eval(const Fragment& f, int tex_w, int tex_h) const;
+
+  // Operations per fragment of the datapath (the same for every fragment: the hardware
+  // evaluates every path and selects).
+  const OpCounts& ops_per_fragment() const { return ops_; }
+  // Critical path (latency) and area of a fully pipelined unit (one fragment per cycle).
+  TimingSpec timing(const TechTable& tech) const;
+
+ private:
+  static OpCounts count_ops(const Config& c);
+  Config cfg_;
+  OpCounts ops_;  // per fragment, fixed by the configuration
+};
+
+// In the header so the texture unit inlines it into its per-fragment path.
+inline LodResult LodUnit::eval(const Fragment& f, int tex_w, int tex_h) const {
+  LodResult r;
+  const float bias = cfg_.lod_bias + f.lod_bias;
+  const float w = static_cast<float>(tex_w), h = static_cast<float>(tex_h);
+
+  float lambda_base = 0;  // fallback for non-finite derivatives: level 0 before bias
+  const bool finite = std::isfinite(f.dudx) && std::isfinite(f.dvdx) && std::isfinite(f.dudy) &&
+                      std::isfinite(f.dvdy);
+  if (finite) {
+    // Derivatives in texels of level 0 (float32 from here on).
+    const float mux = static_cast<float>(f.dudx) * w, mvx = static_cast<float>(f.dvdx) * h;
+    const float muy = static_cast<float>(f.dudy) * w, mvy = static_cast<float>(f.dvdy) * h;
+    const float px2 = mux * mux + mvx * mvx;
+    const float py2 = muy * muy + mvy * mvy;
+    const float rmax2 = std::max(px2, py2);
+    if (std::isinf(rmax2)) {
+      // Overflow of float32 squares (|derivative| > ~1.8e19 texels): the most minified λ.
+      lambda_base = std::numeric_limits<float>::infinity();
+    } else if (cfg_.aniso == AnisoMode::Isotropic) {
+      // ρ = sqrt(rmax2); log2 ρ = ½ log2 ρ². ρ = 0 gives -inf, clamped to min_lod below.
+      lambda_base = 0.5f * std::log2(rmax2);
+    } else {
+      const float rmin2 = std::min(px2, py2);
+      const float max_aniso = static_cast<float>(cfg_.max_aniso);
+      float eta = 1.0f;
+      if (rmax2 == 0.0f) {
+        eta = 1.0f;  // footprint is a point
+      } else if (rmin2 == 0.0f) {
+        eta = max_aniso;  // footprint is a line segment
+      } else {
+        eta = std::min(std::sqrt(rmax2 / rmin2), max_aniso);
+      }
+      const int n = std::clamp(static_cast<int>(std::ceil(eta)), 1, cfg_.max_aniso);
+      r.probes = n;
+      lambda_base = 0.5f * std::log2(rmax2) - std::log2(static_cast<float>(n));
+      if (n > 1) {
+        // Vulkan picks the x axis when ρx > ρy, else y.
+        const bool x_major = px2 > py2;
+        const float inv_n = 1.0f / static_cast<float>(n);
+        r.axis_u = static_cast<float>(x_major ? f.dudx : f.dudy) * inv_n;
+        r.axis_v = static_cast<float>(x_major ? f.dvdx : f.dvdy) * inv_n;
+      }
+    }
+  }
+  float lambda = lambda_base + bias;
+  if (std::isnan(lambda)) lambda = 0;  // only if bias itself is non-finite
+  r.lambda = std::clamp(lambda, cfg_.min_lod, cfg_.max_lod);
+  return r;
+}
+
+}  // namespace texsim

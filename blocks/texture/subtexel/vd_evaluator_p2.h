@@ -1,0 +1,56 @@
+#pragma once
+// V(d) evaluator with the seed's quadratic P2(d) = 0.5 + 2.151·d − 2.358·d² in Horner form
+// (2 mul, 2 add): models the thesis's fig. 6a block; derived in docs/vd-evaluators.md.
+// Arithmetic: the format's type throughout (float, double, or u0.F input / s3.F coefficients
+// and intermediates / u1.F output, each product rounded once, HalfUp, saturating).
+#include <cstdint>
+
+#include "blocks/base/config_reader.h"
+#include "blocks/base/op_counts.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/base/timing_spec.h"
+#include "blocks/texture/subtexel/vd_evaluator_common.h"
+#include "blocks/texture/subtexel/vd_evaluator_params.h"
+
+namespace texsim {
+
+class VdEvaluatorP2 {
+ public:
+  static constexpr VdEvaluatorKind kKind = VdEvaluatorKind::P2;
+
+  using Config = VdEvaluatorConfig;
+
+  VdEvaluatorP2() = default;
+  explicit VdEvaluatorP2(const Config& c) : cfg_(c) {}
+  const Config& config() const { return cfg_; }
+
+  // V(d) ≈ (c2·d + c1)·d + c0 for d ∈ [0, 0.5] (outside it, the same polynomial).
+  template <class Fmt>
+  typename Fmt::Out eval(typename Fmt::In d) const {
+    using A = typename Fmt::Acc;
+    const auto& c = VdCoefficientsIn<Fmt>::get();
+    A t = vd_detail::mul<A>(c.p2[2], d);
+    t = vd_detail::add<A>(t, c.p2[1]);
+    t = vd_detail::mul<A>(t, d);
+    t = vd_detail::add<A>(t, c.p2[0]);
+    return vd_detail::cast<typename Fmt::Out>(t);
+  }
+
+  // Operations per evaluation; the datapath instantiates each once per lane, all in series.
+  static constexpr OpCounts ops() {
+    OpCounts o;
+    o.mul = 2;
+    o.add = 2;
+    return o;
+  }
+  static constexpr OpCounts critical_path() { return ops(); }
+  // Fully pipelined: one evaluation per cycle per lane.
+  TimingSpec timing(const TechTable& tech) const {
+    return vd_pipelined_timing(tech, ops(), critical_path(), cfg_.lanes);
+  }
+
+ private:
+  Config cfg_;
+};
+
+}  // namespace texsim

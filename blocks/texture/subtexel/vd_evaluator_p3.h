@@ -1,0 +1,58 @@
+#pragma once
+// V(d) evaluator with the seed's cubic P3(d) = 0.496 + 2.288·d − 3.074·d² + 0.956·d³ in Horner
+// form (3 mul, 3 add): the cubic the thesis proposes beside P2; docs/vd-evaluators.md.
+// Arithmetic: the format's type throughout (float, double, or u0.F input / s3.F coefficients
+// and intermediates / u1.F output, each product rounded once, HalfUp, saturating).
+#include <cstdint>
+
+#include "blocks/base/config_reader.h"
+#include "blocks/base/op_counts.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/base/timing_spec.h"
+#include "blocks/texture/subtexel/vd_evaluator_common.h"
+#include "blocks/texture/subtexel/vd_evaluator_params.h"
+
+namespace texsim {
+
+class VdEvaluatorP3 {
+ public:
+  static constexpr VdEvaluatorKind kKind = VdEvaluatorKind::P3;
+
+  using Config = VdEvaluatorConfig;
+
+  VdEvaluatorP3() = default;
+  explicit VdEvaluatorP3(const Config& c) : cfg_(c) {}
+  const Config& config() const { return cfg_; }
+
+  // V(d) ≈ ((c3·d + c2)·d + c1)·d + c0 for d ∈ [0, 0.5] (outside it, the same polynomial).
+  template <class Fmt>
+  typename Fmt::Out eval(typename Fmt::In d) const {
+    using A = typename Fmt::Acc;
+    const auto& c = VdCoefficientsIn<Fmt>::get();
+    A t = vd_detail::mul<A>(c.p3[3], d);
+    t = vd_detail::add<A>(t, c.p3[2]);
+    t = vd_detail::mul<A>(t, d);
+    t = vd_detail::add<A>(t, c.p3[1]);
+    t = vd_detail::mul<A>(t, d);
+    t = vd_detail::add<A>(t, c.p3[0]);
+    return vd_detail::cast<typename Fmt::Out>(t);
+  }
+
+  // Operations per evaluation; the datapath instantiates each once per lane, all in series.
+  static constexpr OpCounts ops() {
+    OpCounts o;
+    o.mul = 3;
+    o.add = 3;
+    return o;
+  }
+  static constexpr OpCounts critical_path() { return ops(); }
+  // Fully pipelined: one evaluation per cycle per lane.
+  TimingSpec timing(const TechTable& tech) const {
+    return vd_pipelined_timing(tech, ops(), critical_path(), cfg_.lanes);
+  }
+
+ private:
+  Config cfg_;
+};
+
+}  // namespace texsim

@@ -1,0 +1,127 @@
+#include "pipeline/geometry/plane_projection.h"
+
+#include <cmath>
+
+#include "blocks/geometry/near_clipper.h"
+
+namespace texsim {
+
+namespace {
+using V = long double;
+struct V3 { V x, y, z; };
+V3 lv(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
+V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+V3 operator*(V3 a, V s) { return {a.x * s, a.y * s, a.z * s}; }
+V dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+V3 cross(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+V3 normalize(V3 a) { return a * (1.0L / std::sqrt(dot(a, a))); }
+}  // namespace
+
+PlaneProjection::PlaneProjection(const Scene& scene, const ScenePlane& plane) {
+  const Camera& cam = scene.camera;
+  const V3 f = normalize(lv(cam.look_at) - lv(cam.position));
+  const V3 r = normalize(cross(f, lv(cam.up)));
+  const V3 up = cross(r, f);
+  const V th = std::tan(static_cast<V>(cam.fov_y_deg) * 3.14159265358979323846264338327950288L / 360.0L);
+  const V aspect = static_cast<V>(scene.width) / scene.height;
+  // View ray (not normalised, unit component along f) through pixel (x, y): D0 + x Dx + y Dy.
+  const V3 dx = r * (2.0L * th * aspect / scene.width);
+  const V3 dy = up * (-2.0L * th / scene.height);
+  const V3 d0 = f - r * (th * aspect) + up * th;
+  // Solve origin + a eu + b ev = cam + t d (Cramer): with n = eu × ev, w = cam − origin,
+  // a = d·(w × ev) / d·n, b = d·(eu × w) / d·n, t = −(w·n) / d·n.
+  const V3 eu = lv(plane.edge_u), ev = lv(plane.edge_v);
+  const V3 w = lv(cam.position) - lv(plane.origin);
+  const V3 n = cross(eu, ev), pa = cross(w, ev), pb = cross(eu, w);
+  G = dot(n, dx);
+  H = dot(n, dy);
+  I = dot(n, d0);
+  a_[0] = dot(pa, dx); a_[1] = dot(pa, dy); a_[2] = dot(pa, d0);
+  b_[0] = dot(pb, dx); b_[1] = dot(pb, dy); b_[2] = dot(pb, d0);
+  depth_num_ = -dot(w, n);
+  const V su = plane.uv_scale.x, sv = plane.uv_scale.y;
+  const V ou = plane.uv_offset.x, ov = plane.uv_offset.y;
+  A = su * a_[0] + ou * G; B = su * a_[1] + ou * H; C = su * a_[2] + ou * I;
+  D = sv * b_[0] + ov * G; E = sv * b_[1] + ov * H; F = sv * b_[2] + ov * I;
+  near_ = cam.near;
+  const V3 c = lv(cam.position);
+  const V3 o = lv(plane.origin);
+  const V3 corners[4] = {o, o + eu, o + eu + ev, o + ev};
+  for (int k = 0; k < 3; ++k) {
+    const V cv[3] = {c.x, c.y, c.z}, rv[3] = {r.x, r.y, r.z}, uv[3] = {up.x, up.y, up.z},
+            fv[3] = {f.x, f.y, f.z};
+    cam_[k] = cv[k];
+    right_[k] = rv[k];
+    up_[k] = uv[k];
+    fwd_[k] = fv[k];
+  }
+  for (int i = 0; i < 4; ++i) {
+    corner_[i][0] = corners[i].x;
+    corner_[i][1] = corners[i].y;
+    corner_[i][2] = corners[i].z;
+  }
+  tan_half_ = th;
+  aspect_ = aspect;
+  width_ = scene.width;
+  height_ = scene.height;
+}
+
+std::vector<glm::dvec2> PlaneProjection::screen_polygon() const {
+  std::vector<Vec3L> poly;
+  for (const auto& p : corner_) {
+    const V d[3] = {p[0] - cam_[0], p[1] - cam_[1], p[2] - cam_[2]};
+    auto along = [&](const long double* a) { return d[0] * a[0] + d[1] * a[1] + d[2] * a[2]; };
+    poly.push_back({along(right_), along(up_), along(fwd_)});  // view space, Z forward
+  }
+  poly = clip_polygon_z(poly, static_cast<V>(near_), true);
+  std::vector<glm::dvec2> out;
+  if (poly.size() < 3) return out;
+  // Inverse of the view ray D0 + x Dx + y Dy at continuous pixel coordinates, then the
+  // half-pixel shift to pixel-index coordinates.
+  for (const Vec3L& p : poly) {
+    const V xs = (p.x / p.z + tan_half_ * aspect_) * width_ / (2 * tan_half_ * aspect_);
+    const V ys = (tan_half_ - p.y / p.z) * height_ / (2 * tan_half_);
+    out.emplace_back(static_cast<double>(xs - 0.5L), static_cast<double>(ys - 0.5L));
+  }
+  return out;
+}
+
+ProjectiveMap PlaneProjection::texel_map(int tw, int th) const {
+  // Continuous x = index + 1/2: fold the half pixel into C, F and I; scale u, v to texels.
+  ProjectiveMap m;
+  const V w = tw, h = th;
+  m.A = A * w;
+  m.B = B * w;
+  m.C = (C + (A + B) / 2) * w;
+  m.D = D * h;
+  m.E = E * h;
+  m.F = (F + (D + E) / 2) * h;
+  m.G = G;
+  m.H = H;
+  m.I = I + (G + H) / 2;
+  // In front of the camera depth = depth_num_ / q > 0: make q positive there.
+  return depth_num_ < 0 ? m.scaled(-1) : m;
+}
+
+UvSample PlaneProjection::at(double xd, double yd) const {
+  const V x = xd, y = yd;
+  UvSample s;
+  const V den = G * x + H * y + I;
+  if (den == 0) return s;
+  const V nu = A * x + B * y + C, nv = D * x + E * y + F;
+  const V a = (a_[0] * x + a_[1] * y + a_[2]) / den, b = (b_[0] * x + b_[1] * y + b_[2]) / den;
+  const V depth = depth_num_ / den;
+  s.depth = static_cast<double>(depth);
+  s.inside = depth >= near_ && a >= 0 && a <= 1 && b >= 0 && b <= 1;
+  s.u = static_cast<double>(nu / den);
+  s.v = static_cast<double>(nv / den);
+  const V den2 = den * den;
+  s.dudx = static_cast<double>((A * den - G * nu) / den2);
+  s.dudy = static_cast<double>((B * den - H * nu) / den2);
+  s.dvdx = static_cast<double>((D * den - G * nv) / den2);
+  s.dvdy = static_cast<double>((E * den - H * nv) / den2);
+  return s;
+}
+
+}  // namespace texsim

@@ -1,0 +1,203 @@
+#pragma once
+// Clocked pipeline kernel: in-order stages with latency, initiation interval and lanes, joined
+// by bounded FIFOs with back-pressure. Items carry timestamps through the stages
+// (start = max(arrival, stage free, FIFO space)), so no work is spent on idle cycles; the
+// model and its equivalence to a cycle-stepped simulation are in docs/timing-model.md.
+#include <algorithm>
+#include <cstdint>
+#include <iosfwd>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "blocks/base/timing_spec.h"
+
+namespace texsim {
+
+struct StageConfig {
+  std::string name;
+  TimingSpec timing;         // latency, ii, lanes
+  uint32_t fifo_depth = 4;   // capacity of the FIFO in front of this stage (>= 1)
+  // Items that may be inside the stage at once (issued, not yet passed on). 0 = enough for
+  // full pipelining: lanes * ceil(latency / ii). A memory stage sets it to its miss-queue depth.
+  uint32_t max_inflight = 0;
+};
+
+// Per-item variable cost in one stage (e.g. a cache miss, or a row set-up).
+struct ItemCost {
+  uint32_t extra_latency = 0;  // added to the stage latency for this item (non-blocking)
+  uint32_t extra_ii = 0;       // added to the stage's initiation interval (blocks the lane)
+};
+
+struct StageStats {
+  uint64_t items = 0;
+  // Issue-slot accounting: every cycle of every lane up to the stage's last issue is busy or
+  // one of the stall causes, so busy + stalls <= cycles × lanes.
+  uint64_t busy = 0;           // issue-slot cycles occupied (sum of ii per item, over lanes)
+  uint64_t stall_starved = 0;  // a lane was free but no item had arrived (input FIFO empty)
+  uint64_t stall_blocked = 0;  // stage full because finished results could not leave
+                               // (downstream FIFO full: back-pressure)
+  uint64_t stall_full = 0;     // stage full because results were not ready yet (in-flight
+                               // limit reached waiting on latency, e.g. DRAM misses)
+  uint64_t stall_extra = 0;    // part of busy: cycles added by ItemCost::extra_ii
+  uint64_t last_done = 0;      // cycle the last item left this stage
+};
+
+class ClockedPipeline {
+ public:
+  // Throws std::invalid_argument if a configuration could never make progress
+  // (zero FIFO depth, zero lanes, zero ii or in-flight limit): the structural deadlock check.
+  explicit ClockedPipeline(std::vector<StageConfig> stages);
+
+  // Sends the next item in program order. `ready` is the cycle it is available at the input;
+  // `costs` is null or points at one ItemCost per stage. Returns the cycle it leaves the last
+  // stage. Throws DeadlockError if an item's progress stalls beyond the watchdog.
+  uint64_t issue(uint64_t ready = 0, const ItemCost* costs = nullptr) {
+    return issue_with(ready, [costs](int s, uint64_t) { return costs ? costs[s] : ItemCost{}; });
+  }
+  // As issue(), but a stage's cost may depend on the cycle the item starts there (a cache
+  // miss is sent to DRAM at that cycle): `cost_at(stage, start_cycle) -> ItemCost`.
+  template <class CostFn>
+  uint64_t issue_with(uint64_t ready, CostFn&& cost_at) {
+    // Common stage counts get the stage sequence unrolled at compile time, so cost_at sees a
+    // constant stage index and the per-stage addresses are fixed offsets.
+    switch (stages_.size()) {
+      case 3: return issue_unrolled(ready, cost_at, std::make_index_sequence<3>{});
+      case 4: return issue_unrolled(ready, cost_at, std::make_index_sequence<4>{});
+      default: {
+        const ItemCtx c = item_ctx();
+        uint64_t arrival = ready;
+        for (size_t s = 0; s < stages_.size(); ++s) arrival = step(c, s, arrival, cost_at);
+        return retire(arrival);
+      }
+    }
+  }
+
+  // Total cycles: when the last item left the last stage.
+  uint64_t cycles() const { return cycles_; }
+  uint64_t items() const { return items_; }
+  int stage_count() const { return static_cast<int>(stages_.size()); }
+  const StageConfig& config(int s) const { return stages_[s].cfg; }
+  // A snapshot of stage s's counters, refreshed by each call.
+  const StageStats& stats(int s) const;
+  // Busy issue slots ÷ (cycles × lanes).
+  double utilisation(int s) const;
+
+  // Cycles one item may wait in one stage before the run is declared stuck.
+  void set_watchdog(uint64_t cycles) { watchdog_ = cycles; }
+  // Writes each stage's state (last start/leave times, FIFO occupancy) for a deadlock report.
+  void dump_state(std::ostream& os) const;
+
+ private:
+  // Per-stage state the kernel touches for every item, kept small and apart from the
+  // configuration. The per-item history a stage needs (lane free time, start, leave and
+  // finish cycles) is kept in a ring of one power-of-two size P >= every lane count, FIFO
+  // depth and in-flight limit: item i writes entry i mod P and reads item i − k at
+  // (i − k) mod P, so no ring position has to be stored or advanced.
+  struct Hot {
+    uint64_t last_leave = 0;
+    uint64_t last_start = 0;
+    uint32_t latency = 1, ii = 1;
+    uint32_t lanes = 1;       // item i issues on the lane item i − lanes used
+    uint32_t cap = 1;         // in-flight limit: item i − cap must have left
+    uint32_t next_depth = 1;  // FIFO in front of the next stage: item i − depth left it
+    // Counters; busy (= items · ii + extra) and last_done (= last_leave) follow from them.
+    uint64_t starved = 0, blocked = 0, full = 0, extra = 0;
+  };
+  // One item's history in one stage.
+  struct Entry {
+    uint64_t lane_free;  // when the lane it used can issue again
+    uint64_t start, leave, finish;
+  };
+  struct Stage {
+    StageConfig cfg;
+    uint32_t inflight_cap = 1;
+    mutable StageStats stats;  // filled from Hot by stats()
+  };
+
+  // Stage s of the current item, arriving at `arrival`; returns when it leaves. Stage s owns
+  // ring_[sP .. (s + 1)P); a sentinel stage n (never written) makes the last stage read
+  // "no back-pressure". The rings start zeroed and item i − k (k <= P) for i < k reads an
+  // entry not yet written, so a predecessor that does not exist reads as cycle 0.
+  // What every stage of one item needs, loaded once per item (held in registers: reloading
+  // members after each uint64_t store would be needed otherwise).
+  struct ItemCtx {
+    uint64_t i, mask, watchdog;
+    Entry* ring;
+    Hot* hot;
+  };
+  ItemCtx item_ctx() {
+    return {items_, ring_mask_, watchdog_, ring_.data(), hot_.data()};
+  }
+  template <class CostFn>
+  [[gnu::always_inline]] uint64_t step(const ItemCtx& c, size_t s, uint64_t arrival,
+                                       CostFn& cost_at) {
+    const uint64_t i = c.i, mask = c.mask;
+    Hot& st = c.hot[s];
+    Entry* const e = c.ring + s * (mask + 1);
+    // Everything this stage needs is read before the first store (ring and counters are all
+    // uint64_t, so a store would make the compiler reload them).
+    const uint64_t free_at = e[(i - st.lanes) & mask].lane_free;
+    // The item i − inflight_cap must have left before this one can enter.
+    const Entry& old = e[(i - st.cap) & mask];
+    const uint64_t slot_free = old.leave, slot_finish = old.finish;
+    // Back-pressure: item i − depth must have left the next stage's input FIFO.
+    const uint64_t next_start = e[mask + 1 + ((i - st.next_depth) & mask)].start;
+    const uint64_t last_start = st.last_start, last_leave = st.last_leave;
+    // Items issue in order from the FIFO head, so never before the previous item issued.
+    const uint64_t avail = std::max(free_at, arrival);
+    const uint64_t start = std::max(std::max(avail, slot_free), last_start);
+    if (slot_free > avail) {
+      // Waiting for item i − cap to leave: back-pressure if it had finished, else latency.
+      const uint64_t wait = slot_free - avail;
+      const uint64_t blocked = std::min(wait, slot_free - slot_finish);
+      st.blocked += blocked;
+      st.full += wait - blocked;
+    }
+    const ItemCost cost = cost_at(static_cast<int>(s), start);
+    const uint64_t finish = start + st.latency + cost.extra_latency;
+    const uint64_t leave = std::max(std::max(finish, last_leave), next_start);  // in order
+    Entry& me = e[i & mask];
+    me.lane_free = start + st.ii + cost.extra_ii;
+    if (leave - arrival > c.watchdog) report_stuck(i, static_cast<int>(s));
+    me.start = start;
+    me.leave = leave;
+    me.finish = finish;
+    st.last_leave = leave;
+    st.last_start = start;
+    st.starved += avail - free_at;  // start >= arrival: a starved lane waited until arrival
+    st.extra += cost.extra_ii;
+    return leave;
+  }
+  template <class CostFn, size_t... kStage>
+  uint64_t issue_unrolled(uint64_t ready, CostFn& cost_at, std::index_sequence<kStage...>) {
+    const ItemCtx c = item_ctx();
+    uint64_t arrival = ready;
+    ((arrival = step(c, kStage, arrival, cost_at)), ...);
+    return retire(arrival);
+  }
+  uint64_t retire(uint64_t leave) {
+    ++items_;
+    cycles_ = std::max(cycles_, leave);
+    return leave;
+  }
+  uint64_t items_of(size_t s) const;
+  [[noreturn]] void report_stuck(uint64_t item, int stage);
+
+  std::vector<Stage> stages_;
+  std::vector<Hot> hot_;
+  std::vector<Entry> ring_;
+  uint64_t ring_mask_ = 0;  // P − 1
+  uint64_t items_ = 0;
+  uint64_t cycles_ = 0;
+  uint64_t watchdog_ = uint64_t{1} << 40;
+  int stuck_stage_ = -1;  // stage that raised DeadlockError (its earlier stages took the item)
+};
+
+class DeadlockError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace texsim

@@ -1,0 +1,72 @@
+#include "pipeline/reference/ground_truth.h"
+
+#include <cmath>
+
+namespace texsim {
+
+namespace {
+
+// Integer texel coordinate under an addressing mode (written independently of the blocks).
+int address(long long i, int size, AddressMode m) {
+  switch (m) {
+    case AddressMode::Wrap: {
+      long long r = i % size;
+      return static_cast<int>(r < 0 ? r + size : r);
+    }
+    case AddressMode::Clamp: return static_cast<int>(i < 0 ? 0 : (i >= size ? size - 1 : i));
+    case AddressMode::Mirror: {
+      const long long period = 2LL * size;
+      long long r = i % period;
+      if (r < 0) r += period;
+      return static_cast<int>(r < size ? r : period - 1 - r);
+    }
+  }
+  return 0;
+}
+
+glm::dvec4 fetch(const Texture& t, int x, int y) {
+  const Rgba c = t.texel(0, x, y);
+  return {c.r, c.g, c.b, c.a};
+}
+
+}  // namespace
+
+glm::dvec4 reference_bilinear(const Texture& tex, AddressMode au, AddressMode av, double u, double v) {
+  const int w = tex.width(0), h = tex.height(0);
+  if (!std::isfinite(u) || !std::isfinite(v)) return {0, 0, 0, 0};
+  const double x = u * w - 0.5, y = v * h - 0.5;
+  const double fx0 = std::floor(x), fy0 = std::floor(y);
+  const double a = x - fx0, b = y - fy0;
+  const auto ix = static_cast<long long>(fx0), iy = static_cast<long long>(fy0);
+  const int x0 = address(ix, w, au), x1 = address(ix + 1, w, au);
+  const int y0 = address(iy, h, av), y1 = address(iy + 1, h, av);
+  return (1 - a) * (1 - b) * fetch(tex, x0, y0) + a * (1 - b) * fetch(tex, x1, y0) +
+         (1 - a) * b * fetch(tex, x0, y1) + a * b * fetch(tex, x1, y1);
+}
+
+glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
+                              const PlaneProjection& map, int px, int py, int n) {
+  glm::dvec4 sum(0);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const UvSample s = map.at(px + (i + 0.5) / n, py + (j + 0.5) / n);
+      sum += reference_bilinear(tex, au, av, s.u, s.v);
+    }
+  }
+  return sum / static_cast<double>(n * n);
+}
+
+glm::dvec4 ground_truth_footprint(const Texture& tex, AddressMode au, AddressMode av,
+                                  const Fragment& f, int n) {
+  glm::dvec4 sum(0);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const double sx = (i + 0.5) / n - 0.5, sy = (j + 0.5) / n - 0.5;
+      sum += reference_bilinear(tex, au, av, f.u + sx * f.dudx + sy * f.dudy,
+                                f.v + sx * f.dvdx + sy * f.dvdy);
+    }
+  }
+  return sum / static_cast<double>(n * n);
+}
+
+}  // namespace texsim

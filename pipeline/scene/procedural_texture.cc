@@ -1,0 +1,135 @@
+#include "pipeline/scene/procedural_texture.h"
+
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <sstream>
+
+#include "blocks/base/input_error.h"
+
+namespace texsim {
+
+namespace {
+
+constexpr const char* kPrefix = "procedural:";
+
+uint32_t hash2(int x, int y, uint32_t seed) {
+  uint32_t h = seed * 0x9E3779B1u ^ static_cast<uint32_t>(x) * 0x85EBCA77u ^
+               static_cast<uint32_t>(y) * 0xC2B2AE3Du;
+  h ^= h >> 15;
+  h *= 0x2C1B3C6Du;
+  h ^= h >> 12;
+  h *= 0x297A2D39u;
+  h ^= h >> 15;
+  return h;
+}
+
+// Smooth value noise on a periodic lattice of `period` cells (tiles seamlessly).
+float value_noise(double x, double y, int period, uint32_t seed) {
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const double fx = x - x0, fy = y - y0;
+  auto lat = [&](int i, int j) {
+    i = ((i % period) + period) % period;
+    j = ((j % period) + period) % period;
+    return static_cast<double>(hash2(i, j, seed) & 0xFFFF) / 65535.0;
+  };
+  auto s = [](double t) { return t * t * (3 - 2 * t); };
+  const double a = lat(x0, y0), b = lat(x0 + 1, y0), c = lat(x0, y0 + 1), d = lat(x0 + 1, y0 + 1);
+  const double sx = s(fx), sy = s(fy);
+  return static_cast<float>((a * (1 - sx) + b * sx) * (1 - sy) + (c * (1 - sx) + d * sx) * sy);
+}
+
+}  // namespace
+
+bool is_procedural_source(const std::string& source) { return source.rfind(kPrefix, 0) == 0; }
+
+Texture make_procedural_texture(const std::string& source, const std::string& where) {
+  if (!is_procedural_source(source)) throw InputError(where, "not a procedural texture: " + source);
+  std::string rest = source.substr(std::string(kPrefix).size());
+  const auto q = rest.find('?');
+  const std::string kind = rest.substr(0, q);
+  std::map<std::string, std::string> kv;
+  if (q != std::string::npos) {
+    std::stringstream ss(rest.substr(q + 1));
+    std::string item;
+    while (std::getline(ss, item, '&')) {
+      const auto eq = item.find('=');
+      if (eq == std::string::npos || eq == 0) {
+        throw InputError(where, "procedural texture '" + source + "': expected key=value, got '" +
+                                    item + "'");
+      }
+      kv[item.substr(0, eq)] = item.substr(eq + 1);
+    }
+  }
+  auto get_int = [&](const std::string& key, int def, int lo, int hi) {
+    auto it = kv.find(key);
+    if (it == kv.end()) return def;
+    char* end = nullptr;
+    const long v = std::strtol(it->second.c_str(), &end, 10);
+    if (end == it->second.c_str() || *end != '\0' || v < lo || v > hi) {
+      throw InputError(where, "procedural texture '" + source + "': " + key + " must be an integer in [" +
+                                  std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    }
+    kv.erase(it);
+    return static_cast<int>(v);
+  };
+  const int size = get_int("size", 256, 1, 16384);
+  TexelFormat format = TexelFormat::Rgba8;
+  if (auto it = kv.find("format"); it != kv.end()) {
+    if (it->second == "rgba32f") format = TexelFormat::Rgba32f;
+    else if (it->second != "rgba8") throw InputError(where, "procedural texture: format must be rgba8 or rgba32f");
+    kv.erase(it);
+  }
+  std::vector<float> rgba(static_cast<size_t>(size) * size * 4, 1.0f);
+  auto put = [&](int x, int y, float r, float g, float b) {
+    float* p = &rgba[(static_cast<size_t>(y) * size + x) * 4];
+    p[0] = r;
+    p[1] = g;
+    p[2] = b;
+    p[3] = 1.0f;
+  };
+  if (kind == "checker") {
+    const int cells = get_int("cells", 8, 1, size);
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const bool on = ((x * cells / size) + (y * cells / size)) % 2 == 0;
+        if (on) put(x, y, 0.95f, 0.92f, 0.85f);
+        else put(x, y, 0.08f, 0.12f, 0.30f);
+      }
+  } else if (kind == "grid") {
+    const int cells = get_int("cells", 8, 1, size);
+    const int line = get_int("line", 2, 1, size);
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const bool on = (x * cells % size) < line * cells || (y * cells % size) < line * cells;
+        if (on) put(x, y, 0.9f, 0.9f, 0.2f);
+        else put(x, y, 0.1f, 0.3f, 0.1f);
+      }
+  } else if (kind == "noise") {
+    const int seed = get_int("seed", 1, 0, 1 << 30);
+    const int octaves = get_int("octaves", 5, 1, 12);
+    const int cells = get_int("cells", 8, 1, size);
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        double sum = 0, amp = 0.5, norm = 0;
+        for (int o = 0; o < octaves; ++o) {
+          const int period = cells << o;
+          const double s = static_cast<double>(period) / size;
+          sum += amp * value_noise((x + 0.5) * s, (y + 0.5) * s, period, static_cast<uint32_t>(seed + o));
+          norm += amp;
+          amp *= 0.5;
+        }
+        const auto v = static_cast<float>(sum / norm);
+        put(x, y, v, 0.6f * v + 0.2f, 1.0f - v);
+      }
+  } else {
+    throw InputError(where, "procedural texture '" + source + "': unknown kind '" + kind +
+                                "' (known: checker, grid, noise)");
+  }
+  if (!kv.empty()) {
+    throw InputError(where, "procedural texture '" + source + "': unknown key '" + kv.begin()->first + "'");
+  }
+  return Texture::from_rgba(source, size, size, rgba, format, true);
+}
+
+}  // namespace texsim

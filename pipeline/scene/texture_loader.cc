@@ -1,0 +1,77 @@
+#include "pipeline/scene/texture_loader.h"
+
+#include <filesystem>
+
+#include <OpenImageIO/imageio.h>
+
+#include "blocks/base/input_error.h"
+#include "pipeline/scene/procedural_texture.h"
+
+namespace texsim {
+
+namespace {
+constexpr int kMaxSize = 65536;
+
+std::vector<float> to_rgba(const std::vector<float>& src, int w, int h, int nch) {
+  std::vector<float> out(static_cast<size_t>(w) * h * 4);
+  for (size_t i = 0; i < static_cast<size_t>(w) * h; ++i) {
+    const float* s = &src[i * static_cast<size_t>(nch)];
+    float* d = &out[i * 4];
+    if (nch == 1 || nch == 2) {
+      d[0] = d[1] = d[2] = s[0];
+      d[3] = nch == 2 ? s[1] : 1.0f;
+    } else {
+      d[0] = s[0];
+      d[1] = s[1];
+      d[2] = s[2];
+      d[3] = nch >= 4 ? s[3] : 1.0f;
+    }
+  }
+  return out;
+}
+}  // namespace
+
+std::string resolve_texture_path(const std::string& source, const std::string& base_dir) {
+  std::filesystem::path p(source);
+  if (p.is_relative() && !base_dir.empty()) p = std::filesystem::path(base_dir) / p;
+  return p.lexically_normal().string();
+}
+
+Texture load_texture(const std::string& source, const std::string& base_dir,
+                     TexelFormatChoice format) {
+  if (is_procedural_source(source)) return make_procedural_texture(source, source);
+  const std::string path = resolve_texture_path(source, base_dir);
+  if (!std::filesystem::exists(path)) throw InputError(path, "texture file not found");
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw InputError(path, "cannot read texture: " + OIIO::geterror());
+  std::vector<int> ws, hs;
+  std::vector<std::vector<float>> levels;
+  bool eight_bit = true;
+  for (int m = 0; in->seek_subimage(0, m); ++m) {
+    const OIIO::ImageSpec& spec = in->spec();
+    const int w = spec.width, h = spec.height, nch = spec.nchannels;
+    if (w <= 0 || h <= 0 || w > kMaxSize || h > kMaxSize || nch <= 0 || nch > 64 || spec.depth > 1) {
+      throw InputError(path, "unsupported texture size " + std::to_string(w) + "x" +
+                                 std::to_string(h) + "x" + std::to_string(nch) +
+                                 " (2-D, at most 65536 per side)");
+    }
+    eight_bit = eight_bit && spec.format == OIIO::TypeDesc::UINT8;
+    std::vector<float> px(static_cast<size_t>(w) * h * nch);
+    if (!in->read_image(0, m, 0, nch, OIIO::TypeDesc::FLOAT, px.data())) {
+      throw InputError(path, "cannot decode MIP level " + std::to_string(m) + ": " + in->geterror());
+    }
+    ws.push_back(w);
+    hs.push_back(h);
+    levels.push_back(to_rgba(px, w, h, nch));
+  }
+  if (levels.empty()) throw InputError(path, "texture has no image");
+  const TexelFormat fmt = format == TexelFormatChoice::Rgba8     ? TexelFormat::Rgba8
+                          : format == TexelFormatChoice::Rgba32f ? TexelFormat::Rgba32f
+                          : eight_bit                            ? TexelFormat::Rgba8
+                                                                 : TexelFormat::Rgba32f;
+  const std::string name = std::filesystem::path(path).filename().string();
+  if (levels.size() > 1) return Texture::from_levels(name, ws, hs, levels, fmt);
+  return Texture::from_rgba(name, ws[0], hs[0], levels[0], fmt, true);
+}
+
+}  // namespace texsim

@@ -1,0 +1,736 @@
+#include "pipeline/studies/study_coords.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "blocks/base/input_error.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/base/atomic_file.h"
+#include "pipeline/kernel/clocked_pipeline.h"
+#include "pipeline/report/plot.h"
+
+namespace texsim {
+
+namespace {
+
+const std::vector<std::string>& or_all(const std::vector<std::string>& v,
+                                       const std::vector<std::string>& all) {
+  return v.empty() ? all : v;
+}
+
+StageConfig filter_stage(uint32_t latency, uint32_t ii) {
+  StageConfig s;
+  s.name = "filter";
+  s.timing.latency = latency;
+  s.timing.ii = ii;
+  return s;
+}
+
+double per_pixel(uint64_t v, uint64_t pixels) {
+  return pixels ? static_cast<double>(v) / static_cast<double>(pixels) : 0.0;
+}
+
+// Cycles per pixel of a chain of stages for the given per-item costs (costs[i*S + s]).
+double run_cycles(const std::vector<StageConfig>& stages, const std::vector<ItemCost>& costs,
+                  uint64_t items) {
+  if (items == 0) return 0;
+  ClockedPipeline p(stages);
+  const size_t s = stages.size();
+  for (uint64_t i = 0; i < items; ++i) p.issue(0, costs.data() + i * s);
+  return static_cast<double>(p.cycles()) / static_cast<double>(items);
+}
+
+std::string fmt(double v, int prec = 3) {
+  if (!std::isfinite(v)) return "—";
+  std::ostringstream os;
+  if (v != 0 && (std::fabs(v) < 1e-3 || std::fabs(v) >= 1e5)) {
+    os << std::scientific << std::setprecision(prec - 1) << v;
+  } else {
+    os << std::fixed << std::setprecision(prec) << v;
+  }
+  return os.str();
+}
+
+std::string pct(double ratio) {
+  std::ostringstream os;
+  os << std::showpos << std::fixed << std::setprecision(0) << (ratio - 1) * 100 << " %";
+  return os.str();
+}
+
+std::string tilt_name(double t) {
+  std::ostringstream os;
+  os << t;
+  return os.str();
+}
+
+}  // namespace
+
+StudyPlane make_study_plane(const StudyCoordsOptions& o, double tilt) {
+  StudyPlane sp;
+  sp.tilt = tilt;
+  PlaneView pv;
+  pv.tilt_deg = tilt;
+  pv.azimuth_deg = o.azimuth_deg;
+  pv.distance = 1;
+  pv.texels_per_pixel = 1;
+  pv.u_offset = pv.v_offset = o.plane_texels / 2;
+  pv.camera.focal_px = o.width / 2.0L;
+  pv.camera.cx = o.width / 2.0L;
+  pv.camera.cy = o.height / 2.0L;
+  const PlaneFrame f = plane_frame(pv);
+  const ProjectiveMap raw = ProjectiveMap::from_plane(f.origin, f.axis_u, f.axis_v, pv.camera);
+  sp.map = raw;
+  if (!raw.finite()) return sp;
+  const long double tile = o.plane_texels / std::max(1, o.tiles);
+  auto at = [&](long double u, long double v) {
+    return Vec3L{f.origin.x + u * f.axis_u.x + v * f.axis_v.x,
+                 f.origin.y + u * f.axis_u.y + v * f.axis_v.y,
+                 f.origin.z + u * f.axis_u.z + v * f.axis_v.z};
+  };
+  for (int tj = 0; tj < std::max(1, o.tiles); ++tj) {
+    for (int ti = 0; ti < std::max(1, o.tiles); ++ti) {
+      const long double u0 = ti * tile, v0 = tj * tile;
+      std::vector<Vec3L> poly = {at(u0, v0), at(u0 + tile, v0), at(u0 + tile, v0 + tile),
+                                 at(u0, v0 + tile)};
+      poly = clip_polygon_z(poly, o.z_near, true);
+      poly = clip_polygon_z(poly, o.z_far, false);
+      if (poly.size() < 3) continue;
+      std::vector<long double> px(poly.size()), py(poly.size());
+      for (size_t i = 0; i < poly.size(); ++i) project_to_pixel(poly[i], pv.camera, px[i], py[i]);
+      for (size_t i = 1; i + 1 < poly.size(); ++i) {
+        CoordTriangle t;
+        const size_t idx[3] = {0, i, i + 1};
+        for (int k = 0; k < 3; ++k) {
+          t.x[k] = static_cast<double>(px[idx[k]]);
+          t.y[k] = static_cast<double>(py[idx[k]]);
+        }
+        t.rows = rasterize_rows(t.x, t.y, o.width, o.height);
+        if (t.rows.empty()) continue;
+        sp.tris.push_back(std::move(t));
+      }
+    }
+  }
+  // Normalise q to (0.5, 1] over the covered pixels: the range fixed-point formats expect.
+  long double qmax = 0;
+  for (const auto& t : sp.tris) {
+    for (const auto& r : t.rows) {
+      qmax = std::max({qmax, raw.den(r.x0, r.y), raw.den(r.x0 + r.n - 1, r.y)});
+      sp.pixels += static_cast<uint64_t>(r.n);
+    }
+    sp.rows += t.rows.size();
+  }
+  const long double one_x[1] = {0}, one_y[1] = {0};
+  ProjectiveMap probe = raw;
+  probe.I = qmax;  // den(0,0) of the probe = qmax: normalised() then scales by the same 2^-e
+  probe.G = probe.H = 0;
+  const long double scale = probe.normalised(one_x, one_y, 1).I / qmax;
+  sp.map = raw.scaled(scale);
+  for (auto& t : sp.tris) t.map = sp.map;
+  return sp;
+}
+
+uint32_t ewa_texels(const DerivsL& d, uint32_t max_aniso) {
+  // Singular values of the Jacobian: the footprint's semi-axes in texels per pixel.
+  const long double s = d.ux * d.ux + d.uy * d.uy + d.vx * d.vx + d.vy * d.vy;
+  const long double det = std::fabs(d.ux * d.vy - d.uy * d.vx);
+  const long double p = std::sqrt(std::max<long double>(0, s + 2 * det));
+  const long double m = std::sqrt(std::max<long double>(0, s - 2 * det));
+  const long double major = (p + m) / 2, minor = (p - m) / 2;
+  if (!std::isfinite(major)) return 1;
+  // Mip level where the minor semi-axis is one texel; anisotropy clamped.
+  const long double level = std::max<long double>(1, minor);
+  const long double r1 = std::max<long double>(1, std::min(major, max_aniso * level) / level);
+  const long double r2 = std::max<long double>(1, minor / level);
+  return static_cast<uint32_t>(std::ceil(4 * r1 * r2));  // bounding box of the ellipse
+}
+
+StudyCoordsResult measure_study_coords(const StudyCoordsOptions& o, std::ostream* log) {
+  const TechTable tech = TechTable::defaults();
+  const auto& cmethods = or_all(o.coord_methods, CoordGenerator::method_names());
+  const auto& dmethods = or_all(o.deriv_methods, DerivGenerator::method_names());
+  const auto& formats = or_all(o.formats, coord_format_names());
+  StudyCoordsResult res;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (double tilt : o.tilts) {
+    StudyPlane sp = make_study_plane(o, tilt);
+    if (log) {
+      *log << "study coords: tilt " << tilt << "°: " << sp.tris.size() << " triangles, "
+           << sp.pixels << " pixels, " << sp.rows << " rows\n";
+    }
+    // ---- coordinate methods ----
+    for (const auto& method : cmethods) {
+      CoordStudyRow base;
+      base.tilt = tilt;
+      base.method = method;
+      // Cycles (format-independent): [coords -> filter] in both datapaths.
+      for (Datapath dp : {Datapath::Spatial, Datapath::Shared}) {
+        const auto gen = CoordGenerator::create(method, "double", dp);
+        std::vector<CoordFragment> frags;
+        std::vector<ItemCost> costs;
+        OpCounts ops;
+        CoordGeneratorStats st;
+        for (const auto& tri : sp.tris) gen->generate(tri, tech, frags, costs, ops, st);
+        std::vector<ItemCost> c2(costs.size() * 2);
+        for (size_t i = 0; i < costs.size(); ++i) c2[2 * i] = costs[i];
+        auto& out = dp == Datapath::Spatial ? base.cpp_spatial : base.cpp_shared;
+        for (uint32_t fii : o.filter_ii) {
+          out.push_back(run_cycles({gen->stage(tech), filter_stage(o.filter_latency, fii)}, c2,
+                                   costs.size()));
+        }
+        if (dp == Datapath::Spatial) {
+          base.ops = ops;
+          base.rows = st.rows;
+          base.triangles = st.triangles;
+          base.divisions = st.divisions;
+        }
+      }
+      for (const auto& format : formats) {
+        CoordStudyRow row = base;
+        row.format = format;
+        const auto gen = CoordGenerator::create(method, format);
+        std::vector<CoordFragment> frags;
+        std::vector<ItemCost> costs;
+        OpCounts ops;
+        CoordGeneratorStats st;
+        for (const auto& tri : sp.tris) gen->generate(tri, tech, frags, costs, ops, st);
+        double sum = 0, sum_px = 0;
+        uint64_t good = 0;
+        for (const auto& f : frags) {
+          ++row.pixels;
+          if (!f.uv.valid) {
+            ++row.rejected;
+            continue;
+          }
+          const double eu = std::fabs(f.uv.u - static_cast<double>(sp.map.u(f.x, f.y)));
+          const double ev = std::fabs(f.uv.v - static_cast<double>(sp.map.v(f.x, f.y)));
+          const double e = std::max(eu, ev);
+          const DerivsL j = analytic_derivs(sp.map, f.x, f.y);
+          const double rho = static_cast<double>(std::max(std::hypot(j.ux, j.vx), std::hypot(j.uy, j.vy)));
+          const double epx = rho > 0 ? e / rho : e;
+          row.max_err = std::max(row.max_err, e);
+          row.max_err_px = std::max(row.max_err_px, epx);
+          sum += e;
+          sum_px += epx;
+          ++good;
+        }
+        row.mean_err = good ? sum / static_cast<double>(good) : 0;
+        row.mean_err_px = good ? sum_px / static_cast<double>(good) : 0;
+        if (good == 0) row.max_err = row.mean_err = row.max_err_px = row.mean_err_px = INFINITY;
+        res.coords.push_back(std::move(row));
+      }
+    }
+    // ---- derivative methods + ellipse ----
+    // References in raster-row order: analytic (true) and forward-difference derivatives, the
+    // exact normalised ellipse, and the EWA texel count.
+    std::vector<DerivsL> ref_true, ref_fd;
+    std::vector<int32_t> px, py;
+    std::vector<ItemCost> ewa_cost;
+    for (const auto& tri : sp.tris) {
+      for (const auto& r : tri.rows) {
+        for (int32_t k = 0; k < r.n; ++k) {
+          const int32_t x = r.x0 + k;
+          ref_true.push_back(analytic_derivs(sp.map, x, r.y));
+          ref_fd.push_back(forward_diff_derivs(sp.map, x, r.y));
+          px.push_back(x);
+          py.push_back(r.y);
+          ewa_cost.push_back({0, ewa_texels(ref_true.back(), o.max_aniso) - 1});
+        }
+      }
+    }
+    const size_t npix = ref_true.size();
+    for (const auto& method : dmethods) {
+      // Cycles: [incremental coords -> derivs -> ellipse (determinant) -> EWA].
+      double cpp[3] = {0, 0, 0};
+      OpCounts dops;
+      for (int v = 0; v < 3; ++v) {
+        const Datapath dp = v == 0 ? Datapath::Spatial : Datapath::Shared;
+        const auto cg = CoordGenerator::create("incremental", "double", dp);
+        const auto dg = DerivGenerator::create(method, "double", dp);
+        const auto eg = EllipseGenerator::create("determinant", "double", dp);
+        std::vector<CoordFragment> frags;
+        std::vector<ItemCost> ccost, dcost;
+        std::vector<CoordDerivs> ders;
+        OpCounts cops, ops;
+        CoordGeneratorStats st;
+        for (const auto& tri : sp.tris) {
+          cg->generate(tri, tech, frags, ccost, cops, st);
+          dg->generate(tri, tech, ders, dcost, ops);
+        }
+        if (v == 0) dops = ops;
+        const StageConfig ewa = filter_stage(o.filter_latency, 1);
+        if (v < 2) {
+          std::vector<ItemCost> c4(npix * 4);
+          for (size_t i = 0; i < npix; ++i) {
+            c4[4 * i] = ccost[i];
+            c4[4 * i + 1] = dcost[i];
+            c4[4 * i + 3] = ewa_cost[i];
+          }
+          cpp[v] = run_cycles({cg->stage(tech), dg->stage(tech), eg->stage(tech), ewa}, c4, npix);
+        } else {
+          // Fused: coords + derivs + ellipse on one shared ALU set, as one stage (a
+          // shader-like core): ii = max over kinds of the three blocks' summed per-pixel ops;
+          // latency = the three shared-datapath latencies in sequence.
+          const OpCounts sum = cg->pixel_ops() + dg->pixel_ops() + eg->pixel_ops();
+          uint64_t ii = 1;
+          for (int k = 0; k < kOpKinds; ++k) ii = std::max(ii, sum.get(static_cast<OpKind>(k)));
+          StageConfig fused;
+          fused.name = "front-end";
+          fused.timing.ii = static_cast<uint32_t>(ii);
+          fused.timing.latency = cg->stage(tech).timing.latency + dg->stage(tech).timing.latency +
+                                 eg->stage(tech).timing.latency;
+          std::vector<ItemCost> c2(npix * 2);
+          for (size_t i = 0; i < npix; ++i) {
+            c2[2 * i].extra_ii = ccost[i].extra_ii + dcost[i].extra_ii;
+            c2[2 * i + 1] = ewa_cost[i];
+          }
+          cpp[v] = run_cycles({fused, ewa}, c2, npix);
+        }
+      }
+      for (const auto& format : formats) {
+        const auto dg = DerivGenerator::create(method, format);
+        std::vector<CoordDerivs> ders;
+        std::vector<ItemCost> dcost;
+        OpCounts ops;
+        for (const auto& tri : sp.tris) dg->generate(tri, tech, ders, dcost, ops);
+        for (const char* eform : {"determinant", "ac-b2"}) {
+          const auto eg = EllipseGenerator::create(eform, format);
+          DerivStudyRow row;
+          row.tilt = tilt;
+          row.method = method;
+          row.ellipse = eform;
+          row.format = format;
+          row.ops = dops + eg->pixel_ops() * npix;
+          row.cpp_spatial = cpp[0];
+          row.cpp_shared = cpp[1];
+          row.cpp_fused = cpp[2];
+          double sum_d = 0, sum_e = 0;
+          uint64_t good_d = 0, good_e = 0;
+          for (size_t i = 0; i < npix; ++i) {
+            ++row.pixels;
+            const CoordDerivs& d = ders[i];
+            if (!d.valid) {
+              ++row.rejected;
+              ++row.ellipse_rejected;
+              continue;
+            }
+            const DerivsL& rt = ref_true[i];
+            DerivsL own = method == "analytic" ? rt : ref_fd[i];
+            if (method == "quad") own = forward_diff_derivs(sp.map, px[i] & ~1, py[i] & ~1);
+            auto rel = [&](const DerivsL& r) {
+              const double scale = static_cast<double>(std::max(
+                  {std::fabs(r.ux), std::fabs(r.vx), std::fabs(r.uy), std::fabs(r.vy)}));
+              const double e = std::max({std::fabs(d.ux - static_cast<double>(r.ux)),
+                                         std::fabs(d.vx - static_cast<double>(r.vx)),
+                                         std::fabs(d.uy - static_cast<double>(r.uy)),
+                                         std::fabs(d.vy - static_cast<double>(r.vy))});
+              return scale > 0 ? e / scale : e;
+            };
+            const double et = rel(rt);
+            row.max_rel_true = std::max(row.max_rel_true, et);
+            row.max_rel_own = std::max(row.max_rel_own, rel(own));
+            sum_d += et;
+            ++good_d;
+            const EllipseCoeffs e = eg->eval(d);
+            if (!e.valid) {
+              ++row.ellipse_rejected;
+              continue;
+            }
+            const EllipseL er = ellipse_reference(rt);
+            const long double an = er.a / er.f, bn = er.b / er.f, cn = er.c / er.f;
+            const double scale = static_cast<double>(std::max({std::fabs(an), std::fabs(bn), std::fabs(cn)}));
+            const double ee = std::max({std::fabs(e.an - static_cast<double>(an)),
+                                        std::fabs(e.bn - static_cast<double>(bn)),
+                                        std::fabs(e.cn - static_cast<double>(cn))}) /
+                              (scale > 0 ? scale : 1.0);
+            row.max_rel_ellipse = std::max(row.max_rel_ellipse, ee);
+            sum_e += ee;
+            ++good_e;
+          }
+          row.mean_rel_true = good_d ? sum_d / static_cast<double>(good_d) : INFINITY;
+          row.mean_rel_ellipse = good_e ? sum_e / static_cast<double>(good_e) : INFINITY;
+          if (!good_d) row.max_rel_true = row.max_rel_own = INFINITY;
+          if (!good_e) row.max_rel_ellipse = INFINITY;
+          res.derivs.push_back(std::move(row));
+        }
+      }
+    }
+    sp.tris.clear();  // keep the summary only
+    res.planes.push_back(std::move(sp));
+  }
+  if (log) {
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    *log << "study coords: measured in " << fmt(secs, 2) << " s\n";
+  }
+  return res;
+}
+
+}  // namespace texsim
+
+namespace texsim {
+
+namespace {
+
+// The tilt the per-method cost tables quote (ops per pixel depend on row lengths): the
+// largest studied tilt not above 60°, else the first.
+double reference_tilt(const StudyCoordsOptions& o) {
+  double best = o.tilts.empty() ? 0 : o.tilts.front();
+  for (double t : o.tilts) {
+    if (t <= 60 && t >= best) best = t;
+  }
+  return best;
+}
+
+const CoordStudyRow* find_coord(const StudyCoordsResult& r, double tilt, const std::string& m,
+                                const std::string& f) {
+  for (const auto& c : r.coords) {
+    if (c.tilt == tilt && c.method == m && c.format == f) return &c;
+  }
+  return nullptr;
+}
+
+const DerivStudyRow* find_deriv(const StudyCoordsResult& r, double tilt, const std::string& m,
+                                const std::string& e, const std::string& f) {
+  for (const auto& c : r.derivs) {
+    if (c.tilt == tilt && c.method == m && c.ellipse == e && c.format == f) return &c;
+  }
+  return nullptr;
+}
+
+const StudyPlane* find_plane(const StudyCoordsResult& r, double tilt) {
+  for (const auto& p : r.planes) {
+    if (p.tilt == tilt) return &p;
+  }
+  return nullptr;
+}
+
+std::string err_cell(double max_err, uint64_t rejected, uint64_t pixels) {
+  std::string s = fmt(max_err);
+  if (rejected > 0 && pixels > 0) {
+    s += " (rej " + fmt(100.0 * static_cast<double>(rejected) / static_cast<double>(pixels), 1) + " %)";
+  }
+  return s;
+}
+
+std::string ops_cell(const OpCounts& ops, uint64_t pixels) {
+  std::ostringstream os;
+  os << fmt(per_pixel(ops.add, pixels), 2) << " / " << fmt(per_pixel(ops.mul, pixels), 2) << " / "
+     << fmt(per_pixel(ops.div, pixels), 2) << " / " << fmt(per_pixel(ops.rcp, pixels), 2) << " / "
+     << fmt(per_pixel(ops.cmp, pixels), 2);
+  return os.str();
+}
+
+std::vector<std::string> unique_in_order(const std::vector<std::string>& v) {
+  std::vector<std::string> u;
+  for (const auto& s : v) {
+    if (std::find(u.begin(), u.end(), s) == u.end()) u.push_back(s);
+  }
+  return u;
+}
+
+}  // namespace
+
+std::string study_coords_markdown(const StudyCoordsOptions& o, const StudyCoordsResult& r) {
+  const TechTable tech = TechTable::defaults();
+  std::vector<std::string> cm, dm, fm;
+  for (const auto& c : r.coords) {
+    cm.push_back(c.method);
+    fm.push_back(c.format);
+  }
+  for (const auto& d : r.derivs) dm.push_back(d.method);
+  cm = unique_in_order(cm);
+  dm = unique_in_order(dm);
+  fm = unique_in_order(fm);
+  const double rt = reference_tilt(o);
+  const std::string ref_fmt = fm.empty() ? "double" : (std::find(fm.begin(), fm.end(), "double") != fm.end() ? "double" : fm.front());
+  std::ostringstream md;
+  md << "# Study: texture-coordinate generation and footprint set-up — accuracy vs cost\n\n"
+     << "Generated by `texsim study coords`; the method and the discussion are in "
+        "docs/study-coords.md.\n\n## Conditions\n\n"
+     << "- Viewport " << o.width << "×" << o.height << " pixels, pinhole camera, focal length "
+     << o.width / 2 << " px (90° horizontal field of view).\n"
+     << "- A textured square of " << o.plane_texels << "×" << o.plane_texels
+     << " texels as a mesh of " << o.tiles << "×" << o.tiles
+     << " quads (two triangles each), one texel per pixel where it meets the view axis when screen-parallel, "
+        "tilted by the angle in the tables about an axis at "
+     << o.azimuth_deg << "° from the screen x axis; clipped to view depths [" << o.z_near << ", "
+     << o.z_far << "] × the view-axis distance (each quad clipped, then fan-triangulated), "
+        "pixel centres rasterized (edges inclusive). One map (A..I) for the whole plane.\n"
+     << "- Reference: the projective map in long double (64-bit significand). Errors: "
+        "max over pixels of max(|Δu|, |Δv|) in texels; derivatives: max |Δ| over the four, "
+        "relative to the largest of the four exact derivatives; ellipse: the normalised "
+        "A/F, B/F, C/F likewise, against the exact footprint.\n"
+     << "- Technology table: defaults (latency add " << tech.lat(OpKind::Add) << ", mul "
+     << tech.lat(OpKind::Mul) << ", div " << tech.lat(OpKind::Div) << ", rcp "
+     << tech.lat(OpKind::Rcp) << " cycles). Datapaths: *spatial* = one pipelined operator per "
+        "operation (II 1); *shared* = one operator per kind per block (II = most ops of one "
+        "kind); *fused* = the whole front end (coordinates, derivatives, ellipse) on one "
+        "shared operator set, as in a shader core.\n"
+     << "- Cycles come from the clocked pipeline: the coordinate stage, then a texel fetch + "
+        "filter stage of latency "
+     << o.filter_latency << " and II " << (o.filter_ii.empty() ? 1u : o.filter_ii.front())
+     << " (a bilinear unit reading 4 texels per cycle); for derivatives the chain is "
+        "incremental coordinates → derivative block → ellipse set-up → an EWA stage that "
+        "reads one texel per cycle, the texel count from the exact footprint (mip level at "
+        "the minor axis, anisotropy ≤ "
+     << o.max_aniso
+     << ", bounding box of the ellipse). Row and triangle set-ups stall the stage on the "
+        "first pixel of each row (ItemCost::extra_ii = set-up latency; not overlapped).\n\n";
+
+  // Planes.
+  md << "## Planes\n\n| tilt ° | triangles | pixels T | raster rows q | constant-depth lines |\n"
+        "|---:|---:|---:|---:|---:|\n";
+  for (const auto& p : r.planes) {
+    const CoordStudyRow* cd = find_coord(r, p.tilt, "constant-depth", ref_fmt);
+    const CoordStudyRow* any = find_coord(r, p.tilt, cm.empty() ? "" : cm.front(), ref_fmt);
+    md << "| " << tilt_name(p.tilt) << " | " << (any ? any->triangles : 0) << " | " << p.pixels
+       << " | " << p.rows << " | " << (cd ? std::to_string(cd->rows) : "—") << " |\n";
+  }
+
+  // Costs.
+  md << "\n## Coordinate methods: operations and cycles per pixel (tilt " << tilt_name(rt)
+     << "°)\n\nOps per pixel include the row/triangle set-ups amortised over this plane's "
+        "pixels (add / mul / div / rcp / cmp). Cycles per pixel with filter II ";
+  for (size_t i = 0; i < o.filter_ii.size(); ++i) md << (i ? ", " : "") << o.filter_ii[i];
+  md << ".\n\n| method | ops per pixel | set-ups (rows, triangles) | cycles/px spatial | "
+        "cycles/px shared |\n|---|---|---:|---:|---:|\n";
+  for (const auto& m : cm) {
+    const CoordStudyRow* c = find_coord(r, rt, m, ref_fmt);
+    if (!c) continue;
+    auto list = [](const std::vector<double>& v) {
+      std::string s;
+      for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + fmt(v[i], 2);
+      return s;
+    };
+    md << "| " << m << " | " << ops_cell(c->ops, c->pixels) << " | " << c->rows << ", "
+       << c->triangles << " | " << list(c->cpp_spatial) << " | " << list(c->cpp_shared) << " |\n";
+  }
+
+  // Accuracy: the same table in texels and in pixels.
+  auto error_table = [&](const char* heading, double CoordStudyRow::*max_err,
+                         double CoordStudyRow::*mean_err) {
+    md << heading << "| method | format |";
+    for (double t : o.tilts) md << " " << tilt_name(t) << "° |";
+    md << " mean at " << tilt_name(o.tilts.empty() ? 0 : o.tilts.back()) << "° |\n|---|---|";
+    for (size_t i = 0; i <= o.tilts.size(); ++i) md << "---:|";
+    md << "\n";
+    for (const auto& m : cm) {
+      for (const auto& f : fm) {
+        md << "| " << m << " | " << f << " |";
+        for (double t : o.tilts) {
+          const CoordStudyRow* c = find_coord(r, t, m, f);
+          md << " " << (c ? err_cell(c->*max_err, c->rejected, c->pixels) : "—") << " |";
+        }
+        const CoordStudyRow* last = o.tilts.empty() ? nullptr : find_coord(r, o.tilts.back(), m, f);
+        md << " " << (last ? fmt(last->*mean_err) : "—") << " |\n";
+      }
+    }
+  };
+  error_table("\n## Coordinate methods: maximum error in texels\n\n(rej = pixels the block "
+              "rejected: denominator below its limit or a result out of the format's range.)\n\n",
+              &CoordStudyRow::max_err, &CoordStudyRow::mean_err);
+  error_table("\n## Coordinate methods: maximum error in pixels (error ÷ texels per pixel)\n\n"
+              "The same errors divided by the pixel's footprint size: how far the sample point "
+              "moves, in pixels. Below 1/256 a texture address of 8 sub-texel bits is exact.\n\n",
+              &CoordStudyRow::max_err_px, &CoordStudyRow::mean_err_px);
+
+  // Derivatives.
+  md << "\n## Derivative blocks: maximum relative error against the exact derivatives\n\n"
+        "(own = against the exact value of the block's own formula, i.e. arithmetic error "
+        "only; the forward-difference methods differ from the derivative by their "
+        "discretisation.)\n\n| method | format |";
+  for (double t : o.tilts) md << " " << tilt_name(t) << "° |";
+  md << " own, worst tilt |\n|---|---|";
+  for (size_t i = 0; i <= o.tilts.size(); ++i) md << "---:|";
+  md << "\n";
+  for (const auto& m : dm) {
+    for (const auto& f : fm) {
+      md << "| " << m << " | " << f << " |";
+      double own = 0;
+      for (double t : o.tilts) {
+        const DerivStudyRow* d = find_deriv(r, t, m, "determinant", f);
+        md << " " << (d ? err_cell(d->max_rel_true, d->rejected, d->pixels) : "—") << " |";
+        if (d) own = std::max(own, d->max_rel_own);
+      }
+      md << " " << fmt(own) << " |\n";
+    }
+  }
+  md << "\n## Ellipse set-up: maximum relative error of A/F, B/F, C/F (from analytic "
+        "derivatives)\n\n| F form | format |";
+  for (double t : o.tilts) md << " " << tilt_name(t) << "° |";
+  md << "\n|---|---|";
+  for (size_t i = 0; i < o.tilts.size(); ++i) md << "---:|";
+  md << "\n";
+  const std::string ell_m = std::find(dm.begin(), dm.end(), "analytic") != dm.end() ? "analytic" : (dm.empty() ? "" : dm.front());
+  for (const char* e : {"determinant", "ac-b2"}) {
+    for (const auto& f : fm) {
+      md << "| " << e << " | " << f << " |";
+      for (double t : o.tilts) {
+        const DerivStudyRow* d = find_deriv(r, t, ell_m, e, f);
+        md << " " << (d ? err_cell(d->max_rel_ellipse, d->ellipse_rejected, d->pixels) : "—") << " |";
+      }
+      md << "\n";
+    }
+  }
+  md << "\n## Derivative blocks + ellipse: operations and cycles per pixel\n\n"
+        "| method | ops/px at " << tilt_name(rt) << "° (add / mul / div / rcp / cmp) |";
+  for (double t : o.tilts) md << " " << tilt_name(t) << "° spatial / shared / fused |";
+  md << "\n|---|---|";
+  for (size_t i = 0; i < o.tilts.size(); ++i) md << "---:|";
+  md << "\n";
+  for (const auto& m : dm) {
+    const DerivStudyRow* d0 = find_deriv(r, rt, m, "determinant", ref_fmt);
+    md << "| " << m << " | " << (d0 ? ops_cell(d0->ops, d0->pixels) : "—") << " |";
+    for (double t : o.tilts) {
+      const DerivStudyRow* d = find_deriv(r, t, m, "determinant", ref_fmt);
+      md << " " << (d ? fmt(d->cpp_spatial, 2) + " / " + fmt(d->cpp_shared, 2) + " / " + fmt(d->cpp_fused, 2) : "—") << " |";
+    }
+    md << "\n";
+  }
+
+  // Claims.
+  md << "\n## The seeds' claims, re-measured\n\n";
+  // (1) adds+mults per pixel.
+  md << "**Incremental coordinates: \"adds + mults per pixel reduced to 4\"** (thesis ch. 3).\n\n"
+        "| tilt ° | incremental add+mul per pixel, set-up amortised | per pixel without set-up | "
+        "Heckbert add+mul per pixel |\n|---:|---:|---:|---:|\n";
+  for (double t : o.tilts) {
+    const CoordStudyRow* i = find_coord(r, t, "incremental", ref_fmt);
+    const CoordStudyRow* h = find_coord(r, t, "heckbert", ref_fmt);
+    if (!i || !h) continue;
+    const auto gen = CoordGenerator::create("incremental", "double");
+    const OpCounts pp = gen->pixel_ops();
+    md << "| " << tilt_name(t) << " | " << fmt(per_pixel(i->ops.add + i->ops.mul, i->pixels), 2)
+       << " | " << pp.add + pp.mul << " | " << fmt(per_pixel(h->ops.add + h->ops.mul, h->pixels), 2) << " |\n";
+  }
+  // (2) +26 %.
+  md << "\n**Incremental vs Heckbert: \"+26 % speed in all tests\"** — speed-up = cycles per "
+        "pixel of Heckbert (division form) ÷ incremental − 1, per filter II.\n\n| tilt ° |";
+  for (uint32_t f : o.filter_ii) md << " spatial, filter II " << f << " |";
+  for (uint32_t f : o.filter_ii) md << " shared, filter II " << f << " |";
+  md << "\n|---:|";
+  for (size_t i = 0; i < 2 * o.filter_ii.size(); ++i) md << "---:|";
+  md << "\n";
+  for (double t : o.tilts) {
+    const CoordStudyRow* i = find_coord(r, t, "incremental", ref_fmt);
+    const CoordStudyRow* h = find_coord(r, t, "heckbert", ref_fmt);
+    if (!i || !h) continue;
+    md << "| " << tilt_name(t) << " |";
+    for (size_t k = 0; k < o.filter_ii.size(); ++k) md << " " << pct(h->cpp_spatial[k] / i->cpp_spatial[k]) << " |";
+    for (size_t k = 0; k < o.filter_ii.size(); ++k) md << " " << pct(h->cpp_shared[k] / i->cpp_shared[k]) << " |";
+    md << "\n";
+  }
+  // (3) +18 % / +8 % / +40 %.
+  md << "\n**Iterative derivatives: \"+18 % AF vs classic Heckbert derivatives, +8 % vs "
+        "accelerated, up to +40 % at small tilt\"** — speed-up of the iterative block in "
+        "cycles per pixel of [coordinates → derivatives → ellipse → EWA].\n\n"
+        "| tilt ° | vs classic: spatial / shared / fused | vs accelerated: spatial / shared / fused |\n"
+        "|---:|---|---|\n";
+  for (double t : o.tilts) {
+    const DerivStudyRow* it = find_deriv(r, t, "iterative", "determinant", ref_fmt);
+    const DerivStudyRow* cl = find_deriv(r, t, "heckbert-fd", "determinant", ref_fmt);
+    const DerivStudyRow* ac = find_deriv(r, t, "accelerated-fd", "determinant", ref_fmt);
+    if (!it || !cl || !ac) continue;
+    md << "| " << tilt_name(t) << " | " << pct(cl->cpp_spatial / it->cpp_spatial) << " / "
+       << pct(cl->cpp_shared / it->cpp_shared) << " / " << pct(cl->cpp_fused / it->cpp_fused)
+       << " | " << pct(ac->cpp_spatial / it->cpp_spatial) << " / "
+       << pct(ac->cpp_shared / it->cpp_shared) << " / " << pct(ac->cpp_fused / it->cpp_fused) << " |\n";
+  }
+  // (4) T − q.
+  md << "\n**Constant-depth lines: \"T − q divisions removed per triangle\"** (seed 002), "
+        "summed over the plane's triangles. Divisions = div + rcp operations.\n\n"
+        "| tilt ° | T pixels | q raster rows | lines walked | divisions Heckbert (rcp form) | "
+        "divisions constant-depth | removed | seed's T − q | max error, double (texels / pixels) |\n"
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (double t : o.tilts) {
+    const CoordStudyRow* cd = find_coord(r, t, "constant-depth", ref_fmt);
+    const CoordStudyRow* hr = find_coord(r, t, "heckbert-rcp", ref_fmt);
+    const StudyPlane* p = find_plane(r, t);
+    if (!cd || !hr || !p) continue;
+    md << "| " << tilt_name(t) << " | " << p->pixels << " | " << p->rows << " | " << cd->rows
+       << " | " << hr->divisions << " | " << cd->divisions << " | "
+       << static_cast<int64_t>(hr->divisions) - static_cast<int64_t>(cd->divisions) << " | "
+       << static_cast<int64_t>(p->pixels) - static_cast<int64_t>(p->rows) << " | "
+       << fmt(cd->max_err) << " / " << fmt(cd->max_err_px) << " |\n";
+  }
+  return md.str();
+}
+
+std::string study_coords_csv(const StudyCoordsOptions& o, const StudyCoordsResult& r) {
+  std::ostringstream cs;
+  cs << std::setprecision(9);
+  cs << "study,tilt_deg,method,ellipse,format,pixels,rejected,err_max_texels,err_mean_texels,"
+        "err_max_px,err_mean_px,"
+        "deriv_rel_max,deriv_rel_mean,deriv_rel_own_max,ellipse_rel_max,ellipse_rel_mean,"
+        "ellipse_rejected,add_px,mul_px,div_px,rcp_px,cmp_px,rows,triangles,divisions";
+  for (uint32_t f : o.filter_ii) cs << ",cpp_spatial_f" << f;
+  for (uint32_t f : o.filter_ii) cs << ",cpp_shared_f" << f;
+  cs << ",cpp_ewa_spatial,cpp_ewa_shared,cpp_ewa_fused\n";
+  auto ops = [&](const OpCounts& c, uint64_t px) {
+    cs << per_pixel(c.add, px) << "," << per_pixel(c.mul, px) << "," << per_pixel(c.div, px) << ","
+       << per_pixel(c.rcp, px) << "," << per_pixel(c.cmp, px);
+  };
+  for (const auto& c : r.coords) {
+    cs << "coords," << c.tilt << "," << c.method << ",," << c.format << "," << c.pixels << ","
+       << c.rejected << "," << c.max_err << "," << c.mean_err << "," << c.max_err_px << ","
+       << c.mean_err_px << ",,,,,,,";
+    ops(c.ops, c.pixels);
+    cs << "," << c.rows << "," << c.triangles << "," << c.divisions;
+    for (double v : c.cpp_spatial) cs << "," << v;
+    for (double v : c.cpp_shared) cs << "," << v;
+    cs << ",,,\n";
+  }
+  for (const auto& d : r.derivs) {
+    cs << "derivs," << d.tilt << "," << d.method << "," << d.ellipse << "," << d.format << ","
+       << d.pixels << "," << d.rejected << ",,,,," << d.max_rel_true << "," << d.mean_rel_true << ","
+       << d.max_rel_own << "," << d.max_rel_ellipse << "," << d.mean_rel_ellipse << ","
+       << d.ellipse_rejected << ",";
+    ops(d.ops, d.pixels);
+    cs << ",,,";
+    for (size_t i = 0; i < 2 * o.filter_ii.size(); ++i) cs << ",";
+    cs << "," << d.cpp_spatial << "," << d.cpp_shared << "," << d.cpp_fused << "\n";
+  }
+  return cs.str();
+}
+
+int run_study_coords(const std::string& out_dir, std::ostream& log) {
+  const StudyCoordsOptions o;
+  const StudyCoordsResult r = measure_study_coords(o, &log);
+  ensure_dir(out_dir);
+  // Plot: error against cycles at the steepest tilt not above 85°: one series per number
+  // format, one point per method (the method of each point is in the tables of coords.md);
+  // errors in pixels, those below 1e-12 drawn at 1e-12.
+  double pt = o.tilts.empty() ? 0 : o.tilts.front();
+  for (double t : o.tilts) {
+    if (t <= 85 && t >= pt) pt = t;
+  }
+  PlotSpec spec;
+  spec.title = "Texture coordinates at " + tilt_name(pt) +
+               "° tilt: max error vs cycles per pixel (shared datapath), one point per method";
+  spec.xlabel = "cycles per pixel (coordinate stage + filter II " +
+                std::to_string(o.filter_ii.empty() ? 1u : o.filter_ii.front()) + ")";
+  spec.ylabel = "max |error| (pixels of footprint)";
+  spec.logy = true;
+  std::map<std::string, size_t> series;
+  for (const auto& c : r.coords) {
+    if (c.tilt != pt || c.cpp_shared.empty()) continue;
+    if (!series.count(c.format)) {
+      series[c.format] = spec.series.size();
+      spec.series.push_back({c.format, {}, {}, false});
+    }
+    auto& s = spec.series[series[c.format]];
+    s.x.push_back(c.cpp_shared.front());
+    s.y.push_back(std::max(c.max_err_px, 1e-12));
+  }
+  write_plot_png(out_dir + "/coords.png", spec);
+  write_file_atomic(out_dir + "/coords.csv", study_coords_csv(o, r));
+  write_file_atomic(out_dir + "/coords.md", study_coords_markdown(o, r));
+  log << "study coords: wrote " << out_dir << "/coords.csv, coords.md, coords.png\n";
+  return 0;
+}
+
+}  // namespace texsim

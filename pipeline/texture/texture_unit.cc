@@ -1,0 +1,365 @@
+#include "pipeline/texture/texture_unit.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "blocks/base/config_reader.h"
+#include "blocks/base/input_error.h"
+
+namespace texsim {
+
+namespace {
+enum Stage { kLod, kAddress, kCache, kBlend, kStages };
+constexpr int kMaxFront = 2;  // coordinate and derivative stages (a constant bound for the compiler)
+}
+
+PipelineSetup PipelineSetup::from_toml(const toml::table& t, const std::string& source) {
+  PipelineSetup p;
+  ConfigReader r(t, source, "pipeline");
+  r.reject_unknown({"fifo_depth", "layout", "cache", "dram", "blend"});
+  p.fifo_depth = static_cast<uint32_t>(r.get_int("fifo_depth", p.fifo_depth, 1, 1 << 16));
+  p.layout = static_cast<TexelLayout>(r.get_choice("layout", static_cast<int>(p.layout),
+                                                   {"linear", "tiled4x4", "morton"}));
+  p.cache = TextureCache::Config::from_toml(r.sub("cache"));
+  p.dram = DramModel::Config::from_toml(r.sub("dram"));
+  p.blend = TexelBlend::Config::from_toml(r.sub("blend"));
+  return p;
+}
+
+MaterialSetup material_from_toml(const std::string& name, int texture, const toml::table& effects,
+                                 const std::string& source) {
+  MaterialSetup m;
+  m.name = name;
+  m.texture = texture;
+  ConfigReader r(effects, source, "materials." + name);
+  m.filter = TexelAddressGen::Config::from_toml(r.sub("filter"));
+  m.lod = LodUnit::Config::from_toml(r.sub("lod"));
+  m.footprint = FootprintFilter::from_material(r);
+  if (r.subtable("coords")) {
+    const ConfigReader c = r.sub("coords");
+    m.coords = std::make_shared<const CoordUnit>(CoordUnitConfig::from_toml(c));
+    if (!m.coords->has_derivs() && (m.footprint || m.filter.filter == FilterMode::Trilinear)) {
+      c.fail("derivs", std::string("'none' leaves the ") +
+                           (m.footprint ? m.footprint->name() : "filter.trilinear") +
+                           " of this material without the derivatives it needs");
+    }
+  }
+  return m;
+}
+
+TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
+                         const PipelineSetup& setup, const TechTable& tech, bool timing)
+    : textures_(textures), mats_(std::move(materials)), setup_(setup), tech_(tech), timing_(timing),
+      blend_(setup.blend), cache_(setup.cache), dram_(setup.dram) {
+  if (mats_.empty()) throw std::invalid_argument("texture unit: no materials");
+  textures_.place(setup.layout);
+  for (const auto& m : mats_) {
+    Path p;
+    p.lod = LodUnit(m.lod);
+    p.addr = TexelAddressGen(m.filter);
+    p.texture = m.texture;
+    p.footprint = m.footprint.get();
+    p.coords = m.coords.get();
+    if (p.coords) {
+      p.front_count = p.coords->has_derivs() ? 2 : 1;
+      front_ = std::max(front_, p.front_count);
+    }
+    const uint32_t tpc = setup.cache.texels_per_cycle;
+    for (int n = 1; n <= 16; ++n) {
+      FilterTaps t;
+      t.count = n * p.addr.taps_per_probe();
+      p.blend_extra_ii[n] = blend_.issue_cycles(t) - 1;
+      p.cache_extra_ii[n] = (static_cast<uint32_t>(t.count) + tpc - 1) / tpc - 1;
+    }
+    paths_.push_back(p);
+  }
+  if (timing_) {
+    // One stage per hardware unit; a unit serving several materials is sized for the slowest.
+    TimingSpec lod_t{}, addr_t{};
+    for (const auto& p : paths_) {
+      const TimingSpec l = p.lod.timing(tech_);
+      const TimingSpec a = p.footprint ? p.footprint->timing(tech_) : p.addr.timing(tech_);
+      lod_t.latency = std::max(lod_t.latency, l.latency);
+      addr_t.latency = std::max(addr_t.latency, a.latency);
+    }
+    TimingSpec cache_t;
+    cache_t.latency = setup.cache.hit_latency;
+    std::vector<StageConfig> st(static_cast<size_t>(front_ + kStages));
+    // Front end: one stage per coordinate-unit stage, sized for the slowest and widest unit;
+    // each unit's own throughput comes back through front_extra (per-fragment issue cycles).
+    static const char* const front_names[2] = {"coords", "derivs"};
+    for (int s = 0; s < front_; ++s) {
+      TimingSpec t{};
+      for (const auto& p : paths_) {
+        if (p.front_count <= s) continue;
+        const TimingSpec u = p.coords->stages(tech_)[static_cast<size_t>(s)].timing;
+        t.latency = std::max(t.latency, u.latency);
+        t.lanes = std::max(t.lanes, u.lanes);
+      }
+      t.ii = 1;
+      for (auto& p : paths_) {
+        if (p.front_count <= s) continue;
+        const TimingSpec u = p.coords->stages(tech_)[static_cast<size_t>(s)].timing;
+        p.front_extra[s] = (u.ii * t.lanes + u.lanes - 1) / u.lanes - 1;
+      }
+      st[static_cast<size_t>(s)] = {front_names[s], t, setup.fifo_depth, 0};
+    }
+    const auto at = [&](int stage) -> StageConfig& { return st[static_cast<size_t>(front_ + stage)]; };
+    at(kLod) = {"lod", lod_t, setup.fifo_depth, 0};
+    at(kAddress) = {"address", addr_t, setup.fifo_depth, 0};
+    at(kCache) = {"cache", cache_t, setup.fifo_depth, setup.cache.miss_queue};
+    at(kBlend) = {"blend", blend_.timing(tech_), setup.fifo_depth, 0};
+    pipe_ = std::make_unique<ClockedPipeline>(std::move(st));
+  }
+}
+
+namespace {
+
+// Adds `line` to lines[0 .. n) unless present (order of first use kept).
+inline void add_line(uint64_t line, uint64_t* lines, int& n) {
+  int k = 0;
+  while (k < n && lines[k] != line) ++k;
+  if (k == n) lines[n++] = line;
+}
+
+// Distinct cache lines of a fragment's taps, in order of first use, under layout L (a
+// template argument, so the address arithmetic has no layout switch per texel). A linear
+// filter's taps come in 2x2 quads (x0,y0) (x1,y0) (x0,y1) (x1,y1) on one level: their
+// addresses are level base + row part + column part, two of each per quad.
+template <TexelLayout L>
+int distinct_lines(const FilterTaps& taps, const Texture& tex, uint32_t shift, uint64_t* lines) {
+  const auto bpt = static_cast<uint64_t>(tex.bytes_per_texel());
+  int n = 0;
+  int i = 0;
+  for (; i + 4 <= taps.count; i += 4) {
+    const TexelTap* q = &taps.tap[static_cast<size_t>(i)];
+    const bool quad = q[1].level == q[0].level && q[2].level == q[0].level &&
+                      q[3].level == q[0].level && q[1].y == q[0].y && q[2].x == q[0].x &&
+                      q[3].x == q[1].x && q[3].y == q[2].y;
+    if (!quad) break;
+    const Texture::Level& lv = tex.level(q[0].level);
+    const uint64_t base = tex.base() + lv.offset;
+    const uint64_t r0 = Texture::row_index(L, lv, q[0].y), r1 = Texture::row_index(L, lv, q[2].y);
+    const uint64_t c0 = Texture::col_index(L, q[0].x), c1 = Texture::col_index(L, q[1].x);
+    const uint64_t l00 = (base + (r0 + c0) * bpt) >> shift, l10 = (base + (r0 + c1) * bpt) >> shift;
+    const uint64_t l01 = (base + (r1 + c0) * bpt) >> shift, l11 = (base + (r1 + c1) * bpt) >> shift;
+    if (n == 0) {
+      // First quad: its distinct lines without a search.
+      lines[n++] = l00;
+      if (l10 != l00) lines[n++] = l10;
+      if (l01 != l00 && l01 != l10) lines[n++] = l01;
+      if (l11 != l00 && l11 != l10 && l11 != l01) lines[n++] = l11;
+    } else {
+      add_line(l00, lines, n);
+      add_line(l10, lines, n);
+      add_line(l01, lines, n);
+      add_line(l11, lines, n);
+    }
+  }
+  for (; i < taps.count; ++i) {  // nearest taps, or anything not in quads
+    const TexelTap& t = taps.tap[static_cast<size_t>(i)];
+    const Texture::Level& lv = tex.level(t.level);
+    add_line((tex.base() + lv.offset + Texture::texel_index(L, lv, t.x, t.y) * bpt) >> shift, lines, n);
+  }
+  return n;
+}
+
+}  // namespace
+
+uint32_t TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start) {
+  // Each distinct line of the fragment's taps is one tag look-up.
+  const uint32_t shift = cache_.line_shift();
+  uint64_t lines[128];
+  int n = 0;
+  switch (tex.layout()) {
+    case TexelLayout::Linear: n = distinct_lines<TexelLayout::Linear>(taps, tex, shift, lines); break;
+    case TexelLayout::Tiled4x4: n = distinct_lines<TexelLayout::Tiled4x4>(taps, tex, shift, lines); break;
+    case TexelLayout::Morton: n = distinct_lines<TexelLayout::Morton>(taps, tex, shift, lines); break;
+  }
+  const uint64_t hit_ready = start + setup_.cache.hit_latency;
+  uint64_t ready = hit_ready;
+  for (int k = 0; k < n; ++k) {
+    if (!cache_.access_line(lines[k])) ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
+  }
+  cache_.count_texels(static_cast<uint64_t>(taps.count));
+  return static_cast<uint32_t>(ready - hit_ready);
+}
+
+void TextureUnit::count_frame(const Fragment& f) {
+  if (frames_.empty() || frames_.back().frame != f.frame) {
+    if (!frames_.empty() && pipe_) frames_.back().cycles = pipe_->cycles();
+    frames_.push_back({f.frame, 0, 0});
+  }
+  ++frames_.back().fragments;
+  ++fragments_;
+}
+
+uint32_t TextureUnit::cache_lookups(const std::vector<TexelRef>& texels, const Texture& tex,
+                                    uint64_t start) {
+  lines_.clear();
+  for (const TexelRef& t : texels) lines_.push_back(cache_.line_of(tex.address(t.level, t.x, t.y)));
+  std::sort(lines_.begin(), lines_.end());
+  lines_.erase(std::unique(lines_.begin(), lines_.end()), lines_.end());
+  const uint64_t hit_ready = start + setup_.cache.hit_latency;
+  uint64_t ready = hit_ready;
+  for (uint64_t line : lines_) {
+    if (!cache_.access_line(line)) ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
+  }
+  cache_.count_texels(texels.size());
+  return static_cast<uint32_t>(ready - hit_ready);
+}
+
+// A footprint filter is one block that scans, weights and accumulates: it occupies the address
+// stage for its issue cycles, its texels go through the cache, and the blend stage normalises.
+Rgba TextureUnit::process_footprint(const Fragment& f, Path& p, const Texture& tex,
+                                    const ItemCost* front) {
+  fetched_.clear();
+  const FilterOutput out = p.footprint->filter(tex, f, &fetched_, p.footprint_ops);
+  ++p.fragments;
+  p.footprint_texels += fetched_.size();
+  count_frame(f);
+  if (pipe_) {
+    const auto n = static_cast<uint32_t>(fetched_.size());
+    const uint32_t tpc = setup_.cache.texels_per_cycle;
+    const uint32_t scan = p.footprint->issue_cycles(out.stats);
+    const int addr = front_ + kAddress, cache = front_ + kCache;
+    pipe_->issue_with(0, [&](int s, uint64_t start) {
+      if (s < kMaxFront && s < front_) return front_cost(p, front, s);
+      ItemCost c;
+      if (s == addr) c.extra_ii = scan > 0 ? scan - 1 : 0;
+      if (s == cache) {
+        c.extra_ii = n > 0 ? (n + tpc - 1) / tpc - 1 : 0;
+        c.extra_latency = cache_lookups(fetched_, tex, start);
+      }
+      return c;
+    });
+  }
+  return out.colour;
+}
+
+void TextureUnit::generate_coords(int material, const CoordTriangle& tri,
+                                  std::vector<CoordUnitFragment>& out, std::vector<ItemCost>& costs) {
+  Path& p = paths_[static_cast<size_t>(material)];
+  if (!p.coords) throw std::logic_error("generate_coords: material has no coordinate unit");
+  const size_t before = out.size();
+  p.coords->generate(tri, tech_, out, costs, p.coord_ops, p.deriv_ops);
+  front_stats_.generated += out.size() - before;
+}
+
+void TextureUnit::drop(int material, const ItemCost* front, bool rejected) {
+  const Path& p = paths_[static_cast<size_t>(material)];
+  ++(rejected ? front_stats_.rejected : front_stats_.occluded);
+  if (!pipe_ || !front) return;
+  for (int s = 0; s < p.front_count; ++s) pending_front_[s] += 1 + p.front_extra[s] + front[s].extra_ii;
+}
+
+Rgba TextureUnit::process(const Fragment& f, int material, const ItemCost* front) {
+  Path& p = paths_[static_cast<size_t>(material)];
+  const Texture& tex = textures_[p.texture];
+  if (p.footprint) return process_footprint(f, p, tex, front);
+  const LodResult lod = p.lod.eval(f, tex.width(0), tex.height(0));
+  p.addr.taps(tex, f.u, f.v, lod, taps_);
+  const Rgba colour = blend_.blend(taps_, tex);
+  const uint32_t probes = TexelAddressGen::issue_cycles(lod);
+  ++p.fragments;
+  p.aniso_fragments += probes > 1;
+  p.probes += probes;
+  count_frame(f);
+  if (pipe_) {
+    // Per-stage costs: the address stage issues one probe per cycle, cache and blend take
+    // their texels in groups, and a miss in the cache stage waits for DRAM.
+    const int addr = front_ + kAddress, cache = front_ + kCache, blend = front_ + kBlend;
+    pipe_->issue_with(0, [&](int s, uint64_t start) {
+      if (s < kMaxFront && s < front_) return front_cost(p, front, s);
+      ItemCost c;
+      if (s == addr) c.extra_ii = probes - 1;
+      if (s == cache) {
+        c.extra_ii = p.cache_extra_ii[probes];
+        c.extra_latency = cache_lookups(taps_, tex, start);
+      }
+      if (s == blend) c.extra_ii = p.blend_extra_ii[probes];
+      return c;
+    });
+  }
+  return colour;
+}
+
+std::vector<BlockUse> TextureUnit::material_blocks(int material) const {
+  const Path& p = paths_[static_cast<size_t>(material)];
+  const std::string& m = mats_[static_cast<size_t>(material)].name;
+  std::vector<BlockUse> out;
+  auto add = [&](const std::string& name, const std::string& arith, const TimingSpec& t,
+                 const OpCounts& ops, uint64_t texels = 0) {
+    out.push_back({name, arith, t, ops, texels, {m}});
+  };
+  if (p.coords) {
+    const CoordUnitConfig& cc = p.coords->config();
+    const std::vector<StageConfig> st = p.coords->stages(tech_);
+    const std::string arith = cc.format + ", " + datapath_name(cc.datapath) + " datapath";
+    // The format is part of the name: two materials with one method in two formats are two units.
+    add("coords." + cc.coords + "[" + cc.format + "]", arith, st[0].timing, p.coord_ops);
+    if (p.coords->has_derivs()) add("derivs." + cc.derivs + "[" + cc.format + "]", arith, st[1].timing, p.deriv_ops);
+  }
+  if (p.footprint) {
+    add(p.footprint->name(), p.footprint->arithmetic(), p.footprint->timing(tech_), p.footprint_ops,
+        p.footprint_texels);
+    return out;
+  }
+  // Per-fragment and per-probe counts times the fragments and probes seen (see Path).
+  const uint64_t iso = p.fragments - p.aniso_fragments;  // one probe each
+  const uint64_t aniso_probes = p.probes - iso;
+  const uint64_t taps = p.probes * static_cast<uint64_t>(p.addr.taps_per_probe());
+  const OpCounts addr_ops = p.addr.ops_setup(false) * iso + p.addr.ops_setup(true) * p.aniso_fragments +
+                            p.addr.ops_per_probe(false) * iso + p.addr.ops_per_probe(true) * aniso_probes;
+  add("lod", "float32, log2 by table", p.lod.timing(tech_), p.lod.ops_per_fragment() * p.fragments);
+  add(std::string("filter.") + to_string(p.addr.config().filter),
+      "float32 coordinates; weights in u0." + std::to_string(p.addr.config().sub_texel_bits) +
+          ", mip fraction u0." + std::to_string(p.addr.config().mipmap_bits),
+      p.addr.timing(tech_), addr_ops, taps);
+  add("blend", "float32 multiply-accumulate", blend_.timing(tech_), TexelBlend::ops_per_tap() * taps);
+  return out;
+}
+
+std::vector<BlockUse> TextureUnit::blocks() const {
+  // One entry per hardware unit: materials share a unit when they use the same block with the
+  // same arithmetic. A block used with two configurations is two units, told apart by their
+  // materials ("filter.ewa[floor]").
+  std::map<std::pair<std::string, std::string>, BlockUse> by;
+  std::map<std::string, int> configs;
+  uint64_t texels = 0;
+  for (int i = 0; i < material_count(); ++i) {
+    for (const BlockUse& u : material_blocks(i)) {
+      auto [it, fresh] = by.try_emplace({u.name, u.arithmetic}, u);
+      BlockUse& b = it->second;
+      if (fresh) {
+        ++configs[u.name];
+      } else {
+        if (u.timing.latency >= b.timing.latency) b.timing = u.timing;
+        b.ops += u.ops;
+        b.texels += u.texels;
+        b.materials.push_back(u.materials.front());
+      }
+      texels += u.texels;
+    }
+  }
+  std::vector<BlockUse> out;
+  for (auto& [k, v] : by) {
+    if (configs[v.name] > 1) {
+      std::string mats;
+      for (const auto& m : v.materials) mats += (mats.empty() ? "" : ",") + m;
+      v.name += "[" + mats + "]";
+    }
+    out.push_back(v);
+  }
+  BlockUse c;
+  c.name = "cache";
+  c.arithmetic = "tag compare";
+  c.timing.latency = setup_.cache.hit_latency;
+  c.ops.mem = texels;  // every texel a filter fetched is one read through the cache
+  c.texels = texels;
+  for (const auto& m : mats_) c.materials.push_back(m.name);
+  out.push_back(c);
+  return out;
+}
+
+}  // namespace texsim

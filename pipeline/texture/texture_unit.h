@@ -1,0 +1,188 @@
+#pragma once
+// The clocked texture unit (ПНТ, first slice): [coordinates → derivatives, when a material has a
+// coordinate unit] → LOD → texel address generation → texture cache + DRAM → blend, built from
+// a scene's materials. Only the blocks some material needs are
+// instantiated. docs/architecture.md describes the stages; docs/timing-model.md the timing.
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "blocks/texture/memory/dram_model.h"
+#include "blocks/texture/sampler/lod_unit.h"
+#include "blocks/base/op_counts.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/texture/sampler/texel_address_gen.h"
+#include "blocks/texture/sampler/texel_blend.h"
+#include "blocks/texture/memory/texture_cache.h"
+#include "blocks/texture/memory/texture_memory.h"
+#include "pipeline/kernel/clocked_pipeline.h"
+#include "pipeline/texture/coord_method.h"
+#include "pipeline/texture/footprint_filter.h"
+#include "blocks/base/fragment.h"
+
+namespace texsim {
+
+struct MaterialSetup {
+  std::string name;
+  int texture = 0;
+  LodUnit::Config lod;
+  TexelAddressGen::Config filter;
+  // A footprint filter (EWA, multi-probe, Feline, SPAF) replaces the LOD → address → blend
+  // path for this material when set; null for the classic path.
+  std::shared_ptr<const FootprintFilter> footprint;
+  // A coordinate unit (material table `coords`) computes this material's texture coordinates
+  // and derivatives in front of LOD; null when fragments arrive with their coordinates.
+  std::shared_ptr<const CoordUnit> coords;
+  AddressMode address_u() const { return footprint ? footprint->address_u() : filter.address_u; }
+  AddressMode address_v() const { return footprint ? footprint->address_v() : filter.address_v; }
+};
+
+struct PipelineSetup {
+  uint32_t fifo_depth = 4;
+  TexelLayout layout = TexelLayout::Tiled4x4;
+  TextureCache::Config cache;
+  DramModel::Config dram;
+  TexelBlend::Config blend;
+  // Reads [pipeline] (keys fifo_depth, layout, cache, dram, blend); errors name file:line:col.
+  static PipelineSetup from_toml(const toml::table& t, const std::string& source);
+};
+
+// Reads a material's effect tables (filter, lod, coords, or a footprint filter) into a
+// MaterialSetup. A coordinate unit without derivatives (`derivs = "none"`) is refused for
+// trilinear and footprint filters, which need them.
+MaterialSetup material_from_toml(const std::string& name, int texture, const toml::table& effects,
+                                 const std::string& source);
+
+struct BlockUse {
+  std::string name;             // e.g. "lod", "filter.trilinear", "blend", "cache"
+  std::string arithmetic;       // which number format the datapath uses
+  TimingSpec timing;
+  OpCounts ops;                 // total over the run
+  uint64_t texels = 0;          // texels it fetched through the cache over the run
+  std::vector<std::string> materials;  // materials that use it
+};
+
+// Fragments a coordinate front end produced and what became of them.
+struct FrontEndStats {
+  uint64_t generated = 0;  // pixels the coordinate units computed
+  uint64_t occluded = 0;   // left after the front end: hidden by a nearer plane, or covered twice
+  uint64_t rejected = 0;   // coordinates rejected by the block (not textured)
+};
+
+struct FrameStats {
+  uint32_t frame = 0;
+  uint64_t fragments = 0;
+  uint64_t cycles = 0;  // cycle at which the frame's last fragment left the pipeline
+};
+
+class TextureUnit {
+ public:
+  // With `timing` false the unit is functional only: colours and op counts, no cache or clock.
+  TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials, const PipelineSetup& setup,
+              const TechTable& tech, bool timing);
+
+  // Filters one fragment with its material's blocks; in timing mode also sends it through the
+  // clocked pipeline and the cache. Fragments must arrive in order. `front` is null, or the
+  // fragment's costs in the coordinate front end (one per stage of its material's coordinate
+  // unit, as CoordUnit::generate gives them).
+  Rgba process(const Fragment& f, int material, const ItemCost* front = nullptr);
+
+  // Coordinate front end: the stages (0, 1 or 2: coordinates, derivatives) in front of LOD,
+  // present only when some material has a coordinate unit.
+  int front_stages() const { return front_; }
+  const MaterialSetup& material(int m) const { return mats_[static_cast<size_t>(m)]; }
+  const Texture& texture_of(int m) const { return textures_[mats_[static_cast<size_t>(m)].texture]; }
+  // Runs material m's coordinate unit over a screen triangle (its map in texels of the
+  // material's texture): fragments in the unit's traversal order and their front-end costs;
+  // counts the unit's operations.
+  void generate_coords(int material, const CoordTriangle& tri, std::vector<CoordUnitFragment>& out,
+                       std::vector<ItemCost>& costs);
+  // A generated fragment that leaves after the front end (occluded, covered twice, or its
+  // coordinates rejected): its front-end issue cycles are charged to the next fragment in those
+  // stages; it costs nothing further.
+  void drop(int material, const ItemCost* front, bool rejected);
+  const FrontEndStats& front_end_stats() const { return front_stats_; }
+
+  bool timing() const { return timing_; }
+  uint64_t fragments() const { return fragments_; }
+  uint64_t cycles() const { return pipe_ ? pipe_->cycles() : 0; }
+  std::vector<BlockUse> blocks() const;
+  // The blocks material m used, with only its own operations and texels (cache excluded).
+  std::vector<BlockUse> material_blocks(int m) const;
+  // Fragments material m textured.
+  uint64_t material_fragments(int m) const { return paths_[static_cast<size_t>(m)].fragments; }
+  int material_count() const { return static_cast<int>(mats_.size()); }
+  const ClockedPipeline* pipeline() const { return pipe_.get(); }
+  const TextureCache& cache() const { return cache_; }
+  const DramModel& dram() const { return dram_; }
+  const std::vector<FrameStats>& frames() const {
+    // The current frame's cycles are the pipeline's so far (set here, not per fragment).
+    if (pipe_ && !frames_.empty()) frames_.back().cycles = pipe_->cycles();
+    return frames_;
+  }
+
+ private:
+  // One material's blocks. Op counts depend only on the probe number N of each fragment, so
+  // the hot path counts fragments and probes and blocks() multiplies the per-fragment and
+  // per-probe counts of the blocks: exact, and three increments instead of three OpCounts sums.
+  struct Path {
+    LodUnit lod;
+    TexelAddressGen addr;
+    int texture = 0;
+    uint64_t fragments = 0;
+    uint64_t aniso_fragments = 0;  // fragments with N > 1
+    uint64_t probes = 0;           // Σ N over all fragments
+    // Extra issue cycles in the blend and cache stages for N = 1..16 probes (N × taps per
+    // probe taps at taps_per_cycle and texels_per_cycle): a table instead of two divisions.
+    uint32_t blend_extra_ii[17] = {};
+    const FootprintFilter* footprint = nullptr;  // set: this path is one footprint filter block
+    OpCounts footprint_ops;                      // counted per call (data-dependent)
+    uint64_t footprint_texels = 0;
+    uint32_t cache_extra_ii[17] = {};
+    // Coordinate front end of this material (null: none).
+    const CoordUnit* coords = nullptr;
+    OpCounts coord_ops, deriv_ops;
+    int front_count = 0;          // its unit's stages (costs per fragment)
+    // Added issue cycles per front-end stage so the shared stage (sized for the widest unit)
+    // gives this unit its own throughput: ceil(ii × lanes_stage / lanes_unit) − 1.
+    uint32_t front_extra[2] = {};
+  };
+  // Tag look-ups of the fragment's distinct lines at cycle `start`; returns the cycles the
+  // cache stage waits beyond its hit latency (DRAM refills).
+  uint32_t cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start);
+  uint32_t cache_lookups(const std::vector<TexelRef>& texels, const Texture& tex, uint64_t start);
+  Rgba process_footprint(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  // Cost of front-end stage s for a fragment of path p (with the dropped fragments' cycles).
+  ItemCost front_cost(const Path& p, const ItemCost* front, int s) {
+    ItemCost c;
+    if (front && s < p.front_count) c = front[s];
+    c.extra_ii += p.front_extra[s] + pending_front_[s];
+    pending_front_[s] = 0;
+    return c;
+  }
+  void count_frame(const Fragment& f);
+
+  TextureSet& textures_;
+  std::vector<MaterialSetup> mats_;
+  std::vector<Path> paths_;
+  PipelineSetup setup_;
+  TechTable tech_;
+  bool timing_;
+  TexelBlend blend_;
+  TextureCache cache_;
+  DramModel dram_;
+  std::unique_ptr<ClockedPipeline> pipe_;
+  FilterTaps taps_;
+  std::vector<TexelRef> fetched_;  // texels of the current footprint-filter fragment
+  std::vector<uint64_t> lines_;
+  uint64_t fragments_ = 0;
+  int front_ = 0;
+  uint32_t pending_front_[2] = {};  // issue cycles of dropped fragments, per front-end stage
+  FrontEndStats front_stats_;
+  mutable std::vector<FrameStats> frames_;
+};
+
+}  // namespace texsim

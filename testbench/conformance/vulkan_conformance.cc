@@ -1,0 +1,286 @@
+#include "testbench/conformance/vulkan_conformance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <vector>
+
+namespace texsim {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Per-channel interval of values one candidate (a texel set with weight ranges) can produce.
+struct Box {
+  double lo[4], hi[4];
+  int level;
+  long long i0, j0;      // unwrapped integer coordinates (linear: of the i0/j0 texel)
+  double a0, a1, b0, b1;  // α, β ranges (nearest: unused)
+};
+
+// Vulkan "Wrapping Operation", stated as in the spec.
+long long wrap(long long i, long long size, AddressMode m) {
+  auto mod = [](long long a, long long b) { return ((a % b) + b) % b; };
+  switch (m) {
+    case AddressMode::Wrap: return mod(i, size);
+    case AddressMode::Clamp: return std::min(std::max(i, 0LL), size - 1);
+    case AddressMode::Mirror: {
+      const long long n = mod(i, 2 * size) - size;
+      const long long mirror = n >= 0 ? n : -(1 + n);
+      return (size - 1) - mirror;
+    }
+  }
+  return 0;
+}
+
+// Every texel set and weight range the spec allows on `level`: integer coordinates from both
+// sides of the coordinate's error interval; weights within one sub-texel LSB of the exact
+// fraction (truncation and rounding both allowed).
+void level_boxes(const Texture& tex, int level, const VkSampleQuery& q, const VkSamplerState& s,
+                 const VkFilterPrecision& p, std::vector<Box>& out) {
+  out.clear();
+  const long long w = tex.width(level), h = tex.height(level);
+  const double lsb = std::ldexp(1.0, -p.sub_texel_bits);
+  auto texel = [&](long long i, long long j, int c) {
+    const Rgba t = tex.texel(level, static_cast<int>(wrap(i, w, s.address_u)),
+                             static_cast<int>(wrap(j, h, s.address_v)));
+    return static_cast<double>(t[c]);
+  };
+  const double xs = q.u * static_cast<double>(w), ys = q.v * static_cast<double>(h);
+  const double ex = std::fabs(xs) * p.coord_rel_eps + 1e-9;
+  const double ey = std::fabs(ys) * p.coord_rel_eps + 1e-9;
+  if (s.filter == VkSamplerState::Filter::Nearest) {
+    // i = ⌊u·width⌋; the coordinate may carry only sub_texel_bits fraction bits.
+    const auto i_lo = static_cast<long long>(std::floor(xs - ex - lsb));
+    const auto i_hi = static_cast<long long>(std::floor(xs + ex + lsb));
+    const auto j_lo = static_cast<long long>(std::floor(ys - ey - lsb));
+    const auto j_hi = static_cast<long long>(std::floor(ys + ey + lsb));
+    for (long long i = i_lo; i <= i_hi; ++i) {
+      for (long long j = j_lo; j <= j_hi; ++j) {
+        Box b{};
+        b.level = level;
+        b.i0 = i;
+        b.j0 = j;
+        for (int c = 0; c < 4; ++c) b.lo[c] = b.hi[c] = texel(i, j, c);
+        out.push_back(b);
+      }
+    }
+    return;
+  }
+  // Linear: i0 = ⌊u·width − ½⌋, α = frac(u·width − ½) kept to sub_texel_bits.
+  const double x = xs - 0.5, y = ys - 0.5;
+  const auto i_lo = static_cast<long long>(std::floor(x - ex));
+  const auto i_hi = static_cast<long long>(std::floor(x + ex));
+  const auto j_lo = static_cast<long long>(std::floor(y - ey));
+  const auto j_hi = static_cast<long long>(std::floor(y + ey));
+  for (long long i0 = i_lo; i0 <= i_hi; ++i0) {
+    for (long long j0 = j_lo; j0 <= j_hi; ++j0) {
+      Box b{};
+      b.level = level;
+      b.i0 = i0;
+      b.j0 = j0;
+      const double fi = static_cast<double>(i0), fj = static_cast<double>(j0);
+      b.a0 = std::clamp(x - ex - fi - lsb, 0.0, 1.0);
+      b.a1 = std::clamp(x + ex - fi + lsb, 0.0, 1.0);
+      b.b0 = std::clamp(y - ey - fj - lsb, 0.0, 1.0);
+      b.b1 = std::clamp(y + ey - fj + lsb, 0.0, 1.0);
+      for (int c = 0; c < 4; ++c) {
+        const double t00 = texel(i0, j0, c), t10 = texel(i0 + 1, j0, c);
+        const double t01 = texel(i0, j0 + 1, c), t11 = texel(i0 + 1, j0 + 1, c);
+        // Bilinear in (α, β): its extremes over the weight box are at the corners.
+        b.lo[c] = kInf;
+        b.hi[c] = -kInf;
+        for (double a : {b.a0, b.a1}) {
+          for (double be : {b.b0, b.b1}) {
+            const double f = (1 - a) * (1 - be) * t00 + a * (1 - be) * t10 +
+                             (1 - a) * be * t01 + a * be * t11;
+            b.lo[c] = std::min(b.lo[c], f);
+            b.hi[c] = std::max(b.hi[c], f);
+          }
+        }
+      }
+      out.push_back(b);
+    }
+  }
+}
+
+}  // namespace
+
+void VulkanConformance::lod_interval(const Texture& tex, const VkSampleQuery& q, double& lo,
+                                     double& hi) const {
+  const double bias = s_.mip_lod_bias + q.shader_bias;
+  if (!(std::isfinite(q.dudx) && std::isfinite(q.dvdx) && std::isfinite(q.dudy) &&
+        std::isfinite(q.dvdy))) {
+    lo = -kInf;
+    hi = kInf;
+  } else {
+    const double w = tex.width(0), h = tex.height(0);
+    const double mux = std::fabs(q.dudx) * w, mvx = std::fabs(q.dvdx) * h;
+    const double muy = std::fabs(q.dudy) * w, mvy = std::fabs(q.dvdy) * h;
+    // Scale factors: max(|m_u|, |m_v|) ≤ f ≤ √2 (|m_u| + |m_v|); ρmax = max(f_x, f_y).
+    const double rho_lo = std::max(std::max(mux, mvx), std::max(muy, mvy));
+    const double rho_hi = std::sqrt(2.0) * std::max(mux + mvx, muy + mvy);
+    const double acc = std::ldexp(1.0, -p_.mipmap_bits);  // LOD accuracy
+    lo = std::log2(rho_lo) - acc + bias;  // log2(0) = −inf: magnification
+    hi = std::log2(rho_hi) + acc + bias;
+  }
+  lo = std::clamp(lo, s_.min_lod, s_.max_lod);
+  hi = std::clamp(hi, s_.min_lod, s_.max_lod);
+}
+
+ConformanceVerdict VulkanConformance::check(const Texture& tex, const VkSampleQuery& q,
+                                            const Rgba& result) const {
+  ConformanceVerdict v;
+  if (!std::isfinite(q.u) || !std::isfinite(q.v)) {
+    v.pass = true;
+    v.judged = false;
+    v.reason = "not judged: non-finite coordinates (undefined in the spec)";
+    return v;
+  }
+  for (int c = 0; c < 4; ++c) {
+    if (std::isnan(result[c])) {
+      v.reason = "result channel " + std::to_string(c) + " is NaN";
+      v.miss = kInf;
+      return v;
+    }
+  }
+  lod_interval(tex, q, v.lambda_lo, v.lambda_hi);
+  const int qmax = tex.levels() - 1;
+  const double dlo = std::clamp(v.lambda_lo, 0.0, static_cast<double>(qmax));
+  const double dhi = std::clamp(v.lambda_hi, 0.0, static_cast<double>(qmax));
+  const double mip_lsb = std::ldexp(1.0, -p_.mipmap_bits);
+
+  // Closest miss, for the reason string.
+  double best = kInf;
+  char best_desc[320] = "";
+  auto tol = [&](double x) { return p_.color_eps * std::max(1.0, std::fabs(x)); };
+  // Distance of the result outside a candidate's per-channel ranges; a candidate whose
+  // channels are each reachable but not together (`conflict` ≥ 0) misses by a nominal eps.
+  auto judge = [&](const double* lo, const double* hi, auto&& describe, int conflict) {
+    double miss = 0;
+    int worst_c = 0;
+    for (int c = 0; c < 4; ++c) {
+      const double r = result[c];
+      const double m = std::max({0.0, (lo[c] - tol(r)) - r, r - (hi[c] + tol(r))});
+      if (m > miss) {
+        miss = m;
+        worst_c = c;
+      }
+    }
+    const bool is_conflict = miss == 0 && conflict >= 0;
+    if (is_conflict) {
+      miss = p_.color_eps;
+      worst_c = conflict;
+    }
+    if (miss < best) {
+      best = miss;
+      if (miss > 0) {
+        describe(best_desc, sizeof best_desc, worst_c, lo[worst_c], hi[worst_c], is_conflict);
+      }
+    }
+    return miss == 0;
+  };
+
+  std::vector<Box> a, b;
+  bool ok = false;
+  if (s_.mipmap_mode == VkSamplerState::MipmapMode::Nearest) {
+    // nearest(d') = ⌈d' + ½⌉ − 1 (preferred) or ⌊d' + ½⌋ (alternative): take both.
+    v.level_lo = std::clamp(static_cast<int>(std::ceil(dlo + 0.5)) - 1, 0, qmax);
+    v.level_hi = std::clamp(static_cast<int>(std::floor(dhi + 0.5)), 0, qmax);
+    for (int L = v.level_lo; L <= v.level_hi && !ok; ++L) {
+      level_boxes(tex, L, q, s_, p_, a);
+      for (const Box& x : a) {
+        ok = judge(
+            x.lo, x.hi,
+            [&](char* buf, size_t n, int c, double lo, double hi, bool) {
+              std::snprintf(buf, n,
+                            "level %d, i0=%lld j0=%lld, alpha in [%.5f, %.5f], beta in [%.5f, "
+                            "%.5f]: channel %d allowed [%.6f, %.6f]",
+                            x.level, x.i0, x.j0, x.a0, x.a1, x.b0, x.b1, c, lo, hi);
+            },
+            -1);
+        if (ok) break;
+      }
+    }
+  } else {
+    // d_hi = ⌊d'⌋, d_lo = min(d_hi + 1, q), δ = frac(d') to mipmap_bits (±1 LSB).
+    v.level_lo = static_cast<int>(std::floor(dlo));
+    v.level_hi = std::min(static_cast<int>(std::floor(dhi)) + 1, qmax);
+    for (int dh = static_cast<int>(std::floor(dlo)); dh <= static_cast<int>(std::floor(dhi)) && !ok;
+         ++dh) {
+      const int dl = std::min(dh + 1, qmax);
+      double d0 = std::clamp(dlo - dh - mip_lsb, 0.0, 1.0);
+      double d1 = std::clamp(dhi - dh + mip_lsb, 0.0, 1.0);
+      if (dh == qmax) d0 = d1 = 0;
+      level_boxes(tex, dh, q, s_, p_, a);
+      level_boxes(tex, dl, q, s_, p_, b);
+      for (const Box& x : a) {
+        for (const Box& y : b) {
+          // r_c must equal (1 − δ)·A_c + δ·B_c for one δ shared by all channels, with A_c, B_c
+          // in their intervals: per channel the feasible δ form an interval (both bounds are
+          // linear in δ); intersect them with [d0, d1].
+          double lo[4], hi[4];
+          double g0 = d0, g1 = d1;
+          int conflict = -1;
+          for (int c = 0; c < 4; ++c) {
+            lo[c] = std::min((1 - d0) * x.lo[c] + d0 * y.lo[c], (1 - d1) * x.lo[c] + d1 * y.lo[c]);
+            hi[c] = std::max((1 - d0) * x.hi[c] + d0 * y.hi[c], (1 - d1) * x.hi[c] + d1 * y.hi[c]);
+            const double r = result[c], t = tol(r);
+            // r ≥ A_lo + δ (B_lo − A_lo) − t  and  r ≤ A_hi + δ (B_hi − A_hi) + t.
+            const double kl = y.lo[c] - x.lo[c], cl = r - x.lo[c] + t;
+            const double kh = y.hi[c] - x.hi[c], ch = r - x.hi[c] - t;
+            double e0 = 0, e1 = 1;
+            if (kl > 0) e1 = std::min(e1, cl / kl);
+            else if (kl < 0) e0 = std::max(e0, cl / kl);
+            else if (cl < 0) e1 = -1;
+            if (kh > 0) e0 = std::max(e0, ch / kh);
+            else if (kh < 0) e1 = std::min(e1, ch / kh);
+            else if (ch > 0) e1 = -1;
+            const double n0 = std::max(g0, e0), n1 = std::min(g1, e1);
+            if (n0 > n1 && conflict < 0) conflict = c;
+            g0 = n0;
+            g1 = n1;
+          }
+          ok = judge(
+              lo, hi,
+              [&](char* buf, size_t n, int c, double l, double h, bool no_common_delta) {
+                if (no_common_delta) {
+                  std::snprintf(buf, n,
+                                "levels %d/%d, delta in [%.5f, %.5f], i0=%lld/%lld j0=%lld/%lld: "
+                                "every channel is reachable alone but no single delta reaches "
+                                "all (channel %d leaves none)",
+                                dh, dl, d0, d1, x.i0, y.i0, x.j0, y.j0, c);
+                } else {
+                  std::snprintf(buf, n,
+                                "levels %d/%d, delta in [%.5f, %.5f], i0=%lld/%lld j0=%lld/%lld, "
+                                "alpha in [%.5f, %.5f]: channel %d allowed [%.6f, %.6f]",
+                                dh, dl, d0, d1, x.i0, y.i0, x.j0, y.j0, x.a0, x.a1, c, l, h);
+                }
+              },
+              conflict);
+          if (ok) break;
+        }
+        if (ok) break;
+      }
+    }
+  }
+  v.pass = ok;
+  if (ok) {
+    v.reason = "ok";
+    return v;
+  }
+  v.miss = best;
+  char buf[640];
+  std::snprintf(buf, sizeof buf,
+                "result (%.6f, %.6f, %.6f, %.6f) outside every allowed value; lambda in "
+                "[%.4f, %.4f], levels %d..%d; closest candidate misses by %.3g: %s",
+                static_cast<double>(result[0]), static_cast<double>(result[1]),
+                static_cast<double>(result[2]), static_cast<double>(result[3]), v.lambda_lo,
+                v.lambda_hi, v.level_lo, v.level_hi, best, best_desc);
+  v.reason = buf;
+  return v;
+}
+
+}  // namespace texsim

@@ -1,0 +1,798 @@
+// Binary trace format v1 (traces/FORMAT.md): round trips, streaming memory, and every kind of
+// bad input. Corrupt files are made by an independent byte builder that follows FORMAT.md, so
+// the writer, the reader and the document are checked against each other.
+#include <gtest/gtest.h>
+#include <malloc.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <zlib.h>
+
+#include "blocks/base/input_error.h"
+#include "testbench/lib/temp_dir.h"
+#include "traces/trace_file.h"
+
+namespace texsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---- helpers ---------------------------------------------------------------------------------
+
+
+bool same_bits(double a, double b) { return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b); }
+bool same_bits(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b); }
+
+::testing::AssertionResult same_fragment(const Fragment& a, const Fragment& b) {
+  const bool ok = a.frame == b.frame && a.prim == b.prim && a.x == b.x && a.y == b.y && a.tex == b.tex &&
+                  same_bits(a.u, b.u) && same_bits(a.v, b.v) && same_bits(a.dudx, b.dudx) &&
+                  same_bits(a.dvdx, b.dvdx) && same_bits(a.dudy, b.dudy) && same_bits(a.dvdy, b.dvdy) &&
+                  same_bits(a.lod_bias, b.lod_bias);
+  if (ok) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "fragments differ: frame " << a.frame << "/" << b.frame << " u "
+                                       << a.u << "/" << b.u << " dvdy " << a.dvdy << "/" << b.dvdy
+                                       << " lod_bias " << a.lod_bias << "/" << b.lod_bias;
+}
+
+// Finite doubles that stress an exact round trip: signed zeros, subnormals, extremes, and
+// arbitrary bit patterns.
+double hard_double(std::mt19937_64& rng) {
+  static const double special[] = {0.0, -0.0, std::numeric_limits<double>::denorm_min(),
+                                   -std::numeric_limits<double>::denorm_min(),
+                                   std::numeric_limits<double>::min(), std::numeric_limits<double>::max(),
+                                   std::numeric_limits<double>::lowest(), 1e-300, 0.1, 1.0 / 3.0, 0.5};
+  const uint64_t pick = rng() % 4;
+  if (pick == 0) return special[rng() % std::size(special)];
+  if (pick == 1) {
+    double d;
+    do d = std::bit_cast<double>(rng()); while (!std::isfinite(d));
+    return d;
+  }
+  return std::uniform_real_distribution<double>(-4.0, 4.0)(rng);
+}
+
+std::vector<Fragment> random_fragments(size_t n, bool lod, const std::vector<uint32_t>& tex_ids,
+                                       uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<Fragment> out(n);
+  for (size_t i = 0; i < n; ++i) {
+    Fragment& f = out[i];
+    f.frame = static_cast<uint32_t>(i / 100);
+    f.prim = static_cast<uint32_t>(rng());
+    f.x = static_cast<uint32_t>(rng());
+    f.y = static_cast<uint32_t>(rng() % 4096);
+    f.tex = tex_ids[rng() % tex_ids.size()];
+    f.u = hard_double(rng);
+    f.v = hard_double(rng);
+    f.dudx = hard_double(rng);
+    f.dvdx = hard_double(rng);
+    f.dudy = hard_double(rng);
+    f.dvdy = hard_double(rng);
+    if (lod) {
+      float b;
+      do b = std::bit_cast<float>(static_cast<uint32_t>(rng())); while (!std::isfinite(b));
+      f.lod_bias = (i % 3 == 0) ? b : static_cast<float>(i % 7) * 0.25f - 1.0f;
+    }
+  }
+  return out;
+}
+
+TraceHeader sample_header(bool lod) {
+  TraceHeader h;
+  h.has_lod_bias = lod;
+  h.textures = {{0, "checker", "procedural:checker?size=512&cells=16", 512, 512},
+                {7, "bricks wall", "textures/bricks 256.png", 256, 128},
+                {1000000, "big", "", 65536, 1}};
+  return h;
+}
+
+std::vector<Fragment> read_all(const std::string& path, TraceHeader* h = nullptr) {
+  return read_trace(path, h);
+}
+
+std::vector<unsigned char> slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void spit(const std::string& path, const std::vector<unsigned char>& bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+// Expects `fn` to throw InputError whose message contains every one of `parts`.
+template <class Fn>
+void expect_input_error(Fn&& fn, const std::vector<std::string>& parts) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    for (const std::string& p : parts) {
+      EXPECT_NE(msg.find(p), std::string::npos) << "message lacks \"" << p << "\": " << msg;
+    }
+    return;
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "threw a non-InputError: " << e.what();
+    return;
+  }
+  ADD_FAILURE() << "no InputError thrown; expected one mentioning \"" << parts.back() << "\"";
+}
+
+// ---- independent byte builder following FORMAT.md ------------------------------------------
+
+struct Bytes {
+  std::vector<unsigned char> b;
+  void u32(uint32_t v) { for (int i = 0; i < 4; ++i) b.push_back(static_cast<unsigned char>(v >> (8 * i))); }
+  void u64(uint64_t v) { for (int i = 0; i < 8; ++i) b.push_back(static_cast<unsigned char>(v >> (8 * i))); }
+  void raw(const std::string& s) { b.insert(b.end(), s.begin(), s.end()); }
+  void raw(const std::vector<unsigned char>& s) { b.insert(b.end(), s.begin(), s.end()); }
+};
+
+uint32_t crc(const unsigned char* p, size_t n) {
+  return static_cast<uint32_t>(::crc32(0L, p, static_cast<uInt>(n)));
+}
+
+struct FieldDef {
+  std::string name;
+  uint32_t type;  // FORMAT.md type code
+  uint32_t offset;
+};
+
+std::vector<FieldDef> doc_layout(bool lod) {
+  // FORMAT.md "Canonical layout": packed, 5 x u32 then 6 x f64 then optional f32.
+  std::vector<FieldDef> f = {{"frame", 3, 0},  {"prim", 3, 4},  {"x", 3, 8},     {"y", 3, 12},
+                             {"tex", 3, 16},   {"u", 10, 20},   {"v", 10, 28},   {"dudx", 10, 36},
+                             {"dvdx", 10, 44}, {"dudy", 10, 52}, {"dvdy", 10, 60}};
+  if (lod) f.push_back({"lod_bias", 9, 68});
+  return f;
+}
+
+struct FileSpec {
+  uint32_t version = 1;
+  uint32_t record_size = 72;
+  uint32_t records_per_chunk = 4096;
+  std::vector<FieldDef> fields = doc_layout(true);
+  std::vector<TraceTexture> textures = {{0, "checker", "procedural:checker?size=64&cells=8", 64, 64},
+                                        {3, "noise", "procedural:noise", 32, 16}};
+  int64_t header_size_override = -1;  // write this header size instead of the true one
+  uint32_t field_count_override = 0;
+  uint32_t texture_count_override = 0;
+};
+
+std::vector<unsigned char> build_header(const FileSpec& s) {
+  Bytes h;
+  h.raw("TEXSIMTR");
+  h.u32(s.version);
+  h.u32(0);  // header size, patched
+  h.u32(s.record_size);
+  h.u32(s.records_per_chunk);
+  h.u32(s.field_count_override ? s.field_count_override : static_cast<uint32_t>(s.fields.size()));
+  h.u32(s.texture_count_override ? s.texture_count_override : static_cast<uint32_t>(s.textures.size()));
+  for (const FieldDef& f : s.fields) {
+    std::string name = f.name;
+    name.resize(16, '\0');
+    h.raw(name);
+    h.u32(f.type);
+    h.u32(f.offset);
+  }
+  for (const TraceTexture& t : s.textures) {
+    h.u32(t.id);
+    h.u32(t.width);
+    h.u32(t.height);
+    h.u32(static_cast<uint32_t>(t.name.size()));
+    h.u32(static_cast<uint32_t>(t.source.size()));
+    h.raw(t.name);
+    h.raw(t.source);
+  }
+  const uint32_t size = s.header_size_override >= 0 ? static_cast<uint32_t>(s.header_size_override)
+                                                    : static_cast<uint32_t>(h.b.size() + 4);
+  for (int i = 0; i < 4; ++i) h.b[12 + static_cast<size_t>(i)] = static_cast<unsigned char>(size >> (8 * i));
+  h.u32(crc(h.b.data(), h.b.size()));
+  return h.b;
+}
+
+std::vector<unsigned char> encode_record(const Fragment& f, const FileSpec& s) {
+  std::vector<unsigned char> r(s.record_size, 0xAB);  // unknown fields keep this filler
+  auto put = [&](uint32_t off, const void* p, size_t n) { std::memcpy(r.data() + off, p, n); };
+  for (const FieldDef& d : s.fields) {
+    const std::string& n = d.name;
+    const uint32_t u = n == "frame" ? f.frame : n == "prim" ? f.prim : n == "x" ? f.x : n == "y" ? f.y : f.tex;
+    const double v = n == "u" ? f.u : n == "v" ? f.v : n == "dudx" ? f.dudx : n == "dvdx" ? f.dvdx
+                   : n == "dudy" ? f.dudy : f.dvdy;
+    if (n == "frame" || n == "prim" || n == "x" || n == "y" || n == "tex") {
+      put(d.offset, &u, 4);  // the test host is little-endian, as the format
+    } else if (n == "u" || n == "v" || n == "dudx" || n == "dvdx" || n == "dudy" || n == "dvdy") {
+      put(d.offset, &v, 8);
+    } else if (n == "lod_bias") {
+      put(d.offset, &f.lod_bias, 4);
+    }
+  }
+  return r;
+}
+
+std::vector<unsigned char> build_chunk(const std::vector<Fragment>& frags, const FileSpec& s) {
+  Bytes payload;
+  for (const Fragment& f : frags) payload.raw(encode_record(f, s));
+  Bytes c;
+  c.raw("CHNK");
+  c.u32(static_cast<uint32_t>(frags.size()));
+  c.u32(crc(payload.b.data(), payload.b.size()));
+  c.raw(payload.b);
+  return c.b;
+}
+
+std::vector<unsigned char> build_trailer(uint64_t chunks, uint64_t records) {
+  Bytes body;
+  body.u64(chunks);
+  body.u64(records);
+  Bytes t;
+  t.raw("TEND");
+  t.u32(crc(body.b.data(), body.b.size()));
+  t.raw(body.b);
+  return t.b;
+}
+
+// A whole valid file: `chunks` chunks of `per_chunk` fragments using textures 0 and 3.
+std::vector<unsigned char> build_file(const FileSpec& s, size_t chunks, size_t per_chunk,
+                                      std::vector<Fragment>* frags_out = nullptr) {
+  std::vector<unsigned char> out = build_header(s);
+  const auto frags = random_fragments(chunks * per_chunk, true, {0, 3}, 42);
+  for (size_t c = 0; c < chunks; ++c) {
+    const std::vector<Fragment> part(frags.begin() + static_cast<long>(c * per_chunk),
+                                     frags.begin() + static_cast<long>((c + 1) * per_chunk));
+    const auto chunk = build_chunk(part, s);
+    out.insert(out.end(), chunk.begin(), chunk.end());
+  }
+  const auto t = build_trailer(chunks, chunks * per_chunk);
+  out.insert(out.end(), t.begin(), t.end());
+  if (frags_out != nullptr) *frags_out = frags;
+  return out;
+}
+
+// ---- round trips -------------------------------------------------------------------------------
+
+TEST(TraceFile, RoundTripWithLodBiasManyChunks) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("many.trc");
+  const TraceHeader h = sample_header(true);
+  const auto frags = random_fragments(10007, true, {0, 7, 1000000}, 1);
+  {
+    TraceWriter w(path, h, 97);  // 104 chunks, the last one partial
+    for (const Fragment& f : frags) w.write(f);
+    w.close();
+    EXPECT_EQ(w.records_written(), frags.size());
+  }
+  TraceReader r(path);
+  EXPECT_EQ(r.header().version, 1u);
+  EXPECT_TRUE(r.header().has_lod_bias);
+  EXPECT_EQ(r.header().record_size, 72u);
+  EXPECT_EQ(r.header().records_per_chunk, 97u);
+  ASSERT_EQ(r.header().textures.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(r.header().textures[i].id, h.textures[i].id);
+    EXPECT_EQ(r.header().textures[i].name, h.textures[i].name);
+    EXPECT_EQ(r.header().textures[i].source, h.textures[i].source);
+    EXPECT_EQ(r.header().textures[i].width, h.textures[i].width);
+    EXPECT_EQ(r.header().textures[i].height, h.textures[i].height);
+  }
+  std::vector<Fragment> chunk;
+  size_t i = 0, chunks = 0;
+  while (size_t n = r.next_chunk(chunk)) {
+    EXPECT_LE(n, 97u);
+    EXPECT_EQ(n, chunk.size());
+    for (const Fragment& f : chunk) ASSERT_TRUE(same_fragment(f, frags[i++])) << "record " << i - 1;
+    ++chunks;
+  }
+  EXPECT_EQ(i, frags.size());
+  EXPECT_EQ(chunks, (frags.size() + 96) / 97);
+  EXPECT_EQ(r.next_chunk(chunk), 0u);  // stays at the end
+  EXPECT_TRUE(chunk.empty());
+}
+
+TEST(TraceFile, RoundTripWithoutLodBias) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("nolod.trc");
+  auto frags = random_fragments(5000, false, {0, 7}, 2);
+  write_trace(path, sample_header(false), frags);
+  TraceHeader h;
+  const auto back = read_all(path, &h);
+  EXPECT_FALSE(h.has_lod_bias);
+  EXPECT_EQ(h.record_size, 68u);
+  ASSERT_EQ(back.size(), frags.size());
+  for (size_t i = 0; i < frags.size(); ++i) ASSERT_TRUE(same_fragment(back[i], frags[i]));
+  // Exact file size: header + 2 chunks of 4096/904 records + trailer (FORMAT.md).
+  const uint64_t header = 32 + 11 * 24 + 3 * 20 + (7 + 36) + (11 + 23) + 3 + 4;
+  EXPECT_EQ(fs::file_size(path), header + 2 * 12 + 5000 * 68 + 24);
+}
+
+TEST(TraceFile, EmptyTraceRoundTrips) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("empty.trc");
+  write_trace(path, sample_header(true), {});
+  TraceReader r(path);
+  std::vector<Fragment> chunk{Fragment{}};
+  EXPECT_EQ(r.next_chunk(chunk), 0u);
+  EXPECT_TRUE(chunk.empty());
+  EXPECT_EQ(r.records_read(), 0u);
+}
+
+TEST(TraceFile, WriterOutputMatchesTheDocumentedBytes) {
+  // The builder above encodes FORMAT.md independently; the writer must produce the same bytes.
+  TempDir dir("texsim_trace_file");
+  FileSpec s;
+  s.records_per_chunk = 5;
+  std::vector<Fragment> frags;
+  const auto expected = build_file(s, 3, 5, &frags);
+  TraceHeader h;
+  h.has_lod_bias = true;
+  h.textures = s.textures;
+  const std::string path = dir.file("doc.trc");
+  TraceWriter w(path, h, 5);
+  for (const Fragment& f : frags) w.write(f);
+  w.close();
+  EXPECT_EQ(slurp(path), expected);
+}
+
+TEST(TraceFile, UnknownExtraFieldsAreSkippedAndOrderIsFree) {
+  TempDir dir("texsim_trace_file");
+  FileSpec s;
+  // Fields in another order with unknown ones ("depth" f32, "normal_x" f64) in between.
+  s.fields = {{"depth", 9, 0},   {"dvdy", 10, 4},  {"tex", 3, 12},  {"u", 10, 16},     {"v", 10, 24},
+              {"normal_x", 10, 32}, {"frame", 3, 40}, {"prim", 3, 44}, {"x", 3, 48},      {"y", 3, 52},
+              {"dudx", 10, 56}, {"dvdx", 10, 64}, {"dudy", 10, 72}, {"lod_bias", 9, 80}};
+  s.record_size = 96;  // with 12 trailing padding bytes
+  std::vector<Fragment> frags;
+  const std::string path = dir.file("extra.trc");
+  spit(path, build_file(s, 2, 10, &frags));
+  TraceHeader h;
+  const auto back = read_all(path, &h);
+  EXPECT_TRUE(h.has_lod_bias);
+  EXPECT_EQ(h.fields.size(), 14u);
+  ASSERT_EQ(back.size(), frags.size());
+  for (size_t i = 0; i < frags.size(); ++i) ASSERT_TRUE(same_fragment(back[i], frags[i]));
+}
+
+// Heap bytes in use (glibc), to show that reading does not grow with the trace length.
+size_t heap_in_use() { return mallinfo2().uordblks; }
+
+size_t peak_heap_while_streaming(const std::string& path, uint64_t* records) {
+  TraceReader r(path);
+  std::vector<Fragment> chunk;
+  size_t peak = 0;
+  while (r.next_chunk(chunk) > 0) peak = std::max(peak, heap_in_use());
+  *records = r.records_read();
+  return peak;
+}
+
+TEST(TraceFile, StreamingMemoryDoesNotDependOnLength) {
+  TempDir dir("texsim_trace_file");
+  const TraceHeader h = sample_header(true);
+  const std::string small = dir.file("small.trc"), large = dir.file("large.trc");
+  for (const auto& [path, n] : {std::pair{small, size_t{20000}}, std::pair{large, size_t{400000}}}) {
+    TraceWriter w(path, h, 1024);
+    const auto frags = random_fragments(1000, true, {0}, 3);
+    for (size_t i = 0; i < n; ++i) w.write(frags[i % frags.size()]);
+    w.close();
+  }
+  const size_t base = heap_in_use();
+  uint64_t n_small = 0, n_large = 0;
+  const size_t peak_small = peak_heap_while_streaming(small, &n_small);
+  const size_t peak_large = peak_heap_while_streaming(large, &n_large);
+  EXPECT_EQ(n_small, 20000u);
+  EXPECT_EQ(n_large, 400000u);
+  // One chunk of records (1024 x 72 bytes) plus one chunk of Fragments (1024 x 72 bytes) plus
+  // stdio buffers; a reader that kept records would need 20x more for the large file.
+  const size_t bound = 2 * 1024 * sizeof(Fragment) + 256 * 1024;
+  EXPECT_LT(peak_small - base, bound);
+  EXPECT_LT(peak_large - base, bound);
+  EXPECT_LT(peak_large > peak_small ? peak_large - peak_small : 0, 16u * 1024u)
+      << "reader memory grew with the trace length: " << peak_small << " vs " << peak_large;
+}
+
+// ---- bad input: files and headers --------------------------------------------------------------
+
+TEST(TraceFileErrors, MissingFile) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("nope.trc");
+  expect_input_error([&] { TraceReader r(path); }, {path, "no such file"});
+}
+
+TEST(TraceFileErrors, Directory) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("");
+  expect_input_error([&] { TraceReader r(path); }, {path, "is a directory"});
+}
+
+TEST(TraceFileErrors, BadMagic) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("text.trc");
+  spit(path, std::vector<unsigned char>{'h', 'e', 'l', 'l', 'o', ' ', 'w', 'o', 'r', 'l', 'd', '\n'});
+  expect_input_error([&] { TraceReader r(path); }, {path, "header", "bad magic"});
+  const std::string empty = dir.file("empty.trc");
+  spit(empty, {});
+  expect_input_error([&] { TraceReader r(empty); }, {empty, "bad magic"});
+}
+
+// Writes the header of `s` plus a valid end marker and expects the reader to reject it.
+void expect_header_error(const FileSpec& s, const std::vector<std::string>& parts) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("bad_header.trc");
+  auto bytes = build_header(s);
+  const auto t = build_trailer(0, 0);
+  bytes.insert(bytes.end(), t.begin(), t.end());
+  spit(path, bytes);
+  std::vector<std::string> all = {path, "header"};
+  all.insert(all.end(), parts.begin(), parts.end());
+  expect_input_error([&] { read_all(path); }, all);
+}
+
+TEST(TraceFileErrors, UnknownVersion) {
+  FileSpec s;
+  s.version = 2;
+  expect_header_error(s, {"unknown version 2"});
+}
+
+TEST(TraceFileErrors, AbsurdRecordSize) {
+  FileSpec s;
+  s.record_size = 0;
+  expect_header_error(s, {"record size 0"});
+  s.record_size = 4097;
+  expect_header_error(s, {"record size 4097"});
+}
+
+TEST(TraceFileErrors, AbsurdRecordsPerChunk) {
+  FileSpec s;
+  s.records_per_chunk = 0;
+  expect_header_error(s, {"records per chunk 0"});
+  s.records_per_chunk = (1u << 24) + 1;
+  expect_header_error(s, {"records per chunk 16777217"});
+  s.records_per_chunk = 1u << 24;  // 16M x 72 bytes > 256 MiB per chunk
+  expect_header_error(s, {"chunk size"});
+}
+
+TEST(TraceFileErrors, AbsurdCounts) {
+  FileSpec s;
+  s.texture_count_override = 65537;
+  expect_header_error(s, {"texture count 65537"});
+  FileSpec f;
+  f.field_count_override = 100000;
+  expect_header_error(f, {"field count 100000"});
+  FileSpec z;
+  z.fields.clear();
+  expect_header_error(z, {"field count 0"});
+}
+
+TEST(TraceFileErrors, AbsurdHeaderSizeDoesNotAllocate) {
+  FileSpec s;
+  s.header_size_override = int64_t{1} << 31;
+  expect_header_error(s, {"header size 2147483648"});
+  s.header_size_override = 100;  // smaller than its own field table
+  expect_header_error(s, {"header size 100"});
+  // A header size within limits but past the end of the file: truncated, not allocated blindly.
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("short.trc");
+  FileSpec big;
+  big.header_size_override = 8u << 20;
+  spit(path, build_header(big));
+  expect_input_error([&] { TraceReader r(path); }, {path, "header", "truncated"});
+}
+
+TEST(TraceFileErrors, TextureSizes) {
+  FileSpec s;
+  s.textures[1].width = 65537;
+  expect_header_error(s, {"texture entry 1", "65537x16"});
+  s.textures[1].width = 0;
+  expect_header_error(s, {"texture entry 1", "0x16"});
+  FileSpec d;
+  d.textures[1].id = 0;
+  expect_header_error(d, {"texture id 0 appears twice"});
+  FileSpec n;
+  n.textures[0].name = std::string(300, 'a');
+  expect_header_error(n, {"texture entry 0", "name length 300"});
+}
+
+TEST(TraceFileErrors, HeaderCrcMismatch) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("crc_header.trc");
+  auto bytes = build_file(FileSpec{}, 1, 3);
+  bytes[32 + 12 * 24 + 20 + 2] ^= 0x20;  // a letter of the first texture's name
+  spit(path, bytes);
+  expect_input_error([&] { TraceReader r(path); }, {path, "header", "header CRC mismatch"});
+}
+
+TEST(TraceFileErrors, LayoutProblems) {
+  FileSpec missing;
+  missing.fields.erase(missing.fields.begin() + 10);  // dvdy
+  expect_header_error(missing, {"missing required field 'dvdy'"});
+  FileSpec type;
+  type.fields[5].type = 9;  // u as f32
+  expect_header_error(type, {"field 'u' has type f32, expected f64"});
+  FileSpec code;
+  code.fields[2].type = 77;
+  expect_header_error(code, {"field 2", "unknown type code 77"});
+  FileSpec past;
+  past.fields[11].offset = 70;  // lod_bias past the 72-byte record
+  expect_header_error(past, {"field 11", "runs past the record size"});
+  FileSpec overlap;
+  overlap.fields[6].offset = 24;  // v overlaps u
+  expect_header_error(overlap, {"field 6", "overlaps field 'u'"});
+  FileSpec twice;
+  twice.fields[11].name = "x";
+  twice.fields[11].type = 3;
+  expect_header_error(twice, {"field 11", "'x' appears twice"});
+}
+
+// ---- bad input: chunks, records, trailer ------------------------------------------------------
+
+TEST(TraceFileErrors, TruncatedAtEveryByte) {
+  // Cut a valid 3-chunk file at every length: the reader must report it, never crash or hang.
+  TempDir dir("texsim_trace_file");
+  FileSpec s;
+  s.records_per_chunk = 4;
+  const auto bytes = build_file(s, 3, 4);
+  const std::string path = dir.file("cut.trc");
+  for (size_t len = 0; len < bytes.size(); ++len) {
+    spit(path, std::vector<unsigned char>(bytes.begin(), bytes.begin() + static_cast<long>(len)));
+    SCOPED_TRACE("cut at " + std::to_string(len) + " of " + std::to_string(bytes.size()));
+    expect_input_error([&] { read_all(path); }, {path, len < 8 ? "bad magic" : "truncated"});
+  }
+  spit(path, bytes);
+  EXPECT_EQ(read_all(path).size(), 12u);
+}
+
+TEST(TraceFileErrors, MissingEndMarkerNamesTheChunk) {
+  TempDir dir("texsim_trace_file");
+  FileSpec s;
+  s.records_per_chunk = 4;
+  auto bytes = build_file(s, 3, 4);
+  bytes.resize(bytes.size() - 24);
+  const std::string path = dir.file("noend.trc");
+  spit(path, bytes);
+  expect_input_error([&] { read_all(path); }, {path, "chunk 3", "truncated", "without the end marker"});
+}
+
+TEST(TraceFileErrors, ChunkCrcMismatch) {
+  TempDir dir("texsim_trace_file");
+  FileSpec s;
+  s.records_per_chunk = 4;
+  auto bytes = build_file(s, 3, 4);
+  const size_t hs = build_header(s).size();
+  bytes[hs + (12 + 4 * 72) + 12 + 30] ^= 0x01;  // a payload byte of chunk 1
+  const std::string path = dir.file("crc.trc");
+  spit(path, bytes);
+  TraceReader r(path);
+  std::vector<Fragment> chunk;
+  EXPECT_EQ(r.next_chunk(chunk), 4u);  // chunk 0 is fine
+  expect_input_error([&] { r.next_chunk(chunk); }, {path, "chunk 1", "CRC mismatch"});
+}
+
+TEST(TraceFileErrors, ChunkCountsAndTags) {
+  TempDir dir("texsim_trace_file");
+  FileSpec s;
+  s.records_per_chunk = 4;
+  const auto good = build_file(s, 2, 4);
+  const size_t hs = build_header(s).size();
+  const std::string path = dir.file("count.trc");
+  auto patch_u32 = [](std::vector<unsigned char> b, size_t at, uint32_t v) {
+    for (int i = 0; i < 4; ++i) b[at + static_cast<size_t>(i)] = static_cast<unsigned char>(v >> (8 * i));
+    return b;
+  };
+  spit(path, patch_u32(good, hs + 4, 5));
+  expect_input_error([&] { read_all(path); }, {path, "chunk 0", "record count 5 exceeds"});
+  spit(path, patch_u32(good, hs + 4, 0));
+  expect_input_error([&] { read_all(path); }, {path, "chunk 0", "empty chunk"});
+  spit(path, patch_u32(good, hs + 12 + 4 * 72, 0x4b4e4843u ^ 0x20u));  // "CHNK" -> "cHNK"
+  expect_input_error([&] { read_all(path); }, {path, "chunk 1", "bad chunk tag"});
+  // A huge count allowed by a huge records-per-chunk must fail as truncation, not allocate.
+  FileSpec wide;
+  wide.records_per_chunk = 1u << 20;
+  auto w = build_file(wide, 1, 4);
+  spit(path, patch_u32(w, build_header(wide).size() + 4, 1u << 20));
+  expect_input_error([&] { read_all(path); }, {path, "chunk 0", "truncated chunk"});
+}
+
+TEST(TraceFileErrors, NonFiniteValuesNameTheRecord) {
+  TempDir dir("texsim_trace_file");
+  FileSpec s;
+  s.records_per_chunk = 4;
+  const std::string path = dir.file("nan.trc");
+  struct Case {
+    const char* field;
+    double Fragment::*member;
+    double value;
+    const char* word;
+  };
+  const Case cases[] = {{"u", &Fragment::u, std::nan(""), "NaN"},
+                        {"v", &Fragment::v, -std::numeric_limits<double>::infinity(), "infinite"},
+                        {"dudx", &Fragment::dudx, std::numeric_limits<double>::infinity(), "infinite"},
+                        {"dvdx", &Fragment::dvdx, std::nan(""), "NaN"},
+                        {"dudy", &Fragment::dudy, std::nan(""), "NaN"},
+                        {"dvdy", &Fragment::dvdy, std::numeric_limits<double>::infinity(), "infinite"}};
+  for (const Case& c : cases) {
+    auto frags = random_fragments(12, true, {0, 3}, 5);
+    frags[2 * 4 + 3].*c.member = c.value;  // chunk 2, record 3, trace record 11
+    auto bytes = build_header(s);
+    for (size_t k = 0; k < 3; ++k) {
+      const auto ch = build_chunk({frags.begin() + static_cast<long>(4 * k),
+                                   frags.begin() + static_cast<long>(4 * k + 4)}, s);
+      bytes.insert(bytes.end(), ch.begin(), ch.end());
+    }
+    const auto t = build_trailer(3, 12);
+    bytes.insert(bytes.end(), t.begin(), t.end());
+    spit(path, bytes);
+    SCOPED_TRACE(c.field);
+    expect_input_error([&] { read_all(path); },
+                       {path, "chunk 2, record 3", "trace record 11",
+                        std::string("field '") + c.field + "' is " + c.word});
+  }
+  // lod_bias as well.
+  auto frags = random_fragments(4, true, {0}, 6);
+  frags[1].lod_bias = std::numeric_limits<float>::quiet_NaN();
+  auto bytes = build_header(s);
+  const auto ch = build_chunk(frags, s);
+  bytes.insert(bytes.end(), ch.begin(), ch.end());
+  const auto t = build_trailer(1, 4);
+  bytes.insert(bytes.end(), t.begin(), t.end());
+  spit(path, bytes);
+  expect_input_error([&] { read_all(path); }, {path, "chunk 0, record 1", "'lod_bias' is NaN"});
+}
+
+TEST(TraceFileErrors, TextureIdNotInTable) {
+  TempDir dir("texsim_trace_file");
+  FileSpec s;
+  s.records_per_chunk = 8;
+  auto frags = random_fragments(8, true, {0, 3}, 7);
+  frags[5].tex = 2;  // the table has ids 0 and 3
+  auto bytes = build_header(s);
+  const auto ch = build_chunk(frags, s);
+  bytes.insert(bytes.end(), ch.begin(), ch.end());
+  const auto t = build_trailer(1, 8);
+  bytes.insert(bytes.end(), t.begin(), t.end());
+  const std::string path = dir.file("tex.trc");
+  spit(path, bytes);
+  expect_input_error([&] { read_all(path); },
+                     {path, "chunk 0, record 5", "texture id 2 is not in the texture table"});
+}
+
+TEST(TraceFileErrors, EndMarkerProblems) {
+  TempDir dir("texsim_trace_file");
+  FileSpec s;
+  s.records_per_chunk = 4;
+  const std::string path = dir.file("end.trc");
+  auto bytes = build_file(s, 2, 4);
+  const size_t end = bytes.size() - 24;
+  // Counts that disagree with the file (a chunk was lost).
+  auto lost = std::vector<unsigned char>(bytes.begin(), bytes.begin() + static_cast<long>(end));
+  const auto t = build_trailer(3, 12);
+  lost.insert(lost.end(), t.begin(), t.end());
+  spit(path, lost);
+  expect_input_error([&] { read_all(path); }, {path, "end marker", "3 chunks and 12 records", "2 chunks and 8"});
+  // Corrupted trailer.
+  auto bad = bytes;
+  bad[end + 10] ^= 0xff;
+  spit(path, bad);
+  expect_input_error([&] { read_all(path); }, {path, "end marker", "CRC mismatch"});
+  // Garbage after the trailer.
+  auto extra = bytes;
+  extra.push_back(0);
+  spit(path, extra);
+  expect_input_error([&] { read_all(path); }, {path, "1 unexpected bytes after the end marker"});
+}
+
+TEST(TraceFileErrors, RandomCorruptionNeverCrashes) {
+  // Flip random bytes of a valid file: every outcome is a clean read or an InputError.
+  TempDir dir("texsim_trace_file");
+  FileSpec s;
+  s.records_per_chunk = 8;
+  const auto good = build_file(s, 4, 8);
+  const std::string path = dir.file("fuzz.trc");
+  std::mt19937_64 rng(11);
+  int errors = 0;
+  for (int iter = 0; iter < 1500; ++iter) {
+    auto b = good;
+    const size_t flips = 1 + rng() % 3;
+    std::vector<uint64_t> bits;  // distinct bits, so two flips never cancel out
+    while (bits.size() < flips) {
+      const uint64_t bit = rng() % (b.size() * 8);
+      if (std::find(bits.begin(), bits.end(), bit) == bits.end()) bits.push_back(bit);
+    }
+    for (uint64_t bit : bits) b[bit / 8] ^= static_cast<unsigned char>(1u << (bit % 8));
+    spit(path, b);
+    try {
+      read_all(path);
+    } catch (const InputError& e) {
+      ++errors;
+      ASSERT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  }
+  // Every flip is caught: the header, each chunk and the trailer carry a CRC, and a flipped
+  // chunk header breaks a count, a tag or the CRC.
+  EXPECT_EQ(errors, 1500);
+}
+
+// ---- writer failures -------------------------------------------------------------------------
+
+TEST(TraceWriterFailure, BadRecordLeavesNoFile) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("out.trc");
+  {
+    TraceWriter w(path, sample_header(true), 16);
+    const auto frags = random_fragments(100, true, {0, 7}, 8);
+    for (const Fragment& f : frags) w.write(f);  // several chunks already on disk
+    Fragment bad = frags[0];
+    bad.dudy = std::nan("");
+    expect_input_error([&] { w.write(bad); }, {path, "record 100", "'dudy' is NaN"});
+    Fragment unknown = frags[0];
+    unknown.tex = 3;
+    expect_input_error([&] { w.write(unknown); }, {path, "texture id 3"});
+  }  // destroyed without close()
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_EQ(dir.entries(), 0u) << "temporary file left behind";
+}
+
+TEST(TraceWriterFailure, FailedWriteKeepsThePreviousFile) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("keep.trc");
+  write_trace(path, sample_header(false), random_fragments(10, false, {0}, 9));
+  const auto before = slurp(path);
+  {
+    TraceWriter w(path, sample_header(false));
+    w.write(random_fragments(1, false, {0}, 10)[0]);
+  }
+  EXPECT_EQ(slurp(path), before);
+  EXPECT_EQ(dir.entries(), 1u);
+  auto frags = random_fragments(10, false, {0}, 12);
+  frags[9].u = std::numeric_limits<double>::infinity();
+  expect_input_error([&] { write_trace(path, sample_header(false), frags); }, {path, "record 9", "'u' is infinite"});
+  EXPECT_EQ(slurp(path), before);
+  EXPECT_EQ(dir.entries(), 1u);
+}
+
+TEST(TraceWriterFailure, UnwritableDestinations) {
+  TempDir dir("texsim_trace_file");
+  const std::string nodir = dir.file("missing/dir/out.trc");
+  expect_input_error([&] { TraceWriter w(nodir, sample_header(true)); }, {nodir, "cannot open for writing"});
+  EXPECT_FALSE(fs::exists(nodir));
+  // The destination is a directory: the rename at close() fails and the temporary goes away.
+  const std::string isdir = dir.file("adir");
+  fs::create_directory(isdir);
+  expect_input_error([&] {
+    TraceWriter w(isdir, sample_header(true));
+    w.write(random_fragments(1, true, {0}, 13)[0]);
+    w.close();
+  }, {isdir, "cannot write output file"});
+  EXPECT_TRUE(fs::is_directory(isdir));
+  EXPECT_EQ(dir.entries(), 1u);
+}
+
+TEST(TraceWriterFailure, BadHeaderOrChunkSizeIsRejectedBeforeWriting) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("h.trc");
+  TraceHeader h = sample_header(true);
+  h.textures[0].height = 0;
+  expect_input_error([&] { TraceWriter w(path, h); }, {path, "texture entry 0", "0 is outside"});
+  h = sample_header(true);
+  h.textures.push_back(h.textures[1]);
+  expect_input_error([&] { TraceWriter w(path, h); }, {path, "texture id 7 appears twice"});
+  h = sample_header(true);
+  h.textures[1].name = "a\nb";
+  expect_input_error([&] { TraceWriter w(path, h); }, {path, "control character"});
+  h = sample_header(true);
+  h.version = 2;
+  expect_input_error([&] { TraceWriter w(path, h); }, {path, "version 2"});
+  expect_input_error([&] { TraceWriter w(path, sample_header(true), 0); }, {path, "records per chunk 0"});
+  EXPECT_EQ(dir.entries(), 0u);
+}
+
+}  // namespace
+}  // namespace texsim
