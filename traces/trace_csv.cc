@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstring>
 
-#include "blocks/base/input_error.h"
 #include "blocks/base/atomic_file.h"
+#include "blocks/base/input_error.h"
 
 namespace texsim {
 
@@ -42,7 +42,8 @@ std::string parse_u32(std::string_view s, uint32_t& out) {
   if (s.empty()) return "empty value where an unsigned integer is expected";
   const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
   if (ec == std::errc::result_out_of_range) return shown(s) + " is out of range for u32";
-  if (ec != std::errc() || ptr != s.data() + s.size()) return shown(s) + " is not an unsigned integer";
+  if (ec != std::errc() || ptr != s.data() + s.size())
+    return shown(s) + " is not an unsigned integer";
   return {};
 }
 
@@ -196,7 +197,8 @@ void TraceCsvReader::parse_directive(std::string_view line) {
         }
       }
       if (!closed) fail(tok.column, "unterminated quoted value");
-      if (p < line.size() && !is_space(line[p])) fail(p + 1, "expected a space after the closing quote");
+      if (p < line.size() && !is_space(line[p]))
+        fail(p + 1, "expected a space after the closing quote");
     } else {
       while (p < line.size() && !is_space(line[p])) tok.text += line[p++];
     }
@@ -208,13 +210,17 @@ void TraceCsvReader::parse_directive(std::string_view line) {
   }
   TraceTexture t{};
   std::string err;
-  if (!(err = parse_u32(tokens[0].text, t.id)).empty()) fail(tokens[0].column, "texture id: " + err);
+  if (!(err = parse_u32(tokens[0].text, t.id)).empty())
+    fail(tokens[0].column, "texture id: " + err);
   t.name = tokens[1].text;
   t.source = tokens[2].text;
-  if (!(err = parse_u32(tokens[3].text, t.width)).empty()) fail(tokens[3].column, "texture width: " + err);
-  if (!(err = parse_u32(tokens[4].text, t.height)).empty()) fail(tokens[4].column, "texture height: " + err);
+  if (!(err = parse_u32(tokens[3].text, t.width)).empty())
+    fail(tokens[3].column, "texture width: " + err);
+  if (!(err = parse_u32(tokens[4].text, t.height)).empty())
+    fail(tokens[4].column, "texture height: " + err);
   if (header_.find_texture(t.id) != nullptr) {
-    fail(tokens[0].column, "texture id " + std::to_string(t.id) + " appears twice in the texture table");
+    fail(tokens[0].column,
+         "texture id " + std::to_string(t.id) + " appears twice in the texture table");
   }
   if (header_.textures.size() >= kTraceMaxTextures) {
     fail(i + 1, "more than " + std::to_string(kTraceMaxTextures) + " textures");
@@ -249,7 +255,8 @@ void TraceCsvReader::parse_columns(std::string_view line) {
       if (f.name == name) fail(col + 1, "column '" + std::string(name) + "' appears twice");
     }
     const TraceType type = idx >= 0 ? specs[static_cast<size_t>(idx)].type : TraceType::F64;
-    header_.fields.push_back({std::string(name), type, static_cast<uint32_t>(column_field_.size())});
+    header_.fields.push_back(
+        {std::string(name), type, static_cast<uint32_t>(column_field_.size())});
     column_field_.push_back(idx);
     if (idx >= 0) seen[static_cast<size_t>(idx)] = true;
     if (comma == std::string_view::npos) break;
@@ -285,18 +292,43 @@ void TraceCsvReader::parse_record(std::string_view line, Fragment& f) {
     if (idx >= 0) {
       const std::string_view fname = trace_field_specs()[static_cast<size_t>(idx)].name;
       switch (idx) {
-        case 0: err = parse_u32(val, f.frame); break;
-        case 1: err = parse_u32(val, f.prim); break;
-        case 2: err = parse_u32(val, f.x); break;
-        case 3: err = parse_u32(val, f.y); break;
-        case 4: err = parse_u32(val, f.tex); tex_col = col + 1; break;
-        case 5: err = parse_float(val, f.u, fname); break;
-        case 6: err = parse_float(val, f.v, fname); break;
-        case 7: err = parse_float(val, f.dudx, fname); break;
-        case 8: err = parse_float(val, f.dvdx, fname); break;
-        case 9: err = parse_float(val, f.dudy, fname); break;
-        case 10: err = parse_float(val, f.dvdy, fname); break;
-        default: err = parse_float(val, f.lod_bias, fname); break;
+        case 0:
+          err = parse_u32(val, f.frame);
+          break;
+        case 1:
+          err = parse_u32(val, f.prim);
+          break;
+        case 2:
+          err = parse_u32(val, f.x);
+          break;
+        case 3:
+          err = parse_u32(val, f.y);
+          break;
+        case 4:
+          err = parse_u32(val, f.tex);
+          tex_col = col + 1;
+          break;
+        case 5:
+          err = parse_float(val, f.u, fname);
+          break;
+        case 6:
+          err = parse_float(val, f.v, fname);
+          break;
+        case 7:
+          err = parse_float(val, f.dudx, fname);
+          break;
+        case 8:
+          err = parse_float(val, f.dvdx, fname);
+          break;
+        case 9:
+          err = parse_float(val, f.dudy, fname);
+          break;
+        case 10:
+          err = parse_float(val, f.dvdy, fname);
+          break;
+        default:
+          err = parse_float(val, f.lod_bias, fname);
+          break;
       }
       if (!err.empty()) fail(col + 1, "column '" + std::string(fname) + "': " + err);
     }
@@ -337,14 +369,16 @@ TraceCsvWriter::TraceCsvWriter(const std::string& path, const TraceHeader& heade
     : path_(path), temp_(temp_path_for(path)), has_lod_bias_(header.has_lod_bias) {
   if (header.version != kTraceVersion) {
     throw InputError(path_, "cannot write trace version " + std::to_string(header.version) +
-                                " (this writer writes version " + std::to_string(kTraceVersion) + ")");
+                                " (this writer writes version " + std::to_string(kTraceVersion) +
+                                ")");
   }
   validate_textures(header.textures, path_);
   ids_ = TextureIdSet(header.textures);
   std::string h = "# texsim trace, format v1, CSV form (traces/FORMAT.md)\n";
   for (const TraceTexture& t : header.textures) {
     h += "# texture " + std::to_string(t.id) + " " + csv_quote_token(t.name) + " " +
-         csv_quote_token(t.source) + " " + std::to_string(t.width) + " " + std::to_string(t.height) + "\n";
+         csv_quote_token(t.source) + " " + std::to_string(t.width) + " " +
+         std::to_string(t.height) + "\n";
   }
   bool first = true;
   for (const TraceField& f : canonical_fields(has_lod_bias_)) {
@@ -354,7 +388,8 @@ TraceCsvWriter::TraceCsvWriter(const std::string& path, const TraceHeader& heade
   }
   h += '\n';
   file_.reset(std::fopen(temp_.c_str(), "wb"));
-  if (!file_) throw InputError(path_, std::string("cannot open for writing: ") + std::strerror(errno));
+  if (!file_)
+    throw InputError(path_, std::string("cannot open for writing: ") + std::strerror(errno));
   put(h);
 }
 

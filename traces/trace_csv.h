@@ -19,7 +19,8 @@ inline constexpr size_t kCsvMaxLineBytes = 65536;
 class TraceCsvReader {
  public:
   // Opens `path` and reads the directives and the column header line; throws InputError.
-  explicit TraceCsvReader(const std::string& path, uint32_t records_per_chunk = kCsvRecordsPerChunk);
+  explicit TraceCsvReader(const std::string& path,
+                          uint32_t records_per_chunk = kCsvRecordsPerChunk);
   ~TraceCsvReader();
   TraceCsvReader(const TraceCsvReader&) = delete;
   TraceCsvReader& operator=(const TraceCsvReader&) = delete;

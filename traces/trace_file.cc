@@ -1,5 +1,7 @@
 #include "traces/trace_file.h"
 
+#include <zlib.h>
+
 #include <algorithm>
 #include <bit>
 #include <cerrno>
@@ -8,10 +10,8 @@
 #include <filesystem>
 #include <limits>
 
-#include <zlib.h>
-
-#include "blocks/base/input_error.h"
 #include "blocks/base/atomic_file.h"
+#include "blocks/base/input_error.h"
 #include "traces/trace_csv.h"
 
 namespace texsim {
@@ -27,7 +27,20 @@ constexpr uint32_t kChunkHeaderBytes = 12;
 constexpr uint32_t kTrailerBytes = 24;
 
 // Field indices in trace_field_specs() order.
-enum FieldIndex : size_t { kFrame, kPrim, kX, kY, kTex, kU, kV, kDudx, kDvdx, kDudy, kDvdy, kLodBias };
+enum FieldIndex : size_t {
+  kFrame,
+  kPrim,
+  kX,
+  kY,
+  kTex,
+  kU,
+  kV,
+  kDudx,
+  kDvdx,
+  kDudy,
+  kDvdy,
+  kLodBias
+};
 
 // Little-endian loads and stores; the byte reversal only exists on a big-endian host.
 template <class T>
@@ -91,7 +104,8 @@ TraceFilePtr open_trace_input(const std::string& path, uint64_t* size) {
   std::error_code ec;
   const auto st = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(st)) throw InputError(path, "cannot open trace: no such file");
-  if (std::filesystem::is_directory(st)) throw InputError(path, "cannot open trace: is a directory");
+  if (std::filesystem::is_directory(st))
+    throw InputError(path, "cannot open trace: is a directory");
   if (!std::filesystem::is_regular_file(st)) {
     throw InputError(path, "cannot open trace: not a regular file");
   }
@@ -106,26 +120,46 @@ TraceFilePtr open_trace_input(const std::string& path, uint64_t* size) {
 
 const char* to_string(TraceType t) {
   switch (t) {
-    case TraceType::U8: return "u8";
-    case TraceType::U16: return "u16";
-    case TraceType::U32: return "u32";
-    case TraceType::U64: return "u64";
-    case TraceType::I8: return "i8";
-    case TraceType::I16: return "i16";
-    case TraceType::I32: return "i32";
-    case TraceType::I64: return "i64";
-    case TraceType::F32: return "f32";
-    case TraceType::F64: return "f64";
+    case TraceType::U8:
+      return "u8";
+    case TraceType::U16:
+      return "u16";
+    case TraceType::U32:
+      return "u32";
+    case TraceType::U64:
+      return "u64";
+    case TraceType::I8:
+      return "i8";
+    case TraceType::I16:
+      return "i16";
+    case TraceType::I32:
+      return "i32";
+    case TraceType::I64:
+      return "i64";
+    case TraceType::F32:
+      return "f32";
+    case TraceType::F64:
+      return "f64";
   }
   return "?";
 }
 
 uint32_t type_size(TraceType t) {
   switch (t) {
-    case TraceType::U8: case TraceType::I8: return 1;
-    case TraceType::U16: case TraceType::I16: return 2;
-    case TraceType::U32: case TraceType::I32: case TraceType::F32: return 4;
-    case TraceType::U64: case TraceType::I64: case TraceType::F64: return 8;
+    case TraceType::U8:
+    case TraceType::I8:
+      return 1;
+    case TraceType::U16:
+    case TraceType::I16:
+      return 2;
+    case TraceType::U32:
+    case TraceType::I32:
+    case TraceType::F32:
+      return 4;
+    case TraceType::U64:
+    case TraceType::I64:
+    case TraceType::F64:
+      return 8;
   }
   return 0;
 }
@@ -171,13 +205,15 @@ uint32_t canonical_record_size(bool has_lod_bias) {
 void validate_textures(const std::vector<TraceTexture>& textures, const std::string& where) {
   if (textures.size() > kTraceMaxTextures) {
     throw InputError(where, "texture table has " + std::to_string(textures.size()) +
-                                " entries, more than the limit " + std::to_string(kTraceMaxTextures));
+                                " entries, more than the limit " +
+                                std::to_string(kTraceMaxTextures));
   }
   std::vector<uint32_t> ids;
   ids.reserve(textures.size());
   for (size_t i = 0; i < textures.size(); ++i) {
     const TraceTexture& t = textures[i];
-    const std::string entry = "texture entry " + std::to_string(i) + " (id " + std::to_string(t.id) + "): ";
+    const std::string entry =
+        "texture entry " + std::to_string(i) + " (id " + std::to_string(t.id) + "): ";
     if (t.width < 1 || t.width > kTraceMaxTextureSize || t.height < 1 ||
         t.height > kTraceMaxTextureSize) {
       throw InputError(where, entry + "size " + std::to_string(t.width) + "x" +
@@ -200,13 +236,15 @@ void validate_textures(const std::vector<TraceTexture>& textures, const std::str
       });
     };
     if (has_control(t.name)) throw InputError(where, entry + "name contains a control character");
-    if (has_control(t.source)) throw InputError(where, entry + "source contains a control character");
+    if (has_control(t.source))
+      throw InputError(where, entry + "source contains a control character");
     ids.push_back(t.id);
   }
   std::sort(ids.begin(), ids.end());
   const auto dup = std::adjacent_find(ids.begin(), ids.end());
   if (dup != ids.end()) {
-    throw InputError(where, "texture id " + std::to_string(*dup) + " appears twice in the texture table");
+    throw InputError(where,
+                     "texture id " + std::to_string(*dup) + " appears twice in the texture table");
   }
 }
 
@@ -245,8 +283,9 @@ std::string check_fragment(const Fragment& f, const TextureIdSet& ids, bool has_
 bool has_csv_extension(const std::string& path) {
   if (path.size() < 4) return false;
   std::string ext = path.substr(path.size() - 4);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](char c) { return static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](char c) {
+    return static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+  });
   return ext == ".csv";
 }
 
@@ -262,12 +301,14 @@ TraceWriter::TraceWriter(const std::string& path, const TraceHeader& header,
       records_per_chunk_(records_per_chunk) {
   if (header.version != kTraceVersion) {
     throw InputError(path_, "cannot write trace version " + std::to_string(header.version) +
-                                " (this writer writes version " + std::to_string(kTraceVersion) + ")");
+                                " (this writer writes version " + std::to_string(kTraceVersion) +
+                                ")");
   }
   if (records_per_chunk_ < 1 || records_per_chunk_ > kTraceMaxRecordsPerChunk ||
       uint64_t{records_per_chunk_} * record_size_ > kTraceMaxChunkBytes) {
     throw InputError(path_, "records per chunk " + std::to_string(records_per_chunk_) +
-                                " is outside 1.." + std::to_string(kTraceMaxChunkBytes / record_size_));
+                                " is outside 1.." +
+                                std::to_string(kTraceMaxChunkBytes / record_size_));
   }
   validate_textures(header.textures, path_);
   ids_ = TextureIdSet(header.textures);
@@ -299,13 +340,15 @@ TraceWriter::TraceWriter(const std::string& path, const TraceHeader& header,
   const auto header_size = static_cast<uint32_t>(h.size() + 4);
   if (header_size > kTraceMaxHeaderBytes) {
     throw InputError(path_, "header would be " + std::to_string(header_size) +
-                                " bytes, more than the limit " + std::to_string(kTraceMaxHeaderBytes));
+                                " bytes, more than the limit " +
+                                std::to_string(kTraceMaxHeaderBytes));
   }
   store_le<uint32_t>(h.data() + 12, header_size);
   append_le<uint32_t>(h, crc_of(h.data(), h.size()));
 
   file_.reset(std::fopen(temp_.c_str(), "wb"));
-  if (!file_) throw InputError(path_, std::string("cannot open for writing: ") + std::strerror(errno));
+  if (!file_)
+    throw InputError(path_, std::string("cannot open for writing: ") + std::strerror(errno));
   chunk_.resize(size_t{records_per_chunk_} * record_size_);
   put(h.data(), h.size());  // on failure put() removes the temporary file
 }
@@ -412,9 +455,10 @@ void TraceReader::read_exact(void* dst, size_t n, const std::string& where, cons
                                 " bytes, only " + std::to_string(file_size_ - pos_) + " remain");
   }
   if (std::fread(dst, 1, n, file_.get()) != n) {
-    throw InputError(where, std::string("cannot read ") + what +
-                                (std::ferror(file_.get()) ? std::string(": ") + std::strerror(errno)
-                                                          : std::string(": file shrank while reading")));
+    throw InputError(where,
+                     std::string("cannot read ") + what +
+                         (std::ferror(file_.get()) ? std::string(": ") + std::strerror(errno)
+                                                   : std::string(": file shrank while reading")));
   }
   pos_ += n;
 }
@@ -431,8 +475,9 @@ void TraceReader::open_binary() {
   const auto field_count = load_le<uint32_t>(h.data() + 24);
   const auto texture_count = load_le<uint32_t>(h.data() + 28);
   if (version != kTraceVersion) {
-    throw InputError(where, "unknown version " + std::to_string(version) + " (this reader reads version " +
-                                std::to_string(kTraceVersion) + ")");
+    throw InputError(where, "unknown version " + std::to_string(version) +
+                                " (this reader reads version " + std::to_string(kTraceVersion) +
+                                ")");
   }
   if (record_size < 1 || record_size > kTraceMaxRecordSize) {
     throw InputError(where, "record size " + std::to_string(record_size) + " is outside 1.." +
@@ -451,15 +496,16 @@ void TraceReader::open_binary() {
                                 std::to_string(kTraceMaxFields));
   }
   if (texture_count > kTraceMaxTextures) {
-    throw InputError(where, "texture count " + std::to_string(texture_count) + " exceeds the limit " +
-                                std::to_string(kTraceMaxTextures));
+    throw InputError(where, "texture count " + std::to_string(texture_count) +
+                                " exceeds the limit " + std::to_string(kTraceMaxTextures));
   }
   const uint64_t least = uint64_t{kFixedHeaderBytes} + uint64_t{field_count} * kFieldEntryBytes +
                          uint64_t{texture_count} * kTextureEntryBytes + 4;
   if (header_size < least || header_size > kTraceMaxHeaderBytes) {
     throw InputError(where, "header size " + std::to_string(header_size) + " is outside " +
-                                std::to_string(least) + ".." + std::to_string(kTraceMaxHeaderBytes) +
-                                " (for " + std::to_string(field_count) + " fields and " +
+                                std::to_string(least) + ".." +
+                                std::to_string(kTraceMaxHeaderBytes) + " (for " +
+                                std::to_string(field_count) + " fields and " +
                                 std::to_string(texture_count) + " textures)");
   }
   h.resize(header_size);  // bounded by kTraceMaxHeaderBytes, and read_exact checks the file size
@@ -483,7 +529,8 @@ void TraceReader::open_binary() {
     const size_t len = strnlen(name_bytes, kTraceFieldNameBytes);
     const std::string name(name_bytes, len);
     if (len == kTraceFieldNameBytes || !valid_field_name(name)) {
-      throw InputError(fw, "bad field name (1-15 characters of [A-Za-z0-9_], NUL-padded to 16 bytes)");
+      throw InputError(fw,
+                       "bad field name (1-15 characters of [A-Za-z0-9_], NUL-padded to 16 bytes)");
     }
     const auto code = load_le<uint32_t>(p + 16);
     const auto offset = load_le<uint32_t>(p + 20);
@@ -498,8 +545,8 @@ void TraceReader::open_binary() {
     }
     for (const TraceField& other : header_.fields) {
       if (other.name == name) throw InputError(fw, "field '" + name + "' appears twice");
-      const bool overlap = offset < other.offset + type_size(other.type) &&
-                           other.offset < offset + type_size(type);
+      const bool overlap =
+          offset < other.offset + type_size(other.type) && other.offset < offset + type_size(type);
       if (overlap) {
         throw InputError(fw, "field '" + name + "' overlaps field '" + other.name + "'");
       }
@@ -620,7 +667,8 @@ size_t TraceReader::next_binary_chunk(std::vector<Fragment>& out) {
   read_exact(payload_.data(), bytes, where, "chunk payload");
   const uint32_t crc = crc_of(payload_.data(), bytes);
   if (crc != stored_crc) {
-    throw InputError(where, "CRC mismatch (stored " + hex32(stored_crc) + ", computed " + hex32(crc) + ")");
+    throw InputError(
+        where, "CRC mismatch (stored " + hex32(stored_crc) + ", computed " + hex32(crc) + ")");
   }
 
   out.resize(count);
@@ -670,11 +718,12 @@ void TraceReader::check_trailer() {
   if (chunks != chunks_ || records != records_) {
     throw InputError(where, "end marker counts " + std::to_string(chunks) + " chunks and " +
                                 std::to_string(records) + " records, but the file holds " +
-                                std::to_string(chunks_) + " chunks and " + std::to_string(records_) +
-                                " records (chunks lost)");
+                                std::to_string(chunks_) + " chunks and " +
+                                std::to_string(records_) + " records (chunks lost)");
   }
   if (pos_ != file_size_) {
-    throw InputError(where, std::to_string(file_size_ - pos_) + " unexpected bytes after the end marker");
+    throw InputError(where,
+                     std::to_string(file_size_ - pos_) + " unexpected bytes after the end marker");
   }
 }
 

@@ -31,7 +31,16 @@ inline constexpr uint32_t kTraceFieldNameBytes = 16;  // fixed-size, NUL-padded 
 
 // Type codes of the field layout (FORMAT.md, "Type codes").
 enum class TraceType : uint32_t {
-  U8 = 1, U16 = 2, U32 = 3, U64 = 4, I8 = 5, I16 = 6, I32 = 7, I64 = 8, F32 = 9, F64 = 10,
+  U8 = 1,
+  U16 = 2,
+  U32 = 3,
+  U64 = 4,
+  I8 = 5,
+  I16 = 6,
+  I32 = 7,
+  I64 = 8,
+  F32 = 9,
+  F64 = 10,
 };
 const char* to_string(TraceType t);
 uint32_t type_size(TraceType t);  // bytes; 0 for a code that is not a TraceType

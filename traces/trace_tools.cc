@@ -79,7 +79,9 @@ int trace_info(const std::string& path, std::ostream& out) {
   const bool csv = h.encoding == TraceEncoding::Csv;
   out << "trace:      " << path << " (" << s.file_bytes << " bytes)\n";
   out << "format:     " << (csv ? "CSV" : "binary") << ", version " << h.version;
-  if (!csv) out << ", record " << h.record_size << " bytes, up to " << h.records_per_chunk << " records/chunk";
+  if (!csv)
+    out << ", record " << h.record_size << " bytes, up to " << h.records_per_chunk
+        << " records/chunk";
   out << "\n";
   out << (csv ? "columns:   " : "fields:    ");
   for (const TraceField& f : h.fields) {

@@ -1,10 +1,11 @@
 #include "blocks/base/atomic_file.h"
 
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <unistd.h>
 
 #include "blocks/base/input_error.h"
 
@@ -36,9 +37,11 @@ void ensure_dir(const std::string& dir) {
   }
 }
 
-AtomicTextFile::AtomicTextFile(std::string path) : path_(std::move(path)), temp_(temp_path_for(path_)) {
+AtomicTextFile::AtomicTextFile(std::string path)
+    : path_(std::move(path)), temp_(temp_path_for(path_)) {
   out_.open(temp_, std::ios::binary | std::ios::trunc);
-  if (!out_) throw InputError(path_, std::string("cannot open for writing: ") + std::strerror(errno));
+  if (!out_)
+    throw InputError(path_, std::string("cannot open for writing: ") + std::strerror(errno));
 }
 
 AtomicTextFile::~AtomicTextFile() {

@@ -39,9 +39,12 @@ double ConfigReader::get_double(std::string_view key, double def) const {
   const toml::node* n = table_->get(key);
   if (!n) return def;
   double v = 0;
-  if (auto f = n->value_exact<double>()) v = *f;
-  else if (auto i = n->value_exact<int64_t>()) v = static_cast<double>(*i);
-  else fail(key, "expected a number");
+  if (auto f = n->value_exact<double>())
+    v = *f;
+  else if (auto i = n->value_exact<int64_t>())
+    v = static_cast<double>(*i);
+  else
+    fail(key, "expected a number");
   if (!std::isfinite(v)) fail(key, "must be finite");
   return v;
 }
@@ -92,8 +95,8 @@ void ConfigReader::reject_unknown(const std::vector<std::string_view>& known) co
     if (std::find(known.begin(), known.end(), k.str()) == known.end()) {
       std::string list;
       for (auto c : known) list += (list.empty() ? "" : ", ") + std::string(c);
-      throw InputError(where(&v), block_ + ": unknown key '" + std::string(k.str()) +
-                                      "' (known: " + list + ")");
+      throw InputError(
+          where(&v), block_ + ": unknown key '" + std::string(k.str()) + "' (known: " + list + ")");
     }
   }
 }

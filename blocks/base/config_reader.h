@@ -1,12 +1,12 @@
 #pragma once
 // Typed reads of block Config fields from a TOML table, with errors that name the source
 // file, line and column, the block and the key (DESIGN: "errors name the block and the key").
+#include <toml++/toml.h>
+
 #include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <toml++/toml.h>
 
 namespace texsim {
 

@@ -8,13 +8,13 @@ namespace texsim {
 
 struct Fragment {
   uint32_t frame = 0;
-  uint32_t prim = 0;     // primitive id
-  uint32_t x = 0;        // pixel column
-  uint32_t y = 0;        // pixel row
-  uint32_t tex = 0;      // texture id (index into the trace's texture table)
+  uint32_t prim = 0;  // primitive id
+  uint32_t x = 0;     // pixel column
+  uint32_t y = 0;     // pixel row
+  uint32_t tex = 0;   // texture id (index into the trace's texture table)
   double u = 0, v = 0;
   double dudx = 0, dvdx = 0, dudy = 0, dvdy = 0;
-  float lod_bias = 0;    // optional field; 0 when absent
+  float lod_bias = 0;  // optional field; 0 when absent
 };
 
 }  // namespace texsim

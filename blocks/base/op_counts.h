@@ -26,29 +26,47 @@ struct OpCounts {
 
   constexpr uint64_t get(OpKind k) const {
     switch (k) {
-      case OpKind::Add: return add;
-      case OpKind::Mul: return mul;
-      case OpKind::Div: return div;
-      case OpKind::Rcp: return rcp;
-      case OpKind::Sqrt: return sqrt;
-      case OpKind::Lut: return lut;
-      case OpKind::Cmp: return cmp;
-      case OpKind::Mem: return mem;
-      case OpKind::kCount: break;
+      case OpKind::Add:
+        return add;
+      case OpKind::Mul:
+        return mul;
+      case OpKind::Div:
+        return div;
+      case OpKind::Rcp:
+        return rcp;
+      case OpKind::Sqrt:
+        return sqrt;
+      case OpKind::Lut:
+        return lut;
+      case OpKind::Cmp:
+        return cmp;
+      case OpKind::Mem:
+        return mem;
+      case OpKind::kCount:
+        break;
     }
     return 0;
   }
   constexpr uint64_t& at(OpKind k) {
     switch (k) {
-      case OpKind::Add: return add;
-      case OpKind::Mul: return mul;
-      case OpKind::Div: return div;
-      case OpKind::Rcp: return rcp;
-      case OpKind::Sqrt: return sqrt;
-      case OpKind::Lut: return lut;
-      case OpKind::Cmp: return cmp;
-      case OpKind::Mem: return mem;
-      case OpKind::kCount: break;
+      case OpKind::Add:
+        return add;
+      case OpKind::Mul:
+        return mul;
+      case OpKind::Div:
+        return div;
+      case OpKind::Rcp:
+        return rcp;
+      case OpKind::Sqrt:
+        return sqrt;
+      case OpKind::Lut:
+        return lut;
+      case OpKind::Cmp:
+        return cmp;
+      case OpKind::Mem:
+        return mem;
+      case OpKind::kCount:
+        break;
     }
     return mem;
   }
@@ -57,14 +75,26 @@ struct OpCounts {
   constexpr uint64_t total() const { return arithmetic() + mem; }
 
   constexpr OpCounts& operator+=(const OpCounts& o) {
-    add += o.add; mul += o.mul; div += o.div; rcp += o.rcp;
-    sqrt += o.sqrt; lut += o.lut; cmp += o.cmp; mem += o.mem;
+    add += o.add;
+    mul += o.mul;
+    div += o.div;
+    rcp += o.rcp;
+    sqrt += o.sqrt;
+    lut += o.lut;
+    cmp += o.cmp;
+    mem += o.mem;
     return *this;
   }
   friend constexpr OpCounts operator+(OpCounts a, const OpCounts& b) { return a += b; }
   friend constexpr OpCounts operator*(OpCounts a, uint64_t n) {
-    a.add *= n; a.mul *= n; a.div *= n; a.rcp *= n;
-    a.sqrt *= n; a.lut *= n; a.cmp *= n; a.mem *= n;
+    a.add *= n;
+    a.mul *= n;
+    a.div *= n;
+    a.rcp *= n;
+    a.sqrt *= n;
+    a.lut *= n;
+    a.cmp *= n;
+    a.mem *= n;
     return a;
   }
   friend constexpr bool operator==(const OpCounts&, const OpCounts&) = default;

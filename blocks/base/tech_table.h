@@ -6,7 +6,11 @@
 
 #include "blocks/base/op_counts.h"
 
-namespace toml { inline namespace v3 { class table; } }
+namespace toml {
+inline namespace v3 {
+class table;
+}
+}  // namespace toml
 
 namespace texsim {
 

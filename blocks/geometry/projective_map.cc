@@ -42,8 +42,7 @@ ProjectiveMap ProjectiveMap::scaled(long double s) const {
   return m;
 }
 
-ProjectiveMap ProjectiveMap::normalised(const long double* xs, const long double* ys,
-                                        int n) const {
+ProjectiveMap ProjectiveMap::normalised(const long double* xs, const long double* ys, int n) const {
   long double qmax = 0;
   for (int k = 0; k < n; ++k) qmax = std::max(qmax, std::fabs(den(xs[k], ys[k])));
   if (!(qmax > 0) || !std::isfinite(qmax)) return *this;
@@ -85,9 +84,15 @@ ProjectiveMap ProjectiveMap::from_plane(const Vec3L& origin, const Vec3L& axis_u
     return m;
   }
   const long double inv = 1.0L / det;
-  m.A = r0.x * inv; m.B = r0.y * inv; m.C = r0.z * inv;
-  m.D = r1.x * inv; m.E = r1.y * inv; m.F = r1.z * inv;
-  m.G = r2.x * inv; m.H = r2.y * inv; m.I = r2.z * inv;
+  m.A = r0.x * inv;
+  m.B = r0.y * inv;
+  m.C = r0.z * inv;
+  m.D = r1.x * inv;
+  m.E = r1.y * inv;
+  m.F = r1.z * inv;
+  m.G = r2.x * inv;
+  m.H = r2.y * inv;
+  m.I = r2.z * inv;
   return m;
 }
 

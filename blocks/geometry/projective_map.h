@@ -110,31 +110,42 @@ struct CoordDerivs {
   bool valid = false;
 };
 
-template <class T> bool is_finite_value(T x) {
-  if constexpr (is_fixed_v<T>) return true;
-  else return std::isfinite(x);
+template <class T>
+bool is_finite_value(T x) {
+  if constexpr (is_fixed_v<T>)
+    return true;
+  else
+    return std::isfinite(x);
 }
 
 // A result the format could not hold: non-finite (float) or saturated at a rail (Fixed).
-template <class T> bool out_of_range(T x) {
-  if constexpr (is_fixed_v<T>) return x == T::max() || x == T::min();
-  else return !std::isfinite(x);
+template <class T>
+bool out_of_range(T x) {
+  if constexpr (is_fixed_v<T>)
+    return x == T::max() || x == T::min();
+  else
+    return !std::isfinite(x);
 }
 
 // Largest magnitude a number format can hold (used to reject maps that would saturate).
-template <class T> double format_max() {
-  if constexpr (is_fixed_v<T>) return to_double(T::max());
-  else return static_cast<double>(std::numeric_limits<T>::max());
+template <class T>
+double format_max() {
+  if constexpr (is_fixed_v<T>)
+    return to_double(T::max());
+  else
+    return static_cast<double>(std::numeric_limits<T>::max());
 }
 
 // The map's coefficients rounded to the block's number format. ok = false if any coefficient
 // is non-finite, the map is degenerate, or a coefficient does not fit the format.
-template <class T> struct MapCoeffs {
+template <class T>
+struct MapCoeffs {
   T A{}, B{}, C{}, D{}, E{}, F{}, G{}, H{}, I{};
   bool ok = false;
 };
 
-template <class T> MapCoeffs<T> to_coeffs(const ProjectiveMap& m) {
+template <class T>
+MapCoeffs<T> to_coeffs(const ProjectiveMap& m) {
   MapCoeffs<T> c;
   const long double src[9] = {m.A, m.B, m.C, m.D, m.E, m.F, m.G, m.H, m.I};
   T* dst[9] = {&c.A, &c.B, &c.C, &c.D, &c.E, &c.F, &c.G, &c.H, &c.I};
@@ -166,10 +177,16 @@ double quotient_error_bound(double w, double z, double dw, double dz, bool recip
 // coefficients' rounding counts; in float every operation rounds.
 double linear_form_error_bound(long double a, long double b, long double c, long double x,
                                long double y, bool fixed, double unit);
-template <class T> constexpr bool format_is_fixed() { return is_fixed_v<T>; }
-template <class T> constexpr double format_unit() {
-  if constexpr (is_fixed_v<T>) return T::lsb();
-  else return static_cast<double>(std::numeric_limits<T>::epsilon()) / 2;
+template <class T>
+constexpr bool format_is_fixed() {
+  return is_fixed_v<T>;
+}
+template <class T>
+constexpr double format_unit() {
+  if constexpr (is_fixed_v<T>)
+    return T::lsb();
+  else
+    return static_cast<double>(std::numeric_limits<T>::epsilon()) / 2;
 }
 
 // ----- Timing from op counts -----

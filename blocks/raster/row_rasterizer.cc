@@ -7,8 +7,9 @@ namespace texsim {
 
 std::vector<RowSpan> rasterize_rows(const double x[3], const double y[3], int32_t w, int32_t h) {
   std::vector<RowSpan> rows;
-  const long double area = (static_cast<long double>(x[1]) - x[0]) * (static_cast<long double>(y[2]) - y[0]) -
-                           (static_cast<long double>(x[2]) - x[0]) * (static_cast<long double>(y[1]) - y[0]);
+  const long double area =
+      (static_cast<long double>(x[1]) - x[0]) * (static_cast<long double>(y[2]) - y[0]) -
+      (static_cast<long double>(x[2]) - x[0]) * (static_cast<long double>(y[1]) - y[0]);
   if (!(std::fabs(area) > 0) || !std::isfinite(area)) return rows;
   const long double sgn = area > 0 ? 1 : -1;
   long double ylo = std::min({y[0], y[1], y[2]}), yhi = std::max({y[0], y[1], y[2]});

@@ -1,16 +1,15 @@
 // texsim command-line entry point (docs/cli.md).
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
 #include <string>
 
-#include <CLI/CLI.hpp>
-
-#include "blocks/base/input_error.h"
 #include "blocks/base/atomic_file.h"
-#include "pipeline/kernel/clocked_pipeline.h"
+#include "blocks/base/input_error.h"
 #include "pipeline/app/run.h"
+#include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/studies/study_coords.h"
 #include "pipeline/studies/study_filters.h"
 #include "pipeline/studies/study_vd.h"
@@ -22,38 +21,51 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   RunOptions run;
-  auto* run_cmd = app.add_subcommand("run", "Simulate a scene (default: the built-in scene) or a trace; "
-                                            "write report.json, report.md and images to --out");
-  run_cmd->add_option("scene", run.scene, "Scene file (TOML), or 'default' (the built-in scene, also used when both scene and --trace are omitted)");
-  run_cmd->add_option("--trace", run.trace, "Fragment trace (.trc binary or .csv) to drive the texture unit");
+  auto* run_cmd = app.add_subcommand("run",
+                                     "Simulate a scene (default: the built-in scene) or a trace; "
+                                     "write report.json, report.md and images to --out");
+  run_cmd->add_option("scene", run.scene,
+                      "Scene file (TOML), or 'default' (the built-in scene, also used when both "
+                      "scene and --trace are omitted)");
+  run_cmd->add_option("--trace", run.trace,
+                      "Fragment trace (.trc binary or .csv) to drive the texture unit");
   run_cmd->add_option("--out", run.out, "Output directory")->capture_default_str();
-  run_cmd->add_flag("--functional", run.functional, "Functional only: colours and op counts, no cache or clock");
+  run_cmd->add_flag("--functional", run.functional,
+                    "Functional only: colours and op counts, no cache or clock");
   bool no_progress = false;
   run_cmd->add_flag("--no-progress", no_progress, "Do not show the progress line");
 
   auto* trace_cmd = app.add_subcommand("trace", "Make, inspect and convert fragment traces");
   trace_cmd->require_subcommand(1);
   std::string gen_scene, gen_out;
-  auto* gen = trace_cmd->add_subcommand("gen", "Write a scene's reference fragments (exact double coordinates)");
+  auto* gen = trace_cmd->add_subcommand(
+      "gen", "Write a scene's reference fragments (exact double coordinates)");
   gen->add_option("scene", gen_scene, "Scene file; 'default' for the built-in scene")->required();
   gen->add_option("-o,--output", gen_out, "Output trace (.trc binary, .csv text)")->required();
   std::string info_in;
-  auto* info = trace_cmd->add_subcommand("info", "Print a trace's header, texture table and statistics");
+  auto* info =
+      trace_cmd->add_subcommand("info", "Print a trace's header, texture table and statistics");
   info->add_option("file", info_in, "Trace file")->required();
   std::string conv_in, conv_out;
-  auto* conv = trace_cmd->add_subcommand("convert", "Convert between binary and CSV traces (by extension)");
+  auto* conv =
+      trace_cmd->add_subcommand("convert", "Convert between binary and CSV traces (by extension)");
   conv->add_option("input", conv_in, "Input trace")->required();
   conv->add_option("output", conv_out, "Output trace")->required();
 
-  auto* study_cmd = app.add_subcommand("study", "Accuracy-vs-cost studies: tables (CSV, Markdown) and plots (PNG)");
+  auto* study_cmd = app.add_subcommand(
+      "study", "Accuracy-vs-cost studies: tables (CSV, Markdown) and plots (PNG)");
   study_cmd->require_subcommand(1);
   std::string study_out = "out/study";
-  auto* vd = study_cmd->add_subcommand("vd", "V(d) evaluators (exact, P3, P2, P1): error over d in each number format");
+  auto* vd = study_cmd->add_subcommand(
+      "vd", "V(d) evaluators (exact, P3, P2, P1): error over d in each number format");
   auto* coords = study_cmd->add_subcommand(
-      "coords", "Texture-coordinate and derivative blocks: error in texels vs ops and cycles per pixel");
+      "coords",
+      "Texture-coordinate and derivative blocks: error in texels vs ops and cycles per pixel");
   auto* filters = study_cmd->add_subcommand(
-      "filters", "Anisotropic filters vs ground truth and OpenImageIO: error vs cycles and texels fetched");
-  for (auto* s : {vd, coords, filters}) s->add_option("--out", study_out, "Output directory")->capture_default_str();
+      "filters",
+      "Anisotropic filters vs ground truth and OpenImageIO: error vs cycles and texels fetched");
+  for (auto* s : {vd, coords, filters})
+    s->add_option("--out", study_out, "Output directory")->capture_default_str();
 
   CLI11_PARSE(app, argc, argv);
   try {

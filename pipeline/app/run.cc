@@ -6,17 +6,17 @@
 #include <map>
 #include <ostream>
 
-#include "blocks/base/input_error.h"
 #include "blocks/base/atomic_file.h"
-#include "pipeline/raster/fragment_generator.h"
+#include "blocks/base/input_error.h"
 #include "pipeline/geometry/plane_projection.h"
-#include "pipeline/scene/procedural_texture.h"
-#include "pipeline/report/run_report.h"
+#include "pipeline/raster/fragment_generator.h"
 #include "pipeline/raster/scene_front_end.h"
+#include "pipeline/reference/ground_truth.h"
+#include "pipeline/report/run_report.h"
+#include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/scene/texture_loader.h"
 #include "pipeline/texture/texture_unit.h"
-#include "pipeline/reference/ground_truth.h"
 #include "traces/trace_file.h"
 
 namespace texsim {
@@ -30,7 +30,8 @@ class Progress {
     if (!on_ || (n & 0xFFFF) != 0) return;
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
     if (s < 1.0) return;
-    std::fprintf(stderr, "\r  %llu fragments, %.1f M/s   ", static_cast<unsigned long long>(n), static_cast<double>(n) / s / 1e6);
+    std::fprintf(stderr, "\r  %llu fragments, %.1f M/s   ", static_cast<unsigned long long>(n),
+                 static_cast<double>(n) / s / 1e6);
     shown_ = true;
   }
   ~Progress() {
@@ -48,7 +49,8 @@ class Progress {
 RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   // Scene: a file, the built-in default, or (trace only) none.
   const bool use_scene = !opt.scene.empty() || opt.trace.empty();
-  Scene scene = (opt.scene.empty() || opt.scene == "default") ? default_scene() : load_scene(opt.scene);
+  Scene scene =
+      (opt.scene.empty() || opt.scene == "default") ? default_scene() : load_scene(opt.scene);
 
   // Textures and the map from fragment texture ids to loaded textures.
   TextureSet textures;
@@ -60,18 +62,21 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     const std::string dir = std::filesystem::path(opt.trace).parent_path().string();
     for (const auto& t : reader->header().textures) {
       Texture tex = load_texture(t.source, dir);
-      if (static_cast<uint32_t>(tex.width(0)) != t.width || static_cast<uint32_t>(tex.height(0)) != t.height) {
-        throw InputError(opt.trace, "texture " + std::to_string(t.id) + " ('" + t.source + "') is " +
-                                        std::to_string(tex.width(0)) + "x" + std::to_string(tex.height(0)) +
-                                        " but the trace's texture table says " + std::to_string(t.width) +
-                                        "x" + std::to_string(t.height));
+      if (static_cast<uint32_t>(tex.width(0)) != t.width ||
+          static_cast<uint32_t>(tex.height(0)) != t.height) {
+        throw InputError(opt.trace, "texture " + std::to_string(t.id) + " ('" + t.source +
+                                        "') is " + std::to_string(tex.width(0)) + "x" +
+                                        std::to_string(tex.height(0)) +
+                                        " but the trace's texture table says " +
+                                        std::to_string(t.width) + "x" + std::to_string(t.height));
       }
       tex_index[t.id] = textures.add(std::move(tex));
       tex_names.push_back(t.name + " = " + t.source);
     }
   } else {
     for (size_t i = 0; i < scene.textures.size(); ++i) {
-      tex_index[static_cast<uint32_t>(i)] = textures.add(load_texture(scene.textures[i].source, scene.base_dir));
+      tex_index[static_cast<uint32_t>(i)] =
+          textures.add(load_texture(scene.textures[i].source, scene.base_dir));
       tex_names.push_back(scene.textures[i].name + " = " + scene.textures[i].source);
     }
   }
@@ -98,7 +103,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     d.filter.filter = FilterMode::Trilinear;
     mats.push_back(d);
   }
-  const PipelineSetup setup = PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : toml::table{}, scene.path);
+  const PipelineSetup setup =
+      PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : toml::table{}, scene.path);
   TextureUnit unit(textures, mats, setup, scene.tech, !opt.functional);
 
   std::vector<PlaneProjection> maps;
@@ -121,14 +127,15 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     const Texture& tex = textures[static_cast<int>(g.tex)];
     const MaterialSetup& ms = mats[static_cast<size_t>(material)];
     const glm::dvec4 r = (use_scene && !maps.empty())
-                         ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), maps[f.prim],
-                                              static_cast<int>(f.x), static_cast<int>(f.y), n)
-                         : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, n);
+                             ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), maps[f.prim],
+                                                  static_cast<int>(f.x), static_cast<int>(f.y), n)
+                             : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, n);
     const int x = static_cast<int>(f.x), y = static_cast<int>(f.y);
     if (x >= img.width || y >= img.height) {
       // Grow geometrically (traces do not declare their extent); cropped at the end.
       const int w = x < img.width ? img.width : std::min(1 << 14, std::max(x + 1, 2 * img.width));
-      const int h = y < img.height ? img.height : std::min(1 << 14, std::max(y + 1, 2 * img.height));
+      const int h =
+          y < img.height ? img.height : std::min(1 << 14, std::max(y + 1, 2 * img.height));
       img.resize(w, h, scene.background);
       ref.resize(w, h, scene.background);
     }
@@ -148,8 +155,9 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
                            " is not in the texture table");
     }
     if (f.x >= (1u << 14) || f.y >= (1u << 14)) {
-      throw InputError(opt.trace, "record " + std::to_string(index) + ": pixel (" + std::to_string(f.x) +
-                                      ", " + std::to_string(f.y) + ") is outside the 16384x16384 image limit");
+      throw InputError(opt.trace, "record " + std::to_string(index) + ": pixel (" +
+                                      std::to_string(f.x) + ", " + std::to_string(f.y) +
+                                      ") is outside the 16384x16384 image limit");
     }
     Fragment g = f;
     g.tex = static_cast<uint32_t>(it->second);
@@ -157,7 +165,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     if (use_scene && !maps.empty()) {
       if (f.prim >= scene.planes.size()) {
         throw InputError(opt.trace, "record " + std::to_string(index) + ": primitive " +
-                                        std::to_string(f.prim) + " is not a plane of scene " + scene.path);
+                                        std::to_string(f.prim) + " is not a plane of scene " +
+                                        scene.path);
       }
       material = scene.planes[f.prim].material;
     }
@@ -180,7 +189,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     uint64_t index = 0;
     generate_fragments(scene, 0, [&](const Fragment& f) { handle(f, index++); });
   }
-  if (count == 0) throw InputError(opt.trace.empty() ? scene.path : opt.trace, "no fragments to render");
+  if (count == 0)
+    throw InputError(opt.trace.empty() ? scene.path : opt.trace, "no fragments to render");
   width = max_x + 1;
   height = max_y + 1;
   if (img.width != width || img.height != height) {
@@ -198,11 +208,15 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   info.width = width;
   info.height = height;
   info.textures = tex_names;
-  for (int m = 0; m < unit.material_count(); ++m) info.material_accuracy.push_back(compare_images(img, ref, m));
-  info.reference = "Ground truth: level-0 texture, bilinear reconstruction in double, box-filtered over "
-                   "each pixel with " + std::to_string(n) + "x" + std::to_string(n) + " samples " +
-                   ((use_scene && !maps.empty()) ? "mapped exactly through each plane's projective map."
-                                                 : "over the parallelogram spanned by the fragment's derivatives.");
+  for (int m = 0; m < unit.material_count(); ++m)
+    info.material_accuracy.push_back(compare_images(img, ref, m));
+  info.reference =
+      "Ground truth: level-0 texture, bilinear reconstruction in double, box-filtered over "
+      "each pixel with " +
+      std::to_string(n) + "x" + std::to_string(n) + " samples " +
+      ((use_scene && !maps.empty())
+           ? "mapped exactly through each plane's projective map."
+           : "over the parallelogram spanned by the fragment's derivatives.");
   ensure_dir(opt.out);
   write_image(opt.out + "/image.png", img);
   write_image(opt.out + "/reference.png", ref);

@@ -9,11 +9,11 @@
 namespace texsim {
 
 struct RunOptions {
-  std::string scene;          // scene file; "" = built-in default scene (or none with a trace)
-  std::string trace;          // trace file; "" = fragments from the scene's reference generator
-  std::string out = "out";    // output directory
-  bool functional = false;    // colours and op counts only: no cache, no clock
-  bool progress = false;      // progress line on stderr
+  std::string scene;        // scene file; "" = built-in default scene (or none with a trace)
+  std::string trace;        // trace file; "" = fragments from the scene's reference generator
+  std::string out = "out";  // output directory
+  bool functional = false;  // colours and op counts only: no cache, no clock
+  bool progress = false;    // progress line on stderr
 };
 
 struct RunSummary {

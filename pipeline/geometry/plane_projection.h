@@ -2,21 +2,20 @@
 // Exact screen→texture map of a scene plane (docs/architecture.md#reference-generator):
 // u = (A x + B y + C) / (G x + H y + I), v = (D x + E y + F) / (G x + H y + I) for continuous
 // pixel coordinates (x, y) (pixel centres at +0.5), evaluated in long double.
+#include <glm/vec2.hpp>
 #include <vector>
 
-#include <glm/vec2.hpp>
-
+#include "blocks/base/fragment.h"
 #include "blocks/geometry/projective_map.h"
 #include "pipeline/scene/scene.h"
-#include "blocks/base/fragment.h"
 
 namespace texsim {
 
 struct UvSample {
   double u = 0, v = 0;
   double dudx = 0, dvdx = 0, dudy = 0, dvdy = 0;  // analytic derivatives at (x, y)
-  double depth = 0;       // distance along the view direction
-  bool inside = false;    // on the plane's parallelogram, in front of the near plane
+  double depth = 0;                               // distance along the view direction
+  bool inside = false;  // on the plane's parallelogram, in front of the near plane
 
   // A fragment of pixel (x, y) with these coordinates and derivatives.
   Fragment fragment(uint32_t x, uint32_t y) const {

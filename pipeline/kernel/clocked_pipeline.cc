@@ -20,8 +20,9 @@ ClockedPipeline::ClockedPipeline(std::vector<StageConfig> stages) {
                                   "(a zero would deadlock the pipeline)");
     }
     Stage st;
-    st.inflight_cap = cfg.max_inflight ? cfg.max_inflight
-                                       : t.lanes * std::max<uint32_t>(1, (t.latency + t.ii - 1) / t.ii);
+    st.inflight_cap = cfg.max_inflight
+                          ? cfg.max_inflight
+                          : t.lanes * std::max<uint32_t>(1, (t.latency + t.ii - 1) / t.ii);
     Hot h;
     h.latency = t.latency;
     h.ii = t.ii;
@@ -32,7 +33,8 @@ ClockedPipeline::ClockedPipeline(std::vector<StageConfig> stages) {
     stages_.push_back(std::move(st));
     hot_.push_back(h);
   }
-  for (size_t s = 0; s + 1 < stages_.size(); ++s) hot_[s].next_depth = stages_[s + 1].cfg.fifo_depth;
+  for (size_t s = 0; s + 1 < stages_.size(); ++s)
+    hot_[s].next_depth = stages_[s + 1].cfg.fifo_depth;
   const uint64_t p = std::bit_ceil(longest);
   ring_mask_ = p - 1;
   ring_.assign((stages_.size() + 1) * p, Entry{0, 0, 0, 0});
@@ -60,8 +62,8 @@ const StageStats& ClockedPipeline::stats(int s) const {
 void ClockedPipeline::report_stuck(uint64_t item, int stage) {
   stuck_stage_ = stage;
   std::ostringstream os;
-  os << "pipeline stuck: item " << item << " waited more than " << watchdog_
-     << " cycles in stage '" << stages_[stage].cfg.name << "'\n";
+  os << "pipeline stuck: item " << item << " waited more than " << watchdog_ << " cycles in stage '"
+     << stages_[stage].cfg.name << "'\n";
   dump_state(os);
   throw DeadlockError(os.str());
 }

@@ -17,8 +17,8 @@ namespace texsim {
 
 struct StageConfig {
   std::string name;
-  TimingSpec timing;         // latency, ii, lanes
-  uint32_t fifo_depth = 4;   // capacity of the FIFO in front of this stage (>= 1)
+  TimingSpec timing;        // latency, ii, lanes
+  uint32_t fifo_depth = 4;  // capacity of the FIFO in front of this stage (>= 1)
   // Items that may be inside the stage at once (issued, not yet passed on). 0 = enough for
   // full pipelining: lanes * ceil(latency / ii). A memory stage sets it to its miss-queue depth.
   uint32_t max_inflight = 0;
@@ -63,8 +63,10 @@ class ClockedPipeline {
     // Common stage counts get the stage sequence unrolled at compile time, so cost_at sees a
     // constant stage index and the per-stage addresses are fixed offsets.
     switch (stages_.size()) {
-      case 3: return issue_unrolled(ready, cost_at, std::make_index_sequence<3>{});
-      case 4: return issue_unrolled(ready, cost_at, std::make_index_sequence<4>{});
+      case 3:
+        return issue_unrolled(ready, cost_at, std::make_index_sequence<3>{});
+      case 4:
+        return issue_unrolled(ready, cost_at, std::make_index_sequence<4>{});
       default: {
         const ItemCtx c = item_ctx();
         uint64_t arrival = ready;
@@ -127,9 +129,7 @@ class ClockedPipeline {
     Entry* ring;
     Hot* hot;
   };
-  ItemCtx item_ctx() {
-    return {items_, ring_mask_, watchdog_, ring_.data(), hot_.data()};
-  }
+  ItemCtx item_ctx() { return {items_, ring_mask_, watchdog_, ring_.data(), hot_.data()}; }
   template <class CostFn>
   [[gnu::always_inline]] uint64_t step(const ItemCtx& c, size_t s, uint64_t arrival,
                                        CostFn& cost_at) {

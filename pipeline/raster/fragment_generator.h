@@ -4,8 +4,8 @@
 #include <functional>
 #include <vector>
 
-#include "pipeline/scene/scene.h"
 #include "blocks/base/fragment.h"
+#include "pipeline/scene/scene.h"
 
 namespace texsim {
 

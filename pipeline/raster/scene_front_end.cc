@@ -49,13 +49,16 @@ void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>
                           TextureUnit& unit,
                           const std::function<void(const Fragment&, int, const Rgba*)>& emit) {
   const int w = scene.width, h = scene.height;
-  const auto pixel = [w](int32_t x, int32_t y) { return static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x); };
+  const auto pixel = [w](int32_t x, int32_t y) {
+    return static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
+  };
   std::vector<PlaneTriangles> planes;
   for (size_t p = 0; p < scene.planes.size(); ++p) {
     const int m = scene.planes[p].material;
     const Texture& tex = unit.texture_of(m);
     const MaterialSetup& ms = unit.material(m);
-    planes.push_back(plane_triangles(maps[p], w, h, tex.width(0), tex.height(0), ms.address_u(), ms.address_v()));
+    planes.push_back(plane_triangles(maps[p], w, h, tex.width(0), tex.height(0), ms.address_u(),
+                                     ms.address_v()));
   }
   // Depth test: the nearest plane whose triangles cover a pixel (the first one on a tie, as in
   // the reference generator).
@@ -94,7 +97,9 @@ void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>
             const size_t k = pixel(x, r.y);
             if (owner[k] != static_cast<int32_t>(p) || done[k]) continue;
             done[k] = 1;
-            Fragment e = maps[p].at(x + 0.5, r.y + 0.5).fragment(static_cast<uint32_t>(x), static_cast<uint32_t>(r.y));
+            Fragment e = maps[p]
+                             .at(x + 0.5, r.y + 0.5)
+                             .fragment(static_cast<uint32_t>(x), static_cast<uint32_t>(r.y));
             e.prim = f.prim;
             e.tex = f.tex;
             const Rgba c = unit.process(e, m);

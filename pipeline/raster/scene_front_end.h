@@ -7,9 +7,9 @@
 #include <functional>
 #include <vector>
 
-#include "pipeline/texture/coord_method.h"
 #include "pipeline/geometry/plane_projection.h"
 #include "pipeline/scene/scene.h"
+#include "pipeline/texture/coord_method.h"
 #include "pipeline/texture/texture_unit.h"
 
 namespace texsim {

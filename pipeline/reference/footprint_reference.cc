@@ -20,8 +20,8 @@ void sample_counts(const FootprintReferenceConfig& cfg, double ex, double ey, in
   const double span = 2.0 * cfg.pixel.radius_px * cfg.samples_per_texel;
   auto count = [&](double e) {
     const double n = std::isfinite(e) ? std::ceil(span * e) : static_cast<double>(cfg.max_samples);
-    return static_cast<int>(std::clamp(n, static_cast<double>(cfg.min_samples),
-                                       static_cast<double>(cfg.max_samples)));
+    return static_cast<int>(
+        std::clamp(n, static_cast<double>(cfg.min_samples), static_cast<double>(cfg.max_samples)));
   };
   nx = count(ex);
   ny = count(ey);
@@ -47,8 +47,8 @@ void offsets(int n, const PixelModel& pm, std::vector<double>& o, std::vector<do
 }
 
 template <class MapFn>
-ReferenceSample integrate(const Texture& tex, const FootprintReferenceConfig& cfg, double ex, double ey,
-                          MapFn&& map) {
+ReferenceSample integrate(const Texture& tex, const FootprintReferenceConfig& cfg, double ex,
+                          double ey, MapFn&& map) {
   ReferenceSample r;
   sample_counts(cfg, ex, ey, r.nx, r.ny);
   std::vector<double> ox, gx, oy, gy;
@@ -83,9 +83,12 @@ ReferenceSample footprint_reference(const Texture& tex, const PlaneProjection& m
   const double ex = std::hypot(c.dudx * w, c.dvdx * h), ey = std::hypot(c.dudy * w, c.dvdy * h);
   // Far samples of a strongly receding footprint stretch more than the centre's derivatives
   // say; the reference evaluates the exact map per sample, so only the density is affected.
-  const double A = static_cast<double>(map.A), B = static_cast<double>(map.B), C = static_cast<double>(map.C);
-  const double D = static_cast<double>(map.D), E = static_cast<double>(map.E), F = static_cast<double>(map.F);
-  const double G = static_cast<double>(map.G), H = static_cast<double>(map.H), I = static_cast<double>(map.I);
+  const double A = static_cast<double>(map.A), B = static_cast<double>(map.B),
+               C = static_cast<double>(map.C);
+  const double D = static_cast<double>(map.D), E = static_cast<double>(map.E),
+               F = static_cast<double>(map.F);
+  const double G = static_cast<double>(map.G), H = static_cast<double>(map.H),
+               I = static_cast<double>(map.I);
   return integrate(tex, cfg, ex, ey, [&](double sx, double sy, double& u, double& v) {
     const double x = cx + sx, y = cy + sy;
     const double den = G * x + H * y + I;

@@ -4,12 +4,11 @@
 // sample mapped through the exact projective map and weighted by the Gaussian pixel model
 // (docs/anisotropic-filters.md §0). Not a hardware block: a testbench reference.
 #include <cstdint>
-
 #include <glm/vec4.hpp>
 
+#include "blocks/base/fragment.h"
 #include "blocks/texture/memory/texture_memory.h"
 #include "pipeline/geometry/plane_projection.h"
-#include "blocks/base/fragment.h"
 
 namespace texsim {
 

@@ -13,7 +13,8 @@ int address(long long i, int size, AddressMode m) {
       long long r = i % size;
       return static_cast<int>(r < 0 ? r + size : r);
     }
-    case AddressMode::Clamp: return static_cast<int>(i < 0 ? 0 : (i >= size ? size - 1 : i));
+    case AddressMode::Clamp:
+      return static_cast<int>(i < 0 ? 0 : (i >= size ? size - 1 : i));
     case AddressMode::Mirror: {
       const long long period = 2LL * size;
       long long r = i % period;
@@ -31,7 +32,8 @@ glm::dvec4 fetch(const Texture& t, int x, int y) {
 
 }  // namespace
 
-glm::dvec4 reference_bilinear(const Texture& tex, AddressMode au, AddressMode av, double u, double v) {
+glm::dvec4 reference_bilinear(const Texture& tex, AddressMode au, AddressMode av, double u,
+                              double v) {
   const int w = tex.width(0), h = tex.height(0);
   if (!std::isfinite(u) || !std::isfinite(v)) return {0, 0, 0, 0};
   const double x = u * w - 0.5, y = v * h - 0.5;

@@ -1,14 +1,15 @@
 #pragma once
 // Ground truth for image accuracy: the level-0 texture, reconstructed bilinearly in double,
 // box-filtered over the pixel's area with n×n stratified samples (docs/architecture.md#accuracy).
+#include "blocks/base/fragment.h"
 #include "blocks/texture/memory/texture_memory.h"
 #include "pipeline/geometry/plane_projection.h"
-#include "blocks/base/fragment.h"
 
 namespace texsim {
 
 // Level-0 texel lookup with bilinear reconstruction at normalised (u, v), in double.
-glm::dvec4 reference_bilinear(const Texture& tex, AddressMode au, AddressMode av, double u, double v);
+glm::dvec4 reference_bilinear(const Texture& tex, AddressMode au, AddressMode av, double u,
+                              double v);
 
 // Exact: sub-pixel positions mapped through the plane's projective map.
 glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,

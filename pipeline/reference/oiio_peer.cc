@@ -1,16 +1,15 @@
 #include "pipeline/reference/oiio_peer.h"
 
-#include <atomic>
-#include <cmath>
-#include <filesystem>
-#include <vector>
-
-#include <unistd.h>
-
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/oiioversion.h>
 #include <OpenImageIO/texture.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <vector>
 
 #include "blocks/base/input_error.h"
 
@@ -28,9 +27,12 @@ std::atomic<int> g_counter{0};
 
 OIIO::TextureOpt::Wrap to_oiio(AddressMode m) {
   switch (m) {
-    case AddressMode::Wrap: return OIIO::TextureOpt::WrapPeriodic;
-    case AddressMode::Clamp: return OIIO::TextureOpt::WrapClamp;
-    case AddressMode::Mirror: return OIIO::TextureOpt::WrapMirror;
+    case AddressMode::Wrap:
+      return OIIO::TextureOpt::WrapPeriodic;
+    case AddressMode::Clamp:
+      return OIIO::TextureOpt::WrapClamp;
+    case AddressMode::Mirror:
+      return OIIO::TextureOpt::WrapMirror;
   }
   return OIIO::TextureOpt::WrapPeriodic;
 }
@@ -45,7 +47,8 @@ OiioPeer::OiioPeer(const Texture& tex, const Config& cfg) : impl_(std::make_uniq
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const Rgba c = tex.texel(0, x, y);
-      const size_t i = (static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * 4;
+      const size_t i =
+          (static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * 4;
       px[i] = c.r;
       px[i + 1] = c.g;
       px[i + 2] = c.b;
@@ -53,16 +56,19 @@ OiioPeer::OiioPeer(const Texture& tex, const Config& cfg) : impl_(std::make_uniq
     }
   }
   src.set_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, 4), OIIO::TypeDesc::FLOAT, px.data());
-  const std::filesystem::path dir =
-      cfg.tx_dir.empty() ? std::filesystem::temp_directory_path() : std::filesystem::path(cfg.tx_dir);
-  path_ = (dir / ("texsim_oiio_peer_" + std::to_string(::getpid()) + "_" + std::to_string(g_counter++) + ".tx"))
+  const std::filesystem::path dir = cfg.tx_dir.empty() ? std::filesystem::temp_directory_path()
+                                                       : std::filesystem::path(cfg.tx_dir);
+  path_ = (dir / ("texsim_oiio_peer_" + std::to_string(::getpid()) + "_" +
+                  std::to_string(g_counter++) + ".tx"))
               .string();
   OIIO::ImageSpec conf;
   conf.tile_width = 64;
   conf.tile_height = 64;
   conf.format = u8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
   conf.attribute("maketx:filtername", "box");
-  const char* wrap = cfg.address == AddressMode::Wrap ? "periodic" : (cfg.address == AddressMode::Clamp ? "clamp" : "mirror");
+  const char* wrap = cfg.address == AddressMode::Wrap
+                         ? "periodic"
+                         : (cfg.address == AddressMode::Clamp ? "clamp" : "mirror");
   conf.attribute("wrapmodes", std::string(wrap) + "," + wrap);
   if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, src, path_, conf)) {
     throw InputError(path_, "OpenImageIO make_texture failed: " + OIIO::geterror());
@@ -88,12 +94,13 @@ OiioPeer::~OiioPeer() {
 
 Rgba OiioPeer::lookup(const Fragment& f) const {
   float r[4] = {0, 0, 0, 0};
-  if (!std::isfinite(f.u) || !std::isfinite(f.v) || !std::isfinite(f.dudx) || !std::isfinite(f.dvdx) ||
-      !std::isfinite(f.dudy) || !std::isfinite(f.dvdy)) {
+  if (!std::isfinite(f.u) || !std::isfinite(f.v) || !std::isfinite(f.dudx) ||
+      !std::isfinite(f.dvdx) || !std::isfinite(f.dudy) || !std::isfinite(f.dvdy)) {
     return {0, 0, 0, 0};
   }
-  impl_->ts->texture(impl_->handle, impl_->thread, impl_->opt, static_cast<float>(f.u), static_cast<float>(f.v),
-                     static_cast<float>(f.dudx), static_cast<float>(f.dvdx), static_cast<float>(f.dudy),
+  impl_->ts->texture(impl_->handle, impl_->thread, impl_->opt, static_cast<float>(f.u),
+                     static_cast<float>(f.v), static_cast<float>(f.dudx),
+                     static_cast<float>(f.dvdx), static_cast<float>(f.dudy),
                      static_cast<float>(f.dvdy), 4, r);
   return {r[0], r[1], r[2], r[3]};
 }

@@ -5,18 +5,18 @@
 #include <memory>
 #include <string>
 
-#include "blocks/texture/memory/texture_memory.h"
 #include "blocks/base/fragment.h"
+#include "blocks/texture/memory/texture_memory.h"
 
 namespace texsim {
 
 class OiioPeer {
  public:
   struct Config {
-    int max_aniso = 16;                         // TextureOpt::anisotropic
-    bool aniso = true;                          // MipModeAniso (else trilinear)
-    AddressMode address = AddressMode::Wrap;    // both axes
-    std::string tx_dir;                         // where the .tx goes (empty: system temp dir)
+    int max_aniso = 16;                       // TextureOpt::anisotropic
+    bool aniso = true;                        // MipModeAniso (else trilinear)
+    AddressMode address = AddressMode::Wrap;  // both axes
+    std::string tx_dir;                       // where the .tx goes (empty: system temp dir)
   };
   // Writes the texture's level 0 to a temporary .tx (OIIO builds its own MIP chain, box filter)
   // and opens a private TextureSystem on it. Throws InputError if OIIO fails.

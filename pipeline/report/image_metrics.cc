@@ -1,17 +1,20 @@
 #include "pipeline/report/image_metrics.h"
 
+#include <OpenImageIO/imageio.h>
+
 #include <algorithm>
 #include <cmath>
 
-#include <OpenImageIO/imageio.h>
-
-#include "blocks/base/input_error.h"
 #include "blocks/base/atomic_file.h"
+#include "blocks/base/input_error.h"
 
 namespace texsim {
 
 ImageRgb::ImageRgb(int w, int h, glm::dvec3 background)
-    : width(w), height(h), rgb(static_cast<size_t>(w) * h * 3), covered(static_cast<size_t>(w) * h, 0),
+    : width(w),
+      height(h),
+      rgb(static_cast<size_t>(w) * h * 3),
+      covered(static_cast<size_t>(w) * h, 0),
       label(static_cast<size_t>(w) * h, -1) {
   for (size_t i = 0; i < static_cast<size_t>(w) * h; ++i) {
     rgb[i * 3] = static_cast<float>(background.x);
@@ -73,7 +76,8 @@ void write_rgb8(const std::string& path, int w, int h, const std::vector<uint8_t
   if (!out) throw InputError(path, "no image writer for this file type: " + OIIO::geterror());
   OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
   // The temporary name keeps the real extension's writer (created above from `path`).
-  if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()) || !out->close()) {
+  if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()) ||
+      !out->close()) {
     std::remove(tmp.c_str());
     throw InputError(path, "cannot write image: " + out->geterror());
   }
@@ -89,12 +93,14 @@ void write_image(const std::string& path, const ImageRgb& img) {
   write_rgb8(path, img.width, img.height, px);
 }
 
-void write_error_heatmap(const std::string& path, const ImageRgb& img, const ImageRgb& ref, double scale) {
+void write_error_heatmap(const std::string& path, const ImageRgb& img, const ImageRgb& ref,
+                         double scale) {
   std::vector<uint8_t> px(img.rgb.size(), 0);
   for (size_t i = 0; i < img.covered.size(); ++i) {
     if (!img.covered[i]) continue;
     double e = 0;
-    for (int c = 0; c < 3; ++c) e = std::max(e, std::abs(static_cast<double>(img.rgb[i * 3 + c]) - ref.rgb[i * 3 + c]));
+    for (int c = 0; c < 3; ++c)
+      e = std::max(e, std::abs(static_cast<double>(img.rgb[i * 3 + c]) - ref.rgb[i * 3 + c]));
     const double t = scale > 0 ? std::clamp(e / scale, 0.0, 1.0) : 0.0;
     // Black → red → yellow → white ramp.
     const double r = std::clamp(3 * t, 0.0, 1.0), g = std::clamp(3 * t - 1, 0.0, 1.0),

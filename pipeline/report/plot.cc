@@ -6,8 +6,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "blocks/base/input_error.h"
 #include "blocks/base/atomic_file.h"
+#include "blocks/base/input_error.h"
 
 namespace texsim {
 

@@ -55,8 +55,8 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
     while (std::getline(ss, item, '&')) {
       const auto eq = item.find('=');
       if (eq == std::string::npos || eq == 0) {
-        throw InputError(where, "procedural texture '" + source + "': expected key=value, got '" +
-                                    item + "'");
+        throw InputError(
+            where, "procedural texture '" + source + "': expected key=value, got '" + item + "'");
       }
       kv[item.substr(0, eq)] = item.substr(eq + 1);
     }
@@ -67,8 +67,9 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
     char* end = nullptr;
     const long v = std::strtol(it->second.c_str(), &end, 10);
     if (end == it->second.c_str() || *end != '\0' || v < lo || v > hi) {
-      throw InputError(where, "procedural texture '" + source + "': " + key + " must be an integer in [" +
-                                  std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      throw InputError(where, "procedural texture '" + source + "': " + key +
+                                  " must be an integer in [" + std::to_string(lo) + ", " +
+                                  std::to_string(hi) + "]");
     }
     kv.erase(it);
     return static_cast<int>(v);
@@ -76,8 +77,10 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
   const int size = get_int("size", 256, 1, 16384);
   TexelFormat format = TexelFormat::Rgba8;
   if (auto it = kv.find("format"); it != kv.end()) {
-    if (it->second == "rgba32f") format = TexelFormat::Rgba32f;
-    else if (it->second != "rgba8") throw InputError(where, "procedural texture: format must be rgba8 or rgba32f");
+    if (it->second == "rgba32f")
+      format = TexelFormat::Rgba32f;
+    else if (it->second != "rgba8")
+      throw InputError(where, "procedural texture: format must be rgba8 or rgba32f");
     kv.erase(it);
   }
   std::vector<float> rgba(static_cast<size_t>(size) * size * 4, 1.0f);
@@ -93,8 +96,10 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
     for (int y = 0; y < size; ++y)
       for (int x = 0; x < size; ++x) {
         const bool on = ((x * cells / size) + (y * cells / size)) % 2 == 0;
-        if (on) put(x, y, 0.95f, 0.92f, 0.85f);
-        else put(x, y, 0.08f, 0.12f, 0.30f);
+        if (on)
+          put(x, y, 0.95f, 0.92f, 0.85f);
+        else
+          put(x, y, 0.08f, 0.12f, 0.30f);
       }
   } else if (kind == "grid") {
     const int cells = get_int("cells", 8, 1, size);
@@ -102,8 +107,10 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
     for (int y = 0; y < size; ++y)
       for (int x = 0; x < size; ++x) {
         const bool on = (x * cells % size) < line * cells || (y * cells % size) < line * cells;
-        if (on) put(x, y, 0.9f, 0.9f, 0.2f);
-        else put(x, y, 0.1f, 0.3f, 0.1f);
+        if (on)
+          put(x, y, 0.9f, 0.9f, 0.2f);
+        else
+          put(x, y, 0.1f, 0.3f, 0.1f);
       }
   } else if (kind == "noise") {
     const int seed = get_int("seed", 1, 0, 1 << 30);
@@ -115,7 +122,8 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
         for (int o = 0; o < octaves; ++o) {
           const int period = cells << o;
           const double s = static_cast<double>(period) / size;
-          sum += amp * value_noise((x + 0.5) * s, (y + 0.5) * s, period, static_cast<uint32_t>(seed + o));
+          sum += amp *
+                 value_noise((x + 0.5) * s, (y + 0.5) * s, period, static_cast<uint32_t>(seed + o));
           norm += amp;
           amp *= 0.5;
         }
@@ -127,7 +135,8 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
                                 "' (known: checker, grid, noise)");
   }
   if (!kv.empty()) {
-    throw InputError(where, "procedural texture '" + source + "': unknown key '" + kv.begin()->first + "'");
+    throw InputError(
+        where, "procedural texture '" + source + "': unknown key '" + kv.begin()->first + "'");
   }
   return Texture::from_rgba(source, size, size, rgba, format, true);
 }

@@ -25,9 +25,12 @@ glm::vec<N, double> read_vec(const ConfigReader& r, std::string_view key, glm::v
   glm::vec<N, double> v;
   for (int i = 0; i < N; ++i) {
     const toml::node& e = *a->get(static_cast<size_t>(i));
-    if (auto f = e.value_exact<double>()) v[i] = *f;
-    else if (auto k = e.value_exact<int64_t>()) v[i] = static_cast<double>(*k);
-    else r.fail_at(e, std::string(key) + ": element " + std::to_string(i) + " is not a number");
+    if (auto f = e.value_exact<double>())
+      v[i] = *f;
+    else if (auto k = e.value_exact<int64_t>())
+      v[i] = static_cast<double>(*k);
+    else
+      r.fail_at(e, std::string(key) + ": element " + std::to_string(i) + " is not a number");
     if (!std::isfinite(v[i])) r.fail_at(e, std::string(key) + ": element must be finite");
   }
   return v;
@@ -51,8 +54,8 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   s.root = std::make_shared<toml::table>(std::move(doc));
   const toml::table& root = *s.root;
   ConfigReader top(root, source_name, "scene");
-  top.reject_unknown({"output", "camera", "textures", "materials", "planes", "pipeline", "tech",
-                      "reference"});
+  top.reject_unknown(
+      {"output", "camera", "textures", "materials", "planes", "pipeline", "tech", "reference"});
 
   ConfigReader out = top.sub("output");
   out.reject_unknown({"width", "height", "background"});
@@ -67,11 +70,13 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   s.camera.up = read_vec<3>(cam, "up", s.camera.up);
   s.camera.fov_y_deg = cam.get_double("fov_y", s.camera.fov_y_deg);
   s.camera.near = cam.get_double("near", s.camera.near);
-  if (s.camera.fov_y_deg <= 0 || s.camera.fov_y_deg >= 179) cam.fail("fov_y", "must be in (0, 179) degrees");
+  if (s.camera.fov_y_deg <= 0 || s.camera.fov_y_deg >= 179)
+    cam.fail("fov_y", "must be in (0, 179) degrees");
   if (s.camera.near <= 0) cam.fail("near", "must be > 0");
   {
     const glm::dvec3 f = s.camera.look_at - s.camera.position;
-    const glm::dvec3 c{f.y * s.camera.up.z - f.z * s.camera.up.y, f.z * s.camera.up.x - f.x * s.camera.up.z,
+    const glm::dvec3 c{f.y * s.camera.up.z - f.z * s.camera.up.y,
+                       f.z * s.camera.up.x - f.x * s.camera.up.z,
                        f.x * s.camera.up.y - f.y * s.camera.up.x};
     if (f.x * f.x + f.y * f.y + f.z * f.z == 0 || c.x * c.x + c.y * c.y + c.z * c.z == 0) {
       cam.fail("look_at", "camera direction is zero or parallel to 'up'");
@@ -82,11 +87,15 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   std::vector<std::string> tex_names;
   if (const toml::table* t = top.subtable("textures")) {
     for (const auto& [k, v] : *t) {
-      if (!v.is_table()) throw InputError(at(source_name, v), "textures." + std::string(k.str()) + ": expected a table");
+      if (!v.is_table())
+        throw InputError(at(source_name, v),
+                         "textures." + std::string(k.str()) + ": expected a table");
       ConfigReader tr(*v.as_table(), source_name, "textures." + std::string(k.str()));
       tr.reject_unknown({"source"});
       const std::string src = tr.get_string("source", "");
-      if (src.empty()) throw InputError(at(source_name, v), "textures." + std::string(k.str()) + ": missing 'source'");
+      if (src.empty())
+        throw InputError(at(source_name, v),
+                         "textures." + std::string(k.str()) + ": missing 'source'");
       s.textures.push_back({std::string(k.str()), src});
     }
   }
@@ -100,10 +109,12 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   if (const toml::table* t = top.subtable("materials")) {
     for (const auto& [k, v] : *t) {
       const std::string name(k.str());
-      if (!v.is_table()) throw InputError(at(source_name, v), "materials." + name + ": expected a table");
+      if (!v.is_table())
+        throw InputError(at(source_name, v), "materials." + name + ": expected a table");
       const toml::table& mt = *v.as_table();
       ConfigReader mr(mt, source_name, "materials." + name);
-      mr.reject_unknown({"texture", "filter", "lod", "coords", "ewa", "multi_probe", "feline", "spaf"});
+      mr.reject_unknown(
+          {"texture", "filter", "lod", "coords", "ewa", "multi_probe", "feline", "spaf"});
       SceneMaterial m;
       m.name = name;
       m.line = static_cast<int>(v.source().begin.line);
@@ -113,7 +124,8 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
       if (!tn->is_string()) mr.fail("texture", "expected a texture name");
       m.texture = texture_index(*tn->value<std::string>(), *tn);
       for (const auto& [ek, ev] : mt) {
-        if (ek.str() != "texture" && !ev.is_table()) mr.fail(ek.str(), "expected a table of effect settings");
+        if (ek.str() != "texture" && !ev.is_table())
+          mr.fail(ek.str(), "expected a table of effect settings");
       }
       m.effects = &mt;
       s.materials.push_back(std::move(m));
@@ -128,10 +140,12 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   // Planes: [[planes]]
   if (const toml::node* pn = root.get("planes")) {
     const toml::array* arr = pn->as_array();
-    if (!arr) throw InputError(at(source_name, *pn), "planes: expected an array of tables ([[planes]])");
+    if (!arr)
+      throw InputError(at(source_name, *pn), "planes: expected an array of tables ([[planes]])");
     for (const toml::node& e : *arr) {
       if (!e.is_table()) throw InputError(at(source_name, e), "planes: each entry must be a table");
-      ConfigReader pr(*e.as_table(), source_name, "planes[" + std::to_string(s.planes.size()) + "]");
+      ConfigReader pr(*e.as_table(), source_name,
+                      "planes[" + std::to_string(s.planes.size()) + "]");
       pr.reject_unknown({"material", "origin", "edge_u", "edge_v", "uv_scale", "uv_offset"});
       ScenePlane p;
       const toml::node* mn = e.as_table()->get("material");
@@ -144,14 +158,16 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
       p.uv_offset = read_vec<2>(pr, "uv_offset", p.uv_offset);
       const glm::dvec3 a = p.edge_u, b = p.edge_v;
       const glm::dvec3 n{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-      if (n.x * n.x + n.y * n.y + n.z * n.z == 0) pr.fail("edge_v", "plane edges are parallel or zero (degenerate plane)");
+      if (n.x * n.x + n.y * n.y + n.z * n.z == 0)
+        pr.fail("edge_v", "plane edges are parallel or zero (degenerate plane)");
       s.planes.push_back(p);
     }
   }
 
   ConfigReader ref = top.sub("reference");
   ref.reject_unknown({"supersamples"});
-  s.reference_supersamples = static_cast<int>(ref.get_int("supersamples", s.reference_supersamples, 1, 64));
+  s.reference_supersamples =
+      static_cast<int>(ref.get_int("supersamples", s.reference_supersamples, 1, 64));
   s.pipeline = top.subtable("pipeline");
   if (const toml::table* t = top.subtable("tech")) s.tech = TechTable::from_toml(*t, source_name);
   return s;

@@ -1,13 +1,13 @@
 #pragma once
 // Scene description (TOML, docs/scenes.md): output size, camera, textures, materials with the
 // effects each needs, textured planes, pipeline/memory/technology configuration.
-#include <memory>
-#include <string>
-#include <vector>
+#include <toml++/toml.h>
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
-#include <toml++/toml.h>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "blocks/base/tech_table.h"
 
@@ -28,11 +28,11 @@ struct SceneTexture {
 
 struct SceneMaterial {
   std::string name;
-  int texture = 0;             // index into Scene::textures
+  int texture = 0;  // index into Scene::textures
   // The material's table in the parsed document (effect tables filter, lod, coords, ...);
   // points into Scene::root so messages keep their line:column.
   const toml::table* effects = nullptr;
-  int line = 0, column = 0;    // where it is declared, for messages
+  int line = 0, column = 0;  // where it is declared, for messages
 };
 
 // A textured parallelogram: points origin + a·edge_u + b·edge_v, a, b ∈ [0, 1], with
@@ -44,15 +44,15 @@ struct ScenePlane {
 };
 
 struct Scene {
-  std::string path;       // file the scene came from ("<built-in>" for the default)
-  std::string base_dir;   // relative texture paths resolve here
+  std::string path;      // file the scene came from ("<built-in>" for the default)
+  std::string base_dir;  // relative texture paths resolve here
   int width = 320, height = 240;
   glm::dvec3 background{0, 0, 0};
   Camera camera;
   std::vector<SceneTexture> textures;
   std::vector<SceneMaterial> materials;
   std::vector<ScenePlane> planes;
-  int reference_supersamples = 8;  // per axis, per pixel, for the ground truth
+  int reference_supersamples = 8;         // per axis, per pixel, for the ground truth
   const toml::table* pipeline = nullptr;  // [pipeline] table (in root), or null
   TechTable tech = TechTable::defaults();
   std::shared_ptr<toml::table> root;  // the parsed document (keeps source positions)
@@ -61,7 +61,8 @@ struct Scene {
 // Parses a scene file; throws InputError "file:line:column: what" on syntax, type, range and
 // reference errors (unknown texture or material names, unknown keys).
 Scene load_scene(const std::string& path);
-Scene parse_scene(const std::string& text, const std::string& source_name, const std::string& base_dir);
+Scene parse_scene(const std::string& text, const std::string& source_name,
+                  const std::string& base_dir);
 // The built-in default scene (procedural textures), so `texsim run` needs no files.
 Scene default_scene();
 const char* default_scene_text();

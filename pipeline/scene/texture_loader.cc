@@ -1,8 +1,8 @@
 #include "pipeline/scene/texture_loader.h"
 
-#include <filesystem>
-
 #include <OpenImageIO/imageio.h>
+
+#include <filesystem>
 
 #include "blocks/base/input_error.h"
 #include "pipeline/scene/procedural_texture.h"
@@ -50,7 +50,8 @@ Texture load_texture(const std::string& source, const std::string& base_dir,
   for (int m = 0; in->seek_subimage(0, m); ++m) {
     const OIIO::ImageSpec& spec = in->spec();
     const int w = spec.width, h = spec.height, nch = spec.nchannels;
-    if (w <= 0 || h <= 0 || w > kMaxSize || h > kMaxSize || nch <= 0 || nch > 64 || spec.depth > 1) {
+    if (w <= 0 || h <= 0 || w > kMaxSize || h > kMaxSize || nch <= 0 || nch > 64 ||
+        spec.depth > 1) {
       throw InputError(path, "unsupported texture size " + std::to_string(w) + "x" +
                                  std::to_string(h) + "x" + std::to_string(nch) +
                                  " (2-D, at most 65536 per side)");
@@ -58,7 +59,8 @@ Texture load_texture(const std::string& source, const std::string& base_dir,
     eight_bit = eight_bit && spec.format == OIIO::TypeDesc::UINT8;
     std::vector<float> px(static_cast<size_t>(w) * h * nch);
     if (!in->read_image(0, m, 0, nch, OIIO::TypeDesc::FLOAT, px.data())) {
-      throw InputError(path, "cannot decode MIP level " + std::to_string(m) + ": " + in->geterror());
+      throw InputError(path,
+                       "cannot decode MIP level " + std::to_string(m) + ": " + in->geterror());
     }
     ws.push_back(w);
     hs.push_back(h);

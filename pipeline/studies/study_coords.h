@@ -17,10 +17,10 @@ namespace texsim {
 struct StudyCoordsOptions {
   int32_t width = 512, height = 512;  // viewport; camera focal 256 px (90° field of view)
   std::vector<double> tilts = {0, 30, 60, 75, 85, 89, 89.9};
-  double azimuth_deg = 20;            // tilt axis direction: G and H both non-zero
-  double plane_texels = 4096;         // the textured quad is plane_texels² texels
-  int tiles = 16;                     // the quad is a mesh of tiles×tiles quads (2 triangles each)
-  double z_near = 0.1, z_far = 150;   // clip distances (units of the view-axis distance)
+  double azimuth_deg = 20;           // tilt axis direction: G and H both non-zero
+  double plane_texels = 4096;        // the textured quad is plane_texels² texels
+  int tiles = 16;                    // the quad is a mesh of tiles×tiles quads (2 triangles each)
+  double z_near = 0.1, z_far = 150;  // clip distances (units of the view-axis distance)
   std::vector<std::string> coord_methods;  // empty = all
   std::vector<std::string> deriv_methods;  // empty = all
   std::vector<std::string> formats;        // empty = all
@@ -52,7 +52,7 @@ struct CoordStudyRow {
   // The same in pixels: the error divided by the pixel's footprint size (texels per pixel,
   // max of |∂(u,v)/∂x| and |∂(u,v)/∂y|): how far the sample moves on the screen.
   double max_err_px = 0, mean_err_px = 0;
-  OpCounts ops;                      // total over the plane (set-ups included)
+  OpCounts ops;  // total over the plane (set-ups included)
   uint64_t rows = 0, triangles = 0, divisions = 0;
   // Cycles per pixel in [coords -> filter], for each filter ii of the options.
   std::vector<double> cpp_spatial, cpp_shared;
@@ -62,8 +62,8 @@ struct DerivStudyRow {
   double tilt = 0;
   std::string method, ellipse, format;
   uint64_t pixels = 0, rejected = 0;
-  double max_rel_true = 0, mean_rel_true = 0;  // vs the analytic derivative
-  double max_rel_own = 0;                      // vs the exact value of the method's formula
+  double max_rel_true = 0, mean_rel_true = 0;        // vs the analytic derivative
+  double max_rel_own = 0;                            // vs the exact value of the method's formula
   double max_rel_ellipse = 0, mean_rel_ellipse = 0;  // normalised A/F, B/F, C/F vs exact
   uint64_t ellipse_rejected = 0;
   OpCounts ops;  // derivative + ellipse blocks, total over the plane

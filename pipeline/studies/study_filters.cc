@@ -10,28 +10,28 @@
 #include <sstream>
 #include <tuple>
 
-#include "blocks/texture/memory/dram_model.h"
+#include "blocks/base/atomic_file.h"
+#include "blocks/base/tech_table.h"
 #include "blocks/texture/footprint/ewa_filter.h"
 #include "blocks/texture/footprint/feline_filter.h"
 #include "blocks/texture/footprint/multi_probe_filter.h"
 #include "blocks/texture/footprint/spaf_filter.h"
-#include "blocks/texture/sampler/lod_unit.h"
-#include "blocks/base/tech_table.h"
-#include "blocks/texture/sampler/texel_address_gen.h"
-#include "blocks/texture/sampler/texel_blend.h"
+#include "blocks/texture/footprint/weight_map.h"
+#include "blocks/texture/memory/dram_model.h"
 #include "blocks/texture/memory/texture_cache.h"
 #include "blocks/texture/memory/texture_memory.h"
-#include "blocks/texture/footprint/weight_map.h"
-#include "blocks/base/atomic_file.h"
-#include "pipeline/kernel/clocked_pipeline.h"
-#include "pipeline/report/image_metrics.h"
+#include "blocks/texture/sampler/lod_unit.h"
+#include "blocks/texture/sampler/texel_address_gen.h"
+#include "blocks/texture/sampler/texel_blend.h"
 #include "pipeline/geometry/plane_projection.h"
+#include "pipeline/kernel/clocked_pipeline.h"
+#include "pipeline/reference/footprint_reference.h"
+#include "pipeline/reference/oiio_peer.h"
+#include "pipeline/report/image_metrics.h"
 #include "pipeline/report/plot.h"
 #include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/scene/texture_loader.h"
-#include "pipeline/reference/footprint_reference.h"
-#include "pipeline/reference/oiio_peer.h"
 
 namespace texsim {
 
@@ -48,7 +48,7 @@ std::string fmt_g(double v, int prec = 4) {
 // ---- Scenes -------------------------------------------------------------------------------
 
 struct StudyTexture {
-  std::string name;    // "checker", "photo", "noise"
+  std::string name;  // "checker", "photo", "noise"
   std::string source;
   Texture tex;
 };
@@ -91,13 +91,13 @@ using FilterFn =
 
 struct Method {
   std::string name;
-  std::string family;      // baseline, ewa, weight map, probes, oiio
+  std::string family;  // baseline, ewa, weight map, probes, oiio
   std::string arithmetic;
   FilterFn run;
-  TimingSpec front;        // per-fragment stage in front (LOD unit); latency 1 if none
-  TimingSpec filter;       // address/scan stage; a fragment occupies it issue(stats) cycles
+  TimingSpec front;   // per-fragment stage in front (LOD unit); latency 1 if none
+  TimingSpec filter;  // address/scan stage; a fragment occupies it issue(stats) cycles
   std::function<uint32_t(const FilterStats&)> issue;
-  double area = 0;         // front + filter datapaths (adder equivalents)
+  double area = 0;  // front + filter datapaths (adder equivalents)
   // Shader-like model: arithmetic a texture unit would do for a map read (interpolation),
   // per map read, and entries per read (4 bilinear, 2 linear).
   double tmu_ops_per_map_read = 0;
@@ -121,8 +121,8 @@ Method baseline(const std::string& name, AnisoMode aniso, const TechTable& tech)
   m.name = name;
   m.family = "baseline";
   m.arithmetic = "float32 LOD and coordinates, u0.8 weights, float32 blend";
-  m.run = [lod, addr, blend, taps](const Texture& tex, const Fragment& f, std::vector<TexelRef>& fetched,
-                                   OpCounts& ops) {
+  m.run = [lod, addr, blend, taps](const Texture& tex, const Fragment& f,
+                                   std::vector<TexelRef>& fetched, OpCounts& ops) {
     FilterOutput o;
     const LodResult l = lod.eval(f, tex.width(0), tex.height(0), ops);
     addr.taps(tex, f.u, f.v, l, *taps, ops);
@@ -151,9 +151,8 @@ Method ewa_method(const std::string& name, const std::string& family, const EwaF
   m.name = name;
   m.family = family;
   m.arithmetic = ewa->arithmetic();
-  m.run = [ewa](const Texture& tex, const Fragment& f, std::vector<TexelRef>& fetched, OpCounts& ops) {
-    return ewa->filter(tex, f, &fetched, ops);
-  };
+  m.run = [ewa](const Texture& tex, const Fragment& f, std::vector<TexelRef>& fetched,
+                OpCounts& ops) { return ewa->filter(tex, f, &fetched, ops); };
   m.front = TimingSpec{1, 1, 1, 0};
   m.filter = ewa->timing(tech);
   m.issue = [ewa](const FilterStats& s) { return ewa->issue_cycles(s); };
@@ -170,15 +169,15 @@ Method ewa_method(const std::string& name, const std::string& family, const EwaF
 
 // A block with filter(), timing() and issue_cycles() as one method.
 template <class Block>
-Method block_method(const std::string& name, const std::string& family, std::shared_ptr<const Block> b,
-                    const TechTable& tech, const std::string& arithmetic) {
+Method block_method(const std::string& name, const std::string& family,
+                    std::shared_ptr<const Block> b, const TechTable& tech,
+                    const std::string& arithmetic) {
   Method m;
   m.name = name;
   m.family = family;
   m.arithmetic = arithmetic;
-  m.run = [b](const Texture& tex, const Fragment& f, std::vector<TexelRef>& fetched, OpCounts& ops) {
-    return b->filter(tex, f, &fetched, ops);
-  };
+  m.run = [b](const Texture& tex, const Fragment& f, std::vector<TexelRef>& fetched,
+              OpCounts& ops) { return b->filter(tex, f, &fetched, ops); };
   m.front = TimingSpec{1, 1, 1, 0};
   m.filter = b->timing(tech);
   m.issue = [b](const FilterStats& s) { return b->issue_cycles(s); };
@@ -216,7 +215,8 @@ class Harness {
 
   void issue(const Texture& tex, const std::vector<TexelRef>& fetched, uint32_t filter_cycles) {
     lines_.clear();
-    for (const TexelRef& t : fetched) lines_.push_back(cache_.line_of(tex.address(t.level, t.x, t.y)));
+    for (const TexelRef& t : fetched)
+      lines_.push_back(cache_.line_of(tex.address(t.level, t.x, t.y)));
     std::sort(lines_.begin(), lines_.end());
     lines_.erase(std::unique(lines_.begin(), lines_.end()), lines_.end());
     const auto n = static_cast<uint32_t>(fetched.size());
@@ -270,24 +270,27 @@ struct Row {
   AccuracyMetrics acc;
   double se = 0, sref = 0;  // Σ err², Σ ref² (for pooling)
   uint64_t fragments = 0;
-  OpCounts ops;             // totals
+  OpCounts ops;  // totals
   uint64_t texels = 0, visited = 0, map_reads = 0, fallbacks = 0;
   uint64_t misses = 0, line_lookups = 0, cycles = 0;
   double shader_cycles = 0;
   double area = 0;
   uint32_t latency = 0;
-  double seconds = 0;       // functional run time of the method on this view
+  double seconds = 0;  // functional run time of the method on this view
   bool hardware = true;
   std::string compare_to;
   double se_pair = 0, sref_pair = 0;  // against compare_to's image
 };
 
-double per(uint64_t v, uint64_t n) { return n ? static_cast<double>(v) / static_cast<double>(n) : 0.0; }
+double per(uint64_t v, uint64_t n) {
+  return n ? static_cast<double>(v) / static_cast<double>(n) : 0.0;
+}
 
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
-  const size_t i = std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size() - 1) + 0.5));
+  const size_t i =
+      std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size() - 1) + 0.5));
   return v[i];
 }
 
@@ -367,32 +370,41 @@ std::string ops_cells(const OpCounts& o, uint64_t n, const char* sep) {
 
 std::string csv_quote(const std::string& s) { return "\"" + s + "\""; }
 
-void write_outputs(const std::string& out_dir, const std::vector<Row>& rows, const std::vector<Method>& methods,
-                   const StudyFiltersOptions& opt, std::ostream& log) {
+void write_outputs(const std::string& out_dir, const std::vector<Row>& rows,
+                   const std::vector<Method>& methods, const StudyFiltersOptions& opt,
+                   std::ostream& log) {
   // filters.csv: one row per texture × view × method.
   {
     AtomicTextFile csv(out_dir + "/filters.csv");
     auto& o = csv.out();
-    o << "texture,aniso_nominal,aniso_p50,aniso_p90,method,family,pixels,psnr_db,nmse,max_abs,mean_abs";
-    for (int k = 0; k < kOpKinds; ++k) o << "," << kOpKindNames[static_cast<size_t>(k)] << "_per_frag";
-    o << ",texels_per_frag,visited_per_frag,map_reads_per_frag,cache_misses_per_frag,cycles_per_frag,"
+    o << "texture,aniso_nominal,aniso_p50,aniso_p90,method,family,pixels,psnr_db,nmse,max_abs,mean_"
+         "abs";
+    for (int k = 0; k < kOpKinds; ++k)
+      o << "," << kOpKindNames[static_cast<size_t>(k)] << "_per_frag";
+    o << ",texels_per_frag,visited_per_frag,map_reads_per_frag,cache_misses_per_frag,cycles_per_"
+         "frag,"
          "shader_cycles_per_frag,fallback_frac,latency_cycles,area,functional_ns_per_lookup,"
          "nmse_vs,nmse_vs_method,arithmetic\n";
     for (const Row& r : rows) {
-      o << r.texture << "," << r.nominal << "," << fmt_g(r.aniso_p50, 5) << "," << fmt_g(r.aniso_p90, 5) << ","
-        << csv_quote(r.method) << "," << r.family << "," << r.acc.pixels << "," << fmt_g(r.acc.psnr_db, 5) << ","
-        << fmt_g(r.acc.nmse, 5) << "," << fmt_g(r.acc.max_abs, 5) << "," << fmt_g(r.acc.mean_abs, 5) << ","
+      o << r.texture << "," << r.nominal << "," << fmt_g(r.aniso_p50, 5) << ","
+        << fmt_g(r.aniso_p90, 5) << "," << csv_quote(r.method) << "," << r.family << ","
+        << r.acc.pixels << "," << fmt_g(r.acc.psnr_db, 5) << "," << fmt_g(r.acc.nmse, 5) << ","
+        << fmt_g(r.acc.max_abs, 5) << "," << fmt_g(r.acc.mean_abs, 5) << ","
         << ops_cells(r.ops, r.fragments, ",") << "," << fmt_g(per(r.texels, r.fragments), 5) << ","
-        << fmt_g(per(r.visited, r.fragments), 5) << "," << fmt_g(per(r.map_reads, r.fragments), 5) << ",";
+        << fmt_g(per(r.visited, r.fragments), 5) << "," << fmt_g(per(r.map_reads, r.fragments), 5)
+        << ",";
       if (r.hardware) {
-        o << fmt_g(per(r.misses, r.fragments), 5) << "," << fmt_g(per(r.cycles, r.fragments), 5) << ","
-          << fmt_g(r.fragments ? r.shader_cycles / static_cast<double>(r.fragments) : 0, 5) << ",";
+        o << fmt_g(per(r.misses, r.fragments), 5) << "," << fmt_g(per(r.cycles, r.fragments), 5)
+          << "," << fmt_g(r.fragments ? r.shader_cycles / static_cast<double>(r.fragments) : 0, 5)
+          << ",";
       } else {
         o << ",,,";
       }
       o << fmt_g(per(r.fallbacks, r.fragments), 4) << ",";
-      if (r.hardware) o << r.latency << "," << fmt_g(r.area, 5) << ",";
-      else o << ",,";
+      if (r.hardware)
+        o << r.latency << "," << fmt_g(r.area, 5) << ",";
+      else
+        o << ",,";
       o << fmt_g(r.fragments ? 1e9 * r.seconds / static_cast<double>(r.fragments) : 0, 4) << ",";
       if (!r.compare_to.empty() && r.sref_pair > 0) o << fmt_g(r.se_pair / r.sref_pair, 5);
       o << "," << csv_quote(r.compare_to) << "," << csv_quote(r.arithmetic) << "\n";
@@ -406,38 +418,53 @@ void write_outputs(const std::string& out_dir, const std::vector<Row>& rows, con
   {
     AtomicTextFile md(out_dir + "/filters.md");
     auto& o = md.out();
-    o << "# Anisotropic filters: error against the Gaussian-footprint ground truth, and what it costs\n\n"
+    o << "# Anisotropic filters: error against the Gaussian-footprint ground truth, and what it "
+         "costs\n\n"
       << "Views: a plane tilted so that the footprint's anisotropy at the image centre is ";
-    for (size_t i = 0; i < opt.anisotropies.size(); ++i) o << (i ? ", " : "") << opt.anisotropies[i] << ":1";
-    o << " (it varies across the image: the p50/p90 columns of filters.csv give the measured spread), "
+    for (size_t i = 0; i < opt.anisotropies.size(); ++i)
+      o << (i ? ", " : "") << opt.anisotropies[i] << ":1";
+    o << " (it varies across the image: the p50/p90 columns of filters.csv give the measured "
+         "spread), "
       << opt.size << "×" << opt.size << " pixels, " << opt.texels_per_pixel
       << " level-0 texels per pixel along the minor axis at the centre, wrap addressing. Textures: "
          "checkerboard 256² (16 cells), photo crate-base.png 512², value noise 256² (32 cells).\n\n"
-      << "Ground truth: level 0 reconstructed bilinearly, integrated over each pixel's footprint with "
+      << "Ground truth: level 0 reconstructed bilinearly, integrated over each pixel's footprint "
+         "with "
          "≥ 32×32 screen-space supersamples (4 per texel of footprint extent) through the exact "
-         "projective map, Gaussian pixel model σ = 0.5 px truncated at 1 px (EWA's α = 2 at R = 1 px).\n\n"
+         "projective map, Gaussian pixel model σ = 0.5 px truncated at 1 px (EWA's α = 2 at R = 1 "
+         "px).\n\n"
       << "Cycles: each method as the filter stage of the texture unit's pipeline (front → filter → "
-         "cache " << 16 << " KiB 4-way, 64 B lines, 4 texels/cycle → DRAM 100 cycles → blend 8 "
-         "texels/cycle), default technology table; cycles per fragment = last fragment's leave time / "
-         "fragments. Shader cycles: an issue-bound model of a shader implementation (" << kAluOpsPerCycle
-      << " ALU ops/cycle, " << kTexFetchesPerCycle
+         "cache "
+      << 16
+      << " KiB 4-way, 64 B lines, 4 texels/cycle → DRAM 100 cycles → blend 8 "
+         "texels/cycle), default technology table; cycles per fragment = last fragment's leave "
+         "time / "
+         "fragments. Shader cycles: an issue-bound model of a shader implementation ("
+      << kAluOpsPerCycle << " ALU ops/cycle, " << kTexFetchesPerCycle
       << " texture fetches/cycle; one fetch per texel or per filtered weight-map read).\n\n";
     o << "## All views pooled (Σ err² / Σ ref² over every compared pixel)\n\n"
-      << "| method | family | PSNR dB | NMSE | max err | texels/frag | misses/frag | cycles/frag | shader "
-         "cycles/frag | add | mul | div | rcp | sqrt | lut | cmp | mem | fallback % | latency | area |\n"
+      << "| method | family | PSNR dB | NMSE | max err | texels/frag | misses/frag | cycles/frag | "
+         "shader "
+         "cycles/frag | add | mul | div | rcp | sqrt | lut | cmp | mem | fallback % | latency | "
+         "area |\n"
       << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Pooled& p : all) {
-      o << "| " << p.method << " | " << p.family << " | " << fmt_g(p.psnr(), 4) << " | " << fmt_g(p.nmse(), 3)
-        << " | " << fmt_g(p.max_abs, 3) << " | " << fmt_g(per(p.texels, p.fragments), 4) << " | ";
+      o << "| " << p.method << " | " << p.family << " | " << fmt_g(p.psnr(), 4) << " | "
+        << fmt_g(p.nmse(), 3) << " | " << fmt_g(p.max_abs, 3) << " | "
+        << fmt_g(per(p.texels, p.fragments), 4) << " | ";
       if (p.hardware) {
-        o << fmt_g(per(p.misses, p.fragments), 3) << " | " << fmt_g(per(p.cycles, p.fragments), 4) << " | "
-          << fmt_g(p.fragments ? p.shader / static_cast<double>(p.fragments) : 0, 4) << " | ";
+        o << fmt_g(per(p.misses, p.fragments), 3) << " | " << fmt_g(per(p.cycles, p.fragments), 4)
+          << " | " << fmt_g(p.fragments ? p.shader / static_cast<double>(p.fragments) : 0, 4)
+          << " | ";
       } else {
         o << "— | — | — | ";
       }
-      o << ops_cells(p.ops, p.fragments, " | ") << " | " << fmt_g(100.0 * per(p.fallbacks, p.fragments), 3) << " | ";
-      if (p.hardware) o << p.latency << " | " << fmt_g(p.area, 4) << " |\n";
-      else o << "— | — |\n";
+      o << ops_cells(p.ops, p.fragments, " | ") << " | "
+        << fmt_g(100.0 * per(p.fallbacks, p.fragments), 3) << " | ";
+      if (p.hardware)
+        o << p.latency << " | " << fmt_g(p.area, 4) << " |\n";
+      else
+        o << "— | — |\n";
     }
     // PSNR by anisotropy, per texture.
     for (const char* tname : {"checker", "photo", "noise"}) {
@@ -450,7 +477,8 @@ void write_outputs(const std::string& out_dir, const std::vector<Row>& rows, con
         o << "| " << m.name << " |";
         for (double a : opt.anisotropies) {
           for (const Row& r : rows) {
-            if (r.texture == tname && r.nominal == a && r.method == m.name) o << " " << fmt_g(r.acc.psnr_db, 4) << " |";
+            if (r.texture == tname && r.nominal == a && r.method == m.name)
+              o << " " << fmt_g(r.acc.psnr_db, 4) << " |";
           }
         }
         o << "\n";
@@ -487,34 +515,38 @@ void write_outputs(const std::string& out_dir, const std::vector<Row>& rows, con
     o << "\n## The seed's claims, re-measured\n\n";
     const Pooled* pc = find("ewa pow8 computed");
     const Pooled* pu = find("ewa uniform weights");
-    o << "**Weight maps vs computed weights** (thesis ch. 3/5: NMSE 0.000708, +25% speed). Each map "
+    o << "**Weight maps vs computed weights** (thesis ch. 3/5: NMSE 0.000708, +25% speed). Each "
+         "map "
          "holds the power-8 function the computed row evaluates; NMSE is the map image against the "
          "computed-weight image over all views; speed = cycles(computed) / cycles(map) − 1.\n\n"
-      << "| map | against | memory (bytes) | NMSE vs computed | seed NMSE | NMSE vs truth | speed-up, pipelined | "
+      << "| map | against | memory (bytes) | NMSE vs computed | seed NMSE | NMSE vs truth | "
+         "speed-up, pipelined | "
          "speed-up, shader model | seed speed-up |\n|---|---|---|---|---|---|---|---|---|\n";
     for (const Pooled& p : all) {
       if (p.family != "weight map") continue;
       const Pooled* pc_own = find(p.compare_to);
       if (!pc_own) continue;
       const double nm = p.sref_pair > 0 ? p.se_pair / p.sref_pair : 0;
-      const double sp = p.cycles ? static_cast<double>(pc_own->cycles) / static_cast<double>(p.cycles) - 1 : 0;
+      const double sp =
+          p.cycles ? static_cast<double>(pc_own->cycles) / static_cast<double>(p.cycles) - 1 : 0;
       const double ss = p.shader > 0 ? pc_own->shader / p.shader - 1 : 0;
       uint64_t bytes = 0;
       for (const Method& m : methods) {
         if (m.name == p.method) bytes = m.map_bytes;
       }
-      o << "| " << p.method << " | " << p.compare_to << " | " << bytes << " | "
-        << fmt_g(nm, 3) << " | 0.000708 | " << fmt_g(p.nmse(), 3) << " | " << fmt_g(100 * sp, 3) << "% | "
+      o << "| " << p.method << " | " << p.compare_to << " | " << bytes << " | " << fmt_g(nm, 3)
+        << " | 0.000708 | " << fmt_g(p.nmse(), 3) << " | " << fmt_g(100 * sp, 3) << "% | "
         << fmt_g(100 * ss, 3) << "% | +25% |\n";
     }
     if (pc && pu) {
       const double sp = static_cast<double>(pc->cycles) / static_cast<double>(pu->cycles) - 1;
       const double ss = pc->shader / pu->shader - 1;
-      o << "\n**Computing Gaussian weights in real time costs ≤ 5%** (thesis ch. 5): computed power-8 "
+      o << "\n**Computing Gaussian weights in real time costs ≤ 5%** (thesis ch. 5): computed "
+           "power-8 "
            "weights against uniform weights over the same ellipse: pipelined "
         << fmt_g(100 * sp, 3) << "% more cycles, shader model " << fmt_g(100 * ss, 3)
-        << "% more cycles; PSNR " << fmt_g(pu->psnr(), 4) << " dB (uniform) → " << fmt_g(pc->psnr(), 4)
-        << " dB (Gaussian).\n";
+        << "% more cycles; PSNR " << fmt_g(pu->psnr(), 4) << " dB (uniform) → "
+        << fmt_g(pc->psnr(), 4) << " dB (Gaussian).\n";
     }
     md.commit();
   }
@@ -522,8 +554,9 @@ void write_outputs(const std::string& out_dir, const std::vector<Row>& rows, con
   // Pareto plots.
   auto plot = [&](const std::string& path, bool by_cycles) {
     PlotSpec p;
-    p.title = by_cycles ? "Anisotropic filters: NMSE vs cycles per fragment (all views pooled)"
-                        : "Anisotropic filters: NMSE vs texels fetched per fragment (all views pooled)";
+    p.title = by_cycles
+                  ? "Anisotropic filters: NMSE vs cycles per fragment (all views pooled)"
+                  : "Anisotropic filters: NMSE vs texels fetched per fragment (all views pooled)";
     p.xlabel = by_cycles ? "cycles per fragment" : "texels fetched per fragment";
     p.ylabel = "NMSE vs ground truth";
     p.logx = true;
@@ -543,7 +576,8 @@ void write_outputs(const std::string& out_dir, const std::vector<Row>& rows, con
       pts.push_back({x, q.nmse()});
     }
     for (auto& [k, s] : fam) p.series.push_back(s);
-    std::sort(pts.begin(), pts.end(), [](const Pt& a, const Pt& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+    std::sort(pts.begin(), pts.end(),
+              [](const Pt& a, const Pt& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
     PlotSeries front;
     front.label = "Pareto front";
     front.lines = true;
@@ -561,7 +595,8 @@ void write_outputs(const std::string& out_dir, const std::vector<Row>& rows, con
   plot(out_dir + "/filters.png", true);
   plot(out_dir + "/filters_texels.png", false);
   for (const Pooled& p : all) {
-    log << "  " << p.method << ": PSNR " << fmt_g(p.psnr(), 4) << " dB, NMSE " << fmt_g(p.nmse(), 3);
+    log << "  " << p.method << ": PSNR " << fmt_g(p.psnr(), 4) << " dB, NMSE "
+        << fmt_g(p.nmse(), 3);
     if (p.hardware) {
       log << ", texels/frag " << fmt_g(per(p.texels, p.fragments), 4) << ", cycles/frag "
           << fmt_g(per(p.cycles, p.fragments), 4);
@@ -577,7 +612,8 @@ int run_study_filters(const std::string& out_dir, std::ostream& log) {
   return run_study_filters(out_dir, log, StudyFiltersOptions{});
 }
 
-int run_study_filters(const std::string& out_dir, std::ostream& log, const StudyFiltersOptions& opt) {
+int run_study_filters(const std::string& out_dir, std::ostream& log,
+                      const StudyFiltersOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   ensure_dir(out_dir);
   const TechTable tech = TechTable::defaults();
@@ -629,8 +665,9 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
     d.minor_texels = 2;
     methods.push_back(ewa_method("ewa lut256 minor 2 texels", "ewa", d, tech));
     // V(d) sub-texel cut-off of the texels within half a texel of the ellipse boundary.
-    for (const auto& [k, fk, label] : {std::tuple{VdEvaluatorKind::Exact, VdFormatKind::Double, "exact double"},
-                                      std::tuple{VdEvaluatorKind::P2, VdFormatKind::Fx16, "P2 fx16"}}) {
+    for (const auto& [k, fk, label] :
+         {std::tuple{VdEvaluatorKind::Exact, VdFormatKind::Double, "exact double"},
+          std::tuple{VdEvaluatorKind::P2, VdFormatKind::Fx16, "P2 fx16"}}) {
       d = c;
       d.edge = EwaFilter::Edge::Vd;
       d.vd.evaluator = k;
@@ -687,10 +724,12 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
     d.weight = EwaFilter::Weight::Pow8;
     d.reconstruction = 0;
     methods.push_back(ewa_method("ewa pow8 computed, no reconstruction", "weights", d, tech));
-    for (const MapVariant& mv :
-         {MapVariant{WeightMap::Kind::Quarter, WeightMap::Element::U16, 32, WeightMap::Transform::Jacobian},
-          MapVariant{WeightMap::Kind::Quarter, WeightMap::Element::U8, 16, WeightMap::Transform::Jacobian},
-          MapVariant{WeightMap::Kind::RadialR, WeightMap::Element::U8, 16, WeightMap::Transform::Jacobian}}) {
+    for (const MapVariant& mv : {MapVariant{WeightMap::Kind::Quarter, WeightMap::Element::U16, 32,
+                                            WeightMap::Transform::Jacobian},
+                                 MapVariant{WeightMap::Kind::Quarter, WeightMap::Element::U8, 16,
+                                            WeightMap::Transform::Jacobian},
+                                 MapVariant{WeightMap::Kind::RadialR, WeightMap::Element::U8, 16,
+                                            WeightMap::Transform::Jacobian}}) {
       WeightMap::Config mc;
       mc.kind = mv.kind;
       mc.element = mv.el;
@@ -702,30 +741,35 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
       d = c;
       d.weight = EwaFilter::Weight::Map;
       d.reconstruction = 0;
-      methods.push_back(ewa_method("ewa map " + wm->name() + " jacobian, no reconstruction", "weight map", d,
-                                   tech, wm));
+      methods.push_back(ewa_method("ewa map " + wm->name() + " jacobian, no reconstruction",
+                                   "weight map", d, tech, wm));
       methods.back().compare_to = "ewa pow8 computed, no reconstruction";
     }
   }
 
   {
     const std::string probe_arith =
-        "float32 footprint set-up, positions and weights in double, trilinear probes (u0.8 weights), float32 blend";
+        "float32 footprint set-up, positions and weights in double, trilinear probes (u0.8 "
+        "weights), float32 blend";
     MultiProbeFilter::Config mp;
     methods.push_back(block_method("multi-ellipse probes α=1 max 15", "probes",
-                                   std::make_shared<const MultiProbeFilter>(mp), tech, probe_arith));
+                                   std::make_shared<const MultiProbeFilter>(mp), tech,
+                                   probe_arith));
     MultiProbeFilter::Config mp2 = mp;
     mp2.alpha = 2;
     methods.push_back(block_method("multi-ellipse probes α=2 max 15", "probes",
-                                   std::make_shared<const MultiProbeFilter>(mp2), tech, probe_arith));
+                                   std::make_shared<const MultiProbeFilter>(mp2), tech,
+                                   probe_arith));
     mp2 = mp;
     mp2.seed_theta = true;
     methods.push_back(block_method("multi-ellipse probes α=1, θ as printed", "probes",
-                                   std::make_shared<const MultiProbeFilter>(mp2), tech, probe_arith));
+                                   std::make_shared<const MultiProbeFilter>(mp2), tech,
+                                   probe_arith));
     mp2 = mp;
     mp2.temporal = true;
     methods.push_back(block_method("multi-ellipse probes α=1, half per frame", "probes",
-                                   std::make_shared<const MultiProbeFilter>(mp2), tech, probe_arith));
+                                   std::make_shared<const MultiProbeFilter>(mp2), tech,
+                                   probe_arith));
     mp2 = mp;
     mp2.arith = ProbeArith::Fixed;
     methods.push_back(block_method("multi-ellipse probes α=1 max 15, fixed", "probes",
@@ -738,19 +782,21 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
     FelineFilter::Config fx = fc;
     fx.arith = ProbeArith::Fixed;
     methods.push_back(block_method("feline (major axis, Gaussian) max 16, fixed", "probes",
-                                   std::make_shared<const FelineFilter>(fx), tech, FelineFilter(fx).arithmetic()));
+                                   std::make_shared<const FelineFilter>(fx), tech,
+                                   FelineFilter(fx).arithmetic()));
     methods.back().compare_to = "feline (major axis, Gaussian) max 16";
     fc.axis = FelineFilter::Axis::Parallelogram;
     fc.weights = FelineFilter::Weights::Equal;
     methods.push_back(block_method("texram (longer side, equal) max 16", "probes",
                                    std::make_shared<const FelineFilter>(fc), tech, probe_arith));
     SpafFilter::Config sc;
-    const std::string spaf_arith = "float32 edge functions and Q, 4x4 sub-texel masks, float32 blend";
-    methods.push_back(block_method("spaf 4x4 mask, budget 64", "spaf", std::make_shared<const SpafFilter>(sc),
-                                   tech, spaf_arith));
+    const std::string spaf_arith =
+        "float32 edge functions and Q, 4x4 sub-texel masks, float32 blend";
+    methods.push_back(block_method("spaf 4x4 mask, budget 64", "spaf",
+                                   std::make_shared<const SpafFilter>(sc), tech, spaf_arith));
     sc.texel_budget = 256;
-    methods.push_back(block_method("spaf 4x4 mask, budget 256", "spaf", std::make_shared<const SpafFilter>(sc),
-                                   tech, spaf_arith));
+    methods.push_back(block_method("spaf 4x4 mask, budget 256", "spaf",
+                                   std::make_shared<const SpafFilter>(sc), tech, spaf_arith));
     sc.half_px = 0.5;
     sc.gaussian = false;
     methods.push_back(block_method("spaf area only (pixel square), budget 256", "spaf",
@@ -768,16 +814,17 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
       int budget;
       const char* label;
     };
-    for (const VdRow& vr : {VdRow{VdEvaluatorKind::Exact, VdFormatKind::Double, 1, 64, "exact double"},
-                            VdRow{VdEvaluatorKind::Exact, VdFormatKind::Fx16, 1, 64, "exact fx16"},
-                            VdRow{VdEvaluatorKind::P3, VdFormatKind::Fx16, 1, 64, "P3 fx16"},
-                            VdRow{VdEvaluatorKind::P2, VdFormatKind::Float, 1, 64, "P2 float"},
-                            VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 1, 64, "P2 fx16"},
-                            VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 4, 64, "P2 fx16 x4 units"},
-                            VdRow{VdEvaluatorKind::P1, VdFormatKind::Fx16, 1, 64, "P1 fx16"},
-                            VdRow{VdEvaluatorKind::P1, VdFormatKind::Fx8, 1, 64, "P1 fx8"},
-                            VdRow{VdEvaluatorKind::Exact, VdFormatKind::Double, 1, 256, "exact double"},
-                            VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 1, 256, "P2 fx16"}}) {
+    for (const VdRow& vr :
+         {VdRow{VdEvaluatorKind::Exact, VdFormatKind::Double, 1, 64, "exact double"},
+          VdRow{VdEvaluatorKind::Exact, VdFormatKind::Fx16, 1, 64, "exact fx16"},
+          VdRow{VdEvaluatorKind::P3, VdFormatKind::Fx16, 1, 64, "P3 fx16"},
+          VdRow{VdEvaluatorKind::P2, VdFormatKind::Float, 1, 64, "P2 float"},
+          VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 1, 64, "P2 fx16"},
+          VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 4, 64, "P2 fx16 x4 units"},
+          VdRow{VdEvaluatorKind::P1, VdFormatKind::Fx16, 1, 64, "P1 fx16"},
+          VdRow{VdEvaluatorKind::P1, VdFormatKind::Fx8, 1, 64, "P1 fx8"},
+          VdRow{VdEvaluatorKind::Exact, VdFormatKind::Double, 1, 256, "exact double"},
+          VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 1, 256, "P2 fx16"}}) {
       SpafFilter::Config vc;
       vc.texel_budget = vr.budget;
       vc.coverage = SpafFilter::Coverage::Vd;
@@ -790,7 +837,8 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
       SpafFilter::Config fc2;
       fc2.texel_budget = budget;
       fc2.arith = SpafFilter::Arith::Fixed;
-      spaf_row("spaf 4x4 mask, budget " + std::to_string(budget) + ", fixed " + SpafFixed::name(), fc2);
+      spaf_row("spaf 4x4 mask, budget " + std::to_string(budget) + ", fixed " + SpafFixed::name(),
+               fc2);
     }
     SpafFilter::Config dc;
     dc.arith = SpafFilter::Arith::Double;
@@ -828,7 +876,8 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
   for (StudyTexture& st : textures) {
     for (double nominal : opt.anisotropies) {
       const auto tv = std::chrono::steady_clock::now();
-      const std::string text = view_scene_text(nominal, opt.size, opt.texels_per_pixel, st.tex.width(0));
+      const std::string text =
+          view_scene_text(nominal, opt.size, opt.texels_per_pixel, st.tex.width(0));
       const Scene scene = parse_scene(text, "study filters view", "");
       const PlaneProjection proj(scene, scene.planes[0]);
       // Fragments and the ground truth.
@@ -851,15 +900,18 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
           frags.push_back(f);
           OpCounts scratch;
           anisos.push_back(
-              footprint_setup<double>(f, st.tex.width(0), st.tex.height(0), 1.0, 1e12, scratch).aniso);
+              footprint_setup<double>(f, st.tex.width(0), st.tex.height(0), 1.0, 1e12, scratch)
+                  .aniso);
           const ReferenceSample r = footprint_reference(st.tex, proj, x, y, rc);
           ref.set(x, y, glm::vec4(r.colour));
         }
       }
       const double p50 = percentile(anisos, 0.5), p90 = percentile(anisos, 0.9);
-      const double t_ref = std::chrono::duration<double>(std::chrono::steady_clock::now() - tv).count();
-      log << "  " << st.name << " aniso " << nominal << ": " << frags.size() << " fragments, aniso p50 "
-          << fmt_g(p50, 3) << " p90 " << fmt_g(p90, 3) << ", reference " << fmt_g(t_ref, 3) << " s\n";
+      const double t_ref =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - tv).count();
+      log << "  " << st.name << " aniso " << nominal << ": " << frags.size()
+          << " fragments, aniso p50 " << fmt_g(p50, 3) << " p90 " << fmt_g(p90, 3) << ", reference "
+          << fmt_g(t_ref, 3) << " s\n";
       std::vector<ImageRgb> images;
       images.reserve(methods.size());
       for (const Method& m : methods) {
@@ -891,7 +943,8 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
           r.fallbacks += o.stats.fallback ? 1 : 0;
           if (h) {
             h->issue(st.tex, fetched, m.issue(o.stats));
-            const uint32_t map_reads = m.entries_per_map_read ? o.stats.map_reads / m.entries_per_map_read : 0;
+            const uint32_t map_reads =
+                m.entries_per_map_read ? o.stats.map_reads / m.entries_per_map_read : 0;
             double alu = static_cast<double>(ops.arithmetic()) - m.tmu_ops_per_map_read * map_reads;
             double tex_ops = static_cast<double>(o.stats.texels + map_reads);
             if (m.family == "baseline") {  // the texture unit filters: one fetch per bilinear probe
@@ -920,16 +973,19 @@ int run_study_filters(const std::string& out_dir, std::ostream& log, const Study
         rows.push_back(r);
         images.push_back(img);
         if (opt.write_images) {
-          write_image(out_dir + "/" + st.name + "_a" + fmt_g(nominal, 3) + "_" + std::to_string(&m - methods.data()) + ".png", img);
+          write_image(out_dir + "/" + st.name + "_a" + fmt_g(nominal, 3) + "_" +
+                          std::to_string(&m - methods.data()) + ".png",
+                      img);
         }
       }
-      if (opt.write_images) write_image(out_dir + "/" + st.name + "_a" + fmt_g(nominal, 3) + "_ref.png", ref);
+      if (opt.write_images)
+        write_image(out_dir + "/" + st.name + "_a" + fmt_g(nominal, 3) + "_ref.png", ref);
     }
   }
   write_outputs(out_dir, rows, methods, opt, log);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  log << "study filters: wrote " << out_dir << "/filters.csv, filters.md, filters.png in " << fmt_g(secs, 3)
-      << " s\n";
+  log << "study filters: wrote " << out_dir << "/filters.csv, filters.md, filters.png in "
+      << fmt_g(secs, 3) << " s\n";
   return 0;
 }
 

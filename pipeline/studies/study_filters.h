@@ -12,17 +12,18 @@
 namespace texsim {
 
 struct StudyFiltersOptions {
-  int size = 128;                                     // image width = height (pixels)
+  int size = 128;                                               // image width = height (pixels)
   std::vector<double> anisotropies = {1, 2, 4, 8, 16, 32, 64};  // nominal, at the image centre
-  double texels_per_pixel = 1.5;                      // minor axis at the centre (level-0 texels)
-  bool oiio = true;                                   // include OpenImageIO's TextureSystem
-  bool write_images = false;                          // also write each view's images (PNG)
+  double texels_per_pixel = 1.5;  // minor axis at the centre (level-0 texels)
+  bool oiio = true;               // include OpenImageIO's TextureSystem
+  bool write_images = false;      // also write each view's images (PNG)
 };
 
 // Writes filters.csv, filters.md, filters.png (NMSE against cycles per fragment) and
 // filters_texels.png (NMSE against texels fetched per fragment) into out_dir; returns 0.
 // Progress and a summary go to `log`.
 int run_study_filters(const std::string& out_dir, std::ostream& log);
-int run_study_filters(const std::string& out_dir, std::ostream& log, const StudyFiltersOptions& opt);
+int run_study_filters(const std::string& out_dir, std::ostream& log,
+                      const StudyFiltersOptions& opt);
 
 }  // namespace texsim

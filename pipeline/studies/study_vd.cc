@@ -12,9 +12,9 @@
 #include <sstream>
 #include <vector>
 
-#include "blocks/texture/subtexel/subtexel_cutoff.h"
-#include "blocks/base/tech_table.h"
 #include "blocks/base/atomic_file.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/texture/subtexel/subtexel_cutoff.h"
 #include "pipeline/report/plot.h"
 
 namespace texsim {

@@ -6,16 +6,16 @@
 #include <unordered_set>
 
 #include "blocks/base/config_reader.h"
-#include "blocks/texture/derivs/derivatives_analytic.h"
-#include "blocks/texture/derivs/derivatives_forward_diff.h"
-#include "blocks/texture/derivs/derivatives_iterative.h"
-#include "blocks/texture/derivs/derivatives_quad.h"
 #include "blocks/base/input_error.h"
 #include "blocks/texture/coords/uv_approximation.h"
 #include "blocks/texture/coords/uv_approximation_triangle.h"
 #include "blocks/texture/coords/uv_constant_depth.h"
 #include "blocks/texture/coords/uv_heckbert_direct.h"
 #include "blocks/texture/coords/uv_incremental_adder.h"
+#include "blocks/texture/derivs/derivatives_analytic.h"
+#include "blocks/texture/derivs/derivatives_forward_diff.h"
+#include "blocks/texture/derivs/derivatives_iterative.h"
+#include "blocks/texture/derivs/derivatives_quad.h"
 
 namespace texsim {
 
@@ -35,16 +35,27 @@ std::unique_ptr<Base> make_for_format(const std::string& format, Args&&... args)
   if (format == FixedA::name()) return std::make_unique<Impl<FixedA>>(args...);
   if (format == FixedB::name()) return std::make_unique<Impl<FixedB>>(args...);
   if (format == FixedC::name()) return std::make_unique<Impl<FixedC>>(args...);
-  throw InputError("number format '" + format + "'",
-                   "unknown (known: float, double, " + FixedA::name() + ", " + FixedB::name() +
-                       ", " + FixedC::name() + ")");
+  throw InputError("number format '" + format + "'", "unknown (known: float, double, " +
+                                                         FixedA::name() + ", " + FixedB::name() +
+                                                         ", " + FixedC::name() + ")");
 }
 
 uint32_t lat(const TimingSpec& t) { return t.ii == 0 ? 0 : t.latency; }
 
 enum class CoordKind {
-  Heckbert, HeckbertRcp, Incremental, IncrementalK4, IncrementalBidir, Affine, Quadratic, Cubic,
-  Biquadratic, Bicubic, ConstantDepth, Affine16, Quadratic32
+  Heckbert,
+  HeckbertRcp,
+  Incremental,
+  IncrementalK4,
+  IncrementalBidir,
+  Affine,
+  Quadratic,
+  Cubic,
+  Biquadratic,
+  Bicubic,
+  ConstantDepth,
+  Affine16,
+  Quadratic32
 };
 
 CoordKind coord_kind(const std::string& m) {
@@ -57,20 +68,21 @@ CoordKind coord_kind(const std::string& m) {
   throw InputError("coordinate method '" + m + "'", "unknown (known: " + known + ")");
 }
 
-template <class T> class CoordGenImpl final : public CoordGenerator {
+template <class T>
+class CoordGenImpl final : public CoordGenerator {
  public:
   CoordGenImpl(const std::string& method, Datapath dp)
       : method_(method), format_(format_name<T>()), kind_(coord_kind(method)) {
     UvHeckbertDirect::Config hc;
     hc.datapath = dp;
     hc.form = kind_ == CoordKind::HeckbertRcp ? UvHeckbertDirect::Form::Reciprocal
-                                               : UvHeckbertDirect::Form::Divide;
+                                              : UvHeckbertDirect::Form::Divide;
     hd_ = UvHeckbertDirect(hc);
     UvIncrementalAdder::Config ic;
     ic.datapath = dp;
-    ic.form = kind_ == CoordKind::IncrementalK4 ? UvIncrementalAdder::Form::KLane
+    ic.form = kind_ == CoordKind::IncrementalK4      ? UvIncrementalAdder::Form::KLane
               : kind_ == CoordKind::IncrementalBidir ? UvIncrementalAdder::Form::Bidirectional
-                                                      : UvIncrementalAdder::Form::Sequential;
+                                                     : UvIncrementalAdder::Form::Sequential;
     ic.lanes = 4;
     inc_ = UvIncrementalAdder(ic);
     UvApproximation::Config ac;
@@ -98,18 +110,28 @@ template <class T> class CoordGenImpl final : public CoordGenerator {
     s.name = "coords." + method_;
     switch (kind_) {
       case CoordKind::Heckbert:
-      case CoordKind::HeckbertRcp: s.timing = hd_.timing(t); break;
+      case CoordKind::HeckbertRcp:
+        s.timing = hd_.timing(t);
+        break;
       case CoordKind::Incremental:
       case CoordKind::IncrementalK4:
-      case CoordKind::IncrementalBidir: s.timing = inc_.timing(t); break;
+      case CoordKind::IncrementalBidir:
+        s.timing = inc_.timing(t);
+        break;
       case CoordKind::Affine:
       case CoordKind::Quadratic:
       case CoordKind::Cubic:
       case CoordKind::Affine16:
-      case CoordKind::Quadratic32: s.timing = ap_.timing(t); break;
+      case CoordKind::Quadratic32:
+        s.timing = ap_.timing(t);
+        break;
       case CoordKind::Biquadratic:
-      case CoordKind::Bicubic: s.timing = at_.timing(t); break;
-      case CoordKind::ConstantDepth: s.timing = cd_.timing(t); break;
+      case CoordKind::Bicubic:
+        s.timing = at_.timing(t);
+        break;
+      case CoordKind::ConstantDepth:
+        s.timing = cd_.timing(t);
+        break;
     }
     return s;
   }
@@ -117,18 +139,23 @@ template <class T> class CoordGenImpl final : public CoordGenerator {
   OpCounts pixel_ops() const override {
     switch (kind_) {
       case CoordKind::Heckbert:
-      case CoordKind::HeckbertRcp: return hd_.pixel_ops();
+      case CoordKind::HeckbertRcp:
+        return hd_.pixel_ops();
       case CoordKind::Incremental:
       case CoordKind::IncrementalK4:
-      case CoordKind::IncrementalBidir: return inc_.pixel_ops();
+      case CoordKind::IncrementalBidir:
+        return inc_.pixel_ops();
       case CoordKind::Affine:
       case CoordKind::Quadratic:
       case CoordKind::Cubic:
       case CoordKind::Affine16:
-      case CoordKind::Quadratic32: return ap_.pixel_ops();
+      case CoordKind::Quadratic32:
+        return ap_.pixel_ops();
       case CoordKind::Biquadratic:
-      case CoordKind::Bicubic: return at_.pixel_ops();
-      case CoordKind::ConstantDepth: return cd_.pixel_ops();
+      case CoordKind::Bicubic:
+        return at_.pixel_ops();
+      case CoordKind::ConstantDepth:
+        return cd_.pixel_ops();
     }
     return {};
   }
@@ -250,9 +277,8 @@ template <class T> class CoordGenImpl final : public CoordGenerator {
         ps.push_back({minor - rounded, major, minor});
       }
     }
-    std::sort(ps.begin(), ps.end(), [](const P& a, const P& b) {
-      return a.j != b.j ? a.j < b.j : a.major < b.major;
-    });
+    std::sort(ps.begin(), ps.end(),
+              [](const P& a, const P& b) { return a.j != b.j ? a.j < b.j : a.major < b.major; });
     const auto st = cd_.setup_triangle(mc);
     uint64_t lines = 0;
     size_t i = 0;
@@ -294,7 +320,8 @@ DerivKind deriv_kind(const std::string& m) {
   throw InputError("derivative method '" + m + "'", "unknown (known: " + known + ")");
 }
 
-template <class T> class DerivGenImpl final : public DerivGenerator {
+template <class T>
+class DerivGenImpl final : public DerivGenerator {
  public:
   DerivGenImpl(const std::string& method, Datapath dp)
       : method_(method), format_(format_name<T>()), kind_(deriv_kind(method)) {
@@ -307,7 +334,7 @@ template <class T> class DerivGenImpl final : public DerivGenerator {
     DerivativesForwardDiff::Config f;
     f.datapath = dp;
     f.form = kind_ == DerivKind::AcceleratedFd ? DerivativesForwardDiff::Form::Accelerated
-                                                : DerivativesForwardDiff::Form::Classic;
+                                               : DerivativesForwardDiff::Form::Classic;
     fd_ = DerivativesForwardDiff(f);
     DerivativesIterative::Config i;
     i.datapath = dp;
@@ -323,22 +350,34 @@ template <class T> class DerivGenImpl final : public DerivGenerator {
     StageConfig s;
     s.name = "derivs." + method_;
     switch (kind_) {
-      case DerivKind::Analytic: s.timing = an_.timing(t); break;
-      case DerivKind::Quad: s.timing = qd_.timing(t); break;
+      case DerivKind::Analytic:
+        s.timing = an_.timing(t);
+        break;
+      case DerivKind::Quad:
+        s.timing = qd_.timing(t);
+        break;
       case DerivKind::HeckbertFd:
-      case DerivKind::AcceleratedFd: s.timing = fd_.timing(t); break;
-      case DerivKind::Iterative: s.timing = it_.timing(t); break;
+      case DerivKind::AcceleratedFd:
+        s.timing = fd_.timing(t);
+        break;
+      case DerivKind::Iterative:
+        s.timing = it_.timing(t);
+        break;
     }
     return s;
   }
 
   OpCounts pixel_ops() const override {
     switch (kind_) {
-      case DerivKind::Analytic: return an_.pixel_ops();
-      case DerivKind::Quad: return qd_.pixel_ops();
+      case DerivKind::Analytic:
+        return an_.pixel_ops();
+      case DerivKind::Quad:
+        return qd_.pixel_ops();
       case DerivKind::HeckbertFd:
-      case DerivKind::AcceleratedFd: return fd_.pixel_ops();
-      case DerivKind::Iterative: return it_.pixel_ops();
+      case DerivKind::AcceleratedFd:
+        return fd_.pixel_ops();
+      case DerivKind::Iterative:
+        return it_.pixel_ops();
     }
     return {};
   }
@@ -351,10 +390,16 @@ template <class T> class DerivGenImpl final : public DerivGenerator {
     uint64_t pixels = 0, rows = 0;
     DerivativesIterative::Setup<T> st;
     switch (kind_) {
-      case DerivKind::Analytic: pix = an_.pixel_ops(); break;
-      case DerivKind::Quad: pix = qd_.pixel_ops(); break;
+      case DerivKind::Analytic:
+        pix = an_.pixel_ops();
+        break;
+      case DerivKind::Quad:
+        pix = qd_.pixel_ops();
+        break;
       case DerivKind::HeckbertFd:
-      case DerivKind::AcceleratedFd: pix = fd_.pixel_ops(); break;
+      case DerivKind::AcceleratedFd:
+        pix = fd_.pixel_ops();
+        break;
       case DerivKind::Iterative:
         pix = it_.pixel_ops();
         row = it_.row_setup_ops();
@@ -371,11 +416,19 @@ template <class T> class DerivGenImpl final : public DerivGenerator {
       if (r.n <= 0) continue;
       buf.assign(static_cast<size_t>(r.n), CoordDerivs{});
       switch (kind_) {
-        case DerivKind::Analytic: an_.eval_row(mc, r, buf.data()); break;
-        case DerivKind::Quad: qd_.eval_row(mc, r, buf.data()); break;
+        case DerivKind::Analytic:
+          an_.eval_row(mc, r, buf.data());
+          break;
+        case DerivKind::Quad:
+          qd_.eval_row(mc, r, buf.data());
+          break;
         case DerivKind::HeckbertFd:
-        case DerivKind::AcceleratedFd: fd_.eval_row(mc, r, buf.data()); break;
-        case DerivKind::Iterative: it_.eval_row(mc, st, r, buf.data()); break;
+        case DerivKind::AcceleratedFd:
+          fd_.eval_row(mc, r, buf.data());
+          break;
+        case DerivKind::Iterative:
+          it_.eval_row(mc, st, r, buf.data());
+          break;
       }
       for (int32_t k = 0; k < r.n; ++k) {
         ItemCost c;
@@ -410,7 +463,8 @@ template <class T> class DerivGenImpl final : public DerivGenerator {
   UvIncrementalAdder helper_;
 };
 
-template <class T> class EllipseGenImpl final : public EllipseGenerator {
+template <class T>
+class EllipseGenImpl final : public EllipseGenerator {
  public:
   EllipseGenImpl(const std::string& form, Datapath dp) {
     EllipseSetup::Config c;
@@ -447,8 +501,9 @@ const std::vector<std::string>& coord_format_names() {
 
 const std::vector<std::string>& CoordGenerator::method_names() {
   static const std::vector<std::string> n = {
-      "heckbert", "heckbert-rcp", "incremental", "incremental-k4", "incremental-bidir", "affine",
-      "quadratic", "cubic", "biquadratic", "bicubic", "constant-depth", "affine-16", "quadratic-32"};
+      "heckbert",       "heckbert-rcp", "incremental", "incremental-k4", "incremental-bidir",
+      "affine",         "quadratic",    "cubic",       "biquadratic",    "bicubic",
+      "constant-depth", "affine-16",    "quadratic-32"};
   return n;
 }
 
@@ -471,8 +526,7 @@ std::unique_ptr<DerivGenerator> DerivGenerator::create(const std::string& method
 }
 
 std::unique_ptr<EllipseGenerator> EllipseGenerator::create(const std::string& form,
-                                                           const std::string& format,
-                                                           Datapath dp) {
+                                                           const std::string& format, Datapath dp) {
   return make_for_format<EllipseGenImpl, EllipseGenerator>(format, form, dp);
 }
 

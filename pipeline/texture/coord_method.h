@@ -9,12 +9,12 @@
 #include <string>
 #include <vector>
 
-#include "blocks/texture/derivs/ellipse_setup.h"
 #include "blocks/base/op_counts.h"
+#include "blocks/base/tech_table.h"
 #include "blocks/geometry/near_clipper.h"
 #include "blocks/geometry/projective_map.h"
 #include "blocks/raster/row_rasterizer.h"
-#include "blocks/base/tech_table.h"
+#include "blocks/texture/derivs/ellipse_setup.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 
 namespace texsim {
@@ -51,8 +51,8 @@ class CoordGenerator {
   virtual ~CoordGenerator() = default;
   // Methods: heckbert, heckbert-rcp, incremental, incremental-k4, incremental-bidir, affine,
   // quadratic, cubic, biquadratic, bicubic, constant-depth, affine-16 and quadratic-32 (the
-  // row cut into 16- / 32-pixel segments, each with its own polynomial). Throws InputError naming the
-  // unknown method or format.
+  // row cut into 16- / 32-pixel segments, each with its own polynomial). Throws InputError naming
+  // the unknown method or format.
   static std::unique_ptr<CoordGenerator> create(const std::string& method,
                                                 const std::string& format,
                                                 Datapath datapath = Datapath::Spatial);
@@ -89,9 +89,8 @@ class DerivGenerator {
   // Derivatives of every covered pixel in raster-row order (tri.rows), with costs and ops as
   // CoordGenerator::generate. The quad method charges its helper pixels' coordinates
   // (incremental adder ops) in `ops`.
-  virtual void generate(const CoordTriangle& tri, const TechTable& t,
-                        std::vector<CoordDerivs>& out, std::vector<ItemCost>& costs,
-                        OpCounts& ops) const = 0;
+  virtual void generate(const CoordTriangle& tri, const TechTable& t, std::vector<CoordDerivs>& out,
+                        std::vector<ItemCost>& costs, OpCounts& ops) const = 0;
 };
 
 // The ellipse set-up of one number format (determinant or AC - B²/4 form).

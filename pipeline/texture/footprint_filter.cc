@@ -12,7 +12,8 @@ namespace {
 template <class Block>
 class FootprintFilterOf final : public FootprintFilter {
  public:
-  FootprintFilterOf(Block block, std::string name) : block_(std::move(block)), name_(std::move(name)) {}
+  FootprintFilterOf(Block block, std::string name)
+      : block_(std::move(block)), name_(std::move(name)) {}
   FilterOutput filter(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
                       OpCounts& ops) const override {
     return block_.filter(tex, f, fetched, ops);
@@ -62,7 +63,8 @@ std::unique_ptr<FootprintFilter> FootprintFilter::from_material(const ConfigRead
   std::string chosen;
   for (std::string_view key : effect_keys()) {
     if (!material.table().contains(key)) continue;
-    if (f) material.fail(key, "a material takes one footprint filter; it already has '" + chosen + "'");
+    if (f)
+      material.fail(key, "a material takes one footprint filter; it already has '" + chosen + "'");
     chosen = key;
     if (key == "ewa") {
       f = make_ewa(material);

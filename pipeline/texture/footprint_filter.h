@@ -7,11 +7,11 @@
 #include <vector>
 
 #include "blocks/base/config_reader.h"
-#include "blocks/texture/footprint/ewa_filter.h"
-#include "blocks/base/tech_table.h"
-#include "blocks/texture/memory/texture_memory.h"
-#include "blocks/base/timing_spec.h"
 #include "blocks/base/fragment.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/base/timing_spec.h"
+#include "blocks/texture/footprint/ewa_filter.h"
+#include "blocks/texture/memory/texture_memory.h"
 
 namespace texsim {
 
@@ -28,7 +28,7 @@ class FootprintFilter {
                               OpCounts& ops) const = 0;
   virtual uint32_t issue_cycles(const FilterStats& s) const = 0;
   virtual TimingSpec timing(const TechTable& tech) const = 0;
-  virtual std::string name() const = 0;        // report name, e.g. "filter.ewa"
+  virtual std::string name() const = 0;  // report name, e.g. "filter.ewa"
   virtual std::string arithmetic() const = 0;
   virtual AddressMode address_u() const = 0;
   virtual AddressMode address_v() const = 0;

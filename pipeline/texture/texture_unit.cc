@@ -10,16 +10,17 @@ namespace texsim {
 
 namespace {
 enum Stage { kLod, kAddress, kCache, kBlend, kStages };
-constexpr int kMaxFront = 2;  // coordinate and derivative stages (a constant bound for the compiler)
-}
+constexpr int kMaxFront =
+    2;  // coordinate and derivative stages (a constant bound for the compiler)
+}  // namespace
 
 PipelineSetup PipelineSetup::from_toml(const toml::table& t, const std::string& source) {
   PipelineSetup p;
   ConfigReader r(t, source, "pipeline");
   r.reject_unknown({"fifo_depth", "layout", "cache", "dram", "blend"});
   p.fifo_depth = static_cast<uint32_t>(r.get_int("fifo_depth", p.fifo_depth, 1, 1 << 16));
-  p.layout = static_cast<TexelLayout>(r.get_choice("layout", static_cast<int>(p.layout),
-                                                   {"linear", "tiled4x4", "morton"}));
+  p.layout = static_cast<TexelLayout>(
+      r.get_choice("layout", static_cast<int>(p.layout), {"linear", "tiled4x4", "morton"}));
   p.cache = TextureCache::Config::from_toml(r.sub("cache"));
   p.dram = DramModel::Config::from_toml(r.sub("dram"));
   p.blend = TexelBlend::Config::from_toml(r.sub("blend"));
@@ -49,8 +50,14 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
 
 TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
                          const PipelineSetup& setup, const TechTable& tech, bool timing)
-    : textures_(textures), mats_(std::move(materials)), setup_(setup), tech_(tech), timing_(timing),
-      blend_(setup.blend), cache_(setup.cache), dram_(setup.dram) {
+    : textures_(textures),
+      mats_(std::move(materials)),
+      setup_(setup),
+      tech_(tech),
+      timing_(timing),
+      blend_(setup.blend),
+      cache_(setup.cache),
+      dram_(setup.dram) {
   if (mats_.empty()) throw std::invalid_argument("texture unit: no materials");
   textures_.place(setup.layout);
   for (const auto& m : mats_) {
@@ -104,7 +111,9 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
       }
       st[static_cast<size_t>(s)] = {front_names[s], t, setup.fifo_depth, 0};
     }
-    const auto at = [&](int stage) -> StageConfig& { return st[static_cast<size_t>(front_ + stage)]; };
+    const auto at = [&](int stage) -> StageConfig& {
+      return st[static_cast<size_t>(front_ + stage)];
+    };
     at(kLod) = {"lod", lod_t, setup.fifo_depth, 0};
     at(kAddress) = {"address", addr_t, setup.fifo_depth, 0};
     at(kCache) = {"cache", cache_t, setup.fifo_depth, setup.cache.miss_queue};
@@ -159,7 +168,8 @@ int distinct_lines(const FilterTaps& taps, const Texture& tex, uint32_t shift, u
   for (; i < taps.count; ++i) {  // nearest taps, or anything not in quads
     const TexelTap& t = taps.tap[static_cast<size_t>(i)];
     const Texture::Level& lv = tex.level(t.level);
-    add_line((tex.base() + lv.offset + Texture::texel_index(L, lv, t.x, t.y) * bpt) >> shift, lines, n);
+    add_line((tex.base() + lv.offset + Texture::texel_index(L, lv, t.x, t.y) * bpt) >> shift, lines,
+             n);
   }
   return n;
 }
@@ -172,14 +182,21 @@ uint32_t TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, 
   uint64_t lines[128];
   int n = 0;
   switch (tex.layout()) {
-    case TexelLayout::Linear: n = distinct_lines<TexelLayout::Linear>(taps, tex, shift, lines); break;
-    case TexelLayout::Tiled4x4: n = distinct_lines<TexelLayout::Tiled4x4>(taps, tex, shift, lines); break;
-    case TexelLayout::Morton: n = distinct_lines<TexelLayout::Morton>(taps, tex, shift, lines); break;
+    case TexelLayout::Linear:
+      n = distinct_lines<TexelLayout::Linear>(taps, tex, shift, lines);
+      break;
+    case TexelLayout::Tiled4x4:
+      n = distinct_lines<TexelLayout::Tiled4x4>(taps, tex, shift, lines);
+      break;
+    case TexelLayout::Morton:
+      n = distinct_lines<TexelLayout::Morton>(taps, tex, shift, lines);
+      break;
   }
   const uint64_t hit_ready = start + setup_.cache.hit_latency;
   uint64_t ready = hit_ready;
   for (int k = 0; k < n; ++k) {
-    if (!cache_.access_line(lines[k])) ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
+    if (!cache_.access_line(lines[k]))
+      ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
   }
   cache_.count_texels(static_cast<uint64_t>(taps.count));
   return static_cast<uint32_t>(ready - hit_ready);
@@ -203,7 +220,8 @@ uint32_t TextureUnit::cache_lookups(const std::vector<TexelRef>& texels, const T
   const uint64_t hit_ready = start + setup_.cache.hit_latency;
   uint64_t ready = hit_ready;
   for (uint64_t line : lines_) {
-    if (!cache_.access_line(line)) ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
+    if (!cache_.access_line(line))
+      ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
   }
   cache_.count_texels(texels.size());
   return static_cast<uint32_t>(ready - hit_ready);
@@ -238,7 +256,8 @@ Rgba TextureUnit::process_footprint(const Fragment& f, Path& p, const Texture& t
 }
 
 void TextureUnit::generate_coords(int material, const CoordTriangle& tri,
-                                  std::vector<CoordUnitFragment>& out, std::vector<ItemCost>& costs) {
+                                  std::vector<CoordUnitFragment>& out,
+                                  std::vector<ItemCost>& costs) {
   Path& p = paths_[static_cast<size_t>(material)];
   if (!p.coords) throw std::logic_error("generate_coords: material has no coordinate unit");
   const size_t before = out.size();
@@ -250,7 +269,8 @@ void TextureUnit::drop(int material, const ItemCost* front, bool rejected) {
   const Path& p = paths_[static_cast<size_t>(material)];
   ++(rejected ? front_stats_.rejected : front_stats_.occluded);
   if (!pipe_ || !front) return;
-  for (int s = 0; s < p.front_count; ++s) pending_front_[s] += 1 + p.front_extra[s] + front[s].extra_ii;
+  for (int s = 0; s < p.front_count; ++s)
+    pending_front_[s] += 1 + p.front_extra[s] + front[s].extra_ii;
 }
 
 Rgba TextureUnit::process(const Fragment& f, int material, const ItemCost* front) {
@@ -298,7 +318,8 @@ std::vector<BlockUse> TextureUnit::material_blocks(int material) const {
     const std::string arith = cc.format + ", " + datapath_name(cc.datapath) + " datapath";
     // The format is part of the name: two materials with one method in two formats are two units.
     add("coords." + cc.coords + "[" + cc.format + "]", arith, st[0].timing, p.coord_ops);
-    if (p.coords->has_derivs()) add("derivs." + cc.derivs + "[" + cc.format + "]", arith, st[1].timing, p.deriv_ops);
+    if (p.coords->has_derivs())
+      add("derivs." + cc.derivs + "[" + cc.format + "]", arith, st[1].timing, p.deriv_ops);
   }
   if (p.footprint) {
     add(p.footprint->name(), p.footprint->arithmetic(), p.footprint->timing(tech_), p.footprint_ops,
@@ -309,14 +330,16 @@ std::vector<BlockUse> TextureUnit::material_blocks(int material) const {
   const uint64_t iso = p.fragments - p.aniso_fragments;  // one probe each
   const uint64_t aniso_probes = p.probes - iso;
   const uint64_t taps = p.probes * static_cast<uint64_t>(p.addr.taps_per_probe());
-  const OpCounts addr_ops = p.addr.ops_setup(false) * iso + p.addr.ops_setup(true) * p.aniso_fragments +
-                            p.addr.ops_per_probe(false) * iso + p.addr.ops_per_probe(true) * aniso_probes;
+  const OpCounts addr_ops =
+      p.addr.ops_setup(false) * iso + p.addr.ops_setup(true) * p.aniso_fragments +
+      p.addr.ops_per_probe(false) * iso + p.addr.ops_per_probe(true) * aniso_probes;
   add("lod", "float32, log2 by table", p.lod.timing(tech_), p.lod.ops_per_fragment() * p.fragments);
   add(std::string("filter.") + to_string(p.addr.config().filter),
       "float32 coordinates; weights in u0." + std::to_string(p.addr.config().sub_texel_bits) +
           ", mip fraction u0." + std::to_string(p.addr.config().mipmap_bits),
       p.addr.timing(tech_), addr_ops, taps);
-  add("blend", "float32 multiply-accumulate", blend_.timing(tech_), TexelBlend::ops_per_tap() * taps);
+  add("blend", "float32 multiply-accumulate", blend_.timing(tech_),
+      TexelBlend::ops_per_tap() * taps);
   return out;
 }
 

@@ -3,25 +3,25 @@
 // coordinate unit] → LOD → texel address generation → texture cache + DRAM → blend, built from
 // a scene's materials. Only the blocks some material needs are
 // instantiated. docs/architecture.md describes the stages; docs/timing-model.md the timing.
+#include <toml++/toml.h>
+
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include <toml++/toml.h>
-
-#include "blocks/texture/memory/dram_model.h"
-#include "blocks/texture/sampler/lod_unit.h"
+#include "blocks/base/fragment.h"
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
-#include "blocks/texture/sampler/texel_address_gen.h"
-#include "blocks/texture/sampler/texel_blend.h"
+#include "blocks/texture/memory/dram_model.h"
 #include "blocks/texture/memory/texture_cache.h"
 #include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/sampler/lod_unit.h"
+#include "blocks/texture/sampler/texel_address_gen.h"
+#include "blocks/texture/sampler/texel_blend.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/texture/coord_method.h"
 #include "pipeline/texture/footprint_filter.h"
-#include "blocks/base/fragment.h"
 
 namespace texsim {
 
@@ -57,11 +57,11 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
                                  const std::string& source);
 
 struct BlockUse {
-  std::string name;             // e.g. "lod", "filter.trilinear", "blend", "cache"
-  std::string arithmetic;       // which number format the datapath uses
+  std::string name;        // e.g. "lod", "filter.trilinear", "blend", "cache"
+  std::string arithmetic;  // which number format the datapath uses
   TimingSpec timing;
-  OpCounts ops;                 // total over the run
-  uint64_t texels = 0;          // texels it fetched through the cache over the run
+  OpCounts ops;                        // total over the run
+  uint64_t texels = 0;                 // texels it fetched through the cache over the run
   std::vector<std::string> materials;  // materials that use it
 };
 
@@ -81,8 +81,8 @@ struct FrameStats {
 class TextureUnit {
  public:
   // With `timing` false the unit is functional only: colours and op counts, no cache or clock.
-  TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials, const PipelineSetup& setup,
-              const TechTable& tech, bool timing);
+  TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
+              const PipelineSetup& setup, const TechTable& tech, bool timing);
 
   // Filters one fragment with its material's blocks; in timing mode also sends it through the
   // clocked pipeline and the cache. Fragments must arrive in order. `front` is null, or the
@@ -94,7 +94,9 @@ class TextureUnit {
   // present only when some material has a coordinate unit.
   int front_stages() const { return front_; }
   const MaterialSetup& material(int m) const { return mats_[static_cast<size_t>(m)]; }
-  const Texture& texture_of(int m) const { return textures_[mats_[static_cast<size_t>(m)].texture]; }
+  const Texture& texture_of(int m) const {
+    return textures_[mats_[static_cast<size_t>(m)].texture];
+  }
   // Runs material m's coordinate unit over a screen triangle (its map in texels of the
   // material's texture): fragments in the unit's traversal order and their front-end costs;
   // counts the unit's operations.
@@ -145,7 +147,7 @@ class TextureUnit {
     // Coordinate front end of this material (null: none).
     const CoordUnit* coords = nullptr;
     OpCounts coord_ops, deriv_ops;
-    int front_count = 0;          // its unit's stages (costs per fragment)
+    int front_count = 0;  // its unit's stages (costs per fragment)
     // Added issue cycles per front-end stage so the shared stage (sized for the widest unit)
     // gives this unit its own throughput: ceil(ii × lanes_stage / lanes_unit) − 1.
     uint32_t front_extra[2] = {};

@@ -20,10 +20,10 @@ __extension__ typedef __int128 wide_int;
 enum class Signedness { Signed, Unsigned };
 
 enum class Rounding {
-  Floor,         // drop the low bits (two's-complement truncation: toward -inf)
-  TowardZero,    // sign-magnitude truncation
-  HalfUp,        // add half an LSB, then floor (the cheapest hardware rounding)
-  HalfEven,      // round to nearest, ties to even (IEEE default)
+  Floor,       // drop the low bits (two's-complement truncation: toward -inf)
+  TowardZero,  // sign-magnitude truncation
+  HalfUp,      // add half an LSB, then floor (the cheapest hardware rounding)
+  HalfEven,    // round to nearest, ties to even (IEEE default)
 };
 
 enum class Overflow {
@@ -38,13 +38,16 @@ namespace fixed_detail {
 constexpr wide_int shift_round(wide_int v, int s, Rounding r) {
   if (s <= 0) return v << (-s);
   const wide_int one = 1;
-  const wide_int floor_q = v >> s;  // arithmetic shift: floor
+  const wide_int floor_q = v >> s;          // arithmetic shift: floor
   const wide_int rem = v - (floor_q << s);  // in [0, 2^s)
   const wide_int half = one << (s - 1);
   switch (r) {
-    case Rounding::Floor: return floor_q;
-    case Rounding::TowardZero: return (v < 0 && rem != 0) ? floor_q + 1 : floor_q;
-    case Rounding::HalfUp: return rem >= half ? floor_q + 1 : floor_q;
+    case Rounding::Floor:
+      return floor_q;
+    case Rounding::TowardZero:
+      return (v < 0 && rem != 0) ? floor_q + 1 : floor_q;
+    case Rounding::HalfUp:
+      return rem >= half ? floor_q + 1 : floor_q;
     case Rounding::HalfEven:
       if (rem > half) return floor_q + 1;
       if (rem < half) return floor_q;
@@ -127,7 +130,8 @@ class Fixed {
     const int guard = static_cast<int>(q & 3);
     wide_int r = floor_q;
     switch (R) {
-      case Rounding::Floor: break;
+      case Rounding::Floor:
+        break;
       case Rounding::TowardZero:
         if (num < 0 && (guard != 0 || sticky)) r = floor_q + 1;
         break;
@@ -135,8 +139,10 @@ class Fixed {
         if (guard >= 2) r = floor_q + 1;
         break;
       case Rounding::HalfEven:
-        if (guard > 2 || (guard == 2 && sticky)) r = floor_q + 1;
-        else if (guard == 2 && !sticky && (floor_q & 1)) r = floor_q + 1;
+        if (guard > 2 || (guard == 2 && sticky))
+          r = floor_q + 1;
+        else if (guard == 2 && !sticky && (floor_q & 1))
+          r = floor_q + 1;
         break;
     }
     return from_wide(r);
@@ -181,10 +187,18 @@ class Fixed {
     if (scaled <= -kLimit) return O == Overflow::Saturate ? kRawMin : 0;
     double r = 0;
     switch (R) {
-      case Rounding::Floor: r = std::floor(scaled); break;
-      case Rounding::TowardZero: r = std::trunc(scaled); break;
-      case Rounding::HalfUp: r = std::floor(scaled + 0.5); break;
-      case Rounding::HalfEven: r = std::nearbyint(scaled); break;  // default FE mode: ties-even
+      case Rounding::Floor:
+        r = std::floor(scaled);
+        break;
+      case Rounding::TowardZero:
+        r = std::trunc(scaled);
+        break;
+      case Rounding::HalfUp:
+        r = std::floor(scaled + 0.5);
+        break;
+      case Rounding::HalfEven:
+        r = std::nearbyint(scaled);
+        break;  // default FE mode: ties-even
     }
     return fit(static_cast<wide_int>(r));
   }
@@ -193,23 +207,34 @@ class Fixed {
 };
 
 // Free helpers so templated functional cores can treat float, double and Fixed alike.
-template <class T> constexpr double to_double(T x) {
-  if constexpr (requires { x.to_double(); }) return x.to_double();
-  else return static_cast<double>(x);
+template <class T>
+constexpr double to_double(T x) {
+  if constexpr (requires { x.to_double(); })
+    return x.to_double();
+  else
+    return static_cast<double>(x);
 }
 
-template <class T> struct is_fixed : std::false_type {};
+template <class T>
+struct is_fixed : std::false_type {};
 template <int I, int F, Signedness S, Rounding R, Overflow O>
 struct is_fixed<Fixed<I, F, S, R, O>> : std::true_type {};
-template <class T> inline constexpr bool is_fixed_v = is_fixed<T>::value;
+template <class T>
+inline constexpr bool is_fixed_v = is_fixed<T>::value;
 
 // Name of a number format for reports: "float", "double", or Fixed::name().
-template <class T> std::string format_name() {
-  if constexpr (is_fixed_v<T>) return T::name();
-  else if constexpr (std::is_same_v<T, float>) return "float";
-  else if constexpr (std::is_same_v<T, double>) return "double";
-  else if constexpr (std::is_same_v<T, long double>) return "long double";
-  else return "unknown";
+template <class T>
+std::string format_name() {
+  if constexpr (is_fixed_v<T>)
+    return T::name();
+  else if constexpr (std::is_same_v<T, float>)
+    return "float";
+  else if constexpr (std::is_same_v<T, double>)
+    return "double";
+  else if constexpr (std::is_same_v<T, long double>)
+    return "long double";
+  else
+    return "unknown";
 }
 
 }  // namespace texsim

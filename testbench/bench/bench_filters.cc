@@ -10,18 +10,18 @@
 #include <sstream>
 #include <vector>
 
-#include "blocks/texture/memory/dram_model.h"
 #include "blocks/texture/footprint/ewa_filter.h"
 #include "blocks/texture/footprint/feline_filter.h"
 #include "blocks/texture/footprint/multi_probe_filter.h"
 #include "blocks/texture/footprint/spaf_filter.h"
-#include "blocks/texture/memory/texture_cache.h"
 #include "blocks/texture/footprint/weight_map.h"
-#include "pipeline/kernel/clocked_pipeline.h"
+#include "blocks/texture/memory/dram_model.h"
+#include "blocks/texture/memory/texture_cache.h"
 #include "pipeline/geometry/plane_projection.h"
+#include "pipeline/kernel/clocked_pipeline.h"
+#include "pipeline/reference/oiio_peer.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/scene/texture_loader.h"
-#include "pipeline/reference/oiio_peer.h"
 
 namespace texsim {
 namespace {
@@ -29,12 +29,15 @@ namespace {
 std::string scene_text(double aniso) {
   // The study's view geometry (pipeline/studies/study_filters.cc): tilt acos(1/N), fov 20°.
   const double D = 10, th = std::acos(1.0 / aniso), cs = std::cos(th), sn = std::sin(th);
-  const double su = 0.8 * D, sv = 1.5 * D, pixel = 2 * D * std::tan(10 * 3.14159265358979 / 180) / 128;
+  const double su = 0.8 * D, sv = 1.5 * D,
+               pixel = 2 * D * std::tan(10 * 3.14159265358979 / 180) / 128;
   const double texel = pixel / 1.5;
   std::ostringstream s;
   s.precision(17);
-  s << "[output]\nwidth = 128\nheight = 128\n[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\n"
-    << "fov_y = 20.0\n[textures.t]\nsource = \"x\"\n[materials.m]\ntexture = \"t\"\n[[planes]]\nmaterial = \"m\"\n"
+  s << "[output]\nwidth = 128\nheight = 128\n[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, "
+       "0.0, -1.0]\n"
+    << "fov_y = 20.0\n[textures.t]\nsource = \"x\"\n[materials.m]\ntexture = "
+       "\"t\"\n[[planes]]\nmaterial = \"m\"\n"
     << "origin = [" << -su / 2 << ", " << -0.5 * D * cs << ", " << -D + 0.5 * D * sn << "]\n"
     << "edge_u = [" << su << ", 0.0, 0.0]\nedge_v = [0.0, " << sv * cs << ", " << -sv * sn << "]\n"
     << "uv_scale = [" << su / (texel * 512) << ", " << sv / (texel * 512) << "]\n";
@@ -76,7 +79,8 @@ struct Timing {
               {"blend", TimingSpec{6, 1, 1, 0}, 4, 0}}) {}
   void issue(const Texture& tex, const std::vector<TexelRef>& fetched, uint32_t filter_cycles) {
     lines.clear();
-    for (const TexelRef& t : fetched) lines.push_back(cache.line_of(tex.address(t.level, t.x, t.y)));
+    for (const TexelRef& t : fetched)
+      lines.push_back(cache.line_of(tex.address(t.level, t.x, t.y)));
     std::sort(lines.begin(), lines.end());
     lines.erase(std::unique(lines.begin(), lines.end()), lines.end());
     const auto n = static_cast<uint32_t>(fetched.size());
@@ -118,15 +122,20 @@ void run_block(benchmark::State& state, const Block& b, bool timing) {
     if (t) cycles = t->pipe.cycles();
   }
   benchmark::DoNotOptimize(sink);
-  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(fx.frags.size()));
-  state.counters["lookups/s"] = benchmark::Counter(static_cast<double>(state.iterations() * fx.frags.size()),
-                                                   benchmark::Counter::kIsRate);
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) *
+                          static_cast<int64_t>(fx.frags.size()));
+  state.counters["lookups/s"] = benchmark::Counter(
+      static_cast<double>(state.iterations() * fx.frags.size()), benchmark::Counter::kIsRate);
   state.counters["texels/lookup"] =
       static_cast<double>(texels) / static_cast<double>(state.iterations() * fx.frags.size());
-  if (timing) state.counters["cycles/frag"] = static_cast<double>(cycles) / static_cast<double>(fx.frags.size());
+  if (timing)
+    state.counters["cycles/frag"] =
+        static_cast<double>(cycles) / static_cast<double>(fx.frags.size());
 }
 
-void BM_Ewa(benchmark::State& state, EwaFilter::Config c, bool timing) { run_block(state, EwaFilter(c), timing); }
+void BM_Ewa(benchmark::State& state, EwaFilter::Config c, bool timing) {
+  run_block(state, EwaFilter(c), timing);
+}
 
 EwaFilter::Config ewa_cfg(EwaFilter::Weight w, EwaFilter::Arith a = EwaFilter::Arith::Float) {
   EwaFilter::Config c;
@@ -155,7 +164,9 @@ void BM_Feline(benchmark::State& state, ProbeArith a, bool timing) {
   c.arith = a;
   run_block(state, FelineFilter(c), timing);
 }
-void BM_Spaf(benchmark::State& state, SpafFilter::Config c, bool timing) { run_block(state, SpafFilter(c), timing); }
+void BM_Spaf(benchmark::State& state, SpafFilter::Config c, bool timing) {
+  run_block(state, SpafFilter(c), timing);
+}
 
 // V(d) P2 cut-off in u0.16 (the RTL format): SPAF coverage or EWA edge weighting.
 SubtexelCutoff::Config vd_p2_fx16() {
@@ -164,7 +175,8 @@ SubtexelCutoff::Config vd_p2_fx16() {
   v.format = VdFormatKind::Fx16;
   return v;
 }
-SpafFilter::Config spaf_cfg(SpafFilter::Coverage cov, SpafFilter::Arith a = SpafFilter::Arith::Float) {
+SpafFilter::Config spaf_cfg(SpafFilter::Coverage cov,
+                            SpafFilter::Arith a = SpafFilter::Arith::Float) {
   SpafFilter::Config c;
   c.coverage = cov;
   c.arith = a;
@@ -189,35 +201,53 @@ void BM_Oiio(benchmark::State& state) {
     for (const Fragment& f : fx.frags) sink += peer.lookup(f).r;
   }
   benchmark::DoNotOptimize(sink);
-  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(fx.frags.size()));
-  state.counters["lookups/s"] = benchmark::Counter(static_cast<double>(state.iterations() * fx.frags.size()),
-                                                   benchmark::Counter::kIsRate);
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) *
+                          static_cast<int64_t>(fx.frags.size()));
+  state.counters["lookups/s"] = benchmark::Counter(
+      static_cast<double>(state.iterations() * fx.frags.size()), benchmark::Counter::kIsRate);
 }
 
 BENCHMARK(BM_Oiio)->Name("oiio_texturesystem_aniso16")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Ewa, ewa_lut_float, ewa_cfg(EwaFilter::Weight::Lut), false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Ewa, ewa_lut_fixed, ewa_cfg(EwaFilter::Weight::Lut, EwaFilter::Arith::Fixed), false)
+BENCHMARK_CAPTURE(BM_Ewa, ewa_lut_float, ewa_cfg(EwaFilter::Weight::Lut), false)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Ewa, ewa_exp_double, ewa_cfg(EwaFilter::Weight::Exp, EwaFilter::Arith::Double), false)
+BENCHMARK_CAPTURE(BM_Ewa, ewa_lut_fixed, ewa_cfg(EwaFilter::Weight::Lut, EwaFilter::Arith::Fixed),
+                  false)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Ewa, ewa_pow8_float, ewa_cfg(EwaFilter::Weight::Pow8), false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_EwaMap, ewa_map_quarter, WeightMap::Kind::Quarter, false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_EwaMap, ewa_map_radial_r2, WeightMap::Kind::RadialR2, false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Ewa, ewa_edge_vd_p2_fx16, ewa_edge_cfg(), false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe, ProbeArith::Float, false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe_fixed, ProbeArith::Fixed, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ewa, ewa_exp_double, ewa_cfg(EwaFilter::Weight::Exp, EwaFilter::Arith::Double),
+                  false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ewa, ewa_pow8_float, ewa_cfg(EwaFilter::Weight::Pow8), false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EwaMap, ewa_map_quarter, WeightMap::Kind::Quarter, false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EwaMap, ewa_map_radial_r2, WeightMap::Kind::RadialR2, false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ewa, ewa_edge_vd_p2_fx16, ewa_edge_cfg(), false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe, ProbeArith::Float, false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe_fixed, ProbeArith::Fixed, false)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Feline, feline, ProbeArith::Float, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Feline, feline_fixed, ProbeArith::Fixed, false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Spaf, spaf, spaf_cfg(SpafFilter::Coverage::Mask), false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Spaf, spaf_fixed, spaf_cfg(SpafFilter::Coverage::Mask, SpafFilter::Arith::Fixed), false)
+BENCHMARK_CAPTURE(BM_Spaf, spaf, spaf_cfg(SpafFilter::Coverage::Mask), false)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Spaf, spaf_vd_p2_fx16, spaf_cfg(SpafFilter::Coverage::Vd), false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Ewa, ewa_lut_float_timing, ewa_cfg(EwaFilter::Weight::Lut), true)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_EwaMap, ewa_map_quarter_timing, WeightMap::Kind::Quarter, true)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Ewa, ewa_edge_vd_p2_fx16_timing, ewa_edge_cfg(), true)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe_timing, ProbeArith::Float, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Spaf, spaf_fixed,
+                  spaf_cfg(SpafFilter::Coverage::Mask, SpafFilter::Arith::Fixed), false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Spaf, spaf_vd_p2_fx16, spaf_cfg(SpafFilter::Coverage::Vd), false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ewa, ewa_lut_float_timing, ewa_cfg(EwaFilter::Weight::Lut), true)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EwaMap, ewa_map_quarter_timing, WeightMap::Kind::Quarter, true)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Ewa, ewa_edge_vd_p2_fx16_timing, ewa_edge_cfg(), true)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe_timing, ProbeArith::Float, true)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Feline, feline_timing, ProbeArith::Float, true)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Spaf, spaf_timing, spaf_cfg(SpafFilter::Coverage::Mask), true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Spaf, spaf_timing, spaf_cfg(SpafFilter::Coverage::Mask), true)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Spaf, spaf_vd_p2_fx16_timing, spaf_cfg(SpafFilter::Coverage::Vd), true)
     ->Unit(benchmark::kMillisecond);
 

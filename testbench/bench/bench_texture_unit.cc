@@ -66,9 +66,11 @@ void run(benchmark::State& state, FilterMode mode, bool timing) {
     cycles = unit.cycles();
     benchmark::DoNotOptimize(sink);
   }
-  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(fx.frags.size()));
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) *
+                          static_cast<int64_t>(fx.frags.size()));
   state.counters["fragments"] = static_cast<double>(fx.frags.size());
-  state.counters["sim_cycles_per_frag"] = static_cast<double>(cycles) / static_cast<double>(fx.frags.size());
+  state.counters["sim_cycles_per_frag"] =
+      static_cast<double>(cycles) / static_cast<double>(fx.frags.size());
 }
 
 void BM_Bilinear_Functional(benchmark::State& s) { run(s, FilterMode::Bilinear, false); }

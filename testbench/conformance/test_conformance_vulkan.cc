@@ -1,7 +1,7 @@
 // Vulkan conformance of the filter pipe (LodUnit → TexelAddressGen → TexelBlend) against the
-// independent checker in testbench/conformance/vulkan_conformance: seeded random queries for all three
-// filters, all address modes, 8 and 6 precision bits, magnification and minification, odd sizes.
-// The checker itself is tested both ways: it accepts other legal implementations (truncating
+// independent checker in testbench/conformance/vulkan_conformance: seeded random queries for all
+// three filters, all address modes, 8 and 6 precision bits, magnification and minification, odd
+// sizes. The checker itself is tested both ways: it accepts other legal implementations (truncating
 // weights, the alternative nearest-level rule, either extreme of the scale-factor bounds) and
 // rejects deliberately wrong filters (weights off by 2 LSB, wrong mip level, wrong address mode).
 #include <gtest/gtest.h>
@@ -28,8 +28,8 @@ Texture random_texture(int w, int h, uint64_t seed, TexelFormat fmt) {
 
 VkSamplerState vk_state(FilterMode f, AddressMode mu, AddressMode mv, const LodUnit::Config& l) {
   VkSamplerState s;
-  s.filter = f == FilterMode::Nearest ? VkSamplerState::Filter::Nearest
-                                      : VkSamplerState::Filter::Linear;
+  s.filter =
+      f == FilterMode::Nearest ? VkSamplerState::Filter::Nearest : VkSamplerState::Filter::Linear;
   s.mipmap_mode = f == FilterMode::Trilinear ? VkSamplerState::MipmapMode::Linear
                                              : VkSamplerState::MipmapMode::Nearest;
   s.address_u = mu;
@@ -188,9 +188,12 @@ Rgba other_legal(const Texture& tex, const VkSampleQuery& q, const VkSamplerStat
   auto wrap = [](long long i, long long n, AddressMode m) {
     long long r = ((i % (2 * n)) + 2 * n) % (2 * n);
     switch (m) {
-      case AddressMode::Wrap: return ((i % n) + n) % n;
-      case AddressMode::Clamp: return std::clamp(i, 0LL, n - 1);
-      case AddressMode::Mirror: return r < n ? r : 2 * n - 1 - r;
+      case AddressMode::Wrap:
+        return ((i % n) + n) % n;
+      case AddressMode::Clamp:
+        return std::clamp(i, 0LL, n - 1);
+      case AddressMode::Mirror:
+        return r < n ? r : 2 * n - 1 - r;
     }
     return 0LL;
   };
@@ -207,7 +210,8 @@ Rgba other_legal(const Texture& tex, const VkSampleQuery& q, const VkSamplerStat
     }
     const double x = std::floor((q.u * fw - 0.5) * scale) / scale;  // truncated fraction
     const double y = std::floor((q.v * fh - 0.5) * scale) / scale;
-    const auto i0 = static_cast<long long>(std::floor(x)), j0 = static_cast<long long>(std::floor(y));
+    const auto i0 = static_cast<long long>(std::floor(x)),
+               j0 = static_cast<long long>(std::floor(y));
     const double a = x - std::floor(x), b = y - std::floor(y);
     return (1 - a) * (1 - b) * T(i0, j0) + a * (1 - b) * T(i0 + 1, j0) +
            (1 - a) * b * T(i0, j0 + 1) + a * b * T(i0 + 1, j0 + 1);
@@ -226,7 +230,8 @@ TEST(VulkanConformance, CheckerAcceptsOtherLegalImplementations) {
   int total = 0, failures = 0;
   for (int bits : {8, 6}) {
     for (auto [w, h] : kSizes) {
-      const Texture tex = random_texture(w, h, static_cast<uint64_t>(w + 31 * h), TexelFormat::Rgba32f);
+      const Texture tex =
+          random_texture(w, h, static_cast<uint64_t>(w + 31 * h), TexelFormat::Rgba32f);
       for (FilterMode f : kFilters) {
         for (AddressMode m : kModes) {
           LodUnit::Config l;
@@ -347,12 +352,12 @@ TEST(VulkanConformance, RejectsWrongAddressMode) {
                                 VkFilterPrecision{});
     for (int it = 0; it < 2000; ++it) {
       Fragment fr = random_fragment(rng, 32, 32, -3, 0);  // magnified: level 0
-      fr.u = edge(rng);  // up to 1.6 texels left of the edge
+      fr.u = edge(rng);                                   // up to 1.6 texels left of the edge
       ++r.n;
       if (!chk.check(tex, query_of(fr), pipe.sample(tex, fr)).pass) ++r.rejected;
     }
-    std::printf("%s, wrap instead of clamp at the edge: %d of %d rejected (%.1f%%)\n",
-                to_string(f), r.rejected, r.n, 100 * r.rate());
+    std::printf("%s, wrap instead of clamp at the edge: %d of %d rejected (%.1f%%)\n", to_string(f),
+                r.rejected, r.n, 100 * r.rate());
     EXPECT_GT(r.rate(), 0.6);
   }
 }

@@ -16,7 +16,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 struct Box {
   double lo[4], hi[4];
   int level;
-  long long i0, j0;      // unwrapped integer coordinates (linear: of the i0/j0 texel)
+  long long i0, j0;       // unwrapped integer coordinates (linear: of the i0/j0 texel)
   double a0, a1, b0, b1;  // α, β ranges (nearest: unused)
 };
 
@@ -24,8 +24,10 @@ struct Box {
 long long wrap(long long i, long long size, AddressMode m) {
   auto mod = [](long long a, long long b) { return ((a % b) + b) % b; };
   switch (m) {
-    case AddressMode::Wrap: return mod(i, size);
-    case AddressMode::Clamp: return std::min(std::max(i, 0LL), size - 1);
+    case AddressMode::Wrap:
+      return mod(i, size);
+    case AddressMode::Clamp:
+      return std::min(std::max(i, 0LL), size - 1);
     case AddressMode::Mirror: {
       const long long n = mod(i, 2 * size) - size;
       const long long mirror = n >= 0 ? n : -(1 + n);
@@ -94,8 +96,8 @@ void level_boxes(const Texture& tex, int level, const VkSampleQuery& q, const Vk
         b.hi[c] = -kInf;
         for (double a : {b.a0, b.a1}) {
           for (double be : {b.b0, b.b1}) {
-            const double f = (1 - a) * (1 - be) * t00 + a * (1 - be) * t10 +
-                             (1 - a) * be * t01 + a * be * t11;
+            const double f =
+                (1 - a) * (1 - be) * t00 + a * (1 - be) * t10 + (1 - a) * be * t01 + a * be * t11;
             b.lo[c] = std::min(b.lo[c], f);
             b.hi[c] = std::max(b.hi[c], f);
           }
@@ -123,7 +125,7 @@ void VulkanConformance::lod_interval(const Texture& tex, const VkSampleQuery& q,
     const double rho_lo = std::max(std::max(mux, mvx), std::max(muy, mvy));
     const double rho_hi = std::sqrt(2.0) * std::max(mux + mvx, muy + mvy);
     const double acc = std::ldexp(1.0, -p_.mipmap_bits);  // LOD accuracy
-    lo = std::log2(rho_lo) - acc + bias;  // log2(0) = −inf: magnification
+    lo = std::log2(rho_lo) - acc + bias;                  // log2(0) = −inf: magnification
     hi = std::log2(rho_hi) + acc + bias;
   }
   lo = std::clamp(lo, s_.min_lod, s_.max_lod);
@@ -232,12 +234,18 @@ ConformanceVerdict VulkanConformance::check(const Texture& tex, const VkSampleQu
             const double kl = y.lo[c] - x.lo[c], cl = r - x.lo[c] + t;
             const double kh = y.hi[c] - x.hi[c], ch = r - x.hi[c] - t;
             double e0 = 0, e1 = 1;
-            if (kl > 0) e1 = std::min(e1, cl / kl);
-            else if (kl < 0) e0 = std::max(e0, cl / kl);
-            else if (cl < 0) e1 = -1;
-            if (kh > 0) e0 = std::max(e0, ch / kh);
-            else if (kh < 0) e1 = std::min(e1, ch / kh);
-            else if (ch > 0) e1 = -1;
+            if (kl > 0)
+              e1 = std::min(e1, cl / kl);
+            else if (kl < 0)
+              e0 = std::max(e0, cl / kl);
+            else if (cl < 0)
+              e1 = -1;
+            if (kh > 0)
+              e0 = std::max(e0, ch / kh);
+            else if (kh < 0)
+              e1 = std::min(e1, ch / kh);
+            else if (ch > 0)
+              e1 = -1;
             const double n0 = std::max(g0, e0), n1 = std::min(g1, e1);
             if (n0 > n1 && conflict < 0) conflict = c;
             g0 = n0;

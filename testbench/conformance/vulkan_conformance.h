@@ -35,18 +35,18 @@ struct VkFilterPrecision {
 };
 
 struct VkSampleQuery {
-  double u = 0, v = 0;                           // normalised coordinates
+  double u = 0, v = 0;                            // normalised coordinates
   double dudx = 0, dvdx = 0, dudy = 0, dvdy = 0;  // normalised derivatives
   double shader_bias = 0;                         // the instruction's Bias operand
 };
 
 struct ConformanceVerdict {
   bool pass = false;
-  bool judged = true;      // false: the spec leaves the result undefined (pass is then true)
-  std::string reason;      // "ok", or which range the result misses and by how much
+  bool judged = true;  // false: the spec leaves the result undefined (pass is then true)
+  std::string reason;  // "ok", or which range the result misses and by how much
   double lambda_lo = 0, lambda_hi = 0;  // λ interval after bias and [min_lod, max_lod]
   int level_lo = 0, level_hi = 0;       // levels that may contribute
-  double miss = 0;         // distance outside the closest acceptable range (0 when passing)
+  double miss = 0;  // distance outside the closest acceptable range (0 when passing)
 };
 
 // Conformance checker for Vulkan isotropic texel filtering (docs/filters.md §7): acceptable

@@ -5,8 +5,8 @@
 #include <random>
 #include <vector>
 
-#include "blocks/texture/memory/texture_memory.h"
 #include "blocks/base/fragment.h"
+#include "blocks/texture/memory/texture_memory.h"
 
 namespace texsim {
 

@@ -7,7 +7,8 @@
 
 namespace texsim {
 
-RefEllipse reference_ellipse(const Fragment& f, int w0, int h0, double radius_px, double max_aniso) {
+RefEllipse reference_ellipse(const Fragment& f, int w0, int h0, double radius_px,
+                             double max_aniso) {
   using L = long double;
   RefEllipse e;
   const L sw = static_cast<L>(w0) * radius_px, sh = static_cast<L>(h0) * radius_px;
@@ -53,17 +54,20 @@ void compare_probes(const ProbeSet& p, const RefProbes& r, const ProbeBound& b, 
     }
   }
   d.pos_abs = std::max(d.pos_abs, best);
-  const double bound = b.rel * static_cast<double>(1 + r.len) +
-                       (b.fixed ? (p.n + 1) * std::max(b.w0, b.h0) * std::exp2(-33) + std::exp2(-24) : 0.0);
+  const double bound =
+      b.rel * static_cast<double>(1 + r.len) +
+      (b.fixed ? (p.n + 1) * std::max(b.w0, b.h0) * std::exp2(-33) + std::exp2(-24) : 0.0);
   d.pos = std::max(d.pos, best / bound);
   d.w = std::max(d.w, best_w);
-  if (!r.special && r.lambda > -1) d.lambda = std::max(d.lambda, static_cast<double>(std::fabs(p.lambda - r.lambda)));
+  if (!r.special && r.lambda > -1)
+    d.lambda = std::max(d.lambda, static_cast<double>(std::fabs(p.lambda - r.lambda)));
 }
 
 std::string describe(const Deviation& d) {
   char buf[256];
   std::snprintf(buf, sizeof buf,
-                "%d compared, %d near an N boundary, %d N mismatches; positions %.3g texel (%.3g of the bound), "
+                "%d compared, %d near an N boundary, %d N mismatches; positions %.3g texel (%.3g "
+                "of the bound), "
                 "weights %.3g, lambda %.3g",
                 d.compared, d.near_boundary, d.n_mismatch, d.pos_abs, d.pos, d.w, d.lambda);
   return buf;
@@ -78,7 +82,8 @@ void ColourDeviation::add(const Rgba& a, const Rgba& b) {
   }
 }
 
-Fragment ellipse_fragment(double u, double v, double major, double minor, double theta, int w0, int h0) {
+Fragment ellipse_fragment(double u, double v, double major, double minor, double theta, int w0,
+                          int h0) {
   Fragment f;
   f.u = u;
   f.v = v;
@@ -108,7 +113,8 @@ Fragment random_footprint(std::mt19937& rng, int w0, int h0, bool general) {
     f.dudy = uy / w0;
     f.dvdy = vy / h0;
   } else {
-    const double major = std::exp2(uni(rng) * 15 - 3), minor = major / (1 + 199 * uni(rng) * uni(rng));
+    const double major = std::exp2(uni(rng) * 15 - 3),
+                 minor = major / (1 + 199 * uni(rng) * uni(rng));
     const double th = uni(rng) * std::numbers::pi;
     f = ellipse_fragment(u, v, major, minor, th, w0, h0);
   }

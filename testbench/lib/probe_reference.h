@@ -1,15 +1,15 @@
 #pragma once
-// Long-double reference of the probe filters' set-up (blocks/texture/footprint/feline_filter, blocks/texture/footprint/multi_probe_filter):
-// the footprint ellipse both derive their line from, the comparison of a block's ProbeSet with
-// the reference probes under a position bound, and the random footprints that drive it. Each
-// filter's own rules (N, positions, weights, λ) stay in its test. Not a hardware block: a
-// testbench reference, in long double throughout.
+// Long-double reference of the probe filters' set-up (blocks/texture/footprint/feline_filter,
+// blocks/texture/footprint/multi_probe_filter): the footprint ellipse both derive their line from,
+// the comparison of a block's ProbeSet with the reference probes under a position bound, and the
+// random footprints that drive it. Each filter's own rules (N, positions, weights, λ) stay in its
+// test. Not a hardware block: a testbench reference, in long double throughout.
 #include <random>
 #include <string>
 
+#include "blocks/base/fragment.h"
 #include "blocks/texture/footprint/multi_probe_filter.h"
 #include "blocks/texture/memory/texture_memory.h"
-#include "blocks/base/fragment.h"
 
 namespace texsim {
 
@@ -18,9 +18,9 @@ struct RefProbes {
   int n = 1;
   long double u[ProbeSet::kMax]{}, v[ProbeSet::kMax]{}, w[ProbeSet::kMax]{};
   long double lambda = 0;
-  long double q = 0;      // the ratio N is taken from (each filter's test says how)
-  long double len = 0;    // the half line in level-0 texels (Feline |line|, multi-ellipse R_major)
-  bool special = false;   // a point or overflow: one probe, λ = ±1e30
+  long double q = 0;     // the ratio N is taken from (each filter's test says how)
+  long double len = 0;   // the half line in level-0 texels (Feline |line|, multi-ellipse R_major)
+  bool special = false;  // a point or overflow: one probe, λ = ±1e30
 };
 
 // The footprint in level-0 texels: R·J, Σ = R²·J·Jᵀ, λ± = t ± |(d, Σuv)| with t and d the half
@@ -28,8 +28,8 @@ struct RefProbes {
 struct RefEllipse {
   long double ux = 0, uy = 0, vx = 0, vy = 0;  // R·(∂u/∂x, ∂u/∂y, ∂v/∂x, ∂v/∂y) in texels
   long double suu = 0, suv = 0, svv = 0;
-  long double d = 0;                  // (Σuu − Σvv)/2: with Σuv, 2θ of the major axis
-  long double major2 = 0, minor2 = 0; // λ₊ and the clamped λ₋ (texels²)
+  long double d = 0;                   // (Σuu − Σvv)/2: with Σuv, 2θ of the major axis
+  long double major2 = 0, minor2 = 0;  // λ₊ and the clamped λ₋ (texels²)
 };
 RefEllipse reference_ellipse(const Fragment& f, int w0, int h0, double radius_px, double max_aniso);
 
@@ -70,7 +70,8 @@ struct ColourDeviation {
 };
 
 // A footprint of axes `major` ≥ `minor` texels at angle θ, centred at (u, v).
-Fragment ellipse_fragment(double u, double v, double major, double minor, double theta, int w0, int h0);
+Fragment ellipse_fragment(double u, double v, double major, double minor, double theta, int w0,
+                          int h0);
 
 // Centre in [−2, 2)², LOD bias in [−½, ½); general: independent derivative vectors of ±2^-4 to
 // 2^10 texels (sheared footprints); otherwise axes major ≥ minor at angle θ, major 2^-3 to 2^12

@@ -8,19 +8,19 @@
 #include <type_traits>
 #include <vector>
 
-#include "blocks/texture/derivs/derivatives_analytic.h"
-#include "blocks/texture/derivs/derivatives_forward_diff.h"
-#include "blocks/texture/derivs/derivatives_iterative.h"
-#include "blocks/texture/derivs/derivatives_quad.h"
-#include "blocks/texture/derivs/ellipse_setup.h"
 #include "blocks/geometry/projective_map.h"
 #include "blocks/texture/coords/uv_approximation.h"
 #include "blocks/texture/coords/uv_approximation_triangle.h"
 #include "blocks/texture/coords/uv_constant_depth.h"
 #include "blocks/texture/coords/uv_heckbert_direct.h"
 #include "blocks/texture/coords/uv_incremental_adder.h"
-#include "pipeline/texture/coord_method.h"
+#include "blocks/texture/derivs/derivatives_analytic.h"
+#include "blocks/texture/derivs/derivatives_forward_diff.h"
+#include "blocks/texture/derivs/derivatives_iterative.h"
+#include "blocks/texture/derivs/derivatives_quad.h"
+#include "blocks/texture/derivs/ellipse_setup.h"
 #include "pipeline/studies/study_coords.h"
+#include "pipeline/texture/coord_method.h"
 
 namespace texsim {
 namespace {
@@ -30,7 +30,8 @@ using S20 = Fixed<20, 28>;
 using S24 = Fixed<24, 36>;
 
 // Calls f.template operator()<T>() for every format the blocks support.
-template <class F> void for_each_format(F&& f) {
+template <class F>
+void for_each_format(F&& f) {
   f(std::type_identity<float>{});
   f(std::type_identity<double>{});
   f(std::type_identity<S16>{});
@@ -90,8 +91,10 @@ TEST(StabilityCoords, GrazingPlanesWithinBound) {
             const double bb = inc.error_bound<T>(sp.map, r, n);
             const double ea = uv_err(a[n], sp.map, r.x0 + n, r.y);
             const double eb = uv_err(b[n], sp.map, r.x0 + n, r.y);
-            ASSERT_LE(ea, ba) << format_name<T>() << " tilt " << tilt << " (" << r.x0 + n << "," << r.y << ")";
-            ASSERT_LE(eb, bb) << format_name<T>() << " tilt " << tilt << " (" << r.x0 + n << "," << r.y << ")";
+            ASSERT_LE(ea, ba) << format_name<T>() << " tilt " << tilt << " (" << r.x0 + n << ","
+                              << r.y << ")";
+            ASSERT_LE(eb, bb) << format_name<T>() << " tilt " << tilt << " (" << r.x0 + n << ","
+                              << r.y << ")";
             worst_ratio = std::max(worst_ratio, eb / bb);
             ++checked;
           }
@@ -133,8 +136,10 @@ TEST(StabilityCoords, DenominatorChangingSignInsideARow) {
       ic.form = static_cast<UvIncrementalAdder::Form>(form % 3);
       const UvIncrementalAdder inc(ic);
       const UvHeckbertDirect hd;
-      if (form == 3) hd.eval_row(mc, row, out.data());
-      else inc.eval_row(mc, row, out.data());
+      if (form == 3)
+        hd.eval_row(mc, row, out.data());
+      else
+        inc.eval_row(mc, row, out.data());
       int valid = 0;
       for (int32_t n = 0; n < 512; ++n) {
         ASSERT_FALSE(has_nan(out[n]));
@@ -188,7 +193,7 @@ TEST(StabilityCoords, DenominatorChangingSignInsideARow) {
 TEST(StabilityCoords, ConstantDepthBToZeroAndLargeK) {
   for (double hscale : {0.0, 1e-12, 1e-6, 1e-3, 1e3}) {
     ProjectiveMap m = plane_map(60, 90, 256);  // depth varies along x: G != 0, H ~ 0
-    m.H = m.G * hscale;  // |k| = |G/H| = 1/hscale: huge, or H exactly 0
+    m.H = m.G * hscale;                        // |k| = |G/H| = 1/hscale: huge, or H exactly 0
     const UvConstantDepth cd;
     const long double k = cd.slope(m);
     ASSERT_LE(std::fabs(k), 1.0L) << hscale;
@@ -219,11 +224,14 @@ TEST(StabilityCoords, ConstantDepthBToZeroAndLargeK) {
           // and n rounded increments.
           const double minor = static_cast<double>(xm ? std::max(std::fabs(d.uy), std::fabs(d.vy))
                                                       : std::max(std::fabs(d.ux), std::fabs(d.vx)));
-          const double u_mag = static_cast<double>(std::max(std::fabs(m.u(x, y)), std::fabs(m.v(x, y))));
-          const double tol = 0.5 * 1.05 * minor +
-                             2 * hd.error_bound<T>(m, static_cast<int32_t>(x), static_cast<int32_t>(y)) +
-                             2.0 * (n + 2) * format_unit<T>() * (is_fixed_v<T> ? 1.0 : u_mag + 1);
-          ASSERT_LE(uv_err(out[n], m, x, y), tol) << format_name<T>() << " H/G=" << hscale << " n=" << n;
+          const double u_mag =
+              static_cast<double>(std::max(std::fabs(m.u(x, y)), std::fabs(m.v(x, y))));
+          const double tol =
+              0.5 * 1.05 * minor +
+              2 * hd.error_bound<T>(m, static_cast<int32_t>(x), static_cast<int32_t>(y)) +
+              2.0 * (n + 2) * format_unit<T>() * (is_fixed_v<T> ? 1.0 : u_mag + 1);
+          ASSERT_LE(uv_err(out[n], m, x, y), tol)
+              << format_name<T>() << " H/G=" << hscale << " n=" << n;
         }
       }
     });
@@ -258,7 +266,8 @@ TEST(StabilityCoords, Spans1And2AllRowMethods) {
       auto check = [&](double bound, const char* what) {
         for (int32_t i = 0; i < n; ++i) {
           ASSERT_TRUE(out[i].valid) << what << " " << format_name<T>();
-          EXPECT_LE(uv_err(out[i], m, s.x0 + i, s.y), bound) << what << " " << format_name<T>() << " n=" << n;
+          EXPECT_LE(uv_err(out[i], m, s.x0 + i, s.y), bound)
+              << what << " " << format_name<T>() << " n=" << n;
         }
       };
       hd.eval_row(mc, s, out.data());
@@ -341,8 +350,10 @@ TEST(StabilityCoords, LaneSeams) {
         double worst_seam = 0;
         for (int32_t n = 1; n < s.n; ++n) {
           ASSERT_TRUE(out[n].valid && out[n - 1].valid);
-          const double du = (out[n].u - out[n - 1].u) - static_cast<double>(m.u(n, s.y) - m.u(n - 1, s.y));
-          const double dv = (out[n].v - out[n - 1].v) - static_cast<double>(m.v(n, s.y) - m.v(n - 1, s.y));
+          const double du =
+              (out[n].u - out[n - 1].u) - static_cast<double>(m.u(n, s.y) - m.u(n - 1, s.y));
+          const double dv =
+              (out[n].v - out[n - 1].v) - static_cast<double>(m.v(n, s.y) - m.v(n - 1, s.y));
           const double seam = std::max(std::fabs(du), std::fabs(dv));
           const double bound = b.error_bound<T>(m, s, n) + b.error_bound<T>(m, s, n - 1);
           ASSERT_LE(seam, bound) << format_name<T>() << " n=" << n;
@@ -368,7 +379,8 @@ TEST(StabilityCoords, MillionTexelCoordinatesAndWrapRebase) {
   const long double base = std::floor(big / tile) * tile;
   const ProjectiveMap rebased = far.translated(base, base);
   const RowSpan s{0, 200, 512};
-  auto wrapped_err = [&](const CoordSample& o, const ProjectiveMap& mm, long double shift, int32_t x) {
+  auto wrapped_err = [&](const CoordSample& o, const ProjectiveMap& mm, long double shift,
+                         int32_t x) {
     const long double ur = mm.u(x, s.y) + shift, vr = mm.v(x, s.y) + shift;
     auto wrap = [&](long double a) { return a - std::floor(a / tile) * tile; };
     auto dist = [&](long double a, long double b) {
@@ -402,8 +414,8 @@ TEST(StabilityCoords, MillionTexelCoordinatesAndWrapRebase) {
       if (std::is_same_v<T, float>) (pass == 0 ? float_far : float_rebased) = worst;
     }
   });
-  EXPECT_GT(float_far, 1.0 / 256);        // float at 10^6 texels: sub-texel bits lost
-  EXPECT_LT(float_rebased, 1.0 / 256);    // rebased by whole tiles: within 8 sub-texel bits
+  EXPECT_GT(float_far, 1.0 / 256);      // float at 10^6 texels: sub-texel bits lost
+  EXPECT_LT(float_rebased, 1.0 / 256);  // rebased by whole tiles: within 8 sub-texel bits
   EXPECT_LT(float_rebased * 16, float_far);
 }
 
@@ -425,7 +437,8 @@ TEST(StabilityCoords, NanAndInfInputsAreRejected) {
         const RowSpan s{10, 100, 64};
         std::vector<CoordSample> out(64, CoordSample{1, 1, true});
         auto none = [&](const char* what) {
-          for (const auto& o : out) ASSERT_FALSE(o.valid || has_nan(o)) << what << " " << format_name<T>();
+          for (const auto& o : out)
+            ASSERT_FALSE(o.valid || has_nan(o)) << what << " " << format_name<T>();
         };
         UvHeckbertDirect().eval_row(mc, s, out.data());
         none("heckbert");
@@ -435,7 +448,8 @@ TEST(StabilityCoords, NanAndInfInputsAreRejected) {
         none("quadratic");
         const UvApproximationTriangle at;
         UvApproximationTriangle::Triangle tri;
-        tri.x[1] = 100; tri.y[2] = 100;
+        tri.x[1] = 100;
+        tri.y[2] = 100;
         at.eval_row(at.setup_triangle(mc, tri), s, out.data());
         none("biquadratic");
         const UvConstantDepth cd;
@@ -443,7 +457,8 @@ TEST(StabilityCoords, NanAndInfInputsAreRejected) {
         none("constant-depth");
         std::vector<CoordDerivs> d(64, CoordDerivs{1, 1, 1, 1, true});
         auto no_d = [&](const char* what) {
-          for (const auto& x : d) ASSERT_FALSE(x.valid || has_nan(x)) << what << " " << format_name<T>();
+          for (const auto& x : d)
+            ASSERT_FALSE(x.valid || has_nan(x)) << what << " " << format_name<T>();
         };
         DerivativesAnalytic().eval_row(mc, s, d.data());
         no_d("analytic");
@@ -467,7 +482,8 @@ TEST(StabilityCoords, NanAndInfInputsAreRejected) {
     EXPECT_FALSE(at.setup_triangle(mc, tri).ok);
     const UvConstantDepth cd;
     std::vector<CoordSample> out(8, CoordSample{1, 1, true});
-    cd.eval_row(mc, cd.setup_triangle(mc), {0, std::numeric_limits<double>::infinity(), 8}, out.data());
+    cd.eval_row(mc, cd.setup_triangle(mc), {0, std::numeric_limits<double>::infinity(), 8},
+                out.data());
     for (const auto& o : out) EXPECT_FALSE(o.valid || has_nan(o));
     for (auto form : {EllipseSetup::FForm::Determinant, EllipseSetup::FForm::AcMinusB2}) {
       EllipseSetup::Config ec;
@@ -490,7 +506,8 @@ TEST(StabilityCoords, NanAndInfInputsAreRejected) {
     const auto g = CoordGenerator::create(method, "float");
     CoordTriangle tri;
     tri.map = eye;
-    tri.x[1] = 50; tri.y[2] = 50;
+    tri.x[1] = 50;
+    tri.y[2] = 50;
     tri.rows = rasterize_rows(tri.x, tri.y, 64, 64);
     std::vector<CoordFragment> frags;
     std::vector<ItemCost> costs;

@@ -28,7 +28,8 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct Subject {
   std::string name;
-  std::function<FilterOutput(const Texture&, const Fragment&, std::vector<TexelRef>*, OpCounts&)> run;
+  std::function<FilterOutput(const Texture&, const Fragment&, std::vector<TexelRef>*, OpCounts&)>
+      run;
   uint32_t max_texels;  // the documented bound on texels per fragment
   std::function<uint32_t(const FilterStats&)> cycles;
   uint32_t max_cycles;
@@ -40,8 +41,10 @@ std::vector<Subject> subjects(AddressMode am = AddressMode::Wrap) {
     c.address_u = c.address_v = am;
     auto f = std::make_shared<const EwaFilter>(c);
     // Box ≤ budget per level, two levels with linear mip, + 4 for the fallback.
-    const auto bound = static_cast<uint32_t>(c.texel_budget * (c.mip == EwaFilter::Mip::Linear ? 2 : 1) + 4);
-    s.push_back({name, [f](const Texture& t, const Fragment& fr, std::vector<TexelRef>* v, OpCounts& o) {
+    const auto bound =
+        static_cast<uint32_t>(c.texel_budget * (c.mip == EwaFilter::Mip::Linear ? 2 : 1) + 4);
+    s.push_back({name,
+                 [f](const Texture& t, const Fragment& fr, std::vector<TexelRef>* v, OpCounts& o) {
                    return f->filter(t, fr, v, o);
                  },
                  bound, [f](const FilterStats& st) { return f->issue_cycles(st); },
@@ -70,20 +73,23 @@ std::vector<Subject> subjects(AddressMode am = AddressMode::Wrap) {
   MultiProbeFilter::Config mc;
   mc.address_u = mc.address_v = am;
   auto mp = std::make_shared<const MultiProbeFilter>(mc);
-  s.push_back({"multi-probe", [mp](const Texture& t, const Fragment& fr, std::vector<TexelRef>* v, OpCounts& o) {
+  s.push_back({"multi-probe",
+               [mp](const Texture& t, const Fragment& fr, std::vector<TexelRef>* v, OpCounts& o) {
                  return mp->filter(t, fr, v, o);
                },
                15 * 8, [mp](const FilterStats& st) { return mp->issue_cycles(st); }, 15});
   FelineFilter::Config fc;
   fc.address_u = fc.address_v = am;
   auto fl = std::make_shared<const FelineFilter>(fc);
-  s.push_back({"feline", [fl](const Texture& t, const Fragment& fr, std::vector<TexelRef>* v, OpCounts& o) {
+  s.push_back({"feline",
+               [fl](const Texture& t, const Fragment& fr, std::vector<TexelRef>* v, OpCounts& o) {
                  return fl->filter(t, fr, v, o);
                },
                16 * 8, [fl](const FilterStats& st) { return fl->issue_cycles(st); }, 16});
   fc.axis = FelineFilter::Axis::Parallelogram;
   auto tx = std::make_shared<const FelineFilter>(fc);
-  s.push_back({"texram", [tx](const Texture& t, const Fragment& fr, std::vector<TexelRef>* v, OpCounts& o) {
+  s.push_back({"texram",
+               [tx](const Texture& t, const Fragment& fr, std::vector<TexelRef>* v, OpCounts& o) {
                  return tx->filter(t, fr, v, o);
                },
                16 * 8, [tx](const FilterStats& st) { return tx->issue_cycles(st); }, 16});
@@ -91,10 +97,12 @@ std::vector<Subject> subjects(AddressMode am = AddressMode::Wrap) {
   sc.address_u = sc.address_v = am;
   auto sp = std::make_shared<const SpafFilter>(sc);
   // The scan stops at 4× the budget (beyond it the fallback's 4 texels are read).
-  s.push_back({"spaf", [sp](const Texture& t, const Fragment& fr, std::vector<TexelRef>* v, OpCounts& o) {
+  s.push_back({"spaf",
+               [sp](const Texture& t, const Fragment& fr, std::vector<TexelRef>* v, OpCounts& o) {
                  return sp->filter(t, fr, v, o);
                },
-               4 * 64 + 4, [sp](const FilterStats& st) { return sp->issue_cycles(st); }, 4 * 64 / 4 + 1});
+               4 * 64 + 4, [sp](const FilterStats& st) { return sp->issue_cycles(st); },
+               4 * 64 / 4 + 1});
   // V(d) coverage (one cut-off unit per lane: a texel takes up to 4 slots) and fixed point.
   for (const auto& [name, cov, ar] :
        {std::tuple{"spaf V(d) P1 fx8", SpafFilter::Coverage::Vd, SpafFilter::Arith::Float},
@@ -105,19 +113,21 @@ std::vector<Subject> subjects(AddressMode am = AddressMode::Wrap) {
     vc.vd.format = VdFormatKind::Fx8;
     vc.arith = ar;
     auto sv = std::make_shared<const SpafFilter>(vc);
-    s.push_back({name, [sv](const Texture& t, const Fragment& fr, std::vector<TexelRef>* v, OpCounts& o) {
+    s.push_back({name,
+                 [sv](const Texture& t, const Fragment& fr, std::vector<TexelRef>* v, OpCounts& o) {
                    return sv->filter(t, fr, v, o);
                  },
-                 4 * 64 + 4, [sv](const FilterStats& st) { return sv->issue_cycles(st); }, 4 * 4 * 64 / 4 + 1});
+                 4 * 64 + 4, [sv](const FilterStats& st) { return sv->issue_cycles(st); },
+                 4 * 4 * 64 / 4 + 1});
   }
   return s;
 }
 
-
 // Common checks: finite colour inside the texture's value range (all weights are ≥ 0, so the
 // result is a convex combination), texel and cycle bounds, fetched coordinates in range.
-void check_common(const Subject& s, const Texture& tex, const FilterOutput& o, const std::vector<TexelRef>& fetched,
-                  const OpCounts& ops, const std::string& what) {
+void check_common(const Subject& s, const Texture& tex, const FilterOutput& o,
+                  const std::vector<TexelRef>& fetched, const OpCounts& ops,
+                  const std::string& what) {
   for (int c = 0; c < 4; ++c) {
     ASSERT_TRUE(std::isfinite(o.colour[c])) << s.name << " " << what;
     ASSERT_GE(o.colour[c], 0.1f / 1.01f - 1e-3f) << s.name << " " << what;
@@ -162,7 +172,8 @@ TEST(StabilityFilters, ZeroAreaFootprints) {
   const Fragment f = texel_fragment(0.3 + 0.25 / 128, 0.6 + 0.25 / 128, 0, 0, 0, 0, 128);
   const FilterOutput o = e.filter(tex, f, nullptr, ops);
   EXPECT_TRUE(o.stats.fallback);
-  const Rgba b = bilinear_fallback(tex, 0, f.u, f.v, AddressMode::Wrap, AddressMode::Wrap, nullptr, ops2);
+  const Rgba b =
+      bilinear_fallback(tex, 0, f.u, f.v, AddressMode::Wrap, AddressMode::Wrap, nullptr, ops2);
   for (int ch = 0; ch < 4; ++ch) EXPECT_EQ(o.colour[ch], b[ch]);
 }
 
@@ -178,7 +189,8 @@ TEST(StabilityFilters, MagnificationMatchesReference) {
       // the reconstruction term) texels around the centre; the reference is the bilinear
       // sample there, so the difference is bounded by the neighbourhood's value spread (0.8).
       const glm::dvec4 ref = footprint_reference_affine(tex, f, rc).colour;
-      for (int ch = 0; ch < 3; ++ch) EXPECT_LT(std::fabs(o.colour[ch] - ref[ch]), 0.4) << s.name << " " << size;
+      for (int ch = 0; ch < 3; ++ch)
+        EXPECT_LT(std::fabs(o.colour[ch] - ref[ch]), 0.4) << s.name << " " << size;
     }
   }
 }
@@ -188,8 +200,8 @@ TEST(StabilityFilters, ExtremeAnisotropyIsClampedAndBounded) {
   for (const Subject& s : subjects()) {
     for (double th : {0.0, 0.3, 0.785, 1.2}) {
       const double major = 1e4 * 0.5, minor = 0.5;  // 10⁴:1
-      const Fragment f = texel_fragment(0.5, 0.5, major * std::cos(th), major * std::sin(th), -minor * std::sin(th),
-                              minor * std::cos(th), 256);
+      const Fragment f = texel_fragment(0.5, 0.5, major * std::cos(th), major * std::sin(th),
+                                        -minor * std::sin(th), minor * std::cos(th), 256);
       run(s, tex, f, "aniso 1e4");
     }
   }
@@ -203,7 +215,8 @@ TEST(StabilityFilters, HugeDerivativesGiveTheTextureMean) {
       const Fragment f = texel_fragment(0.2, 0.9, d, 0.3 * d, -0.2 * d, d, 64);
       const FilterOutput o = run(s, tex, f, "huge derivatives");
       EXPECT_EQ(o.stats.level, tex.levels() - 1) << s.name << " " << d;
-      for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(o.colour[ch], mean[ch], 1e-5) << s.name << " " << d;
+      for (int ch = 0; ch < 3; ++ch)
+        EXPECT_NEAR(o.colour[ch], mean[ch], 1e-5) << s.name << " " << d;
     }
   }
 }
@@ -214,7 +227,8 @@ TEST(StabilityFilters, NonFiniteInputsTakeThePointFootprint) {
     OpCounts ops;
     const FilterOutput ref = s.run(tex, texel_fragment(0.25, 0.5, 0, 0, 0, 0, 64), nullptr, ops);
     for (double bad : {kNaN, kInf, -kInf}) {
-      const FilterOutput a = run(s, tex, texel_fragment(0.25, 0.5, bad, 1, 1, 1, 64), "non-finite derivative");
+      const FilterOutput a =
+          run(s, tex, texel_fragment(0.25, 0.5, bad, 1, 1, 1, 64), "non-finite derivative");
       EXPECT_TRUE(a.stats.bad_input) << s.name;
       for (int ch = 0; ch < 4; ++ch) EXPECT_EQ(a.colour[ch], ref.colour[ch]) << s.name;
       Fragment f = texel_fragment(bad, 0.5, 1, 0, 0, 1, 64);
@@ -239,7 +253,8 @@ TEST(StabilityFilters, AllWeightsZeroFallsBack) {
   const Fragment f = texel_fragment(0.5, 0.5, 0.8, 0, 0, 0.8, 64);  // centre on a texel corner
   const FilterOutput o = e.filter(tex, f, nullptr, ops);
   EXPECT_TRUE(o.stats.fallback);
-  const Rgba b = bilinear_fallback(tex, 0, 0.5, 0.5, AddressMode::Wrap, AddressMode::Wrap, nullptr, ops2);
+  const Rgba b =
+      bilinear_fallback(tex, 0, 0.5, 0.5, AddressMode::Wrap, AddressMode::Wrap, nullptr, ops2);
   for (int ch = 0; ch < 4; ++ch) EXPECT_EQ(o.colour[ch], b[ch]);
   // Probes: Gaussian weights of 0 (w_α huge) leave the probes' plain mean.
   MultiProbeFilter::Config mc;
@@ -284,7 +299,8 @@ TEST(StabilityFilters, BordersInEachAddressMode) {
         const glm::dvec4 ref = footprint_reference_affine(tex, f, rc).colour;
         // Wrap mixes both ends of the ramp (0.1 and 0.9): each method must follow the mode.
         for (int ch = 0; ch < 2; ++ch) {
-          EXPECT_LT(std::fabs(o.colour[ch] - ref[ch]), 0.12) << s.name << " " << to_string(am) << " u=" << u;
+          EXPECT_LT(std::fabs(o.colour[ch] - ref[ch]), 0.12)
+              << s.name << " " << to_string(am) << " u=" << u;
         }
       }
     }
@@ -299,7 +315,8 @@ TEST(StabilityFilters, OneTexelTextures) {
       for (double d : {0.0, 0.01, 1.0, 50.0, 1e6}) {
         std::vector<TexelRef> fetched;
         OpCounts ops;
-        const FilterOutput o = s.run(tex, texel_fragment(0.37, -2.5, d, 0.5 * d, 0.1 * d, d, 1), &fetched, ops);
+        const FilterOutput o =
+            s.run(tex, texel_fragment(0.37, -2.5, d, 0.5 * d, 0.1 * d, d, 1), &fetched, ops);
         EXPECT_NEAR(o.colour.r, 0.2, 1e-6) << s.name;
         EXPECT_NEAR(o.colour.g, 0.4, 1e-6) << s.name;
         EXPECT_NEAR(o.colour.b, 0.6, 1e-6) << s.name;

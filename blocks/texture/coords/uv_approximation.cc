@@ -40,11 +40,20 @@ OpCounts UvApproximation::row_setup_ops() const {
   o.rcp = 1;  // h = 1/(n-1)
   // Coefficients and difference table, per coordinate (u and v):
   switch (cfg_.order) {
-    case Order::Affine: o.add += 2 * 1; o.mul += 2 * 1; break;
+    case Order::Affine:
+      o.add += 2 * 1;
+      o.mul += 2 * 1;
+      break;
     // A1 = 2u0-4u1+2u2 (shifts, 2 adds), A2 = -3u0+4u1-u2 (3 adds); A1·h, (A1h+A2)·h, 2A1h·h.
-    case Order::Quadratic: o.add += 2 * (5 + 1); o.mul += 2 * 3; break;
+    case Order::Quadratic:
+      o.add += 2 * (5 + 1);
+      o.mul += 2 * 3;
+      break;
     // c3, c2, c1: 4 constant products and 3 adds each; then 8 products and 4 adds.
-    case Order::Cubic: o.add += 2 * (9 + 4); o.mul += 2 * (12 + 8); break;
+    case Order::Cubic:
+      o.add += 2 * (9 + 4);
+      o.mul += 2 * (12 + 8);
+      break;
   }
   return o;
 }
@@ -56,9 +65,18 @@ OpCounts UvApproximation::row_setup_critical_path() const {
   p.add = 1;
   p.div = 1;
   switch (cfg_.order) {
-    case Order::Affine: p.add += 1; p.mul += 1; break;
-    case Order::Quadratic: p.add += 3; p.mul += 3; break;
-    case Order::Cubic: p.add += 4; p.mul += 4; break;
+    case Order::Affine:
+      p.add += 1;
+      p.mul += 1;
+      break;
+    case Order::Quadratic:
+      p.add += 3;
+      p.mul += 3;
+      break;
+    case Order::Cubic:
+      p.add += 4;
+      p.mul += 4;
+      break;
   }
   return p;
 }

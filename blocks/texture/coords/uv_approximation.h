@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "blocks/base/op_counts.h"
-#include "blocks/geometry/projective_map.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/geometry/projective_map.h"
 #include "blocks/raster/row_rasterizer.h"
 
 namespace texsim {
@@ -19,7 +19,8 @@ class ConfigReader;
 
 // Coefficients of the quadratic u(s) = A1 s^2 + A2 s + A3 through u(0) = u0, u(1/2) = u1,
 // u(1) = u2. `seed_misprint` reproduces the printed A2 = -3u0 + 4u1 - 2u2 (for the erratum test).
-template <class T> std::array<T, 3> quadratic_coeffs(T u0, T u1, T u2, bool seed_misprint = false) {
+template <class T>
+std::array<T, 3> quadratic_coeffs(T u0, T u1, T u2, bool seed_misprint = false) {
   const T two = static_cast<T>(2), three = static_cast<T>(3), four = static_cast<T>(4);
   const T a1 = two * u0 - four * u1 + two * u2;
   const T a2 = (seed_misprint ? -three * u0 + four * u1 - two * u2 : -three * u0 + four * u1 - u2);
@@ -27,7 +28,8 @@ template <class T> std::array<T, 3> quadratic_coeffs(T u0, T u1, T u2, bool seed
 }
 
 // Coefficients c3..c0 of the cubic through u(0), u(1/3), u(2/3), u(1) (Lagrange, expanded).
-template <class T> std::array<T, 4> cubic_coeffs(T u0, T u1, T u2, T u3) {
+template <class T>
+std::array<T, 4> cubic_coeffs(T u0, T u1, T u2, T u3) {
   auto k = [](double c) { return static_cast<T>(c); };
   const T c3 = k(-4.5) * u0 + k(13.5) * u1 - k(13.5) * u2 + k(4.5) * u3;
   const T c2 = k(9.0) * u0 - k(22.5) * u1 + k(18.0) * u2 - k(4.5) * u3;
@@ -64,7 +66,8 @@ class UvApproximation {
   // Functional core in T: exact (Heckbert) values at the span's sample points s = i/order,
   // polynomial coefficients in s, then forward differences in the pixel index with step
   // h = 1/(n-1). A one-pixel span gets the exact value.
-  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordSample* out) const {
+  template <class T>
+  void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordSample* out) const {
     if (s.n <= 0) return;
     if (cfg_.segment > 0 && s.n > cfg_.segment) {
       for (const RowSpan& g : segments(s)) eval_row(m, g, out + (g.x0 - s.x0));
@@ -86,7 +89,8 @@ class UvApproximation {
       pv[i] = (m.D * xt + bv) / q;
     }
     if (np == 1) {
-      if (!out_of_range(pu[0]) && !out_of_range(pv[0])) out[0] = {to_double(pu[0]), to_double(pv[0]), true};
+      if (!out_of_range(pu[0]) && !out_of_range(pv[0]))
+        out[0] = {to_double(pu[0]), to_double(pv[0]), true};
       return;
     }
     const T h = static_cast<T>(1) / static_cast<T>(s.n - 1);
@@ -112,7 +116,8 @@ class UvApproximation {
  private:
   // Forward-difference table {f(0), Δf(0), Δ²f(0), Δ³f(0)} of the polynomial through the
   // sample values p, for a unit pixel step h in s.
-  template <class T> std::array<T, 4> diff_table(const std::array<T, 4>& p, T h) const {
+  template <class T>
+  std::array<T, 4> diff_table(const std::array<T, 4>& p, T h) const {
     std::array<T, 4> d{};
     const T two = static_cast<T>(2), six = static_cast<T>(6);
     switch (cfg_.order) {

@@ -14,7 +14,8 @@ using Matrix = std::array<std::array<long double, UvApproximationTriangle::kMaxT
                           UvApproximationTriangle::kMaxTerms>;
 
 // Monomials 1, a, b, a², ab, b², a³, a²b, ab², b³ at (a, b).
-std::array<long double, UvApproximationTriangle::kMaxTerms> monomials(long double a, long double b) {
+std::array<long double, UvApproximationTriangle::kMaxTerms> monomials(long double a,
+                                                                      long double b) {
   return {1, a, b, a * a, a * b, b * b, a * a * a, a * a * b, a * b * b, b * b * b};
 }
 
@@ -81,7 +82,8 @@ OpCounts matrix_ops(const Matrix& m, int n) {
 
 std::array<long double, 2> UvApproximationTriangle::node(Order o, int i) {
   if (o == Order::Biquadratic) {
-    static constexpr long double q[6][2] = {{0, 0}, {1, 0}, {0, 1}, {0.5L, 0}, {0, 0.5L}, {0.5L, 0.5L}};
+    static constexpr long double q[6][2] = {{0, 0},    {1, 0},    {0, 1},
+                                            {0.5L, 0}, {0, 0.5L}, {0.5L, 0.5L}};
     return {q[i][0], q[i][1]};
   }
   const long double t = 1.0L / 3, s = 2.0L / 3;
@@ -178,7 +180,8 @@ TimingSpec UvApproximationTriangle::row_setup_timing(const TechTable& t) const {
 }
 
 TimingSpec UvApproximationTriangle::triangle_setup_timing(const TechTable& t) const {
-  TimingSpec s = derive_timing(t, triangle_setup_ops(), triangle_setup_critical_path(), cfg_.datapath);
+  TimingSpec s =
+      derive_timing(t, triangle_setup_ops(), triangle_setup_critical_path(), cfg_.datapath);
   s.area = 0;
   return s;
 }

@@ -8,9 +8,9 @@
 #include <cstdint>
 
 #include "blocks/base/op_counts.h"
-#include "blocks/geometry/projective_map.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/geometry/projective_map.h"
 #include "blocks/raster/row_rasterizer.h"
 
 namespace texsim {
@@ -33,7 +33,8 @@ class UvApproximationTriangle {
   };
   static constexpr int kMaxTerms = 10;
   // Per-triangle state: monomial coefficients in (l1, l2) and l = a·x + b·y + c for both.
-  template <class T> struct Setup {
+  template <class T>
+  struct Setup {
     std::array<T, kMaxTerms> cu{}, cv{};
     T l1a{}, l1b{}, l1c{}, l2a{}, l2b{}, l2c{};
     bool ok = false;
@@ -48,7 +49,8 @@ class UvApproximationTriangle {
   static std::array<long double, 2> node(Order o, int i);
   static const std::array<std::array<long double, kMaxTerms>, kMaxTerms>& node_to_coeffs(Order o);
 
-  template <class T> Setup<T> setup_triangle(const MapCoeffs<T>& m, const Triangle& tri) const {
+  template <class T>
+  Setup<T> setup_triangle(const MapCoeffs<T>& m, const Triangle& tri) const {
     Setup<T> s;
     if (!m.ok) return s;
     const double lim = format_max<T>();
@@ -114,7 +116,8 @@ class UvApproximationTriangle {
     s.cu[0] = s.cu[0] + u0;
     s.cv[0] = s.cv[0] + v0;
     s.ok = true;
-    for (int j = 0; j < nn; ++j) s.ok = s.ok && is_finite_value(s.cu[j]) && is_finite_value(s.cv[j]);
+    for (int j = 0; j < nn; ++j)
+      s.ok = s.ok && is_finite_value(s.cu[j]) && is_finite_value(s.cv[j]);
     return s;
   }
 
@@ -122,7 +125,8 @@ class UvApproximationTriangle {
   // n (l1 = a0 + α·n, l2 = b0 + β·n substituted into the monomials), then its forward
   // differences from those coefficients. (Differencing sampled values instead would amplify
   // their rounding by up to n³/6 over the row in the cubic case.)
-  template <class T> void eval_row(const Setup<T>& st, const RowSpan& s, CoordSample* out) const {
+  template <class T>
+  void eval_row(const Setup<T>& st, const RowSpan& s, CoordSample* out) const {
     if (s.n <= 0) return;
     std::fill(out, out + s.n, CoordSample{});
     if (!st.ok) return;

@@ -7,9 +7,9 @@
 #include <cstdint>
 
 #include "blocks/base/op_counts.h"
-#include "blocks/geometry/projective_map.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/geometry/projective_map.h"
 
 namespace texsim {
 
@@ -27,7 +27,8 @@ class UvConstantDepth {
     static Config from_toml(const ConfigReader& r);
   };
   // Per-triangle state: scan axis, slope and the per-step numerator increments.
-  template <class T> struct Setup {
+  template <class T>
+  struct Setup {
     bool x_major = true;
     T k{}, ak{}, dk{};
     bool ok = false;
@@ -47,7 +48,8 @@ class UvConstantDepth {
   bool x_major(const ProjectiveMap& m) const;
   long double slope(const ProjectiveMap& m) const;
 
-  template <class T> Setup<T> setup_triangle(const MapCoeffs<T>& m) const {
+  template <class T>
+  Setup<T> setup_triangle(const MapCoeffs<T>& m) const {
     Setup<T> s;
     if (!m.ok) return s;
     s.x_major = cfg_.axis == Axis::Auto ? !(abs_t(m.G) > abs_t(m.H)) : cfg_.axis == Axis::X;
@@ -69,7 +71,8 @@ class UvConstantDepth {
   // Values on the exact line at major = s0 + n (the rasterizer writes them to the pixel whose
   // centre is nearest the line: that offset is part of this method's error).
   template <class T>
-  void eval_row(const MapCoeffs<T>& m, const Setup<T>& st, const SlopedSpan& l, CoordSample* out) const {
+  void eval_row(const MapCoeffs<T>& m, const Setup<T>& st, const SlopedSpan& l,
+                CoordSample* out) const {
     if (l.n <= 0) return;
     std::fill(out, out + l.n, CoordSample{});
     if (!st.ok || !std::isfinite(l.h) || std::fabs(l.h) >= format_max<T>()) return;
@@ -101,7 +104,10 @@ class UvConstantDepth {
   TimingSpec triangle_setup_timing(const TechTable& t) const;
 
  private:
-  template <class T> static T abs_t(T x) { return x < T{} ? -x : x; }
+  template <class T>
+  static T abs_t(T x) {
+    return x < T{} ? -x : x;
+  }
   Config cfg_{};
 };
 

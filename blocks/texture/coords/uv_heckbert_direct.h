@@ -5,9 +5,9 @@
 #include <cstdint>
 
 #include "blocks/base/op_counts.h"
-#include "blocks/geometry/projective_map.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/geometry/projective_map.h"
 #include "blocks/raster/row_rasterizer.h"
 
 namespace texsim {
@@ -32,7 +32,8 @@ class UvHeckbertDirect {
 
   // Functional core: arithmetic in T (float, double or Fixed<I,F>), every operation rounded
   // to T as the hardware does.
-  template <class T> CoordSample eval(const MapCoeffs<T>& m, int32_t x, int32_t y) const {
+  template <class T>
+  CoordSample eval(const MapCoeffs<T>& m, int32_t x, int32_t y) const {
     if (!m.ok) return {};
     const T xt = static_cast<T>(x), yt = static_cast<T>(y);
     const T q = m.G * xt + m.H * yt + m.I;
@@ -51,13 +52,15 @@ class UvHeckbertDirect {
     if (out_of_range(u) || out_of_range(v)) return {};
     return {to_double(u), to_double(v), true};
   }
-  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordSample* out) const {
+  template <class T>
+  void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordSample* out) const {
     for (int32_t n = 0; n < s.n; ++n) out[n] = eval(m, s.x0 + n, s.y);
   }
 
   // A-priori bound (texels) on the error at pixel (x, y) in format T
   // (docs/coords-derivations.md §3.3); +inf where the denominator is within its error of 0.
-  template <class T> double error_bound(const ProjectiveMap& m, int32_t x, int32_t y) const {
+  template <class T>
+  double error_bound(const ProjectiveMap& m, int32_t x, int32_t y) const {
     return bound_impl(m, x, y, format_is_fixed<T>(), format_unit<T>());
   }
 

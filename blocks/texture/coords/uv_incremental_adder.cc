@@ -21,9 +21,12 @@ UvIncrementalAdder::Config UvIncrementalAdder::Config::from_toml(const ConfigRea
 
 uint32_t UvIncrementalAdder::lane_count() const {
   switch (cfg_.form) {
-    case Form::Sequential: return 1;
-    case Form::KLane: return static_cast<uint32_t>(std::max(1, cfg_.lanes));
-    case Form::Bidirectional: return 2;
+    case Form::Sequential:
+      return 1;
+    case Form::KLane:
+      return static_cast<uint32_t>(std::max(1, cfg_.lanes));
+    case Form::Bidirectional:
+      return 2;
   }
   return 1;
 }

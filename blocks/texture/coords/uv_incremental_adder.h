@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "blocks/base/op_counts.h"
-#include "blocks/geometry/projective_map.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/geometry/projective_map.h"
 #include "blocks/raster/row_rasterizer.h"
 
 namespace texsim {
@@ -38,7 +38,8 @@ class UvIncrementalAdder {
 
   // Functional core in T. Every add and the division round to T; in Fixed<I,F> the adds are
   // exact (so every form gives w_0 + n·A_q bit for bit), in float each add rounds.
-  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordSample* out) const {
+  template <class T>
+  void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordSample* out) const {
     if (s.n <= 0) return;
     if (!m.ok) {
       std::fill(out, out + s.n, CoordSample{});
@@ -47,7 +48,8 @@ class UvIncrementalAdder {
     const T yt = static_cast<T>(s.y);
     auto form_at = [&](T a, T b, T c, int32_t x) { return a * static_cast<T>(x) + b * yt + c; };
     const int32_t x0 = s.x0;
-    T w = form_at(m.A, m.B, m.C, x0), z = form_at(m.G, m.H, m.I, x0), t = form_at(m.D, m.E, m.F, x0);
+    T w = form_at(m.A, m.B, m.C, x0), z = form_at(m.G, m.H, m.I, x0),
+      t = form_at(m.D, m.E, m.F, x0);
     if (!is_finite_value(w) || !is_finite_value(z) || !is_finite_value(t)) {
       std::fill(out, out + s.n, CoordSample{});
       return;
@@ -66,7 +68,8 @@ class UvIncrementalAdder {
         const T kt = static_cast<T>(k);
         const T ka = kt * m.A, kg = kt * m.G, kd = kt * m.D;
         // Lane j starts at pixel j; the first k values come from the sequential form.
-        std::vector<T> lw(static_cast<size_t>(k)), lz(static_cast<size_t>(k)), lt(static_cast<size_t>(k));
+        std::vector<T> lw(static_cast<size_t>(k)), lz(static_cast<size_t>(k)),
+            lt(static_cast<size_t>(k));
         for (int32_t j = 0; j < k; ++j) {
           lw[j] = w;
           lz[j] = z;
@@ -111,7 +114,8 @@ class UvIncrementalAdder {
   // A-priori bound (texels) on |u - u_exact| and |v - v_exact| at pixel n of span s for number
   // format T, derived in docs/coords-derivations.md §3.3. Returns +inf where the bound does not
   // apply (denominator within its own error of zero).
-  template <class T> double error_bound(const ProjectiveMap& m, const RowSpan& s, int32_t n) const;
+  template <class T>
+  double error_bound(const ProjectiveMap& m, const RowSpan& s, int32_t n) const;
 
   OpCounts pixel_ops() const;  // per pixel (per lane)
   OpCounts pixel_critical_path() const;
@@ -121,7 +125,8 @@ class UvIncrementalAdder {
   TimingSpec row_setup_timing(const TechTable& t) const;
 
  private:
-  template <class T> CoordSample divide(T w, T z, T t) const {
+  template <class T>
+  CoordSample divide(T w, T z, T t) const {
     if (!is_finite_value(z) || !(z >= static_cast<T>(cfg_.min_denominator))) return {};
     T u{}, v{};
     if (cfg_.division == Division::Divide) {

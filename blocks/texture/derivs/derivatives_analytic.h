@@ -1,13 +1,14 @@
 #pragma once
 // DerivativesAnalytic: exact screen-space derivatives of the perspective map per pixel,
-// du/dx = (A - G·u)/q etc., from the row's incremental u, v and q (docs/coords-derivations.md §6.1).
+// du/dx = (A - G·u)/q etc., from the row's incremental u, v and q (docs/coords-derivations.md
+// §6.1).
 #include <algorithm>
 #include <cstdint>
 
 #include "blocks/base/op_counts.h"
-#include "blocks/geometry/projective_map.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/geometry/projective_map.h"
 #include "blocks/raster/row_rasterizer.h"
 
 namespace texsim {
@@ -27,7 +28,8 @@ class DerivativesAnalytic {
   // Functional core in T. The numerators w, t and denominator q advance by +A, +D, +G as in
   // UvIncrementalAdder (their ops are charged there); this block adds r = 1/q, u = w·r,
   // v = t·r and the four (a - g·u)·r.
-  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordDerivs* out) const {
+  template <class T>
+  void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordDerivs* out) const {
     if (s.n <= 0) return;
     std::fill(out, out + s.n, CoordDerivs{});
     if (!m.ok) return;
@@ -39,7 +41,8 @@ class DerivativesAnalytic {
         const T u = w * r, v = t * r;
         const T ux = (m.A - m.G * u) * r, vx = (m.D - m.G * v) * r;
         const T uy = (m.B - m.H * u) * r, vy = (m.E - m.H * v) * r;
-        const bool ok = !out_of_range(ux) && !out_of_range(vx) && !out_of_range(uy) && !out_of_range(vy);
+        const bool ok =
+            !out_of_range(ux) && !out_of_range(vx) && !out_of_range(uy) && !out_of_range(vy);
         if (ok) out[n] = {to_double(ux), to_double(vx), to_double(uy), to_double(vy), true};
       }
       w += m.A;

@@ -23,8 +23,8 @@ OpCounts DerivativesForwardDiff::pixel_ops() const {
   } else {
     o.add = 6;  // w+A, t+D, q+G, w+B, t+E, q+H
   }
-  o.div = 4;    // the neighbours' u, v
-  o.add += 4;   // minus the pixel's own u, v
+  o.div = 4;   // the neighbours' u, v
+  o.add += 4;  // minus the pixel's own u, v
   o.cmp = 2;
   return o;
 }

@@ -7,9 +7,9 @@
 #include <cstdint>
 
 #include "blocks/base/op_counts.h"
-#include "blocks/geometry/projective_map.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/geometry/projective_map.h"
 #include "blocks/raster/row_rasterizer.h"
 
 namespace texsim {
@@ -30,7 +30,8 @@ class DerivativesForwardDiff {
 
   // Functional core in T. The pixel's own w, t, q, u, v come from the coordinate block
   // (incremental, not charged here); the neighbours are this block's work.
-  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordDerivs* out) const {
+  template <class T>
+  void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordDerivs* out) const {
     if (s.n <= 0) return;
     std::fill(out, out + s.n, CoordDerivs{});
     if (!m.ok) return;
@@ -50,14 +51,19 @@ class DerivativesForwardDiff {
         ty = m.D * xt + m.E * y1 + m.F;
         qy = m.G * xt + m.H * y1 + m.I;
       } else {
-        wx = w + m.A; tx = t + m.D; qx = q + m.G;
-        wy = w + m.B; ty = t + m.E; qy = q + m.H;
+        wx = w + m.A;
+        tx = t + m.D;
+        qx = q + m.G;
+        wy = w + m.B;
+        ty = t + m.E;
+        qy = q + m.H;
       }
       if (is_finite_value(q) && q >= lim && qx >= lim && qy >= lim && is_finite_value(qx) &&
           is_finite_value(qy)) {
         const T u = w / q, v = t / q;
         const T ux = wx / qx - u, vx = tx / qx - v, uy = wy / qy - u, vy = ty / qy - v;
-        const bool ok = !out_of_range(ux) && !out_of_range(vx) && !out_of_range(uy) && !out_of_range(vy);
+        const bool ok =
+            !out_of_range(ux) && !out_of_range(vx) && !out_of_range(uy) && !out_of_range(vy);
         if (ok) out[n] = {to_double(ux), to_double(vx), to_double(uy), to_double(vy), true};
       }
       w += m.A;

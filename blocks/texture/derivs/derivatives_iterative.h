@@ -6,9 +6,9 @@
 #include <cstdint>
 
 #include "blocks/base/op_counts.h"
-#include "blocks/geometry/projective_map.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/geometry/projective_map.h"
 #include "blocks/raster/row_rasterizer.h"
 
 namespace texsim {
@@ -26,7 +26,8 @@ class DerivativesIterative {
     static Config from_toml(const ConfigReader& r);
   };
   // Per-triangle constants (numerators of the four forward differences).
-  template <class T> struct Setup {
+  template <class T>
+  struct Setup {
     T p_ux{}, s_ux{}, p_vx{}, s_vx{};        // num_ux = p_ux + s_ux·y, num_vx likewise
     T step_uy{}, p_uy{}, step_vy{}, p_vy{};  // num_uy = step_uy·x + p_uy, num_vy likewise
     bool ok = false;
@@ -35,7 +36,8 @@ class DerivativesIterative {
   DerivativesIterative() = default;
   explicit DerivativesIterative(const Config& c) : cfg_(c) {}
 
-  template <class T> Setup<T> setup_triangle(const MapCoeffs<T>& m) const {
+  template <class T>
+  Setup<T> setup_triangle(const MapCoeffs<T>& m) const {
     Setup<T> s;
     if (!m.ok) return s;
     s.p_ux = m.A * m.I - m.C * m.G;
@@ -54,7 +56,8 @@ class DerivativesIterative {
   }
 
   template <class T>
-  void eval_row(const MapCoeffs<T>& m, const Setup<T>& st, const RowSpan& s, CoordDerivs* out) const {
+  void eval_row(const MapCoeffs<T>& m, const Setup<T>& st, const RowSpan& s,
+                CoordDerivs* out) const {
     if (s.n <= 0) return;
     std::fill(out, out + s.n, CoordDerivs{});
     if (!st.ok) return;

@@ -6,11 +6,11 @@
 #include <cstdint>
 
 #include "blocks/base/op_counts.h"
-#include "blocks/geometry/projective_map.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
-#include "blocks/texture/coords/uv_heckbert_direct.h"
+#include "blocks/geometry/projective_map.h"
 #include "blocks/raster/row_rasterizer.h"
+#include "blocks/texture/coords/uv_heckbert_direct.h"
 
 namespace texsim {
 
@@ -28,7 +28,8 @@ class DerivativesQuad {
 
   // Functional core in T: the quad's coordinates come from Heckbert's formula in T (helper
   // pixels outside the primitive included, as a GPU runs them); the block subtracts.
-  template <class T> void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordDerivs* out) const {
+  template <class T>
+  void eval_row(const MapCoeffs<T>& m, const RowSpan& s, CoordDerivs* out) const {
     if (s.n <= 0) return;
     std::fill(out, out + s.n, CoordDerivs{});
     if (!m.ok) return;
@@ -42,7 +43,7 @@ class DerivativesQuad {
       const int32_t qx = (s.x0 + n) & ~1;
       if (qx != qx_done) {
         const CoordSample p00 = coords.eval(m, qx, qy), p10 = coords.eval(m, qx + 1, qy),
-                       p01 = coords.eval(m, qx, qy + 1);
+                          p01 = coords.eval(m, qx, qy + 1);
         d = {};
         if (p00.valid && p10.valid && p01.valid) {
           // Differences in T (the inputs are T values widened exactly to double).

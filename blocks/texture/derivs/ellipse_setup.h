@@ -7,9 +7,9 @@
 #include <cstdint>
 
 #include "blocks/base/op_counts.h"
-#include "blocks/geometry/projective_map.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/geometry/projective_map.h"
 
 namespace texsim {
 
@@ -43,7 +43,8 @@ class EllipseSetup {
 
   // Functional core in T; inputs are a derivative block's outputs (T values widened to
   // double, so converting back is exact).
-  template <class T> EllipseCoeffs eval(const CoordDerivs& d) const {
+  template <class T>
+  EllipseCoeffs eval(const CoordDerivs& d) const {
     EllipseCoeffs e;
     if (!d.valid) return e;
     const T ux = static_cast<T>(d.ux), vx = static_cast<T>(d.vx);

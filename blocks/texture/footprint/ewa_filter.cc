@@ -6,18 +6,23 @@
 #include <type_traits>
 
 #include "blocks/texture/footprint/gaussian_weight.h"
-#include "blocks/texture/sampler/texel_address_gen.h"
 #include "blocks/texture/footprint/weight_map.h"
+#include "blocks/texture/sampler/texel_address_gen.h"
 
 namespace texsim {
 
 const char* to_string(EwaFilter::Weight w) {
   switch (w) {
-    case EwaFilter::Weight::Lut: return "lut";
-    case EwaFilter::Weight::Exp: return "exp";
-    case EwaFilter::Weight::Pow8: return "pow8";
-    case EwaFilter::Weight::Map: return "map";
-    case EwaFilter::Weight::Uniform: return "uniform";
+    case EwaFilter::Weight::Lut:
+      return "lut";
+    case EwaFilter::Weight::Exp:
+      return "exp";
+    case EwaFilter::Weight::Pow8:
+      return "pow8";
+    case EwaFilter::Weight::Map:
+      return "map";
+    case EwaFilter::Weight::Uniform:
+      return "uniform";
   }
   return "?";
 }
@@ -30,7 +35,9 @@ OpCounts address_mode_ops(AddressMode m) {
       o.add = 1;
       o.cmp = 1;
       break;
-    case AddressMode::Clamp: o.cmp = 2; break;
+    case AddressMode::Clamp:
+      o.cmp = 2;
+      break;
     case AddressMode::Mirror:
       o.mul = 2;
       o.add = 4;
@@ -112,8 +119,10 @@ Rgba bilinear_fallback(const Texture& tex, int level, double u, double v, Addres
   const double fx = std::floor(x), fy = std::floor(y);
   const float a = static_cast<float>(x - fx), b = static_cast<float>(y - fy);
   const auto i = static_cast<int64_t>(fx), j = static_cast<int64_t>(fy);
-  const int32_t x0 = TexelAddressGen::address(i, w, au), x1 = TexelAddressGen::address(i + 1, w, au);
-  const int32_t y0 = TexelAddressGen::address(j, h, av), y1 = TexelAddressGen::address(j + 1, h, av);
+  const int32_t x0 = TexelAddressGen::address(i, w, au),
+                x1 = TexelAddressGen::address(i + 1, w, au);
+  const int32_t y0 = TexelAddressGen::address(j, h, av),
+                y1 = TexelAddressGen::address(j + 1, h, av);
   if (fetched) {
     fetched->push_back({level, x0, y0});
     fetched->push_back({level, x1, y0});
@@ -212,8 +221,10 @@ void EwaFilter::build_lut() {
   for (int i = 0; i < n; ++i) {
     const double q = (i + 0.5) / n;
     double w = std::exp(-cfg_.alpha * q);
-    if (cfg_.lut_bits > 0) w = std::nearbyint(w * scale) / scale;
-    else w = static_cast<double>(static_cast<float>(w));
+    if (cfg_.lut_bits > 0)
+      w = std::nearbyint(w * scale) / scale;
+    else
+      w = static_cast<double>(static_cast<float>(w));
     lut_[static_cast<size_t>(i)] = w;
   }
 }
@@ -231,8 +242,10 @@ double EwaFilter::weight_of(double q) const {
       return GaussianWeight::weight_exp<GaussianWeightFormat<double>>(2.0 * cfg_.alpha * q);
     case Weight::Pow8:
       return GaussianWeight::weight_pow8<GaussianWeightFormat<double>>(2.0 * cfg_.alpha * q);
-    case Weight::Map: return map_ ? map_->function(q) : 0.0;
-    case Weight::Uniform: return 1.0;
+    case Weight::Map:
+      return map_ ? map_->function(q) : 0.0;
+    case Weight::Uniform:
+      return 1.0;
   }
   return 0.0;
 }
@@ -257,10 +270,10 @@ OpCounts budget_iteration_ops() {
 }
 OpCounts level_setup_ops() {
   OpCounts o;
-  o.mul = 2 + 3 + 2;  // det, a/b/c, centre u·w, v·h
+  o.mul = 2 + 3 + 2;      // det, a/b/c, centre u·w, v·h
   o.add = 1 + 2 + 4 + 1;  // det, centre −½, box bounds, U0 = i0 − uc
-  o.rcp = 1;          // 1/det
-  o.cmp = 1 + 4;      // det > 0, bound conversions
+  o.rcp = 1;              // 1/det
+  o.cmp = 1 + 4;          // det > 0, bound conversions
   return o;
 }
 OpCounts row_ops(EwaFilter::Scan scan) {
@@ -304,8 +317,10 @@ OpCounts weight_ops(EwaFilter::Weight w) {
       o.add = 1;
       o.mul = 1 + 3;
       break;
-    case EwaFilter::Weight::Map: break;  // WeightMap::ops_per_read, added where used
-    case EwaFilter::Weight::Uniform: break;
+    case EwaFilter::Weight::Map:
+      break;  // WeightMap::ops_per_read, added where used
+    case EwaFilter::Weight::Uniform:
+      break;
   }
   return o;
 }
@@ -317,8 +332,10 @@ using SetupOf = std::conditional_t<std::is_same_v<T, double>, double, float>;
 
 template <class T>
 T to_t(double x) {
-  if constexpr (is_fixed_v<T>) return T(x);
-  else return static_cast<T>(x);
+  if constexpr (is_fixed_v<T>)
+    return T(x);
+  else
+    return static_cast<T>(x);
 }
 
 // One level's scan: Σ_l (level texels², reconstruction included) → weighted sum.
@@ -331,14 +348,15 @@ struct LevelScan {
   FilterStats& st;
 
   // Returns Σw; `sum` gets Σ w·texel.
-  AccOf<T> run(int level, double u, double v, double suu, double suv, double svv,
-               const Fragment& f, glm::vec<4, AccOf<T>>& sum) const {
+  AccOf<T> run(int level, double u, double v, double suu, double suv, double svv, const Fragment& f,
+               glm::vec<4, AccOf<T>>& sum) const {
     using S = SetupOf<T>;
     using Acc = AccOf<T>;
     const EwaFilter::Config& c = filt.config();
     ops += level_setup_ops();
     sum = glm::vec<4, Acc>(0);
-    const S det = static_cast<S>(suu) * static_cast<S>(svv) - static_cast<S>(suv) * static_cast<S>(suv);
+    const S det =
+        static_cast<S>(suu) * static_cast<S>(svv) - static_cast<S>(suv) * static_cast<S>(suv);
     if (!(det > 0) || !std::isfinite(det)) return Acc(0);
     const S rdet = S(1) / det;
     const S as = static_cast<S>(svv) * rdet, bs = S(-2) * static_cast<S>(suv) * rdet,
@@ -532,9 +550,9 @@ OpCounts EwaFilter::ops_per_inside() const {
   OpCounts o = weight_ops(cfg_.weight);
   if (cfg_.weight == Weight::Map && map_) o += map_->ops_per_read();
   o += address_mode_ops(cfg_.address_u);
-  o.mem += 1;  // texel read
-  o.mul += 4;  // w·RGBA
-  o.add += 4 + 1;  // RGBA accumulate, Σw
+  o.mem += 1;                             // texel read
+  o.mul += 4;                             // w·RGBA
+  o.add += 4 + 1;                         // RGBA accumulate, Σw
   if (cfg_.edge == Edge::Vd) o.cmp += 1;  // Q > band
   return o;
 }
@@ -642,12 +660,15 @@ template FilterOutput EwaFilter::filter_t<double>(const Texture&, const Fragment
 template FilterOutput EwaFilter::filter_t<EwaQFixed>(const Texture&, const Fragment&,
                                                      std::vector<TexelRef>*, OpCounts&) const;
 
-FilterOutput EwaFilter::filter(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
-                               OpCounts& ops) const {
+FilterOutput EwaFilter::filter(const Texture& tex, const Fragment& f,
+                               std::vector<TexelRef>* fetched, OpCounts& ops) const {
   switch (cfg_.arith) {
-    case Arith::Float: return filter_t<float>(tex, f, fetched, ops);
-    case Arith::Double: return filter_t<double>(tex, f, fetched, ops);
-    case Arith::Fixed: return filter_t<EwaQFixed>(tex, f, fetched, ops);
+    case Arith::Float:
+      return filter_t<float>(tex, f, fetched, ops);
+    case Arith::Double:
+      return filter_t<double>(tex, f, fetched, ops);
+    case Arith::Fixed:
+      return filter_t<EwaQFixed>(tex, f, fetched, ops);
   }
   return {};
 }
@@ -682,7 +703,7 @@ TimingSpec EwaFilter::timing(const TechTable& tech) const {
   OpCounts texel;
   texel.add = 1 + 1 + 1;  // Q step, accumulate, Σw
   texel.cmp = 1;
-  texel.mul = 1;          // w·texel
+  texel.mul = 1;  // w·texel
   texel.mem = 1;
   switch (cfg_.weight) {
     case Weight::Lut:
@@ -702,7 +723,8 @@ TimingSpec EwaFilter::timing(const TechTable& tech) const {
     case Weight::Map:
       if (map_) texel += map_->read_critical_path();
       break;
-    case Weight::Uniform: break;
+    case Weight::Uniform:
+      break;
   }
   if (cfg_.edge == Edge::Vd) {
     // ∂Q/∂U → |∇Q|² → 1/|∇Q| → d → cut-off → × 1/W(−½), select → w × fraction.
@@ -746,19 +768,33 @@ TimingSpec EwaFilter::timing(const TechTable& tech) const {
 std::string EwaFilter::arithmetic() const {
   std::string q;
   switch (cfg_.arith) {
-    case Arith::Float: q = "float32 set-up and Q, float32 accumulation"; break;
-    case Arith::Double: q = "double set-up, Q and accumulation"; break;
-    case Arith::Fixed: q = "float32 set-up, Q in " + EwaQFixed::name() + ", float32 accumulation"; break;
+    case Arith::Float:
+      q = "float32 set-up and Q, float32 accumulation";
+      break;
+    case Arith::Double:
+      q = "double set-up, Q and accumulation";
+      break;
+    case Arith::Fixed:
+      q = "float32 set-up, Q in " + EwaQFixed::name() + ", float32 accumulation";
+      break;
   }
   switch (cfg_.weight) {
     case Weight::Lut:
       q += "; weights from a " + std::to_string(cfg_.lut_size) + "-entry table (" +
            (cfg_.lut_bits > 0 ? "u0." + std::to_string(cfg_.lut_bits) : std::string("float")) + ")";
       break;
-    case Weight::Exp: q += "; weights exp(-alpha Q) computed"; break;
-    case Weight::Pow8: q += "; weights (1 - alpha Q/8)^8 computed"; break;
-    case Weight::Map: q += "; weights read from a " + (map_ ? map_->name() : std::string("?")) + " map"; break;
-    case Weight::Uniform: q += "; uniform weights"; break;
+    case Weight::Exp:
+      q += "; weights exp(-alpha Q) computed";
+      break;
+    case Weight::Pow8:
+      q += "; weights (1 - alpha Q/8)^8 computed";
+      break;
+    case Weight::Map:
+      q += "; weights read from a " + (map_ ? map_->name() : std::string("?")) + " map";
+      break;
+    case Weight::Uniform:
+      q += "; uniform weights";
+      break;
   }
   if (cfg_.edge == Edge::Vd) {
     q += "; " + cutoff().name() + " edge cut-off, boundary distance in " +

@@ -18,13 +18,13 @@
 #include <vector>
 
 #include "blocks/base/config_reader.h"
-#include "blocks/base/op_counts.h"
-#include "blocks/texture/subtexel/subtexel_cutoff.h"
-#include "blocks/base/tech_table.h"
-#include "blocks/texture/memory/texture_memory.h"
-#include "blocks/base/timing_spec.h"
-#include "rtl_model/number/fixed.h"
 #include "blocks/base/fragment.h"
+#include "blocks/base/op_counts.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/base/timing_spec.h"
+#include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/subtexel/subtexel_cutoff.h"
+#include "rtl_model/number/fixed.h"
 
 namespace texsim {
 
@@ -95,20 +95,20 @@ class EwaFilter {
 
   struct Config {
     Weight weight = Weight::Lut;  // Uniform: weight 1 inside the ellipse (no pixel model)
-    int lut_size = 256;          // Gaussian table entries over Q ∈ [0, 1)
-    int lut_bits = 16;           // fraction bits of a table entry (0 = float entries)
-    double alpha = 2.0;          // weight exp(−α·Q): σ = R/√(2α) pixels
-    double radius_px = 1.0;      // R: the ellipse Q = 1 is the pixel footprint scaled by R
-    double max_aniso = 16;       // minor axis stretched to at least major/max_aniso
-    int texel_budget = 1024;     // bounding-box texels per level at most (coarser level else)
-    double reconstruction = 1.0; // texel² added to Σ's diagonal at the level read (0 = off)
-    double minor_texels = 1.0;   // level: minor radius / 2^level ∈ [minor_texels, 2·minor_texels)
+    int lut_size = 256;           // Gaussian table entries over Q ∈ [0, 1)
+    int lut_bits = 16;            // fraction bits of a table entry (0 = float entries)
+    double alpha = 2.0;           // weight exp(−α·Q): σ = R/√(2α) pixels
+    double radius_px = 1.0;       // R: the ellipse Q = 1 is the pixel footprint scaled by R
+    double max_aniso = 16;        // minor axis stretched to at least major/max_aniso
+    int texel_budget = 1024;      // bounding-box texels per level at most (coarser level else)
+    double reconstruction = 1.0;  // texel² added to Σ's diagonal at the level read (0 = off)
+    double minor_texels = 1.0;  // level: minor radius / 2^level ∈ [minor_texels, 2·minor_texels)
     Mip mip = Mip::Nearest;
     Scan scan = Scan::Box;
     Arith arith = Arith::Float;
     AddressMode address_u = AddressMode::Wrap;
     AddressMode address_v = AddressMode::Wrap;
-    int lanes = 4;               // texels whose weight is evaluated per cycle
+    int lanes = 4;  // texels whose weight is evaluated per cycle
     // Vd: a texel inside the ellipse whose centre lies within half a texel of the boundary
     // Q = 1 gets its weight × W(d)/W(−½) (SubtexelCutoff), d the distance to the boundary in
     // texels (d < 0 inside). vd.lanes = cut-off units per texel lane.

@@ -10,19 +10,23 @@
 namespace texsim {
 
 FelineFilter::Config FelineFilter::Config::from_toml(const ConfigReader& r) {
-  r.reject_unknown({"axis", "weights", "max_probes", "weight_alpha", "radius_px", "max_aniso", "arith",
-                    "address_u", "address_v"});
+  r.reject_unknown({"axis", "weights", "max_probes", "weight_alpha", "radius_px", "max_aniso",
+                    "arith", "address_u", "address_v"});
   Config c;
-  c.axis = static_cast<Axis>(r.get_choice("axis", static_cast<int>(c.axis), {"parallelogram", "ellipse"}));
-  c.weights = static_cast<Weights>(r.get_choice("weights", static_cast<int>(c.weights), {"equal", "gaussian"}));
+  c.axis = static_cast<Axis>(
+      r.get_choice("axis", static_cast<int>(c.axis), {"parallelogram", "ellipse"}));
+  c.weights = static_cast<Weights>(
+      r.get_choice("weights", static_cast<int>(c.weights), {"equal", "gaussian"}));
   c.max_probes = static_cast<int>(r.get_int("max_probes", c.max_probes, 1, ProbeSet::kMax));
   c.weight_alpha = r.get_double("weight_alpha", c.weight_alpha);
-  if (!(c.weight_alpha >= 0) || !(c.weight_alpha <= 64)) r.fail("weight_alpha", "must be in [0, 64]");
+  if (!(c.weight_alpha >= 0) || !(c.weight_alpha <= 64))
+    r.fail("weight_alpha", "must be in [0, 64]");
   c.radius_px = r.get_double("radius_px", c.radius_px);
   if (!(c.radius_px > 0) || !(c.radius_px <= 16)) r.fail("radius_px", "must be in (0, 16]");
   c.max_aniso = r.get_double("max_aniso", c.max_aniso);
   if (!(c.max_aniso >= 1) || !(c.max_aniso <= 1024)) r.fail("max_aniso", "must be in [1, 1024]");
-  c.arith = static_cast<ProbeArith>(r.get_choice("arith", static_cast<int>(c.arith), {"float", "double", "fixed"}));
+  c.arith = static_cast<ProbeArith>(
+      r.get_choice("arith", static_cast<int>(c.arith), {"float", "double", "fixed"}));
   const std::vector<std::string_view> modes = {"wrap", "clamp", "mirror"};
   c.address_u = static_cast<AddressMode>(r.get_choice("address_u", 0, modes));
   c.address_v = static_cast<AddressMode>(r.get_choice("address_v", 0, modes));
@@ -38,12 +42,16 @@ FelineFilter::FelineFilter(const Config& c) : cfg_(c) {
   addr_ = TexelAddressGen(a);
 }
 
-ProbeSet FelineFilter::probes(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st) const {
+ProbeSet FelineFilter::probes(const Texture& tex, const Fragment& f, OpCounts& ops,
+                              FilterStats* st) const {
   ops += setup_ops();
   switch (cfg_.arith) {
-    case ProbeArith::Float: return probes_t<float>(tex, f, st);
-    case ProbeArith::Double: return probes_t<double>(tex, f, st);
-    case ProbeArith::Fixed: return probes_fixed(tex, f, st);
+    case ProbeArith::Float:
+      return probes_t<float>(tex, f, st);
+    case ProbeArith::Double:
+      return probes_t<double>(tex, f, st);
+    case ProbeArith::Fixed:
+      return probes_fixed(tex, f, st);
   }
   return {};
 }
@@ -106,8 +114,11 @@ ProbeSet FelineFilter::probes_t(const Texture& tex, const Fragment& f, FilterSta
       return p;
     }
     int n = 1;
-    if (minor > 0) n = static_cast<int>(std::min(std::ceil(len / minor - 1e-9), static_cast<double>(cfg_.max_probes)));
-    else n = cfg_.max_probes;
+    if (minor > 0)
+      n = static_cast<int>(
+          std::min(std::ceil(len / minor - 1e-9), static_cast<double>(cfg_.max_probes)));
+    else
+      n = cfg_.max_probes;
     n = std::clamp(n, 1, cfg_.max_probes);
     p.lambda = static_cast<float>(std::log2(std::max(minor, len / n)) + f.lod_bias);
     p.n = n;
@@ -116,14 +127,18 @@ ProbeSet FelineFilter::probes_t(const Texture& tex, const Fragment& f, FilterSta
       const auto i = static_cast<size_t>(k);
       p.u[i] = u + t * lu / w0;
       p.v[i] = v + t * lv / h0;
-      p.w[i] = cfg_.weights == Weights::Equal ? 1.0f : static_cast<float>(std::exp(-cfg_.weight_alpha * t * t));
+      p.w[i] = cfg_.weights == Weights::Equal
+                   ? 1.0f
+                   : static_cast<float>(std::exp(-cfg_.weight_alpha * t * t));
     }
     return p;
   }
 }
 
-template ProbeSet FelineFilter::probes_t<float>(const Texture&, const Fragment&, FilterStats*) const;
-template ProbeSet FelineFilter::probes_t<double>(const Texture&, const Fragment&, FilterStats*) const;
+template ProbeSet FelineFilter::probes_t<float>(const Texture&, const Fragment&,
+                                                FilterStats*) const;
+template ProbeSet FelineFilter::probes_t<double>(const Texture&, const Fragment&,
+                                                 FilterStats*) const;
 
 ProbeSet FelineFilter::probes_fixed(const Texture& tex, const Fragment& f, FilterStats* st) const {
   using Deriv = ProbeFx::Deriv;
@@ -148,7 +163,8 @@ ProbeSet FelineFilter::probes_fixed(const Texture& tex, const Fragment& f, Filte
   Vec lu, lv;      // the half line (texels)
   Len len, minor;  // its length and the minor size
   if (cfg_.axis == Axis::Parallelogram) {
-    if (!std::isfinite(f.dudx) || !std::isfinite(f.dvdx) || !std::isfinite(f.dudy) || !std::isfinite(f.dvdy)) {
+    if (!std::isfinite(f.dudx) || !std::isfinite(f.dvdx) || !std::isfinite(f.dudy) ||
+        !std::isfinite(f.dvdy)) {
       if (st) st->bad_input = true;
       p.lambda = -1e30f;  // point footprint: level 0
       return p;
@@ -161,7 +177,8 @@ ProbeSet FelineFilter::probes_fixed(const Texture& tex, const Fragment& f, Filte
         return p;
       }
     }
-    const Sigma la2 = mul<Sigma>(ax, ax) + mul<Sigma>(ay, ay), lb2 = mul<Sigma>(bx, bx) + mul<Sigma>(by, by);
+    const Sigma la2 = mul<Sigma>(ax, ax) + mul<Sigma>(ay, ay),
+                lb2 = mul<Sigma>(bx, bx) + mul<Sigma>(by, by);
     const bool a_longer = la2 >= lb2;
     len = probe_fx::sqrt_len(a_longer ? la2 : lb2);
     minor = probe_fx::sqrt_len(a_longer ? lb2 : la2);
@@ -202,27 +219,32 @@ ProbeSet FelineFilter::probes_fixed(const Texture& tex, const Fragment& f, Filte
     p.lambda = -1e30f;
     return p;
   }
-  p.lambda = static_cast<float>((probe_fx::log2_of(lod_len.raw(), Len::kFracBits) + Lod(f.lod_bias)).to_double());
+  p.lambda = static_cast<float>(
+      (probe_fx::log2_of(lod_len.raw(), Len::kFracBits) + Lod(f.lod_bias)).to_double());
   // Probe k at t_k = m/N, m = 2k + 1 − N: the centre + m·(line/N).
   const Coord du = mul<Coord>(mul<Vec>(lu, inv_n), Const(1.0 / w0));
   const Coord dv = mul<Coord>(mul<Vec>(lv, inv_n), Const(1.0 / h0));
   const bool gauss = cfg_.weights == Weights::Gaussian;
   // Gaussian: w = exp(−w_α·m²/N²) = 2^-(m²·c), c = w_α·log2(e)/N².
-  const Arg c = gauss ? mul<Arg>(mul<Ratio>(inv_n, inv_n), Const(cfg_.weight_alpha * std::numbers::log2e)) : Arg(0);
+  const Arg c =
+      gauss ? mul<Arg>(mul<Ratio>(inv_n, inv_n), Const(cfg_.weight_alpha * std::numbers::log2e))
+            : Arg(0);
   p.n = n;
   for (int k = 0; k < n; ++k) {
     const int64_t m = 2 * k + 1 - n;
     const auto i = static_cast<size_t>(k);
     p.u[i] = (cu + Coord::from_raw(m * du.raw())).to_double();
     p.v[i] = (cv + Coord::from_raw(m * dv.raw())).to_double();
-    p.w[i] = gauss ? static_cast<float>(probe_fx::exp2_neg(Arg::from_raw(std::min<int64_t>(m * m * c.raw(), Arg::kRawMax))).to_double())
+    p.w[i] = gauss ? static_cast<float>(probe_fx::exp2_neg(Arg::from_raw(std::min<int64_t>(
+                                                               m * m * c.raw(), Arg::kRawMax)))
+                                            .to_double())
                    : 1.0f;
   }
   return p;
 }
 
-FilterOutput FelineFilter::filter(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
-                                  OpCounts& ops) const {
+FilterOutput FelineFilter::filter(const Texture& tex, const Fragment& f,
+                                  std::vector<TexelRef>* fetched, OpCounts& ops) const {
   FilterStats st;
   const ProbeSet p = probes(tex, f, ops, &st);
   return run_probes(addr_, tex, p, probe_setup_ops(), st.bad_input, fetched, ops);
@@ -285,16 +307,14 @@ OpCounts FelineFilter::probe_setup_ops() const {
   o.mul = 2;  // t·(lu, lv) (fixed: m·(line/N))
   o.add = 2;
   if (cfg_.weights == Weights::Gaussian) {
-    o.mul += 1;  // float: t²·w_α; fixed: m²·c
-    o.lut += 1;  // exp (fixed: the 2^-f table and a shift)
+    o.mul += 1;                                       // float: t²·w_α; fixed: m²·c
+    o.lut += 1;                                       // exp (fixed: the 2^-f table and a shift)
     if (cfg_.arith == ProbeArith::Fixed) o.add += 1;  // the m² counter: (m + 2)² = m² + 4m + 4
   }
   return o;
 }
 
-OpCounts FelineFilter::per_probe_ops() const {
-  return probe_lane_ops(addr_, probe_setup_ops());
-}
+OpCounts FelineFilter::per_probe_ops() const { return probe_lane_ops(addr_, probe_setup_ops()); }
 
 TimingSpec FelineFilter::timing(const TechTable& tech) const {
   OpCounts path;
@@ -339,17 +359,20 @@ TimingSpec FelineFilter::timing(const TechTable& tech) const {
 }
 
 std::string FelineFilter::arithmetic() const {
-  const std::string probes = "; trilinear probes (float32 coordinates, u0.8 weights), float32 blend";
+  const std::string probes =
+      "; trilinear probes (float32 coordinates, u0.8 weights), float32 blend";
   switch (cfg_.arith) {
     case ProbeArith::Float:
-      return std::string(cfg_.axis == Axis::Ellipse ? "float32 footprint set-up, line/N/positions/weights in double"
-                                                    : "line/N/positions/weights in double") +
+      return std::string(cfg_.axis == Axis::Ellipse
+                             ? "float32 footprint set-up, line/N/positions/weights in double"
+                             : "line/N/positions/weights in double") +
              probes;
-    case ProbeArith::Double: return "double set-up" + probes;
+    case ProbeArith::Double:
+      return "double set-up" + probes;
     case ProbeArith::Fixed:
       return "fixed set-up (" + ProbeFx::name() +
-             (cfg_.axis == Axis::Ellipse ? "; CORDIC axis" : "") + ", digit-recurrence sqrt, log2/exp2 tables)" +
-             probes;
+             (cfg_.axis == Axis::Ellipse ? "; CORDIC axis" : "") +
+             ", digit-recurrence sqrt, log2/exp2 tables)" + probes;
   }
   return "?";
 }

@@ -19,14 +19,14 @@
 #include <vector>
 
 #include "blocks/base/config_reader.h"
-#include "blocks/texture/footprint/ewa_filter.h"
-#include "blocks/texture/footprint/multi_probe_filter.h"
+#include "blocks/base/fragment.h"
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
-#include "blocks/texture/sampler/texel_address_gen.h"
-#include "blocks/texture/memory/texture_memory.h"
 #include "blocks/base/timing_spec.h"
-#include "blocks/base/fragment.h"
+#include "blocks/texture/footprint/ewa_filter.h"
+#include "blocks/texture/footprint/multi_probe_filter.h"
+#include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/sampler/texel_address_gen.h"
 
 namespace texsim {
 
@@ -55,7 +55,8 @@ class FelineFilter {
 
   // Probes of one fragment: N = min(⌈|line|/minor⌉, max_probes) at the centres of N equal
   // segments of the line ±line, t_k = (2k + 1 − N)/N; λ = log2(max(minor, |line|/N)).
-  ProbeSet probes(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st = nullptr) const;
+  ProbeSet probes(const Texture& tex, const Fragment& f, OpCounts& ops,
+                  FilterStats* st = nullptr) const;
   FilterOutput filter(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
                       OpCounts& ops) const;
 

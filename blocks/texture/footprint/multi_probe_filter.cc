@@ -1,8 +1,5 @@
 #include "blocks/texture/footprint/multi_probe_filter.h"
 
-#include "blocks/texture/sampler/texel_blend.h"
-#include "blocks/texture/subtexel/vd_evaluator_params.h"
-
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -10,6 +7,9 @@
 #include <limits>
 #include <numbers>
 #include <type_traits>
+
+#include "blocks/texture/sampler/texel_blend.h"
+#include "blocks/texture/subtexel/vd_evaluator_params.h"
 
 namespace texsim {
 
@@ -77,16 +77,18 @@ OpCounts probe_lane_ops(const TexelAddressGen& addr, const OpCounts& probe_setup
   return probe_setup + addr.ops_per_probe(false) + trilinear_probe_blend_ops();
 }
 
-TimingSpec probe_filter_timing(const TechTable& tech, const OpCounts& setup_path, const TexelAddressGen& addr,
-                               const OpCounts& setup_ops, const OpCounts& probe_setup) {
+TimingSpec probe_filter_timing(const TechTable& tech, const OpCounts& setup_path,
+                               const TexelAddressGen& addr, const OpCounts& setup_ops,
+                               const OpCounts& probe_setup) {
   OpCounts tail;  // blend of one probe's taps, weighting, normalisation
   tail.mem = 1;
   tail.mul = 2;
   tail.add = 4;
   tail.rcp = 1;
   TimingSpec t;
-  t.latency = static_cast<uint32_t>(std::ceil(tech.path_latency(setup_path) + tech.path_latency(tail))) +
-              addr.timing(tech).latency;
+  t.latency =
+      static_cast<uint32_t>(std::ceil(tech.path_latency(setup_path) + tech.path_latency(tail))) +
+      addr.timing(tech).latency;
   t.ii = 1;
   t.lanes = 1;
   OpCounts lane = probe_lane_ops(addr, probe_setup);
@@ -97,16 +99,20 @@ TimingSpec probe_filter_timing(const TechTable& tech, const OpCounts& setup_path
 
 const char* to_string(ProbeArith a) {
   switch (a) {
-    case ProbeArith::Float: return "float";
-    case ProbeArith::Double: return "double";
-    case ProbeArith::Fixed: return "fixed";
+    case ProbeArith::Float:
+      return "float";
+    case ProbeArith::Double:
+      return "double";
+    case ProbeArith::Fixed:
+      return "fixed";
   }
   return "?";
 }
 
 std::string ProbeFx::name() {
-  return Deriv::name() + " J, " + Sigma::name() + " Sigma, " + Angle::name() + " angle, " + Len::name() +
-         " lengths, " + Coord::name() + " positions, " + Lod::name() + " LOD, " + Weight::name() + " weights";
+  return Deriv::name() + " J, " + Sigma::name() + " Sigma, " + Angle::name() + " angle, " +
+         Len::name() + " lengths, " + Coord::name() + " positions, " + Lod::name() + " LOD, " +
+         Weight::name() + " weights";
 }
 
 // ---- fixed-point set-up units -------------------------------------------------------------
@@ -116,7 +122,9 @@ namespace probe_fx {
 namespace {
 
 // Rounds a non-negative wide value right by s bits, half up.
-wide_int shr_half_up(wide_int v, int s) { return s <= 0 ? v << -s : (v + (wide_int{1} << (s - 1))) >> s; }
+wide_int shr_half_up(wide_int v, int s) {
+  return s <= 0 ? v << -s : (v + (wide_int{1} << (s - 1))) >> s;
+}
 
 // atan(2^-i) in Angle, i < kCordicSteps.
 const std::array<int64_t, ProbeFx::kCordicSteps>& atan_table() {
@@ -135,7 +143,9 @@ constexpr int kTable = 1 << ProbeFx::kTableBits;
 const std::array<int64_t, kTable>& log2_table() {
   static const std::array<int64_t, kTable> t = [] {
     std::array<int64_t, kTable> a{};
-    for (int j = 0; j < kTable; ++j) a[static_cast<size_t>(j)] = ProbeFx::Lod(std::log2(1.0 + j / static_cast<double>(kTable))).raw();
+    for (int j = 0; j < kTable; ++j)
+      a[static_cast<size_t>(j)] =
+          ProbeFx::Lod(std::log2(1.0 + j / static_cast<double>(kTable))).raw();
     return a;
   }();
   return t;
@@ -145,7 +155,8 @@ const std::array<int64_t, kTable>& exp2_table() {
   static const std::array<int64_t, kTable> t = [] {
     std::array<int64_t, kTable> a{};
     for (int j = 0; j < kTable; ++j) {
-      a[static_cast<size_t>(j)] = std::llround(std::ldexp(std::exp2(-j / static_cast<double>(kTable)), kExpEntryBits));
+      a[static_cast<size_t>(j)] =
+          std::llround(std::ldexp(std::exp2(-j / static_cast<double>(kTable)), kExpEntryBits));
     }
     return a;
   }();
@@ -194,7 +205,8 @@ ProbeFx::Lod log2_of(int64_t raw, int frac_bits) {
     j = 0;
     ++e;
   }
-  const wide_int v = (static_cast<wide_int>(e - frac_bits) << Lod::kFracBits) + log2_table()[static_cast<size_t>(j)];
+  const wide_int v = (static_cast<wide_int>(e - frac_bits) << Lod::kFracBits) +
+                     log2_table()[static_cast<size_t>(j)];
   return Lod::from_raw(static_cast<int64_t>(std::clamp<wide_int>(v, Lod::kRawMin, Lod::kRawMax)));
 }
 
@@ -202,7 +214,8 @@ ProbeFx::Weight exp2_neg(ProbeFx::Arg y) {
   using Weight = ProbeFx::Weight;
   constexpr int fa = ProbeFx::Arg::kFracBits;
   int64_t e = y.raw() >> fa;
-  int64_t j = static_cast<int64_t>(shr_half_up(y.raw() & ((int64_t{1} << fa) - 1), fa - ProbeFx::kTableBits));
+  int64_t j = static_cast<int64_t>(
+      shr_half_up(y.raw() & ((int64_t{1} << fa) - 1), fa - ProbeFx::kTableBits));
   if (j >= kTable) {
     j = 0;
     ++e;
@@ -213,7 +226,8 @@ ProbeFx::Weight exp2_neg(ProbeFx::Arg y) {
   return Weight::from_raw(w);
 }
 
-ProbeFx::Angle vector_angle(ProbeFx::Sigma x0, ProbeFx::Sigma y0, bool seed_literal, ProbeFx::Sigma& mag) {
+ProbeFx::Angle vector_angle(ProbeFx::Sigma x0, ProbeFx::Sigma y0, bool seed_literal,
+                            ProbeFx::Sigma& mag) {
   using Angle = ProbeFx::Angle;
   // Pre-rotation into the right half-plane: (x, y) → (−x, −y), z0 = ±π (atan2) or 0 (the seed's
   // atan folds the quadrant away).
@@ -221,7 +235,8 @@ ProbeFx::Angle vector_angle(ProbeFx::Sigma x0, ProbeFx::Sigma y0, bool seed_lite
   if (x < 0) {
     x = -x;
     y = -y;
-    if (!seed_literal) z = y0.raw() >= 0 ? Angle(std::numbers::pi).raw() : -Angle(std::numbers::pi).raw();
+    if (!seed_literal)
+      z = y0.raw() >= 0 ? Angle(std::numbers::pi).raw() : -Angle(std::numbers::pi).raw();
   }
   // Normalisation (leading-zero count, barrel shift): the larger of |x|, |y| gets its leading one
   // at bit kTop, so the truncating shifts cost 2^-kTop relative whatever the footprint's size;
@@ -244,7 +259,8 @@ ProbeFx::Angle vector_angle(ProbeFx::Sigma x0, ProbeFx::Sigma y0, bool seed_lite
       z -= at[static_cast<size_t>(i)];
     }
   }
-  mag = vd_detail::from_wide<ProbeFx::Sigma>(x, ProbeFx::Sigma::kFracBits + norm);  // shift back, rounded
+  mag = vd_detail::from_wide<ProbeFx::Sigma>(
+      x, ProbeFx::Sigma::kFracBits + norm);  // shift back, rounded
   return Angle::from_raw(z);
 }
 
@@ -317,13 +333,14 @@ OpCounts probe_footprint_fx_ops() {
   return o + probe_fx::cordic_ops();
 }
 
-ProbeFootprintFx probe_footprint_fx(const Fragment& f, int w0, int h0, double radius_px, double max_aniso,
-                                    bool seed_theta) {
+ProbeFootprintFx probe_footprint_fx(const Fragment& f, int w0, int h0, double radius_px,
+                                    double max_aniso, bool seed_theta) {
   using Deriv = ProbeFx::Deriv;
   using Sigma = ProbeFx::Sigma;
   using vd_detail::mul;
   ProbeFootprintFx fp;
-  if (!std::isfinite(f.dudx) || !std::isfinite(f.dvdx) || !std::isfinite(f.dudy) || !std::isfinite(f.dvdy)) {
+  if (!std::isfinite(f.dudx) || !std::isfinite(f.dvdx) || !std::isfinite(f.dudy) ||
+      !std::isfinite(f.dvdy)) {
     fp.bad_input = true;
     return fp;
   }
@@ -367,16 +384,19 @@ MultiProbeFilter::Config MultiProbeFilter::Config::from_toml(const ConfigReader&
   c.alpha = r.get_double("alpha", c.alpha);
   if (!(c.alpha >= 0.25) || !(c.alpha <= 16)) r.fail("alpha", "must be in [0.25, 16]");
   c.max_probes = static_cast<int>(r.get_int("max_probes", c.max_probes, 1, ProbeSet::kMax));
-  if (c.max_probes % 2 == 0) r.fail("max_probes", "must be odd (probes sit symmetrically about the centre)");
+  if (c.max_probes % 2 == 0)
+    r.fail("max_probes", "must be odd (probes sit symmetrically about the centre)");
   c.weight_alpha = r.get_double("weight_alpha", c.weight_alpha);
-  if (!(c.weight_alpha >= 0) || !(c.weight_alpha <= 64)) r.fail("weight_alpha", "must be in [0, 64]");
+  if (!(c.weight_alpha >= 0) || !(c.weight_alpha <= 64))
+    r.fail("weight_alpha", "must be in [0, 64]");
   c.radius_px = r.get_double("radius_px", c.radius_px);
   if (!(c.radius_px > 0) || !(c.radius_px <= 16)) r.fail("radius_px", "must be in (0, 16]");
   c.max_aniso = r.get_double("max_aniso", c.max_aniso);
   if (!(c.max_aniso >= 1) || !(c.max_aniso <= 1024)) r.fail("max_aniso", "must be in [1, 1024]");
   c.seed_theta = r.get_bool("seed_theta", c.seed_theta);
   c.temporal = r.get_bool("temporal", c.temporal);
-  c.arith = static_cast<ProbeArith>(r.get_choice("arith", static_cast<int>(c.arith), {"float", "double", "fixed"}));
+  c.arith = static_cast<ProbeArith>(
+      r.get_choice("arith", static_cast<int>(c.arith), {"float", "double", "fixed"}));
   const std::vector<std::string_view> modes = {"wrap", "clamp", "mirror"};
   c.address_u = static_cast<AddressMode>(r.get_choice("address_u", 0, modes));
   c.address_v = static_cast<AddressMode>(r.get_choice("address_v", 0, modes));
@@ -409,12 +429,16 @@ double MultiProbeFilter::major_angle(double suu, double suv, double svv, bool se
   return 0.5 * std::atan2(2.0 * suv, suu - svv);
 }
 
-ProbeSet MultiProbeFilter::probes(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st) const {
+ProbeSet MultiProbeFilter::probes(const Texture& tex, const Fragment& f, OpCounts& ops,
+                                  FilterStats* st) const {
   ops += setup_ops();
   switch (cfg_.arith) {
-    case ProbeArith::Float: return probes_t<float>(tex, f, st);
-    case ProbeArith::Double: return probes_t<double>(tex, f, st);
-    case ProbeArith::Fixed: return probes_fixed(tex, f, st);
+    case ProbeArith::Float:
+      return probes_t<float>(tex, f, st);
+    case ProbeArith::Double:
+      return probes_t<double>(tex, f, st);
+    case ProbeArith::Fixed:
+      return probes_fixed(tex, f, st);
   }
   return {};
 }
@@ -471,10 +495,13 @@ ProbeSet MultiProbeFilter::probes_t(const Texture& tex, const Fragment& f, Filte
   }
 }
 
-template ProbeSet MultiProbeFilter::probes_t<float>(const Texture&, const Fragment&, FilterStats*) const;
-template ProbeSet MultiProbeFilter::probes_t<double>(const Texture&, const Fragment&, FilterStats*) const;
+template ProbeSet MultiProbeFilter::probes_t<float>(const Texture&, const Fragment&,
+                                                    FilterStats*) const;
+template ProbeSet MultiProbeFilter::probes_t<double>(const Texture&, const Fragment&,
+                                                     FilterStats*) const;
 
-ProbeSet MultiProbeFilter::probes_fixed(const Texture& tex, const Fragment& f, FilterStats* st) const {
+ProbeSet MultiProbeFilter::probes_fixed(const Texture& tex, const Fragment& f,
+                                        FilterStats* st) const {
   using Len = ProbeFx::Len;
   using Vec = ProbeFx::Vec;
   using Coord = ProbeFx::Coord;
@@ -485,7 +512,8 @@ ProbeSet MultiProbeFilter::probes_fixed(const Texture& tex, const Fragment& f, F
   using vd_detail::mul;
   ProbeSet p;
   const int w0 = tex.width(0), h0 = tex.height(0);
-  const ProbeFootprintFx fp = probe_footprint_fx(f, w0, h0, cfg_.radius_px, cfg_.max_aniso, cfg_.seed_theta);
+  const ProbeFootprintFx fp =
+      probe_footprint_fx(f, w0, h0, cfg_.radius_px, cfg_.max_aniso, cfg_.seed_theta);
   if (st) st->bad_input = fp.bad_input;
   // The centre through the coordinate converter (non-finite: 0, as the float path).
   const Coord cu(std::isfinite(f.u) ? f.u : 0.0), cv(std::isfinite(f.v) ? f.v : 0.0);
@@ -504,8 +532,10 @@ ProbeSet MultiProbeFilter::probes_fixed(const Texture& tex, const Fragment& f, F
     return p;
   }
   // λ = ½·log2(λ₋) + log2(α) + bias: no square root on the LOD path.
-  const Lod half_log = Lod::from_raw((probe_fx::log2_of(fp.minor2.raw(), ProbeFx::Sigma::kFracBits).raw() + 1) >> 1);
-  p.lambda = static_cast<float>((half_log + Lod(std::log2(cfg_.alpha)) + Lod(f.lod_bias)).to_double());
+  const Lod half_log =
+      Lod::from_raw((probe_fx::log2_of(fp.minor2.raw(), ProbeFx::Sigma::kFracBits).raw() + 1) >> 1);
+  p.lambda =
+      static_cast<float>((half_log + Lod(std::log2(cfg_.alpha)) + Lod(f.lod_bias)).to_double());
   // N: the smallest odd n ≥ 2·R_major/(α·R_minor) − 1, i.e. ⌈q⌉ − 1 with q from the divider.
   bool exact = false;
   const int64_t q = probe_fx::count_quotient(2 * rmaj.raw(), ar.raw(), exact);
@@ -515,16 +545,17 @@ ProbeSet MultiProbeFilter::probes_fixed(const Texture& tex, const Fragment& f, F
   n = std::min(n, cfg_.max_probes);
   if (n == 1) return p;
   const Len len = Len::from_raw(2 * std::max<int64_t>(rmaj.raw() - ar.raw(), 0));  // L
-  const Len step = mul<Len>(len, Ratio(1.0 / (n - 1)));                            // table of 1/(N − 1)
+  const Len step = mul<Len>(len, Ratio(1.0 / (n - 1)));  // table of 1/(N − 1)
   const ProbeFx::Angle theta = ProbeFx::Angle::from_raw(fp.two_theta.raw() >> 1);
   Vec ax, ay;  // step·(cos θ, sin θ) in texels
   probe_fx::rotate(mul<Vec>(step, probe_fx::inv_gain()), theta, ax, ay);
   const Coord du = mul<Coord>(ax, Const(1.0 / w0)), dv = mul<Coord>(ay, Const(1.0 / h0));
   // Weight argument per unit k²: w_α·log2(e)·(step/R_major)², so w_k = 2^-(k²·c).
-  const Ratio g = rmaj.raw() > 0 ? Ratio::from_raw(static_cast<int64_t>(std::min<wide_int>(
-                                      (static_cast<wide_int>(step.raw()) << Ratio::kFracBits) / rmaj.raw(),
-                                      Ratio::kRawMax)))
-                                : Ratio(0);
+  const Ratio g = rmaj.raw() > 0
+                      ? Ratio::from_raw(static_cast<int64_t>(std::min<wide_int>(
+                            (static_cast<wide_int>(step.raw()) << Ratio::kFracBits) / rmaj.raw(),
+                            Ratio::kRawMax)))
+                      : Ratio(0);
   const Arg c = mul<Arg>(mul<Ratio>(g, g), Const(cfg_.weight_alpha * std::numbers::log2e));
   const int half = (n - 1) / 2;
   const int parity = static_cast<int>((f.frame + f.x + f.y) & 1u);
@@ -534,13 +565,15 @@ ProbeSet MultiProbeFilter::probes_fixed(const Texture& tex, const Fragment& f, F
     const auto i = static_cast<size_t>(p.n++);
     p.u[i] = (cu + Coord::from_raw(k * du.raw())).to_double();
     p.v[i] = (cv + Coord::from_raw(k * dv.raw())).to_double();
-    p.w[i] = static_cast<float>(probe_fx::exp2_neg(Arg::from_raw(std::min<int64_t>(k * k * c.raw(), Arg::kRawMax))).to_double());
+    p.w[i] = static_cast<float>(
+        probe_fx::exp2_neg(Arg::from_raw(std::min<int64_t>(k * k * c.raw(), Arg::kRawMax)))
+            .to_double());
   }
   return p;
 }
 
-FilterOutput MultiProbeFilter::filter(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
-                                      OpCounts& ops) const {
+FilterOutput MultiProbeFilter::filter(const Texture& tex, const Fragment& f,
+                                      std::vector<TexelRef>* fetched, OpCounts& ops) const {
   FilterStats st;
   const ProbeSet p = probes(tex, f, ops, &st);
   return run_probes(addr_, tex, p, probe_setup_ops(), st.bad_input, fetched, ops);
@@ -615,13 +648,16 @@ TimingSpec MultiProbeFilter::timing(const TechTable& tech) const {
 }
 
 std::string MultiProbeFilter::arithmetic() const {
-  const std::string probes = "; trilinear probes (float32 coordinates, u0.8 weights), float32 blend";
+  const std::string probes =
+      "; trilinear probes (float32 coordinates, u0.8 weights), float32 blend";
   switch (cfg_.arith) {
-    case ProbeArith::Float: return "float32 footprint set-up, axes/N/positions/weights in double" + probes;
-    case ProbeArith::Double: return "double set-up" + probes;
+    case ProbeArith::Float:
+      return "float32 footprint set-up, axes/N/positions/weights in double" + probes;
+    case ProbeArith::Double:
+      return "double set-up" + probes;
     case ProbeArith::Fixed:
-      return "fixed set-up (" + ProbeFx::name() + "; CORDIC axes, digit-recurrence sqrt, log2/exp2 tables)" +
-             probes;
+      return "fixed set-up (" + ProbeFx::name() +
+             "; CORDIC axes, digit-recurrence sqrt, log2/exp2 tables)" + probes;
   }
   return "?";
 }

@@ -20,14 +20,14 @@
 #include <vector>
 
 #include "blocks/base/config_reader.h"
-#include "blocks/texture/footprint/ewa_filter.h"
+#include "blocks/base/fragment.h"
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
-#include "blocks/texture/sampler/texel_address_gen.h"
-#include "blocks/texture/memory/texture_memory.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/texture/footprint/ewa_filter.h"
+#include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/sampler/texel_address_gen.h"
 #include "rtl_model/number/fixed.h"
-#include "blocks/base/fragment.h"
 
 namespace texsim {
 
@@ -53,8 +53,9 @@ OpCounts probe_lane_ops(const TexelAddressGen& addr, const OpCounts& probe_setup
 // Timing of a probe filter: the set-up's critical path `setup_path`, then one probe's address
 // path, blend and normalisation; II 1 (one probe per cycle); area of the set-up (`setup_ops`),
 // one probe lane and the normalisation.
-TimingSpec probe_filter_timing(const TechTable& tech, const OpCounts& setup_path, const TexelAddressGen& addr,
-                               const OpCounts& setup_ops, const OpCounts& probe_setup);
+TimingSpec probe_filter_timing(const TechTable& tech, const OpCounts& setup_path,
+                               const TexelAddressGen& addr, const OpCounts& setup_ops,
+                               const OpCounts& probe_setup);
 // Operations of run_probes per probe besides TexelAddressGen's (blend 8 taps, weighting) and
 // per fragment (normalisation).
 OpCounts probe_blend_ops();
@@ -126,8 +127,8 @@ struct ProbeFootprintFx {
   bool bad_input = false;  // non-finite derivatives: point footprint
   bool overflow = false;   // a derivative saturated Deriv: most minified level
 };
-ProbeFootprintFx probe_footprint_fx(const Fragment& f, int w0, int h0, double radius_px, double max_aniso,
-                                    bool seed_theta);
+ProbeFootprintFx probe_footprint_fx(const Fragment& f, int w0, int h0, double radius_px,
+                                    double max_aniso, bool seed_theta);
 OpCounts probe_footprint_fx_ops();
 
 // Datapath units of the fixed set-up, public for the tests.
@@ -141,7 +142,8 @@ ProbeFx::Weight exp2_neg(ProbeFx::Arg y);
 // CORDIC vectoring of (x, y), inputs normalised by a leading-zero shift and the magnitude
 // shifted back: returns K·|(x, y)| in `mag` (gain K not removed) and
 // atan2(y, x) (seed_literal: atan(y/x), folded into (−π/2, π/2]).
-ProbeFx::Angle vector_angle(ProbeFx::Sigma x, ProbeFx::Sigma y, bool seed_literal, ProbeFx::Sigma& mag);
+ProbeFx::Angle vector_angle(ProbeFx::Sigma x, ProbeFx::Sigma y, bool seed_literal,
+                            ProbeFx::Sigma& mag);
 // CORDIC rotation of (r, 0) by theta (|theta| ≤ π/2): returns r·K·(cos θ, sin θ); callers
 // pre-scale r by 1/K.
 void rotate(ProbeFx::Vec r, ProbeFx::Angle theta, ProbeFx::Vec& x, ProbeFx::Vec& y);
@@ -160,13 +162,13 @@ OpCounts count_divider_ops();
 class MultiProbeFilter {
  public:
   struct Config {
-    double alpha = 1.0;        // the seed's α: a probe's radius in minor radii (spacing α·R_minor)
-    int max_probes = 15;       // odd, ≤ 31
-    double weight_alpha = 2.0; // probe weight exp(−w_α·(d/R_major)²): EWA's pixel model
-    double radius_px = 1.0;    // R: footprint radius in pixels
-    double max_aniso = 64;     // minor axis stretched to ≥ major/max_aniso before N is taken
-    bool seed_theta = false;   // θ = atan(B/(A−C))/2 as printed (loses the quadrant)
-    bool temporal = false;     // alternate probe subsets between frames (0, ±2, ±4 … / 0, ±1, ±3 …)
+    double alpha = 1.0;   // the seed's α: a probe's radius in minor radii (spacing α·R_minor)
+    int max_probes = 15;  // odd, ≤ 31
+    double weight_alpha = 2.0;  // probe weight exp(−w_α·(d/R_major)²): EWA's pixel model
+    double radius_px = 1.0;     // R: footprint radius in pixels
+    double max_aniso = 64;      // minor axis stretched to ≥ major/max_aniso before N is taken
+    bool seed_theta = false;    // θ = atan(B/(A−C))/2 as printed (loses the quadrant)
+    bool temporal = false;  // alternate probe subsets between frames (0, ±2, ±4 … / 0, ±1, ±3 …)
     ProbeArith arith = ProbeArith::Float;  // set-up arithmetic (see the header comment)
     AddressMode address_u = AddressMode::Wrap;
     AddressMode address_v = AddressMode::Wrap;
@@ -181,7 +183,8 @@ class MultiProbeFilter {
 
   // The probes of one fragment (positions, weights, LOD) in the configured arithmetic; adds
   // the set-up operations.
-  ProbeSet probes(const Texture& tex, const Fragment& f, OpCounts& ops, FilterStats* st = nullptr) const;
+  ProbeSet probes(const Texture& tex, const Fragment& f, OpCounts& ops,
+                  FilterStats* st = nullptr) const;
   FilterOutput filter(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
                       OpCounts& ops) const;
 
@@ -192,7 +195,7 @@ class MultiProbeFilter {
   // Cycles one fragment occupies the probe datapath: one probe per cycle.
   uint32_t issue_cycles(const FilterStats& s) const { return s.probes > 0 ? s.probes : 1; }
   OpCounts setup_ops() const;
-  OpCounts per_probe_ops() const;  // position, weight, address (trilinear), blend
+  OpCounts per_probe_ops() const;    // position, weight, address (trilinear), blend
   OpCounts probe_setup_ops() const;  // per probe: position and weight only
   TimingSpec timing(const TechTable& tech) const;
   // Name of the arithmetic for reports.

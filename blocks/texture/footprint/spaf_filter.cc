@@ -18,8 +18,10 @@ using SetupOf = std::conditional_t<std::is_same_v<T, double>, double, float>;
 
 template <class T>
 T to_t(double x) {
-  if constexpr (is_fixed_v<T>) return T(x);
-  else return static_cast<T>(x);
+  if constexpr (is_fixed_v<T>)
+    return T(x);
+  else
+    return static_cast<T>(x);
 }
 
 // d = E·(−k), k = ‖n‖₁/‖n‖₂: the texel centre's Euclidean distance to the edge (positive
@@ -92,13 +94,15 @@ SpafFilter::Config SpafFilter::Config::from_toml(const ConfigReader& r) {
   const std::vector<std::string_view> modes = {"wrap", "clamp", "mirror"};
   c.address_u = static_cast<AddressMode>(r.get_choice("address_u", 0, modes));
   c.address_v = static_cast<AddressMode>(r.get_choice("address_v", 0, modes));
-  c.coverage = static_cast<Coverage>(r.get_choice("coverage", static_cast<int>(c.coverage), {"mask", "vd"}));
+  c.coverage =
+      static_cast<Coverage>(r.get_choice("coverage", static_cast<int>(c.coverage), {"mask", "vd"}));
   if (c.coverage == Coverage::Vd) {
     c.vd = SubtexelCutoff::Config::from_toml(r.sub("vd"));
   } else if (r.table().contains("vd")) {
     r.fail("vd", "is only used with coverage = \"vd\"");
   }
-  c.arith = static_cast<Arith>(r.get_choice("arith", static_cast<int>(c.arith), {"float", "double", "fixed"}));
+  c.arith = static_cast<Arith>(
+      r.get_choice("arith", static_cast<int>(c.arith), {"float", "double", "fixed"}));
   return c;
 }
 
@@ -116,8 +120,8 @@ SpafFilter::SpafFilter(const Config& c) : cfg_(c), cut_(c.vd) {
     const double dev = (s < half ? 1.0 : -1.0) * (1.0 - std::fabs(deu));
     for (int e = 0; e < cfg_.offset_steps; ++e) {
       const double ev = -0.5 + (e + 0.5) / cfg_.offset_steps;
-      table_[static_cast<size_t>(s) * static_cast<size_t>(cfg_.offset_steps) + static_cast<size_t>(e)] =
-          exact_mask(deu, dev, ev);
+      table_[static_cast<size_t>(s) * static_cast<size_t>(cfg_.offset_steps) +
+             static_cast<size_t>(e)] = exact_mask(deu, dev, ev);
     }
   }
 }
@@ -148,8 +152,10 @@ int SpafFilter::slope_index(double deu, double dev) const {
 
 uint64_t SpafFilter::mask(double deu, double dev, double e) const {
   const int s = slope_index(deu, dev);
-  const int k = std::clamp(static_cast<int>((e + 0.5) * cfg_.offset_steps), 0, cfg_.offset_steps - 1);
-  return table_[static_cast<size_t>(s) * static_cast<size_t>(cfg_.offset_steps) + static_cast<size_t>(k)];
+  const int k =
+      std::clamp(static_cast<int>((e + 0.5) * cfg_.offset_steps), 0, cfg_.offset_steps - 1);
+  return table_[static_cast<size_t>(s) * static_cast<size_t>(cfg_.offset_steps) +
+                static_cast<size_t>(k)];
 }
 
 double SpafFilter::vd_coverage(double deu, double dev, double e) const {
@@ -163,8 +169,8 @@ double SpafFilter::vd_coverage(double deu, double dev, double e) const {
 }
 
 template <class T>
-FilterOutput SpafFilter::filter_t(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
-                                  OpCounts& ops) const {
+FilterOutput SpafFilter::filter_t(const Texture& tex, const Fragment& f,
+                                  std::vector<TexelRef>* fetched, OpCounts& ops) const {
   using S = SetupOf<T>;
   using Acc = SetupOf<T>;
   FilterOutput out;
@@ -197,8 +203,10 @@ FilterOutput SpafFilter::filter_t(const Texture& tex, const Fragment& f, std::ve
   int level = 0;
   if (shorter > 1) level = std::min(q_top, static_cast<int>(std::floor(std::log2(shorter))));
   auto box = [&](int l, int64_t& i0, int64_t& i1, int64_t& j0, int64_t& j1) {
-    const double sx = static_cast<double>(tex.width(l)) / w0, sy = static_cast<double>(tex.height(l)) / h0;
-    const double ex = (std::fabs(ax) + std::fabs(bx)) * sx, ey = (std::fabs(ay) + std::fabs(by)) * sy;
+    const double sx = static_cast<double>(tex.width(l)) / w0,
+                 sy = static_cast<double>(tex.height(l)) / h0;
+    const double ex = (std::fabs(ax) + std::fabs(bx)) * sx,
+                 ey = (std::fabs(ay) + std::fabs(by)) * sy;
     constexpr double kLimit = 1073741824.0;
     const double uc = std::clamp(u * tex.width(l) - 0.5, -kLimit, kLimit);
     const double vc = std::clamp(v * tex.height(l) - 0.5, -kLimit, kLimit);
@@ -314,8 +322,10 @@ FilterOutput SpafFilter::filter_t(const Texture& tex, const Fragment& f, std::ve
         bool out_side = false;
         int cuts = 0, cut_k[4];
         for (int k = 0; k < 4; ++k) {
-          if (e[k] <= mhalf) out_side = true;
-          else if (e[k] < half) cut_k[cuts++] = k;
+          if (e[k] <= mhalf)
+            out_side = true;
+          else if (e[k] < half)
+            cut_k[cuts++] = k;
         }
         if (!out_side) {
           st.visited += cov.slots(cuts);
@@ -384,19 +394,22 @@ FilterOutput SpafFilter::filter_t(const Texture& tex, const Fragment& f, std::ve
   });
 }
 
-template FilterOutput SpafFilter::filter_t<float>(const Texture&, const Fragment&, std::vector<TexelRef>*,
-                                                  OpCounts&) const;
-template FilterOutput SpafFilter::filter_t<double>(const Texture&, const Fragment&, std::vector<TexelRef>*,
-                                                   OpCounts&) const;
-template FilterOutput SpafFilter::filter_t<SpafFixed>(const Texture&, const Fragment&, std::vector<TexelRef>*,
-                                                      OpCounts&) const;
+template FilterOutput SpafFilter::filter_t<float>(const Texture&, const Fragment&,
+                                                  std::vector<TexelRef>*, OpCounts&) const;
+template FilterOutput SpafFilter::filter_t<double>(const Texture&, const Fragment&,
+                                                   std::vector<TexelRef>*, OpCounts&) const;
+template FilterOutput SpafFilter::filter_t<SpafFixed>(const Texture&, const Fragment&,
+                                                      std::vector<TexelRef>*, OpCounts&) const;
 
-FilterOutput SpafFilter::filter(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
-                                OpCounts& ops) const {
+FilterOutput SpafFilter::filter(const Texture& tex, const Fragment& f,
+                                std::vector<TexelRef>* fetched, OpCounts& ops) const {
   switch (cfg_.arith) {
-    case Arith::Float: return filter_t<float>(tex, f, fetched, ops);
-    case Arith::Double: return filter_t<double>(tex, f, fetched, ops);
-    case Arith::Fixed: return filter_t<SpafFixed>(tex, f, fetched, ops);
+    case Arith::Float:
+      return filter_t<float>(tex, f, fetched, ops);
+    case Arith::Double:
+      return filter_t<double>(tex, f, fetched, ops);
+    case Arith::Fixed:
+      return filter_t<SpafFixed>(tex, f, fetched, ops);
   }
   return {};
 }
@@ -449,16 +462,16 @@ OpCounts SpafFilter::fixed_guard_ops() const {
 
 OpCounts SpafFilter::per_row_ops() const {
   OpCounts o = address_mode_ops(cfg_.address_v);
-  o.add += 4;                        // E += dev per edge
-  if (cfg_.gaussian) o.add += 3;     // Q_row += dQv, dQv += 2c, dQ_row += b
+  o.add += 4;                     // E += dev per edge
+  if (cfg_.gaussian) o.add += 3;  // Q_row += dQv, dQv += 2c, dQ_row += b
   return o;
 }
 
 OpCounts SpafFilter::per_visit_ops() const {
   OpCounts o;
-  o.add = 4;                       // four edge values stepped
-  if (cfg_.gaussian) o.add += 2;   // Q stepped (dQ, Q)
-  o.cmp = 8;                       // E ≤ −½ and E < ½ per edge
+  o.add = 4;                      // four edge values stepped
+  if (cfg_.gaussian) o.add += 2;  // Q stepped (dQ, Q)
+  o.cmp = 8;                      // E ≤ −½ and E < ½ per edge
   return o;
 }
 
@@ -540,9 +553,15 @@ TimingSpec SpafFilter::timing(const TechTable& tech) const {
 std::string SpafFilter::arithmetic() const {
   std::string s;
   switch (cfg_.arith) {
-    case Arith::Float: s = "float32 set-up, edge functions and Q"; break;
-    case Arith::Double: s = "double set-up, edge functions, Q and accumulation"; break;
-    case Arith::Fixed: s = "float32 set-up; edge functions and Q in " + SpafFixed::name(); break;
+    case Arith::Float:
+      s = "float32 set-up, edge functions and Q";
+      break;
+    case Arith::Double:
+      s = "double set-up, edge functions, Q and accumulation";
+      break;
+    case Arith::Fixed:
+      s = "float32 set-up; edge functions and Q in " + SpafFixed::name();
+      break;
   }
   if (cfg_.coverage == Coverage::Vd) {
     s += "; coverage from the " + cut_.name() + " cut-off per edge";

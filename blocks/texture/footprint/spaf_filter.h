@@ -16,14 +16,14 @@
 #include <vector>
 
 #include "blocks/base/config_reader.h"
-#include "blocks/texture/footprint/ewa_filter.h"
-#include "blocks/base/op_counts.h"
-#include "blocks/texture/subtexel/subtexel_cutoff.h"
-#include "blocks/base/tech_table.h"
-#include "blocks/texture/memory/texture_memory.h"
-#include "blocks/base/timing_spec.h"
-#include "rtl_model/number/fixed.h"
 #include "blocks/base/fragment.h"
+#include "blocks/base/op_counts.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/base/timing_spec.h"
+#include "blocks/texture/footprint/ewa_filter.h"
+#include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/subtexel/subtexel_cutoff.h"
+#include "rtl_model/number/fixed.h"
 
 namespace texsim {
 
@@ -44,14 +44,15 @@ class SpafFilter {
   enum class Arith : int { Float, Double, Fixed };
 
   struct Config {
-    int mask_side = 4;          // sub-texels per side: masks of mask_side² bits (≤ 8)
-    int slope_steps = 32;       // table rows over the edge normal's direction
-    int offset_steps = 16;      // table columns over E ∈ (−½, ½)
-    double half_px = 1.0;       // quadrilateral = centre ± half_px·(J_x ± J_y) (the Gaussian's support square)
-    bool gaussian = true;       // weight = coverage·exp(−α·Q) (else coverage only: an area filter)
-    double alpha = 2.0;         // Q = the R = 1 px ellipse's quadratic form (EWA's pixel model)
-    int texel_budget = 64;      // bounding-box texels: the finest level whose box fits (8×8)
-    int lanes = 4;              // texels per cycle
+    int mask_side = 4;      // sub-texels per side: masks of mask_side² bits (≤ 8)
+    int slope_steps = 32;   // table rows over the edge normal's direction
+    int offset_steps = 16;  // table columns over E ∈ (−½, ½)
+    double half_px =
+        1.0;  // quadrilateral = centre ± half_px·(J_x ± J_y) (the Gaussian's support square)
+    bool gaussian = true;   // weight = coverage·exp(−α·Q) (else coverage only: an area filter)
+    double alpha = 2.0;     // Q = the R = 1 px ellipse's quadratic form (EWA's pixel model)
+    int texel_budget = 64;  // bounding-box texels: the finest level whose box fits (8×8)
+    int lanes = 4;          // texels per cycle
     AddressMode address_u = AddressMode::Wrap;
     AddressMode address_v = AddressMode::Wrap;
     // Partly covered texels: "mask" = sub-texel masks; "vd" = Π over cut edges of
@@ -92,12 +93,12 @@ class SpafFilter {
   // Scan slots / lanes: a texel takes one slot, or ⌈cut edges / vd.lanes⌉ with V(d) coverage.
   uint32_t issue_cycles(const FilterStats& s) const;
   OpCounts setup_ops() const;
-  OpCounts per_row_ops() const;     // row step of the four edges and of Q, row address
-  OpCounts per_visit_ops() const;   // four edge steps and the in/out tests, Q step
+  OpCounts per_row_ops() const;    // row step of the four edges and of Q, row address
+  OpCounts per_visit_ops() const;  // four edge steps and the in/out tests, Q step
   // An edge with |E| < ½: mask table index and read, AND; or distance, cut-off, ratio, product.
   OpCounts per_partial_edge_ops() const;
-  OpCounts per_inside_ops() const;  // coverage, weight, address, read, MAC
-  OpCounts fixed_guard_ops() const; // the range checks of the fixed datapath (per level)
+  OpCounts per_inside_ops() const;   // coverage, weight, address, read, MAC
+  OpCounts fixed_guard_ops() const;  // the range checks of the fixed datapath (per level)
   TimingSpec timing(const TechTable& tech) const;
   uint64_t table_bytes() const;
   // Name of the arithmetic for reports (names the V(d) evaluator and format when used).

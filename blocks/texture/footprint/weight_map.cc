@@ -7,19 +7,26 @@ namespace texsim {
 
 const char* to_string(WeightMap::Kind k) {
   switch (k) {
-    case WeightMap::Kind::Full2D: return "full2d";
-    case WeightMap::Kind::Quarter: return "quarter";
-    case WeightMap::Kind::RadialR: return "radial_r";
-    case WeightMap::Kind::RadialR2: return "radial_r2";
+    case WeightMap::Kind::Full2D:
+      return "full2d";
+    case WeightMap::Kind::Quarter:
+      return "quarter";
+    case WeightMap::Kind::RadialR:
+      return "radial_r";
+    case WeightMap::Kind::RadialR2:
+      return "radial_r2";
   }
   return "?";
 }
 
 const char* to_string(WeightMap::Element e) {
   switch (e) {
-    case WeightMap::Element::U8: return "u8";
-    case WeightMap::Element::U16: return "u16";
-    case WeightMap::Element::Float: return "float";
+    case WeightMap::Element::U8:
+      return "u8";
+    case WeightMap::Element::U16:
+      return "u16";
+    case WeightMap::Element::Float:
+      return "float";
   }
   return "?";
 }
@@ -27,8 +34,8 @@ const char* to_string(WeightMap::Element e) {
 WeightMap::Config WeightMap::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"kind", "element", "size", "function", "alpha", "transform"});
   Config c;
-  c.kind = static_cast<Kind>(
-      r.get_choice("kind", static_cast<int>(c.kind), {"full2d", "quarter", "radial_r", "radial_r2"}));
+  c.kind = static_cast<Kind>(r.get_choice("kind", static_cast<int>(c.kind),
+                                          {"full2d", "quarter", "radial_r", "radial_r2"}));
   c.element = static_cast<Element>(
       r.get_choice("element", static_cast<int>(c.element), {"u8", "u16", "float"}));
   c.size = static_cast<int>(r.get_int("size", c.size, 2, 4096));
@@ -59,16 +66,28 @@ WeightMap::WeightMap(const Config& c) : cfg_(c) {
       double r2 = 0;
       switch (cfg_.kind) {
         case Kind::Full2D:
-        case Kind::Quarter: r2 = coord(i) * coord(i) + coord(j) * coord(j); break;
-        case Kind::RadialR: r2 = coord(i) * coord(i); break;
-        case Kind::RadialR2: r2 = coord(i); break;
+        case Kind::Quarter:
+          r2 = coord(i) * coord(i) + coord(j) * coord(j);
+          break;
+        case Kind::RadialR:
+          r2 = coord(i) * coord(i);
+          break;
+        case Kind::RadialR2:
+          r2 = coord(i);
+          break;
       }
       const double w = function(r2);
       float q = 0;
       switch (cfg_.element) {
-        case Element::U8: q = static_cast<float>(std::nearbyint(w * 255.0) / 255.0); break;
-        case Element::U16: q = static_cast<float>(std::nearbyint(w * 65535.0) / 65535.0); break;
-        case Element::Float: q = static_cast<float>(w); break;
+        case Element::U8:
+          q = static_cast<float>(std::nearbyint(w * 255.0) / 255.0);
+          break;
+        case Element::U16:
+          q = static_cast<float>(std::nearbyint(w * 65535.0) / 65535.0);
+          break;
+        case Element::Float:
+          q = static_cast<float>(w);
+          break;
       }
       data_[static_cast<size_t>(j) * static_cast<size_t>(w_) + static_cast<size_t>(i)] = q;
     }

@@ -52,7 +52,9 @@ class WeightMap {
   int width() const { return w_; }
   int height() const { return h_; }
   // Entry (i, j) as stored (after rounding into the element format).
-  float entry(int i, int j) const { return data_[static_cast<size_t>(j) * static_cast<size_t>(w_) + static_cast<size_t>(i)]; }
+  float entry(int i, int j) const {
+    return data_[static_cast<size_t>(j) * static_cast<size_t>(w_) + static_cast<size_t>(i)];
+  }
   // Bytes the map occupies in memory.
   uint64_t bytes() const;
 

@@ -10,8 +10,8 @@ namespace texsim {
 class DramModel {
  public:
   struct Config {
-    uint32_t latency = 100;        // cycles from request to first data
-    double bytes_per_cycle = 16;   // channel bandwidth
+    uint32_t latency = 100;       // cycles from request to first data
+    double bytes_per_cycle = 16;  // channel bandwidth
     static Config from_toml(const ConfigReader& r);
   };
   struct Stats {

@@ -11,8 +11,8 @@ constexpr uint64_t kInvalid = std::numeric_limits<uint64_t>::max();
 }
 
 TextureCache::Config TextureCache::Config::from_toml(const ConfigReader& r) {
-  r.reject_unknown({"size_bytes", "ways", "line_bytes", "hit_latency", "texels_per_cycle",
-                    "miss_queue"});
+  r.reject_unknown(
+      {"size_bytes", "ways", "line_bytes", "hit_latency", "texels_per_cycle", "miss_queue"});
   Config c;
   c.size_bytes = static_cast<uint32_t>(r.get_int("size_bytes", c.size_bytes, 64, 1 << 26));
   c.ways = static_cast<uint32_t>(r.get_int("ways", c.ways, 1, 64));

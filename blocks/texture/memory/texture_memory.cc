@@ -9,17 +9,23 @@ namespace texsim {
 const char* to_string(TexelFormat f) { return f == TexelFormat::Rgba8 ? "rgba8" : "rgba32f"; }
 const char* to_string(TexelLayout l) {
   switch (l) {
-    case TexelLayout::Linear: return "linear";
-    case TexelLayout::Tiled4x4: return "tiled4x4";
-    case TexelLayout::Morton: return "morton";
+    case TexelLayout::Linear:
+      return "linear";
+    case TexelLayout::Tiled4x4:
+      return "tiled4x4";
+    case TexelLayout::Morton:
+      return "morton";
   }
   return "?";
 }
 const char* to_string(AddressMode m) {
   switch (m) {
-    case AddressMode::Wrap: return "wrap";
-    case AddressMode::Clamp: return "clamp";
-    case AddressMode::Mirror: return "mirror";
+    case AddressMode::Wrap:
+      return "wrap";
+    case AddressMode::Clamp:
+      return "clamp";
+    case AddressMode::Mirror:
+      return "mirror";
   }
   return "?";
 }
@@ -111,8 +117,12 @@ uint64_t Texture::place(uint64_t base, TexelLayout layout) {
     uint64_t texels = 0;
     const auto w = static_cast<uint64_t>(lv.width), h = static_cast<uint64_t>(lv.height);
     switch (layout) {
-      case TexelLayout::Linear: texels = w * h; break;
-      case TexelLayout::Tiled4x4: texels = ((w + 3) / 4) * ((h + 3) / 4) * 16; break;
+      case TexelLayout::Linear:
+        texels = w * h;
+        break;
+      case TexelLayout::Tiled4x4:
+        texels = ((w + 3) / 4) * ((h + 3) / 4) * 16;
+        break;
       case TexelLayout::Morton: {
         uint64_t s = 1;
         while (s < std::max(w, h)) s <<= 1;

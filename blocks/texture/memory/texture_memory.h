@@ -2,10 +2,9 @@
 // Texture memory: mip pyramids of RGBA8 or float texels, and the byte address of every texel
 // under a linear, 4x4-tiled or Morton layout (what the texture cache sees). docs/architecture.md.
 #include <cstdint>
+#include <glm/vec4.hpp>
 #include <string>
 #include <vector>
-
-#include <glm/vec4.hpp>
 
 namespace texsim {
 
@@ -24,9 +23,9 @@ class Texture {
   struct Level {
     int width = 0;
     int height = 0;
-    uint64_t offset = 0;            // byte offset of the level inside the texture
-    std::vector<uint8_t> rgba8;     // Rgba8: 4 bytes per texel, row-major
-    std::vector<float> rgba32f;     // Rgba32f: 4 floats per texel, row-major
+    uint64_t offset = 0;         // byte offset of the level inside the texture
+    std::vector<uint8_t> rgba8;  // Rgba8: 4 bytes per texel, row-major
+    std::vector<float> rgba32f;  // Rgba32f: 4 floats per texel, row-major
   };
 
   // Builds a texture from level-0 float RGBA texels (row-major, 4 floats per texel).
@@ -78,22 +77,27 @@ class Texture {
   static uint64_t row_index(TexelLayout layout, const Level& lv, int y) {
     const auto uy = static_cast<uint64_t>(y);
     switch (layout) {
-      case TexelLayout::Linear: return uy * static_cast<uint64_t>(lv.width);
+      case TexelLayout::Linear:
+        return uy * static_cast<uint64_t>(lv.width);
       case TexelLayout::Tiled4x4: {
         // Row of 4x4 tiles (16 texels each), then the row inside the tile.
         const uint64_t tiles_x = (static_cast<uint64_t>(lv.width) + 3) / 4;
         return (uy >> 2) * tiles_x * 16 + (uy & 3) * 4;
       }
-      case TexelLayout::Morton: return spread_bits(static_cast<uint32_t>(y)) << 1;
+      case TexelLayout::Morton:
+        return spread_bits(static_cast<uint32_t>(y)) << 1;
     }
     return 0;
   }
   static uint64_t col_index(TexelLayout layout, int x) {
     const auto ux = static_cast<uint64_t>(x);
     switch (layout) {
-      case TexelLayout::Linear: return ux;
-      case TexelLayout::Tiled4x4: return (ux >> 2) * 16 + (ux & 3);
-      case TexelLayout::Morton: return spread_bits(static_cast<uint32_t>(x));  // bits disjoint from y's
+      case TexelLayout::Linear:
+        return ux;
+      case TexelLayout::Tiled4x4:
+        return (ux >> 2) * 16 + (ux & 3);
+      case TexelLayout::Morton:
+        return spread_bits(static_cast<uint32_t>(x));  // bits disjoint from y's
     }
     return 0;
   }
@@ -109,7 +113,9 @@ class Texture {
   }
 
  private:
-  uint64_t texel_index(const Level& lv, int x, int y) const { return texel_index(layout_, lv, x, y); }
+  uint64_t texel_index(const Level& lv, int x, int y) const {
+    return texel_index(layout_, lv, x, y);
+  }
 
   std::string name_;
   TexelFormat format_ = TexelFormat::Rgba8;

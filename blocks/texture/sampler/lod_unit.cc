@@ -34,21 +34,21 @@ OpCounts LodUnit::count_ops(const Config& c) {
   // λ = ½·log2(ρ²) needs no square root: the ½ is an exponent decrement (1 add).
   o.mul = 8;
   o.add = 2 + 1;
-  o.cmp = 1;  // ρmax² = max(ρx², ρy²)
-  o.lut = 1;  // log2
+  o.cmp = 1;   // ρmax² = max(ρx², ρy²)
+  o.lut = 1;   // log2
   o.add += 2;  // sampler bias + fragment bias, then λ_base + bias
   o.cmp += 2;  // clamp to [min_lod, max_lod]
   if (c.aniso == AnisoMode::Vulkan) {
-    o.cmp += 1;            // ρmin² = min(ρx², ρy²)
-    o.div += 1;            // ρmax²/ρmin²
-    o.sqrt += 1;           // ρmax/ρmin
-    o.cmp += 1 + 2;        // η = min(ratio, maxAniso); the ρ = 0 special cases
-    o.add += 1;            // N = ⌈η⌉ (round up)
-    o.lut += 1;            // log2 N (N ≤ 16: a 16-entry table)
-    o.add += 1;            // λ_base = ½log2 ρmax² − log2 N
-    o.lut += 1;            // 1/N (16-entry table)
-    o.cmp += 1;            // major axis select (x or y derivatives)
-    o.mul += 2;            // probe step = major vector / N
+    o.cmp += 1;      // ρmin² = min(ρx², ρy²)
+    o.div += 1;      // ρmax²/ρmin²
+    o.sqrt += 1;     // ρmax/ρmin
+    o.cmp += 1 + 2;  // η = min(ratio, maxAniso); the ρ = 0 special cases
+    o.add += 1;      // N = ⌈η⌉ (round up)
+    o.lut += 1;      // log2 N (N ≤ 16: a 16-entry table)
+    o.add += 1;      // λ_base = ½log2 ρmax² − log2 N
+    o.lut += 1;      // 1/N (16-entry table)
+    o.cmp += 1;      // major axis select (x or y derivatives)
+    o.mul += 2;      // probe step = major vector / N
   }
   return o;
 }

@@ -8,10 +8,10 @@
 #include <limits>
 
 #include "blocks/base/config_reader.h"
+#include "blocks/base/fragment.h"
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
-#include "blocks/base/fragment.h"
 
 namespace texsim {
 
@@ -33,8 +33,8 @@ class LodUnit {
  public:
   struct Config {
     AnisoMode aniso = AnisoMode::Isotropic;
-    int max_aniso = 16;    // 1..16 (FilterTaps holds 16 probes × 8 taps)
-    float lod_bias = 0;    // sampler bias, added to the fragment's own lod_bias
+    int max_aniso = 16;  // 1..16 (FilterTaps holds 16 probes × 8 taps)
+    float lod_bias = 0;  // sampler bias, added to the fragment's own lod_bias
     float min_lod = 0;
     float max_lod = 1000;
     // Keys: aniso ("isotropic"|"vulkan"), max_aniso, lod_bias, min_lod, max_lod.

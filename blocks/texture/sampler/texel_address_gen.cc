@@ -7,13 +7,15 @@ namespace texsim {
 
 const char* to_string(FilterMode m) {
   switch (m) {
-    case FilterMode::Nearest: return "nearest";
-    case FilterMode::Bilinear: return "bilinear";
-    case FilterMode::Trilinear: return "trilinear";
+    case FilterMode::Nearest:
+      return "nearest";
+    case FilterMode::Bilinear:
+      return "bilinear";
+    case FilterMode::Trilinear:
+      return "trilinear";
   }
   return "?";
 }
-
 
 TexelAddressGen::TexelAddressGen(const Config& c) : cfg_(c) {
   fix_scale_ = std::ldexp(1.0f, cfg_.sub_texel_bits);
@@ -49,9 +51,12 @@ TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r
 
 int TexelAddressGen::taps_per_probe() const {
   switch (cfg_.filter) {
-    case FilterMode::Nearest: return 1;
-    case FilterMode::Bilinear: return 4;
-    case FilterMode::Trilinear: return 8;
+    case FilterMode::Nearest:
+      return 1;
+    case FilterMode::Bilinear:
+      return 4;
+    case FilterMode::Trilinear:
+      return 8;
   }
   return 1;
 }
@@ -111,8 +116,8 @@ OpCounts TexelAddressGen::count_setup(bool anisotropic) const {
   }
   o.cmp += tri ? 4 : 2;  // level sizes max(1, size >> d) per level used
   if (anisotropic) {
-    o.lut += 1;                 // 1/N
-    if (tri) o.mul += 2;        // (1 − δ)/N, δ/N
+    o.lut += 1;           // 1/N
+    if (tri) o.mul += 2;  // (1 − δ)/N, δ/N
   }
   return o;
 }
@@ -153,8 +158,8 @@ TimingSpec TexelAddressGen::timing(const TechTable& tech) const {
   double b = 0;
   if (linear) b = tech.lat(OpKind::Add) + tech.lat(OpKind::Mul);
   b += tech.lat(OpKind::Mul);  // × level weight or 1/N (present in the pipe, bypassed if 1)
-  const double lat = tech.path_latency(setup) + tech.path_latency(pos) +
-                     tech.path_latency(coord) + std::max(a, b);
+  const double lat =
+      tech.path_latency(setup) + tech.path_latency(pos) + tech.path_latency(coord) + std::max(a, b);
   TimingSpec t;
   t.latency = std::max<uint32_t>(1, static_cast<uint32_t>(std::ceil(lat)));
   t.ii = 1;  // one probe per cycle; a fragment takes issue_cycles() slots

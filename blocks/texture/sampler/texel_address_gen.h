@@ -12,11 +12,11 @@
 #include <cstdint>
 
 #include "blocks/base/config_reader.h"
-#include "blocks/texture/sampler/lod_unit.h"
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
-#include "blocks/texture/memory/texture_memory.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/sampler/lod_unit.h"
 
 namespace texsim {
 
@@ -56,9 +56,9 @@ class TexelAddressGen {
 
   // Mip level(s) chosen for one fragment (Vulkan "Image Level(s) Selection").
   struct LevelSelect {
-    int32_t d_hi = 0;   // the level for nearest mipmap mode; the finer level for linear
-    int32_t d_lo = 0;   // coarser level (linear mode); = d_hi otherwise
-    float delta = 0;    // weight of d_lo, a multiple of 2^-mipmap_bits (linear mode)
+    int32_t d_hi = 0;  // the level for nearest mipmap mode; the finer level for linear
+    int32_t d_lo = 0;  // coarser level (linear mode); = d_hi otherwise
+    float delta = 0;   // weight of d_lo, a multiple of 2^-mipmap_bits (linear mode)
   };
 
   TexelAddressGen() : TexelAddressGen(Config{}) {}
@@ -116,17 +116,17 @@ class TexelAddressGen {
   OpCounts ops_level() const;
   OpCounts count_setup(bool anisotropic) const;
   OpCounts count_probe(bool anisotropic) const;
-  [[gnu::always_inline]] TexelTap* emit_nearest(const Texture& tex, int32_t level, float u,
-                                                float v, float w, TexelTap* out) const;
-  [[gnu::always_inline]] TexelTap* emit_linear(const Texture& tex, int32_t level, float u,
-                                               float v, float w, TexelTap* out) const;
+  [[gnu::always_inline]] TexelTap* emit_nearest(const Texture& tex, int32_t level, float u, float v,
+                                                float w, TexelTap* out) const;
+  [[gnu::always_inline]] TexelTap* emit_linear(const Texture& tex, int32_t level, float u, float v,
+                                               float w, TexelTap* out) const;
   Config cfg_;
   // Fixed by the configuration, so computed once: the converters' scale factors (powers of
   // two, so the products are exact and equal to ldexp) and the operation counts.
-  float fix_scale_ = 256.0f;        // 2^sub_texel_bits
-  float frac_scale_ = 1.0f / 256;   // 2^-sub_texel_bits
-  float mip_scale_ = 256.0f;        // 2^mipmap_bits
-  float mip_frac_ = 1.0f / 256;     // 2^-mipmap_bits
+  float fix_scale_ = 256.0f;              // 2^sub_texel_bits
+  float frac_scale_ = 1.0f / 256;         // 2^-sub_texel_bits
+  float mip_scale_ = 256.0f;              // 2^mipmap_bits
+  float mip_frac_ = 1.0f / 256;           // 2^-mipmap_bits
   OpCounts ops_setup_[2], ops_probe_[2];  // [anisotropic]
 };
 
@@ -171,8 +171,8 @@ inline int32_t mirror(int64_t i, int32_t size) {
 
 // The two neighbours i and i + 1 of a linear filter, addressed. Wrap derives i + 1 from i
 // (one modulo instead of two), as the hardware's incrementer does.
-[[gnu::always_inline]] inline void address_pair(int64_t i, int32_t size, AddressMode mode, int32_t& a,
-                                                int32_t& b) {
+[[gnu::always_inline]] inline void address_pair(int64_t i, int32_t size, AddressMode mode,
+                                                int32_t& a, int32_t& b) {
   switch (mode) {
     case AddressMode::Wrap:
       a = wrap(i, size);
@@ -194,9 +194,12 @@ inline int32_t mirror(int64_t i, int32_t size) {
 
 inline int32_t TexelAddressGen::address(int64_t i, int32_t size, AddressMode mode) {
   switch (mode) {
-    case AddressMode::Wrap: return texel_address_detail::wrap(i, size);
-    case AddressMode::Clamp: return texel_address_detail::clamp_edge(i, size);
-    case AddressMode::Mirror: return texel_address_detail::mirror(i, size);
+    case AddressMode::Wrap:
+      return texel_address_detail::wrap(i, size);
+    case AddressMode::Clamp:
+      return texel_address_detail::clamp_edge(i, size);
+    case AddressMode::Mirror:
+      return texel_address_detail::mirror(i, size);
   }
   return 0;
 }
@@ -274,8 +277,12 @@ inline void TexelAddressGen::taps(const Texture& tex, double u, double v, const 
   if (n == 1) {
     // One probe at (u, v) with weight 1.
     switch (cfg_.filter) {
-      case FilterMode::Nearest: t = emit_nearest(tex, sel.d_hi, uf, vf, 1.0f, t); break;
-      case FilterMode::Bilinear: t = emit_linear(tex, sel.d_hi, uf, vf, 1.0f, t); break;
+      case FilterMode::Nearest:
+        t = emit_nearest(tex, sel.d_hi, uf, vf, 1.0f, t);
+        break;
+      case FilterMode::Bilinear:
+        t = emit_linear(tex, sel.d_hi, uf, vf, 1.0f, t);
+        break;
       case FilterMode::Trilinear:
         t = emit_linear(tex, sel.d_hi, uf, vf, 1.0f - sel.delta, t);
         t = emit_linear(tex, sel.d_lo, uf, vf, sel.delta, t);
@@ -290,8 +297,12 @@ inline void TexelAddressGen::taps(const Texture& tex, double u, double v, const 
       const float pu = uf + off * au;
       const float pv = vf + off * av;
       switch (cfg_.filter) {
-        case FilterMode::Nearest: t = emit_nearest(tex, sel.d_hi, pu, pv, inv_n, t); break;
-        case FilterMode::Bilinear: t = emit_linear(tex, sel.d_hi, pu, pv, inv_n, t); break;
+        case FilterMode::Nearest:
+          t = emit_nearest(tex, sel.d_hi, pu, pv, inv_n, t);
+          break;
+        case FilterMode::Bilinear:
+          t = emit_linear(tex, sel.d_hi, pu, pv, inv_n, t);
+          break;
         case FilterMode::Trilinear:
           t = emit_linear(tex, sel.d_hi, pu, pv, (1.0f - sel.delta) * inv_n, t);
           t = emit_linear(tex, sel.d_lo, pu, pv, sel.delta * inv_n, t);

@@ -11,9 +11,9 @@
 #include "blocks/base/config_reader.h"
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
-#include "blocks/texture/sampler/texel_address_gen.h"
-#include "blocks/texture/memory/texture_memory.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/sampler/texel_address_gen.h"
 
 namespace texsim {
 
@@ -83,8 +83,8 @@ struct FetchRgba8 {
     U8x16 b;
     std::memcpy(&b, &word, sizeof b);
     const U8x16 z8 = {};
-    const U8x16 b16 = __builtin_shufflevector(b, z8, 0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21,
-                                              6, 22, 7, 23);
+    const U8x16 b16 =
+        __builtin_shufflevector(b, z8, 0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
     U16x8 h;
     std::memcpy(&h, &b16, sizeof h);
     const U16x8 z16 = {};

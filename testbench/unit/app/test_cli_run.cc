@@ -6,9 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 namespace fs = std::filesystem;
 
@@ -20,7 +19,8 @@ struct Result {
 };
 
 Result sh(const std::string& args) {
-  const fs::path log = fs::temp_directory_path() / ("texsim_cli_" + std::to_string(::getpid()) + ".log");
+  const fs::path log =
+      fs::temp_directory_path() / ("texsim_cli_" + std::to_string(::getpid()) + ".log");
   const std::string cmd = std::string(TEXSIM_BINARY) + " " + args + " >" + log.string() + " 2>&1";
   const int rc = std::system(cmd.c_str());
   std::ifstream in(log);
@@ -33,14 +33,17 @@ Result sh(const std::string& args) {
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("texsim_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() /
+           ("texsim_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  void write(const std::string& name, const std::string& text) const { std::ofstream(path(name)) << text; }
+  void write(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name)) << text;
+  }
   // The output directory must hold no report and no temporary file after a failed run.
   void expect_no_outputs(const std::string& out) const {
     if (!fs::exists(out)) return;
@@ -61,7 +64,8 @@ Json load_json(const std::string& path) {
 const Json* find(const Json& j, const std::string& path) {
   if (path.empty()) return &j;
   if (!j.is_object()) return nullptr;
-  for (size_t end = path.size(); end != std::string::npos && end > 0; end = path.rfind('.', end - 1)) {
+  for (size_t end = path.size(); end != std::string::npos && end > 0;
+       end = path.rfind('.', end - 1)) {
     const std::string key = path.substr(0, end);
     if (j.contains(key)) {
       const Json* r = find(j[key], end == path.size() ? "" : path.substr(end + 1));
@@ -110,7 +114,8 @@ TEST_F(Cli, RunDefaultSceneWritesReportImagesAndAccuracy) {
 TEST_F(Cli, PhotoSceneWithAnisotropyAndMortonLayout) {
   // Photographs from Debian's glmark2-data (installed by scripts/setup-debian.sh).
   const std::string out = path("out");
-  const Result r = sh(std::string("run ") + TEXSIM_SOURCE_DIR + "/scenes/photo.toml --no-progress --out " + out);
+  const Result r =
+      sh(std::string("run ") + TEXSIM_SOURCE_DIR + "/scenes/photo.toml --no-progress --out " + out);
   ASSERT_EQ(r.code, 0) << r.out;
   const Json j = load_json(out + "/report.json");
   EXPECT_GT(num(j, "fragments"), 50000);
@@ -122,7 +127,8 @@ TEST_F(Cli, PhotoSceneWithAnisotropyAndMortonLayout) {
 TEST_F(Cli, FootprintFiltersPerMaterial) {
   // Each material instantiates only its own filter block; the report names who uses what.
   const std::string out = path("out");
-  const Result r = sh(std::string("run ") + TEXSIM_SOURCE_DIR + "/scenes/footprint_filters.toml --no-progress --out " + out);
+  const Result r = sh(std::string("run ") + TEXSIM_SOURCE_DIR +
+                      "/scenes/footprint_filters.toml --no-progress --out " + out);
   ASSERT_EQ(r.code, 0) << r.out;
   const Json j = load_json(out + "/report.json");
   for (const char* b : {"filter.ewa", "filter.feline", "filter.spaf", "filter.trilinear"}) {
@@ -131,13 +137,14 @@ TEST_F(Cli, FootprintFiltersPerMaterial) {
     EXPECT_EQ((*e)["materials"].size(), 1u) << b;
     EXPECT_GT(num(j, std::string("blocks.") + b + ".ops.mul"), 0) << b;
   }
-  EXPECT_EQ(find(j, "blocks.filter.multi_probe"), nullptr);  // no material names it
+  EXPECT_EQ(find(j, "blocks.filter.multi_probe"), nullptr);      // no material names it
   EXPECT_EQ(find(j, "blocks.lod")->at("materials").size(), 1u);  // only the trilinear one
   // EWA scans many texels per fragment: far more cycles per fragment than trilinear alone.
   EXPECT_GT(num(j, "cycles_per_fragment"), 4.0);
   // Two footprint filters in one material are rejected with the place.
-  write("two.toml", "[textures.t]\nsource = \"procedural:checker\"\n[materials.m]\ntexture = \"t\"\n"
-                    "ewa = {}\nspaf = {}\n[[planes]]\nmaterial = \"m\"\n");
+  write("two.toml",
+        "[textures.t]\nsource = \"procedural:checker\"\n[materials.m]\ntexture = \"t\"\n"
+        "ewa = {}\nspaf = {}\n[[planes]]\nmaterial = \"m\"\n");
   const Result bad = sh("run " + path("two.toml") + " --out " + path("out2"));
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.out.find("two.toml:6:"), std::string::npos) << bad.out;
@@ -148,13 +155,15 @@ TEST_F(Cli, CoordinateUnitsPerMaterial) {
   // Materials with a coords table get their coordinates from their own unit, in a front end
   // the report shows as stages and blocks, with accuracy next to cost per material.
   const std::string out = path("out");
-  const Result r = sh(std::string("run ") + TEXSIM_SOURCE_DIR + "/scenes/coords.toml --no-progress --out " + out);
+  const Result r = sh(std::string("run ") + TEXSIM_SOURCE_DIR +
+                      "/scenes/coords.toml --no-progress --out " + out);
   ASSERT_EQ(r.code, 0) << r.out;
   const Json j = load_json(out + "/report.json");
   ASSERT_TRUE(j["stages"].contains("coords"));
   ASSERT_TRUE(j["stages"].contains("derivs"));
-  for (const char* b : {"coords.heckbert[float]", "coords.incremental[s20.28]", "coords.incremental[s16.16]",
-                        "coords.constant-depth[float]", "coords.quadratic-32[float]", "derivs.iterative[s20.28]"}) {
+  for (const char* b :
+       {"coords.heckbert[float]", "coords.incremental[s20.28]", "coords.incremental[s16.16]",
+        "coords.constant-depth[float]", "coords.quadratic-32[float]", "derivs.iterative[s20.28]"}) {
     ASSERT_TRUE(j["blocks"].contains(b)) << b;
     EXPECT_GT(j["blocks"][b]["ops"]["add"].get<double>(), 0) << b;
   }
@@ -166,16 +175,18 @@ TEST_F(Cli, CoordinateUnitsPerMaterial) {
   const double cd = num(j, "materials.constant_depth.accuracy.psnr_db");
   EXPECT_GT(inc, s16 + 6) << inc << " vs " << s16;
   EXPECT_NEAR(hk, cd, 1.0);
-  EXPECT_EQ(num(j, "materials.incremental.fragments"), num(j, "materials.incremental_s16.fragments"));
+  EXPECT_EQ(num(j, "materials.incremental.fragments"),
+            num(j, "materials.incremental_s16.fragments"));
   EXPECT_EQ(num(j, "front_end.rejected"), 0);
   EXPECT_GT(num(j, "front_end.generated"), 0);
   // Texels per block add up to the cache's texel reads.
   EXPECT_EQ(num(j, "blocks.filter.trilinear.texels"), num(j, "cache.texel_reads"));
   // The same scene from a trace: the trace's coordinates are used, and the log says so.
   const std::string trc = path("coords.trc");
-  ASSERT_EQ(sh(std::string("trace gen ") + TEXSIM_SOURCE_DIR + "/scenes/coords.toml -o " + trc).code, 0);
-  const Result t = sh(std::string("run ") + TEXSIM_SOURCE_DIR + "/scenes/coords.toml --no-progress --trace " + trc +
-                      " --out " + path("t"));
+  ASSERT_EQ(
+      sh(std::string("trace gen ") + TEXSIM_SOURCE_DIR + "/scenes/coords.toml -o " + trc).code, 0);
+  const Result t = sh(std::string("run ") + TEXSIM_SOURCE_DIR +
+                      "/scenes/coords.toml --no-progress --trace " + trc + " --out " + path("t"));
   ASSERT_EQ(t.code, 0) << t.out;
   EXPECT_NE(t.out.find("coords ignored"), std::string::npos) << t.out;
   const Json tj = load_json(path("t") + "/report.json");
@@ -187,20 +198,24 @@ TEST_F(Cli, OneBlockInTwoConfigurationsIsTwoUnitsAndWeightMapKeysAreRead) {
         "[textures.t]\nsource = \"procedural:checker?size=64&cells=8\"\n"
         "[materials.lut]\ntexture = \"t\"\newa = { weight = \"lut\" }\n"
         "[materials.map]\ntexture = \"t\"\n"
-        "ewa = { weight = \"map\", weight_map = { kind = \"radial_r2\", size = 32, element = \"u8\" } }\n"
-        "[[planes]]\nmaterial = \"lut\"\norigin = [-2.0, 0.0, -1.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, -8.0]\n"
-        "[[planes]]\nmaterial = \"map\"\norigin = [0.0, 0.0, -1.0]\nedge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, -8.0]\n");
+        "ewa = { weight = \"map\", weight_map = { kind = \"radial_r2\", size = 32, element = "
+        "\"u8\" } }\n"
+        "[[planes]]\nmaterial = \"lut\"\norigin = [-2.0, 0.0, -1.0]\nedge_u = [2.0, 0.0, "
+        "0.0]\nedge_v = [0.0, 0.0, -8.0]\n"
+        "[[planes]]\nmaterial = \"map\"\norigin = [0.0, 0.0, -1.0]\nedge_u = [2.0, 0.0, "
+        "0.0]\nedge_v = [0.0, 0.0, -8.0]\n");
   const Result r = sh("run " + path("two_ewa.toml") + " --no-progress --out " + path("out"));
   ASSERT_EQ(r.code, 0) << r.out;
   const Json j = load_json(path("out") + "/report.json");
   ASSERT_TRUE(j["blocks"].contains("filter.ewa[lut]")) << j["blocks"].dump();
   ASSERT_TRUE(j["blocks"].contains("filter.ewa[map]")) << j["blocks"].dump();
   const std::string map_arith = j["blocks"]["filter.ewa[map]"]["arithmetic"].get<std::string>();
-  EXPECT_NE(map_arith.find("32"), std::string::npos) << map_arith;   // the map's size and
-  EXPECT_NE(map_arith.find("u8"), std::string::npos) << map_arith;   // element format as set
+  EXPECT_NE(map_arith.find("32"), std::string::npos) << map_arith;  // the map's size and
+  EXPECT_NE(map_arith.find("u8"), std::string::npos) << map_arith;  // element format as set
   // A typo inside the weight map's table is an error, not ignored.
-  write("typo.toml", "[textures.t]\nsource = \"procedural:checker\"\n[materials.m]\ntexture = \"t\"\n"
-                     "ewa = { weight = \"map\", weight_map = { sise = 32 } }\n[[planes]]\nmaterial = \"m\"\n");
+  write("typo.toml",
+        "[textures.t]\nsource = \"procedural:checker\"\n[materials.m]\ntexture = \"t\"\n"
+        "ewa = { weight = \"map\", weight_map = { sise = 32 } }\n[[planes]]\nmaterial = \"m\"\n");
   const Result bad = sh("run " + path("typo.toml") + " --out " + path("out2"));
   EXPECT_EQ(bad.code, 2) << bad.out;
   EXPECT_NE(bad.out.find("sise"), std::string::npos) << bad.out;
@@ -277,7 +292,9 @@ TEST_F(Cli, SceneUnknownMaterialAndFilter) {
 }
 
 TEST_F(Cli, MissingTextureFileNamesIt) {
-  write("s.toml", "[textures.t]\nsource = \"no_such.png\"\n[materials.m]\ntexture = \"t\"\n[[planes]]\nmaterial = \"m\"\n");
+  write("s.toml",
+        "[textures.t]\nsource = \"no_such.png\"\n[materials.m]\ntexture = "
+        "\"t\"\n[[planes]]\nmaterial = \"m\"\n");
   const Result r = sh("run " + path("s.toml") + " --out " + path("out"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("no_such.png: texture file not found"), std::string::npos) << r.out;
@@ -286,7 +303,9 @@ TEST_F(Cli, MissingTextureFileNamesIt) {
 
 TEST_F(Cli, UnreadableTextureNamesIt) {
   write("junk.png", "this is not a png");
-  write("s.toml", "[textures.t]\nsource = \"junk.png\"\n[materials.m]\ntexture = \"t\"\n[[planes]]\nmaterial = \"m\"\n");
+  write("s.toml",
+        "[textures.t]\nsource = \"junk.png\"\n[materials.m]\ntexture = \"t\"\n[[planes]]\nmaterial "
+        "= \"m\"\n");
   const Result r = sh("run " + path("s.toml") + " --out " + path("out"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("junk.png: cannot read texture"), std::string::npos) << r.out;

@@ -59,9 +59,12 @@ void check_mul_div(std::mt19937& rng) {
     const long double lsb = 1.0L / 1024;
     auto round_ref = [](long double q) -> long double {
       switch (R) {
-        case Rounding::Floor: return std::floor(q);
-        case Rounding::TowardZero: return std::trunc(q);
-        case Rounding::HalfUp: return std::floor(q + 0.5L);
+        case Rounding::Floor:
+          return std::floor(q);
+        case Rounding::TowardZero:
+          return std::trunc(q);
+        case Rounding::HalfUp:
+          return std::floor(q + 0.5L);
         case Rounding::HalfEven: {
           const long double f = std::floor(q), rem = q - f;
           if (rem > 0.5L) return f + 1;

@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "blocks/base/input_error.h"
-#include "pipeline/raster/fragment_generator.h"
 #include "pipeline/geometry/plane_projection.h"
+#include "pipeline/raster/fragment_generator.h"
 #include "pipeline/scene/scene.h"
 
 namespace texsim {
@@ -40,8 +40,9 @@ TEST(Scene, ErrorsCarryLineAndColumn) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("unknown key 'widht'"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(parse_scene("[camera]\nlook_at = [0.0, 5.0, 0.0]\nposition = [0.0, 0.0, 0.0]\n", "s", ""),
-               InputError);  // looking straight along 'up'
+  EXPECT_THROW(
+      parse_scene("[camera]\nlook_at = [0.0, 5.0, 0.0]\nposition = [0.0, 0.0, 0.0]\n", "s", ""),
+      InputError);  // looking straight along 'up'
 }
 
 TEST(PlaneProjection, DerivativesMatchCentralDifferences) {

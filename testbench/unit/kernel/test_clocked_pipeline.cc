@@ -36,8 +36,8 @@ TEST(ClockedPipeline, SlowStageBackPressuresUpstream) {
   ClockedPipeline p({stage("fast", 2, 1), stage("slow", 4, 3, 2)});
   for (int i = 0; i < 50; ++i) p.issue();
   EXPECT_EQ(p.cycles(), 2u + 4u + 3u * 49u);
-  EXPECT_GT(p.stats(0).stall_blocked, 0u);   // the fast stage waits for FIFO space
-  EXPECT_GT(p.stats(1).stall_starved, 0u);   // only before the first item arrives
+  EXPECT_GT(p.stats(0).stall_blocked, 0u);  // the fast stage waits for FIFO space
+  EXPECT_GT(p.stats(1).stall_starved, 0u);  // only before the first item arrives
   EXPECT_NEAR(p.utilisation(1), 3.0 * 50 / static_cast<double>(p.cycles()), 1e-12);
 }
 
@@ -68,10 +68,14 @@ TEST(ClockedPipeline, StructuralDeadlockAndWatchdog) {
 
 // Cycle-stepped reference with explicit FIFOs; within a cycle it iterates to a fixpoint so
 // an item may leave one stage and start the next in the same cycle, as the kernel allows.
-std::vector<uint64_t> reference(const std::vector<StageConfig>& cfg, const std::vector<uint64_t>& ready,
+std::vector<uint64_t> reference(const std::vector<StageConfig>& cfg,
+                                const std::vector<uint64_t>& ready,
                                 const std::vector<std::vector<ItemCost>>& cost) {
   const size_t n = cfg.size(), items = ready.size();
-  struct InStage { size_t item; uint64_t finish; };
+  struct InStage {
+    size_t item;
+    uint64_t finish;
+  };
   std::vector<std::deque<size_t>> fifo(n + 1);
   std::vector<std::deque<InStage>> inside(n);
   std::vector<std::vector<uint64_t>> lane_free(n);

@@ -1,6 +1,6 @@
-// The coordinate front end inside the texture unit (pipeline/raster/scene_front_end.*): a material's
-// `coords` unit computes every fragment's coordinates and derivatives, checked against the
-// exact projective map of the plane; coverage and depth agree with the reference generator;
+// The coordinate front end inside the texture unit (pipeline/raster/scene_front_end.*): a
+// material's `coords` unit computes every fragment's coordinates and derivatives, checked against
+// the exact projective map of the plane; coverage and depth agree with the reference generator;
 // occluded pixels cost front-end work only; bad `coords` tables are refused with the key named.
 #include <gtest/gtest.h>
 
@@ -9,11 +9,11 @@
 #include <set>
 
 #include "blocks/base/input_error.h"
-#include "pipeline/raster/fragment_generator.h"
 #include "pipeline/geometry/plane_projection.h"
+#include "pipeline/raster/fragment_generator.h"
+#include "pipeline/raster/scene_front_end.h"
 #include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene.h"
-#include "pipeline/raster/scene_front_end.h"
 #include "pipeline/scene/texture_loader.h"
 #include "pipeline/texture/texture_unit.h"
 
@@ -21,7 +21,8 @@ namespace texsim {
 namespace {
 
 // A grazing floor (and optionally a wall in front of part of it), one material.
-std::string scene_text(const std::string& coords, bool wall, const std::string& uv_offset = "[0.0, 0.0]") {
+std::string scene_text(const std::string& coords, bool wall,
+                       const std::string& uv_offset = "[0.0, 0.0]") {
   std::string s = R"(
 [output]
 width = 160
@@ -44,7 +45,8 @@ origin = [-6.0, 0.0, -0.5]
 edge_u = [12.0, 0.0, 0.0]
 edge_v = [0.0, 0.0, -40.0]
 uv_scale = [3.0, 10.0]
-uv_offset = )" + uv_offset + "\n";
+uv_offset = )" +
+       uv_offset + "\n";
   if (wall) {
     s += R"(
 [[planes]]
@@ -70,7 +72,8 @@ Drawn draw(const Scene& scene, bool timing = true) {
   TextureSet textures;
   for (const auto& t : scene.textures) textures.add(load_texture(t.source, scene.base_dir));
   std::vector<MaterialSetup> mats;
-  for (const auto& m : scene.materials) mats.push_back(material_from_toml(m.name, m.texture, *m.effects, scene.path));
+  for (const auto& m : scene.materials)
+    mats.push_back(material_from_toml(m.name, m.texture, *m.effects, scene.path));
   TextureUnit unit(textures, mats, PipelineSetup{}, scene.tech, timing);
   std::vector<PlaneProjection> maps;
   for (const auto& p : scene.planes) maps.emplace_back(scene, p);
@@ -95,8 +98,8 @@ double wrapped_err(double got, double exact, double size) {
 
 struct Case {
   const char* coords;
-  double max_uv_texels;   // bound on |u − u_exact| in texels
-  double max_deriv_rel;   // bound on derivative error relative to the footprint (max |J|)
+  double max_uv_texels;  // bound on |u − u_exact| in texels
+  double max_deriv_rel;  // bound on derivative error relative to the footprint (max |J|)
 };
 
 TEST(SceneFrontEnd, EveryMethodMatchesTheExactMapWithinItsBound) {
@@ -130,7 +133,8 @@ TEST(SceneFrontEnd, EveryMethodMatchesTheExactMapWithinItsBound) {
       mismatched += ref_pixels.count({f.x, f.y}) == 0;
       const UvSample s = exact.at(f.x + 0.5, f.y + 0.5);
       worst_uv = std::max({worst_uv, wrapped_err(f.u, s.u, 256), wrapped_err(f.v, s.v, 256)});
-      const double scale = std::max({std::fabs(s.dudx), std::fabs(s.dvdx), std::fabs(s.dudy), std::fabs(s.dvdy)});
+      const double scale =
+          std::max({std::fabs(s.dudx), std::fabs(s.dvdx), std::fabs(s.dudy), std::fabs(s.dvdy)});
       // Forward differences (quad, fd, iterative) estimate the derivative over one pixel:
       // compare with the exact one-pixel difference where the method is a difference.
       const bool diff = std::string(c.coords).find("'analytic'") == std::string::npos;
@@ -138,7 +142,8 @@ TEST(SceneFrontEnd, EveryMethodMatchesTheExactMapWithinItsBound) {
       const double ex[4] = {diff ? sx.u - s.u : s.dudx, diff ? sx.v - s.v : s.dvdx,
                             diff ? sy.u - s.u : s.dudy, diff ? sy.v - s.v : s.dvdy};
       const double got[4] = {f.dudx, f.dvdx, f.dudy, f.dvdy};
-      if (std::string(c.coords).find("'quad'") != std::string::npos) continue;  // quad: the 2x2 block's differences
+      if (std::string(c.coords).find("'quad'") != std::string::npos)
+        continue;  // quad: the 2x2 block's differences
       for (int k = 0; k < 4; ++k) worst_d = std::max(worst_d, std::fabs(got[k] - ex[k]) / scale);
     }
     EXPECT_LT(worst_uv, c.max_uv_texels) << c.coords;
@@ -163,7 +168,8 @@ TEST(SceneFrontEnd, OccludedPixelsCostFrontEndWorkOnly) {
   EXPECT_GT(b.stats.occluded, 500u);  // the wall hides part of the floor
   // Same pixels as the reference generator's depth test (up to boundary pixel centres).
   const auto ref = generate_fragments(walled);
-  EXPECT_NEAR(static_cast<double>(b.frags.size()), static_cast<double>(ref.size()), 0.01 * static_cast<double>(ref.size()));
+  EXPECT_NEAR(static_cast<double>(b.frags.size()), static_cast<double>(ref.size()),
+              0.01 * static_cast<double>(ref.size()));
   // The coordinate block's ops count every generated pixel, hidden ones included.
   bool found = false;
   for (const BlockUse& u : b.blocks) {
@@ -179,18 +185,23 @@ TEST(SceneFrontEnd, OccludedPixelsCostFrontEndWorkOnly) {
 TEST(SceneFrontEnd, InstantiatedOnlyWhenAMaterialAsksAndChargedInCycles) {
   const Drawn none = draw(parse_scene(scene_text("", false), "s.toml", "."));
   EXPECT_EQ(none.front, 0);
-  for (const BlockUse& u : none.blocks) EXPECT_EQ(u.name.rfind("coords.", 0), std::string::npos) << u.name;
+  for (const BlockUse& u : none.blocks)
+    EXPECT_EQ(u.name.rfind("coords.", 0), std::string::npos) << u.name;
   const Drawn fast = draw(parse_scene(
-      scene_text("{ method = 'heckbert', derivs = 'analytic', format = 'float' }", false), "s.toml", "."));
+      scene_text("{ method = 'heckbert', derivs = 'analytic', format = 'float' }", false), "s.toml",
+      "."));
   const Drawn slow = draw(parse_scene(
-      scene_text("{ method = 'heckbert', derivs = 'analytic', format = 'float', datapath = 'shared' }", false),
+      scene_text(
+          "{ method = 'heckbert', derivs = 'analytic', format = 'float', datapath = 'shared' }",
+          false),
       "s.toml", "."));
   ASSERT_EQ(fast.frags.size(), slow.frags.size());
   bool found = false;
   for (const BlockUse& u : fast.blocks) {
     if (u.name != "coords.heckbert[float]") continue;
     found = true;
-    // Heckbert direct: 6 mul, 6 add (numerators, denominator), 2 div per pixel (docs/study-coords.md).
+    // Heckbert direct: 6 mul, 6 add (numerators, denominator), 2 div per pixel
+    // (docs/study-coords.md).
     EXPECT_EQ(u.ops.div, 2 * fast.stats.generated);
     EXPECT_EQ(u.ops.mul, 6 * fast.stats.generated);
     EXPECT_NE(u.arithmetic.find("float"), std::string::npos);
@@ -220,7 +231,8 @@ TEST(SceneFrontEnd, DerivsNoneIsRefusedWhereTheFilterNeedsThem) {
   ASSERT_FALSE(d.frags.empty());
   EXPECT_EQ(d.front, 1);
   for (const Fragment& f : d.frags) EXPECT_EQ(f.dudx, 0.0);
-  EXPECT_THROW(draw(parse_scene(scene_text("{ method = 'heckbert', formt = 'float' }", false), "s.toml", ".")),
+  EXPECT_THROW(draw(parse_scene(scene_text("{ method = 'heckbert', formt = 'float' }", false),
+                                "s.toml", ".")),
                InputError);
 }
 
@@ -240,8 +252,8 @@ TEST(SceneFrontEnd, MillionTexelOffsetsAreRebasedAndUnrepresentableOnesRejected)
   EXPECT_LT(worst, 0.05);
   // Clamp has no period to rebase by: s16.16 (±32768 texels) cannot hold 1e6 texels, and every
   // pixel is rejected cleanly: not textured, counted, and never a NaN coordinate.
-  std::string clamp = scene_text("{ method = 'heckbert', derivs = 'analytic', format = 's16.16' }", false,
-                                 "[4000.0, 0.0]");
+  std::string clamp = scene_text("{ method = 'heckbert', derivs = 'analytic', format = 's16.16' }",
+                                 false, "[4000.0, 0.0]");
   clamp.replace(clamp.find("address = \"wrap\""), 16, "address = \"clamp\"");
   const Drawn r = draw(parse_scene(clamp, "s.toml", "."));
   ASSERT_FALSE(r.frags.empty());

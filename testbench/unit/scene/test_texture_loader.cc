@@ -1,12 +1,11 @@
 // Texture loading through OpenImageIO (PNG, JPEG, EXR, TIFF, mip-mapped .tx from maketx),
 // pyramid construction, procedural textures and their error messages.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-
-#include <OpenImageIO/imageio.h>
 
 #include "blocks/base/input_error.h"
 #include "pipeline/scene/procedural_texture.h"
@@ -111,7 +110,8 @@ TEST_F(Loader, ErrorsNameTheFile) {
     load_texture("missing.png", dir_.string());
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("missing.png: texture file not found"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("missing.png: texture file not found"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -10,8 +10,8 @@
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
 #include "blocks/texture/coords/uv_heckbert_direct.h"
-#include "pipeline/texture/coord_method.h"
 #include "pipeline/studies/study_coords.h"
+#include "pipeline/texture/coord_method.h"
 
 namespace texsim {
 namespace {
@@ -36,14 +36,17 @@ TEST(CoordMethod, UnknownNamesAreInputErrors) {
 }
 
 TEST(CoordMethod, MaterialConfigFromToml) {
-  const auto t = toml::parse("method = 'constant-depth'\nderivs = 'iterative'\nformat = 's24.36'\n");
-  const CoordUnitConfig c = CoordUnitConfig::from_toml(ConfigReader(t, "scene.toml", "material 'floor'"));
+  const auto t =
+      toml::parse("method = 'constant-depth'\nderivs = 'iterative'\nformat = 's24.36'\n");
+  const CoordUnitConfig c =
+      CoordUnitConfig::from_toml(ConfigReader(t, "scene.toml", "material 'floor'"));
   EXPECT_EQ(c.coords, "constant-depth");
   EXPECT_EQ(c.derivs, "iterative");
   EXPECT_EQ(c.format, "s24.36");
   EXPECT_NO_THROW(CoordUnit{c});
   const auto bad = toml::parse("method = 'heckbert'\nformt = 'float'\n");
-  EXPECT_THROW(CoordUnitConfig::from_toml(ConfigReader(bad, "scene.toml", "material 'floor'")), InputError);
+  EXPECT_THROW(CoordUnitConfig::from_toml(ConfigReader(bad, "scene.toml", "material 'floor'")),
+               InputError);
   const auto bad2 = toml::parse("method = 'fast'\n");
   try {
     CoordUnitConfig::from_toml(ConfigReader(bad2, "scene.toml", "material 'floor'"));

@@ -22,7 +22,8 @@ std::vector<std::string> split_csv(const std::string& line) {
   std::string cur;
   bool quoted = false;
   for (char ch : line) {
-    if (ch == '"') quoted = !quoted;
+    if (ch == '"')
+      quoted = !quoted;
     else if (ch == ',' && !quoted) {
       out.push_back(cur);
       cur.clear();
@@ -56,8 +57,9 @@ TEST(StudyFilters, SmallRunWritesConsistentTables) {
   const std::vector<std::string> head = split_csv(line);
   std::map<std::string, size_t> col;
   for (size_t i = 0; i < head.size(); ++i) col[head[i]] = i;
-  for (const char* c : {"texture", "aniso_nominal", "method", "psnr_db", "nmse", "max_abs", "mul_per_frag",
-                        "texels_per_frag", "cache_misses_per_frag", "cycles_per_frag"}) {
+  for (const char* c :
+       {"texture", "aniso_nominal", "method", "psnr_db", "nmse", "max_abs", "mul_per_frag",
+        "texels_per_frag", "cache_misses_per_frag", "cycles_per_frag"}) {
     ASSERT_TRUE(col.count(c)) << c;
   }
   std::map<std::string, std::vector<std::vector<std::string>>> by_method;
@@ -77,7 +79,8 @@ TEST(StudyFilters, SmallRunWritesConsistentTables) {
   };
   // EWA against the same pixel model beats both trilinear baselines.
   EXPECT_GT(mean_of("ewa lut256", "psnr_db"), mean_of("trilinear (isotropic)", "psnr_db") + 5.0);
-  EXPECT_GT(mean_of("ewa lut256", "psnr_db"), mean_of("trilinear aniso 16 (Vulkan probes)", "psnr_db") + 5.0);
+  EXPECT_GT(mean_of("ewa lut256", "psnr_db"),
+            mean_of("trilinear aniso 16 (Vulkan probes)", "psnr_db") + 5.0);
   // Weight maps reproduce the computed power-8 weights closely.
   for (const auto& [m, rows] : by_method) {
     if (m.rfind("ewa map ", 0) != 0 || m.find("jacobian") != std::string::npos) continue;

@@ -53,8 +53,15 @@ TEST(CubicCoefficients, PassThroughTheFourPoints) {
 
 TEST(UvApproximation, ExactOnAnAffineMapAndOrderedOnPerspective) {
   ProjectiveMap affine;
-  affine.A = 0.75L; affine.B = 0.1L; affine.C = 3; affine.D = -0.2L; affine.E = 1.5L; affine.F = 7;
-  affine.G = 0; affine.H = 0; affine.I = 1;
+  affine.A = 0.75L;
+  affine.B = 0.1L;
+  affine.C = 3;
+  affine.D = -0.2L;
+  affine.E = 1.5L;
+  affine.F = 7;
+  affine.G = 0;
+  affine.H = 0;
+  affine.I = 1;
   const ProjectiveMap persp = tilted(70);
   const RowSpan s{0, 120, 512};
   std::vector<CoordSample> out(512);
@@ -90,9 +97,15 @@ TEST(UvApproximation, ShortSpans) {
 TEST(UvApproximationTriangle, ReproducesNodesAndBeatsLowerOrder) {
   const ProjectiveMap m = tilted(65);
   UvApproximationTriangle::Triangle tri;
-  tri.x[0] = 40; tri.y[0] = 30; tri.x[1] = 300; tri.y[1] = 60; tri.x[2] = 120; tri.y[2] = 220;
+  tri.x[0] = 40;
+  tri.y[0] = 30;
+  tri.x[1] = 300;
+  tri.y[1] = 60;
+  tri.x[2] = 120;
+  tri.y[2] = 220;
   double worst[2] = {};
-  for (auto o : {UvApproximationTriangle::Order::Biquadratic, UvApproximationTriangle::Order::Bicubic}) {
+  for (auto o :
+       {UvApproximationTriangle::Order::Biquadratic, UvApproximationTriangle::Order::Bicubic}) {
     UvApproximationTriangle::Config c;
     c.order = o;
     const UvApproximationTriangle b(c);
@@ -102,7 +115,8 @@ TEST(UvApproximationTriangle, ReproducesNodesAndBeatsLowerOrder) {
     for (int i = 0; i < b.nodes(); ++i) {
       const auto l = UvApproximationTriangle::node(o, i);
       const double a = static_cast<double>(l[0]), bb = static_cast<double>(l[1]);
-      const double mono[10] = {1, a, bb, a * a, a * bb, bb * bb, a * a * a, a * a * bb, a * bb * bb, bb * bb * bb};
+      const double mono[10] = {1,       a,         bb,         a * a,       a * bb,
+                               bb * bb, a * a * a, a * a * bb, a * bb * bb, bb * bb * bb};
       double u = 0;
       for (int j = 0; j < b.nodes(); ++j) u += st.cu[j] * mono[j];
       const long double x = tri.x[0] + l[0] * (tri.x[1] - tri.x[0]) + l[1] * (tri.x[2] - tri.x[0]);

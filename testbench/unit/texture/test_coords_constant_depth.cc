@@ -72,9 +72,11 @@ TEST(UvConstantDepth, PixelCentreErrorIsTheRoundedLineOffset) {
     const double dmin = static_cast<double>(st.x_major ? std::fabs(d.uy) : std::fabs(d.ux));
     const double e = std::fabs(out[n].u - static_cast<double>(m.u(x, y)));
     worst = std::max(worst, e);
-    if (dmin > 0) worst_ratio = std::max(worst_ratio, e / (dmin * static_cast<double>(std::fabs(pix - minor)) + 1e-12));
+    if (dmin > 0)
+      worst_ratio =
+          std::max(worst_ratio, e / (dmin * static_cast<double>(std::fabs(pix - minor)) + 1e-12));
   }
-  EXPECT_GT(worst, 0.05);  // the method is not exact at pixel centres
+  EXPECT_GT(worst, 0.05);       // the method is not exact at pixel centres
   EXPECT_LT(worst_ratio, 1.1);  // and the error is the first-order offset term
 }
 

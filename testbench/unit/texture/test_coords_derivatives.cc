@@ -6,12 +6,12 @@
 #include <random>
 #include <vector>
 
+#include "blocks/geometry/projective_map.h"
 #include "blocks/texture/derivs/derivatives_analytic.h"
 #include "blocks/texture/derivs/derivatives_forward_diff.h"
 #include "blocks/texture/derivs/derivatives_iterative.h"
 #include "blocks/texture/derivs/derivatives_quad.h"
 #include "blocks/texture/derivs/ellipse_setup.h"
-#include "blocks/geometry/projective_map.h"
 
 namespace texsim {
 namespace {
@@ -28,8 +28,9 @@ ProjectiveMap tilted(double tilt, double az = 20.0) {
 
 double deriv_err(const CoordDerivs& d, const DerivsL& r) {
   if (!d.valid) return INFINITY;
-  return std::max({std::fabs(d.ux - static_cast<double>(r.ux)), std::fabs(d.vx - static_cast<double>(r.vx)),
-                   std::fabs(d.uy - static_cast<double>(r.uy)), std::fabs(d.vy - static_cast<double>(r.vy))});
+  return std::max(
+      {std::fabs(d.ux - static_cast<double>(r.ux)), std::fabs(d.vx - static_cast<double>(r.vx)),
+       std::fabs(d.uy - static_cast<double>(r.uy)), std::fabs(d.vy - static_cast<double>(r.vy))});
 }
 
 const RowSpan kRow{5, 140, 480};
@@ -39,19 +40,22 @@ TEST(DerivativesAnalytic, MatchesReference) {
   std::vector<CoordDerivs> out(kRow.n);
   DerivativesAnalytic().eval_row(to_coeffs<double>(m), kRow, out.data());
   double e = 0;
-  for (int n = 0; n < kRow.n; ++n) e = std::max(e, deriv_err(out[n], analytic_derivs(m, kRow.x0 + n, kRow.y)));
+  for (int n = 0; n < kRow.n; ++n)
+    e = std::max(e, deriv_err(out[n], analytic_derivs(m, kRow.x0 + n, kRow.y)));
   EXPECT_LT(e, 1e-9);
 }
 
 TEST(DerivativesForwardDiff, ClassicAndAcceleratedMatchForwardDifferences) {
   const ProjectiveMap m = tilted(70);
-  for (auto f : {DerivativesForwardDiff::Form::Classic, DerivativesForwardDiff::Form::Accelerated}) {
+  for (auto f :
+       {DerivativesForwardDiff::Form::Classic, DerivativesForwardDiff::Form::Accelerated}) {
     DerivativesForwardDiff::Config c;
     c.form = f;
     std::vector<CoordDerivs> out(kRow.n);
     DerivativesForwardDiff(c).eval_row(to_coeffs<double>(m), kRow, out.data());
     double e = 0;
-    for (int n = 0; n < kRow.n; ++n) e = std::max(e, deriv_err(out[n], forward_diff_derivs(m, kRow.x0 + n, kRow.y)));
+    for (int n = 0; n < kRow.n; ++n)
+      e = std::max(e, deriv_err(out[n], forward_diff_derivs(m, kRow.x0 + n, kRow.y)));
     EXPECT_LT(e, 1e-8);
   }
 }
@@ -73,7 +77,8 @@ TEST(DerivativesIterative, CorrectedFormulasEqualForwardDifferences) {
   std::vector<CoordDerivs> out(kRow.n);
   it.eval_row(to_coeffs<double>(m), it.setup_triangle(to_coeffs<double>(m)), kRow, out.data());
   double e = 0;
-  for (int n = 0; n < kRow.n; ++n) e = std::max(e, deriv_err(out[n], forward_diff_derivs(m, kRow.x0 + n, kRow.y)));
+  for (int n = 0; n < kRow.n; ++n)
+    e = std::max(e, deriv_err(out[n], forward_diff_derivs(m, kRow.x0 + n, kRow.y)));
   EXPECT_LT(e, 1e-8);
 }
 
@@ -89,12 +94,14 @@ TEST(DerivativesIterative, PrintedFormulasAreWrong) {
   for (int n = 0; n < kRow.n; ++n) {
     const DerivsL r = forward_diff_derivs(m, kRow.x0 + n, kRow.y);
     eu = std::max(eu, std::fabs(out[n].ux - static_cast<double>(r.ux)));
-    ex = std::max(ex, std::fabs(out[n].vx - static_cast<double>(r.vx)) / std::fabs(static_cast<double>(r.vx)));
-    ey = std::max(ey, std::fabs(out[n].uy - static_cast<double>(r.uy)) / std::fabs(static_cast<double>(r.uy)));
+    ex = std::max(ex, std::fabs(out[n].vx - static_cast<double>(r.vx)) /
+                          std::fabs(static_cast<double>(r.vx)));
+    ey = std::max(ey, std::fabs(out[n].uy - static_cast<double>(r.uy)) /
+                          std::fabs(static_cast<double>(r.uy)));
   }
-  EXPECT_LT(eu, 1e-8);   // du/dx was printed correctly
-  EXPECT_GT(ex, 0.01);   // dv/dx numerator misprint: off by more than 1 %
-  EXPECT_GT(ey, 0.01);   // y denominators misprint
+  EXPECT_LT(eu, 1e-8);  // du/dx was printed correctly
+  EXPECT_GT(ex, 0.01);  // dv/dx numerator misprint: off by more than 1 %
+  EXPECT_GT(ey, 0.01);  // y denominators misprint
 }
 
 TEST(EllipseSetup, NormalFormEqualsSquaredJacobian) {

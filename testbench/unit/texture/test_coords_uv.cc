@@ -4,8 +4,8 @@
 #include <cmath>
 #include <vector>
 
-#include "blocks/geometry/projective_map.h"
 #include "blocks/base/tech_table.h"
+#include "blocks/geometry/projective_map.h"
 #include "blocks/texture/coords/uv_heckbert_direct.h"
 #include "blocks/texture/coords/uv_incremental_adder.h"
 
@@ -47,8 +47,10 @@ TEST(ProjectiveMap, RoundTripThroughThePlane) {
   EXPECT_NEAR(static_cast<double>(m.den(255.5L, 255.5L)), 1.0, 1e-15);
   const DerivsL a = analytic_derivs(m, 250, 260);
   const long double h = 1e-6L;
-  EXPECT_NEAR(static_cast<double>(a.ux), static_cast<double>((m.u(250 + h, 260) - m.u(250 - h, 260)) / (2 * h)), 1e-6);
-  EXPECT_NEAR(static_cast<double>(a.vy), static_cast<double>((m.v(250, 260 + h) - m.v(250, 260 - h)) / (2 * h)), 1e-6);
+  EXPECT_NEAR(static_cast<double>(a.ux),
+              static_cast<double>((m.u(250 + h, 260) - m.u(250 - h, 260)) / (2 * h)), 1e-6);
+  EXPECT_NEAR(static_cast<double>(a.vy),
+              static_cast<double>((m.v(250, 260 + h) - m.v(250, 260 - h)) / (2 * h)), 1e-6);
 }
 
 TEST(ProjectiveMap, PlaneThroughTheEyeIsDegenerate) {
@@ -67,8 +69,9 @@ TEST(ProjectiveMap, TranslatedShiftsCoordinates) {
   EXPECT_NEAR(static_cast<double>(t.v(100, 300) - (m.v(100, 300) + 2048)), 0.0, 1e-12);
 }
 
-template <class T> double max_row_error(const ProjectiveMap& m, const RowSpan& s,
-                                        const std::vector<CoordSample>& out) {
+template <class T>
+double max_row_error(const ProjectiveMap& m, const RowSpan& s,
+                     const std::vector<CoordSample>& out) {
   double e = 0;
   for (int32_t n = 0; n < s.n; ++n) {
     EXPECT_TRUE(out[n].valid) << format_name<T>() << " n=" << n;

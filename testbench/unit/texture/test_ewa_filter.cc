@@ -4,6 +4,7 @@
 // the texels reported; the V(d) edge cut-off: its boundary distance against geometry, its
 // weights on a circle, and edge = "none" leaving every variant unchanged.
 #include <gtest/gtest.h>
+#include <toml++/toml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,10 +13,8 @@
 #include <random>
 #include <vector>
 
-#include <toml++/toml.h>
-
-#include "blocks/texture/footprint/ewa_filter.h"
 #include "blocks/base/input_error.h"
+#include "blocks/texture/footprint/ewa_filter.h"
 #include "pipeline/reference/footprint_reference.h"
 
 namespace texsim {
@@ -29,7 +28,8 @@ Texture make_texture(int size, const std::function<glm::vec4(double, double)>& f
   for (int y = 0; y < size; ++y) {
     for (int x = 0; x < size; ++x) {
       const glm::vec4 c = fn((x + 0.5) / size, (y + 0.5) / size);
-      const size_t i = (static_cast<size_t>(y) * static_cast<size_t>(size) + static_cast<size_t>(x)) * 4;
+      const size_t i =
+          (static_cast<size_t>(y) * static_cast<size_t>(size) + static_cast<size_t>(x)) * 4;
       px[i] = c.r;
       px[i + 1] = c.g;
       px[i + 2] = c.b;
@@ -69,12 +69,14 @@ double max_channel_diff(const glm::dvec4& a, const glm::dvec4& b) {
 }
 
 TEST(EwaFilter, ConstantTextureIsExact) {
-  const Texture tex = make_texture(64, [](double, double) { return glm::vec4(0.25f, 0.5f, 0.75f, 1.0f); });
+  const Texture tex =
+      make_texture(64, [](double, double) { return glm::vec4(0.25f, 0.5f, 0.75f, 1.0f); });
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> uni(0, 1);
-  for (EwaFilter::Arith ar : {EwaFilter::Arith::Float, EwaFilter::Arith::Double, EwaFilter::Arith::Fixed}) {
-    for (EwaFilter::Weight wt : {EwaFilter::Weight::Lut, EwaFilter::Weight::Exp, EwaFilter::Weight::Pow8,
-                                 EwaFilter::Weight::Map}) {
+  for (EwaFilter::Arith ar :
+       {EwaFilter::Arith::Float, EwaFilter::Arith::Double, EwaFilter::Arith::Fixed}) {
+    for (EwaFilter::Weight wt : {EwaFilter::Weight::Lut, EwaFilter::Weight::Exp,
+                                 EwaFilter::Weight::Pow8, EwaFilter::Weight::Map}) {
       EwaFilter::Config c;
       c.arith = ar;
       c.weight = wt;
@@ -101,7 +103,8 @@ TEST(EwaFilter, MatchesReferenceOnSmoothTexture) {
   FootprintReferenceConfig rc;
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> uni(0, 1);
-  for (EwaFilter::Arith ar : {EwaFilter::Arith::Float, EwaFilter::Arith::Double, EwaFilter::Arith::Fixed}) {
+  for (EwaFilter::Arith ar :
+       {EwaFilter::Arith::Float, EwaFilter::Arith::Double, EwaFilter::Arith::Fixed}) {
     EwaFilter::Config c;
     c.arith = ar;
     c.minor_texels = 64;  // stay on level 0 for footprints up to 64 texels
@@ -118,7 +121,8 @@ TEST(EwaFilter, MatchesReferenceOnSmoothTexture) {
       const glm::dvec4 ref = footprint_reference_affine(tex, f, rc).colour;
       worst = std::max(worst, max_channel_diff(glm::dvec4(o.colour), ref));
     }
-    std::printf("EWA %d vs reference, smooth texture, level 0: max error %.5f\n", static_cast<int>(ar), worst);
+    std::printf("EWA %d vs reference, smooth texture, level 0: max error %.5f\n",
+                static_cast<int>(ar), worst);
     // The texture's largest gradient is ~2π·1.3 per unit = 0.032 per texel; the table's step
     // (α/N ≈ 0.008 relative) and the one-texel² reconstruction blur (second derivative
     // ~(2π·4/256)²·0.3·1 ≈ 3·10⁻³) bound the error well below 0.01.
@@ -162,7 +166,8 @@ TEST(EwaFilter, FixedTracksDouble) {
   double worst = 0;
   for (int k = 0; k < 500; ++k) {
     const double major = std::exp2(uni(rng) * 10 - 2), minor = major / (1 + 30 * uni(rng));
-    const Fragment f = footprint(uni(rng) * 4 - 2, uni(rng) * 4 - 2, major, minor, uni(rng) * kPi, 256);
+    const Fragment f =
+        footprint(uni(rng) * 4 - 2, uni(rng) * 4 - 2, major, minor, uni(rng) * kPi, 256);
     OpCounts o1, o2;
     std::vector<TexelRef> t1, t2;
     const FilterOutput a = ed.filter(tex, f, &t1, o1), b = ex.filter(tex, f, &t2, o2);
@@ -266,7 +271,8 @@ TEST(EwaFilter, BoundaryDistanceAgainstGeometry) {
   struct Case {
     double ratio, max_bound, p95_bound;
   };
-  for (const Case& cs : {Case{1, 1e-9, 1e-9}, Case{2, 0.04, 0.02}, Case{4, 0.15, 0.06}, Case{16, 0.6, 0.2}}) {
+  for (const Case& cs :
+       {Case{1, 1e-9, 1e-9}, Case{2, 0.04, 0.02}, Case{4, 0.15, 0.06}, Case{16, 0.6, 0.2}}) {
     std::vector<double> errs;
     for (int k = 0; k < 400; ++k) {
       const double rb = 1 + 3 * uni(rng), ra = rb * cs.ratio, th = uni(rng) * kPi;
@@ -282,7 +288,9 @@ TEST(EwaFilter, BoundaryDistanceAgainstGeometry) {
       const double U = c * px - s * py, V = s * px + c * py;
       const double q = (qa * U + qb * V) * U + qc * V * V;
       const double d = EwaFilter::boundary_distance(q, 2 * qa * U + qb * V, qb * U + 2 * qc * V);
-      auto dist = [&](double a) { return std::hypot(ra * std::cos(a) - px, rb * std::sin(a) - py); };
+      auto dist = [&](double a) {
+        return std::hypot(ra * std::cos(a) - px, rb * std::sin(a) - py);
+      };
       int best = 0;
       for (int i = 1; i < 4000; ++i) {
         if (dist(2 * kPi * i / 4000) < dist(2 * kPi * best / 4000)) best = i;
@@ -290,8 +298,10 @@ TEST(EwaFilter, BoundaryDistanceAgainstGeometry) {
       double lo = 2 * kPi * (best - 1) / 4000, hi = 2 * kPi * (best + 1) / 4000;
       for (int it = 0; it < 100; ++it) {
         const double m1 = lo + (hi - lo) * 0.382, m2 = lo + (hi - lo) * 0.618;
-        if (dist(m1) < dist(m2)) hi = m2;
-        else lo = m1;
+        if (dist(m1) < dist(m2))
+          hi = m2;
+        else
+          lo = m1;
       }
       const double exact = (q < 1 ? -1 : 1) * dist(0.5 * (lo + hi));
       if (std::fabs(exact) > 0.5) continue;  // the band the cut-off uses
@@ -299,8 +309,10 @@ TEST(EwaFilter, BoundaryDistanceAgainstGeometry) {
     }
     std::sort(errs.begin(), errs.end());
     const double worst = errs.back(), p95 = errs[errs.size() * 95 / 100];
-    std::printf("EWA boundary distance, axis ratio %g: max error %.4f, 95th percentile %.4f texel (%zu points)\n",
-                cs.ratio, worst, p95, errs.size());
+    std::printf(
+        "EWA boundary distance, axis ratio %g: max error %.4f, 95th percentile %.4f texel (%zu "
+        "points)\n",
+        cs.ratio, worst, p95, errs.size());
     EXPECT_LE(worst, cs.max_bound) << cs.ratio;
     EXPECT_LE(p95, cs.p95_bound) << cs.ratio;
     EXPECT_GT(errs.size(), 300u);
@@ -322,7 +334,8 @@ TEST(EwaFilter, EdgeNoneIsUnchanged) {
   const Texture tex = make_texture(128, smooth);
   std::mt19937 rng(10);
   std::uniform_real_distribution<double> uni(0, 1);
-  for (EwaFilter::Arith ar : {EwaFilter::Arith::Float, EwaFilter::Arith::Double, EwaFilter::Arith::Fixed}) {
+  for (EwaFilter::Arith ar :
+       {EwaFilter::Arith::Float, EwaFilter::Arith::Double, EwaFilter::Arith::Fixed}) {
     EwaFilter::Config a;
     a.arith = ar;
     EwaFilter::Config b = a;
@@ -373,7 +386,8 @@ TEST(EwaFilter, EdgeCutoffWeightsOnACircle) {
     for (int y = 0; y < size; ++y) {
       for (int x = 0; x < size; ++x) sum += weight(x, y);
     }
-    const Fragment f = footprint((cx + ox + 0.5) / size, (cy + oy + 0.5) / size, rpx, rpx, 0.0, size);
+    const Fragment f =
+        footprint((cx + ox + 0.5) / size, (cy + oy + 0.5) / size, rpx, rpx, 0.0, size);
     int band = 0;
     for (int ty = cy - 4; ty <= cy + 4; ++ty) {
       for (int tx = cx - 4; tx <= cx + 4; ++tx) {
@@ -441,7 +455,8 @@ TEST(EwaFilter, TimingFromTechTable) {
   EXPECT_EQ(EwaFilter(c).issue_cycles(s), 2u);
   s.visited = 0;
   EXPECT_EQ(EwaFilter(c).issue_cycles(s), 1u);
-  std::printf("EWA default: latency %u cycles, lanes %u, area %.1f\n", t4.latency, t4.lanes, t4.area);
+  std::printf("EWA default: latency %u cycles, lanes %u, area %.1f\n", t4.latency, t4.lanes,
+              t4.area);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // constant textures are exact and texel counts agree. The double and fixed set-ups against a
 // long-double reference, their hard cases, colours on a photograph, op counts and timing.
 #include <gtest/gtest.h>
+#include <toml++/toml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,10 +13,8 @@
 #include <string>
 #include <vector>
 
-#include <toml++/toml.h>
-
-#include "blocks/texture/footprint/feline_filter.h"
 #include "blocks/base/input_error.h"
+#include "blocks/texture/footprint/feline_filter.h"
 #include "pipeline/scene/texture_loader.h"
 #include "testbench/lib/probe_reference.h"
 
@@ -70,7 +69,8 @@ TEST(Feline, EllipseUsesTheMajorAxisAndGaussianWeights) {
   const ProbeSet p = fl.probes(tex, f, ops);
   ASSERT_EQ(p.n, 8);  // ⌈24/3⌉
   for (int k = 0; k < p.n; ++k) {
-    const double du = (p.u[static_cast<size_t>(k)] - 0.25) * 256, dv = (p.v[static_cast<size_t>(k)] - 0.25) * 256;
+    const double du = (p.u[static_cast<size_t>(k)] - 0.25) * 256,
+                 dv = (p.v[static_cast<size_t>(k)] - 0.25) * 256;
     EXPECT_NEAR(-du * std::sin(th) + dv * std::cos(th), 0.0, 1e-3);
     const double t = (2.0 * k + 1 - 8) / 8;
     EXPECT_NEAR(du * std::cos(th) + dv * std::sin(th), t * major, 1e-3);
@@ -121,7 +121,8 @@ TEST(Feline, Config) {
   EXPECT_THROW(FelineFilter::Config::from_toml(ConfigReader(bad, "s.toml", "feline")), InputError);
   EXPECT_EQ(c.arith, ProbeArith::Float);
   auto fx = toml::parse("arith = \"double\"\n");
-  EXPECT_EQ(FelineFilter::Config::from_toml(ConfigReader(fx, "s.toml", "feline")).arith, ProbeArith::Double);
+  EXPECT_EQ(FelineFilter::Config::from_toml(ConfigReader(fx, "s.toml", "feline")).arith,
+            ProbeArith::Double);
   auto badarith = toml::parse("arith = 3\n");
   try {
     (void)FelineFilter::Config::from_toml(ConfigReader(badarith, "s.toml", "feline"));
@@ -160,7 +161,8 @@ RefProbes reference(const FelineFilter::Config& c, const Fragment& f, int w0, in
     return r;
   }
   r.q = minor > 0 ? r.len / minor : 1e9L;
-  const int n = std::clamp(static_cast<int>(std::min(std::ceil(r.q), static_cast<L>(c.max_probes))), 1, c.max_probes);
+  const int n = std::clamp(static_cast<int>(std::min(std::ceil(r.q), static_cast<L>(c.max_probes))),
+                           1, c.max_probes);
   r.n = n;
   r.lambda = std::log2(std::max(minor, r.len / n)) + f.lod_bias;
   for (int k = 0; k < n; ++k) {
@@ -195,14 +197,17 @@ TEST(Feline, DoubleAndFixedAgainstLongDoubleReference) {
         for (int k = 0; k < 3000; ++k) {
           const Fragment f = random_footprint(rng, w0, h0, k % 3 == 0);
           OpCounts ops;
-          const double rel = a == ProbeArith::Double ? 1e-9 : axis == FelineFilter::Axis::Ellipse ? 3e-6 : 4e-9;
+          const double rel = a == ProbeArith::Double               ? 1e-9
+                             : axis == FelineFilter::Axis::Ellipse ? 3e-6
+                                                                   : 4e-9;
           // N = ⌈q⌉ reaches max_probes for every q above max_probes + 1.
           const ProbeBound b{w0, h0, rel, a == ProbeArith::Fixed, c.max_probes + 1};
           compare_probes(fl.probes(tex, f, ops), reference(c, f, w0, h0), b, d);
         }
       }
-      std::printf("feline %s %s vs long double: %s\n", axis == FelineFilter::Axis::Ellipse ? "ellipse" : "parallelogram",
-                  to_string(a), describe(d).c_str());
+      std::printf("feline %s %s vs long double: %s\n",
+                  axis == FelineFilter::Axis::Ellipse ? "ellipse" : "parallelogram", to_string(a),
+                  describe(d).c_str());
       EXPECT_EQ(d.n_mismatch, 0);
       EXPECT_GT(d.compared, 5800);
       EXPECT_LE(d.pos, 1.0);
@@ -219,12 +224,14 @@ TEST(Feline, DoubleAndFixedAgainstLongDoubleReference) {
 
 TEST(Feline, HardCasesDefinedInEveryArithmetic) {
   std::vector<float> px(256 * 256 * 4);
-  for (size_t i = 0; i < px.size(); ++i) px[i] = static_cast<float>((i * 2654435761u) % 1000) / 1000.0f;
+  for (size_t i = 0; i < px.size(); ++i)
+    px[i] = static_cast<float>((i * 2654435761u) % 1000) / 1000.0f;
   const Texture tex = Texture::from_rgba("n", 256, 256, px, TexelFormat::Rgba32f, true);
   const Rgba mean = tex.texel(tex.levels() - 1, 0, 0);
   for (ProbeArith a : {ProbeArith::Float, ProbeArith::Double, ProbeArith::Fixed}) {
     for (auto axis : {FelineFilter::Axis::Ellipse, FelineFilter::Axis::Parallelogram}) {
-      SCOPED_TRACE(std::string(to_string(a)) + (axis == FelineFilter::Axis::Ellipse ? " ellipse" : " parallelogram"));
+      SCOPED_TRACE(std::string(to_string(a)) +
+                   (axis == FelineFilter::Axis::Ellipse ? " ellipse" : " parallelogram"));
       FelineFilter::Config c;
       c.arith = a;
       c.axis = axis;
@@ -263,8 +270,9 @@ TEST(Feline, HardCasesDefinedInEveryArithmetic) {
       run(f);
       EXPECT_EQ(p.n, 1);
       EXPECT_LT(p.lambda, -1e20f);
-      for (double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
-                         -std::numeric_limits<double>::infinity()}) {
+      for (double bad :
+           {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+            -std::numeric_limits<double>::infinity()}) {
         f.dvdy = bad;
         run(f);
         EXPECT_TRUE(o.stats.bad_input);
@@ -306,7 +314,8 @@ TEST(Feline, FixedColoursTrackDoubleOnAPhotograph) {
       dev.add(a.colour, b.colour);
     }
     std::printf("feline %s on crate-base.png: fixed vs double max %.3g mean %.3g\n",
-                axis == FelineFilter::Axis::Ellipse ? "ellipse" : "parallelogram", dev.worst, dev.mean());
+                axis == FelineFilter::Axis::Ellipse ? "ellipse" : "parallelogram", dev.worst,
+                dev.mean());
     // At most one address-generator quantisation step (1/256 of a texel difference) moves.
     EXPECT_LT(dev.worst, 1.0 / 256);
     EXPECT_LT(dev.mean(), 1e-4);
@@ -332,7 +341,8 @@ TEST(Feline, OpsAndTimingFollowTheArithmetic) {
       OpCounts ops;
       const FilterOutput o = fl->filter(tex, f, nullptr, ops);
       ASSERT_EQ(o.stats.probes, 7u);
-      EXPECT_EQ(ops, fl->setup_ops() + (fl->per_probe_ops() + addr.ops_setup(false)) * 7u + probe_normalise_ops());
+      EXPECT_EQ(ops, fl->setup_ops() + (fl->per_probe_ops() + addr.ops_setup(false)) * 7u +
+                         probe_normalise_ops());
     }
     const OpCounts sf = ff.setup_ops(), sx = fx.setup_ops();
     EXPECT_EQ(sx.rcp, 0u);  // the divider and the 1/N table replace both reciprocals
@@ -344,7 +354,7 @@ TEST(Feline, OpsAndTimingFollowTheArithmetic) {
       EXPECT_GE(sx.add, sf.add + 2 * 3 * ProbeFx::kCordicSteps - 10);
       EXPECT_GT(tx.latency, tf.latency + 2 * ProbeFx::kCordicSteps);
     } else {
-      EXPECT_EQ(sx.lut, sf.lut + 1);  // the 1/N table
+      EXPECT_EQ(sx.lut, sf.lut + 1);      // the 1/N table
       EXPECT_GT(tx.latency, tf.latency);  // the 6-step divider against rcp + mul
     }
     EXPECT_NE(fx.arithmetic().find(ProbeFx::Coord::name()), std::string::npos);

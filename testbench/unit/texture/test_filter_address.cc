@@ -46,8 +46,10 @@ LodResult lod_at(float lambda) {
 // Independent statement of the three address modes (mirrored repeat as a triangle wave).
 int64_t ref_address(int64_t i, int64_t s, AddressMode m) {
   switch (m) {
-    case AddressMode::Wrap: return ((i % s) + s) % s;
-    case AddressMode::Clamp: return i < 0 ? 0 : (i >= s ? s - 1 : i);
+    case AddressMode::Wrap:
+      return ((i % s) + s) % s;
+    case AddressMode::Clamp:
+      return i < 0 ? 0 : (i >= s ? s - 1 : i);
     case AddressMode::Mirror: {
       const int64_t t = ((i % (2 * s)) + 2 * s) % (2 * s);
       return t < s ? t : 2 * s - 1 - t;
@@ -143,7 +145,10 @@ TEST(TexelAddressGen, TexelCentresAndBorders) {
     }
   }
   // u = v = 0: halfway between texel −1 and 0 on both axes.
-  struct Case { AddressMode m; int x0, x1; };
+  struct Case {
+    AddressMode m;
+    int x0, x1;
+  };
   for (const Case& c : {Case{AddressMode::Wrap, 4, 0}, Case{AddressMode::Clamp, 0, 0},
                         Case{AddressMode::Mirror, 0, 0}}) {
     gen(FilterMode::Bilinear, c.m, AddressMode::Clamp).taps(tex, 0.0, 0.5, lod_at(0), t, ops);
@@ -159,12 +164,12 @@ TEST(TexelAddressGen, TexelCentresAndBorders) {
     EXPECT_EQ(t.tap[1].x, c.x1) << to_string(c.m);
   }
   // Nearest at u just below 0 and at 1: wrap to the far side, clamp to the edge, mirror back.
-  gen(FilterMode::Nearest, AddressMode::Wrap, AddressMode::Wrap).taps(tex, -0.1, 1.0, lod_at(0),
-                                                                      t, ops);
+  gen(FilterMode::Nearest, AddressMode::Wrap, AddressMode::Wrap)
+      .taps(tex, -0.1, 1.0, lod_at(0), t, ops);
   EXPECT_EQ(t.tap[0].x, 4);
   EXPECT_EQ(t.tap[0].y, 0);
-  gen(FilterMode::Nearest, AddressMode::Clamp, AddressMode::Clamp).taps(tex, -0.1, 1.0, lod_at(0),
-                                                                        t, ops);
+  gen(FilterMode::Nearest, AddressMode::Clamp, AddressMode::Clamp)
+      .taps(tex, -0.1, 1.0, lod_at(0), t, ops);
   EXPECT_EQ(t.tap[0].x, 0);
   EXPECT_EQ(t.tap[0].y, 2);
   gen(FilterMode::Nearest, AddressMode::Mirror, AddressMode::Mirror)
@@ -329,9 +334,10 @@ TEST(TexelAddressGen, RandomAgainstDoubleReference) {
       }
     }
   }
-  std::printf("%d queries: max |filter - quantised double ref| %.3g (%d float32 tie cases); "
-              "max |filter - unquantised ref| %.3g\n",
-              n, worst_exact, ties, worst_quant);
+  std::printf(
+      "%d queries: max |filter - quantised double ref| %.3g (%d float32 tie cases); "
+      "max |filter - unquantised ref| %.3g\n",
+      n, worst_exact, ties, worst_quant);
   EXPECT_LT(ties, n / 200);
 }
 
@@ -391,15 +397,16 @@ TEST(TexelBlend, WeightedSumAndTree) {
       }
       OpCounts ops;
       const Rgba got = b.blend(t, tex, ops);
-      for (int ch = 0; ch < 4; ++ch) EXPECT_NEAR(got[ch], ref[ch], 8e-6 * (1 + wsum));  // n·2^-24 for n ≤ 128
+      for (int ch = 0; ch < 4; ++ch)
+        EXPECT_NEAR(got[ch], ref[ch], 8e-6 * (1 + wsum));  // n·2^-24 for n ≤ 128
       EXPECT_EQ(ops.mem, static_cast<uint64_t>(t.count));
       EXPECT_EQ(ops.mul, 4u * static_cast<uint64_t>(t.count));
       EXPECT_EQ(b.issue_cycles(t), static_cast<uint32_t>((t.count + tpc - 1) / tpc));
     }
   }
   // Constant texture: result = weight sum exactly for dyadic weights.
-  const Texture flat = Texture::from_rgba("flat", 2, 2, std::vector<float>(16, 0.5f),
-                                          TexelFormat::Rgba32f, false);
+  const Texture flat =
+      Texture::from_rgba("flat", 2, 2, std::vector<float>(16, 0.5f), TexelFormat::Rgba32f, false);
   FilterTaps t;
   t.count = 3;
   t.tap[0] = {0, 0, 0, 0.25f};
@@ -428,8 +435,8 @@ TEST(TexelAddressGen, RoundHalfEvenMatchesLlrint) {
     if (std::isfinite(x) && std::fabs(x) < std::ldexp(1.0f, 62)) check(x);
   }
   // Hard cases: halves (ties go to the even neighbour), ±0, subnormals, just below 2^23.
-  for (float x : {0.5f, 1.5f, 2.5f, -0.5f, -1.5f, -2.5f, 0.0f, -0.0f, 1e-45f, -1e-45f,
-                  8388607.5f, -8388607.5f, 4194303.5f, 8388608.0f, 16777215.0f}) {
+  for (float x : {0.5f, 1.5f, 2.5f, -0.5f, -1.5f, -2.5f, 0.0f, -0.0f, 1e-45f, -1e-45f, 8388607.5f,
+                  -8388607.5f, 4194303.5f, 8388608.0f, 16777215.0f}) {
     check(x);
   }
   EXPECT_EQ(TexelAddressGen::round_half_even(2.5f), 2);
@@ -477,9 +484,10 @@ TEST(TexelBlend, BitExactAgainstReferenceOrder) {
         t.count = it % 3 == 0 ? 4 : (it % 3 == 1 ? 8 : 1 + static_cast<int>(rng() % 40));
         for (int k = 0; k < t.count; ++k) {
           const int l = lv(rng);
-          t.tap[static_cast<size_t>(k)] = {l, static_cast<int32_t>(rng() % static_cast<uint64_t>(tex.width(l))),
-                                           static_cast<int32_t>(rng() % static_cast<uint64_t>(tex.height(l))),
-                                           wd(rng) - (it % 7 == 0 ? 0.5f : 0.0f)};
+          t.tap[static_cast<size_t>(k)] = {
+              l, static_cast<int32_t>(rng() % static_cast<uint64_t>(tex.width(l))),
+              static_cast<int32_t>(rng() % static_cast<uint64_t>(tex.height(l))),
+              wd(rng) - (it % 7 == 0 ? 0.5f : 0.0f)};
         }
         const Rgba got = b.blend(t, tex), want = reference_blend(t, tex, tpc);
         for (int ch = 0; ch < 4; ++ch) {
@@ -530,10 +538,12 @@ TEST(TextureUnit, CountedOpsAndColoursEqualPerCallBlocks) {
       const int m = i % 3;
       const Rgba got = unit.process(f, m);
       const Texture& tex = ts[mats[static_cast<size_t>(m)].texture];
-      const LodResult lod = LodUnit(mats[static_cast<size_t>(m)].lod)
-                                .eval(f, tex.width(0), tex.height(0), lod_ops[static_cast<size_t>(m)]);
+      const LodResult lod =
+          LodUnit(mats[static_cast<size_t>(m)].lod)
+              .eval(f, tex.width(0), tex.height(0), lod_ops[static_cast<size_t>(m)]);
       FilterTaps t;
-      TexelAddressGen(mats[static_cast<size_t>(m)].filter).taps(tex, f.u, f.v, lod, t, addr_ops[static_cast<size_t>(m)]);
+      TexelAddressGen(mats[static_cast<size_t>(m)].filter)
+          .taps(tex, f.u, f.v, lod, t, addr_ops[static_cast<size_t>(m)]);
       const Rgba want = blend.blend(t, tex, blend_ops[static_cast<size_t>(m)]);
       taps_total += static_cast<uint64_t>(t.count);
       for (int ch = 0; ch < 4; ++ch) {
@@ -550,7 +560,8 @@ TEST(TextureUnit, CountedOpsAndColoursEqualPerCallBlocks) {
     want["cache"].mem = taps_total;
     const auto blocks = unit.blocks();
     ASSERT_EQ(blocks.size(), want.size());
-    for (const BlockUse& b : blocks) EXPECT_EQ(b.ops, want[b.name]) << b.name << " timing " << timing;
+    for (const BlockUse& b : blocks)
+      EXPECT_EQ(b.ops, want[b.name]) << b.name << " timing " << timing;
     EXPECT_EQ(unit.fragments(), 3000u);
   }
 }
@@ -588,8 +599,8 @@ TEST(TexelAddressGen, OpCountsAndTiming) {
   EXPECT_LT(bil.timing(tech).area, tri.timing(tech).area);
   // Mirror path: mul, mul, add, cmp, add, cmp, add, add after i1 = i0 + 1.
   const double front = 3 * tech.lat(OpKind::Cmp) + 2 * tech.lat(OpKind::Add) +  // level select
-                       tech.lat(OpKind::Mul) + tech.lat(OpKind::Add) +            // probe offset
-                       tech.lat(OpKind::Mul) + 2 * tech.lat(OpKind::Add);        // coordinate
+                       tech.lat(OpKind::Mul) + tech.lat(OpKind::Add) +          // probe offset
+                       tech.lat(OpKind::Mul) + 2 * tech.lat(OpKind::Add);       // coordinate
   const double mirror = 2 * tech.lat(OpKind::Mul) + 4 * tech.lat(OpKind::Add) +
                         2 * tech.lat(OpKind::Cmp) + tech.lat(OpKind::Add);
   EXPECT_EQ(mir.timing(tech).latency, static_cast<uint32_t>(front + mirror));
@@ -611,9 +622,9 @@ TEST(TexelAddressGen, TimingTable) {
       const auto g = gen(f, m, m);
       const TimingSpec t = g.timing(tech);
       const OpCounts o = g.ops_setup(false) + g.ops_per_probe(false);
-      std::printf("%-9s %-6s %7u %7.1f  %27lu %4lu %4lu\n", to_string(f), to_string(m),
-                  t.latency, t.area, static_cast<unsigned long>(o.add),
-                  static_cast<unsigned long>(o.mul), static_cast<unsigned long>(o.cmp));
+      std::printf("%-9s %-6s %7u %7.1f  %27lu %4lu %4lu\n", to_string(f), to_string(m), t.latency,
+                  t.area, static_cast<unsigned long>(o.add), static_cast<unsigned long>(o.mul),
+                  static_cast<unsigned long>(o.cmp));
       if (m == AddressMode::Clamp) area_clamp = t.area;
       EXPECT_GE(t.area, area_clamp);  // clamp is the cheapest address mode
     }

@@ -10,8 +10,8 @@
 #include <random>
 #include <string>
 
-#include "blocks/texture/footprint/gaussian_weight.h"
 #include "blocks/base/input_error.h"
+#include "blocks/texture/footprint/gaussian_weight.h"
 
 namespace texsim {
 namespace {

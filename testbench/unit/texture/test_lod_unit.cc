@@ -230,8 +230,8 @@ TEST(LodUnit, RandomAgainstLongDoubleReference) {
         continue;
       }
       const double err = std::fabs(static_cast<double>(r.lambda - ref.lambda_base));
-      (m == AnisoMode::Isotropic ? worst_iso : worst_vk) = std::max(
-          m == AnisoMode::Isotropic ? worst_iso : worst_vk, err);
+      (m == AnisoMode::Isotropic ? worst_iso : worst_vk) =
+          std::max(m == AnisoMode::Isotropic ? worst_iso : worst_vk, err);
     }
   }
   std::printf("max |λ - λ_ref|: isotropic %.3g, vulkan %.3g; N at integer-ratio ties: %d\n",
@@ -273,7 +273,7 @@ TEST(LodUnit, ExtremeScalesAgainstLongDouble) {
     }
     OpCounts ops;
     EXPECT_EQ(lod.eval(frag(1e-30, 0, 0, 1e-30), 1024, 1024, ops).lambda, -1000.0f);  // ρ² = 0
-    EXPECT_EQ(lod.eval(frag(1e17, 0, 0, 1e17), 1024, 1024, ops).lambda, 1000.0f);    // ρ² = inf
+    EXPECT_EQ(lod.eval(frag(1e17, 0, 0, 1e17), 1024, 1024, ops).lambda, 1000.0f);     // ρ² = inf
   }
   std::printf("extreme scales 2^-71..2^63 texels: max |λ - λ_ref| = %.3g\n", worst);
 }
@@ -298,8 +298,9 @@ TEST(LodUnit, OpCountsAndTiming) {
   const TechTable tech = TechTable::defaults();
   const TimingSpec ti = iso.timing(tech);
   // mul, mul, add, cmp, lut, add, add, cmp, cmp
-  EXPECT_EQ(ti.latency, static_cast<uint32_t>(2 * tech.lat(OpKind::Mul) + 3 * tech.lat(OpKind::Add) +
-                                              3 * tech.lat(OpKind::Cmp) + tech.lat(OpKind::Lut)));
+  EXPECT_EQ(ti.latency,
+            static_cast<uint32_t>(2 * tech.lat(OpKind::Mul) + 3 * tech.lat(OpKind::Add) +
+                                  3 * tech.lat(OpKind::Cmp) + tech.lat(OpKind::Lut)));
   EXPECT_DOUBLE_EQ(ti.area, tech.area_of(one));
   const TimingSpec tv = LodUnit(c).timing(tech);
   EXPECT_GT(tv.latency, ti.latency);  // div + sqrt on the N path

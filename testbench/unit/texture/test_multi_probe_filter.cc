@@ -4,6 +4,7 @@
 // The double and fixed set-ups against a long-double reference of the probes, their hard
 // cases, their colours on a photograph, and their op counts and timing.
 #include <gtest/gtest.h>
+#include <toml++/toml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -13,12 +14,10 @@
 #include <string>
 #include <vector>
 
-#include <toml++/toml.h>
-
 #include "blocks/base/input_error.h"
 #include "blocks/texture/footprint/multi_probe_filter.h"
-#include "pipeline/scene/texture_loader.h"
 #include "pipeline/reference/footprint_reference.h"
+#include "pipeline/scene/texture_loader.h"
 #include "testbench/lib/probe_reference.h"
 
 namespace texsim {
@@ -31,7 +30,8 @@ Texture smooth_texture(int size) {
   for (int y = 0; y < size; ++y) {
     for (int x = 0; x < size; ++x) {
       const double u = (x + 0.5) / size, v = (y + 0.5) / size;
-      const size_t i = (static_cast<size_t>(y) * static_cast<size_t>(size) + static_cast<size_t>(x)) * 4;
+      const size_t i =
+          (static_cast<size_t>(y) * static_cast<size_t>(size) + static_cast<size_t>(x)) * 4;
       px[i] = static_cast<float>(0.5 + 0.3 * std::sin(2 * kPi * (2 * u + v)));
       px[i + 1] = static_cast<float>(0.5 + 0.3 * std::cos(2 * kPi * (u - 3 * v)));
       px[i + 2] = static_cast<float>(0.5 + 0.2 * std::sin(2 * kPi * 3 * u));
@@ -64,13 +64,15 @@ TEST(MultiProbe, ProbeCountSpacingAndAxis) {
       // Positions: k·step along (cos θ, sin θ), step = L/(N−1), L = 2(R_major − α R_minor).
       const double step = 2 * (major - alpha * minor) / (n - 1);
       for (int k = 0; k < p.n; ++k) {
-        const double du = (p.u[static_cast<size_t>(k)] - 0.5) * 256, dv = (p.v[static_cast<size_t>(k)] - 0.5) * 256;
+        const double du = (p.u[static_cast<size_t>(k)] - 0.5) * 256,
+                     dv = (p.v[static_cast<size_t>(k)] - 0.5) * 256;
         const double along = du * std::cos(theta) + dv * std::sin(theta);
         const double across = -du * std::sin(theta) + dv * std::cos(theta);
         EXPECT_NEAR(across, 0.0, 1e-3) << theta;
         EXPECT_NEAR(std::fabs(along), std::fabs(k - (n - 1) / 2) * step, 1e-3);
         // Gaussian weight of the distance along the major axis.
-        EXPECT_NEAR(p.w[static_cast<size_t>(k)], std::exp(-2.0 * (along / major) * (along / major)), 1e-5);
+        EXPECT_NEAR(p.w[static_cast<size_t>(k)], std::exp(-2.0 * (along / major) * (along / major)),
+                    1e-5);
       }
     }
   }
@@ -89,8 +91,10 @@ TEST(MultiProbe, PrintedThetaLosesTheQuadrant) {
     const double exact = MultiProbeFilter::major_angle(suu, suv, svv, false);
     const double printed = MultiProbeFilter::major_angle(suu, suv, svv, true);
     EXPECT_NEAR(exact, theta, 1e-12);
-    if (theta < kPi / 4) EXPECT_NEAR(printed, theta, 1e-12);
-    else EXPECT_NEAR(std::fabs(printed - theta), kPi / 2, 1e-12);
+    if (theta < kPi / 4)
+      EXPECT_NEAR(printed, theta, 1e-12);
+    else
+      EXPECT_NEAR(std::fabs(printed - theta), kPi / 2, 1e-12);
   }
 }
 
@@ -123,7 +127,8 @@ TEST(MultiProbe, ConstantExactSmoothBoundedCountsAgree) {
     const double minor = 1 + 2 * uni(rng), major = minor * (1 + 15 * uni(rng)), th = uni(rng) * kPi;
     OpCounts ops;
     std::vector<TexelRef> fetched;
-    const FilterOutput c = mp.filter(flat, footprint(uni(rng), uni(rng), major / 4, minor / 4, th, 64), &fetched, ops);
+    const FilterOutput c =
+        mp.filter(flat, footprint(uni(rng), uni(rng), major / 4, minor / 4, th, 64), &fetched, ops);
     ASSERT_NEAR(c.colour.r, 0.375, 1e-5);
     ASSERT_EQ(fetched.size(), c.stats.texels);
     ASSERT_EQ(c.stats.texels, 8u * c.stats.probes);
@@ -133,7 +138,8 @@ TEST(MultiProbe, ConstantExactSmoothBoundedCountsAgree) {
     const glm::dvec4 ref = footprint_reference_affine(tex, f, rc).colour;
     for (int ch = 0; ch < 3; ++ch) worst = std::max(worst, std::fabs(o.colour[ch] - ref[ch]));
   }
-  std::printf("multi-ellipse probes vs Gaussian reference, smooth texture: max error %.4f\n", worst);
+  std::printf("multi-ellipse probes vs Gaussian reference, smooth texture: max error %.4f\n",
+              worst);
   // Trilinear probes blur by their box-filtered levels; on waves of ≥ 85 texels that stays small.
   EXPECT_LT(worst, 0.03);
 }
@@ -145,12 +151,15 @@ TEST(MultiProbe, ConfigAndTiming) {
   EXPECT_EQ(c.max_probes, 9);
   EXPECT_TRUE(c.temporal);
   auto even = toml::parse("max_probes = 8\n");
-  EXPECT_THROW(MultiProbeFilter::Config::from_toml(ConfigReader(even, "s.toml", "multi_probe")), InputError);
+  EXPECT_THROW(MultiProbeFilter::Config::from_toml(ConfigReader(even, "s.toml", "multi_probe")),
+               InputError);
   auto unknown = toml::parse("probes = 8\n");
-  EXPECT_THROW(MultiProbeFilter::Config::from_toml(ConfigReader(unknown, "s.toml", "multi_probe")), InputError);
+  EXPECT_THROW(MultiProbeFilter::Config::from_toml(ConfigReader(unknown, "s.toml", "multi_probe")),
+               InputError);
   EXPECT_EQ(c.arith, ProbeArith::Float);
   auto fx = toml::parse("arith = \"fixed\"\n");
-  EXPECT_EQ(MultiProbeFilter::Config::from_toml(ConfigReader(fx, "s.toml", "multi_probe")).arith, ProbeArith::Fixed);
+  EXPECT_EQ(MultiProbeFilter::Config::from_toml(ConfigReader(fx, "s.toml", "multi_probe")).arith,
+            ProbeArith::Fixed);
   auto bad = toml::parse("arith = \"half\"\n");
   try {
     (void)MultiProbeFilter::Config::from_toml(ConfigReader(bad, "s.toml", "multi_probe"));
@@ -193,9 +202,10 @@ RefProbes reference(const MultiProbeFilter::Config& c, const Fragment& f, int w0
   r.n = n;
   if (n == 1) return r;
   const L step = 2 * std::max(r.len - ar, L(0)) / (n - 1);
-  const L th = c.seed_theta ? (e.d == 0 ? (e.suv == 0 ? L(0) : std::copysign(std::acos(L(-1)) / 4, e.suv))
-                                        : std::atan(e.suv / e.d) / 2)
-                            : std::atan2(e.suv, e.d) / 2;
+  const L th = c.seed_theta
+                   ? (e.d == 0 ? (e.suv == 0 ? L(0) : std::copysign(std::acos(L(-1)) / 4, e.suv))
+                               : std::atan(e.suv / e.d) / 2)
+                   : std::atan2(e.suv, e.d) / 2;
   const int half = (n - 1) / 2;
   for (int k = -half; k <= half; ++k) {
     const auto i = static_cast<size_t>(k + half);
@@ -217,8 +227,8 @@ TEST(MultiProbe, DoubleAndFixedAgainstLongDoubleReference) {
   // 10⁻⁹·(1 + R_major); fixed — the CORDIC residual angles (vectoring atan(2^-19) halved with θ,
   // rotation atan(2^-19): 2.9·10⁻⁶ rad) on offsets up to R_major, with the s16.24/s17.24
   // roundings 3·10⁻⁶·(1 + R_major), plus the centre's, offsets' and derivatives' roundings
-  // (ProbeBound). Weights: the 2^-f table's index rounding ln2·2^-11 = 3.4·10⁻⁴ plus ½ LSB of u1.15;
-  // λ: log2 table 1.44·2^-11/2 = 3.5·10⁻⁴ plus s8.16 rounding, and the float LOD output
+  // (ProbeBound). Weights: the 2^-f table's index rounding ln2·2^-11 = 3.4·10⁻⁴ plus ½ LSB of
+  // u1.15; λ: log2 table 1.44·2^-11/2 = 3.5·10⁻⁴ plus s8.16 rounding, and the float LOD output
   // 2^-24·|λ|.
   const std::vector<std::pair<int, int>> sizes = {{256, 256}, {384, 96}};
   for (ProbeArith a : {ProbeArith::Double, ProbeArith::Fixed}) {
@@ -238,7 +248,8 @@ TEST(MultiProbe, DoubleAndFixedAgainstLongDoubleReference) {
             const Fragment f = random_footprint(rng, w0, h0, k % 3 == 0);
             OpCounts ops;
             // N = ⌈q − 1⌉ reaches max_probes for every q above max_probes + 2.
-            const ProbeBound b{w0, h0, a == ProbeArith::Fixed ? 3e-6 : 1e-9, a == ProbeArith::Fixed, c.max_probes + 2};
+            const ProbeBound b{w0, h0, a == ProbeArith::Fixed ? 3e-6 : 1e-9, a == ProbeArith::Fixed,
+                               c.max_probes + 2};
             compare_probes(mp.probes(tex, f, ops), reference(c, f, w0, h0), b, d);
           }
         }
@@ -271,11 +282,14 @@ TEST(MultiProbe, FixedPointUnitsWithinTheirBounds) {
     e_sqrt = std::max(e_sqrt, std::fabs(r - std::sqrt(x.to_double())) / ProbeFx::Len::lsb());
     // log2 and 2^-y from the 10-bit tables.
     const double y = std::exp2(uni(rng) * 40 - 20);
-    e_log = std::max(e_log, std::fabs(probe_fx::log2_of(ProbeFx::Sigma(y).raw(), 28).to_double() - std::log2(ProbeFx::Sigma(y).to_double())));
+    e_log = std::max(e_log, std::fabs(probe_fx::log2_of(ProbeFx::Sigma(y).raw(), 28).to_double() -
+                                      std::log2(ProbeFx::Sigma(y).to_double())));
     const ProbeFx::Arg ya(uni(rng) * 20);
-    e_exp = std::max(e_exp, std::fabs(probe_fx::exp2_neg(ya).to_double() - std::exp2(-ya.to_double())));
+    e_exp =
+        std::max(e_exp, std::fabs(probe_fx::exp2_neg(ya).to_double() - std::exp2(-ya.to_double())));
     // CORDIC vectoring and rotation.
-    const double px = (uni(rng) - 0.5) * std::exp2(uni(rng) * 40 - 10), py = (uni(rng) - 0.5) * std::exp2(uni(rng) * 40 - 10);
+    const double px = (uni(rng) - 0.5) * std::exp2(uni(rng) * 40 - 10),
+                 py = (uni(rng) - 0.5) * std::exp2(uni(rng) * 40 - 10);
     ProbeFx::Sigma mag;
     const ProbeFx::Sigma sx(px), sy(py);
     const double ang = probe_fx::vector_angle(sx, sy, false, mag).to_double();
@@ -286,18 +300,27 @@ TEST(MultiProbe, FixedPointUnitsWithinTheirBounds) {
     if (hyp > 1e-3) e_vec = std::max(e_vec, da);
     // Magnitude: the inputs' own rounding aside, the CORDIC is normalised (2^-59 relative), so
     // what remains is 1/K's and the result's rounding: ≤ 10⁻⁹ relative + 1 LSB.
-    e_mag = std::max(e_mag, (std::fabs(mag.to_double() / probe_fx::cordic_gain() - hyp) - ProbeFx::Sigma::lsb()) / hyp);
+    e_mag = std::max(
+        e_mag,
+        (std::fabs(mag.to_double() / probe_fx::cordic_gain() - hyp) - ProbeFx::Sigma::lsb()) / hyp);
     const double th = (uni(rng) - 0.5) * kPi;
     const double len = std::exp2(uni(rng) * 20 - 4);
     ProbeFx::Vec rx, ry;
     probe_fx::rotate(ProbeFx::Vec(len / probe_fx::cordic_gain()), ProbeFx::Angle(th), rx, ry);
-    e_rot = std::max(e_rot, std::hypot(rx.to_double() - len * std::cos(th), ry.to_double() - len * std::sin(th)) / len);
+    e_rot = std::max(
+        e_rot,
+        std::hypot(rx.to_double() - len * std::cos(th), ry.to_double() - len * std::sin(th)) / len);
   }
-  std::printf("fixed units: sqrt %.3g LSB, log2 %.3g, exp2 %.3g, vectoring angle %.3g rad, magnitude %.3g rel, "
-              "rotation %.3g rel\n", e_sqrt, e_log, e_exp, e_vec, e_mag, e_rot);
+  std::printf(
+      "fixed units: sqrt %.3g LSB, log2 %.3g, exp2 %.3g, vectoring angle %.3g rad, magnitude %.3g "
+      "rel, "
+      "rotation %.3g rel\n",
+      e_sqrt, e_log, e_exp, e_vec, e_mag, e_rot);
   EXPECT_LE(e_sqrt, 0.5 + 1e-9 + 0.5 * ProbeFx::Sigma::lsb() / ProbeFx::Len::lsb());
-  EXPECT_LE(e_log, std::log2(std::exp(1.0)) * std::exp2(-11) + std::exp2(-17));  // index ±2^-11, slope ≤ 1/ln2
-  EXPECT_LE(e_exp, std::log(2.0) * std::exp2(-11) + std::exp2(-16) + 1e-9);       // slope ≤ ln2, ½ LSB u1.15
+  EXPECT_LE(e_log, std::log2(std::exp(1.0)) * std::exp2(-11) +
+                       std::exp2(-17));  // index ±2^-11, slope ≤ 1/ln2
+  EXPECT_LE(e_exp,
+            std::log(2.0) * std::exp2(-11) + std::exp2(-16) + 1e-9);  // slope ≤ ln2, ½ LSB u1.15
   EXPECT_LE(e_vec, std::atan(std::exp2(-19)) + 1e-6);  // residual after 20 steps (+ truncation)
   EXPECT_LE(e_mag, 1e-9);
   EXPECT_LE(e_rot, std::atan(std::exp2(-19)) + 1e-6);
@@ -333,7 +356,8 @@ TEST(MultiProbe, HardCasesDefinedInEveryArithmetic) {
     EXPECT_EQ(p.n, 15);
     EXPECT_NEAR(p.lambda, std::log2(4000.0 / 64), 1e-3);
     for (int k = 0; k < p.n; ++k) {  // on the major axis
-      const double du = (p.u[static_cast<size_t>(k)] - 0.3) * 256, dv = (p.v[static_cast<size_t>(k)] - 0.6) * 256;
+      const double du = (p.u[static_cast<size_t>(k)] - 0.3) * 256,
+                   dv = (p.v[static_cast<size_t>(k)] - 0.6) * 256;
       EXPECT_NEAR(-du * std::sin(0.7) + dv * std::cos(0.7), 0.0, 2e-3);
     }
     // det = 0: parallel derivative vectors. The clamp makes R_minor = R_major/64.
@@ -352,8 +376,9 @@ TEST(MultiProbe, HardCasesDefinedInEveryArithmetic) {
     EXPECT_EQ(p.n, 1);
     EXPECT_LT(p.lambda, -1e20f);
     // NaN and ±Inf derivatives: flagged, the same point footprint.
-    for (double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
-                       -std::numeric_limits<double>::infinity()}) {
+    for (double bad :
+         {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+          -std::numeric_limits<double>::infinity()}) {
       f.dudx = bad;
       run(f, p, o);
       EXPECT_TRUE(o.stats.bad_input);
@@ -392,8 +417,10 @@ TEST(MultiProbe, FixedColoursTrackDoubleOnAPhotograph) {
     dev.add(a.colour, b.colour);
     dev_float.add(a.colour, c.colour);
   }
-  std::printf("multi-probe on crate-base.png: fixed vs double max %.3g mean %.3g; float vs double max %.3g\n",
-              dev.worst, dev.mean(), dev_float.worst);
+  std::printf(
+      "multi-probe on crate-base.png: fixed vs double max %.3g mean %.3g; float vs double max "
+      "%.3g\n",
+      dev.worst, dev.mean(), dev_float.worst);
   // A position or λ change far below the address generator's 2^-8 steps can still move one
   // quantisation step (a u0.8 bilinear weight or the trilinear level weight by 1/256): the
   // colour then moves by at most 1/256 of a neighbouring texel difference.
@@ -415,7 +442,8 @@ TEST(MultiProbe, OpsAndTimingFollowTheArithmetic) {
     OpCounts ops;
     const FilterOutput o = m->filter(tex, f, nullptr, ops);
     ASSERT_GT(o.stats.probes, 1u);
-    const OpCounts expect = m->setup_ops() + (m->per_probe_ops() + addr.ops_setup(false)) * o.stats.probes +
+    const OpCounts expect = m->setup_ops() +
+                            (m->per_probe_ops() + addr.ops_setup(false)) * o.stats.probes +
                             probe_normalise_ops();
     EXPECT_EQ(ops, expect);
   }

@@ -4,14 +4,13 @@
 // coverage of texels cut through their centres, its ops and timing; the fixed-point and float
 // edge-function datapaths against double, and the fixed datapath's range guard.
 #include <gtest/gtest.h>
+#include <toml++/toml.h>
 
 #include <bit>
 #include <cmath>
 #include <cstdio>
 #include <random>
 #include <vector>
-
-#include <toml++/toml.h>
 
 #include "blocks/base/input_error.h"
 #include "blocks/texture/footprint/spaf_filter.h"
@@ -56,8 +55,10 @@ TEST(Spaf, MaskTableAgainstExactMasksAndAreas) {
       const double cover = static_cast<double>(std::popcount(m)) / sp.mask_bits();
       worst_area = std::max(worst_area, std::fabs(cover - exact_area(deu, dev, e)));
     }
-    std::printf("SPAF %dx%d masks (64 slopes x 32 offsets): %.3f wrong bits per mask, max area error %.3f\n",
-                side, side, static_cast<double>(bit_errors) / samples, worst_area);
+    std::printf(
+        "SPAF %dx%d masks (64 slopes x 32 offsets): %.3f wrong bits per mask, max area error "
+        "%.3f\n",
+        side, side, static_cast<double>(bit_errors) / samples, worst_area);
     // A sub-texel grid of side n misjudges at most the cells the edge crosses (≤ 2n of n²)
     // plus the table's quantisation: the area error stays below 2/n + 1/16.
     EXPECT_LT(worst_area, 2.0 / side + 1.0 / 16) << side;
@@ -134,7 +135,8 @@ TEST(Spaf, ConstantExactSmoothBounded) {
     const glm::dvec4 ref = footprint_reference_affine(tex, f, rc).colour;
     for (int ch = 0; ch < 3; ++ch) worst = std::max(worst, std::fabs(o.colour[ch] - ref[ch]));
   }
-  std::printf("SPAF (Gaussian, ±1 px quadrilateral) vs reference, smooth texture: max error %.4f\n", worst);
+  std::printf("SPAF (Gaussian, ±1 px quadrilateral) vs reference, smooth texture: max error %.4f\n",
+              worst);
   // The quadrilateral's corners (beyond r = 1 px, weights ≤ e^-4) and point-sampled texels of
   // a level whose minor axis spans 1–2 texels keep the error small on smooth textures.
   EXPECT_LT(worst, 0.02);
@@ -176,17 +178,24 @@ TEST(Spaf, VdCoverageOfTexelsCutThroughTheirCentres) {
       c.vd.format = fm;
       const double h = SpafFilter(c).vd_coverage(1, 0, 0);
       const int fbits = fm == VdFormatKind::Fx8 ? VdFx8::Out::kFracBits : VdFx16::Out::kFracBits;
-      const double h2 = fm == VdFormatKind::Double ? h * h : std::floor(std::ldexp(h * h, fbits) + 0.5) / std::ldexp(1.0, fbits);
+      const double h2 = fm == VdFormatKind::Double
+                            ? h * h
+                            : std::floor(std::ldexp(h * h, fbits) + 0.5) / std::ldexp(1.0, fbits);
       // W(0)/W(−½) = ½ for the exact evaluator and P2 (V(0) = ½); P3 and P1 have V̂(0) ≠ ½.
       if (k == VdEvaluatorKind::Exact || k == VdEvaluatorKind::P2) {
-        EXPECT_NEAR(h, 0.5, fm == VdFormatKind::Double ? 1e-12 : 2 * std::ldexp(1.0, fm == VdFormatKind::Fx8 ? -7 : -15));
+        EXPECT_NEAR(h, 0.5,
+                    fm == VdFormatKind::Double
+                        ? 1e-12
+                        : 2 * std::ldexp(1.0, fm == VdFormatKind::Fx8 ? -7 : -15));
       } else {
         EXPECT_GT(std::fabs(h - 0.5), 1e-3) << vd_evaluator_name(k);
       }
-      for (SpafFilter::Arith ar : {SpafFilter::Arith::Float, SpafFilter::Arith::Double, SpafFilter::Arith::Fixed}) {
+      for (SpafFilter::Arith ar :
+           {SpafFilter::Arith::Float, SpafFilter::Arith::Double, SpafFilter::Arith::Fixed}) {
         c.arith = ar;
         FilterOutput o;
-        EXPECT_NEAR(run(c, &o), expect(h, h2), 1e-6) << vd_evaluator_name(k) << " " << static_cast<int>(ar);
+        EXPECT_NEAR(run(c, &o), expect(h, h2), 1e-6)
+            << vd_evaluator_name(k) << " " << static_cast<int>(ar);
         EXPECT_EQ(o.stats.texels, 36u);
         // One cut-off unit per lane: the four corner texels (two cut edges) take two slots.
         EXPECT_EQ(o.stats.visited, 36u + 4u);
@@ -206,7 +215,8 @@ TEST(Spaf, VdOpsAndTiming) {
   c.coverage = SpafFilter::Coverage::Vd;
   uint32_t prev_latency = 0;
   // Cut-off critical paths grow exact (one table) < P1 < P2 < P3 with the default table.
-  for (VdEvaluatorKind k : {VdEvaluatorKind::Exact, VdEvaluatorKind::P1, VdEvaluatorKind::P2, VdEvaluatorKind::P3}) {
+  for (VdEvaluatorKind k :
+       {VdEvaluatorKind::Exact, VdEvaluatorKind::P1, VdEvaluatorKind::P2, VdEvaluatorKind::P3}) {
     c.vd.evaluator = k;
     const SpafFilter sp(c);
     const OpCounts e = sp.per_partial_edge_ops(), cut = sp.cutoff().ops();
@@ -263,7 +273,8 @@ TEST(Spaf, FixedAndFloatTrackDouble) {
     std::uniform_real_distribution<double> uni(0, 1);
     double worst_fixed = 0, worst_float = 0;
     for (int k = 0; k < 400; ++k) {
-      const double minor = 0.5 + 3 * uni(rng), major = minor * (1 + 30 * uni(rng)), th = uni(rng) * kPi;
+      const double minor = 0.5 + 3 * uni(rng), major = minor * (1 + 30 * uni(rng)),
+                   th = uni(rng) * kPi;
       Fragment f;
       f.u = uni(rng) * 4 - 2;
       f.v = uni(rng) * 4 - 2;
@@ -279,13 +290,15 @@ TEST(Spaf, FixedAndFloatTrackDouble) {
       EXPECT_EQ(a.stats.level, b.stats.level);
       EXPECT_NEAR(static_cast<double>(t1.size()), static_cast<double>(t2.size()), 2.0);
       for (int ch = 0; ch < 3; ++ch) {
-        worst_fixed = std::max(worst_fixed, static_cast<double>(std::fabs(a.colour[ch] - b.colour[ch])));
-        worst_float = std::max(worst_float, static_cast<double>(std::fabs(a.colour[ch] - d.colour[ch])));
+        worst_fixed =
+            std::max(worst_fixed, static_cast<double>(std::fabs(a.colour[ch] - b.colour[ch])));
+        worst_float =
+            std::max(worst_float, static_cast<double>(std::fabs(a.colour[ch] - d.colour[ch])));
       }
     }
     std::printf("SPAF %s: fixed %s vs double max colour difference %.3g, float vs double %.3g\n",
-                cov == SpafFilter::Coverage::Vd ? "V(d)" : "mask", SpafFixed::name().c_str(), worst_fixed,
-                worst_float);
+                cov == SpafFilter::Coverage::Vd ? "V(d)" : "mask", SpafFixed::name().c_str(),
+                worst_fixed, worst_float);
     const double bound = cov == SpafFilter::Coverage::Vd ? 1e-4 : 5e-3;
     EXPECT_LT(worst_fixed, bound);
     EXPECT_LT(worst_float, bound);
@@ -338,7 +351,9 @@ TEST(Spaf, Config) {
   EXPECT_THROW(SpafFilter::Config::from_toml(ConfigReader(bad, "s.toml", "spaf")), InputError);
   auto odd = toml::parse("slope_steps = 33\n");
   EXPECT_THROW(SpafFilter::Config::from_toml(ConfigReader(odd, "s.toml", "spaf")), InputError);
-  auto vd = toml::parse("coverage = \"vd\"\narith = \"fixed\"\nvd = { evaluator = \"p3\", format = \"fx12\", lanes = 2 }\n");
+  auto vd = toml::parse(
+      "coverage = \"vd\"\narith = \"fixed\"\nvd = { evaluator = \"p3\", format = \"fx12\", lanes = "
+      "2 }\n");
   const auto cv = SpafFilter::Config::from_toml(ConfigReader(vd, "s.toml", "spaf"));
   EXPECT_EQ(cv.coverage, SpafFilter::Coverage::Vd);
   EXPECT_EQ(cv.arith, SpafFilter::Arith::Fixed);

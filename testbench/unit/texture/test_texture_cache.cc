@@ -20,13 +20,13 @@ TEST(TextureCache, DirectedLru) {
   c.ways = 2;
   c.line_bytes = 64;
   TextureCache cache(c);
-  EXPECT_FALSE(cache.access(0));     // A miss
-  EXPECT_TRUE(cache.access(63));     // A hit (same line)
-  EXPECT_FALSE(cache.access(64));    // B miss
-  EXPECT_TRUE(cache.access(0));      // A hit: B is now LRU
-  EXPECT_FALSE(cache.access(128));   // C evicts B
+  EXPECT_FALSE(cache.access(0));    // A miss
+  EXPECT_TRUE(cache.access(63));    // A hit (same line)
+  EXPECT_FALSE(cache.access(64));   // B miss
+  EXPECT_TRUE(cache.access(0));     // A hit: B is now LRU
+  EXPECT_FALSE(cache.access(128));  // C evicts B
   EXPECT_TRUE(cache.access(0));
-  EXPECT_FALSE(cache.access(64));    // B was evicted
+  EXPECT_FALSE(cache.access(64));  // B was evicted
   EXPECT_EQ(cache.stats().hits, 3u);
   EXPECT_EQ(cache.stats().misses, 4u);
   EXPECT_EQ(cache.stats().fill_bytes, 4u * 64u);

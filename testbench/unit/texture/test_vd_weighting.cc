@@ -4,6 +4,7 @@
 // coverage in [0, 1] for every input; finite non-negative filter results for degenerate and
 // non-finite fragments; per-material selection in a scene and its errors.
 #include <gtest/gtest.h>
+#include <toml++/toml.h>
 
 #include <cmath>
 #include <cstdio>
@@ -12,15 +13,13 @@
 #include <string>
 #include <vector>
 
-#include <toml++/toml.h>
-
-#include "blocks/texture/footprint/ewa_filter.h"
 #include "blocks/base/input_error.h"
+#include "blocks/texture/footprint/ewa_filter.h"
 #include "blocks/texture/footprint/spaf_filter.h"
 #include "blocks/texture/subtexel/subtexel_cutoff.h"
-#include "pipeline/texture/footprint_filter.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/studies/study_vd.h"
+#include "pipeline/texture/footprint_filter.h"
 #include "testbench/lib/filter_fixtures.h"
 
 namespace texsim {
@@ -35,7 +34,9 @@ double gauss_mass(double a, double b) {
   if (!(b > a)) return 0.0;
   const int n = 2000;
   const double h = (b - a) / n;
-  auto phi = [](double x) { return std::exp(-x * x / (2 * kSigma * kSigma)) / (kSigma * std::sqrt(2 * kPi)); };
+  auto phi = [](double x) {
+    return std::exp(-x * x / (2 * kSigma * kSigma)) / (kSigma * std::sqrt(2 * kPi));
+  };
   double s = phi(a) + phi(b);
   for (int i = 1; i < n; ++i) s += (i % 2 ? 4.0 : 2.0) * phi(a + i * h);
   return s * h / 3.0;
@@ -134,10 +135,12 @@ TEST(VdWeighting, PolynomialCoverageWithinEvaluatorBound) {
       double worst = 0;
       for (int i = 0; i < 4000; ++i) {
         const Edge g = random_edge(rng, 0.6);
-        worst = std::max(worst, std::fabs(sp.vd_coverage(g.deu, g.dev, g.e) - reference_coverage(g.d)));
+        worst =
+            std::max(worst, std::fabs(sp.vd_coverage(g.deu, g.dev, g.e) - reference_coverage(g.d)));
       }
-      std::printf("%s %s: coverage error %.4f, bound 4·%.4f/%.4f = %.4f\n", vd_evaluator_name(k).data(),
-                  kVdFormatKeys[static_cast<size_t>(f)].data(), worst, eps, full, bound);
+      std::printf("%s %s: coverage error %.4f, bound 4·%.4f/%.4f = %.4f\n",
+                  vd_evaluator_name(k).data(), kVdFormatKeys[static_cast<size_t>(f)].data(), worst,
+                  eps, full, bound);
       EXPECT_LE(worst, bound) << vd_evaluator_name(k);
       // And the polynomial's error really shows (the bound is not vacuous).
       EXPECT_GE(worst, 0.5 * eps) << vd_evaluator_name(k);
@@ -146,8 +149,13 @@ TEST(VdWeighting, PolynomialCoverageWithinEvaluatorBound) {
 }
 
 TEST(VdWeighting, CoverageInUnitIntervalForAnyInput) {
-  const double specials[] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
-                             -std::numeric_limits<double>::infinity(), 1e300, -1e300, 0.0, -0.0};
+  const double specials[] = {std::numeric_limits<double>::quiet_NaN(),
+                             std::numeric_limits<double>::infinity(),
+                             -std::numeric_limits<double>::infinity(),
+                             1e300,
+                             -1e300,
+                             0.0,
+                             -0.0};
   for (VdEvaluatorKind k : kVdEvaluatorKinds) {
     for (VdFormatKind f : kVdFormatKinds) {
       const SpafFilter sp = spaf_vd(k, f);
@@ -167,25 +175,29 @@ TEST(VdWeighting, CoverageInUnitIntervalForAnyInput) {
   }
 }
 
-
 // Non-finite, degenerate, extreme and ordinary fragments: every V(d)-weighted filter returns a
 // finite colour inside the texels' range (weights ≥ 0, normalised) and counts what it fetched.
 TEST(VdWeighting, FiltersStayFiniteAndInRange) {
   const Texture tex = noise_texture(64, 64, 3);
-  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN(),
+               inf = std::numeric_limits<double>::infinity();
   std::vector<Fragment> frags = {
-      texel_fragment(0.3, 0.6, 0, 0, 0, 0, 64),         texel_fragment(0.3, 0.6, 8, 4, 16, 8, 64),   // point, parallel
-      texel_fragment(nan, 0.6, 2, 0, 0, 2, 64),         texel_fragment(0.3, inf, 2, 0, 0, 2, 64),    // bad u, v
-      texel_fragment(0.3, 0.6, nan, 1, 1, 1, 64),       texel_fragment(0.3, 0.6, inf, 1, -inf, 1, 64),
-      texel_fragment(0.3, 0.6, 5000, 0.5, -0.01, 0.5, 64),  // 10⁴:1
+      texel_fragment(0.3, 0.6, 0, 0, 0, 0, 64),
+      texel_fragment(0.3, 0.6, 8, 4, 16, 8, 64),  // point, parallel
+      texel_fragment(nan, 0.6, 2, 0, 0, 2, 64),
+      texel_fragment(0.3, inf, 2, 0, 0, 2, 64),  // bad u, v
+      texel_fragment(0.3, 0.6, nan, 1, 1, 1, 64),
+      texel_fragment(0.3, 0.6, inf, 1, -inf, 1, 64),
+      texel_fragment(0.3, 0.6, 5000, 0.5, -0.01, 0.5, 64),    // 10⁴:1
       texel_fragment(0.3, 0.6, 1e12, 3e11, -2e11, 1e12, 64),  // far beyond the texture
-      texel_fragment(0.3, 0.6, 0.01, 0, 0, 0.01, 64)};         // magnified
+      texel_fragment(0.3, 0.6, 0.01, 0, 0, 0.01, 64)};        // magnified
   std::mt19937 rng(4);
   std::uniform_real_distribution<double> uni(0, 1);
   for (int i = 0; i < 100; ++i) {
-    const double major = std::exp2(uni(rng) * 8 - 1), minor = major / (1 + 30 * uni(rng)), th = uni(rng) * kPi;
-    frags.push_back(texel_fragment(uni(rng), uni(rng), major * std::cos(th), major * std::sin(th), -minor * std::sin(th),
-                         minor * std::cos(th), 64));
+    const double major = std::exp2(uni(rng) * 8 - 1), minor = major / (1 + 30 * uni(rng)),
+                 th = uni(rng) * kPi;
+    frags.push_back(texel_fragment(uni(rng), uni(rng), major * std::cos(th), major * std::sin(th),
+                                   -minor * std::sin(th), minor * std::cos(th), 64));
   }
   auto check = [&](const std::string& name, const auto& filt) {
     for (const Fragment& f : frags) {
@@ -219,7 +231,8 @@ TEST(VdWeighting, FiltersStayFiniteAndInRange) {
         c.arith = ar;
         check(std::string("ewa ") + std::string(vd_evaluator_name(k)), EwaFilter(c));
         c.reconstruction = 0;  // footprints thinner than a texel: the band covers every texel
-        check(std::string("ewa no reconstruction ") + std::string(vd_evaluator_name(k)), EwaFilter(c));
+        check(std::string("ewa no reconstruction ") + std::string(vd_evaluator_name(k)),
+              EwaFilter(c));
       }
     }
   }
@@ -254,9 +267,12 @@ TEST(VdWeighting, SelectedPerMaterialInAScene) {
     keep.push_back(std::make_shared<toml::table>(toml::parse(text, std::string_view("m.toml"))));
     return FootprintFilter::from_material(ConfigReader(*keep.back(), "m.toml", "materials.m"));
   };
-  const auto p1 = parse("spaf = { coverage = \"vd\", vd = { evaluator = \"p1\", format = \"fx8\" } }\n");
-  EXPECT_NE(p1->arithmetic().find("V(d) P1 fx8 (u0.8/s3.7/u1.7)"), std::string::npos) << p1->arithmetic();
-  EXPECT_NE(parse("spaf = { arith = \"fixed\" }\n")->arithmetic().find(SpafFixed::name()), std::string::npos);
+  const auto p1 =
+      parse("spaf = { coverage = \"vd\", vd = { evaluator = \"p1\", format = \"fx8\" } }\n");
+  EXPECT_NE(p1->arithmetic().find("V(d) P1 fx8 (u0.8/s3.7/u1.7)"), std::string::npos)
+      << p1->arithmetic();
+  EXPECT_NE(parse("spaf = { arith = \"fixed\" }\n")->arithmetic().find(SpafFixed::name()),
+            std::string::npos);
   EXPECT_NE(parse("spaf = {}\n")->arithmetic().find("mask"), std::string::npos);
   auto expect_error = [&](const std::string& text, const std::string& key) {
     try {
@@ -271,8 +287,8 @@ TEST(VdWeighting, SelectedPerMaterialInAScene) {
   expect_error("spaf = { coverage = \"vd\", vd = { evaluator = \"p4\" } }\n", "evaluator");
   expect_error("ewa = { edge = \"vd\", vd = { evaluator = \"cubic\" } }\n", "evaluator");
   expect_error("spaf = { coverage = \"vd\", vd = { format = \"fx10\" } }\n", "format");
-  expect_error("spaf = { vd = { evaluator = \"p2\" } }\n", "vd");    // without coverage = "vd"
-  expect_error("ewa = { vd = { evaluator = \"p2\" } }\n", "vd");     // without edge = "vd"
+  expect_error("spaf = { vd = { evaluator = \"p2\" } }\n", "vd");  // without coverage = "vd"
+  expect_error("ewa = { vd = { evaluator = \"p2\" } }\n", "vd");   // without edge = "vd"
   expect_error("spaf = { coverage = \"area\" }\n", "coverage");
   expect_error("ewa = { edge = \"soft\" }\n", "edge");
   expect_error("spaf = { arith = \"half\" }\n", "arith");

@@ -3,16 +3,15 @@
 // between them, the four kinds agree where they should, and EWA with a map reproduces EWA with
 // the same weights computed.
 #include <gtest/gtest.h>
+#include <toml++/toml.h>
 
 #include <cmath>
 #include <cstdio>
 #include <random>
 #include <vector>
 
-#include <toml++/toml.h>
-
-#include "blocks/texture/footprint/ewa_filter.h"
 #include "blocks/base/input_error.h"
+#include "blocks/texture/footprint/ewa_filter.h"
 #include "blocks/texture/footprint/weight_map.h"
 
 namespace texsim {
@@ -20,15 +19,19 @@ namespace {
 
 double quantise(double w, WeightMap::Element e) {
   switch (e) {
-    case WeightMap::Element::U8: return static_cast<float>(std::nearbyint(w * 255) / 255);
-    case WeightMap::Element::U16: return static_cast<float>(std::nearbyint(w * 65535) / 65535);
-    case WeightMap::Element::Float: return static_cast<float>(w);
+    case WeightMap::Element::U8:
+      return static_cast<float>(std::nearbyint(w * 255) / 255);
+    case WeightMap::Element::U16:
+      return static_cast<float>(std::nearbyint(w * 65535) / 65535);
+    case WeightMap::Element::Float:
+      return static_cast<float>(w);
   }
   return 0;
 }
 
 double lsb(WeightMap::Element e) {
-  return e == WeightMap::Element::U8 ? 1.0 / 255 : (e == WeightMap::Element::U16 ? 1.0 / 65535 : 1e-7);
+  return e == WeightMap::Element::U8 ? 1.0 / 255
+                                     : (e == WeightMap::Element::U16 ? 1.0 / 65535 : 1e-7);
 }
 
 TEST(WeightMap, GeneratorStoresTheFunction) {
@@ -91,7 +94,8 @@ TEST(WeightMap, ReadWithinInterpolationBound) {
         c.size = size;
         const WeightMap m(c);
         const double h = (kind == WeightMap::Kind::Full2D ? 2.0 : 1.0) / (size - 1);
-        const double axes = (kind == WeightMap::Kind::Full2D || kind == WeightMap::Kind::Quarter) ? 2 : 1;
+        const double axes =
+            (kind == WeightMap::Kind::Full2D || kind == WeightMap::Kind::Quarter) ? 2 : 1;
         const double bound = axes * 4.0 * h * h / 8.0 + 0.5 * lsb(el) + 1e-6;
         double worst = 0;
         std::mt19937 rng(7);
@@ -132,7 +136,7 @@ TEST(WeightMap, EntriesAreReadExactlyAndOutsideIsZero) {
   EXPECT_EQ(m.read(std::nanf(""), 0.0f, reads), 0.0f);
   c.kind = WeightMap::Kind::RadialR;
   const WeightMap r(c);
-  EXPECT_EQ(r.read(0.8f, 0.8f, reads), 0.0f);  // r > 1
+  EXPECT_EQ(r.read(0.8f, 0.8f, reads), 0.0f);                                      // r > 1
   EXPECT_FLOAT_EQ(r.read(0.0f, 1.0f, reads), static_cast<float>(std::exp(-2.0)));  // edge entry
 }
 
@@ -165,7 +169,8 @@ TEST(WeightMap, ConfigFromToml) {
   auto bad = toml::parse("kind = \"half\"\n");
   EXPECT_THROW(WeightMap::Config::from_toml(ConfigReader(bad, "s.toml", "weight_map")), InputError);
   auto bad2 = toml::parse("sizes = 3\n");
-  EXPECT_THROW(WeightMap::Config::from_toml(ConfigReader(bad2, "s.toml", "weight_map")), InputError);
+  EXPECT_THROW(WeightMap::Config::from_toml(ConfigReader(bad2, "s.toml", "weight_map")),
+               InputError);
 }
 
 // EWA with a float radial-r² map of the same function equals EWA computing the weights, up to
@@ -198,12 +203,15 @@ TEST(WeightMap, EwaWithMapMatchesComputedWeights) {
     f.dudy = (ud(rng) * 8 - 4) / 64;
     f.dvdy = (ud(rng) * 8 - 4) / 64;
     OpCounts o1, o2;
-    const FilterOutput a = computed.filter(tex, f, nullptr, o1), b = mapped.filter(tex, f, nullptr, o2);
+    const FilterOutput a = computed.filter(tex, f, nullptr, o1),
+                       b = mapped.filter(tex, f, nullptr, o2);
     EXPECT_EQ(a.stats.texels, b.stats.texels);
     EXPECT_GT(b.stats.map_reads, 0u);
-    for (int ch = 0; ch < 3; ++ch) worst = std::max(worst, static_cast<double>(std::fabs(a.colour[ch] - b.colour[ch])));
+    for (int ch = 0; ch < 3; ++ch)
+      worst = std::max(worst, static_cast<double>(std::fabs(a.colour[ch] - b.colour[ch])));
   }
-  std::printf("EWA radial r^2 float map (256) vs computed pow8: max colour difference %.3g\n", worst);
+  std::printf("EWA radial r^2 float map (256) vs computed pow8: max colour difference %.3g\n",
+              worst);
   EXPECT_LT(worst, 1e-4);
 }
 

@@ -23,7 +23,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-
 void spit(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out << text;
@@ -36,16 +35,20 @@ std::string slurp(const std::string& path) {
   return ss.str();
 }
 
-bool same_bits(double a, double b) { return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b); }
+bool same_bits(double a, double b) {
+  return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b);
+}
 
 ::testing::AssertionResult same_fragment(const Fragment& a, const Fragment& b) {
-  const bool ok = a.frame == b.frame && a.prim == b.prim && a.x == b.x && a.y == b.y && a.tex == b.tex &&
-                  same_bits(a.u, b.u) && same_bits(a.v, b.v) && same_bits(a.dudx, b.dudx) &&
-                  same_bits(a.dvdx, b.dvdx) && same_bits(a.dudy, b.dudy) && same_bits(a.dvdy, b.dvdy) &&
+  const bool ok = a.frame == b.frame && a.prim == b.prim && a.x == b.x && a.y == b.y &&
+                  a.tex == b.tex && same_bits(a.u, b.u) && same_bits(a.v, b.v) &&
+                  same_bits(a.dudx, b.dudx) && same_bits(a.dvdx, b.dvdx) &&
+                  same_bits(a.dudy, b.dudy) && same_bits(a.dvdy, b.dvdy) &&
                   std::bit_cast<uint32_t>(a.lod_bias) == std::bit_cast<uint32_t>(b.lod_bias);
   if (ok) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "fragments differ: u " << a.u << "/" << b.u << " v " << a.v << "/"
-                                       << b.v << " lod_bias " << a.lod_bias << "/" << b.lod_bias;
+  return ::testing::AssertionFailure()
+         << "fragments differ: u " << a.u << "/" << b.u << " v " << a.v << "/" << b.v
+         << " lod_bias " << a.lod_bias << "/" << b.lod_bias;
 }
 
 template <class Fn>
@@ -69,7 +72,8 @@ std::vector<Fragment> random_fragments(size_t n, bool lod, uint64_t seed) {
   std::mt19937_64 rng(seed);
   auto any_double = [&rng]() {
     double d;
-    do d = std::bit_cast<double>(rng()); while (!std::isfinite(d));
+    do d = std::bit_cast<double>(rng());
+    while (!std::isfinite(d));
     return d;
   };
   std::vector<Fragment> out(n);
@@ -89,7 +93,8 @@ std::vector<Fragment> random_fragments(size_t n, bool lod, uint64_t seed) {
     f.dvdy = 1.0 / static_cast<double>(i + 3);
     if (lod) {
       float b;
-      do b = std::bit_cast<float>(static_cast<uint32_t>(rng())); while (!std::isfinite(b));
+      do b = std::bit_cast<float>(static_cast<uint32_t>(rng()));
+      while (!std::isfinite(b));
       f.lod_bias = b;
     }
   }
@@ -124,7 +129,8 @@ TEST(TraceCsv, ExactRoundTripWithAndWithoutLodBias) {
     EXPECT_EQ(h.textures[1].width, 256u);
     EXPECT_EQ(h.textures[1].height, 128u);
     ASSERT_EQ(back.size(), frags.size());
-    for (size_t i = 0; i < frags.size(); ++i) ASSERT_TRUE(same_fragment(back[i], frags[i])) << "record " << i;
+    for (size_t i = 0; i < frags.size(); ++i)
+      ASSERT_TRUE(same_fragment(back[i], frags[i])) << "record " << i;
   }
 }
 
@@ -208,13 +214,14 @@ TEST(TraceCsv, OpenedByExtensionOnlyWhenNotBinary) {
   EXPECT_EQ(r.header().encoding, TraceEncoding::Binary);
   const std::string csv_as_trc = dir.file("text.trc");
   spit(csv_as_trc, "frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy\n");
-  expect_input_error([&] { TraceReader t(csv_as_trc); }, {csv_as_trc, "bad magic", "not named .csv"});
+  expect_input_error([&] { TraceReader t(csv_as_trc); },
+                     {csv_as_trc, "bad magic", "not named .csv"});
 }
 
 // ---- errors: file:line:column ------------------------------------------------------------------
 
 const char* kHead =
-    "# texture 0 t procedural:checker 8 8\n"       // line 1
+    "# texture 0 t procedural:checker 8 8\n"         // line 1
     "frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy\n";  // line 2
 
 void expect_csv_error(const std::string& body, const std::string& where, const std::string& what,
@@ -227,18 +234,23 @@ void expect_csv_error(const std::string& body, const std::string& where, const s
 }
 
 TEST(TraceCsvErrors, WrongColumnCount) {
-  expect_csv_error("0,0,0,0,0,0.5,0.5,0,0,0,0\n0,0,0,0,0,0.5,0.5,0,0,0\n", "4:24", "expected 11 columns, found 10");
+  expect_csv_error("0,0,0,0,0,0.5,0.5,0,0,0,0\n0,0,0,0,0,0.5,0.5,0,0,0\n", "4:24",
+                   "expected 11 columns, found 10");
   expect_csv_error("0,0,0,0,0,0.5,0.5,0,0,0,0,1,2\n", "3:27", "expected 11 columns, found 13");
-  expect_csv_error("\n\n# c\n0,0,0,0,0,0.5,0.5,0,0,0,0,\n", "6:27", "expected 11 columns, found 12");
+  expect_csv_error("\n\n# c\n0,0,0,0,0,0.5,0.5,0,0,0,0,\n", "6:27",
+                   "expected 11 columns, found 12");
 }
 
 TEST(TraceCsvErrors, NotANumber) {
   expect_csv_error("0,0,0,0,0,0.5,abc,0,0,0,0\n", "3:15", "column 'v': 'abc' is not a number");
   expect_csv_error("0,0,0,0,0,0.5,0.5x,0,0,0,0\n", "3:15", "'0.5x' is not a number");
   expect_csv_error("0,0,0,0,0,0.5,,0,0,0,0\n", "3:15", "column 'v': empty value");
-  expect_csv_error("0,0,1.5,0,0,0.5,0.5,0,0,0,0\n", "3:5", "column 'x': '1.5' is not an unsigned integer");
-  expect_csv_error("0,-1,0,0,0,0.5,0.5,0,0,0,0\n", "3:3", "column 'prim': '-1' is not an unsigned integer");
-  expect_csv_error("4294967296,0,0,0,0,0.5,0.5,0,0,0,0\n", "3:1", "'4294967296' is out of range for u32");
+  expect_csv_error("0,0,1.5,0,0,0.5,0.5,0,0,0,0\n", "3:5",
+                   "column 'x': '1.5' is not an unsigned integer");
+  expect_csv_error("0,-1,0,0,0,0.5,0.5,0,0,0,0\n", "3:3",
+                   "column 'prim': '-1' is not an unsigned integer");
+  expect_csv_error("4294967296,0,0,0,0,0.5,0.5,0,0,0,0\n", "3:1",
+                   "'4294967296' is out of range for u32");
   expect_csv_error("0,0,0,0,0,1e999,0.5,0,0,0,0\n", "3:11", "'1e999' is out of range for f64");
 }
 
@@ -273,21 +285,25 @@ TEST(TraceCsvErrors, ColumnHeaderProblems) {
 TEST(TraceCsvErrors, DirectiveProblems) {
   const std::string cols = "frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy\n";
   expect_csv_error("", "1:3", "texture directive needs 5 values", "# texture 0 t p 8\n" + cols);
-  expect_csv_error("", "1:11", "texture id: 'zero' is not an unsigned integer", "# texture zero t p 8 8\n" + cols);
+  expect_csv_error("", "1:11", "texture id: 'zero' is not an unsigned integer",
+                   "# texture zero t p 8 8\n" + cols);
   expect_csv_error("", "1:17", "texture width: '-8'", "# texture 0 t p -8 8\n" + cols);
-  expect_csv_error("", "1:3", "texture 0: size 8x65537 is outside 1..65536", "# texture 0 t p 8 65537\n" + cols);
+  expect_csv_error("", "1:3", "texture 0: size 8x65537 is outside 1..65536",
+                   "# texture 0 t p 8 65537\n" + cols);
   expect_csv_error("", "1:3", "texture 0: size 0x8 is outside", "# texture 0 t p 0 8\n" + cols);
   expect_csv_error("", "2:11", "texture id 0 appears twice",
                    "# texture 0 t p 8 8\n# texture 0 u q 8 8\n" + cols);
   expect_csv_error("", "1:13", "unterminated quoted value", "# texture 0 \"t p 8 8\n" + cols);
-  expect_csv_error("", "1:16", "expected a space after the closing quote", "# texture 0 \"t\"p q 8 8\n" + cols);
+  expect_csv_error("", "1:16", "expected a space after the closing quote",
+                   "# texture 0 \"t\"p q 8 8\n" + cols);
   expect_csv_error("0,0,0,0,0,0.5,0.5,0,0,0,0\n# texture 1 late p 8 8\n", "4:3",
                    "texture directive after the column header line");
 }
 
 TEST(TraceCsvErrors, OverlongLineDoesNotGrowWithoutBound) {
   const std::string huge(kCsvMaxLineBytes + 10, '1');
-  expect_csv_error("0,0,0,0,0,0.5,0.5,0,0,0,0\n" + huge + "\n", "4:1", "line longer than 65536 bytes");
+  expect_csv_error("0,0,0,0,0,0.5,0.5,0,0,0,0\n" + huge + "\n", "4:1",
+                   "line longer than 65536 bytes");
   expect_csv_error(huge, "3:1", "line longer than 65536 bytes");  // no newline at the end
 }
 
@@ -316,13 +332,15 @@ TEST(TraceCsvWriter, FailedWriteLeavesNoFile) {
   EXPECT_FALSE(fs::exists(path));
   EXPECT_EQ(dir.entries(), 0u);
   const std::string nodir = dir.file("no/such/dir.csv");
-  expect_input_error([&] { TraceCsvWriter w(nodir, header(false)); }, {nodir, "cannot open for writing"});
+  expect_input_error([&] { TraceCsvWriter w(nodir, header(false)); },
+                     {nodir, "cannot open for writing"});
   EXPECT_EQ(dir.entries(), 0u);
 }
 
 TEST(TraceCsvWriter, QuotesOnlyWhatNeedsQuoting) {
   EXPECT_EQ(csv_quote_token("plain.png"), "plain.png");
-  EXPECT_EQ(csv_quote_token("procedural:checker?size=512&cells=16"), "procedural:checker?size=512&cells=16");
+  EXPECT_EQ(csv_quote_token("procedural:checker?size=512&cells=16"),
+            "procedural:checker?size=512&cells=16");
   EXPECT_EQ(csv_quote_token(""), "\"\"");
   EXPECT_EQ(csv_quote_token("a b"), "\"a b\"");
   EXPECT_EQ(csv_quote_token("say \"hi\"\\"), "\"say \\\"hi\\\"\\\\\"");

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <malloc.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <bit>
@@ -16,8 +17,6 @@
 #include <string>
 #include <vector>
 
-#include <zlib.h>
-
 #include "blocks/base/input_error.h"
 #include "testbench/lib/temp_dir.h"
 #include "traces/trace_file.h"
@@ -29,33 +28,45 @@ namespace fs = std::filesystem;
 
 // ---- helpers ---------------------------------------------------------------------------------
 
-
-bool same_bits(double a, double b) { return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b); }
-bool same_bits(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b); }
+bool same_bits(double a, double b) {
+  return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b);
+}
+bool same_bits(float a, float b) {
+  return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b);
+}
 
 ::testing::AssertionResult same_fragment(const Fragment& a, const Fragment& b) {
-  const bool ok = a.frame == b.frame && a.prim == b.prim && a.x == b.x && a.y == b.y && a.tex == b.tex &&
-                  same_bits(a.u, b.u) && same_bits(a.v, b.v) && same_bits(a.dudx, b.dudx) &&
-                  same_bits(a.dvdx, b.dvdx) && same_bits(a.dudy, b.dudy) && same_bits(a.dvdy, b.dvdy) &&
+  const bool ok = a.frame == b.frame && a.prim == b.prim && a.x == b.x && a.y == b.y &&
+                  a.tex == b.tex && same_bits(a.u, b.u) && same_bits(a.v, b.v) &&
+                  same_bits(a.dudx, b.dudx) && same_bits(a.dvdx, b.dvdx) &&
+                  same_bits(a.dudy, b.dudy) && same_bits(a.dvdy, b.dvdy) &&
                   same_bits(a.lod_bias, b.lod_bias);
   if (ok) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "fragments differ: frame " << a.frame << "/" << b.frame << " u "
-                                       << a.u << "/" << b.u << " dvdy " << a.dvdy << "/" << b.dvdy
-                                       << " lod_bias " << a.lod_bias << "/" << b.lod_bias;
+  return ::testing::AssertionFailure()
+         << "fragments differ: frame " << a.frame << "/" << b.frame << " u " << a.u << "/" << b.u
+         << " dvdy " << a.dvdy << "/" << b.dvdy << " lod_bias " << a.lod_bias << "/" << b.lod_bias;
 }
 
 // Finite doubles that stress an exact round trip: signed zeros, subnormals, extremes, and
 // arbitrary bit patterns.
 double hard_double(std::mt19937_64& rng) {
-  static const double special[] = {0.0, -0.0, std::numeric_limits<double>::denorm_min(),
+  static const double special[] = {0.0,
+                                   -0.0,
+                                   std::numeric_limits<double>::denorm_min(),
                                    -std::numeric_limits<double>::denorm_min(),
-                                   std::numeric_limits<double>::min(), std::numeric_limits<double>::max(),
-                                   std::numeric_limits<double>::lowest(), 1e-300, 0.1, 1.0 / 3.0, 0.5};
+                                   std::numeric_limits<double>::min(),
+                                   std::numeric_limits<double>::max(),
+                                   std::numeric_limits<double>::lowest(),
+                                   1e-300,
+                                   0.1,
+                                   1.0 / 3.0,
+                                   0.5};
   const uint64_t pick = rng() % 4;
   if (pick == 0) return special[rng() % std::size(special)];
   if (pick == 1) {
     double d;
-    do d = std::bit_cast<double>(rng()); while (!std::isfinite(d));
+    do d = std::bit_cast<double>(rng());
+    while (!std::isfinite(d));
     return d;
   }
   return std::uniform_real_distribution<double>(-4.0, 4.0)(rng);
@@ -80,7 +91,8 @@ std::vector<Fragment> random_fragments(size_t n, bool lod, const std::vector<uin
     f.dvdy = hard_double(rng);
     if (lod) {
       float b;
-      do b = std::bit_cast<float>(static_cast<uint32_t>(rng())); while (!std::isfinite(b));
+      do b = std::bit_cast<float>(static_cast<uint32_t>(rng()));
+      while (!std::isfinite(b));
       f.lod_bias = (i % 3 == 0) ? b : static_cast<float>(i % 7) * 0.25f - 1.0f;
     }
   }
@@ -107,7 +119,8 @@ std::vector<unsigned char> slurp(const std::string& path) {
 
 void spit(const std::string& path, const std::vector<unsigned char>& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
 }
 
 // Expects `fn` to throw InputError whose message contains every one of `parts`.
@@ -132,8 +145,12 @@ void expect_input_error(Fn&& fn, const std::vector<std::string>& parts) {
 
 struct Bytes {
   std::vector<unsigned char> b;
-  void u32(uint32_t v) { for (int i = 0; i < 4; ++i) b.push_back(static_cast<unsigned char>(v >> (8 * i))); }
-  void u64(uint64_t v) { for (int i = 0; i < 8; ++i) b.push_back(static_cast<unsigned char>(v >> (8 * i))); }
+  void u32(uint32_t v) {
+    for (int i = 0; i < 4; ++i) b.push_back(static_cast<unsigned char>(v >> (8 * i)));
+  }
+  void u64(uint64_t v) {
+    for (int i = 0; i < 8; ++i) b.push_back(static_cast<unsigned char>(v >> (8 * i)));
+  }
   void raw(const std::string& s) { b.insert(b.end(), s.begin(), s.end()); }
   void raw(const std::vector<unsigned char>& s) { b.insert(b.end(), s.begin(), s.end()); }
 };
@@ -150,8 +167,8 @@ struct FieldDef {
 
 std::vector<FieldDef> doc_layout(bool lod) {
   // FORMAT.md "Canonical layout": packed, 5 x u32 then 6 x f64 then optional f32.
-  std::vector<FieldDef> f = {{"frame", 3, 0},  {"prim", 3, 4},  {"x", 3, 8},     {"y", 3, 12},
-                             {"tex", 3, 16},   {"u", 10, 20},   {"v", 10, 28},   {"dudx", 10, 36},
+  std::vector<FieldDef> f = {{"frame", 3, 0},  {"prim", 3, 4},   {"x", 3, 8},     {"y", 3, 12},
+                             {"tex", 3, 16},   {"u", 10, 20},    {"v", 10, 28},   {"dudx", 10, 36},
                              {"dvdx", 10, 44}, {"dudy", 10, 52}, {"dvdy", 10, 60}};
   if (lod) f.push_back({"lod_bias", 9, 68});
   return f;
@@ -162,8 +179,9 @@ struct FileSpec {
   uint32_t record_size = 72;
   uint32_t records_per_chunk = 4096;
   std::vector<FieldDef> fields = doc_layout(true);
-  std::vector<TraceTexture> textures = {{0, "checker", "procedural:checker?size=64&cells=8", 64, 64},
-                                        {3, "noise", "procedural:noise", 32, 16}};
+  std::vector<TraceTexture> textures = {
+      {0, "checker", "procedural:checker?size=64&cells=8", 64, 64},
+      {3, "noise", "procedural:noise", 32, 16}};
   int64_t header_size_override = -1;  // write this header size instead of the true one
   uint32_t field_count_override = 0;
   uint32_t texture_count_override = 0;
@@ -177,7 +195,8 @@ std::vector<unsigned char> build_header(const FileSpec& s) {
   h.u32(s.record_size);
   h.u32(s.records_per_chunk);
   h.u32(s.field_count_override ? s.field_count_override : static_cast<uint32_t>(s.fields.size()));
-  h.u32(s.texture_count_override ? s.texture_count_override : static_cast<uint32_t>(s.textures.size()));
+  h.u32(s.texture_count_override ? s.texture_count_override
+                                 : static_cast<uint32_t>(s.textures.size()));
   for (const FieldDef& f : s.fields) {
     std::string name = f.name;
     name.resize(16, '\0');
@@ -196,7 +215,8 @@ std::vector<unsigned char> build_header(const FileSpec& s) {
   }
   const uint32_t size = s.header_size_override >= 0 ? static_cast<uint32_t>(s.header_size_override)
                                                     : static_cast<uint32_t>(h.b.size() + 4);
-  for (int i = 0; i < 4; ++i) h.b[12 + static_cast<size_t>(i)] = static_cast<unsigned char>(size >> (8 * i));
+  for (int i = 0; i < 4; ++i)
+    h.b[12 + static_cast<size_t>(i)] = static_cast<unsigned char>(size >> (8 * i));
   h.u32(crc(h.b.data(), h.b.size()));
   return h.b;
 }
@@ -206,9 +226,17 @@ std::vector<unsigned char> encode_record(const Fragment& f, const FileSpec& s) {
   auto put = [&](uint32_t off, const void* p, size_t n) { std::memcpy(r.data() + off, p, n); };
   for (const FieldDef& d : s.fields) {
     const std::string& n = d.name;
-    const uint32_t u = n == "frame" ? f.frame : n == "prim" ? f.prim : n == "x" ? f.x : n == "y" ? f.y : f.tex;
-    const double v = n == "u" ? f.u : n == "v" ? f.v : n == "dudx" ? f.dudx : n == "dvdx" ? f.dvdx
-                   : n == "dudy" ? f.dudy : f.dvdy;
+    const uint32_t u = n == "frame"  ? f.frame
+                       : n == "prim" ? f.prim
+                       : n == "x"    ? f.x
+                       : n == "y"    ? f.y
+                                     : f.tex;
+    const double v = n == "u"      ? f.u
+                     : n == "v"    ? f.v
+                     : n == "dudx" ? f.dudx
+                     : n == "dvdx" ? f.dvdx
+                     : n == "dudy" ? f.dudy
+                                   : f.dvdy;
     if (n == "frame" || n == "prim" || n == "x" || n == "y" || n == "tex") {
       put(d.offset, &u, 4);  // the test host is little-endian, as the format
     } else if (n == "u" || n == "v" || n == "dudx" || n == "dvdx" || n == "dudy" || n == "dvdy") {
@@ -347,9 +375,10 @@ TEST(TraceFile, UnknownExtraFieldsAreSkippedAndOrderIsFree) {
   TempDir dir("texsim_trace_file");
   FileSpec s;
   // Fields in another order with unknown ones ("depth" f32, "normal_x" f64) in between.
-  s.fields = {{"depth", 9, 0},   {"dvdy", 10, 4},  {"tex", 3, 12},  {"u", 10, 16},     {"v", 10, 24},
-              {"normal_x", 10, 32}, {"frame", 3, 40}, {"prim", 3, 44}, {"x", 3, 48},      {"y", 3, 52},
-              {"dudx", 10, 56}, {"dvdx", 10, 64}, {"dudy", 10, 72}, {"lod_bias", 9, 80}};
+  s.fields = {{"depth", 9, 0},  {"dvdy", 10, 4},      {"tex", 3, 12},   {"u", 10, 16},
+              {"v", 10, 24},    {"normal_x", 10, 32}, {"frame", 3, 40}, {"prim", 3, 44},
+              {"x", 3, 48},     {"y", 3, 52},         {"dudx", 10, 56}, {"dvdx", 10, 64},
+              {"dudy", 10, 72}, {"lod_bias", 9, 80}};
   s.record_size = 96;  // with 12 trailing padding bytes
   std::vector<Fragment> frags;
   const std::string path = dir.file("extra.trc");
@@ -378,7 +407,8 @@ TEST(TraceFile, StreamingMemoryDoesNotDependOnLength) {
   TempDir dir("texsim_trace_file");
   const TraceHeader h = sample_header(true);
   const std::string small = dir.file("small.trc"), large = dir.file("large.trc");
-  for (const auto& [path, n] : {std::pair{small, size_t{20000}}, std::pair{large, size_t{400000}}}) {
+  for (const auto& [path, n] :
+       {std::pair{small, size_t{20000}}, std::pair{large, size_t{400000}}}) {
     TraceWriter w(path, h, 1024);
     const auto frags = random_fragments(1000, true, {0}, 3);
     for (size_t i = 0; i < n; ++i) w.write(frags[i % frags.size()]);
@@ -416,7 +446,8 @@ TEST(TraceFileErrors, Directory) {
 TEST(TraceFileErrors, BadMagic) {
   TempDir dir("texsim_trace_file");
   const std::string path = dir.file("text.trc");
-  spit(path, std::vector<unsigned char>{'h', 'e', 'l', 'l', 'o', ' ', 'w', 'o', 'r', 'l', 'd', '\n'});
+  spit(path,
+       std::vector<unsigned char>{'h', 'e', 'l', 'l', 'o', ' ', 'w', 'o', 'r', 'l', 'd', '\n'});
   expect_input_error([&] { TraceReader r(path); }, {path, "header", "bad magic"});
   const std::string empty = dir.file("empty.trc");
   spit(empty, {});
@@ -558,7 +589,8 @@ TEST(TraceFileErrors, MissingEndMarkerNamesTheChunk) {
   bytes.resize(bytes.size() - 24);
   const std::string path = dir.file("noend.trc");
   spit(path, bytes);
-  expect_input_error([&] { read_all(path); }, {path, "chunk 3", "truncated", "without the end marker"});
+  expect_input_error([&] { read_all(path); },
+                     {path, "chunk 3", "truncated", "without the end marker"});
 }
 
 TEST(TraceFileErrors, ChunkCrcMismatch) {
@@ -584,7 +616,8 @@ TEST(TraceFileErrors, ChunkCountsAndTags) {
   const size_t hs = build_header(s).size();
   const std::string path = dir.file("count.trc");
   auto patch_u32 = [](std::vector<unsigned char> b, size_t at, uint32_t v) {
-    for (int i = 0; i < 4; ++i) b[at + static_cast<size_t>(i)] = static_cast<unsigned char>(v >> (8 * i));
+    for (int i = 0; i < 4; ++i)
+      b[at + static_cast<size_t>(i)] = static_cast<unsigned char>(v >> (8 * i));
     return b;
   };
   spit(path, patch_u32(good, hs + 4, 5));
@@ -612,19 +645,21 @@ TEST(TraceFileErrors, NonFiniteValuesNameTheRecord) {
     double value;
     const char* word;
   };
-  const Case cases[] = {{"u", &Fragment::u, std::nan(""), "NaN"},
-                        {"v", &Fragment::v, -std::numeric_limits<double>::infinity(), "infinite"},
-                        {"dudx", &Fragment::dudx, std::numeric_limits<double>::infinity(), "infinite"},
-                        {"dvdx", &Fragment::dvdx, std::nan(""), "NaN"},
-                        {"dudy", &Fragment::dudy, std::nan(""), "NaN"},
-                        {"dvdy", &Fragment::dvdy, std::numeric_limits<double>::infinity(), "infinite"}};
+  const Case cases[] = {
+      {"u", &Fragment::u, std::nan(""), "NaN"},
+      {"v", &Fragment::v, -std::numeric_limits<double>::infinity(), "infinite"},
+      {"dudx", &Fragment::dudx, std::numeric_limits<double>::infinity(), "infinite"},
+      {"dvdx", &Fragment::dvdx, std::nan(""), "NaN"},
+      {"dudy", &Fragment::dudy, std::nan(""), "NaN"},
+      {"dvdy", &Fragment::dvdy, std::numeric_limits<double>::infinity(), "infinite"}};
   for (const Case& c : cases) {
     auto frags = random_fragments(12, true, {0, 3}, 5);
     frags[2 * 4 + 3].*c.member = c.value;  // chunk 2, record 3, trace record 11
     auto bytes = build_header(s);
     for (size_t k = 0; k < 3; ++k) {
-      const auto ch = build_chunk({frags.begin() + static_cast<long>(4 * k),
-                                   frags.begin() + static_cast<long>(4 * k + 4)}, s);
+      const auto ch = build_chunk(
+          {frags.begin() + static_cast<long>(4 * k), frags.begin() + static_cast<long>(4 * k + 4)},
+          s);
       bytes.insert(bytes.end(), ch.begin(), ch.end());
     }
     const auto t = build_trailer(3, 12);
@@ -676,7 +711,8 @@ TEST(TraceFileErrors, EndMarkerProblems) {
   const auto t = build_trailer(3, 12);
   lost.insert(lost.end(), t.begin(), t.end());
   spit(path, lost);
-  expect_input_error([&] { read_all(path); }, {path, "end marker", "3 chunks and 12 records", "2 chunks and 8"});
+  expect_input_error([&] { read_all(path); },
+                     {path, "end marker", "3 chunks and 12 records", "2 chunks and 8"});
   // Corrupted trailer.
   auto bad = bytes;
   bad[end + 10] ^= 0xff;
@@ -753,7 +789,8 @@ TEST(TraceWriterFailure, FailedWriteKeepsThePreviousFile) {
   EXPECT_EQ(dir.entries(), 1u);
   auto frags = random_fragments(10, false, {0}, 12);
   frags[9].u = std::numeric_limits<double>::infinity();
-  expect_input_error([&] { write_trace(path, sample_header(false), frags); }, {path, "record 9", "'u' is infinite"});
+  expect_input_error([&] { write_trace(path, sample_header(false), frags); },
+                     {path, "record 9", "'u' is infinite"});
   EXPECT_EQ(slurp(path), before);
   EXPECT_EQ(dir.entries(), 1u);
 }
@@ -761,16 +798,19 @@ TEST(TraceWriterFailure, FailedWriteKeepsThePreviousFile) {
 TEST(TraceWriterFailure, UnwritableDestinations) {
   TempDir dir("texsim_trace_file");
   const std::string nodir = dir.file("missing/dir/out.trc");
-  expect_input_error([&] { TraceWriter w(nodir, sample_header(true)); }, {nodir, "cannot open for writing"});
+  expect_input_error([&] { TraceWriter w(nodir, sample_header(true)); },
+                     {nodir, "cannot open for writing"});
   EXPECT_FALSE(fs::exists(nodir));
   // The destination is a directory: the rename at close() fails and the temporary goes away.
   const std::string isdir = dir.file("adir");
   fs::create_directory(isdir);
-  expect_input_error([&] {
-    TraceWriter w(isdir, sample_header(true));
-    w.write(random_fragments(1, true, {0}, 13)[0]);
-    w.close();
-  }, {isdir, "cannot write output file"});
+  expect_input_error(
+      [&] {
+        TraceWriter w(isdir, sample_header(true));
+        w.write(random_fragments(1, true, {0}, 13)[0]);
+        w.close();
+      },
+      {isdir, "cannot write output file"});
   EXPECT_TRUE(fs::is_directory(isdir));
   EXPECT_EQ(dir.entries(), 1u);
 }
@@ -790,7 +830,8 @@ TEST(TraceWriterFailure, BadHeaderOrChunkSizeIsRejectedBeforeWriting) {
   h = sample_header(true);
   h.version = 2;
   expect_input_error([&] { TraceWriter w(path, h); }, {path, "version 2"});
-  expect_input_error([&] { TraceWriter w(path, sample_header(true), 0); }, {path, "records per chunk 0"});
+  expect_input_error([&] { TraceWriter w(path, sample_header(true), 0); },
+                     {path, "records per chunk 0"});
   EXPECT_EQ(dir.entries(), 0u);
 }
 

@@ -3,9 +3,9 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <map>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -21,7 +21,6 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::string kSamples = std::string(TEXSIM_SOURCE_DIR) + "/traces/samples/";
-
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -88,7 +87,8 @@ TEST(TraceTools, InfoPrintsHeaderTexturesCountsAndRanges) {
        {"format:     binary, version 1, record 72 bytes", "lod_bias:f32@68", "textures:   2",
         "id 0  checker  512x512  procedural:checker?size=512&cells=16  fragments 4",
         "records:    8 in 1 chunks", "frames:     2 distinct, 0..1", "frame 0: 5 fragments",
-        "pixel bbox: x [10, 301], y [7, 64]", "u:          [-0.25, 2.75]", "lod_bias:   [-1, 0.5]"}) {
+        "pixel bbox: x [10, 301], y [7, 64]", "u:          [-0.25, 2.75]",
+        "lod_bias:   [-1, 0.5]"}) {
     EXPECT_NE(b.find(part), std::string::npos) << "missing \"" << part << "\" in\n" << b;
   }
   EXPECT_NE(csv.str().find("format:     CSV, version 1"), std::string::npos) << csv.str();
