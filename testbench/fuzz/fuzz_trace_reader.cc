@@ -1,0 +1,63 @@
+// libFuzzer harness: the streaming trace reader on arbitrary bytes, as a binary trace and as
+// CSV. With TEXSIM_FUZZ_FIX_CRC=1 in the environment, the binary form first gets every CRC it
+// can locate recomputed, so mutations reach the parser behind the checksums.
+#include <zlib.h>
+
+#include <cstring>
+#include <vector>
+
+#include "testbench/fuzz/fuzz_input.h"
+#include "traces/trace_file.h"
+
+namespace {
+
+uint32_t get_u32(const std::vector<uint8_t>& b, size_t at) {
+  uint32_t v = 0;
+  std::memcpy(&v, b.data() + at, 4);
+  return v;
+}
+void put_crc(std::vector<uint8_t>& b, size_t at, size_t from, size_t len) {
+  const auto crc = static_cast<uint32_t>(crc32(0, b.data() + from, static_cast<uInt>(len)));
+  std::memcpy(b.data() + at, &crc, 4);
+}
+
+// Recomputes the header, chunk and end-marker CRCs (traces/FORMAT.md) where the structure
+// around them is intact enough to find them.
+void fix_crcs(std::vector<uint8_t>& b) {
+  if (b.size() < 32) return;
+  const uint32_t header_size = get_u32(b, 12), record_size = get_u32(b, 16);
+  if (header_size < 36 || header_size > b.size()) return;
+  put_crc(b, header_size - 4, 0, header_size - 4);
+  size_t at = header_size;
+  while (at + 12 <= b.size() && std::memcmp(b.data() + at, "CHNK", 4) == 0) {
+    const uint64_t payload = uint64_t{get_u32(b, at + 4)} * record_size;
+    if (payload > b.size() - at - 12) return;
+    put_crc(b, at + 8, at + 12, payload);
+    at += 12 + payload;
+  }
+  if (at + 24 <= b.size() && std::memcmp(b.data() + at, "TEND", 4) == 0)
+    put_crc(b, at + 4, at + 8, 16);
+}
+
+void read_all(const std::string& path) {
+  texsim::TraceReader r(path);
+  std::vector<texsim::Fragment> chunk;
+  while (r.next_chunk(chunk) > 0) {
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static const bool fix = [] {
+    const char* e = std::getenv("TEXSIM_FUZZ_FIX_CRC");
+    return e && std::strcmp(e, "1") == 0;
+  }();
+  std::vector<uint8_t> bytes(data, data + size);
+  if (fix) fix_crcs(bytes);
+  const std::string trc = texsim::fuzz::write_input(bytes.data(), bytes.size(), ".trc");
+  texsim::fuzz::expect_clean([&] { read_all(trc); });
+  const std::string csv = texsim::fuzz::write_input(data, size, ".csv");
+  texsim::fuzz::expect_clean([&] { read_all(csv); });
+  return 0;
+}
