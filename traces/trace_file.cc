@@ -322,8 +322,9 @@ TraceWriter::TraceWriter(const std::string& path, const TraceHeader& header,
   append_le<uint32_t>(h, static_cast<uint32_t>(fields.size()));
   append_le<uint32_t>(h, static_cast<uint32_t>(header.textures.size()));
   for (const TraceField& f : fields) {
+    // NUL-padded to 16 bytes; canonical names are at most 15 characters.
     char name[kTraceFieldNameBytes] = {};
-    std::memcpy(name, f.name.data(), f.name.size());
+    std::copy(f.name.begin(), f.name.end(), name);
     h.insert(h.end(), name, name + kTraceFieldNameBytes);
     append_le<uint32_t>(h, static_cast<uint32_t>(f.type));
     append_le<uint32_t>(h, f.offset);
@@ -463,67 +464,63 @@ void TraceReader::read_exact(void* dst, size_t n, const std::string& where, cons
   pos_ += n;
 }
 
-void TraceReader::open_binary() {
-  const std::string where = path_ + ": header";
-  std::vector<unsigned char> h(kFixedHeaderBytes);
-  std::memcpy(h.data(), kTraceMagic, sizeof kTraceMagic);
-  read_exact(h.data() + pos_, kFixedHeaderBytes - pos_, where, "fixed header");
-  const auto version = load_le<uint32_t>(h.data() + 8);
-  const auto header_size = load_le<uint32_t>(h.data() + 12);
-  const auto record_size = load_le<uint32_t>(h.data() + 16);
-  const auto rpc = load_le<uint32_t>(h.data() + 20);
-  const auto field_count = load_le<uint32_t>(h.data() + 24);
-  const auto texture_count = load_le<uint32_t>(h.data() + 28);
-  if (version != kTraceVersion) {
-    throw InputError(where, "unknown version " + std::to_string(version) +
+namespace {
+
+// The fixed part of a binary header, after the magic.
+struct FixedHeader {
+  uint32_t version, header_size, record_size, records_per_chunk, field_count, texture_count;
+};
+
+// Decodes and checks the fixed header (h: its kFixedHeaderBytes bytes); each count within its
+// limit, and the header size large enough for them.
+FixedHeader parse_fixed_header(const unsigned char* h, const std::string& where) {
+  const FixedHeader fh{load_le<uint32_t>(h + 8),  load_le<uint32_t>(h + 12),
+                       load_le<uint32_t>(h + 16), load_le<uint32_t>(h + 20),
+                       load_le<uint32_t>(h + 24), load_le<uint32_t>(h + 28)};
+  if (fh.version != kTraceVersion) {
+    throw InputError(where, "unknown version " + std::to_string(fh.version) +
                                 " (this reader reads version " + std::to_string(kTraceVersion) +
                                 ")");
   }
-  if (record_size < 1 || record_size > kTraceMaxRecordSize) {
-    throw InputError(where, "record size " + std::to_string(record_size) + " is outside 1.." +
+  if (fh.record_size < 1 || fh.record_size > kTraceMaxRecordSize) {
+    throw InputError(where, "record size " + std::to_string(fh.record_size) + " is outside 1.." +
                                 std::to_string(kTraceMaxRecordSize));
   }
+  const uint32_t rpc = fh.records_per_chunk;
   if (rpc < 1 || rpc > kTraceMaxRecordsPerChunk) {
     throw InputError(where, "records per chunk " + std::to_string(rpc) + " is outside 1.." +
                                 std::to_string(kTraceMaxRecordsPerChunk));
   }
-  if (uint64_t{rpc} * record_size > kTraceMaxChunkBytes) {
-    throw InputError(where, "chunk size " + std::to_string(uint64_t{rpc} * record_size) +
+  if (uint64_t{rpc} * fh.record_size > kTraceMaxChunkBytes) {
+    throw InputError(where, "chunk size " + std::to_string(uint64_t{rpc} * fh.record_size) +
                                 " bytes exceeds the limit " + std::to_string(kTraceMaxChunkBytes));
   }
-  if (field_count < 1 || field_count > kTraceMaxFields) {
-    throw InputError(where, "field count " + std::to_string(field_count) + " is outside 1.." +
+  if (fh.field_count < 1 || fh.field_count > kTraceMaxFields) {
+    throw InputError(where, "field count " + std::to_string(fh.field_count) + " is outside 1.." +
                                 std::to_string(kTraceMaxFields));
   }
-  if (texture_count > kTraceMaxTextures) {
-    throw InputError(where, "texture count " + std::to_string(texture_count) +
+  if (fh.texture_count > kTraceMaxTextures) {
+    throw InputError(where, "texture count " + std::to_string(fh.texture_count) +
                                 " exceeds the limit " + std::to_string(kTraceMaxTextures));
   }
-  const uint64_t least = uint64_t{kFixedHeaderBytes} + uint64_t{field_count} * kFieldEntryBytes +
-                         uint64_t{texture_count} * kTextureEntryBytes + 4;
-  if (header_size < least || header_size > kTraceMaxHeaderBytes) {
-    throw InputError(where, "header size " + std::to_string(header_size) + " is outside " +
+  const uint64_t least = uint64_t{kFixedHeaderBytes} + uint64_t{fh.field_count} * kFieldEntryBytes +
+                         uint64_t{fh.texture_count} * kTextureEntryBytes + 4;
+  if (fh.header_size < least || fh.header_size > kTraceMaxHeaderBytes) {
+    throw InputError(where, "header size " + std::to_string(fh.header_size) + " is outside " +
                                 std::to_string(least) + ".." +
                                 std::to_string(kTraceMaxHeaderBytes) + " (for " +
-                                std::to_string(field_count) + " fields and " +
-                                std::to_string(texture_count) + " textures)");
+                                std::to_string(fh.field_count) + " fields and " +
+                                std::to_string(fh.texture_count) + " textures)");
   }
-  h.resize(header_size);  // bounded by kTraceMaxHeaderBytes, and read_exact checks the file size
-  read_exact(h.data() + kFixedHeaderBytes, header_size - kFixedHeaderBytes, where, "header");
-  const auto stored_crc = load_le<uint32_t>(h.data() + header_size - 4);
-  const uint32_t crc = crc_of(h.data(), header_size - 4);
-  if (stored_crc != crc) {
-    throw InputError(where, "header CRC mismatch (stored " + hex32(stored_crc) + ", computed " +
-                                hex32(crc) + ")");
-  }
+  return fh;
+}
 
-  header_.version = version;
-  header_.encoding = TraceEncoding::Binary;
-  header_.record_size = record_size;
-  header_.records_per_chunk = rpc;
-  // Field layout.
-  const unsigned char* p = h.data() + kFixedHeaderBytes;
-  for (uint32_t i = 0; i < field_count; ++i, p += kFieldEntryBytes) {
+// Reads the field layout at p (advanced past it): names valid and unique, types known, each
+// field inside the record and overlapping no other.
+std::vector<TraceField> parse_fields(const unsigned char*& p, const FixedHeader& fh,
+                                     const std::string& where) {
+  std::vector<TraceField> fields;
+  for (uint32_t i = 0; i < fh.field_count; ++i, p += kFieldEntryBytes) {
     const std::string fw = where + ", field " + std::to_string(i);
     const auto* name_bytes = reinterpret_cast<const char*>(p);
     const size_t len = strnlen(name_bytes, kTraceFieldNameBytes);
@@ -538,12 +535,12 @@ void TraceReader::open_binary() {
       throw InputError(fw, "field '" + name + "' has unknown type code " + std::to_string(code));
     }
     const auto type = static_cast<TraceType>(code);
-    if (uint64_t{offset} + type_size(type) > record_size) {
+    if (uint64_t{offset} + type_size(type) > fh.record_size) {
       throw InputError(fw, "field '" + name + "' at byte " + std::to_string(offset) + " (" +
                                to_string(type) + ") runs past the record size " +
-                               std::to_string(record_size));
+                               std::to_string(fh.record_size));
     }
-    for (const TraceField& other : header_.fields) {
+    for (const TraceField& other : fields) {
       if (other.name == name) throw InputError(fw, "field '" + name + "' appears twice");
       const bool overlap =
           offset < other.offset + type_size(other.type) && other.offset < offset + type_size(type);
@@ -551,11 +548,16 @@ void TraceReader::open_binary() {
         throw InputError(fw, "field '" + name + "' overlaps field '" + other.name + "'");
       }
     }
-    header_.fields.push_back({name, type, offset});
+    fields.push_back({name, type, offset});
   }
-  // Texture table.
-  const unsigned char* end = h.data() + header_size - 4;
-  for (uint32_t i = 0; i < texture_count; ++i) {
+  return fields;
+}
+
+// Reads the texture table from p (advanced past it) to end, which it must fill exactly.
+std::vector<TraceTexture> parse_textures(const unsigned char*& p, const unsigned char* end,
+                                         uint32_t count, const std::string& where) {
+  std::vector<TraceTexture> textures;
+  for (uint32_t i = 0; i < count; ++i) {
     const std::string tw = where + ", texture entry " + std::to_string(i);
     if (static_cast<size_t>(end - p) < kTextureEntryBytes) {
       throw InputError(tw, "entry runs past the end of the header");
@@ -580,30 +582,64 @@ void TraceReader::open_binary() {
     p += name_len;
     t.source.assign(reinterpret_cast<const char*>(p), source_len);
     p += source_len;
-    header_.textures.push_back(std::move(t));
+    textures.push_back(std::move(t));
   }
   if (p != end) {
     throw InputError(where, std::to_string(end - p) + " unexplained bytes after the texture table");
   }
-  validate_textures(header_.textures, where);
-  ids_ = TextureIdSet(header_.textures);
+  return textures;
+}
 
-  // Map the known fields by name; unknown ones are skipped, missing required ones are an error.
+// The record offset of each known field (trace_field_specs() order; -1 = absent). Unknown
+// fields are skipped; a known field of the wrong type or a missing required one is an error.
+std::vector<int64_t> known_field_offsets(const std::vector<TraceField>& fields,
+                                         const std::string& where) {
   const auto& specs = trace_field_specs();
-  offsets_.assign(specs.size(), -1);
+  std::vector<int64_t> offsets(specs.size(), -1);
   for (size_t s = 0; s < specs.size(); ++s) {
-    for (const TraceField& f : header_.fields) {
+    for (const TraceField& f : fields) {
       if (f.name != specs[s].name) continue;
       if (f.type != specs[s].type) {
         throw InputError(where, "field '" + f.name + "' has type " + to_string(f.type) +
                                     ", expected " + to_string(specs[s].type));
       }
-      offsets_[s] = f.offset;
+      offsets[s] = f.offset;
     }
-    if (offsets_[s] < 0 && specs[s].required) {
+    if (offsets[s] < 0 && specs[s].required) {
       throw InputError(where, "missing required field '" + std::string(specs[s].name) + "'");
     }
   }
+  return offsets;
+}
+
+}  // namespace
+
+void TraceReader::open_binary() {
+  const std::string where = path_ + ": header";
+  std::vector<unsigned char> h(kFixedHeaderBytes);
+  std::memcpy(h.data(), kTraceMagic, sizeof kTraceMagic);
+  read_exact(h.data() + pos_, kFixedHeaderBytes - pos_, where, "fixed header");
+  const FixedHeader fh = parse_fixed_header(h.data(), where);
+  const uint32_t header_size = fh.header_size;
+  h.resize(header_size);  // bounded by kTraceMaxHeaderBytes, and read_exact checks the file size
+  read_exact(h.data() + kFixedHeaderBytes, header_size - kFixedHeaderBytes, where, "header");
+  const auto stored_crc = load_le<uint32_t>(h.data() + header_size - 4);
+  const uint32_t crc = crc_of(h.data(), header_size - 4);
+  if (stored_crc != crc) {
+    throw InputError(where, "header CRC mismatch (stored " + hex32(stored_crc) + ", computed " +
+                                hex32(crc) + ")");
+  }
+
+  header_.version = fh.version;
+  header_.encoding = TraceEncoding::Binary;
+  header_.record_size = fh.record_size;
+  header_.records_per_chunk = fh.records_per_chunk;
+  const unsigned char* p = h.data() + kFixedHeaderBytes;
+  header_.fields = parse_fields(p, fh, where);
+  header_.textures = parse_textures(p, h.data() + header_size - 4, fh.texture_count, where);
+  validate_textures(header_.textures, where);
+  ids_ = TextureIdSet(header_.textures);
+  offsets_ = known_field_offsets(header_.fields, where);
   header_.has_lod_bias = offsets_[kLodBias] >= 0;
 }
 

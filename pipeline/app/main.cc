@@ -15,7 +15,10 @@
 #include "pipeline/studies/study_vd.h"
 #include "traces/trace_tools.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+// Parses the command line and runs the subcommand; returns the exit status (docs/cli.md).
+int run_cli(int argc, char** argv) {
   using namespace texsim;
   CLI::App app{"texsim: cycle-approximate simulator of a hardware texture unit"};
   app.require_subcommand(1);
@@ -97,4 +100,18 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Whatever escapes the subcommands (or the command-line set-up itself) is an internal error.
+  try {
+    return run_cli(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "texsim: internal error: " << e.what() << "\n";
+  } catch (...) {
+    std::cerr << "texsim: internal error: unknown exception\n";
+  }
+  return 1;
 }

@@ -44,51 +44,55 @@ class Progress {
   std::chrono::steady_clock::time_point t0_;
 };
 
-}  // namespace
+// The textures of a run and the map from fragment texture ids to them.
+struct RunTextures {
+  TextureSet set;
+  std::map<uint32_t, int> index;
+  std::vector<std::string> names;  // "name = source", for the report
+};
 
-RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
-  // Scene: a file, the built-in default, or (trace only) none.
-  const bool use_scene = !opt.scene.empty() || opt.trace.empty();
-  Scene scene =
-      (opt.scene.empty() || opt.scene == "default") ? default_scene() : load_scene(opt.scene);
-
-  // Textures and the map from fragment texture ids to loaded textures.
-  TextureSet textures;
-  std::map<uint32_t, int> tex_index;
-  std::unique_ptr<TraceReader> reader;
-  std::vector<std::string> tex_names;
-  if (!opt.trace.empty()) {
-    reader = std::make_unique<TraceReader>(opt.trace);
-    const std::string dir = std::filesystem::path(opt.trace).parent_path().string();
-    for (const auto& t : reader->header().textures) {
-      Texture tex = load_texture(t.source, dir);
-      if (static_cast<uint32_t>(tex.width(0)) != t.width ||
-          static_cast<uint32_t>(tex.height(0)) != t.height) {
-        throw InputError(opt.trace, "texture " + std::to_string(t.id) + " ('" + t.source +
-                                        "') is " + std::to_string(tex.width(0)) + "x" +
-                                        std::to_string(tex.height(0)) +
-                                        " but the trace's texture table says " +
-                                        std::to_string(t.width) + "x" + std::to_string(t.height));
-      }
-      tex_index[t.id] = textures.add(std::move(tex));
-      tex_names.push_back(t.name + " = " + t.source);
+// A trace's texture table: each texture loaded (relative to the trace) and checked against the
+// size the table declares.
+RunTextures load_trace_textures(const TraceReader& reader, const std::string& trace_path) {
+  RunTextures t;
+  const std::string dir = std::filesystem::path(trace_path).parent_path().string();
+  for (const auto& e : reader.header().textures) {
+    Texture tex = load_texture(e.source, dir);
+    if (static_cast<uint32_t>(tex.width(0)) != e.width ||
+        static_cast<uint32_t>(tex.height(0)) != e.height) {
+      throw InputError(trace_path, "texture " + std::to_string(e.id) + " ('" + e.source + "') is " +
+                                       std::to_string(tex.width(0)) + "x" +
+                                       std::to_string(tex.height(0)) +
+                                       " but the trace's texture table says " +
+                                       std::to_string(e.width) + "x" + std::to_string(e.height));
     }
-  } else {
-    for (size_t i = 0; i < scene.textures.size(); ++i) {
-      tex_index[static_cast<uint32_t>(i)] =
-          textures.add(load_texture(scene.textures[i].source, scene.base_dir));
-      tex_names.push_back(scene.textures[i].name + " = " + scene.textures[i].source);
-    }
+    t.index[e.id] = t.set.add(std::move(tex));
+    t.names.push_back(e.name + " = " + e.source);
   }
+  return t;
+}
 
-  // Materials: the scene's (a fragment's material is that of plane `prim`), or one default.
+// A scene's textures, ids in declaration order.
+RunTextures load_scene_textures(const Scene& scene) {
+  RunTextures t;
+  for (size_t i = 0; i < scene.textures.size(); ++i) {
+    t.index[static_cast<uint32_t>(i)] =
+        t.set.add(load_texture(scene.textures[i].source, scene.base_dir));
+    t.names.push_back(scene.textures[i].name + " = " + scene.textures[i].source);
+  }
+  return t;
+}
+
+// The scene's materials (a fragment's material is that of plane `prim`), or one default.
+std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene, bool from_trace,
+                                         std::ostream& log) {
   std::vector<MaterialSetup> mats;
   if (use_scene) {
     for (const auto& m : scene.materials) {
       mats.push_back(material_from_toml(m.name, m.texture, *m.effects, scene.path));
     }
   }
-  if (!opt.trace.empty()) {
+  if (from_trace) {
     // Trace fragments carry their coordinates: a material's coordinate unit has nothing to do.
     for (auto& m : mats) {
       if (!m.coords) continue;
@@ -103,53 +107,122 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     d.filter.filter = FilterMode::Trilinear;
     mats.push_back(d);
   }
+  return mats;
+}
+
+// A fragment's ground truth: exact through its plane's projective map when the scene's planes
+// are known, otherwise over the footprint its derivatives span.
+struct GroundTruth {
+  const TextureSet& textures;
+  const std::vector<MaterialSetup>& mats;
+  const std::vector<PlaneProjection>& maps;  // empty: from the fragment's derivatives
+  int supersamples;
+
+  bool exact() const { return !maps.empty(); }
+  // f: the fragment as given; g: the same with its texture id mapped to the loaded texture.
+  glm::dvec4 operator()(const Fragment& f, const Fragment& g, int material) const {
+    const Texture& tex = textures[static_cast<int>(g.tex)];
+    const MaterialSetup& ms = mats[static_cast<size_t>(material)];
+    return exact() ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), maps[f.prim],
+                                        static_cast<int>(f.x), static_cast<int>(f.y), supersamples)
+                   : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, supersamples);
+  }
+};
+
+// The simulated image and its ground truth. Traces do not declare their extent: the images
+// grow to the fragments seen and are cropped to them at the end.
+class RunImages {
+ public:
+  RunImages(int width, int height, glm::dvec3 background)
+      : img(std::max(width, 1), std::max(height, 1), background),
+        ref(std::max(width, 1), std::max(height, 1), background),
+        background_(background),
+        max_x_(width - 1),
+        max_y_(height - 1) {}
+
+  // colour null: not textured (coordinates rejected), the pixel keeps the background and
+  // counts as an error.
+  void set(int x, int y, const Rgba* colour, int material, const glm::dvec4& truth) {
+    if (x >= img.width || y >= img.height) {
+      // Grow geometrically; cropped at the end.
+      const int w = x < img.width ? img.width : std::min(1 << 14, std::max(x + 1, 2 * img.width));
+      const int h =
+          y < img.height ? img.height : std::min(1 << 14, std::max(y + 1, 2 * img.height));
+      img.resize(w, h, background_);
+      ref.resize(w, h, background_);
+    }
+    max_x_ = std::max(max_x_, x);
+    max_y_ = std::max(max_y_, y);
+    img.set(x, y, colour ? *colour : glm::vec4(glm::dvec4(background_, 1.0)), material);
+    ref.set(x, y, glm::vec4(truth.x, truth.y, truth.z, truth.w));
+    ++count_;
+  }
+  uint64_t count() const { return count_; }
+  // Crops both images to the pixels written.
+  void crop() {
+    const int width = max_x_ + 1, height = max_y_ + 1;
+    if (img.width != width || img.height != height) {
+      img.resize(width, height, background_);
+      ref.resize(width, height, background_);
+    }
+  }
+
+  ImageRgb img, ref;
+
+ private:
+  glm::dvec3 background_;
+  int max_x_, max_y_;
+  uint64_t count_ = 0;
+};
+
+// Writes the images and reports to opt.out and a summary to log.
+void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImages& images,
+                       const TextureUnit& unit, const RunSummary& sum, std::ostream& log) {
+  ensure_dir(opt.out);
+  write_image(opt.out + "/image.png", images.img);
+  write_image(opt.out + "/reference.png", images.ref);
+  write_error_heatmap(opt.out + "/error.png", images.img, images.ref, sum.accuracy.max_abs);
+  write_run_reports(opt.out, info, unit, sum.accuracy);
+  log << "texsim run: " << sum.fragments << " fragments, " << sum.cycles << " cycles, PSNR "
+      << sum.accuracy.psnr_db << " dB\n";
+  log << "  report: " << opt.out << "/report.json, " << opt.out << "/report.md\n";
+  log << "  images: " << opt.out << "/image.png, " << opt.out << "/reference.png, " << opt.out
+      << "/error.png\n";
+}
+
+}  // namespace
+
+RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
+  // Scene: a file, the built-in default, or (trace only) none.
+  const bool use_scene = !opt.scene.empty() || opt.trace.empty();
+  Scene scene =
+      (opt.scene.empty() || opt.scene == "default") ? default_scene() : load_scene(opt.scene);
+
+  std::unique_ptr<TraceReader> reader;
+  if (!opt.trace.empty()) reader = std::make_unique<TraceReader>(opt.trace);
+  RunTextures textures =
+      reader ? load_trace_textures(*reader, opt.trace) : load_scene_textures(scene);
+  const std::vector<MaterialSetup> mats = run_materials(scene, use_scene, reader != nullptr, log);
   const PipelineSetup setup =
       PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : toml::table{}, scene.path);
-  TextureUnit unit(textures, mats, setup, scene.tech, !opt.functional);
+  TextureUnit unit(textures.set, mats, setup, scene.tech, !opt.functional);
 
   std::vector<PlaneProjection> maps;
   if (use_scene) {
     for (const auto& p : scene.planes) maps.emplace_back(scene, p);
   }
-  int width = scene.width, height = scene.height;
-  if (!use_scene) width = height = 0;
-
-  // Fragments are processed as they stream in; images grow to the trace's extent if needed.
-  std::vector<Fragment> chunk;
-  ImageRgb img(std::max(width, 1), std::max(height, 1), scene.background);
-  ImageRgb ref(std::max(width, 1), std::max(height, 1), scene.background);
-  uint64_t count = 0;
-  int max_x = width - 1, max_y = height - 1;
+  const GroundTruth truth{textures.set, mats, maps, scene.reference_supersamples};
+  RunImages images(use_scene ? scene.width : 0, use_scene ? scene.height : 0, scene.background);
   Progress progress(opt.progress);
-  const int n = scene.reference_supersamples;
-  // A fragment's colour (null: not textured, the background stays) and its ground truth.
+  // Fragments are processed as they stream in. f: as given; g: texture id of the loaded texture.
   auto record = [&](const Fragment& f, const Fragment& g, int material, const Rgba* colour) {
-    const Texture& tex = textures[static_cast<int>(g.tex)];
-    const MaterialSetup& ms = mats[static_cast<size_t>(material)];
-    const glm::dvec4 r = (use_scene && !maps.empty())
-                             ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), maps[f.prim],
-                                                  static_cast<int>(f.x), static_cast<int>(f.y), n)
-                             : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, n);
-    const int x = static_cast<int>(f.x), y = static_cast<int>(f.y);
-    if (x >= img.width || y >= img.height) {
-      // Grow geometrically (traces do not declare their extent); cropped at the end.
-      const int w = x < img.width ? img.width : std::min(1 << 14, std::max(x + 1, 2 * img.width));
-      const int h =
-          y < img.height ? img.height : std::min(1 << 14, std::max(y + 1, 2 * img.height));
-      img.resize(w, h, scene.background);
-      ref.resize(w, h, scene.background);
-    }
-    max_x = std::max(max_x, x);
-    max_y = std::max(max_y, y);
-    // A pixel whose coordinates were rejected keeps the background, and counts as an error.
-    const glm::dvec3& bg = scene.background;
-    img.set(x, y, colour ? *colour : glm::vec4(glm::dvec4(bg, 1.0)), material);
-    ref.set(x, y, glm::vec4(r.x, r.y, r.z, r.w));
-    progress.tick(++count);
+    images.set(static_cast<int>(f.x), static_cast<int>(f.y), colour, material,
+               truth(f, g, material));
+    progress.tick(images.count());
   };
   auto handle = [&](const Fragment& f, uint64_t index) {
-    auto it = tex_index.find(f.tex);
-    if (it == tex_index.end()) {
+    auto it = textures.index.find(f.tex);
+    if (it == textures.index.end()) {
       throw InputError(opt.trace.empty() ? scene.path : opt.trace,
                        "record " + std::to_string(index) + ": texture id " + std::to_string(f.tex) +
                            " is not in the texture table");
@@ -162,7 +235,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     Fragment g = f;
     g.tex = static_cast<uint32_t>(it->second);
     int material = 0;
-    if (use_scene && !maps.empty()) {
+    if (truth.exact()) {
       if (f.prim >= scene.planes.size()) {
         throw InputError(opt.trace, "record " + std::to_string(index) + ": primitive " +
                                         std::to_string(f.prim) + " is not a plane of scene " +
@@ -174,6 +247,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     record(f, g, material, &c);
   };
   if (reader) {
+    std::vector<Fragment> chunk;
     uint64_t index = 0;
     while (reader->next_chunk(chunk) > 0) {
       for (const Fragment& f : chunk) handle(f, index++);
@@ -182,51 +256,37 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     // Some material computes its own coordinates: planes drawn one by one through the front end.
     draw_scene_front_end(scene, maps, unit, [&](const Fragment& f, int material, const Rgba* c) {
       Fragment g = f;
-      g.tex = static_cast<uint32_t>(tex_index.at(f.tex));
+      g.tex = static_cast<uint32_t>(textures.index.at(f.tex));
       record(f, g, material, c);
     });
   } else {
     uint64_t index = 0;
     generate_fragments(scene, 0, [&](const Fragment& f) { handle(f, index++); });
   }
-  if (count == 0)
+  if (images.count() == 0)
     throw InputError(opt.trace.empty() ? scene.path : opt.trace, "no fragments to render");
-  width = max_x + 1;
-  height = max_y + 1;
-  if (img.width != width || img.height != height) {
-    img.resize(width, height, scene.background);
-    ref.resize(width, height, scene.background);
-  }
+  images.crop();
+
   RunSummary sum;
   sum.fragments = unit.fragments();
   sum.cycles = unit.cycles();
-  sum.accuracy = compare_images(img, ref);
-
+  sum.accuracy = compare_images(images.img, images.ref);
   RunInfo info;
   info.scene = use_scene ? scene.path : "(none: trace only)";
   info.trace = opt.trace;
-  info.width = width;
-  info.height = height;
-  info.textures = tex_names;
+  info.width = images.img.width;
+  info.height = images.img.height;
+  info.textures = textures.names;
   for (int m = 0; m < unit.material_count(); ++m)
-    info.material_accuracy.push_back(compare_images(img, ref, m));
+    info.material_accuracy.push_back(compare_images(images.img, images.ref, m));
+  const int n = scene.reference_supersamples;
   info.reference =
       "Ground truth: level-0 texture, bilinear reconstruction in double, box-filtered over "
       "each pixel with " +
       std::to_string(n) + "x" + std::to_string(n) + " samples " +
-      ((use_scene && !maps.empty())
-           ? "mapped exactly through each plane's projective map."
-           : "over the parallelogram spanned by the fragment's derivatives.");
-  ensure_dir(opt.out);
-  write_image(opt.out + "/image.png", img);
-  write_image(opt.out + "/reference.png", ref);
-  write_error_heatmap(opt.out + "/error.png", img, ref, sum.accuracy.max_abs);
-  write_run_reports(opt.out, info, unit, sum.accuracy);
-  log << "texsim run: " << sum.fragments << " fragments, " << sum.cycles << " cycles, PSNR "
-      << sum.accuracy.psnr_db << " dB\n";
-  log << "  report: " << opt.out << "/report.json, " << opt.out << "/report.md\n";
-  log << "  images: " << opt.out << "/image.png, " << opt.out << "/reference.png, " << opt.out
-      << "/error.png\n";
+      (truth.exact() ? "mapped exactly through each plane's projective map."
+                     : "over the parallelogram spanned by the fragment's derivatives.");
+  write_run_outputs(opt, info, images, unit, sum, log);
   return sum;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 // Drawing a scene whose materials compute their own texture coordinates (material table
-// `coords`, docs/usage.md): planes are drawn one after another, each as the screen triangles
+// `coords`, docs/scenes.md): planes are drawn one after another, each as the screen triangles
 // of its near-clipped parallelogram. A material's coordinate unit walks each triangle in its
 // own traversal order; the depth test comes after the front end and keeps the nearest plane
 // per pixel, so occluded pixels cost front-end cycles and operations but nothing further.

@@ -47,50 +47,47 @@ std::vector<MaterialRow> material_rows(const RunInfo& info, const TextureUnit& u
   return rows;
 }
 
-}  // namespace
+using Json = nlohmann::ordered_json;
 
-void write_run_reports(const std::string& dir, const RunInfo& info, const TextureUnit& unit,
-                       const AccuracyMetrics& acc) {
-  const auto blocks = unit.blocks();
-  const double frags = static_cast<double>(unit.fragments());
+double per_fragment(double v, double frags) { return frags > 0 ? v / frags : 0.0; }
 
-  using Json = nlohmann::ordered_json;
-  Json j;
-  j["scene"] = info.scene;
-  j["trace"] = info.trace;
-  j["mode"] = unit.timing() ? "timing" : "functional";
-  j["fragments"] = unit.fragments();
-  j["cycles"] = unit.cycles();
-  j["cycles_per_fragment"] = frags > 0 ? static_cast<double>(unit.cycles()) / frags : 0.0;
-  j["image"] = {{"width", info.width}, {"height", info.height}};
-  j["textures"] = info.textures;
-  for (const auto& b : blocks) {
-    Json e;
-    for (int k = 0; k < kOpKinds; ++k)
-      e["ops"][std::string(kOpKindNames[k])] = b.ops.get(static_cast<OpKind>(k));
-    e["ops_per_fragment"] = frags > 0 ? static_cast<double>(b.ops.total()) / frags : 0.0;
-    e["latency"] = b.timing.latency;
-    e["ii"] = b.timing.ii;
-    e["area"] = b.timing.area;
-    e["arithmetic"] = b.arithmetic;
-    e["materials"] = b.materials;
-    e["texels"] = b.texels;
-    e["texels_per_fragment"] = frags > 0 ? static_cast<double>(b.texels) / frags : 0.0;
-    j["blocks"][b.name] = e;
+Json ops_json(const OpCounts& ops) {
+  Json e;
+  for (int k = 0; k < kOpKinds; ++k)
+    e[std::string(kOpKindNames[k])] = ops.get(static_cast<OpKind>(k));
+  return e;
+}
+
+Json block_json(const BlockUse& b, double frags) {
+  Json e;
+  e["ops"] = ops_json(b.ops);
+  e["ops_per_fragment"] = per_fragment(static_cast<double>(b.ops.total()), frags);
+  e["latency"] = b.timing.latency;
+  e["ii"] = b.timing.ii;
+  e["area"] = b.timing.area;
+  e["arithmetic"] = b.arithmetic;
+  e["materials"] = b.materials;
+  e["texels"] = b.texels;
+  e["texels_per_fragment"] = per_fragment(static_cast<double>(b.texels), frags);
+  return e;
+}
+
+void add_stages_json(Json& j, const ClockedPipeline& p) {
+  for (int s = 0; s < p.stage_count(); ++s) {
+    const StageStats& st = p.stats(s);
+    j["stages"][p.config(s).name] = {{"latency", p.config(s).timing.latency},
+                                     {"busy", st.busy},
+                                     {"utilisation", p.utilisation(s)},
+                                     {"stalls",
+                                      {{"starved", st.stall_starved},
+                                       {"blocked", st.stall_blocked},
+                                       {"latency_full", st.stall_full},
+                                       {"multi_cycle", st.stall_extra}}}};
   }
-  if (const ClockedPipeline* p = unit.pipeline()) {
-    for (int s = 0; s < p->stage_count(); ++s) {
-      const StageStats& st = p->stats(s);
-      j["stages"][p->config(s).name] = {{"latency", p->config(s).timing.latency},
-                                        {"busy", st.busy},
-                                        {"utilisation", p->utilisation(s)},
-                                        {"stalls",
-                                         {{"starved", st.stall_starved},
-                                          {"blocked", st.stall_blocked},
-                                          {"latency_full", st.stall_full},
-                                          {"multi_cycle", st.stall_extra}}}};
-    }
-  }
+}
+
+// The texture cache's counters and geometry, then DRAM's.
+void add_memory_json(Json& j, const TextureUnit& unit) {
   const auto& cs = unit.cache().stats();
   j["cache"] = {
       {"hits", cs.hits},
@@ -106,6 +103,39 @@ void write_run_reports(const std::string& dir, const RunInfo& info, const Textur
   j["dram"] = {{"requests", unit.dram().stats().requests},
                {"bytes", unit.dram().stats().bytes},
                {"busy_cycles", unit.dram().stats().busy_cycles}};
+}
+
+Json material_json(const MaterialRow& r) {
+  Json e;
+  e["fragments"] = r.fragments;
+  e["blocks"] = r.blocks;
+  e["ops"] = ops_json(r.ops);
+  e["ops_per_fragment"] = r.per_fragment(static_cast<double>(r.ops.total()));
+  e["texels_per_fragment"] = r.per_fragment(static_cast<double>(r.texels));
+  e["accuracy"] = {{"psnr_db", r.acc.psnr_db},
+                   {"nmse", r.acc.nmse},
+                   {"max_abs", r.acc.max_abs},
+                   {"mean_abs", r.acc.mean_abs},
+                   {"pixels", r.acc.pixels}};
+  return e;
+}
+
+// report.json; docs/reports.md lists every key.
+Json report_json(const RunInfo& info, const TextureUnit& unit, const AccuracyMetrics& acc,
+                 const std::vector<MaterialRow>& rows) {
+  const double frags = static_cast<double>(unit.fragments());
+  Json j;
+  j["scene"] = info.scene;
+  j["trace"] = info.trace;
+  j["mode"] = unit.timing() ? "timing" : "functional";
+  j["fragments"] = unit.fragments();
+  j["cycles"] = unit.cycles();
+  j["cycles_per_fragment"] = per_fragment(static_cast<double>(unit.cycles()), frags);
+  j["image"] = {{"width", info.width}, {"height", info.height}};
+  j["textures"] = info.textures;
+  for (const auto& b : unit.blocks()) j["blocks"][b.name] = block_json(b, frags);
+  if (const ClockedPipeline* p = unit.pipeline()) add_stages_json(j, *p);
+  add_memory_json(j, unit);
   j["frames"] = Json::array();
   for (const auto& f : unit.frames()) {
     j["frames"].push_back(
@@ -115,30 +145,24 @@ void write_run_reports(const std::string& dir, const RunInfo& info, const Textur
                    {"mean_abs", acc.mean_abs},   {"mse", acc.mse},   {"pixels", acc.pixels},
                    {"reference", info.reference}};
   // Accuracy next to cost, material by material (each material is one method variant).
-  const std::vector<MaterialRow> rows = material_rows(info, unit);
-  for (const MaterialRow& r : rows) {
-    Json e;
-    e["fragments"] = r.fragments;
-    e["blocks"] = r.blocks;
-    for (int k = 0; k < kOpKinds; ++k)
-      e["ops"][std::string(kOpKindNames[k])] = r.ops.get(static_cast<OpKind>(k));
-    e["ops_per_fragment"] = r.per_fragment(static_cast<double>(r.ops.total()));
-    e["texels_per_fragment"] = r.per_fragment(static_cast<double>(r.texels));
-    e["accuracy"] = {{"psnr_db", r.acc.psnr_db},
-                     {"nmse", r.acc.nmse},
-                     {"max_abs", r.acc.max_abs},
-                     {"mean_abs", r.acc.mean_abs},
-                     {"pixels", r.acc.pixels}};
-    j["materials"][r.name] = e;
-  }
+  for (const MaterialRow& r : rows) j["materials"][r.name] = material_json(r);
   if (unit.front_stages() > 0) {
     const FrontEndStats& fe = unit.front_end_stats();
     j["front_end"] = {
         {"generated", fe.generated}, {"occluded", fe.occluded}, {"rejected", fe.rejected}};
   }
-  write_file_atomic(dir + "/report.json", j.dump(2) + "\n");
+  return j;
+}
 
-  std::ostringstream md;
+std::string joined(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+void md_summary(std::ostream& md, const RunInfo& info, const TextureUnit& unit,
+                const AccuracyMetrics& acc) {
+  const double frags = static_cast<double>(unit.fragments());
   md << "# texsim run report\n\n";
   md << "| | |\n|---|---|\n";
   md << "| scene | `" << info.scene << "` |\n";
@@ -147,20 +171,21 @@ void write_run_reports(const std::string& dir, const RunInfo& info, const Textur
   md << "| image | " << info.width << " × " << info.height << " |\n";
   md << "| fragments | " << unit.fragments() << " |\n";
   md << "| cycles | " << unit.cycles() << " ("
-     << fmt(frags > 0 ? static_cast<double>(unit.cycles()) / frags : 0) << " per fragment) |\n\n";
+     << fmt(per_fragment(static_cast<double>(unit.cycles()), frags)) << " per fragment) |\n\n";
   md << "## Accuracy against the ground truth\n\n" << info.reference << "\n\n";
   md << "| PSNR (dB) | NMSE | max abs error | mean abs error | pixels |\n|---|---|---|---|---|\n";
   md << "| " << fmt(acc.psnr_db) << " | " << fmt(acc.nmse) << " | " << fmt(acc.max_abs) << " | "
      << fmt(acc.mean_abs) << " | " << acc.pixels << " |\n\n";
+}
+
+void md_materials(std::ostream& md, const TextureUnit& unit, const std::vector<MaterialRow>& rows) {
   md << "## Materials: accuracy next to cost\n\n"
         "| material | blocks | fragments | PSNR (dB) | NMSE | max abs error | ops/fragment | "
         "texels/fragment |\n"
         "|---|---|---|---|---|---|---|---|\n";
   for (const MaterialRow& r : rows) {
-    std::string names;
-    for (const auto& b : r.blocks) names += (names.empty() ? "" : ", ") + b;
-    md << "| " << r.name << " | " << names << " | " << r.fragments << " | " << fmt(r.acc.psnr_db)
-       << " | " << fmt(r.acc.nmse) << " | " << fmt(r.acc.max_abs) << " | "
+    md << "| " << r.name << " | " << joined(r.blocks) << " | " << r.fragments << " | "
+       << fmt(r.acc.psnr_db) << " | " << fmt(r.acc.nmse) << " | " << fmt(r.acc.max_abs) << " | "
        << fmt(r.per_fragment(static_cast<double>(r.ops.total()))) << " | "
        << fmt(r.per_fragment(static_cast<double>(r.texels))) << " |\n";
   }
@@ -170,32 +195,39 @@ void write_run_reports(const std::string& dir, const RunInfo& info, const Textur
        << " left after it (occluded or on a shared triangle edge), " << fe.rejected
        << " rejected (coordinates the format cannot hold; drawn as background).\n";
   }
+}
+
+void md_blocks(std::ostream& md, const TextureUnit& unit) {
+  const double frags = static_cast<double>(unit.fragments());
   md << "\n## Blocks (instantiated for this scene's materials)\n\n";
   md << "| block | materials | arithmetic | latency | area |";
   for (auto k : kOpKindNames) md << " " << k << " |";
   md << " ops/fragment | texels |\n|---|---|---|---|---|";
   for (int k = 0; k < kOpKinds; ++k) md << "---|";
   md << "---|---|\n";
-  for (const auto& b : blocks) {
-    std::string mats;
-    for (const auto& m : b.materials) mats += (mats.empty() ? "" : ", ") + m;
-    md << "| " << b.name << " | " << mats << " | " << b.arithmetic << " | " << b.timing.latency
-       << " | " << fmt(b.timing.area) << " |";
+  for (const auto& b : unit.blocks()) {
+    md << "| " << b.name << " | " << joined(b.materials) << " | " << b.arithmetic << " | "
+       << b.timing.latency << " | " << fmt(b.timing.area) << " |";
     for (int k = 0; k < kOpKinds; ++k) md << " " << b.ops.get(static_cast<OpKind>(k)) << " |";
-    md << " " << fmt(frags > 0 ? static_cast<double>(b.ops.total()) / frags : 0) << " | "
-       << b.texels << " |\n";
+    md << " " << fmt(per_fragment(static_cast<double>(b.ops.total()), frags)) << " | " << b.texels
+       << " |\n";
   }
-  if (const ClockedPipeline* p = unit.pipeline()) {
-    md << "\n## Pipeline stages\n\n| stage | latency | utilisation | starved | blocked | in-flight "
-          "full | multi-cycle |\n"
-          "|---|---|---|---|---|---|---|\n";
-    for (int s = 0; s < p->stage_count(); ++s) {
-      const StageStats& st = p->stats(s);
-      md << "| " << p->config(s).name << " | " << p->config(s).timing.latency << " | "
-         << fmt(100.0 * p->utilisation(s), 3) << "% | " << st.stall_starved << " | "
-         << st.stall_blocked << " | " << st.stall_full << " | " << st.stall_extra << " |\n";
-    }
+}
+
+void md_stages(std::ostream& md, const ClockedPipeline& p) {
+  md << "\n## Pipeline stages\n\n| stage | latency | utilisation | starved | blocked | in-flight "
+        "full | multi-cycle |\n"
+        "|---|---|---|---|---|---|---|\n";
+  for (int s = 0; s < p.stage_count(); ++s) {
+    const StageStats& st = p.stats(s);
+    md << "| " << p.config(s).name << " | " << p.config(s).timing.latency << " | "
+       << fmt(100.0 * p.utilisation(s), 3) << "% | " << st.stall_starved << " | "
+       << st.stall_blocked << " | " << st.stall_full << " | " << st.stall_extra << " |\n";
   }
+}
+
+void md_memory(std::ostream& md, const TextureUnit& unit) {
+  const auto& cs = unit.cache().stats();
   md << "\n## Texture cache and DRAM\n\n| hits | misses | hit rate | texels read | fill bytes | "
         "DRAM requests |\n"
         "|---|---|---|---|---|---|\n";
@@ -207,9 +239,29 @@ void write_run_reports(const std::string& dir, const RunInfo& info, const Textur
      << " |\n";
   md << "\nCache: " << unit.cache().config().size_bytes << " B, " << unit.cache().config().ways
      << "-way, " << unit.cache().config().line_bytes << " B lines, LRU.\n";
+}
+
+// report.md: the same run for a reader; docs/reports.md describes each section.
+std::string report_markdown(const RunInfo& info, const TextureUnit& unit,
+                            const AccuracyMetrics& acc, const std::vector<MaterialRow>& rows) {
+  std::ostringstream md;
+  md_summary(md, info, unit, acc);
+  md_materials(md, unit, rows);
+  md_blocks(md, unit);
+  if (const ClockedPipeline* p = unit.pipeline()) md_stages(md, *p);
+  md_memory(md, unit);
   md << "\n## Images\n\n`image.png` (filtered result), `reference.png` (ground truth), `error.png` "
         "(max-channel absolute error; white = the largest error in this run).\n";
-  write_file_atomic(dir + "/report.md", md.str());
+  return md.str();
+}
+
+}  // namespace
+
+void write_run_reports(const std::string& dir, const RunInfo& info, const TextureUnit& unit,
+                       const AccuracyMetrics& acc) {
+  const std::vector<MaterialRow> rows = material_rows(info, unit);
+  write_file_atomic(dir + "/report.json", report_json(info, unit, acc, rows).dump(2) + "\n");
+  write_file_atomic(dir + "/report.md", report_markdown(info, unit, acc, rows));
 }
 
 }  // namespace texsim

@@ -1,7 +1,7 @@
 #pragma once
 // A material's footprint filter block (EWA, multi-ellipse probes, Feline, SPAF) behind one
 // interface, so the texture unit can instantiate whichever a scene names
-// (docs/usage.md: material effects `ewa`, `multi_probe`, `feline`, `spaf`).
+// (docs/scenes.md: material effects `ewa`, `multi_probe`, `feline`, `spaf`).
 #include <memory>
 #include <string>
 #include <vector>

@@ -132,7 +132,8 @@ TEST(VulkanConformance, FiltersPassAt8And6Bits) {
   for (int bits : {8, 6}) {
     for (auto [w, h] : kSizes) {
       const TexelFormat fmt = (w + h) % 2 ? TexelFormat::Rgba8 : TexelFormat::Rgba32f;
-      const Texture tex = random_texture(w, h, static_cast<uint64_t>(w * 7919 + h), fmt);
+      const Texture tex =
+          random_texture(w, h, static_cast<uint64_t>(w) * 7919 + static_cast<uint64_t>(h), fmt);
       for (FilterMode f : kFilters) {
         for (AddressMode mu : kModes) {
           for (AddressMode mv : kModes) {
@@ -230,8 +231,8 @@ TEST(VulkanConformance, CheckerAcceptsOtherLegalImplementations) {
   int total = 0, failures = 0;
   for (int bits : {8, 6}) {
     for (auto [w, h] : kSizes) {
-      const Texture tex =
-          random_texture(w, h, static_cast<uint64_t>(w + 31 * h), TexelFormat::Rgba32f);
+      const Texture tex = random_texture(
+          w, h, static_cast<uint64_t>(w) + 31 * static_cast<uint64_t>(h), TexelFormat::Rgba32f);
       for (FilterMode f : kFilters) {
         for (AddressMode m : kModes) {
           LodUnit::Config l;

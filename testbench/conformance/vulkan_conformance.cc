@@ -108,6 +108,155 @@ void level_boxes(const Texture& tex, int level, const VkSampleQuery& q, const Vk
   }
 }
 
+// Judges candidates one by one and keeps the closest miss, for the reason string.
+class CandidateJudge {
+ public:
+  CandidateJudge(const Rgba& result, double color_eps) : result_(result), color_eps_(color_eps) {}
+
+  const Rgba& result() const { return result_; }
+  // The colour tolerance around x.
+  double tol(double x) const { return color_eps_ * std::max(1.0, std::fabs(x)); }
+
+  // Whether the result is inside a candidate's per-channel ranges. A candidate whose channels
+  // are each reachable but not together (`conflict` ≥ 0) misses by a nominal eps. When this is
+  // the closest miss so far, describe(buf, size, channel, lo, hi, is_conflict) explains it.
+  template <class Describe>
+  bool judge(const double* lo, const double* hi, Describe&& describe, int conflict) {
+    double miss = 0;
+    int worst_c = 0;
+    for (int c = 0; c < 4; ++c) {
+      const double r = result_[c];
+      const double m = std::max({0.0, (lo[c] - tol(r)) - r, r - (hi[c] + tol(r))});
+      if (m > miss) {
+        miss = m;
+        worst_c = c;
+      }
+    }
+    const bool is_conflict = miss == 0 && conflict >= 0;
+    if (is_conflict) {
+      miss = color_eps_;
+      worst_c = conflict;
+    }
+    if (miss < best_) {
+      best_ = miss;
+      if (miss > 0) {
+        describe(best_desc_, sizeof best_desc_, worst_c, lo[worst_c], hi[worst_c], is_conflict);
+      }
+    }
+    return miss == 0;
+  }
+
+  double best() const { return best_; }
+  const char* best_desc() const { return best_desc_; }
+
+ private:
+  const Rgba& result_;
+  double color_eps_;
+  double best_ = kInf;
+  char best_desc_[320] = "";
+};
+
+// Mipmap mode nearest: any candidate of any level in [level_lo, level_hi].
+bool judge_nearest_mip(const Texture& tex, const VkSampleQuery& q, const VkSamplerState& s,
+                       const VkFilterPrecision& p, int level_lo, int level_hi,
+                       CandidateJudge& judge) {
+  std::vector<Box> a;
+  for (int L = level_lo; L <= level_hi; ++L) {
+    level_boxes(tex, L, q, s, p, a);
+    for (const Box& x : a) {
+      const bool ok = judge.judge(
+          x.lo, x.hi,
+          [&](char* buf, size_t n, int c, double lo, double hi, bool) {
+            std::snprintf(buf, n,
+                          "level %d, i0=%lld j0=%lld, alpha in [%.5f, %.5f], beta in [%.5f, "
+                          "%.5f]: channel %d allowed [%.6f, %.6f]",
+                          x.level, x.i0, x.j0, x.a0, x.a1, x.b0, x.b1, c, lo, hi);
+          },
+          -1);
+      if (ok) return true;
+    }
+  }
+  return false;
+}
+
+// Ranges of (1 − δ)·A + δ·B for δ in [d0, d1], A in x's and B in y's, into lo and hi. The result
+// must equal it for one δ shared by all channels: per channel the feasible δ form an interval
+// (both bounds are linear in δ); returns the first channel whose interval leaves none in
+// common with [d0, d1] and the earlier channels', or -1.
+int blend_ranges(const Box& x, const Box& y, double d0, double d1, const CandidateJudge& judge,
+                 double* lo, double* hi) {
+  double g0 = d0, g1 = d1;
+  int conflict = -1;
+  for (int c = 0; c < 4; ++c) {
+    lo[c] = std::min((1 - d0) * x.lo[c] + d0 * y.lo[c], (1 - d1) * x.lo[c] + d1 * y.lo[c]);
+    hi[c] = std::max((1 - d0) * x.hi[c] + d0 * y.hi[c], (1 - d1) * x.hi[c] + d1 * y.hi[c]);
+    const double r = judge.result()[c], t = judge.tol(r);
+    // r ≥ A_lo + δ (B_lo − A_lo) − t  and  r ≤ A_hi + δ (B_hi − A_hi) + t.
+    const double kl = y.lo[c] - x.lo[c], cl = r - x.lo[c] + t;
+    const double kh = y.hi[c] - x.hi[c], ch = r - x.hi[c] - t;
+    double e0 = 0, e1 = 1;
+    if (kl > 0)
+      e1 = std::min(e1, cl / kl);
+    else if (kl < 0)
+      e0 = std::max(e0, cl / kl);
+    else if (cl < 0)
+      e1 = -1;
+    if (kh > 0)
+      e0 = std::max(e0, ch / kh);
+    else if (kh < 0)
+      e1 = std::min(e1, ch / kh);
+    else if (ch > 0)
+      e1 = -1;
+    const double n0 = std::max(g0, e0), n1 = std::min(g1, e1);
+    if (n0 > n1 && conflict < 0) conflict = c;
+    g0 = n0;
+    g1 = n1;
+  }
+  return conflict;
+}
+
+// Mipmap mode linear: d_hi = ⌊d'⌋, d_lo = min(d_hi + 1, q), δ = frac(d') to mipmap_bits
+// (±1 LSB), for every d' in [dlo, dhi]; any pair of candidates of the two levels.
+bool judge_linear_mip(const Texture& tex, const VkSampleQuery& q, const VkSamplerState& s,
+                      const VkFilterPrecision& p, double dlo, double dhi, CandidateJudge& judge) {
+  const int qmax = tex.levels() - 1;
+  const double mip_lsb = std::ldexp(1.0, -p.mipmap_bits);
+  std::vector<Box> a, b;
+  for (int dh = static_cast<int>(std::floor(dlo)); dh <= static_cast<int>(std::floor(dhi)); ++dh) {
+    const int dl = std::min(dh + 1, qmax);
+    double d0 = std::clamp(dlo - dh - mip_lsb, 0.0, 1.0);
+    double d1 = std::clamp(dhi - dh + mip_lsb, 0.0, 1.0);
+    if (dh == qmax) d0 = d1 = 0;
+    level_boxes(tex, dh, q, s, p, a);
+    level_boxes(tex, dl, q, s, p, b);
+    for (const Box& x : a) {
+      for (const Box& y : b) {
+        double lo[4], hi[4];
+        const int conflict = blend_ranges(x, y, d0, d1, judge, lo, hi);
+        const bool ok = judge.judge(
+            lo, hi,
+            [&](char* buf, size_t n, int c, double l, double h, bool no_common_delta) {
+              if (no_common_delta) {
+                std::snprintf(buf, n,
+                              "levels %d/%d, delta in [%.5f, %.5f], i0=%lld/%lld j0=%lld/%lld: "
+                              "every channel is reachable alone but no single delta reaches "
+                              "all (channel %d leaves none)",
+                              dh, dl, d0, d1, x.i0, y.i0, x.j0, y.j0, c);
+              } else {
+                std::snprintf(buf, n,
+                              "levels %d/%d, delta in [%.5f, %.5f], i0=%lld/%lld j0=%lld/%lld, "
+                              "alpha in [%.5f, %.5f]: channel %d allowed [%.6f, %.6f]",
+                              dh, dl, d0, d1, x.i0, y.i0, x.j0, y.j0, x.a0, x.a1, c, l, h);
+              }
+            },
+            conflict);
+        if (ok) return true;
+      }
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 void VulkanConformance::lod_interval(const Texture& tex, const VkSampleQuery& q, double& lo,
@@ -152,141 +301,32 @@ ConformanceVerdict VulkanConformance::check(const Texture& tex, const VkSampleQu
   const int qmax = tex.levels() - 1;
   const double dlo = std::clamp(v.lambda_lo, 0.0, static_cast<double>(qmax));
   const double dhi = std::clamp(v.lambda_hi, 0.0, static_cast<double>(qmax));
-  const double mip_lsb = std::ldexp(1.0, -p_.mipmap_bits);
 
-  // Closest miss, for the reason string.
-  double best = kInf;
-  char best_desc[320] = "";
-  auto tol = [&](double x) { return p_.color_eps * std::max(1.0, std::fabs(x)); };
-  // Distance of the result outside a candidate's per-channel ranges; a candidate whose
-  // channels are each reachable but not together (`conflict` ≥ 0) misses by a nominal eps.
-  auto judge = [&](const double* lo, const double* hi, auto&& describe, int conflict) {
-    double miss = 0;
-    int worst_c = 0;
-    for (int c = 0; c < 4; ++c) {
-      const double r = result[c];
-      const double m = std::max({0.0, (lo[c] - tol(r)) - r, r - (hi[c] + tol(r))});
-      if (m > miss) {
-        miss = m;
-        worst_c = c;
-      }
-    }
-    const bool is_conflict = miss == 0 && conflict >= 0;
-    if (is_conflict) {
-      miss = p_.color_eps;
-      worst_c = conflict;
-    }
-    if (miss < best) {
-      best = miss;
-      if (miss > 0) {
-        describe(best_desc, sizeof best_desc, worst_c, lo[worst_c], hi[worst_c], is_conflict);
-      }
-    }
-    return miss == 0;
-  };
-
-  std::vector<Box> a, b;
+  CandidateJudge judge(result, p_.color_eps);
   bool ok = false;
   if (s_.mipmap_mode == VkSamplerState::MipmapMode::Nearest) {
     // nearest(d') = ⌈d' + ½⌉ − 1 (preferred) or ⌊d' + ½⌋ (alternative): take both.
     v.level_lo = std::clamp(static_cast<int>(std::ceil(dlo + 0.5)) - 1, 0, qmax);
     v.level_hi = std::clamp(static_cast<int>(std::floor(dhi + 0.5)), 0, qmax);
-    for (int L = v.level_lo; L <= v.level_hi && !ok; ++L) {
-      level_boxes(tex, L, q, s_, p_, a);
-      for (const Box& x : a) {
-        ok = judge(
-            x.lo, x.hi,
-            [&](char* buf, size_t n, int c, double lo, double hi, bool) {
-              std::snprintf(buf, n,
-                            "level %d, i0=%lld j0=%lld, alpha in [%.5f, %.5f], beta in [%.5f, "
-                            "%.5f]: channel %d allowed [%.6f, %.6f]",
-                            x.level, x.i0, x.j0, x.a0, x.a1, x.b0, x.b1, c, lo, hi);
-            },
-            -1);
-        if (ok) break;
-      }
-    }
+    ok = judge_nearest_mip(tex, q, s_, p_, v.level_lo, v.level_hi, judge);
   } else {
-    // d_hi = ⌊d'⌋, d_lo = min(d_hi + 1, q), δ = frac(d') to mipmap_bits (±1 LSB).
     v.level_lo = static_cast<int>(std::floor(dlo));
     v.level_hi = std::min(static_cast<int>(std::floor(dhi)) + 1, qmax);
-    for (int dh = static_cast<int>(std::floor(dlo)); dh <= static_cast<int>(std::floor(dhi)) && !ok;
-         ++dh) {
-      const int dl = std::min(dh + 1, qmax);
-      double d0 = std::clamp(dlo - dh - mip_lsb, 0.0, 1.0);
-      double d1 = std::clamp(dhi - dh + mip_lsb, 0.0, 1.0);
-      if (dh == qmax) d0 = d1 = 0;
-      level_boxes(tex, dh, q, s_, p_, a);
-      level_boxes(tex, dl, q, s_, p_, b);
-      for (const Box& x : a) {
-        for (const Box& y : b) {
-          // r_c must equal (1 − δ)·A_c + δ·B_c for one δ shared by all channels, with A_c, B_c
-          // in their intervals: per channel the feasible δ form an interval (both bounds are
-          // linear in δ); intersect them with [d0, d1].
-          double lo[4], hi[4];
-          double g0 = d0, g1 = d1;
-          int conflict = -1;
-          for (int c = 0; c < 4; ++c) {
-            lo[c] = std::min((1 - d0) * x.lo[c] + d0 * y.lo[c], (1 - d1) * x.lo[c] + d1 * y.lo[c]);
-            hi[c] = std::max((1 - d0) * x.hi[c] + d0 * y.hi[c], (1 - d1) * x.hi[c] + d1 * y.hi[c]);
-            const double r = result[c], t = tol(r);
-            // r ≥ A_lo + δ (B_lo − A_lo) − t  and  r ≤ A_hi + δ (B_hi − A_hi) + t.
-            const double kl = y.lo[c] - x.lo[c], cl = r - x.lo[c] + t;
-            const double kh = y.hi[c] - x.hi[c], ch = r - x.hi[c] - t;
-            double e0 = 0, e1 = 1;
-            if (kl > 0)
-              e1 = std::min(e1, cl / kl);
-            else if (kl < 0)
-              e0 = std::max(e0, cl / kl);
-            else if (cl < 0)
-              e1 = -1;
-            if (kh > 0)
-              e0 = std::max(e0, ch / kh);
-            else if (kh < 0)
-              e1 = std::min(e1, ch / kh);
-            else if (ch > 0)
-              e1 = -1;
-            const double n0 = std::max(g0, e0), n1 = std::min(g1, e1);
-            if (n0 > n1 && conflict < 0) conflict = c;
-            g0 = n0;
-            g1 = n1;
-          }
-          ok = judge(
-              lo, hi,
-              [&](char* buf, size_t n, int c, double l, double h, bool no_common_delta) {
-                if (no_common_delta) {
-                  std::snprintf(buf, n,
-                                "levels %d/%d, delta in [%.5f, %.5f], i0=%lld/%lld j0=%lld/%lld: "
-                                "every channel is reachable alone but no single delta reaches "
-                                "all (channel %d leaves none)",
-                                dh, dl, d0, d1, x.i0, y.i0, x.j0, y.j0, c);
-                } else {
-                  std::snprintf(buf, n,
-                                "levels %d/%d, delta in [%.5f, %.5f], i0=%lld/%lld j0=%lld/%lld, "
-                                "alpha in [%.5f, %.5f]: channel %d allowed [%.6f, %.6f]",
-                                dh, dl, d0, d1, x.i0, y.i0, x.j0, y.j0, x.a0, x.a1, c, l, h);
-                }
-              },
-              conflict);
-          if (ok) break;
-        }
-        if (ok) break;
-      }
-    }
+    ok = judge_linear_mip(tex, q, s_, p_, dlo, dhi, judge);
   }
   v.pass = ok;
   if (ok) {
     v.reason = "ok";
     return v;
   }
-  v.miss = best;
+  v.miss = judge.best();
   char buf[640];
   std::snprintf(buf, sizeof buf,
                 "result (%.6f, %.6f, %.6f, %.6f) outside every allowed value; lambda in "
                 "[%.4f, %.4f], levels %d..%d; closest candidate misses by %.3g: %s",
                 static_cast<double>(result[0]), static_cast<double>(result[1]),
                 static_cast<double>(result[2]), static_cast<double>(result[3]), v.lambda_lo,
-                v.lambda_hi, v.level_lo, v.level_hi, best, best_desc);
+                v.lambda_hi, v.level_lo, v.level_hi, judge.best(), judge.best_desc());
   v.reason = buf;
   return v;
 }

@@ -321,7 +321,7 @@ TEST_F(Cli, NanCoordinateInTraceNamesRecord) {
   const Result r = sh("run --trace " + path("t.csv") + " --out " + path("out"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("t.csv:4"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("u"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find('u'), std::string::npos) << r.out;
   expect_no_outputs(path("out"));
 }
 

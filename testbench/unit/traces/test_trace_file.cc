@@ -340,7 +340,7 @@ TEST(TraceFile, RoundTripWithoutLodBias) {
   for (size_t i = 0; i < frags.size(); ++i) ASSERT_TRUE(same_fragment(back[i], frags[i]));
   // Exact file size: header + 2 chunks of 4096/904 records + trailer (FORMAT.md).
   const uint64_t header = 32 + 11 * 24 + 3 * 20 + (7 + 36) + (11 + 23) + 3 + 4;
-  EXPECT_EQ(fs::file_size(path), header + 2 * 12 + 5000 * 68 + 24);
+  EXPECT_EQ(fs::file_size(path), header + uint64_t{2} * 12 + uint64_t{5000} * 68 + 24);
 }
 
 TEST(TraceFile, EmptyTraceRoundTrips) {
@@ -422,7 +422,7 @@ TEST(TraceFile, StreamingMemoryDoesNotDependOnLength) {
   EXPECT_EQ(n_large, 400000u);
   // One chunk of records (1024 x 72 bytes) plus one chunk of Fragments (1024 x 72 bytes) plus
   // stdio buffers; a reader that kept records would need 20x more for the large file.
-  const size_t bound = 2 * 1024 * sizeof(Fragment) + 256 * 1024;
+  const size_t bound = size_t{2} * 1024 * sizeof(Fragment) + size_t{256} * 1024;
   EXPECT_LT(peak_small - base, bound);
   EXPECT_LT(peak_large - base, bound);
   EXPECT_LT(peak_large > peak_small ? peak_large - peak_small : 0, 16u * 1024u)
@@ -624,7 +624,7 @@ TEST(TraceFileErrors, ChunkCountsAndTags) {
   expect_input_error([&] { read_all(path); }, {path, "chunk 0", "record count 5 exceeds"});
   spit(path, patch_u32(good, hs + 4, 0));
   expect_input_error([&] { read_all(path); }, {path, "chunk 0", "empty chunk"});
-  spit(path, patch_u32(good, hs + 12 + 4 * 72, 0x4b4e4843u ^ 0x20u));  // "CHNK" -> "cHNK"
+  spit(path, patch_u32(good, hs + 12 + size_t{4} * 72, 0x4b4e4843u ^ 0x20u));  // "CHNK" -> "cHNK"
   expect_input_error([&] { read_all(path); }, {path, "chunk 1", "bad chunk tag"});
   // A huge count allowed by a huge records-per-chunk must fail as truncation, not allocate.
   FileSpec wide;
