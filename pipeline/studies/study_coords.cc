@@ -13,6 +13,7 @@
 #include "blocks/base/tech_table.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/report/plot.h"
+#include "pipeline/studies/study_table.h"
 
 namespace texsim {
 
@@ -727,7 +728,7 @@ int run_study_coords(const std::string& out_dir, std::ostream& log) {
   const StudyCoordsResult r = measure_study_coords(o, &log);
   ensure_dir(out_dir);
   // Plot: error against cycles at the steepest tilt not above 85°: one series per number
-  // format, one point per method (the method of each point is in the tables of coords.md);
+  // format, one point per method, labelled with it;
   // errors in pixels, those below 1e-12 drawn at 1e-12.
   double pt = o.tilts.empty() ? 0 : o.tilts.front();
   for (double t : o.tilts) {
@@ -740,17 +741,14 @@ int run_study_coords(const std::string& out_dir, std::ostream& log) {
                 std::to_string(o.filter_ii.empty() ? 1u : o.filter_ii.front()) + ")";
   spec.ylabel = "max |error| (pixels of footprint)";
   spec.logy = true;
-  std::map<std::string, size_t> series;
+  std::map<std::string, std::vector<LabelledPoint>> by_format;
+  std::vector<std::string> formats;
   for (const auto& c : r.coords) {
     if (c.tilt != pt || c.cpp_shared.empty()) continue;
-    if (!series.count(c.format)) {
-      series[c.format] = spec.series.size();
-      spec.series.push_back({c.format, {}, {}, false});
-    }
-    auto& s = spec.series[series[c.format]];
-    s.x.push_back(c.cpp_shared.front());
-    s.y.push_back(std::max(c.max_err_px, 1e-12));
+    if (!by_format.count(c.format)) formats.push_back(c.format);
+    by_format[c.format].push_back({c.cpp_shared.front(), std::max(c.max_err_px, 1e-12), c.method});
   }
+  for (const auto& f : formats) spec.series.push_back(labelled_series(f, by_format[f]));
   write_plot_png(out_dir + "/coords.png", spec);
   write_file_atomic(out_dir + "/coords.csv", study_coords_csv(o, r));
   write_file_atomic(out_dir + "/coords.md", study_coords_markdown(o, r));
