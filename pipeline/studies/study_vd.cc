@@ -301,7 +301,7 @@ VdPolyFit vd_minimax_fit(int degree, bool pin_half) {
     ref = ext;
   }
   VdPolyFit fit;
-  fit.coef.assign(static_cast<size_t>(degree + 1), 0.0);
+  fit.coef.assign(static_cast<size_t>(degree) + 1, 0.0);
   fit.coef[0] = static_cast<double>(c0);
   for (size_t j = 0; j < nb; ++j)
     fit.coef[j + static_cast<size_t>(k0)] = static_cast<double>(coef[j]);
