@@ -8,8 +8,6 @@
 #include <memory>
 #include <sstream>
 
-#include "blocks/base/atomic_file.h"
-#include "blocks/base/input_error.h"
 #include "blocks/base/tech_table.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/report/plot.h"
@@ -869,7 +867,7 @@ std::string study_coords_csv(const StudyCoordsOptions& o, const StudyCoordsResul
 int run_study_coords(const std::string& out_dir, std::ostream& log) {
   const StudyCoordsOptions o;
   const StudyCoordsResult r = measure_study_coords(o, &log);
-  ensure_dir(out_dir);
+  const StudyFiles files(out_dir);
   // Plot: error against cycles at the steepest tilt not above 85°: one series per number
   // format, one point per method, labelled with it;
   // errors in pixels, those below 1e-12 drawn at 1e-12.
@@ -892,9 +890,9 @@ int run_study_coords(const std::string& out_dir, std::ostream& log) {
     by_format[c.format].push_back({c.cpp_shared.front(), std::max(c.max_err_px, 1e-12), c.method});
   }
   for (const auto& f : formats) spec.series.push_back(labelled_series(f, by_format[f]));
-  write_plot_png(out_dir + "/coords.png", spec);
-  write_file_atomic(out_dir + "/coords.csv", study_coords_csv(o, r));
-  write_file_atomic(out_dir + "/coords.md", study_coords_markdown(o, r));
+  files.plot("coords.png", spec);
+  files.text("coords.csv", study_coords_csv(o, r));
+  files.text("coords.md", study_coords_markdown(o, r));
   log << "study coords: wrote " << out_dir << "/coords.csv, coords.md, coords.png\n";
   return 0;
 }

@@ -12,7 +12,6 @@
 #include <sstream>
 #include <vector>
 
-#include "blocks/base/atomic_file.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/texture/subtexel/subtexel_cutoff.h"
 #include "pipeline/report/plot.h"
