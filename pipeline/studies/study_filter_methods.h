@@ -72,10 +72,6 @@ struct StudyFilterMethod {
 // Every method of the study, in table order; `opt.oiio` adds the OpenImageIO peer.
 std::vector<StudyFilterMethod> study_filter_methods(const StudyFiltersOptions& opt);
 
-}  // namespace texsim
-
-namespace texsim {
-
 // One method over one view's fragments: colours in fragment order and what it cost.
 struct StudyFilterRun {
   std::vector<Rgba> colours;

@@ -195,44 +195,6 @@ void measure_view(StudyTexture& st, const View& v, const std::vector<StudyFilter
 
 }  // namespace
 
-StudyFilterRun run_study_filter_method(const StudyFilterMethod& m, TextureSet& textures,
-                                       const std::vector<Fragment>& fragments,
-                                       const TechTable& tech) {
-  StudyFilterRun r;
-  r.colours.reserve(fragments.size());
-  if (!m.hardware()) {
-    for (const Fragment& f : fragments) r.colours.push_back(m.peer(textures[0], f));
-    return r;
-  }
-  if (m.tallied) m.tallied->reset_tally();
-  MaterialSetup mat = m.material;
-  mat.texture = 0;
-  TextureUnit unit(textures, {mat}, PipelineSetup{}, tech, true);
-  for (const Fragment& f : fragments) r.colours.push_back(unit.process(f, 0));
-  r.cycles = unit.cycles();
-  r.misses = unit.cache().stats().misses;
-  const ClockedPipeline& pipe = *unit.pipeline();
-  for (int s = 0; s < pipe.stage_count(); ++s) {
-    const StageConfig& c = pipe.config(s);
-    if (c.name == "lod" || c.name == "address") r.latency += c.timing.latency;
-  }
-  if (m.tallied) r.tally = m.tallied->tally();
-  for (const BlockUse& b : unit.material_blocks(0)) {
-    if (b.name != "blend") r.area += b.timing.area;
-    if (m.tallied) continue;
-    // A baseline: the unit's LOD, trilinear and blend blocks; its texels are the filter's
-    // taps, one probe per taps_per_probe, one texture fetch per bilinear quad.
-    r.tally.ops += b.ops;
-    if (b.name.rfind("filter.", 0) == 0) {
-      r.tally.texels = b.texels;
-      r.tally.visited =
-          b.texels / static_cast<uint64_t>(TexelAddressGen(m.material.filter).taps_per_probe());
-      r.tally.shader_cycles = static_cast<double>(b.texels) / (4.0 * kTexFetchesPerCycle);
-    }
-  }
-  return r;
-}
-
 std::vector<Fragment> study_filter_fragments(double aniso, const StudyFiltersOptions& opt,
                                              int texture_size) {
   const Scene scene = parse_scene(
