@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Times each coordinate method inside the clocked texture unit: scenes/coords.toml with every
 # `coords` table set to one method (float, 2x2-quad derivatives), spatial and shared datapath.
-# Prints a Markdown table (docs/study-coords.md, "In the texture unit").
+# Prints a Markdown table (docs/studies/study-coords.md, "In the texture unit").
 # Usage: scripts/coords-in-unit.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"

@@ -20,6 +20,14 @@ std::string quote(const std::string& s) {
   }
   return r + "\"";
 }
+
+// A point label as a gnuplot data column: double-quoted, inner double quotes made single.
+std::string data_label(std::string s) {
+  for (char& c : s) {
+    if (c == '"') c = '\'';
+  }
+  return "\"" + s + "\"";
+}
 }  // namespace
 
 void write_plot_png(const std::string& path, const PlotSpec& spec) {
@@ -49,14 +57,23 @@ void write_plot_png(const std::string& path, const PlotSpec& spec) {
         const double x = ser.x[i], y = ser.y[i];
         if (!std::isfinite(x) || !std::isfinite(y)) continue;
         if ((spec.logx && x <= 0) || (spec.logy && y <= 0)) continue;
-        data << x << " " << y << "\n";
+        data << x << " " << y;
+        if (i < ser.point_labels.size()) data << " " << data_label(ser.point_labels[i]);
+        data << "\n";
         ++n;
       }
       if (n == 0) data << "nan nan\n";
       data << "\n\n";
       if (s) gp << ", ";
-      gp << quote(data_path) << " index " << block++ << " using 1:2 with "
-         << (ser.lines ? "lines lw 2" : "points pt 7 ps 1.2") << " title " << quote(ser.label);
+      gp << quote(data_path) << " index " << block << " using 1:2 with "
+         << (ser.lines ? "lines lw 2" : "points pt 7 ps 1.2") << " lt " << s + 1 << " title "
+         << quote(ser.label);
+      if (!ser.point_labels.empty() && n > 0) {
+        gp << ", " << quote(data_path) << " index " << block
+           << " using 1:2:3 with labels left offset char 0.6,0.3 font ',7' tc lt " << s + 1
+           << " noenhanced notitle";
+      }
+      ++block;
     }
     if (spec.series.empty()) gp << "0 notitle";
     gp << "\n";

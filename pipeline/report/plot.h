@@ -9,6 +9,8 @@ struct PlotSeries {
   std::string label;
   std::vector<double> x, y;
   bool lines = false;  // a line without markers (e.g. error over d); otherwise points only
+  // Text drawn next to each point (e.g. the method it measures); empty: no labels.
+  std::vector<std::string> point_labels;
 };
 
 struct PlotSpec {

@@ -2,7 +2,7 @@
 // `texsim study coords`: every texture-coordinate method and derivative/ellipse method in every
 // number format over planes from screen-parallel to grazing: error in texels against the
 // long double map, ops per pixel by kind, cycles per pixel from the clocked pipeline, and the
-// seeds' claims re-measured (docs/study-coords.md explains the set-up and the results).
+// seeds' claims re-measured (docs/studies/study-coords.md explains the set-up and the results).
 #include <cstdint>
 #include <ostream>
 #include <string>

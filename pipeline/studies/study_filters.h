@@ -3,11 +3,13 @@
 // multi-ellipse probes, Feline, SPAF, the trilinear baselines and OpenImageIO's TextureSystem)
 // on the same planes at anisotropy 1:1 … 64:1, against the Gaussian-footprint ground truth:
 // PSNR, NMSE, max error, ops per fragment by kind, texels fetched, cache misses and cycles per
-// fragment (docs/study-filters.md explains the set-up and the results).
+// fragment (docs/studies/study-filters.md explains the set-up and the results).
 #include <cstdint>
 #include <ostream>
 #include <string>
 #include <vector>
+
+#include "blocks/base/fragment.h"
 
 namespace texsim {
 
@@ -25,5 +27,10 @@ struct StudyFiltersOptions {
 int run_study_filters(const std::string& out_dir, std::ostream& log);
 int run_study_filters(const std::string& out_dir, std::ostream& log,
                       const StudyFiltersOptions& opt);
+
+// The fragments of the study's view at nominal anisotropy `aniso` for a texture of
+// `texture_size` texels square, in pixel order (what every method filters).
+std::vector<Fragment> study_filter_fragments(double aniso, const StudyFiltersOptions& opt,
+                                             int texture_size);
 
 }  // namespace texsim

@@ -12,10 +12,10 @@
 #include <sstream>
 #include <vector>
 
-#include "blocks/base/atomic_file.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/texture/subtexel/subtexel_cutoff.h"
 #include "pipeline/report/plot.h"
+#include "pipeline/studies/study_table.h"
 
 namespace texsim {
 
@@ -300,7 +300,7 @@ VdPolyFit vd_minimax_fit(int degree, bool pin_half) {
     ref = ext;
   }
   VdPolyFit fit;
-  fit.coef.assign(static_cast<size_t>(degree + 1), 0.0);
+  fit.coef.assign(static_cast<size_t>(degree) + 1, 0.0);
   fit.coef[0] = static_cast<double>(c0);
   for (size_t j = 0; j < nb; ++j)
     fit.coef[j + static_cast<size_t>(k0)] = static_cast<double>(coef[j]);
@@ -368,21 +368,26 @@ CutoffErrorStats measure_cutoff_error(VdEvaluatorKind k, VdFormatKind f) {
   return st;
 }
 
-int run_study_vd(const std::string& out_dir, std::ostream& log) {
-  const auto t0 = std::chrono::steady_clock::now();
-  ensure_dir(out_dir);
-  const TechTable tech = TechTable::defaults();
+namespace {
 
-  struct Row {
-    VdErrorStats s;
-    OpCounts ops;
-    TimingSpec timing;
-    std::optional<double> claim;
-  };
-  std::vector<Row> rows;
+std::string num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+struct VdRow {
+  VdErrorStats s;
+  OpCounts ops;
+  TimingSpec timing;
+  std::optional<double> claim;
+};
+
+std::vector<VdRow> measure_vd_rows(const TechTable& tech, std::ostream& log) {
+  std::vector<VdRow> rows;
   for (VdEvaluatorKind k : kVdEvaluatorKinds) {
     for (VdFormatKind f : kVdFormatKinds) {
-      Row r;
+      VdRow r;
       r.s = measure_vd_error(k, f);
       visit_vd_evaluator(k, [&](auto ev) {
         r.ops = ev.ops();
@@ -394,37 +399,60 @@ int run_study_vd(const std::string& out_dir, std::ostream& log) {
       rows.push_back(r);
     }
   }
+  return rows;
+}
 
-  // vd.csv
-  {
-    AtomicTextFile csv(out_dir + "/vd.csv");
-    auto& o = csv.out();
-    o << "evaluator,format,max_abs_err,argmax_d,signed_err_at_max,mean_abs_err,points,sweep,"
-         "add,mul,cmp,lut,latency_cycles,area,seed_claim,claim_holds\n";
-    for (const Row& r : rows) {
-      o << vd_evaluator_name(r.s.evaluator) << "," << format_label(r.s.format) << ","
-        << fmt_e(r.s.max_abs, 6) << "," << fmt_g(r.s.argmax_d, 10) << ","
-        << fmt_e(r.s.signed_at_max, 6) << "," << fmt_e(r.s.mean_abs, 6) << "," << r.s.points
-        << ",\"" << r.s.sweep << "\"," << r.ops.add << "," << r.ops.mul << "," << r.ops.cmp << ","
-        << r.ops.lut << "," << r.timing.latency << "," << r.timing.area << ",";
-      if (r.claim)
-        o << *r.claim << "," << (r.s.max_abs <= *r.claim ? "yes" : "no");
-      else
-        o << ",";
-      o << "\n";
-    }
-    csv.commit();
+StudyTable vd_csv(const std::vector<VdRow>& rows) {
+  StudyTable t({"evaluator", "format", "max_abs_err", "argmax_d", "signed_err_at_max",
+                "mean_abs_err", "points", "sweep", "add", "mul", "cmp", "lut", "latency_cycles",
+                "area", "seed_claim", "claim_holds"});
+  for (const VdRow& r : rows) {
+    t.add({std::string(vd_evaluator_name(r.s.evaluator)), format_label(r.s.format),
+           fmt_e(r.s.max_abs, 6), fmt_g(r.s.argmax_d, 10), fmt_e(r.s.signed_at_max, 6),
+           fmt_e(r.s.mean_abs, 6), std::to_string(r.s.points), "\"" + r.s.sweep + "\"",
+           std::to_string(r.ops.add), std::to_string(r.ops.mul), std::to_string(r.ops.cmp),
+           std::to_string(r.ops.lut), std::to_string(r.timing.latency), num(r.timing.area),
+           r.claim ? num(*r.claim) : "", r.claim ? (r.s.max_abs <= *r.claim ? "yes" : "no") : ""});
   }
+  return t;
+}
 
-  // Normalisation check and the cut-off volume.
-  struct Fit {
-    VdEvaluatorKind k;
-    VdSigmaFit sigma;
-    double vs_texel_normalised;
-  };
-  std::vector<Fit> fits;
+std::string vd_error_section(const std::vector<VdRow>& rows) {
+  StudyTable t({"evaluator", "format", "max abs error", "at d", "mean abs error", "inputs", "add",
+                "mul", "cmp", "lut", "latency (cycles)", "area", "seed claim", "holds"});
+  for (const VdRow& r : rows) {
+    t.add({std::string(vd_evaluator_name(r.s.evaluator)), format_label(r.s.format),
+           fmt_e(r.s.max_abs), fmt_g(r.s.argmax_d, 6), fmt_e(r.s.mean_abs),
+           std::to_string(r.s.points), std::to_string(r.ops.add), std::to_string(r.ops.mul),
+           std::to_string(r.ops.cmp), std::to_string(r.ops.lut), std::to_string(r.timing.latency),
+           fmt_g(r.timing.area), r.claim ? fmt_g(*r.claim, 2) : "—",
+           r.claim ? (r.s.max_abs <= *r.claim ? "yes" : "**no**") : "—"});
+  }
+  std::ostringstream o;
+  o << "# V(d) evaluators: measured error against Φ(d/σ), σ = 0.2, d ∈ [0, 0.5]\n\n"
+    << "Reference: Φ(d/σ) = erfc(−d/(σ√2))/2 in long double; each maximum re-evaluated with "
+       "MPFR (160 bits) at its arg max. Fixed formats are named input/coefficients/output "
+       "(HalfUp rounding, saturation). Ops per evaluation; latency and area from the default "
+       "technology table (area does not scale with word width there).\n\n"
+    << t.markdown();
+  o << "\nSweeps: fixed formats — every input code in [0, 0.5]; float/double — ";
+  for (const VdRow& r : rows) {
+    if (r.s.format == VdFormatKind::Float) {
+      o << r.s.sweep << ".\n\n";
+      break;
+    }
+  }
+  return o.str();
+}
+
+// Which σ the seed's coefficients fit, and minimax refits on the same datapath.
+std::string vd_fit_section(const std::vector<VdRow>& rows) {
+  StudyTable fits(
+      {"evaluator", "best σ", "max abs error at best σ", "max abs error vs texel-normalised"});
   for (VdEvaluatorKind k : {VdEvaluatorKind::P3, VdEvaluatorKind::P2, VdEvaluatorKind::P1}) {
-    fits.push_back({k, vd_best_sigma(k), vd_error_vs_texel_normalised(k)});
+    const VdSigmaFit sigma = vd_best_sigma(k);
+    fits.add({std::string(vd_evaluator_name(k)), fmt_g(sigma.sigma, 5), fmt_e(sigma.max_abs),
+              fmt_e(vd_error_vs_texel_normalised(k))});
   }
   struct Refit {
     std::string what;
@@ -437,117 +465,84 @@ int run_study_vd(const std::string& out_dir, std::ostream& log) {
       {"cubic, V(0) = 0.5", VdEvaluatorKind::P3, vd_minimax_fit(3, true)},
       {"cubic, free", VdEvaluatorKind::P3, vd_minimax_fit(3, false)},
   };
-  struct CutRow {
-    VdEvaluatorKind k;
-    VdFormatKind f;
-    CutoffErrorStats s;
-  };
-  std::vector<CutRow> cuts;
-  for (VdEvaluatorKind k : kVdEvaluatorKinds) {
-    for (VdFormatKind f : {VdFormatKind::Double, VdFormatKind::Fx16}) {
-      cuts.push_back({k, f, measure_cutoff_error(k, f)});
-    }
+  StudyTable rt({"polynomial", "coefficients (d⁰, d¹, …)", "max abs error", "at d", "seed's",
+                 "seed claim", "refit meets it"});
+  for (const Refit& r : refits) {
+    std::string cs;
+    for (double c : r.fit.coef) cs += (cs.empty() ? "" : ", ") + fmt_g(c, 6);
+    const auto seed = std::find_if(rows.begin(), rows.end(), [&](const VdRow& row) {
+      return row.s.evaluator == r.seed && row.s.format == VdFormatKind::Double;
+    });
+    const double claim = vd_seed_claim(r.seed).value_or(0);
+    rt.add({r.what, cs, fmt_e(r.fit.max_abs), fmt_g(r.fit.argmax_d, 5), fmt_e(seed->s.max_abs),
+            fmt_g(claim, 2), r.fit.max_abs <= claim ? "yes" : "no"});
   }
-
-  // vd.md
-  {
-    AtomicTextFile md(out_dir + "/vd.md");
-    auto& o = md.out();
-    o << "# V(d) evaluators: measured error against Φ(d/σ), σ = 0.2, d ∈ [0, 0.5]\n\n"
-      << "Reference: Φ(d/σ) = erfc(−d/(σ√2))/2 in long double; each maximum re-evaluated with "
-         "MPFR (160 bits) at its arg max. Fixed formats are named input/coefficients/output "
-         "(HalfUp rounding, saturation). Ops per evaluation; latency and area from the default "
-         "technology table (area does not scale with word width there).\n\n"
-      << "| evaluator | format | max abs error | at d | mean abs error | inputs | add | mul | cmp "
-         "| lut | latency (cycles) | area | seed claim | holds |\n"
-      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const Row& r : rows) {
-      o << "| " << vd_evaluator_name(r.s.evaluator) << " | " << format_label(r.s.format) << " | "
-        << fmt_e(r.s.max_abs) << " | " << fmt_g(r.s.argmax_d, 6) << " | " << fmt_e(r.s.mean_abs)
-        << " | " << r.s.points << " | " << r.ops.add << " | " << r.ops.mul << " | " << r.ops.cmp
-        << " | " << r.ops.lut << " | " << r.timing.latency << " | " << fmt_g(r.timing.area)
-        << " | ";
-      if (r.claim) {
-        o << fmt_g(*r.claim, 2) << " | " << (r.s.max_abs <= *r.claim ? "yes" : "**no**") << " |\n";
-      } else {
-        o << "— | — |\n";
-      }
-    }
-    o << "\nSweeps: fixed formats — every input code in [0, 0.5]; float/double — ";
-    for (const Row& r : rows) {
-      if (r.s.format == VdFormatKind::Float) {
-        o << r.s.sweep << ".\n\n";
-        break;
-      }
-    }
-    o << "## Which normalisation do the coefficients fit?\n\n"
-      << "σ minimising each polynomial's maximum error against Φ(d/σ) (σ scanned over "
+  return "## Which normalisation do the coefficients fit?\n\n"
+         "σ minimising each polynomial's maximum error against Φ(d/σ) (σ scanned over "
          "[0.15, 0.25] in steps of 0.00025, 2001-point grid on [0, 0.5], double), and the error "
          "against the texel-normalised volume (Φ(d/σ) − Φ(−0.5/σ)) / (2·Φ(0.5/σ) − 1) at σ = 0.2:"
-         "\n\n"
-      << "| evaluator | best σ | max abs error at best σ | max abs error vs texel-normalised |\n"
-      << "|---|---|---|---|\n";
-    for (const Fit& f : fits) {
-      o << "| " << vd_evaluator_name(f.k) << " | " << fmt_g(f.sigma.sigma, 5) << " | "
-        << fmt_e(f.sigma.max_abs) << " | " << fmt_e(f.vs_texel_normalised) << " |\n";
-    }
-    o << "\n## Refitted coefficients (same datapath, same op counts)\n\n"
-      << "Minimax polynomials for Φ(d/σ), σ = 0.2, on [0, 0.5] (Remez exchange, long double); "
+         "\n\n" +
+         fits.markdown() +
+         "\n## Refitted coefficients (same datapath, same op counts)\n\n"
+         "Minimax polynomials for Φ(d/σ), σ = 0.2, on [0, 0.5] (Remez exchange, long double); "
          "max error on a 200001-point grid, double evaluation. V(0) = 0.5 keeps the symmetric "
-         "extension continuous at d = 0.\n\n"
-      << "| polynomial | coefficients (d⁰, d¹, …) | max abs error | at d | seed's | seed claim | "
-         "refit meets it |\n|---|---|---|---|---|---|---|\n";
-    for (const Refit& r : refits) {
-      std::string cs;
-      for (double c : r.fit.coef) cs += (cs.empty() ? "" : ", ") + fmt_g(c, 6);
-      const auto seed = std::find_if(rows.begin(), rows.end(), [&](const Row& row) {
-        return row.s.evaluator == r.seed && row.s.format == VdFormatKind::Double;
-      });
-      const double claim = vd_seed_claim(r.seed).value_or(0);
-      o << "| " << r.what << " | " << cs << " | " << fmt_e(r.fit.max_abs) << " | "
-        << fmt_g(r.fit.argmax_d, 5) << " | " << fmt_e(seed->s.max_abs) << " | " << fmt_g(claim, 2)
-        << " | " << (r.fit.max_abs <= claim ? "yes" : "no") << " |\n";
+         "extension continuous at d = 0.\n\n" +
+         rt.markdown();
+}
+
+std::string vd_cutoff_section() {
+  StudyTable t(
+      {"evaluator", "format", "max abs error", "at d", "jump at d = 0", "min before clamp"});
+  for (VdEvaluatorKind k : kVdEvaluatorKinds) {
+    for (VdFormatKind f : {VdFormatKind::Double, VdFormatKind::Fx16}) {
+      const CutoffErrorStats c = measure_cutoff_error(k, f);
+      t.add({std::string(vd_evaluator_name(k)), format_label(f), fmt_e(c.max_abs),
+             fmt_g(c.argmax_d, 6), fmt_e(c.jump_at_zero), fmt_e(c.min_unclamped)});
     }
-    o << "\n## Cut-off volume W = V(0.5) − V(d), d ∈ [−0.5, 0.5]\n\n"
-      << "SubtexelCutoff with each evaluator against the exact Φ(0.5/σ) − Φ(d/σ) (double: grid of "
+  }
+  return "\n## Cut-off volume W = V(0.5) − V(d), d ∈ [−0.5, 0.5]\n\n"
+         "SubtexelCutoff with each evaluator against the exact Φ(0.5/σ) − Φ(d/σ) (double: grid of "
          "2·10^6 + 1 points; u0.16 format: every s1.16 code). The jump is Ŵ(0⁻) − Ŵ(0⁺) "
          "(= 2·V̂(0) − 1 when V̂(0) ≠ 0.5); min before clamp is the most negative "
          "V̂(0.5) − V̂(d): where the polynomial peaks before d = 0.5 the block clamps V̂ to "
-         "V̂(0.5), so W stays within [0, 2·V̂(0.5) − 1].\n\n"
-      << "| evaluator | format | max abs error | at d | jump at d = 0 | min before clamp |\n"
-      << "|---|---|---|---|---|---|\n";
-    for (const CutRow& c : cuts) {
-      o << "| " << vd_evaluator_name(c.k) << " | " << format_label(c.f) << " | "
-        << fmt_e(c.s.max_abs) << " | " << fmt_g(c.s.argmax_d, 6) << " | " << fmt_e(c.s.jump_at_zero)
-        << " | " << fmt_e(c.s.min_unclamped) << " |\n";
-    }
-    md.commit();
-  }
+         "V̂(0.5), so W stays within [0, 2·V̂(0.5) − 1].\n\n" +
+         t.markdown();
+}
 
-  // vd.png: signed error over d in double, one line per evaluator.
-  {
-    PlotSpec p;
-    p.title = "V(d) evaluators: error against Phi(d/0.2), double";
-    p.xlabel = "d (texels)";
-    p.ylabel = "V(d) - Phi(d/sigma)";
-    for (VdEvaluatorKind k : kVdEvaluatorKinds) {
-      PlotSeries s;
-      s.label = std::string(vd_evaluator_name(k));
-      s.lines = true;
-      visit_vd_evaluator(k, [&](auto ev) {
-        constexpr int kN = 250;
-        for (int i = 0; i <= kN; ++i) {
-          const double d = 0.5 * i / kN;
-          s.x.push_back(d);
-          s.y.push_back(static_cast<double>(
-              static_cast<long double>(ev.template eval<VdFloatFormat<double>>(d)) -
-              vd_reference(d)));
-        }
-      });
-      p.series.push_back(std::move(s));
-    }
-    write_plot_png(out_dir + "/vd.png", p);
+// Signed error over d in double, one line per evaluator.
+PlotSpec vd_plot() {
+  PlotSpec p;
+  p.title = "V(d) evaluators: error against Phi(d/0.2), double";
+  p.xlabel = "d (texels)";
+  p.ylabel = "V(d) - Phi(d/sigma)";
+  for (VdEvaluatorKind k : kVdEvaluatorKinds) {
+    PlotSeries s;
+    s.label = std::string(vd_evaluator_name(k));
+    s.lines = true;
+    visit_vd_evaluator(k, [&](auto ev) {
+      constexpr int kN = 250;
+      for (int i = 0; i <= kN; ++i) {
+        const double d = 0.5 * i / kN;
+        s.x.push_back(d);
+        s.y.push_back(static_cast<double>(
+            static_cast<long double>(ev.template eval<VdFloatFormat<double>>(d)) -
+            vd_reference(d)));
+      }
+    });
+    p.series.push_back(std::move(s));
   }
+  return p;
+}
+
+}  // namespace
+
+int run_study_vd(const std::string& out_dir, std::ostream& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const StudyFiles files(out_dir);
+  const std::vector<VdRow> rows = measure_vd_rows(TechTable::defaults(), log);
+  files.csv("vd.csv", vd_csv(rows));
+  files.text("vd.md", vd_error_section(rows) + vd_fit_section(rows) + vd_cutoff_section());
+  files.plot("vd.png", vd_plot());
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   log << "study vd: wrote " << out_dir << "/vd.csv, vd.md, vd.png in " << fmt_g(secs, 3) << " s\n";
   return 0;

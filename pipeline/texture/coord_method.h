@@ -3,7 +3,7 @@
 // the front end of the texture unit as the study and scenes instantiate it. Each generator
 // runs one coordinate block (blocks/uv_*) or derivative block (blocks/derivatives_*) over the
 // pixels of a screen triangle and reports, per fragment, the value, the ops and the cost in
-// its pipeline stage (docs/study-coords.md).
+// its pipeline stage (docs/studies/study-coords.md).
 #include <cstdint>
 #include <memory>
 #include <string>

@@ -168,7 +168,7 @@ TEST_F(Cli, CoordinateUnitsPerMaterial) {
     EXPECT_GT(j["blocks"][b]["ops"]["add"].get<double>(), 0) << b;
   }
   // Mirror-image strips (same geometry): the s16.16 adders lose the map's precision (G, H keep
-  // 8 significant bits, docs/study-coords.md), s20.28 keeps it.
+  // 8 significant bits, docs/studies/study-coords.md), s20.28 keeps it.
   const double inc = num(j, "materials.incremental.accuracy.psnr_db");
   const double s16 = num(j, "materials.incremental_s16.accuracy.psnr_db");
   const double hk = num(j, "materials.heckbert.accuracy.psnr_db");

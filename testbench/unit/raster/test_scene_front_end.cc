@@ -104,8 +104,8 @@ struct Case {
 
 TEST(SceneFrontEnd, EveryMethodMatchesTheExactMapWithinItsBound) {
   // Bounds: the exact forms to their format's rounding; the whole-row quadratic to what
-  // docs/study-coords.md measures at this tilt (s16.16 is not usable at all with one map per
-  // plane, see there; a separate test below shows the front end reports it).
+  // docs/studies/study-coords.md measures at this tilt (s16.16 is not usable at all with one map
+  // per plane, see there; a separate test below shows the front end reports it).
   const Case cases[] = {
       {"{ method = 'heckbert', derivs = 'analytic', format = 'double' }", 1e-9, 1e-9},
       {"{ method = 'heckbert-rcp', derivs = 'analytic', format = 'float' }", 2e-3, 1e-3},
@@ -201,7 +201,7 @@ TEST(SceneFrontEnd, InstantiatedOnlyWhenAMaterialAsksAndChargedInCycles) {
     if (u.name != "coords.heckbert[float]") continue;
     found = true;
     // Heckbert direct: 6 mul, 6 add (numerators, denominator), 2 div per pixel
-    // (docs/study-coords.md).
+    // (docs/studies/study-coords.md).
     EXPECT_EQ(u.ops.div, 2 * fast.stats.generated);
     EXPECT_EQ(u.ops.mul, 6 * fast.stats.generated);
     EXPECT_NE(u.arithmetic.find("float"), std::string::npos);
