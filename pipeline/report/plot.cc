@@ -1,7 +1,15 @@
 #include "pipeline/report/plot.h"
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -12,19 +20,64 @@
 namespace texsim {
 
 namespace {
+// A gnuplot string literal. Single quotes, because gnuplot substitutes `command` inside
+// double-quoted strings; control characters become spaces so a string cannot end the command.
 std::string quote(const std::string& s) {
-  std::string r = "\"";
+  std::string r = "'";
   for (char c : s) {
-    if (c == '"' || c == '\\') r += '\\';
-    r += c;
+    if (c == '\'') {
+      r += "''";
+    } else {
+      r += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? ' ' : c;
+    }
   }
-  return r + "\"";
+  return r + "'";
+}
+
+// Runs gnuplot with `script` on its standard input, never through a shell; its standard error
+// goes to `err_path`. Returns gnuplot's exit status, or -1 if it could not be started.
+int run_gnuplot(const std::string& script, const std::string& err_path) {
+  // A socket pair rather than a pipe: send() with MSG_NOSIGNAL reports a gnuplot that exited
+  // early as an error instead of killing the process with SIGPIPE.
+  int fds[2];
+  if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0) return -1;
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_adddup2(&fa, fds[0], STDIN_FILENO);
+  posix_spawn_file_actions_addclose(&fa, fds[0]);
+  posix_spawn_file_actions_addclose(&fa, fds[1]);
+  posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, err_path.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  char arg0[] = "gnuplot";
+  char* argv[] = {arg0, nullptr};
+  pid_t pid = 0;
+  const int rc = ::posix_spawnp(&pid, "gnuplot", &fa, nullptr, argv, environ);
+  posix_spawn_file_actions_destroy(&fa);
+  ::close(fds[0]);
+  if (rc != 0) {
+    ::close(fds[1]);
+    return -1;
+  }
+  size_t done = 0;
+  while (done < script.size()) {
+    const ssize_t n = ::send(fds[1], script.data() + done, script.size() - done, MSG_NOSIGNAL);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // gnuplot exited early; its status and stderr say why
+    done += static_cast<size_t>(n);
+  }
+  ::close(fds[1]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 // A point label as a gnuplot data column: double-quoted, inner double quotes made single.
 std::string data_label(std::string s) {
   for (char& c : s) {
     if (c == '"') c = '\'';
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
   }
   return "\"" + s + "\"";
 }
@@ -32,12 +85,12 @@ std::string data_label(std::string s) {
 
 void write_plot_png(const std::string& path, const PlotSpec& spec) {
   const std::string tmp_png = temp_path_for(path) + ".png";
-  const std::string script_path = temp_path_for(path) + ".gp";
+  const std::string err_path = temp_path_for(path) + ".err";
   const std::string data_path = temp_path_for(path) + ".dat";
+  std::ostringstream gp;
   {
     std::ofstream data(data_path);
-    std::ofstream gp(script_path);
-    if (!data || !gp) throw InputError(path, "cannot write plot scratch files");
+    if (!data) throw InputError(path, "cannot write plot scratch files");
     gp << "set terminal pngcairo size " << spec.width << "," << spec.height
        << " enhanced font 'sans,11'\n";
     gp << "set output " << quote(tmp_png) << "\n";
@@ -78,18 +131,16 @@ void write_plot_png(const std::string& path, const PlotSpec& spec) {
     if (spec.series.empty()) gp << "0 notitle";
     gp << "\n";
   }
-  const std::string cmd = "gnuplot " + quote(script_path) + " 2>" + quote(script_path + ".err");
-  const int rc = std::system(cmd.c_str());
+  const int rc = run_gnuplot(gp.str(), err_path);
   std::string err;
   {
-    std::ifstream e(script_path + ".err");
+    std::ifstream e(err_path);
     std::stringstream ss;
     ss << e.rdbuf();
     err = ss.str();
   }
-  std::remove(script_path.c_str());
   std::remove(data_path.c_str());
-  std::remove((script_path + ".err").c_str());
+  std::remove(err_path.c_str());
   if (rc != 0 || !std::filesystem::exists(tmp_png)) {
     std::remove(tmp_png.c_str());
     throw InputError(path, "gnuplot failed (is gnuplot-nox installed?): " + err);
