@@ -18,15 +18,6 @@ std::string fmt_range(const TraceRange& r) {
   return buf;
 }
 
-template <class Writer>
-void copy_all(TraceReader& reader, Writer& writer) {
-  std::vector<Fragment> chunk;
-  while (reader.next_chunk(chunk) > 0) {
-    for (const Fragment& f : chunk) writer.write(f);
-  }
-  writer.close();
-}
-
 }  // namespace
 
 TraceSummary summarize_trace(const std::string& path) {
@@ -131,13 +122,12 @@ void trace_convert(const std::string& in, const std::string& out) {
   h.version = kTraceVersion;
   h.has_lod_bias = reader.header().has_lod_bias;
   h.textures = reader.header().textures;
-  if (has_csv_extension(out)) {
-    TraceCsvWriter writer(out, h);
-    copy_all(reader, writer);
-  } else {
-    TraceWriter writer(out, h);
-    copy_all(reader, writer);
-  }
+  write_trace(out, h, [&](auto& writer) {
+    std::vector<Fragment> chunk;
+    while (reader.next_chunk(chunk) > 0) {
+      for (const Fragment& f : chunk) writer.write(f);
+    }
+  });
 }
 
 }  // namespace texsim

@@ -6,6 +6,7 @@
 #include <ostream>
 #include <string>
 
+#include "traces/trace_csv.h"
 #include "traces/trace_file.h"
 
 namespace texsim {
@@ -47,6 +48,22 @@ TraceSummary summarize_trace(const std::string& path);
 // Prints the header, layout, texture table, counts, frames, pixel bbox and coordinate and
 // derivative ranges. Returns 0; bad input throws InputError (the CLI prints it and exits 2).
 int trace_info(const std::string& path, std::ostream& out);
+
+// Opens the writer the extension of `path` asks for (".csv": CSV, anything else: binary),
+// calls `fill(writer)` to write the records, closes it and returns the records written.
+template <class Fill>
+uint64_t write_trace(const std::string& path, const TraceHeader& header, Fill&& fill) {
+  if (has_csv_extension(path)) {
+    TraceCsvWriter w(path, header);
+    fill(w);
+    w.close();
+    return w.records_written();
+  }
+  TraceWriter w(path, header);
+  fill(w);
+  w.close();
+  return w.records_written();
+}
 
 // Converts .csv <-> binary by the extension of `out` (".csv" = CSV, anything else binary),
 // streaming chunk by chunk. Fields the input has beyond the known ones are not carried over.

@@ -18,6 +18,7 @@
 #include "pipeline/scene/texture_loader.h"
 #include "pipeline/texture/texture_unit.h"
 #include "traces/trace_file.h"
+#include "traces/trace_tools.h"
 
 namespace texsim {
 
@@ -303,10 +304,9 @@ uint64_t generate_scene_trace(const std::string& scene_path, const std::string& 
     h.textures.push_back({static_cast<uint32_t>(i), scene.textures[i].name, src,
                           static_cast<uint32_t>(t.width(0)), static_cast<uint32_t>(t.height(0))});
   }
-  TraceWriter w(out_path, h);
-  generate_fragments(scene, 0, [&](const Fragment& f) { w.write(f); });
-  w.close();
-  return w.records_written();
+  return write_trace(out_path, h, [&](auto& w) {
+    generate_fragments(scene, 0, [&](const Fragment& f) { w.write(f); });
+  });
 }
 
 }  // namespace texsim

@@ -230,6 +230,31 @@ TEST_F(Cli, FunctionalModeHasOpsButNoCycles) {
   EXPECT_GT(num(j, "blocks.blend.ops.mul"), 0);
 }
 
+TEST_F(Cli, TraceGenWritesTheFormTheExtensionNames) {
+  const std::string csv = path("gen.csv"), trc = path("gen.trc");
+  ASSERT_EQ(sh("trace gen default -o " + csv).code, 0);
+  ASSERT_EQ(sh("trace gen default -o " + trc).code, 0);
+  auto head = [](const std::string& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::string s(8, '\0');
+    f.read(s.data(), 8);
+    return s;
+  };
+  EXPECT_EQ(head(trc), "TEXSIMTR");
+  EXPECT_NE(head(csv), "TEXSIMTR");
+  // Both forms hold the same fragments.
+  const Result a = sh("trace info " + csv), b = sh("trace info " + trc);
+  ASSERT_EQ(a.code, 0) << a.out;
+  ASSERT_EQ(b.code, 0) << b.out;
+  auto records = [](const std::string& info) {
+    const size_t at = info.find("records:");
+    return at == std::string::npos ? std::string("none")
+                                   : info.substr(at, info.find(" in", at) - at);
+  };
+  EXPECT_EQ(records(a.out), records(b.out));
+  EXPECT_NE(records(a.out), "none") << a.out;
+}
+
 TEST_F(Cli, TraceGenThenRunTraceMatchesSceneRun) {
   const std::string trc = path("default.trc"), csv = path("default.csv");
   Result r = sh("trace gen default -o " + trc);
