@@ -8,6 +8,8 @@
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
+#include "blocks/base/printable.h"
+#include "blocks/base/version.h"
 #include "pipeline/app/run.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/studies/study_coords.h"
@@ -17,11 +19,57 @@
 
 namespace {
 
+// The first word of the command line that names no subcommand where one is expected
+// ("texsim frob", "texsim trace frob"), or "" if there is none. CLI11 alone would report
+// "A subcommand is required" without naming it.
+std::string unknown_subcommand(const CLI::App& app, int argc, char** argv) {
+  const CLI::App* level = &app;
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.empty() || word[0] == '-') return "";
+    const auto subs = level->get_subcommands([](const CLI::App*) { return true; });
+    if (subs.empty()) return "";
+    const CLI::App* sub = nullptr;
+    for (const CLI::App* s : subs) {
+      if (s->get_name() == word) sub = s;
+    }
+    if (!sub) return word;
+    level = sub;
+  }
+  return "";
+}
+
+// Parses the command line. Returns -1 to go on, else the exit status: 0 for --help and
+// --version, 2 for a usage error (bad input, as everywhere else).
+int parse_command_line(CLI::App& app, int argc, char** argv) {
+  const std::string unknown = unknown_subcommand(app, argc, argv);
+  if (!unknown.empty()) {
+    std::cerr << "texsim: error: unknown command '" << texsim::printable(unknown)
+              << "' (texsim --help lists the commands)\n";
+    return 2;
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "texsim: error: " << texsim::printable(e.what())
+              << " (add --help for the usage)\n";
+    return 2;
+  }
+  return -1;
+}
+
 // Parses the command line and runs the subcommand; returns the exit status (docs/cli.md).
 int run_cli(int argc, char** argv) {
   using namespace texsim;
   CLI::App app{"texsim: cycle-approximate simulator of a hardware texture unit"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("texsim ") + kTexsimVersion);
 
   RunOptions run;
   auto* run_cmd = app.add_subcommand("run",
@@ -70,7 +118,7 @@ int run_cli(int argc, char** argv) {
   for (auto* s : {vd, coords, filters})
     s->add_option("--out", study_out, "Output directory")->capture_default_str();
 
-  CLI11_PARSE(app, argc, argv);
+  if (const int status = parse_command_line(app, argc, argv); status >= 0) return status;
   try {
     if (*run_cmd) {
       run.progress = !no_progress && ::isatty(STDERR_FILENO);
@@ -90,13 +138,13 @@ int run_cli(int argc, char** argv) {
       std::cout << "texsim trace convert: wrote " << conv_out << "\n";
     }
   } catch (const InputError& e) {
-    std::cerr << "texsim: error: " << e.what() << "\n";
+    std::cerr << "texsim: error: " << printable(e.what()) << "\n";
     return 2;
   } catch (const DeadlockError& e) {
-    std::cerr << "texsim: " << e.what() << "\n";
+    std::cerr << "texsim: " << printable(e.what()) << "\n";
     return 3;
   } catch (const std::exception& e) {
-    std::cerr << "texsim: internal error: " << e.what() << "\n";
+    std::cerr << "texsim: internal error: " << printable(e.what()) << "\n";
     return 1;
   }
   return 0;

@@ -230,6 +230,36 @@ TEST_F(Cli, FunctionalModeHasOpsButNoCycles) {
   EXPECT_GT(num(j, "blocks.blend.ops.mul"), 0);
 }
 
+TEST_F(Cli, UsageErrorsExitTwoAndNameWhatIsWrong) {
+  Result r = sh("frob");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("unknown command 'frob'"), std::string::npos) << r.out;
+  r = sh("trace frob");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("'frob'"), std::string::npos) << r.out;
+  r = sh("run --bogus");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("--bogus"), std::string::npos) << r.out;
+  r = sh("trace gen default");  // -o missing
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("--output"), std::string::npos) << r.out;
+  EXPECT_EQ(sh("").code, 2);
+  // Control characters in what is echoed back are shown escaped.
+  r = sh("\"$(printf 'fr\\033[2Job')\"");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_EQ(r.out.find('\033'), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, HelpAndVersionExitZero) {
+  Result r = sh("--help");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("run"), std::string::npos) << r.out;
+  EXPECT_EQ(sh("trace gen --help").code, 0);
+  r = sh("--version");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_EQ(r.out.rfind("texsim ", 0), 0u) << r.out;
+}
+
 TEST_F(Cli, TraceGenWritesTheFormTheExtensionNames) {
   const std::string csv = path("gen.csv"), trc = path("gen.trc");
   ASSERT_EQ(sh("trace gen default -o " + csv).code, 0);
