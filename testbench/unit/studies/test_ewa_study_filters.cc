@@ -47,7 +47,8 @@ TEST(StudyFilters, SmallRunWritesConsistentTables) {
   ASSERT_EQ(run_study_filters(dir, log, opt), 0) << log.str();
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_LT(secs, 30.0);
-  for (const char* f : {"filters.csv", "filters.md", "filters.png", "filters_texels.png"}) {
+  for (const char* f :
+       {"filters.csv", "filters_timing.csv", "filters.md", "filters.png", "filters_texels.png"}) {
     ASSERT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
     EXPECT_GT(std::filesystem::file_size(dir + "/" + f), 100u) << f;
   }
@@ -102,7 +103,21 @@ TEST(StudyFilters, SmallRunWritesConsistentTables) {
   ss << md.rdbuf();
   EXPECT_NE(ss.str().find("0.000708"), std::string::npos);
   EXPECT_NE(ss.str().find("Computing Gaussian weights"), std::string::npos);
+  // filters.csv is the same on every run: wall-clock times go to filters_timing.csv.
+  const std::string again = dir + "_again";
+  std::filesystem::remove_all(again);
+  ASSERT_EQ(run_study_filters(again, log, opt), 0) << log.str();
+  auto slurp = [](const std::string& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  };
+  EXPECT_EQ(slurp(dir + "/filters.csv"), slurp(again + "/filters.csv"));
+  EXPECT_EQ(slurp(dir + "/filters.csv").find("functional_ns"), std::string::npos);
+  EXPECT_NE(slurp(dir + "/filters_timing.csv").find("functional_ns_per_lookup"), std::string::npos);
   std::filesystem::remove_all(dir);
+  std::filesystem::remove_all(again);
 }
 
 }  // namespace
