@@ -159,7 +159,7 @@ Method ewa_method(const std::string& name, const std::string& family, const EwaF
   m.area = m.filter.area;
   if (c.weight == EwaFilter::Weight::Map && ewa->weight_map()) {
     const WeightMap& wm = *ewa->weight_map();
-    const OpCounts r = wm.ops_per_read();
+    const OpCounts r = wm.ops_per_item();
     m.entries_per_map_read = static_cast<uint32_t>(r.mem);
     m.tmu_ops_per_map_read = static_cast<double>(r.arithmetic());
     m.map_bytes = wm.bytes();
@@ -645,10 +645,10 @@ int run_study_filters(const std::string& out_dir, std::ostream& log,
     d.lut_bits = 8;
     methods.push_back(ewa_method("ewa lut32 u0.8", "ewa", d, tech));
     d = c;
-    d.arith = EwaFilter::Arith::Fixed;
+    d.arith = NumberFormat::S18_30;
     methods.push_back(ewa_method("ewa lut256 fixed Q", "ewa", d, tech));
     d = c;
-    d.arith = EwaFilter::Arith::Double;
+    d.arith = NumberFormat::Double;
     d.weight = EwaFilter::Weight::Exp;
     methods.push_back(ewa_method("ewa exp double", "ewa", d, tech));
     d = c;
@@ -666,8 +666,8 @@ int run_study_filters(const std::string& out_dir, std::ostream& log,
     methods.push_back(ewa_method("ewa lut256 minor 2 texels", "ewa", d, tech));
     // V(d) sub-texel cut-off of the texels within half a texel of the ellipse boundary.
     for (const auto& [k, fk, label] :
-         {std::tuple{VdEvaluatorKind::Exact, VdFormatKind::Double, "exact double"},
-          std::tuple{VdEvaluatorKind::P2, VdFormatKind::Fx16, "P2 fx16"}}) {
+         {std::tuple{VdEvaluatorKind::Exact, NumberFormat::Double, "exact double"},
+          std::tuple{VdEvaluatorKind::P2, NumberFormat::Fx16, "P2 fx16"}}) {
       d = c;
       d.edge = EwaFilter::Edge::Vd;
       d.vd.evaluator = k;
@@ -771,7 +771,7 @@ int run_study_filters(const std::string& out_dir, std::ostream& log,
                                    std::make_shared<const MultiProbeFilter>(mp2), tech,
                                    probe_arith));
     mp2 = mp;
-    mp2.arith = ProbeArith::Fixed;
+    mp2.arith = NumberFormat::S16_24HalfUp;
     methods.push_back(block_method("multi-ellipse probes α=1 max 15, fixed", "probes",
                                    std::make_shared<const MultiProbeFilter>(mp2), tech,
                                    MultiProbeFilter(mp2).arithmetic()));
@@ -780,7 +780,7 @@ int run_study_filters(const std::string& out_dir, std::ostream& log,
     methods.push_back(block_method("feline (major axis, Gaussian) max 16", "probes",
                                    std::make_shared<const FelineFilter>(fc), tech, probe_arith));
     FelineFilter::Config fx = fc;
-    fx.arith = ProbeArith::Fixed;
+    fx.arith = NumberFormat::S16_24HalfUp;
     methods.push_back(block_method("feline (major axis, Gaussian) max 16, fixed", "probes",
                                    std::make_shared<const FelineFilter>(fx), tech,
                                    FelineFilter(fx).arithmetic()));
@@ -809,22 +809,22 @@ int run_study_filters(const std::string& out_dir, std::ostream& log,
     };
     struct VdRow {
       VdEvaluatorKind k;
-      VdFormatKind f;
+      NumberFormat f;
       uint32_t units;
       int budget;
       const char* label;
     };
     for (const VdRow& vr :
-         {VdRow{VdEvaluatorKind::Exact, VdFormatKind::Double, 1, 64, "exact double"},
-          VdRow{VdEvaluatorKind::Exact, VdFormatKind::Fx16, 1, 64, "exact fx16"},
-          VdRow{VdEvaluatorKind::P3, VdFormatKind::Fx16, 1, 64, "P3 fx16"},
-          VdRow{VdEvaluatorKind::P2, VdFormatKind::Float, 1, 64, "P2 float"},
-          VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 1, 64, "P2 fx16"},
-          VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 4, 64, "P2 fx16 x4 units"},
-          VdRow{VdEvaluatorKind::P1, VdFormatKind::Fx16, 1, 64, "P1 fx16"},
-          VdRow{VdEvaluatorKind::P1, VdFormatKind::Fx8, 1, 64, "P1 fx8"},
-          VdRow{VdEvaluatorKind::Exact, VdFormatKind::Double, 1, 256, "exact double"},
-          VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 1, 256, "P2 fx16"}}) {
+         {VdRow{VdEvaluatorKind::Exact, NumberFormat::Double, 1, 64, "exact double"},
+          VdRow{VdEvaluatorKind::Exact, NumberFormat::Fx16, 1, 64, "exact fx16"},
+          VdRow{VdEvaluatorKind::P3, NumberFormat::Fx16, 1, 64, "P3 fx16"},
+          VdRow{VdEvaluatorKind::P2, NumberFormat::Float, 1, 64, "P2 float"},
+          VdRow{VdEvaluatorKind::P2, NumberFormat::Fx16, 1, 64, "P2 fx16"},
+          VdRow{VdEvaluatorKind::P2, NumberFormat::Fx16, 4, 64, "P2 fx16 x4 units"},
+          VdRow{VdEvaluatorKind::P1, NumberFormat::Fx16, 1, 64, "P1 fx16"},
+          VdRow{VdEvaluatorKind::P1, NumberFormat::Fx8, 1, 64, "P1 fx8"},
+          VdRow{VdEvaluatorKind::Exact, NumberFormat::Double, 1, 256, "exact double"},
+          VdRow{VdEvaluatorKind::P2, NumberFormat::Fx16, 1, 256, "P2 fx16"}}) {
       SpafFilter::Config vc;
       vc.texel_budget = vr.budget;
       vc.coverage = SpafFilter::Coverage::Vd;
@@ -836,12 +836,12 @@ int run_study_filters(const std::string& out_dir, std::ostream& log,
     for (int budget : {64, 256}) {
       SpafFilter::Config fc2;
       fc2.texel_budget = budget;
-      fc2.arith = SpafFilter::Arith::Fixed;
+      fc2.arith = NumberFormat::S20_28HalfUp;
       spaf_row("spaf 4x4 mask, budget " + std::to_string(budget) + ", fixed " + SpafFixed::name(),
                fc2);
     }
     SpafFilter::Config dc;
-    dc.arith = SpafFilter::Arith::Double;
+    dc.arith = NumberFormat::Double;
     spaf_row("spaf 4x4 mask, budget 64, double", dc);
   }
   if (opt.oiio) {

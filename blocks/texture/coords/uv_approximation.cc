@@ -1,8 +1,11 @@
 #include "blocks/texture/coords/uv_approximation.h"
 
+#include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
 
 namespace texsim {
+
+static_assert(Block<UvApproximation>);
 
 UvApproximation::Config UvApproximation::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"order", "segment", "datapath", "min_denominator"});
@@ -15,7 +18,7 @@ UvApproximation::Config UvApproximation::Config::from_toml(const ConfigReader& r
   return c;
 }
 
-OpCounts UvApproximation::pixel_ops() const {
+OpCounts UvApproximation::ops_per_item() const {
   // One add per forward-difference order and coordinate.
   OpCounts o;
   o.add = 2 * static_cast<uint64_t>(cfg_.order);
@@ -82,7 +85,7 @@ OpCounts UvApproximation::row_setup_critical_path() const {
 }
 
 TimingSpec UvApproximation::timing(const TechTable& t) const {
-  return derive_timing(t, pixel_ops(), pixel_critical_path(), cfg_.datapath, 1, row_setup_ops());
+  return derive_timing(t, ops_per_item(), pixel_critical_path(), cfg_.datapath, 1, row_setup_ops());
 }
 
 TimingSpec UvApproximation::row_setup_timing(const TechTable& t) const {

@@ -5,11 +5,14 @@
 #include <limits>
 #include <type_traits>
 
+#include "blocks/base/block.h"
 #include "blocks/texture/footprint/gaussian_weight.h"
 #include "blocks/texture/footprint/weight_map.h"
 #include "blocks/texture/sampler/texel_address_gen.h"
 
 namespace texsim {
+
+static_assert(Block<EwaFilter>);
 
 const char* to_string(EwaFilter::Weight w) {
   switch (w) {
@@ -169,8 +172,7 @@ EwaFilter::Config EwaFilter::Config::from_toml(const ConfigReader& r) {
   }
   c.mip = static_cast<Mip>(r.get_choice("mip", static_cast<int>(c.mip), {"nearest", "linear"}));
   c.scan = static_cast<Scan>(r.get_choice("scan", static_cast<int>(c.scan), {"box", "row_span"}));
-  c.arith = static_cast<Arith>(
-      r.get_choice("arith", static_cast<int>(c.arith), {"float", "double", "fixed"}));
+  c.arith = kArith.at(r.get_choice("arith", kArith.index_of(c.arith), kArith.key_list()));
   const std::vector<std::string_view> modes = {"wrap", "clamp", "mirror"};
   c.address_u = static_cast<AddressMode>(r.get_choice("address_u", 0, modes));
   c.address_v = static_cast<AddressMode>(r.get_choice("address_v", 0, modes));
@@ -408,7 +410,7 @@ struct LevelScan {
       m.add = jac ? 2 : 1;
       per_row += m;
     }
-    const OpCounts per_visit = filt.ops_per_visit();
+    const OpCounts per_visit = filt.ops_per_item();
     const OpCounts per_inside = filt.ops_per_inside();
     const OpCounts per_edge = cutoff ? filt.ops_per_edge_texel() : OpCounts{};
     const WeightMap* map = filt.weight_map();
@@ -509,7 +511,7 @@ struct LevelScan {
 
 }  // namespace
 
-OpCounts EwaFilter::ops_per_visit() const {
+OpCounts EwaFilter::ops_per_item() const {
   OpCounts o;
   o.cmp = 1;  // Q < 1
   o.add = 2;  // Q += dQ, dQ += 2a
@@ -542,13 +544,13 @@ OpCounts EwaFilter::ops_per_edge_texel() const {
   o.cmp = 1;
   o.sqrt = 2;
   o.rcp = 1;
-  o += cutoff().ops() + SubtexelCutoff::fraction_extra_ops();
+  o += cutoff().ops_per_item() + SubtexelCutoff::fraction_extra_ops();
   return o;
 }
 
 OpCounts EwaFilter::ops_per_inside() const {
   OpCounts o = weight_ops(cfg_.weight);
-  if (cfg_.weight == Weight::Map && map_) o += map_->ops_per_read();
+  if (cfg_.weight == Weight::Map && map_) o += map_->ops_per_item();
   o += address_mode_ops(cfg_.address_u);
   o.mem += 1;                             // texel read
   o.mul += 4;                             // w·RGBA
@@ -662,15 +664,8 @@ template FilterOutput EwaFilter::filter_t<EwaQFixed>(const Texture&, const Fragm
 
 FilterOutput EwaFilter::filter(const Texture& tex, const Fragment& f,
                                std::vector<TexelRef>* fetched, OpCounts& ops) const {
-  switch (cfg_.arith) {
-    case Arith::Float:
-      return filter_t<float>(tex, f, fetched, ops);
-    case Arith::Double:
-      return filter_t<double>(tex, f, fetched, ops);
-    case Arith::Fixed:
-      return filter_t<EwaQFixed>(tex, f, fetched, ops);
-  }
-  return {};
+  return kArith.visit(cfg_.arith,
+                      [&](auto t) { return filter_t<decltype(t)>(tex, f, fetched, ops); });
 }
 
 uint32_t EwaFilter::issue_cycles(const FilterStats& s) const {
@@ -739,44 +734,34 @@ TimingSpec EwaFilter::timing(const TechTable& tech) const {
   path.rcp += 1;
   path.mul += 1;
   path.cmp += 1;
-  TimingSpec t;
-  t.latency = static_cast<uint32_t>(std::ceil(tech.path_latency(path)));
-  t.ii = 1;
-  t.lanes = static_cast<uint32_t>(std::max(cfg_.lanes, 1));
   OpCounts units = footprint_setup_ops() + level_select_ops() + budget_iteration_ops() +
                    level_setup_ops() + row_ops(cfg_.scan) + normalise_ops();
-  OpCounts lane = ops_per_visit() + ops_per_inside();
+  OpCounts lane = ops_per_item() + ops_per_inside();
   lane.mem = 0;
-  double cut_area = 0;
   if (cfg_.edge == Edge::Vd) {
     // Per lane the distance datapath and vd.lanes cut-off units; the band set-up once.
     const SubtexelCutoff cut = cutoff();
     units += ops_edge_setup();
     OpCounts dist = ops_per_edge_texel();
-    const OpCounts c = cut.ops();
+    const OpCounts c = cut.ops_per_item();
     dist.add -= c.add;
     dist.mul -= c.mul;
     dist.cmp -= c.cmp;
     dist.lut -= c.lut;
-    lane += dist;
-    cut_area = cut.timing(tech).area;
+    lane += dist + c * cut.config().lanes;
   }
-  t.area = tech.area_of(units) + (tech.area_of(lane) + cut_area) * static_cast<double>(t.lanes);
-  return t;
+  return derive_timing(tech, lane, path, Datapath::Spatial,
+                       static_cast<uint32_t>(std::max(cfg_.lanes, 1)), units);
 }
 
 std::string EwaFilter::arithmetic() const {
   std::string q;
-  switch (cfg_.arith) {
-    case Arith::Float:
-      q = "float32 set-up and Q, float32 accumulation";
-      break;
-    case Arith::Double:
-      q = "double set-up, Q and accumulation";
-      break;
-    case Arith::Fixed:
-      q = "float32 set-up, Q in " + EwaQFixed::name() + ", float32 accumulation";
-      break;
+  if (cfg_.arith == NumberFormat::Double) {
+    q = "double set-up, Q and accumulation";
+  } else if (cfg_.arith == NumberFormat::S18_30) {
+    q = "float32 set-up, Q in " + EwaQFixed::name() + ", float32 accumulation";
+  } else {
+    q = "float32 set-up and Q, float32 accumulation";
   }
   switch (cfg_.weight) {
     case Weight::Lut:
@@ -798,7 +783,7 @@ std::string EwaFilter::arithmetic() const {
   }
   if (cfg_.edge == Edge::Vd) {
     q += "; " + cutoff().name() + " edge cut-off, boundary distance in " +
-         (cfg_.arith == Arith::Double ? "double" : "float32");
+         (cfg_.arith == NumberFormat::Double ? "double" : "float32");
   }
   return q;
 }

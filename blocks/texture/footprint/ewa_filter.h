@@ -25,6 +25,7 @@
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/subtexel/subtexel_cutoff.h"
 #include "rtl_model/number/fixed.h"
+#include "rtl_model/number/number_format.h"
 
 namespace texsim {
 
@@ -83,14 +84,17 @@ Rgba bilinear_fallback(const Texture& tex, int level, double u, double v, Addres
 // A fixed-point Q datapath: 18 integer bits (with sign) hold Q at the bounding-box corners of
 // footprints up to 256:1 anisotropy; 30 fraction bits keep the incremental drift along a row of
 // 1024 texels below 2.5·10⁻⁴ (docs/anisotropic-filters.md §1.4).
-using EwaQFixed = Fixed<18, 30, Signedness::Signed, Rounding::HalfEven, Overflow::Saturate>;
+using EwaQFixed = number_format_t<NumberFormat::S18_30>;
 
 class EwaFilter {
  public:
   enum class Weight : int { Lut, Exp, Pow8, Map, Uniform };
   enum class Mip : int { Nearest, Linear };
   enum class Scan : int { Box, RowSpan };
-  enum class Arith : int { Float, Double, Fixed };
+  // arith: "float", "double" or "fixed" (Q in EwaQFixed).
+  static constexpr NumberFormatChoices<NumberFormat::Float, NumberFormat::Double,
+                                       NumberFormat::S18_30>
+      kArith{{"float", "double", "fixed"}};
   enum class Edge : int { None, Vd };
 
   struct Config {
@@ -105,7 +109,7 @@ class EwaFilter {
     double minor_texels = 1.0;  // level: minor radius / 2^level ∈ [minor_texels, 2·minor_texels)
     Mip mip = Mip::Nearest;
     Scan scan = Scan::Box;
-    Arith arith = Arith::Float;
+    NumberFormat arith = NumberFormat::Float;
     AddressMode address_u = AddressMode::Wrap;
     AddressMode address_v = AddressMode::Wrap;
     int lanes = 4;  // texels whose weight is evaluated per cycle
@@ -160,9 +164,9 @@ class EwaFilter {
 
   // Scan cycles one fragment occupies: ⌈visited / lanes⌉, at least 1.
   uint32_t issue_cycles(const FilterStats& s) const;
-  // Operations per box texel (scan + inside test) and per texel inside (weight, address,
-  // read, multiply-accumulate).
-  OpCounts ops_per_visit() const;
+  // Item: one scanned box texel (scan + inside test); per texel inside: weight, address,
+  // read, multiply-accumulate.
+  OpCounts ops_per_item() const;
   OpCounts ops_per_inside() const;
   // With edge = "vd": per level, the band set-up (minor radius, Q threshold); per texel in the
   // band, the boundary distance, the cut-off and the weight's scaling.
@@ -173,6 +177,7 @@ class EwaFilter {
   TimingSpec timing(const TechTable& tech) const;
   // Name of the arithmetic for reports.
   std::string arithmetic() const;
+  std::string name() const { return "filter.ewa"; }
 
  private:
   void build_lut();

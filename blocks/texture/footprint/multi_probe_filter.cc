@@ -8,10 +8,13 @@
 #include <numbers>
 #include <type_traits>
 
+#include "blocks/base/block.h"
 #include "blocks/texture/sampler/texel_blend.h"
 #include "blocks/texture/subtexel/vd_evaluator_params.h"
 
 namespace texsim {
+
+static_assert(Block<MultiProbeFilter>);
 
 OpCounts probe_blend_ops() {
   OpCounts o;
@@ -20,7 +23,7 @@ OpCounts probe_blend_ops() {
   return o;
 }
 
-OpCounts trilinear_probe_blend_ops() { return TexelBlend::ops_per_tap() * 8 + probe_blend_ops(); }
+OpCounts trilinear_probe_blend_ops() { return TexelBlend::ops_per_item() * 8 + probe_blend_ops(); }
 
 OpCounts probe_normalise_ops() {
   OpCounts o;
@@ -53,7 +56,7 @@ FilterOutput run_probes(const TexelAddressGen& addr, const Texture& tex, const P
       if (fetched) fetched->push_back({tp.level, tp.x, tp.y});
       finest = std::min(finest, tp.level);
     }
-    ops += TexelBlend::ops_per_tap() * static_cast<uint64_t>(taps.count);
+    ops += TexelBlend::ops_per_item() * static_cast<uint64_t>(taps.count);
     ops += probe_blend_ops();
     out.stats.texels += static_cast<uint32_t>(taps.count);
     sum += probes.w[ku] * c;
@@ -74,7 +77,7 @@ FilterOutput run_probes(const TexelAddressGen& addr, const Texture& tex, const P
 }
 
 OpCounts probe_lane_ops(const TexelAddressGen& addr, const OpCounts& probe_setup) {
-  return probe_setup + addr.ops_per_probe(false) + trilinear_probe_blend_ops();
+  return probe_setup + addr.ops_per_item(false) + trilinear_probe_blend_ops();
 }
 
 TimingSpec probe_filter_timing(const TechTable& tech, const OpCounts& setup_path,
@@ -85,28 +88,14 @@ TimingSpec probe_filter_timing(const TechTable& tech, const OpCounts& setup_path
   tail.mul = 2;
   tail.add = 4;
   tail.rcp = 1;
-  TimingSpec t;
-  t.latency =
-      static_cast<uint32_t>(std::ceil(tech.path_latency(setup_path) + tech.path_latency(tail))) +
-      addr.timing(tech).latency;
-  t.ii = 1;
-  t.lanes = 1;
+  // One probe per cycle; the set-up and one probe's lane and normaliser exist once.
   OpCounts lane = probe_lane_ops(addr, probe_setup);
   lane.mem = 0;
-  t.area = tech.area_of(setup_ops) + tech.area_of(lane) + tech.area_of(probe_normalise_ops());
+  TimingSpec t =
+      derive_timing(tech, setup_ops, tech.path_latency(setup_path) + tech.path_latency(tail),
+                    Datapath::Spatial, 1, lane + probe_normalise_ops());
+  t.latency += addr.timing(tech).latency;  // the address generator's pipeline in series
   return t;
-}
-
-const char* to_string(ProbeArith a) {
-  switch (a) {
-    case ProbeArith::Float:
-      return "float";
-    case ProbeArith::Double:
-      return "double";
-    case ProbeArith::Fixed:
-      return "fixed";
-  }
-  return "?";
 }
 
 std::string ProbeFx::name() {
@@ -395,8 +384,8 @@ MultiProbeFilter::Config MultiProbeFilter::Config::from_toml(const ConfigReader&
   if (!(c.max_aniso >= 1) || !(c.max_aniso <= 1024)) r.fail("max_aniso", "must be in [1, 1024]");
   c.seed_theta = r.get_bool("seed_theta", c.seed_theta);
   c.temporal = r.get_bool("temporal", c.temporal);
-  c.arith = static_cast<ProbeArith>(
-      r.get_choice("arith", static_cast<int>(c.arith), {"float", "double", "fixed"}));
+  c.arith =
+      kProbeArith.at(r.get_choice("arith", kProbeArith.index_of(c.arith), kProbeArith.key_list()));
   const std::vector<std::string_view> modes = {"wrap", "clamp", "mirror"};
   c.address_u = static_cast<AddressMode>(r.get_choice("address_u", 0, modes));
   c.address_v = static_cast<AddressMode>(r.get_choice("address_v", 0, modes));
@@ -432,15 +421,14 @@ double MultiProbeFilter::major_angle(double suu, double suv, double svv, bool se
 ProbeSet MultiProbeFilter::probes(const Texture& tex, const Fragment& f, OpCounts& ops,
                                   FilterStats* st) const {
   ops += setup_ops();
-  switch (cfg_.arith) {
-    case ProbeArith::Float:
-      return probes_t<float>(tex, f, st);
-    case ProbeArith::Double:
-      return probes_t<double>(tex, f, st);
-    case ProbeArith::Fixed:
+  return kProbeArith.visit(cfg_.arith, [&](auto t) {
+    using T = decltype(t);
+    if constexpr (is_fixed_v<T>) {
       return probes_fixed(tex, f, st);
-  }
-  return {};
+    } else {
+      return probes_t<T>(tex, f, st);
+    }
+  });
 }
 
 template <class T>
@@ -580,7 +568,7 @@ FilterOutput MultiProbeFilter::filter(const Texture& tex, const Fragment& f,
 }
 
 OpCounts MultiProbeFilter::setup_ops() const {
-  if (cfg_.arith == ProbeArith::Fixed) {
+  if (cfg_.arith == NumberFormat::S16_24HalfUp) {
     OpCounts o = probe_footprint_fx_ops();
     // R_major, R_minor: 2 sqrt (digit recurrence). λ: leading one (cmp), log2 table (lut),
     // exponent + table, + log2 α, + bias (3 add). α·R_minor: mul. N: the divider, then
@@ -613,19 +601,18 @@ OpCounts MultiProbeFilter::probe_setup_ops() const {
   o.mul = 2 + 1;  // position k·(du, dv); float: d²·w_α, fixed: k²·c
   o.add = 2;      // centre + offset
   o.lut = 1;      // exp (fixed: the 2^-f table and a shift)
-  if (cfg_.arith == ProbeArith::Fixed) o.add += 1;  // the k² counter: (k + 1)² = k² + 2k + 1
+  if (cfg_.arith == NumberFormat::S16_24HalfUp)
+    o.add += 1;  // the k² counter: (k + 1)² = k² + 2k + 1
   return o;
 }
 
-OpCounts MultiProbeFilter::per_probe_ops() const {
-  return probe_lane_ops(addr_, probe_setup_ops());
-}
+OpCounts MultiProbeFilter::ops_per_item() const { return probe_lane_ops(addr_, probe_setup_ops()); }
 
 TimingSpec MultiProbeFilter::timing(const TechTable& tech) const {
   // Set-up: derivatives → Σ → eigenvalues → √ → N → step → position; then one probe's address
   // path and the blend, then normalisation.
   OpCounts path;
-  if (cfg_.arith == ProbeArith::Fixed) {
+  if (cfg_.arith == NumberFormat::S16_24HalfUp) {
     // Converter, Σ (mul, add), d (add), pre-rotation (cmp, add), normalisation (2 cmp),
     // vectoring, gain (mul),
     // λ₋ (add), clamp (mul, 2 cmp), √, α·R_minor (mul), divider, −1 (add), odd/clamp (cmp),
@@ -650,16 +637,12 @@ TimingSpec MultiProbeFilter::timing(const TechTable& tech) const {
 std::string MultiProbeFilter::arithmetic() const {
   const std::string probes =
       "; trilinear probes (float32 coordinates, u0.8 weights), float32 blend";
-  switch (cfg_.arith) {
-    case ProbeArith::Float:
-      return "float32 footprint set-up, axes/N/positions/weights in double" + probes;
-    case ProbeArith::Double:
-      return "double set-up" + probes;
-    case ProbeArith::Fixed:
-      return "fixed set-up (" + ProbeFx::name() +
-             "; CORDIC axes, digit-recurrence sqrt, log2/exp2 tables)" + probes;
+  if (cfg_.arith == NumberFormat::Double) return "double set-up" + probes;
+  if (cfg_.arith == NumberFormat::S16_24HalfUp) {
+    return "fixed set-up (" + ProbeFx::name() +
+           "; CORDIC axes, digit-recurrence sqrt, log2/exp2 tables)" + probes;
   }
-  return "?";
+  return "float32 footprint set-up, axes/N/positions/weights in double" + probes;
 }
 
 }  // namespace texsim

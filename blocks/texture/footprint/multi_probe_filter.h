@@ -28,6 +28,7 @@
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/sampler/texel_address_gen.h"
 #include "rtl_model/number/fixed.h"
+#include "rtl_model/number/number_format.h"
 
 namespace texsim {
 
@@ -63,9 +64,11 @@ OpCounts probe_blend_ops();
 OpCounts trilinear_probe_blend_ops();
 OpCounts probe_normalise_ops();
 
-// Set-up arithmetic of the probe filters (`arith` key of both blocks).
-enum class ProbeArith : int { Float, Double, Fixed };
-const char* to_string(ProbeArith a);
+// Set-up arithmetic of the probe filters (`arith` key of both blocks): "float", "double" or
+// "fixed" (the ProbeFx set below, named in the registry by its input format Deriv).
+inline constexpr NumberFormatChoices<NumberFormat::Float, NumberFormat::Double,
+                                     NumberFormat::S16_24HalfUp>
+    kProbeArith{{"float", "double", "fixed"}};
 
 // Fixed-point formats of the probe set-up (arith = "fixed"). Every format rounds half up (add
 // half an LSB, truncate) and saturates. Widths:
@@ -94,7 +97,7 @@ struct ProbeFx {
   using S = Fixed<I, F, Signedness::Signed, Rounding::HalfUp, Overflow::Saturate>;
   template <int I, int F>
   using U = Fixed<I, F, Signedness::Unsigned, Rounding::HalfUp, Overflow::Saturate>;
-  using Deriv = S<16, 24>;
+  using Deriv = number_format_t<NumberFormat::S16_24HalfUp>;  // = S<16, 24>
   using Sigma = S<34, 28>;
   using Angle = S<3, 28>;
   using Len = S<17, 24>;
@@ -169,7 +172,7 @@ class MultiProbeFilter {
     double max_aniso = 64;      // minor axis stretched to ≥ major/max_aniso before N is taken
     bool seed_theta = false;    // θ = atan(B/(A−C))/2 as printed (loses the quadrant)
     bool temporal = false;  // alternate probe subsets between frames (0, ±2, ±4 … / 0, ±1, ±3 …)
-    ProbeArith arith = ProbeArith::Float;  // set-up arithmetic (see the header comment)
+    NumberFormat arith = NumberFormat::Float;  // set-up arithmetic (see the header comment)
     AddressMode address_u = AddressMode::Wrap;
     AddressMode address_v = AddressMode::Wrap;
     // Keys: alpha, max_probes, weight_alpha, radius_px, max_aniso, seed_theta, temporal,
@@ -195,11 +198,13 @@ class MultiProbeFilter {
   // Cycles one fragment occupies the probe datapath: one probe per cycle.
   uint32_t issue_cycles(const FilterStats& s) const { return s.probes > 0 ? s.probes : 1; }
   OpCounts setup_ops() const;
-  OpCounts per_probe_ops() const;    // position, weight, address (trilinear), blend
+  // Item: one probe: position, weight, address (trilinear), blend.
+  OpCounts ops_per_item() const;
   OpCounts probe_setup_ops() const;  // per probe: position and weight only
   TimingSpec timing(const TechTable& tech) const;
   // Name of the arithmetic for reports.
   std::string arithmetic() const;
+  std::string name() const { return "filter.multi_probe"; }
 
  private:
   // The set-up in one number format (T = float or double; fixed point: probes_fixed).

@@ -6,9 +6,12 @@
 #include <limits>
 #include <type_traits>
 
+#include "blocks/base/block.h"
 #include "blocks/texture/sampler/texel_address_gen.h"
 
 namespace texsim {
+
+static_assert(Block<SpafFilter>);
 
 namespace {
 
@@ -101,8 +104,7 @@ SpafFilter::Config SpafFilter::Config::from_toml(const ConfigReader& r) {
   } else if (r.table().contains("vd")) {
     r.fail("vd", "is only used with coverage = \"vd\"");
   }
-  c.arith = static_cast<Arith>(
-      r.get_choice("arith", static_cast<int>(c.arith), {"float", "double", "fixed"}));
+  c.arith = kArith.at(r.get_choice("arith", kArith.index_of(c.arith), kArith.key_list()));
   return c;
 }
 
@@ -363,7 +365,7 @@ FilterOutput SpafFilter::filter_t(const Texture& tex, const Fragment& f,
       }
     }
     ops += per_row_ops() * rows;
-    ops += per_visit_ops() * visits;
+    ops += ops_per_item() * visits;
     ops += per_partial_edge_ops() * partials;
     ops += per_inside_ops() * insides;
     OpCounts norm;
@@ -403,15 +405,8 @@ template FilterOutput SpafFilter::filter_t<SpafFixed>(const Texture&, const Frag
 
 FilterOutput SpafFilter::filter(const Texture& tex, const Fragment& f,
                                 std::vector<TexelRef>* fetched, OpCounts& ops) const {
-  switch (cfg_.arith) {
-    case Arith::Float:
-      return filter_t<float>(tex, f, fetched, ops);
-    case Arith::Double:
-      return filter_t<double>(tex, f, fetched, ops);
-    case Arith::Fixed:
-      return filter_t<SpafFixed>(tex, f, fetched, ops);
-  }
-  return {};
+  return kArith.visit(cfg_.arith,
+                      [&](auto t) { return filter_t<decltype(t)>(tex, f, fetched, ops); });
 }
 
 uint32_t SpafFilter::issue_cycles(const FilterStats& s) const {
@@ -467,7 +462,7 @@ OpCounts SpafFilter::per_row_ops() const {
   return o;
 }
 
-OpCounts SpafFilter::per_visit_ops() const {
+OpCounts SpafFilter::ops_per_item() const {
   OpCounts o;
   o.add = 4;                      // four edge values stepped
   if (cfg_.gaussian) o.add += 2;  // Q stepped (dQ, Q)
@@ -478,7 +473,7 @@ OpCounts SpafFilter::per_visit_ops() const {
 OpCounts SpafFilter::per_partial_edge_ops() const {
   OpCounts o;
   if (cfg_.coverage == Coverage::Vd) {
-    o = cut_.ops() + SubtexelCutoff::fraction_extra_ops();
+    o = cut_.ops_per_item() + SubtexelCutoff::fraction_extra_ops();
     o.mul += 1;  // d = E·(−k)
     o.mul += 1;  // coverage product
     return o;
@@ -527,41 +522,31 @@ TimingSpec SpafFilter::timing(const TechTable& tech) const {
     path.lut += 1 + 1;  // mask table, popcount
     path.cmp += 1;      // AND
   }
-  TimingSpec t;
-  t.latency = static_cast<uint32_t>(std::ceil(tech.path_latency(path)));
-  t.ii = 1;
-  t.lanes = static_cast<uint32_t>(std::max(cfg_.lanes, 1));
   // Per lane: the edge and Q steppers, four edge units (mask table port or distance, ratio
   // and product), vd.lanes cut-off units, coverage, weight and MAC; one row stepper.
-  OpCounts lane = per_visit_ops() + per_inside_ops();
-  double cut_area = 0;
+  OpCounts lane = ops_per_item() + per_inside_ops();
   if (cfg_.coverage == Coverage::Vd) {
     OpCounts edge = SubtexelCutoff::fraction_extra_ops();
     edge.mul += 2;  // distance, product (per_partial_edge_ops without the cut-off itself)
-    lane += edge * 4;
-    cut_area = cut_.timing(tech).area;
+    lane += edge * 4 + cut_.ops_per_item() * cut_.config().lanes;
   } else {
     lane += per_partial_edge_ops() * 4;
   }
   lane.mem = 0;
   OpCounts shared = setup_ops() + per_row_ops();
-  if (cfg_.arith == Arith::Fixed) shared += fixed_guard_ops();
-  t.area = tech.area_of(shared) + (tech.area_of(lane) + cut_area) * static_cast<double>(t.lanes);
-  return t;
+  if (cfg_.arith == NumberFormat::S20_28HalfUp) shared += fixed_guard_ops();
+  return derive_timing(tech, lane, path, Datapath::Spatial,
+                       static_cast<uint32_t>(std::max(cfg_.lanes, 1)), shared);
 }
 
 std::string SpafFilter::arithmetic() const {
   std::string s;
-  switch (cfg_.arith) {
-    case Arith::Float:
-      s = "float32 set-up, edge functions and Q";
-      break;
-    case Arith::Double:
-      s = "double set-up, edge functions, Q and accumulation";
-      break;
-    case Arith::Fixed:
-      s = "float32 set-up; edge functions and Q in " + SpafFixed::name();
-      break;
+  if (cfg_.arith == NumberFormat::Double) {
+    s = "double set-up, edge functions, Q and accumulation";
+  } else if (cfg_.arith == NumberFormat::S20_28HalfUp) {
+    s = "float32 set-up; edge functions and Q in " + SpafFixed::name();
+  } else {
+    s = "float32 set-up, edge functions and Q";
   }
   if (cfg_.coverage == Coverage::Vd) {
     s += "; coverage from the " + cut_.name() + " cut-off per edge";
@@ -570,7 +555,7 @@ std::string SpafFilter::arithmetic() const {
     s += "; " + n + "x" + n + " sub-texel mask table, popcount";
   }
   if (cfg_.gaussian) s += "; Gaussian weight exp(-alpha Q)";
-  s += cfg_.arith == Arith::Double ? "" : "; float32 accumulation";
+  s += cfg_.arith == NumberFormat::Double ? "" : "; float32 accumulation";
   return s;
 }
 
