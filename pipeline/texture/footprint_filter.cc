@@ -1,6 +1,7 @@
 #include "pipeline/texture/footprint_filter.h"
 
 #include "blocks/base/block.h"
+#include "blocks/texture/footprint/ewa_filter.h"
 #include "blocks/texture/footprint/feline_filter.h"
 #include "blocks/texture/footprint/multi_probe_filter.h"
 #include "blocks/texture/footprint/spaf_filter.h"

@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "blocks/base/block.h"
+#include "blocks/texture/footprint/multi_probe_filter.h"
 #include "blocks/texture/subtexel/vd_evaluator_params.h"
 
 namespace texsim {

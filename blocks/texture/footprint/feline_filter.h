@@ -23,8 +23,9 @@
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
-#include "blocks/texture/footprint/ewa_filter.h"
-#include "blocks/texture/footprint/multi_probe_filter.h"
+#include "blocks/texture/footprint/footprint_types.h"
+#include "blocks/texture/footprint/probe_executor.h"
+#include "blocks/texture/footprint/probe_setup_fx.h"
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/sampler/texel_address_gen.h"
 

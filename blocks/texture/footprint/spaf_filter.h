@@ -20,7 +20,7 @@
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
-#include "blocks/texture/footprint/ewa_filter.h"
+#include "blocks/texture/footprint/footprint_types.h"
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/subtexel/subtexel_cutoff.h"
 #include "rtl_model/number/fixed.h"
