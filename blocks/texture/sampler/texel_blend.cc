@@ -21,7 +21,8 @@ TexelBlend::Config TexelBlend::Config::from_toml(const ConfigReader& r) {
 }
 
 TimingSpec TexelBlend::timing(const TechTable& tech) const {
-  const int levels = std::bit_width(static_cast<unsigned>(std::max(cfg_.taps_per_cycle, 1))) - 1;
+  const int levels =
+      static_cast<int>(std::bit_width(static_cast<unsigned>(std::max(cfg_.taps_per_cycle, 1)))) - 1;
   OpCounts path;
   path.mem = 1;
   path.mul = 1;

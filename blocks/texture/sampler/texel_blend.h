@@ -4,6 +4,7 @@
 // `taps_per_cycle` taps, the group sums accumulated in tap order.
 #include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -112,7 +113,7 @@ struct FetchRgba32f {
 // element passed up unchanged.
 inline F4 tree_sum(F4* prod, int n) {
   for (int width = n; width > 1; width = (width + 1) / 2) {
-    for (int k = 0; k < width / 2; ++k) prod[k] = prod[2 * k] + prod[2 * k + 1];
+    for (ptrdiff_t k = 0; k < width / 2; ++k) prod[k] = prod[2 * k] + prod[2 * k + 1];
     if (width & 1) prod[width / 2] = prod[width - 1];
   }
   return prod[0];

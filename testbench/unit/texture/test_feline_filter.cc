@@ -223,7 +223,7 @@ TEST(Feline, DoubleAndFixedAgainstLongDoubleReference) {
 }
 
 TEST(Feline, HardCasesDefinedInEveryArithmetic) {
-  std::vector<float> px(256 * 256 * 4);
+  std::vector<float> px(size_t{256} * 256 * 4);
   for (size_t i = 0; i < px.size(); ++i)
     px[i] = static_cast<float>((i * 2654435761u) % 1000) / 1000.0f;
   const Texture tex = Texture::from_rgba("n", 256, 256, px, TexelFormat::Rgba32f, true);
@@ -351,7 +351,7 @@ TEST(Feline, OpsAndTimingFollowTheArithmetic) {
     EXPECT_EQ(tx.ii, 1u);
     if (axis == FelineFilter::Axis::Ellipse) {
       EXPECT_EQ(sf.lut - sx.lut, 2u);  // atan2, cos, sin, log2 → 1/N, log2
-      EXPECT_GE(sx.add, sf.add + 2 * 3 * ProbeFx::kCordicSteps - 10);
+      EXPECT_GE(sx.add, sf.add + uint64_t{2} * 3 * ProbeFx::kCordicSteps - 10);
       EXPECT_GT(tx.latency, tf.latency + 2 * ProbeFx::kCordicSteps);
     } else {
       EXPECT_EQ(sx.lut, sf.lut + 1);      // the 1/N table

@@ -42,9 +42,7 @@ RefLod reference(const Fragment& f, int w, int h, AnisoMode mode, int max_aniso)
   const long double pmax = std::max(px, py), pmin = std::min(px, py);
   RefLod r{};
   r.ratio = pmin > 0 ? pmax / pmin : std::numeric_limits<long double>::infinity();
-  if (mode == AnisoMode::Isotropic) {
-    r.n = 1;
-  } else if (pmax == 0) {
+  if (mode == AnisoMode::Isotropic || pmax == 0) {
     r.n = 1;
   } else if (pmin == 0) {
     r.n = max_aniso;

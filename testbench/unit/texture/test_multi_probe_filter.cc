@@ -115,7 +115,7 @@ TEST(MultiProbe, TemporalSubsetsAlternate) {
 }
 
 TEST(MultiProbe, ConstantExactSmoothBoundedCountsAgree) {
-  std::vector<float> px(64 * 64 * 4, 0.375f);
+  std::vector<float> px(size_t{64} * 64 * 4, 0.375f);
   const Texture flat = Texture::from_rgba("c", 64, 64, px, TexelFormat::Rgba32f, true);
   const Texture tex = smooth_texture(256);
   const MultiProbeFilter mp;
@@ -208,7 +208,7 @@ RefProbes reference(const MultiProbeFilter::Config& c, const Fragment& f, int w0
                    : std::atan2(e.suv, e.d) / 2;
   const int half = (n - 1) / 2;
   for (int k = -half; k <= half; ++k) {
-    const auto i = static_cast<size_t>(k + half);
+    const auto i = static_cast<size_t>(k) + static_cast<size_t>(half);
     r.u[i] = f.u + k * step * std::cos(th) / w0;
     r.v[i] = f.v + k * step * std::sin(th) / h0;
     const L dd = k * step / r.len;
@@ -454,7 +454,7 @@ TEST(MultiProbe, OpsAndTimingFollowTheArithmetic) {
   EXPECT_EQ(sx.rcp, 0u);
   EXPECT_EQ(sx.div, 1u);
   EXPECT_EQ(sx.sqrt, 2u);
-  EXPECT_GE(sx.add, sf.add + 2 * 3 * ProbeFx::kCordicSteps - 10);
+  EXPECT_GE(sx.add, sf.add + uint64_t{2} * 3 * ProbeFx::kCordicSteps - 10);
   EXPECT_EQ(mx.probe_setup_ops().add, mf.probe_setup_ops().add + 1);
   // Latency: two CORDIC passes of add + compare per step in sequence.
   const TechTable tech = TechTable::defaults();

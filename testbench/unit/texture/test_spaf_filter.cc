@@ -67,7 +67,7 @@ TEST(Spaf, MaskTableAgainstExactMasksAndAreas) {
 
 TEST(Spaf, EdgesThroughTexelCentresHalfCover) {
   // An axis-aligned 4×4-texel quadrilateral whose edges pass through texel centres.
-  std::vector<float> px(16 * 16 * 4, 0.0f);
+  std::vector<float> px(size_t{16} * 16 * 4, 0.0f);
   // Mark texel (x, y) with its index in red so the weights can be recovered.
   const Texture tex = Texture::from_rgba("c", 16, 16, px, TexelFormat::Rgba32f, false);
   SpafFilter::Config c;
@@ -94,7 +94,7 @@ TEST(Spaf, EdgesThroughTexelCentresHalfCover) {
 }
 
 TEST(Spaf, ConstantExactSmoothBounded) {
-  std::vector<float> fl(64 * 64 * 4, 0.8f);
+  std::vector<float> fl(size_t{64} * 64 * 4, 0.8f);
   const Texture flat = Texture::from_rgba("f", 64, 64, fl, TexelFormat::Rgba32f, true);
   const int size = 256;
   std::vector<float> px(static_cast<size_t>(size) * size * 4);
@@ -147,7 +147,7 @@ TEST(Spaf, ConstantExactSmoothBounded) {
 // (no Gaussian) and a texture that is 1 on that ring and 0 inside, the result is
 // Σ ring weights / Σ weights = (16h + 4h²)/(16 + 16h + 4h²), h the coverage at d = 0.
 TEST(Spaf, VdCoverageOfTexelsCutThroughTheirCentres) {
-  std::vector<float> px(16 * 16 * 4, 0.0f);
+  std::vector<float> px(size_t{16} * 16 * 4, 0.0f);
   for (int y = 0; y < 16; ++y) {
     for (int x = 0; x < 16; ++x) {
       const bool ring = (x == 5 || x == 10 || y == 5 || y == 10);
@@ -310,7 +310,7 @@ TEST(Spaf, FixedAndFloatTrackDouble) {
 // The footprint lies along a row of texel centres, so its Gaussian weights do not underflow
 // (and V(d) coverage: masks of two close parallel edges can AND to nothing).
 TEST(Spaf, FixedRangeGuard) {
-  std::vector<float> fl(64 * 64 * 4, 0.8f);
+  std::vector<float> fl(size_t{64} * 64 * 4, 0.8f);
   const Texture flat = Texture::from_rgba("f", 64, 64, fl, TexelFormat::Rgba32f, true);
   SpafFilter::Config c;
   c.coverage = SpafFilter::Coverage::Vd;

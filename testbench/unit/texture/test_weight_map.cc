@@ -176,7 +176,7 @@ TEST(WeightMap, ConfigFromToml) {
 // EWA with a float radial-r² map of the same function equals EWA computing the weights, up to
 // the map's interpolation error.
 TEST(WeightMap, EwaWithMapMatchesComputedWeights) {
-  std::vector<float> px(64 * 64 * 4);
+  std::vector<float> px(size_t{64} * 64 * 4);
   std::mt19937 rng(8);
   std::uniform_real_distribution<float> uni(0, 1);
   for (float& p : px) p = uni(rng);
