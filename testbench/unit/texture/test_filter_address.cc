@@ -286,7 +286,8 @@ TEST(TexelAddressGen, RandomAgainstDoubleReference) {
   int ties = 0, n = 0;
   double worst_exact = 0, worst_quant = 0;
   for (auto [w, h] : sizes) {
-    const Texture tex = random_texture(w, h, static_cast<uint64_t>(w * 1000 + h));
+    const Texture tex =
+        random_texture(w, h, static_cast<uint64_t>(w) * 1000 + static_cast<uint64_t>(h));
     for (FilterMode f : {FilterMode::Nearest, FilterMode::Bilinear, FilterMode::Trilinear}) {
       for (AddressMode mu : {AddressMode::Wrap, AddressMode::Clamp, AddressMode::Mirror}) {
         for (AddressMode mv : {AddressMode::Wrap, AddressMode::Clamp, AddressMode::Mirror}) {
@@ -363,7 +364,8 @@ TEST(TexelAddressGen, AnisotropicProbesAreCentredAndAveraged) {
         FilterTaps one;
         g.taps(tex, 0.3f + off * lod.axis_u, 0.7f + off * lod.axis_v, lod_at(1.6f), one, ops);
         for (int j = 0; j < one.count; ++j) {
-          const TexelTap& a = t.tap[static_cast<size_t>(k * one.count + j)];
+          const TexelTap& a = t.tap[static_cast<size_t>(k) * static_cast<size_t>(one.count) +
+                                    static_cast<size_t>(j)];
           EXPECT_EQ(a.x, one.tap[j].x);
           EXPECT_EQ(a.y, one.tap[j].y);
           EXPECT_EQ(a.level, one.tap[j].level);
@@ -453,7 +455,7 @@ Rgba reference_blend(const FilterTaps& t, const Texture& tex, int g) {
     const int n = std::min(g, t.count - base);
     std::vector<Rgba> p;
     for (int k = 0; k < n; ++k) {
-      const TexelTap& tk = t.tap[static_cast<size_t>(base + k)];
+      const TexelTap& tk = t.tap[static_cast<size_t>(base) + static_cast<size_t>(k)];
       p.push_back(tex.texel(tk.level, tk.x, tk.y) * tk.w);
     }
     while (p.size() > 1) {

@@ -79,7 +79,7 @@ TEST(GaussianWeight, FixedPow8BitExactAndWithinBudget) {
   for (int64_t code = 0; code < (int64_t{1} << 16); ++code) {
     const Fx::Q q = Fx::Q::from_raw(code);
     int64_t expect = 0;
-    if (code < 16 * 2048) {
+    if (code < int64_t{16} * 2048) {
       const int64_t t = 32768 - code;
       const int64_t t2 = rhu(t * t, 15), t4 = rhu(t2 * t2, 15);
       expect = rhu(t4 * t4, 15);

@@ -160,7 +160,8 @@ TEST(VdEvaluators, P1SegmentsAtBreakpoints) {
   using In = VdFx16::In;
   for (int64_t code = 0; code <= 32768; ++code) {
     const long double x = static_cast<long double>(code) / 65536.0L;
-    const int expect = code * 1000 < 165 * 65536 ? 0 : (code * 1000 < 305 * 65536 ? 1 : 2);
+    const int expect =
+        code * 1000 < int64_t{165} * 65536 ? 0 : (code * 1000 < int64_t{305} * 65536 ? 1 : 2);
     ASSERT_EQ(VdEvaluatorP1::segment<VdFx16>(In::from_raw(code)), expect) << x;
   }
 }
