@@ -190,6 +190,4 @@ constexpr double format_unit() {
     return static_cast<double>(std::numeric_limits<T>::epsilon()) / 2;
 }
 
-// Timing from op counts: Datapath and derive_timing live in blocks/base/derive_timing.h.
-
 }  // namespace texsim
