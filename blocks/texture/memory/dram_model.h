@@ -37,7 +37,8 @@ class DramModel {
     o.mem = 1;
     return o;
   }
-  // The access latency; the channel's occupancy is modelled by read(), not by ii.
+  // The access latency (at least one cycle, as for every block); the channel's occupancy is
+  // modelled by read(), not by ii.
   TimingSpec timing(const TechTable& tech) const;
   static std::string name() { return "dram"; }
   static std::string arithmetic() { return "none (bandwidth-limited channel)"; }
