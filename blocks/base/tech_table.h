@@ -28,7 +28,7 @@ struct TechTable {
   // Defaults: a generic FPGA/ASIC-like float32 datapath (docs/timing-model.md explains them).
   static TechTable defaults();
   // Overrides defaults from a TOML table with keys latency.<kind>, area.<kind>, clock_mhz.
-  // Throws ConfigError naming the source, line, column and key on a bad value.
+  // Throws InputError naming the source, line, column and key on a bad value.
   static TechTable from_toml(const toml::table& t, const std::string& source);
 
   // Cycles along a critical path that performs `path` operations in sequence.

@@ -152,35 +152,4 @@ double linear_form_error_bound(long double a, long double b, long double c, long
   return 4.01 * unit * static_cast<double>(std::fabs(a * x) + std::fabs(b * y) + std::fabs(c));
 }
 
-Datapath parse_datapath(const ConfigReader& r, Datapath def) {
-  return static_cast<Datapath>(
-      r.get_choice("datapath", static_cast<int>(def), {"spatial", "shared"}));
-}
-
-const char* datapath_name(Datapath d) { return d == Datapath::Spatial ? "spatial" : "shared"; }
-
-TimingSpec derive_timing(const TechTable& t, const OpCounts& ops, const OpCounts& critical_path,
-                         Datapath dp, uint32_t lanes, const OpCounts& extra_area_ops) {
-  TimingSpec ts;
-  ts.lanes = std::max<uint32_t>(1, lanes);
-  const double path = t.path_latency(critical_path);
-  if (dp == Datapath::Spatial) {
-    ts.ii = 1;
-    ts.latency = std::max<uint32_t>(1, static_cast<uint32_t>(std::ceil(path)));
-    ts.area = t.area_of(ops) * ts.lanes + t.area_of(extra_area_ops);
-  } else {
-    uint64_t worst = 1;
-    OpCounts units;
-    for (int k = 0; k < kOpKinds; ++k) {
-      const auto kind = static_cast<OpKind>(k);
-      worst = std::max(worst, ops.get(kind));
-      if (ops.get(kind) > 0 || extra_area_ops.get(kind) > 0) units.at(kind) = 1;
-    }
-    ts.ii = static_cast<uint32_t>(worst);
-    ts.latency = std::max<uint32_t>(1, static_cast<uint32_t>(std::ceil(path)) + ts.ii - 1);
-    ts.area = t.area_of(units) * ts.lanes;
-  }
-  return ts;
-}
-
 }  // namespace texsim

@@ -2,13 +2,14 @@
 // ProjectiveMap: the 3x3 screen->texture map A..I of a textured plane seen by a pinhole camera,
 // in long double (the reference of every coordinate block); docs/coords-derivations.md §1.
 // Also the types shared by the coordinate-generation blocks (uv_*, derivatives_*,
-// ellipse_setup): their inputs (MapCoeffs<T>, RowSpan), outputs (CoordSample, CoordDerivs) and the
-// derivation of a TimingSpec from op counts (Datapath), so that every block charges time alike.
+// ellipse_setup): their inputs (MapCoeffs<T>, RowSpan) and outputs (CoordSample, CoordDerivs);
+// timing comes from the shared derivation in blocks/base/derive_timing.h.
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
 
+#include "blocks/base/derive_timing.h"
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
@@ -188,23 +189,5 @@ constexpr double format_unit() {
   else
     return static_cast<double>(std::numeric_limits<T>::epsilon()) / 2;
 }
-
-// ----- Timing from op counts -----
-
-// How a block's operations map onto operators.
-//  Spatial: one operator instance per operation of the data-flow graph, fully pipelined:
-//           II = 1, latency = critical path, area = all operators.
-//  Shared:  one operator of each kind the block uses, time-multiplexed (a compact FPGA block,
-//           or the ALU of a shader core): II = max over kinds of ops of that kind, latency =
-//           critical path + II - 1, area = one operator per kind used.
-enum class Datapath { Spatial, Shared };
-Datapath parse_datapath(const ConfigReader& r, Datapath def);
-const char* datapath_name(Datapath d);
-
-// TimingSpec for `ops` per item whose longest dependent chain is `critical_path`;
-// `extra_area_ops` adds operators that exist beside the per-item datapath (e.g. a row
-// set-up unit) to the area.
-TimingSpec derive_timing(const TechTable& t, const OpCounts& ops, const OpCounts& critical_path,
-                         Datapath dp, uint32_t lanes = 1, const OpCounts& extra_area_ops = {});
 
 }  // namespace texsim

@@ -94,7 +94,7 @@ StudyFilterMethod ewa_method(const std::string& name, const std::string& family,
   const bool mapped = c.weight == EwaFilter::Weight::Map && map;
   std::pair<uint32_t, double> map_read{0, 0};
   if (mapped) {
-    const OpCounts r = map->ops_per_read();
+    const OpCounts r = map->ops_per_item();
     map_read = {static_cast<uint32_t>(r.mem), static_cast<double>(r.arithmetic())};
   }
   StudyFilterMethod m =
@@ -113,10 +113,10 @@ void add_ewa_variants(std::vector<StudyFilterMethod>& out, const EwaFilter::Conf
   d.lut_bits = 8;
   out.push_back(ewa_method("ewa lut32 u0.8", "ewa", d));
   d = c;
-  d.arith = EwaFilter::Arith::Fixed;
+  d.arith = NumberFormat::S18_30;
   out.push_back(ewa_method("ewa lut256 fixed Q", "ewa", d));
   d = c;
-  d.arith = EwaFilter::Arith::Double;
+  d.arith = NumberFormat::Double;
   d.weight = EwaFilter::Weight::Exp;
   out.push_back(ewa_method("ewa exp double", "ewa", d));
   d = c;
@@ -134,8 +134,8 @@ void add_ewa_variants(std::vector<StudyFilterMethod>& out, const EwaFilter::Conf
   out.push_back(ewa_method("ewa lut256 minor 2 texels", "ewa", d));
   // V(d) sub-texel cut-off of the texels within half a texel of the ellipse boundary.
   for (const auto& [k, fk, label] :
-       {std::tuple{VdEvaluatorKind::Exact, VdFormatKind::Double, "exact double"},
-        std::tuple{VdEvaluatorKind::P2, VdFormatKind::Fx16, "P2 fx16"}}) {
+       {std::tuple{VdEvaluatorKind::Exact, NumberFormat::Double, "exact double"},
+        std::tuple{VdEvaluatorKind::P2, NumberFormat::Fx16, "P2 fx16"}}) {
     d = c;
     d.edge = EwaFilter::Edge::Vd;
     d.vd.evaluator = k;
@@ -224,7 +224,7 @@ void add_probe_methods(std::vector<StudyFilterMethod>& out) {
   mp2.temporal = true;
   multi("multi-ellipse probes α=1, half per frame", mp2, kProbeArith);
   mp2 = mp;
-  mp2.arith = ProbeArith::Fixed;
+  mp2.arith = NumberFormat::S16_24HalfUp;
   multi("multi-ellipse probes α=1 max 15, fixed", mp2, "");
   out.back().compare_to = "multi-ellipse probes α=1 max 15";
   const auto feline = [&](const std::string& name, const FelineFilter::Config& c,
@@ -234,7 +234,7 @@ void add_probe_methods(std::vector<StudyFilterMethod>& out) {
   FelineFilter::Config fc;
   feline("feline (major axis, Gaussian) max 16", fc, kProbeArith);
   FelineFilter::Config fx = fc;
-  fx.arith = ProbeArith::Fixed;
+  fx.arith = NumberFormat::S16_24HalfUp;
   feline("feline (major axis, Gaussian) max 16, fixed", fx, "");
   out.back().compare_to = "feline (major axis, Gaussian) max 16";
   fc.axis = FelineFilter::Axis::Parallelogram;
@@ -258,22 +258,22 @@ void add_spaf_methods(std::vector<StudyFilterMethod>& out) {
   // edge-function/Q datapath in double and fixed point.
   struct VdRow {
     VdEvaluatorKind k;
-    VdFormatKind f;
+    NumberFormat f;
     uint32_t units;
     int budget;
     const char* label;
   };
   for (const VdRow& vr :
-       {VdRow{VdEvaluatorKind::Exact, VdFormatKind::Double, 1, 64, "exact double"},
-        VdRow{VdEvaluatorKind::Exact, VdFormatKind::Fx16, 1, 64, "exact fx16"},
-        VdRow{VdEvaluatorKind::P3, VdFormatKind::Fx16, 1, 64, "P3 fx16"},
-        VdRow{VdEvaluatorKind::P2, VdFormatKind::Float, 1, 64, "P2 float"},
-        VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 1, 64, "P2 fx16"},
-        VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 4, 64, "P2 fx16 x4 units"},
-        VdRow{VdEvaluatorKind::P1, VdFormatKind::Fx16, 1, 64, "P1 fx16"},
-        VdRow{VdEvaluatorKind::P1, VdFormatKind::Fx8, 1, 64, "P1 fx8"},
-        VdRow{VdEvaluatorKind::Exact, VdFormatKind::Double, 1, 256, "exact double"},
-        VdRow{VdEvaluatorKind::P2, VdFormatKind::Fx16, 1, 256, "P2 fx16"}}) {
+       {VdRow{VdEvaluatorKind::Exact, NumberFormat::Double, 1, 64, "exact double"},
+        VdRow{VdEvaluatorKind::Exact, NumberFormat::Fx16, 1, 64, "exact fx16"},
+        VdRow{VdEvaluatorKind::P3, NumberFormat::Fx16, 1, 64, "P3 fx16"},
+        VdRow{VdEvaluatorKind::P2, NumberFormat::Float, 1, 64, "P2 float"},
+        VdRow{VdEvaluatorKind::P2, NumberFormat::Fx16, 1, 64, "P2 fx16"},
+        VdRow{VdEvaluatorKind::P2, NumberFormat::Fx16, 4, 64, "P2 fx16 x4 units"},
+        VdRow{VdEvaluatorKind::P1, NumberFormat::Fx16, 1, 64, "P1 fx16"},
+        VdRow{VdEvaluatorKind::P1, NumberFormat::Fx8, 1, 64, "P1 fx8"},
+        VdRow{VdEvaluatorKind::Exact, NumberFormat::Double, 1, 256, "exact double"},
+        VdRow{VdEvaluatorKind::P2, NumberFormat::Fx16, 1, 256, "P2 fx16"}}) {
     SpafFilter::Config vc;
     vc.texel_budget = vr.budget;
     vc.coverage = SpafFilter::Coverage::Vd;
@@ -285,12 +285,12 @@ void add_spaf_methods(std::vector<StudyFilterMethod>& out) {
   for (int budget : {64, 256}) {
     SpafFilter::Config fc2;
     fc2.texel_budget = budget;
-    fc2.arith = SpafFilter::Arith::Fixed;
+    fc2.arith = NumberFormat::S20_28HalfUp;
     spaf("spaf 4x4 mask, budget " + std::to_string(budget) + ", fixed " + SpafFixed::name(), fc2,
          "");
   }
   SpafFilter::Config dc;
-  dc.arith = SpafFilter::Arith::Double;
+  dc.arith = NumberFormat::Double;
   spaf("spaf 4x4 mask, budget 64, double", dc, "");
 }
 

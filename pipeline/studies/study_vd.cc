@@ -69,7 +69,7 @@ long double value_at(long double d) {
 
 // Final figures: the maximum re-evaluated against MPFR at the arg max.
 template <class Ev, class Fmt>
-VdErrorStats finish(const ErrAcc& acc, VdFormatKind f, std::string sweep) {
+VdErrorStats finish(const ErrAcc& acc, NumberFormat f, std::string sweep) {
   VdErrorStats s;
   s.evaluator = Ev::kKind;
   s.format = f;
@@ -85,7 +85,7 @@ VdErrorStats finish(const ErrAcc& acc, VdFormatKind f, std::string sweep) {
 }
 
 template <class Ev, class Fmt>
-VdErrorStats measure_typed(VdFormatKind f, uint64_t grid) {
+VdErrorStats measure_typed(NumberFormat f, uint64_t grid) {
   using In = typename Fmt::In;
   const Ev ev;
   ErrAcc acc;
@@ -136,13 +136,13 @@ std::string fmt_e(double v, int prec = 3) {
   return buf;
 }
 
-std::string format_label(VdFormatKind f) {
+std::string format_label(NumberFormat f) {
   return visit_vd_format(f, [](auto fmt) { return decltype(fmt)::name(); });
 }
 
 }  // namespace
 
-VdErrorStats measure_vd_error(VdEvaluatorKind k, VdFormatKind f, uint64_t grid) {
+VdErrorStats measure_vd_error(VdEvaluatorKind k, NumberFormat f, uint64_t grid) {
   return visit_vd_evaluator(k, [&](auto ev) {
     using Ev = decltype(ev);
     return visit_vd_format(f, [&](auto fmt) { return measure_typed<Ev, decltype(fmt)>(f, grid); });
@@ -171,10 +171,10 @@ std::array<VdErrorStats, 4> measure_vd_error_all_floats(std::ostream* progress) 
     if (b == last) break;
   }
   const std::string sweep = "every float in [0, 0.5] (" + std::to_string(uint64_t{last} + 1) + ")";
-  return {finish<VdEvaluatorExact, Fmt>(acc[0], VdFormatKind::Float, sweep),
-          finish<VdEvaluatorP3, Fmt>(acc[1], VdFormatKind::Float, sweep),
-          finish<VdEvaluatorP2, Fmt>(acc[2], VdFormatKind::Float, sweep),
-          finish<VdEvaluatorP1, Fmt>(acc[3], VdFormatKind::Float, sweep)};
+  return {finish<VdEvaluatorExact, Fmt>(acc[0], NumberFormat::Float, sweep),
+          finish<VdEvaluatorP3, Fmt>(acc[1], NumberFormat::Float, sweep),
+          finish<VdEvaluatorP2, Fmt>(acc[2], NumberFormat::Float, sweep),
+          finish<VdEvaluatorP1, Fmt>(acc[3], NumberFormat::Float, sweep)};
 }
 
 VdSigmaFit vd_best_sigma(VdEvaluatorKind k, double lo, double hi) {
@@ -320,7 +320,7 @@ VdPolyFit vd_minimax_fit(int degree, bool pin_half) {
   return fit;
 }
 
-CutoffErrorStats measure_cutoff_error(VdEvaluatorKind k, VdFormatKind f) {
+CutoffErrorStats measure_cutoff_error(VdEvaluatorKind k, NumberFormat f) {
   SubtexelCutoff::Config cfg;
   cfg.evaluator = k;
   const SubtexelCutoff cut(cfg);
@@ -386,11 +386,11 @@ struct VdRow {
 std::vector<VdRow> measure_vd_rows(const TechTable& tech, std::ostream& log) {
   std::vector<VdRow> rows;
   for (VdEvaluatorKind k : kVdEvaluatorKinds) {
-    for (VdFormatKind f : kVdFormatKinds) {
+    for (NumberFormat f : kVdFormatKinds) {
       VdRow r;
       r.s = measure_vd_error(k, f);
       visit_vd_evaluator(k, [&](auto ev) {
-        r.ops = ev.ops();
+        r.ops = ev.ops_per_item();
         r.timing = ev.timing(tech);
       });
       r.claim = vd_seed_claim(k);
@@ -437,7 +437,7 @@ std::string vd_error_section(const std::vector<VdRow>& rows) {
     << t.markdown();
   o << "\nSweeps: fixed formats — every input code in [0, 0.5]; float/double — ";
   for (const VdRow& r : rows) {
-    if (r.s.format == VdFormatKind::Float) {
+    if (r.s.format == NumberFormat::Float) {
       o << r.s.sweep << ".\n\n";
       break;
     }
@@ -471,7 +471,7 @@ std::string vd_fit_section(const std::vector<VdRow>& rows) {
     std::string cs;
     for (double c : r.fit.coef) cs += (cs.empty() ? "" : ", ") + fmt_g(c, 6);
     const auto seed = std::find_if(rows.begin(), rows.end(), [&](const VdRow& row) {
-      return row.s.evaluator == r.seed && row.s.format == VdFormatKind::Double;
+      return row.s.evaluator == r.seed && row.s.format == NumberFormat::Double;
     });
     const double claim = vd_seed_claim(r.seed).value_or(0);
     rt.add({r.what, cs, fmt_e(r.fit.max_abs), fmt_g(r.fit.argmax_d, 5), fmt_e(seed->s.max_abs),
@@ -494,7 +494,7 @@ std::string vd_cutoff_section() {
   StudyTable t(
       {"evaluator", "format", "max abs error", "at d", "jump at d = 0", "min before clamp"});
   for (VdEvaluatorKind k : kVdEvaluatorKinds) {
-    for (VdFormatKind f : {VdFormatKind::Double, VdFormatKind::Fx16}) {
+    for (NumberFormat f : {NumberFormat::Double, NumberFormat::Fx16}) {
       const CutoffErrorStats c = measure_cutoff_error(k, f);
       t.add({std::string(vd_evaluator_name(k)), format_label(f), fmt_e(c.max_abs),
              fmt_g(c.argmax_d, 6), fmt_e(c.jump_at_zero), fmt_e(c.min_unclamped)});

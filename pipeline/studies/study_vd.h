@@ -21,7 +21,7 @@ long double vd_reference_mpfr(long double d);
 
 struct VdErrorStats {
   VdEvaluatorKind evaluator = VdEvaluatorKind::Exact;
-  VdFormatKind format = VdFormatKind::Double;
+  NumberFormat format = NumberFormat::Double;
   double max_abs = 0;        // max over the sweep of |V̂(d) − Φ(d/σ)| (MPFR at the arg max)
   double argmax_d = 0;       // the (first) input where it occurs
   double signed_at_max = 0;  // V̂ − Φ there
@@ -33,7 +33,7 @@ struct VdErrorStats {
 // Fixed formats: every representable input in [0, 0.5]. float/double: the grid
 // d_i = 0.5·i/grid (i = 0..grid, rounded into the format) plus every float/double within
 // 2^20 steps of the grid's arg max.
-VdErrorStats measure_vd_error(VdEvaluatorKind k, VdFormatKind f, uint64_t grid = 10'000'000);
+VdErrorStats measure_vd_error(VdEvaluatorKind k, NumberFormat f, uint64_t grid = 10'000'000);
 
 // Every float in [0, 0.5] (about 1.06·10^9 inputs) for all four evaluators at once, with a
 // double-precision reference (erfc), the maximum then re-evaluated with MPFR. Takes tens of
@@ -71,7 +71,7 @@ struct CutoffErrorStats {
   uint64_t points = 0;
 };
 // Double: grid of 2·10^6 + 1 points; fixed formats: every s1.F code in [−0.5, 0.5].
-CutoffErrorStats measure_cutoff_error(VdEvaluatorKind k, VdFormatKind f);
+CutoffErrorStats measure_cutoff_error(VdEvaluatorKind k, NumberFormat f);
 
 // Writes vd.csv, vd.md and vd.png into out_dir (created if missing); returns 0 on success.
 // Progress and a summary go to `log`. Runs in a few seconds on one core.

@@ -140,22 +140,22 @@ class CoordGenImpl final : public CoordGenerator {
     switch (kind_) {
       case CoordKind::Heckbert:
       case CoordKind::HeckbertRcp:
-        return hd_.pixel_ops();
+        return hd_.ops_per_item();
       case CoordKind::Incremental:
       case CoordKind::IncrementalK4:
       case CoordKind::IncrementalBidir:
-        return inc_.pixel_ops();
+        return inc_.ops_per_item();
       case CoordKind::Affine:
       case CoordKind::Quadratic:
       case CoordKind::Cubic:
       case CoordKind::Affine16:
       case CoordKind::Quadratic32:
-        return ap_.pixel_ops();
+        return ap_.ops_per_item();
       case CoordKind::Biquadratic:
       case CoordKind::Bicubic:
-        return at_.pixel_ops();
+        return at_.ops_per_item();
       case CoordKind::ConstantDepth:
-        return cd_.pixel_ops();
+        return cd_.ops_per_item();
     }
     return {};
   }
@@ -190,14 +190,14 @@ class CoordGenImpl final : public CoordGenerator {
     switch (kind_) {
       case CoordKind::Heckbert:
       case CoordKind::HeckbertRcp:
-        pix = hd_.pixel_ops();
+        pix = hd_.ops_per_item();
         run_rows([&](const RowSpan& r, CoordSample* o) { hd_.eval_row(mc, r, o); });
         rows = 0;  // no row set-up
         break;
       case CoordKind::Incremental:
       case CoordKind::IncrementalK4:
       case CoordKind::IncrementalBidir:
-        pix = inc_.pixel_ops();
+        pix = inc_.ops_per_item();
         row = inc_.row_setup_ops();
         row_lat = lat(inc_.row_setup_timing(t));
         run_rows([&](const RowSpan& r, CoordSample* o) { inc_.eval_row(mc, r, o); });
@@ -207,7 +207,7 @@ class CoordGenImpl final : public CoordGenerator {
       case CoordKind::Cubic:
       case CoordKind::Affine16:
       case CoordKind::Quadratic32:
-        pix = ap_.pixel_ops();
+        pix = ap_.ops_per_item();
         row = ap_.row_setup_ops();
         row_lat = lat(ap_.row_setup_timing(t));
         // Each segment is a span with its own set-up.
@@ -223,7 +223,7 @@ class CoordGenImpl final : public CoordGenerator {
         break;
       case CoordKind::Biquadratic:
       case CoordKind::Bicubic: {
-        pix = at_.pixel_ops();
+        pix = at_.ops_per_item();
         row = at_.row_setup_ops();
         trio = at_.triangle_setup_ops();
         row_lat = lat(at_.row_setup_timing(t));
@@ -238,7 +238,7 @@ class CoordGenImpl final : public CoordGenerator {
         break;
       }
       case CoordKind::ConstantDepth:
-        pix = cd_.pixel_ops();
+        pix = cd_.ops_per_item();
         row = cd_.row_setup_ops();
         trio = cd_.triangle_setup_ops();
         row_lat = lat(cd_.row_setup_timing(t));
@@ -370,14 +370,14 @@ class DerivGenImpl final : public DerivGenerator {
   OpCounts pixel_ops() const override {
     switch (kind_) {
       case DerivKind::Analytic:
-        return an_.pixel_ops();
+        return an_.ops_per_item();
       case DerivKind::Quad:
-        return qd_.pixel_ops();
+        return qd_.ops_per_item();
       case DerivKind::HeckbertFd:
       case DerivKind::AcceleratedFd:
-        return fd_.pixel_ops();
+        return fd_.ops_per_item();
       case DerivKind::Iterative:
-        return it_.pixel_ops();
+        return it_.ops_per_item();
     }
     return {};
   }
@@ -391,17 +391,17 @@ class DerivGenImpl final : public DerivGenerator {
     DerivativesIterative::Setup<T> st;
     switch (kind_) {
       case DerivKind::Analytic:
-        pix = an_.pixel_ops();
+        pix = an_.ops_per_item();
         break;
       case DerivKind::Quad:
-        pix = qd_.pixel_ops();
+        pix = qd_.ops_per_item();
         break;
       case DerivKind::HeckbertFd:
       case DerivKind::AcceleratedFd:
-        pix = fd_.pixel_ops();
+        pix = fd_.ops_per_item();
         break;
       case DerivKind::Iterative:
-        pix = it_.pixel_ops();
+        pix = it_.ops_per_item();
         row = it_.row_setup_ops();
         trio = it_.triangle_setup_ops();
         row_lat = lat(it_.row_setup_timing(t));
@@ -449,7 +449,7 @@ class DerivGenImpl final : public DerivGenerator {
     if (kind_ == DerivKind::Quad) {
       // Helper pixels of partly covered quads still run the coordinate datapath.
       const uint64_t helpers = 4 * quads.size() - pixels;
-      ops += helper_.pixel_ops() * helpers;
+      ops += helper_.ops_per_item() * helpers;
     }
   }
 
@@ -484,7 +484,7 @@ class EllipseGenImpl final : public EllipseGenerator {
     s.timing = es_.timing(t);
     return s;
   }
-  OpCounts pixel_ops() const override { return es_.pixel_ops(); }
+  OpCounts pixel_ops() const override { return es_.ops_per_item(); }
   EllipseCoeffs eval(const CoordDerivs& d) const override { return es_.eval<T>(d); }
 
  private:

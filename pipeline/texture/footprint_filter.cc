@@ -1,5 +1,7 @@
 #include "pipeline/texture/footprint_filter.h"
 
+#include "blocks/base/block.h"
+#include "blocks/texture/footprint/ewa_filter.h"
 #include "blocks/texture/footprint/feline_filter.h"
 #include "blocks/texture/footprint/multi_probe_filter.h"
 #include "blocks/texture/footprint/spaf_filter.h"
@@ -9,31 +11,28 @@ namespace texsim {
 
 namespace {
 
-template <class Block>
+template <Block B>
 class FootprintFilterOf final : public FootprintFilter {
  public:
-  FootprintFilterOf(Block block, std::string name)
-      : block_(std::move(block)), name_(std::move(name)) {}
+  explicit FootprintFilterOf(B block) : block_(std::move(block)) {}
   FilterOutput filter(const Texture& tex, const Fragment& f, std::vector<TexelRef>* fetched,
                       OpCounts& ops) const override {
     return block_.filter(tex, f, fetched, ops);
   }
   uint32_t issue_cycles(const FilterStats& s) const override { return block_.issue_cycles(s); }
   TimingSpec timing(const TechTable& tech) const override { return block_.timing(tech); }
-  std::string name() const override { return name_; }
+  std::string name() const override { return block_.name(); }
   std::string arithmetic() const override { return block_.arithmetic(); }
   AddressMode address_u() const override { return block_.config().address_u; }
   AddressMode address_v() const override { return block_.config().address_v; }
 
  private:
-  Block block_;
-  std::string name_;
+  B block_;
 };
 
-template <class Block>
+template <Block B>
 std::unique_ptr<FootprintFilter> make(const ConfigReader& r, std::string_view key) {
-  return std::make_unique<FootprintFilterOf<Block>>(Block(Block::Config::from_toml(r.sub(key))),
-                                                    "filter." + std::string(key));
+  return std::make_unique<FootprintFilterOf<B>>(B(B::Config::from_toml(r.sub(key))));
 }
 
 // EWA, with the weight map its `weight_map` table describes when weight = "map" (the map's
@@ -48,7 +47,7 @@ std::unique_ptr<FootprintFilter> make_ewa(const ConfigReader& material) {
     if (!mr.table().contains("alpha")) m.alpha = cfg.alpha;
     map = std::make_shared<const WeightMap>(m);
   }
-  return std::make_unique<FootprintFilterOf<EwaFilter>>(EwaFilter(cfg, map), "filter.ewa");
+  return std::make_unique<FootprintFilterOf<EwaFilter>>(EwaFilter(cfg, map));
 }
 
 }  // namespace

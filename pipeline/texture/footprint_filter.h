@@ -10,7 +10,7 @@
 #include "blocks/base/fragment.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
-#include "blocks/texture/footprint/ewa_filter.h"
+#include "blocks/texture/footprint/footprint_types.h"
 #include "blocks/texture/memory/texture_memory.h"
 
 namespace texsim {

@@ -332,14 +332,10 @@ std::vector<BlockUse> TextureUnit::material_blocks(int material) const {
   const uint64_t taps = p.probes * static_cast<uint64_t>(p.addr.taps_per_probe());
   const OpCounts addr_ops =
       p.addr.ops_setup(false) * iso + p.addr.ops_setup(true) * p.aniso_fragments +
-      p.addr.ops_per_probe(false) * iso + p.addr.ops_per_probe(true) * aniso_probes;
-  add("lod", "float32, log2 by table", p.lod.timing(tech_), p.lod.ops_per_fragment() * p.fragments);
-  add(std::string("filter.") + to_string(p.addr.config().filter),
-      "float32 coordinates; weights in u0." + std::to_string(p.addr.config().sub_texel_bits) +
-          ", mip fraction u0." + std::to_string(p.addr.config().mipmap_bits),
-      p.addr.timing(tech_), addr_ops, taps);
-  add("blend", "float32 multiply-accumulate", blend_.timing(tech_),
-      TexelBlend::ops_per_tap() * taps);
+      p.addr.ops_per_item(false) * iso + p.addr.ops_per_item(true) * aniso_probes;
+  add(p.lod.name(), p.lod.arithmetic(), p.lod.timing(tech_), p.lod.ops_per_item() * p.fragments);
+  add(p.addr.name(), p.addr.arithmetic(), p.addr.timing(tech_), addr_ops, taps);
+  add(blend_.name(), blend_.arithmetic(), blend_.timing(tech_), TexelBlend::ops_per_item() * taps);
   return out;
 }
 
@@ -375,8 +371,8 @@ std::vector<BlockUse> TextureUnit::blocks() const {
     out.push_back(v);
   }
   BlockUse c;
-  c.name = "cache";
-  c.arithmetic = "tag compare";
+  c.name = TextureCache::name();
+  c.arithmetic = TextureCache::arithmetic();
   c.timing.latency = setup_.cache.hit_latency;
   c.ops.mem = texels;  // every texel a filter fetched is one read through the cache
   c.texels = texels;

@@ -139,10 +139,8 @@ class Fixed {
         if (guard >= 2) r = floor_q + 1;
         break;
       case Rounding::HalfEven:
-        if (guard > 2 || (guard == 2 && sticky))
-          r = floor_q + 1;
-        else if (guard == 2 && !sticky && (floor_q & 1))
-          r = floor_q + 1;
+        // Above half, or exactly half (no sticky bit) with an odd quotient: round up.
+        if (guard > 2 || (guard == 2 && (sticky || (floor_q & 1) != 0))) r = floor_q + 1;
         break;
     }
     return from_wide(r);

@@ -137,7 +137,7 @@ void BM_Ewa(benchmark::State& state, EwaFilter::Config c, bool timing) {
   run_block(state, EwaFilter(c), timing);
 }
 
-EwaFilter::Config ewa_cfg(EwaFilter::Weight w, EwaFilter::Arith a = EwaFilter::Arith::Float) {
+EwaFilter::Config ewa_cfg(EwaFilter::Weight w, NumberFormat a = NumberFormat::Float) {
   EwaFilter::Config c;
   c.weight = w;
   c.arith = a;
@@ -154,12 +154,12 @@ void BM_EwaMap(benchmark::State& state, WeightMap::Kind k, bool timing) {
   run_block(state, EwaFilter(c, std::make_shared<const WeightMap>(m)), timing);
 }
 
-void BM_MultiProbe(benchmark::State& state, ProbeArith a, bool timing) {
+void BM_MultiProbe(benchmark::State& state, NumberFormat a, bool timing) {
   MultiProbeFilter::Config c;
   c.arith = a;
   run_block(state, MultiProbeFilter(c), timing);
 }
-void BM_Feline(benchmark::State& state, ProbeArith a, bool timing) {
+void BM_Feline(benchmark::State& state, NumberFormat a, bool timing) {
   FelineFilter::Config c;
   c.arith = a;
   run_block(state, FelineFilter(c), timing);
@@ -172,11 +172,10 @@ void BM_Spaf(benchmark::State& state, SpafFilter::Config c, bool timing) {
 SubtexelCutoff::Config vd_p2_fx16() {
   SubtexelCutoff::Config v;
   v.evaluator = VdEvaluatorKind::P2;
-  v.format = VdFormatKind::Fx16;
+  v.format = NumberFormat::Fx16;
   return v;
 }
-SpafFilter::Config spaf_cfg(SpafFilter::Coverage cov,
-                            SpafFilter::Arith a = SpafFilter::Arith::Float) {
+SpafFilter::Config spaf_cfg(SpafFilter::Coverage cov, NumberFormat a = NumberFormat::Float) {
   SpafFilter::Config c;
   c.coverage = cov;
   c.arith = a;
@@ -210,10 +209,10 @@ void BM_Oiio(benchmark::State& state) {
 BENCHMARK(BM_Oiio)->Name("oiio_texturesystem_aniso16")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Ewa, ewa_lut_float, ewa_cfg(EwaFilter::Weight::Lut), false)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Ewa, ewa_lut_fixed, ewa_cfg(EwaFilter::Weight::Lut, EwaFilter::Arith::Fixed),
+BENCHMARK_CAPTURE(BM_Ewa, ewa_lut_fixed, ewa_cfg(EwaFilter::Weight::Lut, NumberFormat::S18_30),
                   false)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Ewa, ewa_exp_double, ewa_cfg(EwaFilter::Weight::Exp, EwaFilter::Arith::Double),
+BENCHMARK_CAPTURE(BM_Ewa, ewa_exp_double, ewa_cfg(EwaFilter::Weight::Exp, NumberFormat::Double),
                   false)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Ewa, ewa_pow8_float, ewa_cfg(EwaFilter::Weight::Pow8), false)
@@ -224,16 +223,17 @@ BENCHMARK_CAPTURE(BM_EwaMap, ewa_map_radial_r2, WeightMap::Kind::RadialR2, false
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Ewa, ewa_edge_vd_p2_fx16, ewa_edge_cfg(), false)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe, ProbeArith::Float, false)
+BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe, NumberFormat::Float, false)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe_fixed, ProbeArith::Fixed, false)
+BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe_fixed, NumberFormat::S16_24HalfUp, false)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Feline, feline, ProbeArith::Float, false)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Feline, feline_fixed, ProbeArith::Fixed, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Feline, feline, NumberFormat::Float, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Feline, feline_fixed, NumberFormat::S16_24HalfUp, false)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Spaf, spaf, spaf_cfg(SpafFilter::Coverage::Mask), false)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Spaf, spaf_fixed,
-                  spaf_cfg(SpafFilter::Coverage::Mask, SpafFilter::Arith::Fixed), false)
+                  spaf_cfg(SpafFilter::Coverage::Mask, NumberFormat::S20_28HalfUp), false)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Spaf, spaf_vd_p2_fx16, spaf_cfg(SpafFilter::Coverage::Vd), false)
     ->Unit(benchmark::kMillisecond);
@@ -243,9 +243,10 @@ BENCHMARK_CAPTURE(BM_EwaMap, ewa_map_quarter_timing, WeightMap::Kind::Quarter, t
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Ewa, ewa_edge_vd_p2_fx16_timing, ewa_edge_cfg(), true)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe_timing, ProbeArith::Float, true)
+BENCHMARK_CAPTURE(BM_MultiProbe, multi_probe_timing, NumberFormat::Float, true)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Feline, feline_timing, ProbeArith::Float, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Feline, feline_timing, NumberFormat::Float, true)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Spaf, spaf_timing, spaf_cfg(SpafFilter::Coverage::Mask), true)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Spaf, spaf_vd_p2_fx16_timing, spaf_cfg(SpafFilter::Coverage::Vd), true)

@@ -52,10 +52,10 @@ std::vector<Subject> subjects(AddressMode am = AddressMode::Wrap) {
   };
   EwaFilter::Config c;
   ewa("ewa lut float", c);
-  c.arith = EwaFilter::Arith::Fixed;
+  c.arith = NumberFormat::S18_30;
   ewa("ewa lut fixed", c);
   c = EwaFilter::Config{};
-  c.arith = EwaFilter::Arith::Double;
+  c.arith = NumberFormat::Double;
   c.weight = EwaFilter::Weight::Pow8;
   c.mip = EwaFilter::Mip::Linear;
   c.scan = EwaFilter::Scan::RowSpan;
@@ -68,7 +68,7 @@ std::vector<Subject> subjects(AddressMode am = AddressMode::Wrap) {
   ewa("ewa no reconstruction", c);
   c = EwaFilter::Config{};
   c.edge = EwaFilter::Edge::Vd;
-  c.vd.format = VdFormatKind::Fx16;
+  c.vd.format = NumberFormat::Fx16;
   ewa("ewa V(d) edge P2 fx16", c);
   MultiProbeFilter::Config mc;
   mc.address_u = mc.address_v = am;
@@ -105,12 +105,12 @@ std::vector<Subject> subjects(AddressMode am = AddressMode::Wrap) {
                4 * 64 / 4 + 1});
   // V(d) coverage (one cut-off unit per lane: a texel takes up to 4 slots) and fixed point.
   for (const auto& [name, cov, ar] :
-       {std::tuple{"spaf V(d) P1 fx8", SpafFilter::Coverage::Vd, SpafFilter::Arith::Float},
-        std::tuple{"spaf fixed", SpafFilter::Coverage::Mask, SpafFilter::Arith::Fixed}}) {
+       {std::tuple{"spaf V(d) P1 fx8", SpafFilter::Coverage::Vd, NumberFormat::Float},
+        std::tuple{"spaf fixed", SpafFilter::Coverage::Mask, NumberFormat::S20_28HalfUp}}) {
     SpafFilter::Config vc = sc;
     vc.coverage = cov;
     vc.vd.evaluator = VdEvaluatorKind::P1;
-    vc.vd.format = VdFormatKind::Fx8;
+    vc.vd.format = NumberFormat::Fx8;
     vc.arith = ar;
     auto sv = std::make_shared<const SpafFilter>(vc);
     s.push_back({name,

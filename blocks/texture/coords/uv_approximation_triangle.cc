@@ -4,9 +4,12 @@
 #include <stdexcept>
 #include <utility>
 
+#include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
 
 namespace texsim {
+
+static_assert(Block<UvApproximationTriangle>);
 
 namespace {
 
@@ -108,7 +111,7 @@ UvApproximationTriangle::Config UvApproximationTriangle::Config::from_toml(const
   return c;
 }
 
-OpCounts UvApproximationTriangle::pixel_ops() const {
+OpCounts UvApproximationTriangle::ops_per_item() const {
   OpCounts o;
   o.add = 2 * static_cast<uint64_t>(cfg_.order);
   return o;
@@ -169,7 +172,7 @@ OpCounts UvApproximationTriangle::triangle_setup_critical_path() const {
 }
 
 TimingSpec UvApproximationTriangle::timing(const TechTable& t) const {
-  return derive_timing(t, pixel_ops(), pixel_critical_path(), cfg_.datapath, 1,
+  return derive_timing(t, ops_per_item(), pixel_critical_path(), cfg_.datapath, 1,
                        row_setup_ops() + triangle_setup_ops());
 }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <string>
 
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
@@ -176,13 +177,17 @@ class UvApproximationTriangle {
     }
   }
 
-  OpCounts pixel_ops() const;
+  // Item: one pixel.
+  OpCounts ops_per_item() const;
   OpCounts pixel_critical_path() const;
   OpCounts row_setup_ops() const;
   OpCounts row_setup_critical_path() const;
   OpCounts triangle_setup_ops() const;
   OpCounts triangle_setup_critical_path() const;
   TimingSpec timing(const TechTable& t) const;
+  // Report name; the number format is the caller's T, so arithmetic() names the datapath.
+  std::string name() const { return "coords.approximation_triangle"; }
+  std::string arithmetic() const { return std::string(datapath_name(cfg_.datapath)) + " datapath"; }
   TimingSpec row_setup_timing(const TechTable& t) const;
   TimingSpec triangle_setup_timing(const TechTable& t) const;
 

@@ -1,8 +1,11 @@
 #include "blocks/texture/coords/uv_constant_depth.h"
 
+#include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
 
 namespace texsim {
+
+static_assert(Block<UvConstantDepth>);
 
 UvConstantDepth::Config UvConstantDepth::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"axis", "datapath", "min_denominator"});
@@ -25,7 +28,7 @@ long double UvConstantDepth::slope(const ProjectiveMap& m) const {
   return den == 0 ? 0.0L : -num / den;
 }
 
-OpCounts UvConstantDepth::pixel_ops() const {
+OpCounts UvConstantDepth::ops_per_item() const {
   OpCounts o;
   o.add = 2;  // u += R·ak, v += R·dk
   return o;
@@ -68,7 +71,7 @@ OpCounts UvConstantDepth::triangle_setup_ops() const {
 }
 
 TimingSpec UvConstantDepth::timing(const TechTable& t) const {
-  return derive_timing(t, pixel_ops(), pixel_critical_path(), cfg_.datapath, 1,
+  return derive_timing(t, ops_per_item(), pixel_critical_path(), cfg_.datapath, 1,
                        row_setup_ops() + triangle_setup_ops());
 }
 

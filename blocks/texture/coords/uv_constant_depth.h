@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
@@ -94,12 +95,16 @@ class UvConstantDepth {
     }
   }
 
-  OpCounts pixel_ops() const;
+  // Item: one pixel.
+  OpCounts ops_per_item() const;
   OpCounts pixel_critical_path() const;
   OpCounts row_setup_ops() const;  // per line
   OpCounts row_setup_critical_path() const;
   OpCounts triangle_setup_ops() const;
   TimingSpec timing(const TechTable& t) const;
+  // Report name; the number format is the caller's T, so arithmetic() names the datapath.
+  std::string name() const { return "coords.constant_depth"; }
+  std::string arithmetic() const { return std::string(datapath_name(cfg_.datapath)) + " datapath"; }
   TimingSpec row_setup_timing(const TechTable& t) const;
   TimingSpec triangle_setup_timing(const TechTable& t) const;
 

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 
+#include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
 
 namespace texsim {
+
+static_assert(Block<UvHeckbertDirect>);
 
 UvHeckbertDirect::Config UvHeckbertDirect::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"form", "datapath", "min_denominator"});
@@ -16,7 +19,7 @@ UvHeckbertDirect::Config UvHeckbertDirect::Config::from_toml(const ConfigReader&
   return c;
 }
 
-OpCounts UvHeckbertDirect::pixel_ops() const {
+OpCounts UvHeckbertDirect::ops_per_item() const {
   // Three linear forms a·x + b·y + c (2 mul + 2 add each), the q >= limit compare, then
   // two divisions, or one reciprocal and two multiplications.
   OpCounts o;
@@ -60,7 +63,7 @@ double UvHeckbertDirect::bound_impl(const ProjectiveMap& m, int32_t x, int32_t y
 }
 
 TimingSpec UvHeckbertDirect::timing(const TechTable& t) const {
-  return derive_timing(t, pixel_ops(), pixel_critical_path(), cfg_.datapath);
+  return derive_timing(t, ops_per_item(), pixel_critical_path(), cfg_.datapath);
 }
 
 }  // namespace texsim

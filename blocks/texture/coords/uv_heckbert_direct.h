@@ -3,6 +3,7 @@
 // linear forms, with two dividers or one reciprocal and two multipliers
 // (docs/coords-derivations.md §2).
 #include <cstdint>
+#include <string>
 
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
@@ -64,11 +65,15 @@ class UvHeckbertDirect {
     return bound_impl(m, x, y, format_is_fixed<T>(), format_unit<T>());
   }
 
-  OpCounts pixel_ops() const;
+  // Item: one pixel.
+  OpCounts ops_per_item() const;
   OpCounts pixel_critical_path() const;
   OpCounts row_setup_ops() const { return {}; }
   // Per-pixel timing (no row set-up: every pixel is independent).
   TimingSpec timing(const TechTable& t) const;
+  // Report name; the number format is the caller's T, so arithmetic() names the datapath.
+  std::string name() const { return "coords.heckbert"; }
+  std::string arithmetic() const { return std::string(datapath_name(cfg_.datapath)) + " datapath"; }
   TimingSpec row_setup_timing(const TechTable&) const { return TimingSpec{0, 0, 1, 0.0}; }
 
  private:

@@ -3,9 +3,12 @@
 #include <cmath>
 #include <limits>
 
+#include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
 
 namespace texsim {
+
+static_assert(Block<UvIncrementalAdder>);
 
 UvIncrementalAdder::Config UvIncrementalAdder::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"form", "lanes", "division", "datapath", "min_denominator"});
@@ -31,7 +34,7 @@ uint32_t UvIncrementalAdder::lane_count() const {
   return 1;
 }
 
-OpCounts UvIncrementalAdder::pixel_ops() const {
+OpCounts UvIncrementalAdder::ops_per_item() const {
   // w += A, z += G, t += D; the q >= limit compare; the division pair.
   OpCounts o;
   o.add = 3;
@@ -82,7 +85,7 @@ OpCounts UvIncrementalAdder::row_setup_critical_path() const {
 }
 
 TimingSpec UvIncrementalAdder::timing(const TechTable& t) const {
-  return derive_timing(t, pixel_ops(), pixel_critical_path(), cfg_.datapath, lane_count(),
+  return derive_timing(t, ops_per_item(), pixel_critical_path(), cfg_.datapath, lane_count(),
                        row_setup_ops());
 }
 
@@ -100,7 +103,8 @@ void UvIncrementalAdder::lane_history(const RowSpan& s, int32_t n, double& round
   if (cfg_.form == Form::KLane) {
     const int32_t k = std::max(1, cfg_.lanes);
     const int32_t j = n % k;
-    roundings = j + (n - j) / k;
+    const int32_t steps = j + (n - j) / k;  // whole lane strides, then single steps
+    roundings = steps;
   } else if (cfg_.form == Form::Bidirectional) {
     const int32_t mid = (s.n + 1) / 2;
     if (n >= mid) {

@@ -5,6 +5,7 @@
 // (docs/coords-derivations.md §3, error bounds §3.3).
 #include <algorithm>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "blocks/base/op_counts.h"
@@ -117,11 +118,15 @@ class UvIncrementalAdder {
   template <class T>
   double error_bound(const ProjectiveMap& m, const RowSpan& s, int32_t n) const;
 
-  OpCounts pixel_ops() const;  // per pixel (per lane)
+  // Item: one pixel (per lane).
+  OpCounts ops_per_item() const;  // per pixel (per lane)
   OpCounts pixel_critical_path() const;
   OpCounts row_setup_ops() const;
   OpCounts row_setup_critical_path() const;
   TimingSpec timing(const TechTable& t) const;  // per pixel, lanes = lane_count()
+  // Report name; the number format is the caller's T, so arithmetic() names the datapath.
+  std::string name() const { return "coords.incremental"; }
+  std::string arithmetic() const { return std::string(datapath_name(cfg_.datapath)) + " datapath"; }
   TimingSpec row_setup_timing(const TechTable& t) const;
 
  private:

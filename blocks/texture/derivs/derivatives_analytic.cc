@@ -1,8 +1,11 @@
 #include "blocks/texture/derivs/derivatives_analytic.h"
 
+#include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
 
 namespace texsim {
+
+static_assert(Block<DerivativesAnalytic>);
 
 DerivativesAnalytic::Config DerivativesAnalytic::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"datapath", "min_denominator"});
@@ -13,7 +16,7 @@ DerivativesAnalytic::Config DerivativesAnalytic::Config::from_toml(const ConfigR
   return c;
 }
 
-OpCounts DerivativesAnalytic::pixel_ops() const {
+OpCounts DerivativesAnalytic::ops_per_item() const {
   // r = 1/q; u = w·r, v = t·r; g·u, g·v, h·u, h·v; four subtractions; four products with r.
   OpCounts o;
   o.rcp = 1;
@@ -32,7 +35,7 @@ OpCounts DerivativesAnalytic::pixel_critical_path() const {
 }
 
 TimingSpec DerivativesAnalytic::timing(const TechTable& t) const {
-  return derive_timing(t, pixel_ops(), pixel_critical_path(), cfg_.datapath);
+  return derive_timing(t, ops_per_item(), pixel_critical_path(), cfg_.datapath);
 }
 
 }  // namespace texsim

@@ -1,8 +1,11 @@
 #include "blocks/texture/derivs/derivatives_forward_diff.h"
 
+#include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
 
 namespace texsim {
+
+static_assert(Block<DerivativesForwardDiff>);
 
 DerivativesForwardDiff::Config DerivativesForwardDiff::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"form", "datapath", "min_denominator"});
@@ -14,7 +17,7 @@ DerivativesForwardDiff::Config DerivativesForwardDiff::Config::from_toml(const C
   return c;
 }
 
-OpCounts DerivativesForwardDiff::pixel_ops() const {
+OpCounts DerivativesForwardDiff::ops_per_item() const {
   OpCounts o;
   if (cfg_.form == Form::Classic) {
     // Two neighbours × three linear forms (2 mul + 2 add) + the x+1 / y+1 adds.
@@ -43,7 +46,7 @@ OpCounts DerivativesForwardDiff::pixel_critical_path() const {
 }
 
 TimingSpec DerivativesForwardDiff::timing(const TechTable& t) const {
-  return derive_timing(t, pixel_ops(), pixel_critical_path(), cfg_.datapath);
+  return derive_timing(t, ops_per_item(), pixel_critical_path(), cfg_.datapath);
 }
 
 }  // namespace texsim

@@ -1,8 +1,11 @@
 #include "blocks/texture/derivs/derivatives_iterative.h"
 
+#include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
 
 namespace texsim {
+
+static_assert(Block<DerivativesIterative>);
 
 DerivativesIterative::Config DerivativesIterative::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"datapath", "min_denominator", "seed_misprints"});
@@ -14,7 +17,7 @@ DerivativesIterative::Config DerivativesIterative::Config::from_toml(const Confi
   return c;
 }
 
-OpCounts DerivativesIterative::pixel_ops() const {
+OpCounts DerivativesIterative::ops_per_item() const {
   // d2x = d1 + G, d2y = d1 + H; two products and two reciprocals; four numerator products;
   // steps num_uy += ·, num_vy += ·, d1 += G (d1 is the coordinate block's q: shared in a
   // combined datapath, counted here so the block stands alone).
@@ -57,7 +60,7 @@ OpCounts DerivativesIterative::triangle_setup_ops() const {
 }
 
 TimingSpec DerivativesIterative::timing(const TechTable& t) const {
-  return derive_timing(t, pixel_ops(), pixel_critical_path(), cfg_.datapath, 1,
+  return derive_timing(t, ops_per_item(), pixel_critical_path(), cfg_.datapath, 1,
                        row_setup_ops() + triangle_setup_ops());
 }
 

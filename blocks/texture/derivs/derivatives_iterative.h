@@ -4,6 +4,7 @@
 // (K+Gx)(K+G+Gx) for x and the corrected (K+Gx)(K+H+Gx) for y (docs/coords-derivations.md §6.4).
 #include <algorithm>
 #include <cstdint>
+#include <string>
 
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
@@ -83,12 +84,16 @@ class DerivativesIterative {
     }
   }
 
-  OpCounts pixel_ops() const;
+  // Item: one pixel.
+  OpCounts ops_per_item() const;
   OpCounts pixel_critical_path() const;
   OpCounts row_setup_ops() const;
   OpCounts row_setup_critical_path() const;
   OpCounts triangle_setup_ops() const;
   TimingSpec timing(const TechTable& t) const;
+  // Report name; the number format is the caller's T, so arithmetic() names the datapath.
+  std::string name() const { return "derivs.iterative"; }
+  std::string arithmetic() const { return std::string(datapath_name(cfg_.datapath)) + " datapath"; }
   TimingSpec row_setup_timing(const TechTable& t) const;
   TimingSpec triangle_setup_timing(const TechTable& t) const;
 

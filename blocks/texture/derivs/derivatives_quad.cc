@@ -1,8 +1,11 @@
 #include "blocks/texture/derivs/derivatives_quad.h"
 
+#include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
 
 namespace texsim {
+
+static_assert(Block<DerivativesQuad>);
 
 DerivativesQuad::Config DerivativesQuad::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"datapath", "min_denominator"});
@@ -13,7 +16,7 @@ DerivativesQuad::Config DerivativesQuad::Config::from_toml(const ConfigReader& r
   return c;
 }
 
-OpCounts DerivativesQuad::pixel_ops() const {
+OpCounts DerivativesQuad::ops_per_item() const {
   OpCounts o;
   o.add = 1;
   return o;
@@ -26,7 +29,7 @@ OpCounts DerivativesQuad::pixel_critical_path() const {
 }
 
 TimingSpec DerivativesQuad::timing(const TechTable& t) const {
-  return derive_timing(t, pixel_ops(), pixel_critical_path(), cfg_.datapath);
+  return derive_timing(t, ops_per_item(), pixel_critical_path(), cfg_.datapath);
 }
 
 }  // namespace texsim

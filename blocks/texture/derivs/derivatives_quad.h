@@ -4,6 +4,7 @@
 // (docs/coords-derivations.md §6.2).
 #include <algorithm>
 #include <cstdint>
+#include <string>
 
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
@@ -60,10 +61,14 @@ class DerivativesQuad {
 
   // Per pixel: 4 subtractions per quad = 1 per pixel (the helper pixels' coordinate cost is
   // charged by the study as extra coordinate evaluations).
-  OpCounts pixel_ops() const;
+  // Item: one pixel.
+  OpCounts ops_per_item() const;
   OpCounts pixel_critical_path() const;
   OpCounts row_setup_ops() const { return {}; }
   TimingSpec timing(const TechTable& t) const;
+  // Report name; the number format is the caller's T, so arithmetic() names the datapath.
+  std::string name() const { return "derivs.quad"; }
+  std::string arithmetic() const { return std::string(datapath_name(cfg_.datapath)) + " datapath"; }
   TimingSpec row_setup_timing(const TechTable&) const { return TimingSpec{0, 0, 1, 0.0}; }
 
  private:

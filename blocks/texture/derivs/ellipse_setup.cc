@@ -1,8 +1,11 @@
 #include "blocks/texture/derivs/ellipse_setup.h"
 
+#include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
 
 namespace texsim {
+
+static_assert(Block<EllipseSetup>);
 
 EllipseL ellipse_reference(const DerivsL& d) {
   EllipseL e;
@@ -24,7 +27,7 @@ EllipseSetup::Config EllipseSetup::Config::from_toml(const ConfigReader& r) {
   return c;
 }
 
-OpCounts EllipseSetup::pixel_ops() const {
+OpCounts EllipseSetup::ops_per_item() const {
   // A, B, C: two squares/products and one add each (×-2 is a shift); F: a 2×2 determinant and
   // its square, or AC, B² and one subtraction (/4 is a shift); the F > 0 check.
   OpCounts o;
@@ -52,7 +55,7 @@ OpCounts EllipseSetup::pixel_critical_path() const {
 }
 
 TimingSpec EllipseSetup::timing(const TechTable& t) const {
-  return derive_timing(t, pixel_ops(), pixel_critical_path(), cfg_.datapath);
+  return derive_timing(t, ops_per_item(), pixel_critical_path(), cfg_.datapath);
 }
 
 }  // namespace texsim

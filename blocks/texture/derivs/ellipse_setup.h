@@ -5,6 +5,7 @@
 // (docs/coords-derivations.md §7).
 #include <cmath>
 #include <cstdint>
+#include <string>
 
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
@@ -79,9 +80,13 @@ class EllipseSetup {
     return e;
   }
 
-  OpCounts pixel_ops() const;
+  // Item: one pixel.
+  OpCounts ops_per_item() const;
   OpCounts pixel_critical_path() const;
   TimingSpec timing(const TechTable& t) const;
+  // Report name; the number format is the caller's T, so arithmetic() names the datapath.
+  std::string name() const { return "ellipse"; }
+  std::string arithmetic() const { return std::string(datapath_name(cfg_.datapath)) + " datapath"; }
 
  private:
   Config cfg_{};

@@ -5,11 +5,14 @@
 #include <limits>
 #include <type_traits>
 
+#include "blocks/base/block.h"
 #include "blocks/texture/footprint/gaussian_weight.h"
 #include "blocks/texture/footprint/weight_map.h"
 #include "blocks/texture/sampler/texel_address_gen.h"
 
 namespace texsim {
+
+static_assert(Block<EwaFilter>);
 
 const char* to_string(EwaFilter::Weight w) {
   switch (w) {
@@ -25,122 +28,6 @@ const char* to_string(EwaFilter::Weight w) {
       return "uniform";
   }
   return "?";
-}
-
-OpCounts address_mode_ops(AddressMode m) {
-  OpCounts o;
-  switch (m) {
-    case AddressMode::Wrap:
-      o.mul = 2;
-      o.add = 1;
-      o.cmp = 1;
-      break;
-    case AddressMode::Clamp:
-      o.cmp = 2;
-      break;
-    case AddressMode::Mirror:
-      o.mul = 2;
-      o.add = 4;
-      o.cmp = 2;
-      break;
-  }
-  return o;
-}
-
-OpCounts footprint_setup_ops() {
-  OpCounts o;
-  // Derivatives to texels (×w0·R, ×h0·R): 4 mul. Σ = J·Jᵀ: 6 mul, 3 add. Eigenvalues:
-  // (Σuu ± Σvv)/2: 2 add; d² + Σuv²: 2 mul, 1 add; √; λ± = t ± s: 2 add; λ₋ ≥ 0: 1 cmp.
-  // Clamp: maxA²·λ₋ and the compare: 1 mul, 1 cmp; λ₊/maxA²: 1 mul; δ: 1 add;
-  // δ/(2s): rcp, mul; λ₊ − Σuu, λ₊ − Σvv: 2 add; three k·(…): 3 mul; three updates: 3 add;
-  // select clamped/unclamped Σ: 3 cmp. Non-finite input test: 1 cmp.
-  o.mul = 4 + 6 + 2 + 1 + 1 + 1 + 3;
-  o.add = 3 + 2 + 1 + 2 + 1 + 2 + 3;
-  o.sqrt = 1;
-  o.rcp = 1;
-  o.cmp = 1 + 1 + 3 + 1;
-  return o;
-}
-
-template <class S>
-Footprint footprint_setup(const Fragment& f, int w0, int h0, double radius_px, double max_aniso,
-                          OpCounts& ops) {
-  ops += footprint_setup_ops();
-  Footprint fp;
-  if (!std::isfinite(f.dudx) || !std::isfinite(f.dvdx) || !std::isfinite(f.dudy) ||
-      !std::isfinite(f.dvdy)) {
-    fp.bad_input = true;  // a point footprint: magnification at level 0
-    return fp;
-  }
-  const S sw = static_cast<S>(static_cast<double>(w0) * radius_px);
-  const S sh = static_cast<S>(static_cast<double>(h0) * radius_px);
-  const S ux = static_cast<S>(f.dudx) * sw, uy = static_cast<S>(f.dudy) * sw;
-  const S vx = static_cast<S>(f.dvdx) * sh, vy = static_cast<S>(f.dvdy) * sh;
-  S suu = ux * ux + uy * uy, suv = ux * vx + uy * vy, svv = vx * vx + vy * vy;
-  const S half = static_cast<S>(0.5);
-  const S t = (suu + svv) * half, d = (suu - svv) * half;
-  const S s = std::sqrt(d * d + suv * suv);
-  if (!std::isfinite(suu) || !std::isfinite(svv) || !std::isfinite(suv) || !std::isfinite(s)) {
-    fp.overflow = true;
-    return fp;
-  }
-  const S lp = t + s;
-  S lm = std::max(t - s, S(0));
-  fp.aniso = lm > 0 ? std::sqrt(static_cast<double>(lp) / static_cast<double>(lm))
-                    : (lp > 0 ? std::numeric_limits<double>::infinity() : 1.0);
-  const S a2 = static_cast<S>(max_aniso * max_aniso);
-  if (lp > a2 * lm) {
-    // λ₊ > λ₋ here, so s > 0.
-    const S target = lp / a2;
-    const S k = (target - lm) / (S(2) * s);
-    suu += k * (lp - suu);
-    svv += k * (lp - svv);
-    suv -= k * suv;
-    lm = target;
-    fp.clamped = true;
-  }
-  fp.suu = static_cast<double>(suu);
-  fp.suv = static_cast<double>(suv);
-  fp.svv = static_cast<double>(svv);
-  fp.major2 = static_cast<double>(lp);
-  fp.minor2 = static_cast<double>(lm);
-  return fp;
-}
-
-template Footprint footprint_setup<float>(const Fragment&, int, int, double, double, OpCounts&);
-template Footprint footprint_setup<double>(const Fragment&, int, int, double, double, OpCounts&);
-
-Rgba bilinear_fallback(const Texture& tex, int level, double u, double v, AddressMode au,
-                       AddressMode av, std::vector<TexelRef>* fetched, OpCounts& ops) {
-  const int w = tex.width(level), h = tex.height(level);
-  constexpr double kLimit = 1073741824.0;  // 2^30 texels: keeps the integer part in range
-  const double x = std::clamp(u * w - 0.5, -kLimit, kLimit);
-  const double y = std::clamp(v * h - 0.5, -kLimit, kLimit);
-  const double fx = std::floor(x), fy = std::floor(y);
-  const float a = static_cast<float>(x - fx), b = static_cast<float>(y - fy);
-  const auto i = static_cast<int64_t>(fx), j = static_cast<int64_t>(fy);
-  const int32_t x0 = TexelAddressGen::address(i, w, au),
-                x1 = TexelAddressGen::address(i + 1, w, au);
-  const int32_t y0 = TexelAddressGen::address(j, h, av),
-                y1 = TexelAddressGen::address(j + 1, h, av);
-  if (fetched) {
-    fetched->push_back({level, x0, y0});
-    fetched->push_back({level, x1, y0});
-    fetched->push_back({level, x0, y1});
-    fetched->push_back({level, x1, y1});
-  }
-  // Coordinates: 2 mul, 2 add; floor: 2 cmp; addresses of both neighbours on each axis;
-  // weights (1−a)(1−b) …: 2 add, 4 mul; four reads and multiply-accumulates.
-  OpCounts o;
-  o.mul = 2 + 4 + 16;
-  o.add = 2 + 2 + 12;
-  o.cmp = 2;
-  o.mem = 4;
-  ops += o;
-  ops += address_mode_ops(au) * 2;
-  ops += address_mode_ops(av) * 2;
-  return (1 - a) * (1 - b) * tex.texel(level, x0, y0) + a * (1 - b) * tex.texel(level, x1, y0) +
-         (1 - a) * b * tex.texel(level, x0, y1) + a * b * tex.texel(level, x1, y1);
 }
 
 EwaFilter::Config EwaFilter::Config::from_toml(const ConfigReader& r) {
@@ -169,8 +56,7 @@ EwaFilter::Config EwaFilter::Config::from_toml(const ConfigReader& r) {
   }
   c.mip = static_cast<Mip>(r.get_choice("mip", static_cast<int>(c.mip), {"nearest", "linear"}));
   c.scan = static_cast<Scan>(r.get_choice("scan", static_cast<int>(c.scan), {"box", "row_span"}));
-  c.arith = static_cast<Arith>(
-      r.get_choice("arith", static_cast<int>(c.arith), {"float", "double", "fixed"}));
+  c.arith = kArith.at(r.get_choice("arith", kArith.index_of(c.arith), kArith.key_list()));
   const std::vector<std::string_view> modes = {"wrap", "clamp", "mirror"};
   c.address_u = static_cast<AddressMode>(r.get_choice("address_u", 0, modes));
   c.address_v = static_cast<AddressMode>(r.get_choice("address_v", 0, modes));
@@ -317,8 +203,7 @@ OpCounts weight_ops(EwaFilter::Weight w) {
       o.add = 1;
       o.mul = 1 + 3;
       break;
-    case EwaFilter::Weight::Map:
-      break;  // WeightMap::ops_per_read, added where used
+    case EwaFilter::Weight::Map:  // WeightMap::ops_per_item, added where used
     case EwaFilter::Weight::Uniform:
       break;
   }
@@ -341,57 +226,77 @@ T to_t(double x) {
 // One level's scan: Σ_l (level texels², reconstruction included) → weighted sum.
 template <class T>
 struct LevelScan {
+  using S = SetupOf<T>;
+  using Acc = AccOf<T>;
+
   const EwaFilter& filt;
   const Texture& tex;
   std::vector<TexelRef>* fetched;
   OpCounts& ops;
   FilterStats& st;
 
-  // Returns Σw; `sum` gets Σ w·texel.
-  AccOf<T> run(int level, double u, double v, double suu, double suv, double svv, const Fragment& f,
-               glm::vec<4, AccOf<T>>& sum) const {
-    using S = SetupOf<T>;
-    using Acc = AccOf<T>;
-    const EwaFilter::Config& c = filt.config();
-    ops += level_setup_ops();
-    sum = glm::vec<4, Acc>(0);
+  // The level's ellipse Q(U, V) = a·U² + b·U·V + c·V² ≤ 1 around the centre (uc, vc) in texels,
+  // its bounding box and, with the edge cut-off, the band Q > qband near the boundary.
+  struct Ellipse {
+    int wl = 0, hl = 0;
+    S as = 0, bs = 0, cs = 0, uc = 0, vc = 0, inv2a = 0;
+    int64_t i0 = 0, i1 = 0, j0 = 0, j1 = 0;
+    T a{}, b{}, cc{}, qband{}, gy_step{};
+  };
+  // Weight-map transform (x, y) = M·(U, V), per-footprint constants.
+  struct MapTransform {
+    S xu = 0, xv = 0, yu = 0, yv = 0;
+  };
+  // Per-kind step counts of one scan (operations are multiplied out once at the end: they
+  // depend only on how many rows, box texels, inside texels and edge texels there were).
+  struct Steps {
+    uint64_t rows = 0, visits = 0, insides = 0, edges = 0;
+  };
+
+  // Σ⁻¹ and the box; false if Σ is singular or its inverse not finite.
+  bool ellipse(int level, double u, double v, double suu, double suv, double svv,
+               Ellipse& e) const {
     const S det =
         static_cast<S>(suu) * static_cast<S>(svv) - static_cast<S>(suv) * static_cast<S>(suv);
-    if (!(det > 0) || !std::isfinite(det)) return Acc(0);
+    if (!(det > 0) || !std::isfinite(det)) return false;
     const S rdet = S(1) / det;
-    const S as = static_cast<S>(svv) * rdet, bs = S(-2) * static_cast<S>(suv) * rdet,
-            cs = static_cast<S>(suu) * rdet;
-    if (!std::isfinite(as) || !std::isfinite(bs) || !std::isfinite(cs)) return Acc(0);
-    const int wl = tex.width(level), hl = tex.height(level);
+    e.as = static_cast<S>(svv) * rdet;
+    e.bs = S(-2) * static_cast<S>(suv) * rdet;
+    e.cs = static_cast<S>(suu) * rdet;
+    if (!std::isfinite(e.as) || !std::isfinite(e.bs) || !std::isfinite(e.cs)) return false;
+    e.wl = tex.width(level);
+    e.hl = tex.height(level);
     constexpr S kLimit = static_cast<S>(1073741824.0);  // 2^30 texels
-    const S uc = std::clamp(static_cast<S>(u) * static_cast<S>(wl) - S(0.5), -kLimit, kLimit);
-    const S vc = std::clamp(static_cast<S>(v) * static_cast<S>(hl) - S(0.5), -kLimit, kLimit);
+    e.uc = std::clamp(static_cast<S>(u) * static_cast<S>(e.wl) - S(0.5), -kLimit, kLimit);
+    e.vc = std::clamp(static_cast<S>(v) * static_cast<S>(e.hl) - S(0.5), -kLimit, kLimit);
     const S hu = std::sqrt(static_cast<S>(suu)), hv = std::sqrt(static_cast<S>(svv));
-    const auto i0 = static_cast<int64_t>(std::ceil(uc - hu));
-    const auto i1 = static_cast<int64_t>(std::floor(uc + hu));
-    const auto j0 = static_cast<int64_t>(std::ceil(vc - hv));
-    const auto j1 = static_cast<int64_t>(std::floor(vc + hv));
-    const T a = to_t<T>(static_cast<double>(as)), b = to_t<T>(static_cast<double>(bs)),
-            cc = to_t<T>(static_cast<double>(cs));
-    const T one = to_t<T>(1.0), zero = to_t<T>(0.0), two_a = a + a;
-    const bool span = c.scan == EwaFilter::Scan::RowSpan;
-    // Edge cut-off: only texels with Q > qband can lie within half a texel of the boundary
-    // (|∇√Q| ≤ 1/minor radius, so d > −½ needs √Q > 1 − ½/minor radius).
-    const bool cutoff = c.edge == EwaFilter::Edge::Vd;
-    const SubtexelCutoff cut = filt.cutoff();
-    T qband = zero, gy_step = zero;
-    if (cutoff) {
-      ops += filt.ops_edge_setup();
-      const S th = (static_cast<S>(suu) + static_cast<S>(svv)) * S(0.5);
-      const S dh = (static_cast<S>(suu) - static_cast<S>(svv)) * S(0.5);
-      const S lmin = th - std::sqrt(dh * dh + static_cast<S>(suv) * static_cast<S>(suv));
-      const S am = std::sqrt(std::max(lmin, S(0)));
-      const S t = am > S(0.5) ? S(1) - S(0.5) / am : S(0);
-      qband = to_t<T>(static_cast<double>(t * t));
-      gy_step = b;
-    }
-    const S inv2a = span ? S(1) / (S(2) * as) : S(0);
-    if (span) ops.rcp += 1;
+    e.i0 = static_cast<int64_t>(std::ceil(e.uc - hu));
+    e.i1 = static_cast<int64_t>(std::floor(e.uc + hu));
+    e.j0 = static_cast<int64_t>(std::ceil(e.vc - hv));
+    e.j1 = static_cast<int64_t>(std::floor(e.vc + hv));
+    e.a = to_t<T>(static_cast<double>(e.as));
+    e.b = to_t<T>(static_cast<double>(e.bs));
+    e.cc = to_t<T>(static_cast<double>(e.cs));
+    e.qband = e.gy_step = to_t<T>(0.0);
+    return true;
+  }
+
+  // Edge cut-off: only texels with Q > qband can lie within half a texel of the boundary
+  // (|∇√Q| ≤ 1/minor radius, so d > −½ needs √Q > 1 − ½/minor radius).
+  void edge_band(double suu, double suv, double svv, Ellipse& e) const {
+    ops += filt.ops_edge_setup();
+    const S th = (static_cast<S>(suu) + static_cast<S>(svv)) * S(0.5);
+    const S dh = (static_cast<S>(suu) - static_cast<S>(svv)) * S(0.5);
+    const S lmin = th - std::sqrt(dh * dh + static_cast<S>(suv) * static_cast<S>(suv));
+    const S am = std::sqrt(std::max(lmin, S(0)));
+    const S t = am > S(0.5) ? S(1) - S(0.5) / am : S(0);
+    e.qband = to_t<T>(static_cast<double>(t * t));
+    e.gy_step = e.b;
+  }
+
+  // Operations at the start of each row.
+  OpCounts per_row_ops(bool cutoff) const {
+    const EwaFilter::Config& c = filt.config();
     OpCounts per_row = row_ops(c.scan) + address_mode_ops(c.address_v);
     if (cutoff) {
       OpCounts g;  // row start of ∂Q/∂V = bU0 + 2cV
@@ -408,108 +313,136 @@ struct LevelScan {
       m.add = jac ? 2 : 1;
       per_row += m;
     }
-    const OpCounts per_visit = filt.ops_per_visit();
-    const OpCounts per_inside = filt.ops_per_inside();
-    const OpCounts per_edge = cutoff ? filt.ops_per_edge_texel() : OpCounts{};
+    return per_row;
+  }
+
+  MapTransform map_transform(const Ellipse& e, const Fragment& f) const {
+    const EwaFilter::Config& c = filt.config();
     const WeightMap* map = filt.weight_map();
-    // Weight-map transform: per-footprint constants (x, y) = M·(U, V).
-    S mxu = 0, mxv = 0, myu = 0, myv = 0;
-    if (c.weight == EwaFilter::Weight::Map && map) {
-      ops += map->setup_ops();
-      if (map->config().transform == WeightMap::Transform::Cholesky) {
-        const S ra = std::sqrt(as);
-        mxu = ra;
-        mxv = bs / (S(2) * ra);
-        myu = 0;
-        myv = std::sqrt(std::max(cs - mxv * mxv, S(0)));
-      } else {
-        // The fragment's own J at this level, scaled by R: (x, y) = J⁻¹(U, V).
-        const S R = static_cast<S>(c.radius_px);
-        const S jux = static_cast<S>(f.dudx) * static_cast<S>(wl) * R;
-        const S juy = static_cast<S>(f.dudy) * static_cast<S>(wl) * R;
-        const S jvx = static_cast<S>(f.dvdx) * static_cast<S>(hl) * R;
-        const S jvy = static_cast<S>(f.dvdy) * static_cast<S>(hl) * R;
-        const S jdet = jux * jvy - juy * jvx;
-        const S rj = jdet != S(0) && std::isfinite(jdet) ? S(1) / jdet : S(0);
-        mxu = jvy * rj;
-        mxv = -juy * rj;
-        myu = -jvx * rj;
-        myv = jux * rj;
-      }
+    MapTransform m;
+    if (c.weight != EwaFilter::Weight::Map || !map) return m;
+    ops += map->setup_ops();
+    if (map->config().transform == WeightMap::Transform::Cholesky) {
+      const S ra = std::sqrt(e.as);
+      m.xu = ra;
+      m.xv = e.bs / (S(2) * ra);
+      m.yu = 0;
+      m.yv = std::sqrt(std::max(e.cs - m.xv * m.xv, S(0)));
+    } else {
+      // The fragment's own J at this level, scaled by R: (x, y) = J⁻¹(U, V).
+      const S R = static_cast<S>(c.radius_px);
+      const S jux = static_cast<S>(f.dudx) * static_cast<S>(e.wl) * R;
+      const S juy = static_cast<S>(f.dudy) * static_cast<S>(e.wl) * R;
+      const S jvx = static_cast<S>(f.dvdx) * static_cast<S>(e.hl) * R;
+      const S jvy = static_cast<S>(f.dvdy) * static_cast<S>(e.hl) * R;
+      const S jdet = jux * jvy - juy * jvx;
+      const S rj = jdet != S(0) && std::isfinite(jdet) ? S(1) / jdet : S(0);
+      m.xu = jvy * rj;
+      m.xv = -juy * rj;
+      m.yu = -jvx * rj;
+      m.yv = jux * rj;
     }
+    return m;
+  }
+
+  // Scans texels ia..ib of row j (V = j − vc) with Q stepped incrementally; adds to the sums.
+  void scan_row(int level, int64_t j, int64_t ia, int64_t ib, const Ellipse& e,
+                const MapTransform& mt, bool cutoff, const SubtexelCutoff& cut, Steps& n,
+                glm::vec<4, Acc>& sum, Acc& wsum) const {
+    const EwaFilter::Config& c = filt.config();
+    const WeightMap* map = filt.weight_map();
+    const T one = to_t<T>(1.0), zero = to_t<T>(0.0), two_a = e.a + e.a;
+    const S Vs = static_cast<S>(j) - e.vc;
+    const int32_t y = TexelAddressGen::address(j, e.hl, c.address_v);
+    const S U0s = static_cast<S>(ia) - e.uc;
+    const T U0 = to_t<T>(static_cast<double>(U0s)), V = to_t<T>(static_cast<double>(Vs));
+    T q = (e.a * U0 + e.b * V) * U0 + e.cc * V * V;
+    T dq = e.a * (U0 + U0 + one) + e.b * V;
+    S mx = mt.xu * U0s + mt.xv * Vs, my = mt.yu * U0s + mt.yv * Vs;
+    T gy = cutoff ? e.b * U0 + (e.cc + e.cc) * V : zero;  // ∂Q/∂V, stepped by b along the row
+    n.visits += static_cast<uint64_t>(ib - ia + 1);
+    for (int64_t i = ia; i <= ib; ++i) {
+      ++st.visited;
+      if (q < one) {
+        const T qq = q < zero ? zero : q;
+        float w = 0;
+        if (c.weight == EwaFilter::Weight::Map && map) {
+          w = map->read(static_cast<float>(mx), static_cast<float>(my), st.map_reads);
+        } else {
+          w = static_cast<float>(filt.weight_of(to_double(qq)));
+        }
+        if (cutoff && q > e.qband) {
+          // d = (√Q − 1)/|∇√Q| = 2(Q − √Q)/|∇Q|: the distance to the tangent of the boundary
+          // at the texel's radial projection onto it (exact on the axes and for circles).
+          ++n.edges;
+          const S qs = static_cast<S>(to_double(qq));
+          const S gx = static_cast<S>(to_double(dq - e.a));  // ∂Q/∂U = 2aU + bV = dQ − a
+          const S gv = static_cast<S>(to_double(gy));
+          const S d = EwaFilter::boundary_distance(qs, gx, gv);
+          w *= static_cast<float>(cut.fraction(static_cast<double>(d)));
+        }
+        ++n.insides;
+        const int32_t x = TexelAddressGen::address(i, e.wl, c.address_u);
+        if (fetched) fetched->push_back({level, x, y});
+        ++st.texels;
+        const Rgba t = tex.texel(level, x, y);
+        const Acc wa = static_cast<Acc>(w);
+        sum += wa * glm::vec<4, Acc>(t);
+        wsum += wa;
+      }
+      q = q + dq;
+      dq = dq + two_a;
+      if (cutoff) gy = gy + e.gy_step;
+      mx += mt.xu;
+      my += mt.yu;
+    }
+  }
+
+  // Returns Σw; `sum` gets Σ w·texel.
+  Acc run(int level, double u, double v, double suu, double suv, double svv, const Fragment& f,
+          glm::vec<4, Acc>& sum) const {
+    const EwaFilter::Config& c = filt.config();
+    ops += level_setup_ops();
+    sum = glm::vec<4, Acc>(0);
+    Ellipse e;
+    if (!ellipse(level, u, v, suu, suv, svv, e)) return Acc(0);
+    const bool span = c.scan == EwaFilter::Scan::RowSpan;
+    const bool cutoff = c.edge == EwaFilter::Edge::Vd;
+    const SubtexelCutoff cut = filt.cutoff();
+    if (cutoff) edge_band(suu, suv, svv, e);
+    e.inv2a = span ? S(1) / (S(2) * e.as) : S(0);
+    if (span) ops.rcp += 1;
+    const OpCounts per_row = per_row_ops(cutoff);
+    const MapTransform mt = map_transform(e, f);
     Acc wsum = 0;
-    // Operations are counted per kind of step and multiplied out once (the count depends only
-    // on how many rows, box texels and inside texels there were).
-    uint64_t rows = 0, visits = 0, insides = 0, edges = 0;
-    for (int64_t j = j0; j <= j1; ++j) {
-      ++rows;
-      const S Vs = static_cast<S>(j) - vc;
-      int64_t ia = i0, ib = i1;
+    Steps n;
+    for (int64_t j = e.j0; j <= e.j1; ++j) {
+      ++n.rows;
+      int64_t ia = e.i0, ib = e.i1;
       if (span) {
-        const S bv = bs * Vs;
-        const S disc = bv * bv - S(4) * as * (cs * Vs * Vs - S(1));
+        const S Vs = static_cast<S>(j) - e.vc;
+        const S bv = e.bs * Vs;
+        const S disc = bv * bv - S(4) * e.as * (e.cs * Vs * Vs - S(1));
         if (!(disc > 0)) continue;
         const S r = std::sqrt(disc);
-        ia = std::max(ia, static_cast<int64_t>(std::ceil(uc + (-bv - r) * inv2a)));
-        ib = std::min(ib, static_cast<int64_t>(std::floor(uc + (-bv + r) * inv2a)));
+        ia = std::max(ia, static_cast<int64_t>(std::ceil(e.uc + (-bv - r) * e.inv2a)));
+        ib = std::min(ib, static_cast<int64_t>(std::floor(e.uc + (-bv + r) * e.inv2a)));
         if (ia > ib) continue;
         st.visited += 1;  // one slot per row for the span set-up
       }
-      const int32_t y = TexelAddressGen::address(j, hl, c.address_v);
-      const S U0s = static_cast<S>(ia) - uc;
-      const T U0 = to_t<T>(static_cast<double>(U0s)), V = to_t<T>(static_cast<double>(Vs));
-      T q = (a * U0 + b * V) * U0 + cc * V * V;
-      T dq = a * (U0 + U0 + one) + b * V;
-      S mx = mxu * U0s + mxv * Vs, my = myu * U0s + myv * Vs;
-      T gy = cutoff ? b * U0 + (cc + cc) * V : zero;  // ∂Q/∂V, stepped by b along the row
-      visits += static_cast<uint64_t>(ib - ia + 1);
-      for (int64_t i = ia; i <= ib; ++i) {
-        ++st.visited;
-        if (q < one) {
-          const T qq = q < zero ? zero : q;
-          float w = 0;
-          if (c.weight == EwaFilter::Weight::Map && map) {
-            w = map->read(static_cast<float>(mx), static_cast<float>(my), st.map_reads);
-          } else {
-            w = static_cast<float>(filt.weight_of(to_double(qq)));
-          }
-          if (cutoff && q > qband) {
-            // d = (√Q − 1)/|∇√Q| = 2(Q − √Q)/|∇Q|: the distance to the tangent of the boundary
-            // at the texel's radial projection onto it (exact on the axes and for circles).
-            ++edges;
-            const S qs = static_cast<S>(to_double(qq));
-            const S gx = static_cast<S>(to_double(dq - a));  // ∂Q/∂U = 2aU + bV = dQ − a
-            const S gv = static_cast<S>(to_double(gy));
-            const S d = EwaFilter::boundary_distance(qs, gx, gv);
-            w *= static_cast<float>(cut.fraction(static_cast<double>(d)));
-          }
-          ++insides;
-          const int32_t x = TexelAddressGen::address(i, wl, c.address_u);
-          if (fetched) fetched->push_back({level, x, y});
-          ++st.texels;
-          const Rgba t = tex.texel(level, x, y);
-          const Acc wa = static_cast<Acc>(w);
-          sum += wa * glm::vec<4, Acc>(t);
-          wsum += wa;
-        }
-        q = q + dq;
-        dq = dq + two_a;
-        if (cutoff) gy = gy + gy_step;
-        mx += mxu;
-        my += myu;
-      }
+      scan_row(level, j, ia, ib, e, mt, cutoff, cut, n, sum, wsum);
     }
-    ops += per_row * rows;
-    ops += per_visit * visits;
-    ops += per_inside * insides;
-    ops += per_edge * edges;
+    ops += per_row * n.rows;
+    ops += filt.ops_per_item() * n.visits;
+    ops += filt.ops_per_inside() * n.insides;
+    ops += (cutoff ? filt.ops_per_edge_texel() : OpCounts{}) * n.edges;
     return wsum;
   }
 };
 
 }  // namespace
 
-OpCounts EwaFilter::ops_per_visit() const {
+OpCounts EwaFilter::ops_per_item() const {
   OpCounts o;
   o.cmp = 1;  // Q < 1
   o.add = 2;  // Q += dQ, dQ += 2a
@@ -542,13 +475,13 @@ OpCounts EwaFilter::ops_per_edge_texel() const {
   o.cmp = 1;
   o.sqrt = 2;
   o.rcp = 1;
-  o += cutoff().ops() + SubtexelCutoff::fraction_extra_ops();
+  o += cutoff().ops_per_item() + SubtexelCutoff::fraction_extra_ops();
   return o;
 }
 
 OpCounts EwaFilter::ops_per_inside() const {
   OpCounts o = weight_ops(cfg_.weight);
-  if (cfg_.weight == Weight::Map && map_) o += map_->ops_per_read();
+  if (cfg_.weight == Weight::Map && map_) o += map_->ops_per_item();
   o += address_mode_ops(cfg_.address_u);
   o.mem += 1;                             // texel read
   o.mul += 4;                             // w·RGBA
@@ -662,15 +595,8 @@ template FilterOutput EwaFilter::filter_t<EwaQFixed>(const Texture&, const Fragm
 
 FilterOutput EwaFilter::filter(const Texture& tex, const Fragment& f,
                                std::vector<TexelRef>* fetched, OpCounts& ops) const {
-  switch (cfg_.arith) {
-    case Arith::Float:
-      return filter_t<float>(tex, f, fetched, ops);
-    case Arith::Double:
-      return filter_t<double>(tex, f, fetched, ops);
-    case Arith::Fixed:
-      return filter_t<EwaQFixed>(tex, f, fetched, ops);
-  }
-  return {};
+  return kArith.visit(cfg_.arith,
+                      [&](auto t) { return filter_t<decltype(t)>(tex, f, fetched, ops); });
 }
 
 uint32_t EwaFilter::issue_cycles(const FilterStats& s) const {
@@ -739,44 +665,34 @@ TimingSpec EwaFilter::timing(const TechTable& tech) const {
   path.rcp += 1;
   path.mul += 1;
   path.cmp += 1;
-  TimingSpec t;
-  t.latency = static_cast<uint32_t>(std::ceil(tech.path_latency(path)));
-  t.ii = 1;
-  t.lanes = static_cast<uint32_t>(std::max(cfg_.lanes, 1));
   OpCounts units = footprint_setup_ops() + level_select_ops() + budget_iteration_ops() +
                    level_setup_ops() + row_ops(cfg_.scan) + normalise_ops();
-  OpCounts lane = ops_per_visit() + ops_per_inside();
+  OpCounts lane = ops_per_item() + ops_per_inside();
   lane.mem = 0;
-  double cut_area = 0;
   if (cfg_.edge == Edge::Vd) {
     // Per lane the distance datapath and vd.lanes cut-off units; the band set-up once.
     const SubtexelCutoff cut = cutoff();
     units += ops_edge_setup();
     OpCounts dist = ops_per_edge_texel();
-    const OpCounts c = cut.ops();
+    const OpCounts c = cut.ops_per_item();
     dist.add -= c.add;
     dist.mul -= c.mul;
     dist.cmp -= c.cmp;
     dist.lut -= c.lut;
-    lane += dist;
-    cut_area = cut.timing(tech).area;
+    lane += dist + c * cut.config().lanes;
   }
-  t.area = tech.area_of(units) + (tech.area_of(lane) + cut_area) * static_cast<double>(t.lanes);
-  return t;
+  return derive_timing(tech, lane, path, Datapath::Spatial,
+                       static_cast<uint32_t>(std::max(cfg_.lanes, 1)), units);
 }
 
 std::string EwaFilter::arithmetic() const {
   std::string q;
-  switch (cfg_.arith) {
-    case Arith::Float:
-      q = "float32 set-up and Q, float32 accumulation";
-      break;
-    case Arith::Double:
-      q = "double set-up, Q and accumulation";
-      break;
-    case Arith::Fixed:
-      q = "float32 set-up, Q in " + EwaQFixed::name() + ", float32 accumulation";
-      break;
+  if (cfg_.arith == NumberFormat::Double) {
+    q = "double set-up, Q and accumulation";
+  } else if (cfg_.arith == NumberFormat::S18_30) {
+    q = "float32 set-up, Q in " + EwaQFixed::name() + ", float32 accumulation";
+  } else {
+    q = "float32 set-up and Q, float32 accumulation";
   }
   switch (cfg_.weight) {
     case Weight::Lut:
@@ -798,7 +714,7 @@ std::string EwaFilter::arithmetic() const {
   }
   if (cfg_.edge == Edge::Vd) {
     q += "; " + cutoff().name() + " edge cut-off, boundary distance in " +
-         (cfg_.arith == Arith::Double ? "double" : "float32");
+         (cfg_.arith == NumberFormat::Double ? "double" : "float32");
   }
   return q;
 }

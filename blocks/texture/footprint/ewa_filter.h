@@ -8,8 +8,6 @@
 // colour accumulation in float (double for the double datapath); with edge = "vd" the boundary
 // distance in float (double for the double datapath) and the cut-off fraction in the cut-off's
 // format (float, double, fixed u0.F/s1.F/u1.F).
-// This header also holds the types the anisotropic filter family shares (TexelRef, FilterStats,
-// FilterOutput, the footprint set-up), so a cache model sees every filter the same way.
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -22,75 +20,30 @@
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/texture/footprint/footprint_types.h"
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/subtexel/subtexel_cutoff.h"
 #include "rtl_model/number/fixed.h"
+#include "rtl_model/number/number_format.h"
 
 namespace texsim {
 
 class WeightMap;
 
-// A texel a filter read: level and addressed coordinates (what the texture cache sees).
-struct TexelRef {
-  int32_t level;
-  int32_t x, y;
-};
-
-// What one filtered lookup did besides producing a colour.
-struct FilterStats {
-  uint32_t visited = 0;    // scan slots: texels (or probes) whose weight was evaluated
-  uint32_t texels = 0;     // texels read from texture memory
-  uint32_t map_reads = 0;  // weight-map entries read (4 per bilinear map read)
-  uint32_t probes = 0;     // probes issued (probe-based filters)
-  int32_t level = 0;       // finest level read
-  bool fallback = false;   // all weights were zero: the bilinear fallback was used
-  bool bad_input = false;  // non-finite coordinates or derivatives were replaced
-};
-
-struct FilterOutput {
-  Rgba colour{0, 0, 0, 0};
-  FilterStats stats;
-};
-
-// Per-coordinate operations of the addressing modes (the table of docs/filters.md §3).
-OpCounts address_mode_ops(AddressMode m);
-
-// Footprint of one fragment in level-0 texels as the covariance Σ = R²·J·Jᵀ of the pixel
-// footprint (J = derivatives in texels per pixel, R = footprint radius in pixels), after the
-// max-anisotropy clamp: the ellipse Q(U, V) = (U, V)·Σ⁻¹·(U, V)ᵀ ≤ 1 is the footprint.
-struct Footprint {
-  double suu = 0, suv = 0, svv = 0;  // Σ (level 0 texels²)
-  double major2 = 0, minor2 = 0;     // eigenvalues of Σ after the clamp (major ≥ minor)
-  double aniso = 1;                  // √(major2/minor2) before the clamp (∞ for det = 0)
-  bool clamped = false;              // the minor axis was stretched to major/max_aniso
-  bool bad_input = false;            // non-finite derivatives: point footprint used
-  bool overflow = false;             // Σ overflowed the set-up format: most minified level
-};
-
-// Set-up shared by the family: Σ from the derivatives, eigenvalues, and the clamp
-// Σ' = Σ + δ·e_min·e_minᵀ with e_min·e_minᵀ = (λ₊I − Σ)/(λ₊ − λ₋), δ = λ₊/maxAniso² − λ₋
-// (no angle needed). In S = float or double. Adds its operations to `ops`.
-template <class S>
-Footprint footprint_setup(const Fragment& f, int w0, int h0, double radius_px, double max_aniso,
-                          OpCounts& ops);
-OpCounts footprint_setup_ops();
-
-// Bilinear sample of one level at normalised (u, v): the family's fallback when every weight
-// is zero. Appends its four texels to `fetched` and counts its operations.
-Rgba bilinear_fallback(const Texture& tex, int level, double u, double v, AddressMode au,
-                       AddressMode av, std::vector<TexelRef>* fetched, OpCounts& ops);
-
 // A fixed-point Q datapath: 18 integer bits (with sign) hold Q at the bounding-box corners of
 // footprints up to 256:1 anisotropy; 30 fraction bits keep the incremental drift along a row of
 // 1024 texels below 2.5·10⁻⁴ (docs/anisotropic-filters.md §1.4).
-using EwaQFixed = Fixed<18, 30, Signedness::Signed, Rounding::HalfEven, Overflow::Saturate>;
+using EwaQFixed = number_format_t<NumberFormat::S18_30>;
 
 class EwaFilter {
  public:
   enum class Weight : int { Lut, Exp, Pow8, Map, Uniform };
   enum class Mip : int { Nearest, Linear };
   enum class Scan : int { Box, RowSpan };
-  enum class Arith : int { Float, Double, Fixed };
+  // arith: "float", "double" or "fixed" (Q in EwaQFixed).
+  static constexpr NumberFormatChoices<NumberFormat::Float, NumberFormat::Double,
+                                       NumberFormat::S18_30>
+      kArith{{"float", "double", "fixed"}};
   enum class Edge : int { None, Vd };
 
   struct Config {
@@ -105,7 +58,7 @@ class EwaFilter {
     double minor_texels = 1.0;  // level: minor radius / 2^level ∈ [minor_texels, 2·minor_texels)
     Mip mip = Mip::Nearest;
     Scan scan = Scan::Box;
-    Arith arith = Arith::Float;
+    NumberFormat arith = NumberFormat::Float;
     AddressMode address_u = AddressMode::Wrap;
     AddressMode address_v = AddressMode::Wrap;
     int lanes = 4;  // texels whose weight is evaluated per cycle
@@ -160,9 +113,9 @@ class EwaFilter {
 
   // Scan cycles one fragment occupies: ⌈visited / lanes⌉, at least 1.
   uint32_t issue_cycles(const FilterStats& s) const;
-  // Operations per box texel (scan + inside test) and per texel inside (weight, address,
-  // read, multiply-accumulate).
-  OpCounts ops_per_visit() const;
+  // Item: one scanned box texel (scan + inside test); per texel inside: weight, address,
+  // read, multiply-accumulate.
+  OpCounts ops_per_item() const;
   OpCounts ops_per_inside() const;
   // With edge = "vd": per level, the band set-up (minor radius, Q threshold); per texel in the
   // band, the boundary distance, the cut-off and the weight's scaling.
@@ -173,6 +126,7 @@ class EwaFilter {
   TimingSpec timing(const TechTable& tech) const;
   // Name of the arithmetic for reports.
   std::string arithmetic() const;
+  std::string name() const { return "filter.ewa"; }
 
  private:
   void build_lut();

@@ -5,9 +5,13 @@
 #include <numbers>
 #include <type_traits>
 
+#include "blocks/base/block.h"
+#include "blocks/texture/footprint/multi_probe_filter.h"
 #include "blocks/texture/subtexel/vd_evaluator_params.h"
 
 namespace texsim {
+
+static_assert(Block<FelineFilter>);
 
 FelineFilter::Config FelineFilter::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"axis", "weights", "max_probes", "weight_alpha", "radius_px", "max_aniso",
@@ -25,8 +29,8 @@ FelineFilter::Config FelineFilter::Config::from_toml(const ConfigReader& r) {
   if (!(c.radius_px > 0) || !(c.radius_px <= 16)) r.fail("radius_px", "must be in (0, 16]");
   c.max_aniso = r.get_double("max_aniso", c.max_aniso);
   if (!(c.max_aniso >= 1) || !(c.max_aniso <= 1024)) r.fail("max_aniso", "must be in [1, 1024]");
-  c.arith = static_cast<ProbeArith>(
-      r.get_choice("arith", static_cast<int>(c.arith), {"float", "double", "fixed"}));
+  c.arith =
+      kProbeArith.at(r.get_choice("arith", kProbeArith.index_of(c.arith), kProbeArith.key_list()));
   const std::vector<std::string_view> modes = {"wrap", "clamp", "mirror"};
   c.address_u = static_cast<AddressMode>(r.get_choice("address_u", 0, modes));
   c.address_v = static_cast<AddressMode>(r.get_choice("address_v", 0, modes));
@@ -45,15 +49,14 @@ FelineFilter::FelineFilter(const Config& c) : cfg_(c) {
 ProbeSet FelineFilter::probes(const Texture& tex, const Fragment& f, OpCounts& ops,
                               FilterStats* st) const {
   ops += setup_ops();
-  switch (cfg_.arith) {
-    case ProbeArith::Float:
-      return probes_t<float>(tex, f, st);
-    case ProbeArith::Double:
-      return probes_t<double>(tex, f, st);
-    case ProbeArith::Fixed:
+  return kProbeArith.visit(cfg_.arith, [&](auto t) {
+    using T = decltype(t);
+    if constexpr (is_fixed_v<T>) {
       return probes_fixed(tex, f, st);
-  }
-  return {};
+    } else {
+      return probes_t<T>(tex, f, st);
+    }
+  });
 }
 
 template <class T>
@@ -252,7 +255,7 @@ FilterOutput FelineFilter::filter(const Texture& tex, const Fragment& f,
 
 OpCounts FelineFilter::setup_ops() const {
   OpCounts o;
-  if (cfg_.arith == ProbeArith::Fixed) {
+  if (cfg_.arith == NumberFormat::S16_24HalfUp) {
     if (cfg_.axis == Axis::Parallelogram) {
       // Non-finite and saturation tests: 2 cmp; Deriv converters: 4 mul; lengths²: 4 mul, 2 add;
       // compare and select: 3 cmp; √ of both (digit recurrence): 2 sqrt.
@@ -307,18 +310,19 @@ OpCounts FelineFilter::probe_setup_ops() const {
   o.mul = 2;  // t·(lu, lv) (fixed: m·(line/N))
   o.add = 2;
   if (cfg_.weights == Weights::Gaussian) {
-    o.mul += 1;                                       // float: t²·w_α; fixed: m²·c
-    o.lut += 1;                                       // exp (fixed: the 2^-f table and a shift)
-    if (cfg_.arith == ProbeArith::Fixed) o.add += 1;  // the m² counter: (m + 2)² = m² + 4m + 4
+    o.mul += 1;  // float: t²·w_α; fixed: m²·c
+    o.lut += 1;  // exp (fixed: the 2^-f table and a shift)
+    if (cfg_.arith == NumberFormat::S16_24HalfUp)
+      o.add += 1;  // the m² counter: (m + 2)² = m² + 4m + 4
   }
   return o;
 }
 
-OpCounts FelineFilter::per_probe_ops() const { return probe_lane_ops(addr_, probe_setup_ops()); }
+OpCounts FelineFilter::ops_per_item() const { return probe_lane_ops(addr_, probe_setup_ops()); }
 
 TimingSpec FelineFilter::timing(const TechTable& tech) const {
   OpCounts path;
-  if (cfg_.arith == ProbeArith::Fixed) {
+  if (cfg_.arith == NumberFormat::S16_24HalfUp) {
     constexpr uint64_t n = ProbeFx::kCordicSteps;
     if (cfg_.axis == Axis::Parallelogram) {
       // Converter, square, sum, compare, √, divider, clamp, 1/N table, line/N, to normalised,
@@ -361,20 +365,16 @@ TimingSpec FelineFilter::timing(const TechTable& tech) const {
 std::string FelineFilter::arithmetic() const {
   const std::string probes =
       "; trilinear probes (float32 coordinates, u0.8 weights), float32 blend";
-  switch (cfg_.arith) {
-    case ProbeArith::Float:
-      return std::string(cfg_.axis == Axis::Ellipse
-                             ? "float32 footprint set-up, line/N/positions/weights in double"
-                             : "line/N/positions/weights in double") +
-             probes;
-    case ProbeArith::Double:
-      return "double set-up" + probes;
-    case ProbeArith::Fixed:
-      return "fixed set-up (" + ProbeFx::name() +
-             (cfg_.axis == Axis::Ellipse ? "; CORDIC axis" : "") +
-             ", digit-recurrence sqrt, log2/exp2 tables)" + probes;
+  if (cfg_.arith == NumberFormat::Double) return "double set-up" + probes;
+  if (cfg_.arith == NumberFormat::S16_24HalfUp) {
+    return "fixed set-up (" + ProbeFx::name() +
+           (cfg_.axis == Axis::Ellipse ? "; CORDIC axis" : "") +
+           ", digit-recurrence sqrt, log2/exp2 tables)" + probes;
   }
-  return "?";
+  return std::string(cfg_.axis == Axis::Ellipse
+                         ? "float32 footprint set-up, line/N/positions/weights in double"
+                         : "line/N/positions/weights in double") +
+         probes;
 }
 
 }  // namespace texsim

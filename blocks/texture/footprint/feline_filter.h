@@ -23,8 +23,9 @@
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
-#include "blocks/texture/footprint/ewa_filter.h"
-#include "blocks/texture/footprint/multi_probe_filter.h"
+#include "blocks/texture/footprint/footprint_types.h"
+#include "blocks/texture/footprint/probe_executor.h"
+#include "blocks/texture/footprint/probe_setup_fx.h"
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/sampler/texel_address_gen.h"
 
@@ -41,7 +42,7 @@ class FelineFilter {
     double weight_alpha = 2.0;  // Gaussian: exp(−w_α·t²), t ∈ (−1, 1) along the line
     double radius_px = 1.0;     // the line spans ±R pixels of footprint
     double max_aniso = 64;      // Ellipse axis: minor stretched to ≥ major/max_aniso
-    ProbeArith arith = ProbeArith::Float;  // set-up arithmetic (see the header comment)
+    NumberFormat arith = NumberFormat::Float;  // set-up arithmetic (see the header comment)
     AddressMode address_u = AddressMode::Wrap;
     AddressMode address_v = AddressMode::Wrap;
     // Keys: axis (parallelogram|ellipse), weights (equal|gaussian), max_probes, weight_alpha,
@@ -62,11 +63,13 @@ class FelineFilter {
 
   uint32_t issue_cycles(const FilterStats& s) const { return s.probes > 0 ? s.probes : 1; }
   OpCounts setup_ops() const;
-  OpCounts per_probe_ops() const;
+  // Item: one probe (position, weight, trilinear address and blend).
+  OpCounts ops_per_item() const;
   OpCounts probe_setup_ops() const;  // per probe: position and weight only
   TimingSpec timing(const TechTable& tech) const;
   // Name of the arithmetic for reports.
   std::string arithmetic() const;
+  std::string name() const { return "filter.feline"; }
 
  private:
   // The set-up in one number format (T = float or double; fixed point: probes_fixed).

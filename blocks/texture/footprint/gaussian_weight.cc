@@ -2,7 +2,11 @@
 
 #include <cmath>
 
+#include "blocks/base/block.h"
+
 namespace texsim {
+
+static_assert(Block<GaussianWeight>);
 
 namespace {
 
@@ -114,28 +118,18 @@ OpCounts GaussianWeight::setup_ops() const {
   return o;
 }
 
-OpCounts GaussianWeight::texel_ops() const { return q_ops() + function_ops(cfg_.function); }
+OpCounts GaussianWeight::ops_per_item() const { return q_ops() + function_ops(cfg_.function); }
 
 OpCounts GaussianWeight::texel_critical_path() const {
   return q_path() + function_path(cfg_.function);
 }
 
 TimingSpec GaussianWeight::timing(const TechTable& tech) const {
-  TimingSpec t;
-  t.latency = static_cast<uint32_t>(std::ceil(tech.path_latency(texel_critical_path())));
-  t.ii = 1;
-  t.lanes = cfg_.lanes;
-  t.area = tech.area_of(texel_ops()) * cfg_.lanes;
-  return t;
+  return derive_timing(tech, ops_per_item(), texel_critical_path(), Datapath::Spatial, cfg_.lanes);
 }
 
 TimingSpec GaussianWeight::setup_timing(const TechTable& tech) const {
-  TimingSpec t;
-  t.latency = static_cast<uint32_t>(std::ceil(tech.path_latency(setup_path(cfg_.axes))));
-  t.ii = 1;
-  t.lanes = 1;
-  t.area = tech.area_of(setup_ops());
-  return t;
+  return derive_timing(tech, setup_ops(), setup_path(cfg_.axes), Datapath::Spatial);
 }
 
 }  // namespace texsim

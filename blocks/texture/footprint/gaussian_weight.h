@@ -170,13 +170,16 @@ class GaussianWeight {
 
   // Operations of the per-footprint set-up for the configured axes rule.
   OpCounts setup_ops() const;
-  // Operations per texel: q (5 mul, 2 add) and the weight function.
-  OpCounts texel_ops() const;
+  // Item: one texel. Operations: q (5 mul, 2 add) and the weight function.
+  OpCounts ops_per_item() const;
   OpCounts texel_critical_path() const;
   // Per-texel datapath (fully pipelined, `lanes` texels per cycle).
   TimingSpec timing(const TechTable& tech) const;
   // Per-footprint set-up unit (fully pipelined, one footprint per cycle).
   TimingSpec setup_timing(const TechTable& tech) const;
+  std::string name() const { return "gaussian_weight"; }
+  // The format is the caller's (GaussianWeightFormat<float|double> or GaussianWeightFx16).
+  std::string arithmetic() const { return "per-call format"; }
 
  private:
   Config cfg_;

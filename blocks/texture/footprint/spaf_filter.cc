@@ -6,9 +6,12 @@
 #include <limits>
 #include <type_traits>
 
+#include "blocks/base/block.h"
 #include "blocks/texture/sampler/texel_address_gen.h"
 
 namespace texsim {
+
+static_assert(Block<SpafFilter>);
 
 namespace {
 
@@ -101,8 +104,7 @@ SpafFilter::Config SpafFilter::Config::from_toml(const ConfigReader& r) {
   } else if (r.table().contains("vd")) {
     r.fail("vd", "is only used with coverage = \"vd\"");
   }
-  c.arith = static_cast<Arith>(
-      r.get_choice("arith", static_cast<int>(c.arith), {"float", "double", "fixed"}));
+  c.arith = kArith.at(r.get_choice("arith", kArith.index_of(c.arith), kArith.key_list()));
   return c;
 }
 
@@ -168,187 +170,245 @@ double SpafFilter::vd_coverage(double deu, double dev, double e) const {
   });
 }
 
+namespace {
+
+// One fragment through SpafFilter's datapath in T, stage by stage (SpafFilter::filter_t):
+// level and box, per-level edge and Q set-up in S, the fixed datapath's range guard, the
+// stepping start in T, then the scan with a coverage unit.
 template <class T>
-FilterOutput SpafFilter::filter_t(const Texture& tex, const Fragment& f,
-                                  std::vector<TexelRef>* fetched, OpCounts& ops) const {
+struct SpafRun {
   using S = SetupOf<T>;
   using Acc = SetupOf<T>;
-  FilterOutput out;
-  FilterStats& st = out.stats;
-  ops += setup_ops();
-  const int w0 = tex.width(0), h0 = tex.height(0), q_top = tex.levels() - 1;
-  double u = f.u, v = f.v;
-  if (!std::isfinite(u) || !std::isfinite(v)) {
-    st.bad_input = true;
-    u = std::isfinite(u) ? u : 0.0;
-    v = std::isfinite(v) ? v : 0.0;
-  }
-  double ax = f.dudx * w0 * cfg_.half_px, ay = f.dvdx * h0 * cfg_.half_px;
-  double bx = f.dudy * w0 * cfg_.half_px, by = f.dvdy * h0 * cfg_.half_px;
-  if (!std::isfinite(ax) || !std::isfinite(ay) || !std::isfinite(bx) || !std::isfinite(by)) {
-    st.bad_input = true;
-    ax = ay = bx = by = 0;
-  }
-  const double det = ax * by - ay * bx;
-  auto fallback = [&](int level) {
-    st.fallback = true;
-    st.level = level;
-    out.colour = bilinear_fallback(tex, level, u, v, cfg_.address_u, cfg_.address_v, fetched, ops);
-    st.texels += 4;
+
+  const SpafFilter& sp;
+  const Texture& tex;
+  std::vector<TexelRef>* fetched;
+  OpCounts& ops;
+  FilterOutput out{};
+  int w0 = 0, h0 = 0, q_top = 0, level = 0, wl = 0, hl = 0;
+  double u = 0, v = 0, ax = 0, ay = 0, bx = 0, by = 0, det = 0;
+  int64_t i0 = 0, i1 = 0, j0 = 0, j1 = 0;
+  // Per-level set-up in S: edge normals, E at the centre, −k (V(d) coverage), Q coefficients.
+  S deu[4]{}, dev[4]{}, ec[4]{}, negk[4]{};
+  S qa = 0, qb = 0, qc = 0, uc = 0, vc = 0, U0 = 0, V0 = 0;
+  // Stepping start in T.
+  T deut[4]{}, devt[4]{}, erow0[4]{};
+  T q0{}, dq0{}, dqv0{}, bt{}, two_a{}, two_c{};
+
+  const SpafFilter::Config& cfg() const { return sp.config(); }
+
+  FilterOutput fallback() {
+    out.stats.fallback = true;
+    out.stats.level = level;
+    out.colour =
+        bilinear_fallback(tex, level, u, v, cfg().address_u, cfg().address_v, fetched, ops);
+    out.stats.texels += 4;
     return out;
-  };
-  // Level: start where the shorter derivative (one pixel) spans 1–2 texels, as EWA's minor
-  // axis rule, then go coarser until the box fits the budget. Control decisions, in double.
-  const double shorter = std::min(std::hypot(ax, ay), std::hypot(bx, by)) / cfg_.half_px;
-  int level = 0;
-  if (shorter > 1) level = std::min(q_top, static_cast<int>(std::floor(std::log2(shorter))));
-  auto box = [&](int l, int64_t& i0, int64_t& i1, int64_t& j0, int64_t& j1) {
+  }
+
+  // Position and the footprint's half-axes in level-0 texels (non-finite: replaced).
+  void read_fragment(const Fragment& f) {
+    w0 = tex.width(0);
+    h0 = tex.height(0);
+    q_top = tex.levels() - 1;
+    u = f.u;
+    v = f.v;
+    if (!std::isfinite(u) || !std::isfinite(v)) {
+      out.stats.bad_input = true;
+      u = std::isfinite(u) ? u : 0.0;
+      v = std::isfinite(v) ? v : 0.0;
+    }
+    const double h = cfg().half_px;
+    ax = f.dudx * w0 * h;
+    ay = f.dvdx * h0 * h;
+    bx = f.dudy * w0 * h;
+    by = f.dvdy * h0 * h;
+    if (!std::isfinite(ax) || !std::isfinite(ay) || !std::isfinite(bx) || !std::isfinite(by)) {
+      out.stats.bad_input = true;
+      ax = ay = bx = by = 0;
+    }
+    det = ax * by - ay * bx;
+  }
+
+  // The bounding box of the quadrilateral at level l (sets i0..j1); returns its texel count.
+  double box(int l) {
     const double sx = static_cast<double>(tex.width(l)) / w0,
                  sy = static_cast<double>(tex.height(l)) / h0;
     const double ex = (std::fabs(ax) + std::fabs(bx)) * sx,
                  ey = (std::fabs(ay) + std::fabs(by)) * sy;
     constexpr double kLimit = 1073741824.0;
-    const double uc = std::clamp(u * tex.width(l) - 0.5, -kLimit, kLimit);
-    const double vc = std::clamp(v * tex.height(l) - 0.5, -kLimit, kLimit);
+    const double cu = std::clamp(u * tex.width(l) - 0.5, -kLimit, kLimit);
+    const double cv = std::clamp(v * tex.height(l) - 0.5, -kLimit, kLimit);
     const double exc = std::min(ex, kLimit), eyc = std::min(ey, kLimit);
-    i0 = static_cast<int64_t>(std::ceil(uc - exc - 0.5));
-    i1 = static_cast<int64_t>(std::floor(uc + exc + 0.5));
-    j0 = static_cast<int64_t>(std::ceil(vc - eyc - 0.5));
-    j1 = static_cast<int64_t>(std::floor(vc + eyc + 0.5));
+    i0 = static_cast<int64_t>(std::ceil(cu - exc - 0.5));
+    i1 = static_cast<int64_t>(std::floor(cu + exc + 0.5));
+    j0 = static_cast<int64_t>(std::ceil(cv - eyc - 0.5));
+    j1 = static_cast<int64_t>(std::floor(cv + eyc + 0.5));
     OpCounts it;  // scale, extents, bounds, count, compare
     it.mul = 4 + 1;
     it.add = 2 + 4 + 2;
     it.cmp = 4 + 1;
     ops += it;
     return static_cast<double>(i1 - i0 + 1) * static_cast<double>(j1 - j0 + 1);
-  };
-  int64_t i0 = 0, i1 = 0, j0 = 0, j1 = 0;
-  while (box(level, i0, i1, j0, j1) > cfg_.texel_budget && level < q_top) ++level;
-  st.level = level;
-  if (!(std::fabs(det) > 0) || box(level, i0, i1, j0, j1) > cfg_.texel_budget * 4.0) {
-    // A zero-area quadrilateral has no inside; a box still too large at the top level (a
-    // footprint far larger than the texture) is not scanned: both take the bilinear sample.
-    return fallback(level);
+  }
+
+  // Level: start where the shorter derivative (one pixel) spans 1–2 texels, as EWA's minor
+  // axis rule, then go coarser until the box fits the budget. Control decisions, in double.
+  // False: a zero-area quadrilateral (no inside) or a box still too large at the top level
+  // (a footprint far larger than the texture): both take the bilinear sample.
+  bool select_level() {
+    const double shorter = std::min(std::hypot(ax, ay), std::hypot(bx, by)) / cfg().half_px;
+    level = 0;
+    if (shorter > 1) level = std::min(q_top, static_cast<int>(std::floor(std::log2(shorter))));
+    while (box(level) > cfg().texel_budget && level < q_top) ++level;
+    out.stats.level = level;
+    return std::fabs(det) > 0 && !(box(level) > cfg().texel_budget * 4.0);
   }
 
   // Per-level set-up in S: corners relative to the centre (P0 → P1 → P2 → P3 → P0), edge
-  // normals, the edge values at the centre, the Q coefficients.
-  const int wl = tex.width(level), hl = tex.height(level);
-  const double sxl = static_cast<double>(wl) / w0, syl = static_cast<double>(hl) / h0;
-  const S uc = static_cast<S>(u * wl - 0.5), vc = static_cast<S>(v * hl - 0.5);
-  const S lax = static_cast<S>(ax * sxl), lay = static_cast<S>(ay * syl);
-  const S lbx = static_cast<S>(bx * sxl), lby = static_cast<S>(by * syl);
-  const S ox[4] = {-lax - lbx, lax - lbx, lax + lbx, -lax + lbx};
-  const S oy[4] = {-lay - lby, lay - lby, lay + lby, -lay + lby};
-  S deu[4], dev[4], ec[4], negk[4];
-  for (int k = 0; k < 4; ++k) {
-    const S du = ox[(k + 1) % 4] - ox[k], dv = oy[(k + 1) % 4] - oy[k];
-    const S l1 = std::fabs(du) + std::fabs(dv);
-    const S rl1 = S(1) / l1;
-    // A quadrilateral too thin for S (an edge of zero length after rounding) has no inside.
-    if (!(l1 > 0) || !std::isfinite(rl1)) return fallback(level);
-    deu[k] = dv * rl1;
-    dev[k] = -du * rl1;
-    // E at the centre. The seed's normal (ΔV, −ΔU) points inside for one orientation only:
-    // flip it so that the centre is inside (E > 0) whatever the sign of det J.
-    ec[k] = -(ox[k] * deu[k] + oy[k] * dev[k]);
-    if (ec[k] < 0) {
-      deu[k] = -deu[k];
-      dev[k] = -dev[k];
-      ec[k] = -ec[k];
+  // normals and the edge values at the centre. False: an edge of zero length after rounding
+  // (a quadrilateral too thin for S has no inside).
+  bool edge_setup() {
+    wl = tex.width(level);
+    hl = tex.height(level);
+    const double sxl = static_cast<double>(wl) / w0, syl = static_cast<double>(hl) / h0;
+    uc = static_cast<S>(u * wl - 0.5);
+    vc = static_cast<S>(v * hl - 0.5);
+    const S lax = static_cast<S>(ax * sxl), lay = static_cast<S>(ay * syl);
+    const S lbx = static_cast<S>(bx * sxl), lby = static_cast<S>(by * syl);
+    const S ox[4] = {-lax - lbx, lax - lbx, lax + lbx, -lax + lbx};
+    const S oy[4] = {-lay - lby, lay - lby, lay + lby, -lay + lby};
+    for (int k = 0; k < 4; ++k) {
+      const S du = ox[(k + 1) % 4] - ox[k], dv = oy[(k + 1) % 4] - oy[k];
+      const S l1 = std::fabs(du) + std::fabs(dv);
+      const S rl1 = S(1) / l1;
+      if (!(l1 > 0) || !std::isfinite(rl1)) return false;
+      deu[k] = dv * rl1;
+      dev[k] = -du * rl1;
+      // E at the centre. The seed's normal (ΔV, −ΔU) points inside for one orientation only:
+      // flip it so that the centre is inside (E > 0) whatever the sign of det J.
+      ec[k] = -(ox[k] * deu[k] + oy[k] * dev[k]);
+      if (ec[k] < 0) {
+        deu[k] = -deu[k];
+        dev[k] = -dev[k];
+        ec[k] = -ec[k];
+      }
+      negk[k] =
+          cfg().coverage == SpafFilter::Coverage::Vd ? -(l1 / std::sqrt(du * du + dv * dv)) : S(0);
     }
-    negk[k] = cfg_.coverage == Coverage::Vd ? -(l1 / std::sqrt(du * du + dv * dv)) : S(0);
+    gaussian_setup(lax, lay, lbx, lby);
+    return true;
   }
+
   // Gaussian weight: Q of the R = 1 px ellipse, Σ = J·Jᵀ at this level (level texels), with
   // det Σ = (det J)² (no cancellation in suu·svv − suv²).
-  const S r = static_cast<S>(1.0 / cfg_.half_px);
-  const S jux = lax * r, jvx = lay * r, juy = lbx * r, jvy = lby * r;
-  const S suu = jux * jux + juy * juy, suv = jux * jvx + juy * jvy, svv = jvx * jvx + jvy * jvy;
-  const S jdet = jux * jvy - juy * jvx;
-  const S sdet = jdet * jdet;
-  const S rs = sdet > 0 && std::isfinite(S(1) / sdet) ? S(1) / sdet : S(0);
-  const S qa = svv * rs, qb = S(-2) * suv * rs, qc = suu * rs;
-  // Box corner (i0, j0) relative to the centre: the stepping starts there.
-  const S U0 = static_cast<S>(i0) - uc, V0 = static_cast<S>(j0) - vc;
+  void gaussian_setup(S lax, S lay, S lbx, S lby) {
+    const S r = static_cast<S>(1.0 / cfg().half_px);
+    const S jux = lax * r, jvx = lay * r, juy = lbx * r, jvy = lby * r;
+    const S suu = jux * jux + juy * juy, suv = jux * jvx + juy * jvy, svv = jvx * jvx + jvy * jvy;
+    const S jdet = jux * jvy - juy * jvx;
+    const S sdet = jdet * jdet;
+    const S rs = sdet > 0 && std::isfinite(S(1) / sdet) ? S(1) / sdet : S(0);
+    qa = svv * rs;
+    qb = S(-2) * suv * rs;
+    qc = suu * rs;
+    // Box corner (i0, j0) relative to the centre: the stepping starts there.
+    U0 = static_cast<S>(i0) - uc;
+    V0 = static_cast<S>(j0) - vc;
+  }
 
-  if constexpr (is_fixed_v<T>) {
-    // Every value the stepping datapath holds (E; Q, its steps and products at the box corner)
-    // is bounded from the box: |E| ≤ max E(centre) + Ub + Vb, and with Ub, Vb the box's
-    // extents from the centre plus one step, |Q|, |dQ| ≤ 3·Qb, Qb = (a·Ub + |b|·Vb)·Ub + c·Vb².
-    // Beyond the format's range the fixed datapath does not scan (bilinear fallback).
-    ops += fixed_guard_ops();
+  // Every value the stepping datapath holds (E; Q, its steps and products at the box corner)
+  // is bounded from the box: |E| ≤ max E(centre) + Ub + Vb, and with Ub, Vb the box's
+  // extents from the centre plus one step, |Q|, |dQ| ≤ 3·Qb, Qb = (a·Ub + |b|·Vb)·Ub + c·Vb².
+  // False beyond the format's range: the fixed datapath does not scan (bilinear fallback).
+  bool fixed_guard() {
+    ops += sp.fixed_guard_ops();
     const S ub = std::max(std::fabs(U0), std::fabs(static_cast<S>(i1) - uc)) + S(1);
     const S vb = std::max(std::fabs(V0), std::fabs(static_cast<S>(j1) - vc)) + S(1);
-    const S qbound = cfg_.gaussian ? (qa * ub + std::fabs(qb) * vb) * ub + qc * vb * vb : S(0);
+    const S qbound = cfg().gaussian ? (qa * ub + std::fabs(qb) * vb) * ub + qc * vb * vb : S(0);
     const S ebound = std::max(std::max(ec[0], ec[1]), std::max(ec[2], ec[3])) + ub + vb;
     const S limit = static_cast<S>(std::ldexp(1.0, T::kIntBits - 3));  // a quarter of the range
-    if (!(qbound < limit) || !(ebound < limit)) return fallback(level);
+    return qbound < limit && ebound < limit;
   }
 
   // Stepping datapath in T: E_k = ec_k + U·deu_k + V·dev_k and Q = (aU + bV)U + cV² at the
   // box corner, then additions only: along a row E += deu, Q += dQ, dQ += 2a; down a row
   // E += dev, Q_row += dQv, dQv += 2c, dQ_row += b.
-  const T one = to_t<T>(1.0), zero = to_t<T>(0.0), half = to_t<T>(0.5), mhalf = to_t<T>(-0.5);
-  const T Ut = to_t<T>(static_cast<double>(U0)), Vt = to_t<T>(static_cast<double>(V0));
-  T deut[4], devt[4], erow0[4];
-  for (int k = 0; k < 4; ++k) {
-    deut[k] = to_t<T>(static_cast<double>(deu[k]));
-    devt[k] = to_t<T>(static_cast<double>(dev[k]));
-    erow0[k] = to_t<T>(static_cast<double>(ec[k])) + deut[k] * Ut + devt[k] * Vt;
+  void stepping_start() {
+    const T one = to_t<T>(1.0);
+    const T Ut = to_t<T>(static_cast<double>(U0)), Vt = to_t<T>(static_cast<double>(V0));
+    for (int k = 0; k < 4; ++k) {
+      deut[k] = to_t<T>(static_cast<double>(deu[k]));
+      devt[k] = to_t<T>(static_cast<double>(dev[k]));
+      erow0[k] = to_t<T>(static_cast<double>(ec[k])) + deut[k] * Ut + devt[k] * Vt;
+    }
+    const T at = to_t<T>(static_cast<double>(qa)), ct = to_t<T>(static_cast<double>(qc));
+    bt = to_t<T>(static_cast<double>(qb));
+    q0 = (at * Ut + bt * Vt) * Ut + ct * Vt * Vt;
+    dq0 = at * (Ut + Ut + one) + bt * Vt;
+    dqv0 = bt * Ut + ct * (Vt + Vt + one);
+    two_a = at + at;
+    two_c = ct + ct;
   }
-  const T at = to_t<T>(static_cast<double>(qa)), bt = to_t<T>(static_cast<double>(qb)),
-          ct = to_t<T>(static_cast<double>(qc));
-  const T q0 = (at * Ut + bt * Vt) * Ut + ct * Vt * Vt;
-  const T dq0 = at * (Ut + Ut + one) + bt * Vt;
-  const T dqv0 = bt * Ut + ct * (Vt + Vt + one);
-  const T two_a = at + at, two_c = ct + ct;
 
-  const bool gaussian = cfg_.gaussian;
-  const double alpha = cfg_.alpha;
-  auto scan = [&](const auto& cov) {
+  // Per-kind step counts of the scan (operations multiplied out at the end).
+  struct Steps {
+    uint64_t rows = 0, visits = 0, partials = 0, insides = 0;
+  };
+
+  // One texel at E values e and Q value q: the edge units, coverage, weight and MAC.
+  template <class Cov>
+  void texel(const Cov& cov, const T (&e)[4], T q, int64_t i, int32_t y, Steps& n,
+             glm::vec<4, Acc>& sum, Acc& wsum) {
+    const T zero = to_t<T>(0.0), half = to_t<T>(0.5), mhalf = to_t<T>(-0.5);
+    // The four edge units test in parallel; a texel out on any edge goes no further.
+    bool out_side = false;
+    int cuts = 0, cut_k[4];
+    for (int k = 0; k < 4; ++k) {
+      if (e[k] <= mhalf)
+        out_side = true;
+      else if (e[k] < half)
+        cut_k[cuts++] = k;
+    }
+    if (out_side) {
+      out.stats.visited += 1;
+      return;
+    }
+    out.stats.visited += cov.slots(cuts);
+    auto c = cov.start();
+    for (int m = 0; m < cuts; ++m) cov.cut(c, cut_k[m], e[cut_k[m]]);
+    n.partials += static_cast<uint64_t>(cuts);
+    if (cov.empty(c)) return;
+    float w = cov.coverage(c);
+    if (cfg().gaussian) {
+      const T qq = q < zero ? zero : q;  // the exp table's index clamp
+      w *= static_cast<float>(std::exp(-cfg().alpha * to_double(qq)));
+    }
+    ++n.insides;
+    const int32_t x = TexelAddressGen::address(i, wl, cfg().address_u);
+    if (fetched) fetched->push_back({level, x, y});
+    ++out.stats.texels;
+    const Acc wa = static_cast<Acc>(w);
+    sum += wa * glm::vec<4, Acc>(tex.texel(level, x, y));
+    wsum += wa;
+  }
+
+  template <class Cov>
+  FilterOutput scan(const Cov& cov) {
+    const bool gaussian = cfg().gaussian;
     glm::vec<4, Acc> sum(0);
     Acc wsum = 0;
-    uint64_t rows = 0, visits = 0, partials = 0, insides = 0;  // ops multiplied out at the end
+    Steps n;
     T erow[4] = {erow0[0], erow0[1], erow0[2], erow0[3]};
     T qrow = q0, dqrow = dq0, dqv = dqv0;
     for (int64_t j = j0; j <= j1; ++j) {
-      ++rows;
-      const int32_t y = TexelAddressGen::address(j, hl, cfg_.address_v);
+      ++n.rows;
+      const int32_t y = TexelAddressGen::address(j, hl, cfg().address_v);
       T e[4] = {erow[0], erow[1], erow[2], erow[3]};
       T q = qrow, dq = dqrow;
       for (int64_t i = i0; i <= i1; ++i) {
-        ++visits;
-        // The four edge units test in parallel; a texel out on any edge goes no further.
-        bool out_side = false;
-        int cuts = 0, cut_k[4];
-        for (int k = 0; k < 4; ++k) {
-          if (e[k] <= mhalf)
-            out_side = true;
-          else if (e[k] < half)
-            cut_k[cuts++] = k;
-        }
-        if (!out_side) {
-          st.visited += cov.slots(cuts);
-          auto c = cov.start();
-          for (int n = 0; n < cuts; ++n) cov.cut(c, cut_k[n], e[cut_k[n]]);
-          partials += static_cast<uint64_t>(cuts);
-          if (!cov.empty(c)) {
-            float w = cov.coverage(c);
-            if (gaussian) {
-              const T qq = q < zero ? zero : q;  // the exp table's index clamp
-              w *= static_cast<float>(std::exp(-alpha * to_double(qq)));
-            }
-            ++insides;
-            const int32_t x = TexelAddressGen::address(i, wl, cfg_.address_u);
-            if (fetched) fetched->push_back({level, x, y});
-            ++st.texels;
-            const Acc wa = static_cast<Acc>(w);
-            sum += wa * glm::vec<4, Acc>(tex.texel(level, x, y));
-            wsum += wa;
-          }
-        } else {
-          st.visited += 1;
-        }
+        ++n.visits;
+        texel(cov, e, q, i, y, n, sum, wsum);
         for (int k = 0; k < 4; ++k) e[k] = e[k] + deut[k];
         if (gaussian) {
           q = q + dq;
@@ -362,35 +422,49 @@ FilterOutput SpafFilter::filter_t(const Texture& tex, const Fragment& f,
         dqrow = dqrow + bt;
       }
     }
-    ops += per_row_ops() * rows;
-    ops += per_visit_ops() * visits;
-    ops += per_partial_edge_ops() * partials;
-    ops += per_inside_ops() * insides;
+    ops += sp.per_row_ops() * n.rows;
+    ops += sp.ops_per_item() * n.visits;
+    ops += sp.per_partial_edge_ops() * n.partials;
+    ops += sp.per_inside_ops() * n.insides;
     OpCounts norm;
     norm.cmp = 1;
     norm.rcp = 1;
     norm.mul = 4;
     ops += norm;
-    if (!(wsum > Acc(0))) return fallback(level);
+    if (!(wsum > Acc(0))) return fallback();
     out.colour = Rgba(sum * (Acc(1) / wsum));
     return out;
-  };
+  }
+};
 
+}  // namespace
+
+template <class T>
+FilterOutput SpafFilter::filter_t(const Texture& tex, const Fragment& f,
+                                  std::vector<TexelRef>* fetched, OpCounts& ops) const {
+  SpafRun<T> run{*this, tex, fetched, ops};
+  ops += setup_ops();
+  run.read_fragment(f);
+  if (!run.select_level() || !run.edge_setup()) return run.fallback();
+  if constexpr (is_fixed_v<T>) {
+    if (!run.fixed_guard()) return run.fallback();
+  }
+  run.stepping_start();
   if (cfg_.coverage == Coverage::Mask) {
     MaskCoverage mc{this, {}, {}, 0, 1.0f / static_cast<float>(mask_bits())};
     for (int k = 0; k < 4; ++k) {
-      mc.deu[k] = static_cast<double>(deu[k]);
-      mc.dev[k] = static_cast<double>(dev[k]);
+      mc.deu[k] = static_cast<double>(run.deu[k]);
+      mc.dev[k] = static_cast<double>(run.dev[k]);
     }
     const int bits = mask_bits();
     mc.full = bits == 64 ? ~uint64_t{0} : (uint64_t{1} << bits) - 1;
-    return scan(mc);
+    return run.scan(mc);
   }
   return visit_vd_format(cfg_.vd.format, [&](auto fmt) {
     using Fmt = decltype(fmt);
     VdCoverage<T, Fmt> vcov{SubtexelCutoff::Fraction<Fmt>(cut_), {}, cfg_.vd.lanes};
-    for (int k = 0; k < 4; ++k) vcov.negk[k] = to_t<T>(static_cast<double>(negk[k]));
-    return scan(vcov);
+    for (int k = 0; k < 4; ++k) vcov.negk[k] = to_t<T>(static_cast<double>(run.negk[k]));
+    return run.scan(vcov);
   });
 }
 
@@ -403,15 +477,8 @@ template FilterOutput SpafFilter::filter_t<SpafFixed>(const Texture&, const Frag
 
 FilterOutput SpafFilter::filter(const Texture& tex, const Fragment& f,
                                 std::vector<TexelRef>* fetched, OpCounts& ops) const {
-  switch (cfg_.arith) {
-    case Arith::Float:
-      return filter_t<float>(tex, f, fetched, ops);
-    case Arith::Double:
-      return filter_t<double>(tex, f, fetched, ops);
-    case Arith::Fixed:
-      return filter_t<SpafFixed>(tex, f, fetched, ops);
-  }
-  return {};
+  return kArith.visit(cfg_.arith,
+                      [&](auto t) { return filter_t<decltype(t)>(tex, f, fetched, ops); });
 }
 
 uint32_t SpafFilter::issue_cycles(const FilterStats& s) const {
@@ -442,8 +509,8 @@ OpCounts SpafFilter::setup_ops() const {
   }
   if (cfg_.coverage == Coverage::Vd) {
     // Per edge k = ‖n‖₁/‖n‖₂: ΔU² + ΔV² (2 mul, 1 add), √, reciprocal, × ‖n‖₁ (1 mul).
-    o.mul += 4 * 3;
-    o.add += 4 * 1;
+    o.mul += uint64_t{4} * 3;
+    o.add += uint64_t{4} * 1;
     o.sqrt += 4;
     o.rcp += 4;
   }
@@ -467,7 +534,7 @@ OpCounts SpafFilter::per_row_ops() const {
   return o;
 }
 
-OpCounts SpafFilter::per_visit_ops() const {
+OpCounts SpafFilter::ops_per_item() const {
   OpCounts o;
   o.add = 4;                      // four edge values stepped
   if (cfg_.gaussian) o.add += 2;  // Q stepped (dQ, Q)
@@ -478,7 +545,7 @@ OpCounts SpafFilter::per_visit_ops() const {
 OpCounts SpafFilter::per_partial_edge_ops() const {
   OpCounts o;
   if (cfg_.coverage == Coverage::Vd) {
-    o = cut_.ops() + SubtexelCutoff::fraction_extra_ops();
+    o = cut_.ops_per_item() + SubtexelCutoff::fraction_extra_ops();
     o.mul += 1;  // d = E·(−k)
     o.mul += 1;  // coverage product
     return o;
@@ -527,41 +594,31 @@ TimingSpec SpafFilter::timing(const TechTable& tech) const {
     path.lut += 1 + 1;  // mask table, popcount
     path.cmp += 1;      // AND
   }
-  TimingSpec t;
-  t.latency = static_cast<uint32_t>(std::ceil(tech.path_latency(path)));
-  t.ii = 1;
-  t.lanes = static_cast<uint32_t>(std::max(cfg_.lanes, 1));
   // Per lane: the edge and Q steppers, four edge units (mask table port or distance, ratio
   // and product), vd.lanes cut-off units, coverage, weight and MAC; one row stepper.
-  OpCounts lane = per_visit_ops() + per_inside_ops();
-  double cut_area = 0;
+  OpCounts lane = ops_per_item() + per_inside_ops();
   if (cfg_.coverage == Coverage::Vd) {
     OpCounts edge = SubtexelCutoff::fraction_extra_ops();
     edge.mul += 2;  // distance, product (per_partial_edge_ops without the cut-off itself)
-    lane += edge * 4;
-    cut_area = cut_.timing(tech).area;
+    lane += edge * 4 + cut_.ops_per_item() * cut_.config().lanes;
   } else {
     lane += per_partial_edge_ops() * 4;
   }
   lane.mem = 0;
   OpCounts shared = setup_ops() + per_row_ops();
-  if (cfg_.arith == Arith::Fixed) shared += fixed_guard_ops();
-  t.area = tech.area_of(shared) + (tech.area_of(lane) + cut_area) * static_cast<double>(t.lanes);
-  return t;
+  if (cfg_.arith == NumberFormat::S20_28HalfUp) shared += fixed_guard_ops();
+  return derive_timing(tech, lane, path, Datapath::Spatial,
+                       static_cast<uint32_t>(std::max(cfg_.lanes, 1)), shared);
 }
 
 std::string SpafFilter::arithmetic() const {
   std::string s;
-  switch (cfg_.arith) {
-    case Arith::Float:
-      s = "float32 set-up, edge functions and Q";
-      break;
-    case Arith::Double:
-      s = "double set-up, edge functions, Q and accumulation";
-      break;
-    case Arith::Fixed:
-      s = "float32 set-up; edge functions and Q in " + SpafFixed::name();
-      break;
+  if (cfg_.arith == NumberFormat::Double) {
+    s = "double set-up, edge functions, Q and accumulation";
+  } else if (cfg_.arith == NumberFormat::S20_28HalfUp) {
+    s = "float32 set-up; edge functions and Q in " + SpafFixed::name();
+  } else {
+    s = "float32 set-up, edge functions and Q";
   }
   if (cfg_.coverage == Coverage::Vd) {
     s += "; coverage from the " + cut_.name() + " cut-off per edge";
@@ -570,7 +627,7 @@ std::string SpafFilter::arithmetic() const {
     s += "; " + n + "x" + n + " sub-texel mask table, popcount";
   }
   if (cfg_.gaussian) s += "; Gaussian weight exp(-alpha Q)";
-  s += cfg_.arith == Arith::Double ? "" : "; float32 accumulation";
+  s += cfg_.arith == NumberFormat::Double ? "" : "; float32 accumulation";
   return s;
 }
 

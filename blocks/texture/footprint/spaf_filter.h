@@ -20,10 +20,11 @@
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
-#include "blocks/texture/footprint/ewa_filter.h"
+#include "blocks/texture/footprint/footprint_types.h"
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/subtexel/subtexel_cutoff.h"
 #include "rtl_model/number/fixed.h"
+#include "rtl_model/number/number_format.h"
 
 namespace texsim {
 
@@ -36,12 +37,15 @@ namespace texsim {
 // 4096:1. 28 fraction bits: stepping E and Q over a box of n texels side drifts by ≤ n·2^-29
 // in E and ≈ n²·2^-29 in Q (1.2·10⁻⁴ for n = 256; the default budget's boxes are 8–16 texels
 // wide). HalfUp: the cheapest rounding (one constant into the adder tree).
-using SpafFixed = Fixed<20, 28, Signedness::Signed, Rounding::HalfUp, Overflow::Saturate>;
+using SpafFixed = number_format_t<NumberFormat::S20_28HalfUp>;
 
 class SpafFilter {
  public:
   enum class Coverage : int { Mask, Vd };
-  enum class Arith : int { Float, Double, Fixed };
+  // arith: "float", "double" or "fixed" (edge functions and Q in SpafFixed).
+  static constexpr NumberFormatChoices<NumberFormat::Float, NumberFormat::Double,
+                                       NumberFormat::S20_28HalfUp>
+      kArith{{"float", "double", "fixed"}};
 
   struct Config {
     int mask_side = 4;      // sub-texels per side: masks of mask_side² bits (≤ 8)
@@ -60,7 +64,7 @@ class SpafFilter {
     // centre's Euclidean distance to the edge in texels. vd.lanes = cut-off units per lane.
     Coverage coverage = Coverage::Mask;
     SubtexelCutoff::Config vd;
-    Arith arith = Arith::Float;
+    NumberFormat arith = NumberFormat::Float;
     // Keys: mask_side, slope_steps, offset_steps, half_px, gaussian, alpha, texel_budget,
     // lanes, address_u, address_v, coverage (mask|vd), vd (SubtexelCutoff::Config: evaluator,
     // format, lanes; only with coverage = "vd"), arith (float|double|fixed).
@@ -93,8 +97,9 @@ class SpafFilter {
   // Scan slots / lanes: a texel takes one slot, or ⌈cut edges / vd.lanes⌉ with V(d) coverage.
   uint32_t issue_cycles(const FilterStats& s) const;
   OpCounts setup_ops() const;
-  OpCounts per_row_ops() const;    // row step of the four edges and of Q, row address
-  OpCounts per_visit_ops() const;  // four edge steps and the in/out tests, Q step
+  OpCounts per_row_ops() const;  // row step of the four edges and of Q, row address
+  // Item: one scanned texel (visit): four edge steps and the in/out tests, Q step.
+  OpCounts ops_per_item() const;
   // An edge with |E| < ½: mask table index and read, AND; or distance, cut-off, ratio, product.
   OpCounts per_partial_edge_ops() const;
   OpCounts per_inside_ops() const;   // coverage, weight, address, read, MAC
@@ -103,6 +108,7 @@ class SpafFilter {
   uint64_t table_bytes() const;
   // Name of the arithmetic for reports (names the V(d) evaluator and format when used).
   std::string arithmetic() const;
+  std::string name() const { return "filter.spaf"; }
 
  private:
   int slope_index(double deu, double dev) const;

@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "blocks/base/block.h"
+
 namespace texsim {
+
+static_assert(Block<WeightMap>);
 
 const char* to_string(WeightMap::Kind k) {
   switch (k) {
@@ -155,7 +159,7 @@ float WeightMap::read(float x, float y, uint32_t& reads) const {
   return lerp(top, bot, ty);
 }
 
-OpCounts WeightMap::ops_per_read() const {
+OpCounts WeightMap::ops_per_item() const {
   OpCounts o;
   switch (cfg_.kind) {
     case Kind::Full2D:
@@ -234,13 +238,10 @@ OpCounts WeightMap::ops_per_step() const {
 }
 
 TimingSpec WeightMap::timing(const TechTable& tech) const {
-  TimingSpec t;
-  t.latency = static_cast<uint32_t>(std::ceil(tech.path_latency(read_critical_path())));
-  t.ii = 1;
-  t.lanes = 1;
-  t.area = tech.area_of(ops_per_read());
-  return t;
+  return derive_timing(tech, ops_per_item(), read_critical_path(), Datapath::Spatial);
 }
+
+std::string WeightMap::arithmetic() const { return to_string(cfg_.element); }
 
 std::string WeightMap::name() const {
   std::string s = to_string(cfg_.kind);

@@ -65,8 +65,8 @@ class WeightMap {
   // centre and the edge r = 1 are entries, not interpolated.
   float read(float x, float y, uint32_t& reads) const;
 
-  // Operations of one read (index arithmetic, range test, interpolation, entry reads).
-  OpCounts ops_per_read() const;
+  // Item: one read. Operations: index arithmetic, range test, interpolation, entry reads.
+  OpCounts ops_per_item() const;
   OpCounts read_critical_path() const;
   // Per-footprint constants of the transform and per-step increments.
   OpCounts setup_ops() const;
@@ -74,7 +74,8 @@ class WeightMap {
   OpCounts ops_per_step() const;
   // One read per cycle per lane, fully pipelined.
   TimingSpec timing(const TechTable& tech) const;
-  std::string name() const;  // e.g. "quarter 64x64 u16"
+  std::string name() const;        // e.g. "quarter 64x64 u16"
+  std::string arithmetic() const;  // the element format, e.g. "u16"
 
  private:
   Config cfg_;

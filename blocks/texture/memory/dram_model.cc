@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "blocks/base/block.h"
+
 namespace texsim {
+
+static_assert(Block<DramModel>);
 
 DramModel::Config DramModel::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"latency", "bytes_per_cycle"});
@@ -17,6 +21,10 @@ DramModel::Config DramModel::Config::from_toml(const ConfigReader& r) {
 }
 
 DramModel::DramModel() : cfg_(Config{}) {}
+
+TimingSpec DramModel::timing(const TechTable& tech) const {
+  return derive_timing(tech, OpCounts{}, static_cast<double>(cfg_.latency), Datapath::Spatial);
+}
 
 uint64_t DramModel::read(uint64_t now, uint32_t bytes) {
   const double transfer = bytes / cfg_.bytes_per_cycle;

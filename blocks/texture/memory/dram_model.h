@@ -2,8 +2,12 @@
 // DRAM behind the texture cache: fixed access latency plus a bandwidth-limited channel that
 // serialises line transfers (docs/timing-model.md#memory).
 #include <cstdint>
+#include <string>
 
 #include "blocks/base/config_reader.h"
+#include "blocks/base/op_counts.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/base/timing_spec.h"
 
 namespace texsim {
 
@@ -26,6 +30,18 @@ class DramModel {
   uint64_t read(uint64_t now, uint32_t bytes);
   const Stats& stats() const { return stats_; }
   const Config& config() const { return cfg_; }
+
+  // Item: one line request (one memory read).
+  static OpCounts ops_per_item() {
+    OpCounts o;
+    o.mem = 1;
+    return o;
+  }
+  // The access latency (at least one cycle, as for every block); the channel's occupancy is
+  // modelled by read(), not by ii.
+  TimingSpec timing(const TechTable& tech) const;
+  static std::string name() { return "dram"; }
+  static std::string arithmetic() { return "none (bandwidth-limited channel)"; }
 
  private:
   Config cfg_;

@@ -4,7 +4,11 @@
 #include <limits>
 #include <stdexcept>
 
+#include "blocks/base/block.h"
+
 namespace texsim {
+
+static_assert(Block<TextureCache>);
 
 namespace {
 constexpr uint64_t kInvalid = std::numeric_limits<uint64_t>::max();
@@ -51,6 +55,11 @@ void TextureCache::fill(Way* set, uint64_t line) {
   set[victim].stamp = clock_;
   ++stats_.misses;
   stats_.fill_bytes += cfg_.line_bytes;
+}
+
+TimingSpec TextureCache::timing(const TechTable& tech) const {
+  // Tags and data are SRAM, not operators: a hit's latency and no arithmetic area.
+  return derive_timing(tech, OpCounts{}, static_cast<double>(cfg_.hit_latency), Datapath::Spatial);
 }
 
 }  // namespace texsim

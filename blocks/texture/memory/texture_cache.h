@@ -2,9 +2,12 @@
 // Texture cache: set-associative, LRU replacement, read-only (texels are never written back).
 // Cycle costs are charged by the pipeline's cache stage (docs/timing-model.md#memory).
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "blocks/base/config_reader.h"
+#include "blocks/base/op_counts.h"
+#include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
 
 namespace texsim {
@@ -56,6 +59,17 @@ class TextureCache {
   Stats& stats() { return stats_; }
   uint32_t sets() const { return sets_; }
   void count_texels(uint64_t n) { stats_.texel_reads += n; }
+
+  // Item: one texel read through the cache (the tag look-up is charged in cycles, not ops).
+  static OpCounts ops_per_item() {
+    OpCounts o;
+    o.mem = 1;
+    return o;
+  }
+  // A hit: hit_latency cycles, texels_per_cycle look-ups per cycle; no arithmetic area.
+  TimingSpec timing(const TechTable& tech) const;
+  static std::string name() { return "cache"; }
+  static std::string arithmetic() { return "tag compare"; }
 
  private:
   struct Way;

@@ -52,7 +52,8 @@ class Texture {
     const size_t i = (static_cast<size_t>(y) * lv.width + x) * 4;
     if (format_ == TexelFormat::Rgba8) {
       constexpr float k = 1.0f / 255.0f;
-      return {lv.rgba8[i] * k, lv.rgba8[i + 1] * k, lv.rgba8[i + 2] * k, lv.rgba8[i + 3] * k};
+      return {static_cast<float>(lv.rgba8[i]) * k, static_cast<float>(lv.rgba8[i + 1]) * k,
+              static_cast<float>(lv.rgba8[i + 2]) * k, static_cast<float>(lv.rgba8[i + 3]) * k};
     }
     return {lv.rgba32f[i], lv.rgba32f[i + 1], lv.rgba32f[i + 2], lv.rgba32f[i + 3]};
   }

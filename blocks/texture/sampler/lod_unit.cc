@@ -4,7 +4,11 @@
 #include <cmath>
 #include <limits>
 
+#include "blocks/base/block.h"
+
 namespace texsim {
+
+static_assert(Block<LodUnit>);
 
 namespace {
 
@@ -54,7 +58,6 @@ OpCounts LodUnit::count_ops(const Config& c) {
 }
 
 TimingSpec LodUnit::timing(const TechTable& tech) const {
-  TimingSpec t;
   // Common front: scale (mul), square (mul), sum (add), max (cmp).
   OpCounts front;
   front.mul = 2;
@@ -87,12 +90,7 @@ TimingSpec LodUnit::timing(const TechTable& tech) const {
     axis_path.mul = 1;
     lat = tech.path_latency(front) + tech.path_latency(n_path) + slower(tech, lam_path, axis_path);
   }
-  t.latency = static_cast<uint32_t>(std::ceil(lat));
-  if (t.latency == 0) t.latency = 1;
-  t.ii = 1;
-  t.lanes = 1;
-  t.area = tech.area_of(ops_per_fragment());
-  return t;
+  return derive_timing(tech, ops_per_item(), lat, Datapath::Spatial);
 }
 
 }  // namespace texsim

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 
 #include "blocks/base/config_reader.h"
 #include "blocks/base/fragment.h"
@@ -52,15 +53,17 @@ class LodUnit {
     ops += ops_;
     return eval(f, tex_w, tex_h);
   }
-  // The same without counting: a caller that counts fragments multiplies ops_per_fragment()
+  // The same without counting: a caller that counts fragments multiplies ops_per_item()
   // by their number instead (the count does not depend on the data).
   LodResult eval(const Fragment& f, int tex_w, int tex_h) const;
 
-  // Operations per fragment of the datapath (the same for every fragment: the hardware
+  // Item: one fragment. Operations of the datapath (the same for every fragment: the hardware
   // evaluates every path and selects).
-  const OpCounts& ops_per_fragment() const { return ops_; }
+  const OpCounts& ops_per_item() const { return ops_; }
   // Critical path (latency) and area of a fully pipelined unit (one fragment per cycle).
   TimingSpec timing(const TechTable& tech) const;
+  std::string name() const { return "lod"; }
+  std::string arithmetic() const { return "float32, log2 by table"; }
 
  private:
   static OpCounts count_ops(const Config& c);

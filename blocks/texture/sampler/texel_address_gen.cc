@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "blocks/base/block.h"
+
 namespace texsim {
+
+static_assert(Block<TexelAddressGen>);
 
 const char* to_string(FilterMode m) {
   switch (m) {
@@ -160,12 +164,17 @@ TimingSpec TexelAddressGen::timing(const TechTable& tech) const {
   b += tech.lat(OpKind::Mul);  // × level weight or 1/N (present in the pipe, bypassed if 1)
   const double lat =
       tech.path_latency(setup) + tech.path_latency(pos) + tech.path_latency(coord) + std::max(a, b);
-  TimingSpec t;
-  t.latency = std::max<uint32_t>(1, static_cast<uint32_t>(std::ceil(lat)));
-  t.ii = 1;  // one probe per cycle; a fragment takes issue_cycles() slots
-  t.lanes = 1;
-  t.area = tech.area_of(ops_setup(true) + ops_per_probe(true));
-  return t;
+  // One probe per cycle (ii = 1); a fragment takes issue_cycles() slots.
+  return derive_timing(tech, ops_setup(true) + ops_per_item(true), lat, Datapath::Spatial);
+}
+
+std::string TexelAddressGen::name() const {
+  return std::string("filter.") + to_string(cfg_.filter);
+}
+
+std::string TexelAddressGen::arithmetic() const {
+  return "float32 coordinates; weights in u0." + std::to_string(cfg_.sub_texel_bits) +
+         ", mip fraction u0." + std::to_string(cfg_.mipmap_bits);
 }
 
 }  // namespace texsim

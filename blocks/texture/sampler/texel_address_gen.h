@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <string>
 
 #include "blocks/base/config_reader.h"
 #include "blocks/base/op_counts.h"
@@ -76,7 +77,7 @@ class TexelAddressGen {
     taps(tex, u, v, lod, out);
   }
   // The same without counting: the count depends only on the probe number N, so a caller
-  // may count fragments and probes and multiply ops_setup() and ops_per_probe() at the end.
+  // may count fragments and probes and multiply ops_setup() and ops_per_item() at the end.
   void taps(const Texture& tex, double u, double v, const LodResult& lod, FilterTaps& out) const;
 
   // Level selection from λ on a pyramid of `levels` levels.
@@ -103,13 +104,17 @@ class TexelAddressGen {
   static uint32_t issue_cycles(const LodResult& lod) {
     return static_cast<uint32_t>(lod.probes < 1 ? 1 : (lod.probes > 16 ? 16 : lod.probes));
   }
-  // Operations per fragment (level selection) and per probe; an anisotropic fragment
-  // (N > 1) adds 1/N per fragment and the probe offset and 1/N weighting per probe.
+  // Operations per fragment (level selection) and per item, one probe; an anisotropic
+  // fragment (N > 1) adds 1/N per fragment and the probe offset and 1/N weighting per probe.
   const OpCounts& ops_setup(bool anisotropic) const { return ops_setup_[anisotropic]; }
-  const OpCounts& ops_per_probe(bool anisotropic) const { return ops_probe_[anisotropic]; }
+  const OpCounts& ops_per_item(bool anisotropic) const { return ops_probe_[anisotropic]; }
+  const OpCounts& ops_per_item() const { return ops_per_item(false); }
   // Per-probe pipeline: latency of the critical path, ii = 1 probe per cycle, area of one
   // probe's datapath (with the anisotropic offset/weight stage).
   TimingSpec timing(const TechTable& tech) const;
+  // Report name ("filter.<mode>") and number formats.
+  std::string name() const;
+  std::string arithmetic() const;
 
  private:
   static OpCounts ops_address(AddressMode m);

@@ -4,7 +4,11 @@
 #include <bit>
 #include <cmath>
 
+#include "blocks/base/block.h"
+
 namespace texsim {
+
+static_assert(Block<TexelBlend>);
 
 TexelBlend::Config TexelBlend::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"taps_per_cycle"});
@@ -17,21 +21,17 @@ TexelBlend::Config TexelBlend::Config::from_toml(const ConfigReader& r) {
 }
 
 TimingSpec TexelBlend::timing(const TechTable& tech) const {
-  const int levels = std::bit_width(static_cast<unsigned>(std::max(cfg_.taps_per_cycle, 1))) - 1;
+  const int levels =
+      static_cast<int>(std::bit_width(static_cast<unsigned>(std::max(cfg_.taps_per_cycle, 1)))) - 1;
   OpCounts path;
   path.mem = 1;
   path.mul = 1;
   path.add = static_cast<uint64_t>(levels) + 1;  // tree + accumulator
-  TimingSpec t;
-  t.latency = std::max<uint32_t>(1, static_cast<uint32_t>(std::ceil(tech.path_latency(path))));
-  t.ii = 1;
-  t.lanes = 1;
   OpCounts units;  // taps_per_cycle read ports and RGBA multipliers, tree + accumulator adders
   units.mem = static_cast<uint64_t>(cfg_.taps_per_cycle);
   units.mul = 4 * static_cast<uint64_t>(cfg_.taps_per_cycle);
   units.add = 4 * static_cast<uint64_t>(cfg_.taps_per_cycle);
-  t.area = tech.area_of(units);
-  return t;
+  return derive_timing(tech, units, path, Datapath::Spatial);
 }
 
 }  // namespace texsim

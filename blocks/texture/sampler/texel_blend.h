@@ -4,8 +4,10 @@
 // `taps_per_cycle` taps, the group sums accumulated in tap order.
 #include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <string>
 #include <utility>
 
 #include "blocks/base/config_reader.h"
@@ -33,10 +35,10 @@ class TexelBlend {
 
   // Σ w_k · texel_k over taps.tap[0 .. count). Counts one memory read, 4 mul and 4 add per tap.
   Rgba blend(const FilterTaps& taps, const Texture& tex, OpCounts& ops) const {
-    ops += ops_per_tap() * static_cast<uint64_t>(taps.count > 0 ? taps.count : 0);
+    ops += ops_per_item() * static_cast<uint64_t>(taps.count > 0 ? taps.count : 0);
     return blend(taps, tex);
   }
-  // The same without counting (the count is ops_per_tap() times the number of taps).
+  // The same without counting (the count is ops_per_item() times the number of taps).
   Rgba blend(const FilterTaps& taps, const Texture& tex) const;
 
   // Cycles one fragment occupies the datapath: ⌈count / taps_per_cycle⌉ (at least 1).
@@ -45,7 +47,8 @@ class TexelBlend {
     const int c = (taps.count + g - 1) / g;
     return static_cast<uint32_t>(c > 1 ? c : 1);
   }
-  static OpCounts ops_per_tap() {
+  // Item: one tap.
+  static OpCounts ops_per_item() {
     OpCounts o;
     o.mem = 1;  // one texel read
     o.mul = 4;  // w · RGBA
@@ -54,6 +57,8 @@ class TexelBlend {
   }
   // Latency: texel read, multiply, log2(taps_per_cycle) adder levels, accumulate. ii = 1 group.
   TimingSpec timing(const TechTable& tech) const;
+  std::string name() const { return "blend"; }
+  std::string arithmetic() const { return "float32 multiply-accumulate"; }
 
  private:
   Config cfg_;
@@ -108,7 +113,7 @@ struct FetchRgba32f {
 // element passed up unchanged.
 inline F4 tree_sum(F4* prod, int n) {
   for (int width = n; width > 1; width = (width + 1) / 2) {
-    for (int k = 0; k < width / 2; ++k) prod[k] = prod[2 * k] + prod[2 * k + 1];
+    for (ptrdiff_t k = 0; k < width / 2; ++k) prod[k] = prod[2 * k] + prod[2 * k + 1];
     if (width & 1) prod[width / 2] = prod[width - 1];
   }
   return prod[0];

@@ -3,7 +3,11 @@
 #include <cmath>
 #include <vector>
 
+#include "blocks/base/block.h"
+
 namespace texsim {
+
+static_assert(Block<SubtexelCutoff>);
 
 namespace {
 
@@ -22,10 +26,10 @@ SubtexelCutoff::Config SubtexelCutoff::Config::from_toml(const ConfigReader& r) 
   r.reject_unknown({"evaluator", "format", "lanes"});
   Config c;
   const std::vector<std::string_view> evs(kVdEvaluatorNames.begin(), kVdEvaluatorNames.end());
-  const std::vector<std::string_view> fmts(kVdFormatKeys.begin(), kVdFormatKeys.end());
   c.evaluator =
       static_cast<VdEvaluatorKind>(r.get_choice("evaluator", static_cast<int>(c.evaluator), evs));
-  c.format = static_cast<VdFormatKind>(r.get_choice("format", static_cast<int>(c.format), fmts));
+  c.format =
+      kVdFormats.at(r.get_choice("format", kVdFormats.index_of(c.format), kVdFormats.key_list()));
   c.lanes = static_cast<uint32_t>(r.get_int("lanes", c.lanes, 1, 64));
   return c;
 }
@@ -47,17 +51,20 @@ double SubtexelCutoff::fraction(double d) const {
 }
 
 std::string SubtexelCutoff::name() const {
-  std::string ev(vd_evaluator_name(cfg_.evaluator));
-  if (ev.size() == 2 && ev[0] == 'p') ev[0] = 'P';  // P3, P2, P1 as the thesis writes them
-  std::string s = "V(d) " + ev + " " + std::string(kVdFormatKeys[static_cast<size_t>(cfg_.format)]);
-  if (cfg_.format != VdFormatKind::Float && cfg_.format != VdFormatKind::Double) {
+  return vd_evaluator_report_name(cfg_.evaluator) + " " + arithmetic();
+}
+
+std::string SubtexelCutoff::arithmetic() const {
+  std::string s(kVdFormats.key_of(cfg_.format));
+  if (cfg_.format != NumberFormat::Float && cfg_.format != NumberFormat::Double) {
     s += " (" + visit_vd_format(cfg_.format, [](auto fmt) { return decltype(fmt)::name(); }) + ")";
   }
   return s;
 }
 
-OpCounts SubtexelCutoff::ops() const {
-  return visit_vd_evaluator(cfg_.evaluator, [](auto ev) { return ev.ops() + wrapper_ops(); });
+OpCounts SubtexelCutoff::ops_per_item() const {
+  return visit_vd_evaluator(cfg_.evaluator,
+                            [](auto ev) { return ev.ops_per_item() + wrapper_ops(); });
 }
 
 OpCounts SubtexelCutoff::critical_path() const {
@@ -68,13 +75,8 @@ OpCounts SubtexelCutoff::critical_path() const {
 }
 
 TimingSpec SubtexelCutoff::timing(const TechTable& tech) const {
-  TimingSpec t;
-  t.latency = static_cast<uint32_t>(std::ceil(tech.path_latency(critical_path())));
-  t.ii = 1;
-  t.lanes = cfg_.lanes;
   // V(0.5) is a constant register per evaluator kind, not a second evaluator.
-  t.area = tech.area_of(ops()) * cfg_.lanes;
-  return t;
+  return derive_timing(tech, ops_per_item(), critical_path(), Datapath::Spatial, cfg_.lanes);
 }
 
 }  // namespace texsim

@@ -39,7 +39,7 @@ class SubtexelCutoff {
  public:
   struct Config {
     VdEvaluatorKind evaluator = VdEvaluatorKind::P2;
-    VdFormatKind format = VdFormatKind::Float;  // used by the double-in/double-out entry
+    NumberFormat format = NumberFormat::Float;  // used by the double-in/double-out entry
     uint32_t lanes = 1;
     // Keys: evaluator ("exact"|"p3"|"p2"|"p1"), format ("float"|"double"|"fx16"|"fx12"|
     // "fx8"), lanes.
@@ -113,7 +113,7 @@ class SubtexelCutoff {
   };
   // Fraction in the configured format: d rounded into it, the fraction returned as a double.
   double fraction(double d) const;
-  // Operations of one Fraction call beyond ops(): the multiply by 1/W(−½) and the select.
+  // Operations of one Fraction call beyond ops_per_item(): the multiply by 1/W(−½) and the select.
   static OpCounts fraction_extra_ops() {
     OpCounts o;
     o.mul = 1;
@@ -123,8 +123,11 @@ class SubtexelCutoff {
 
   // Evaluator and format for reports, e.g. "V(d) P2 fx16 (u0.16/s3.15/u1.15)".
   std::string name() const;
+  // The format alone, e.g. "fx16 (u0.16/s3.15/u1.15)" or "float".
+  std::string arithmetic() const;
 
-  OpCounts ops() const;
+  // Item: one cut-off W(d) (one texel cut by one edge).
+  OpCounts ops_per_item() const;
   OpCounts critical_path() const;
   TimingSpec timing(const TechTable& tech) const;
 

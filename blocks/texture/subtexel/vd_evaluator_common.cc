@@ -1,6 +1,6 @@
 #include "blocks/texture/subtexel/vd_evaluator_common.h"
 
-#include <cmath>
+#include "blocks/base/derive_timing.h"
 
 namespace texsim {
 
@@ -13,12 +13,13 @@ VdEvaluatorConfig VdEvaluatorConfig::from_toml(const ConfigReader& r) {
 
 TimingSpec vd_pipelined_timing(const TechTable& tech, const OpCounts& ops, const OpCounts& path,
                                uint32_t lanes) {
-  TimingSpec t;
-  t.latency = static_cast<uint32_t>(std::ceil(tech.path_latency(path)));
-  t.ii = 1;
-  t.lanes = lanes;
-  t.area = tech.area_of(ops) * lanes;
-  return t;
+  return derive_timing(tech, ops, path, Datapath::Spatial, lanes);
+}
+
+std::string vd_evaluator_report_name(VdEvaluatorKind k) {
+  std::string ev(vd_evaluator_name(k));
+  if (ev.size() == 2 && ev[0] == 'p') ev[0] = 'P';  // P3, P2, P1 as the thesis writes them
+  return "V(d) " + ev;
 }
 
 }  // namespace texsim

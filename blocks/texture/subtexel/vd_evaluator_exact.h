@@ -6,7 +6,9 @@
 // look-up (lut) per evaluation.
 #include <cmath>
 #include <cstdint>
+#include <string>
 
+#include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
@@ -49,18 +51,24 @@ class VdEvaluatorExact {
     }
   }
 
-  static constexpr OpCounts ops() {
+  // Item: one evaluation of V(d).
+  static constexpr OpCounts ops_per_item() {
     OpCounts o;
     o.lut = 1;
     return o;
   }
-  static constexpr OpCounts critical_path() { return ops(); }
+  static constexpr OpCounts critical_path() { return ops_per_item(); }
   TimingSpec timing(const TechTable& tech) const {
-    return vd_pipelined_timing(tech, ops(), critical_path(), cfg_.lanes);
+    return vd_pipelined_timing(tech, ops_per_item(), critical_path(), cfg_.lanes);
   }
+  static std::string name() { return vd_evaluator_report_name(kKind); }
+  // The format is the caller\'s Fmt (float, double or a fixed u0.F/s3.F/u1.F set).
+  static std::string arithmetic() { return "per-call format"; }
 
  private:
   Config cfg_;
 };
+
+static_assert(Block<VdEvaluatorExact>);
 
 }  // namespace texsim

@@ -3,7 +3,9 @@
 // (offset, slope) pairs, then 1 mul + 1 add; models the thesis's fig. 6b block
 // (docs/vd-evaluators.md). Arithmetic: as P2 (the format's types, HalfUp, saturating).
 #include <cstdint>
+#include <string>
 
+#include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
@@ -40,7 +42,8 @@ class VdEvaluatorP1 {
     return vd_detail::cast<typename Fmt::Out>(vd_detail::add<A>(t, seg[0]));
   }
 
-  static constexpr OpCounts ops() {
+  // Item: one evaluation of V(d).
+  static constexpr OpCounts ops_per_item() {
     OpCounts o;
     o.cmp = 3;  // two comparators (in parallel) + the coefficient-pair select
     o.mul = 1;
@@ -49,16 +52,21 @@ class VdEvaluatorP1 {
   }
   // Comparator, select, multiply, add in series (the two comparators work side by side).
   static constexpr OpCounts critical_path() {
-    OpCounts o = ops();
+    OpCounts o = ops_per_item();
     o.cmp = 2;
     return o;
   }
   TimingSpec timing(const TechTable& tech) const {
-    return vd_pipelined_timing(tech, ops(), critical_path(), cfg_.lanes);
+    return vd_pipelined_timing(tech, ops_per_item(), critical_path(), cfg_.lanes);
   }
+  static std::string name() { return vd_evaluator_report_name(kKind); }
+  // The format is the caller\'s Fmt (float, double or a fixed u0.F/s3.F/u1.F set).
+  static std::string arithmetic() { return "per-call format"; }
 
  private:
   Config cfg_;
 };
+
+static_assert(Block<VdEvaluatorP1>);
 
 }  // namespace texsim

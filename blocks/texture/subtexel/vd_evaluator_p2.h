@@ -4,7 +4,9 @@
 // Arithmetic: the format's type throughout (float, double, or u0.F input / s3.F coefficients
 // and intermediates / u1.F output, each product rounded once, HalfUp, saturating).
 #include <cstdint>
+#include <string>
 
+#include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
@@ -37,20 +39,26 @@ class VdEvaluatorP2 {
   }
 
   // Operations per evaluation; the datapath instantiates each once per lane, all in series.
-  static constexpr OpCounts ops() {
+  // Item: one evaluation of V(d).
+  static constexpr OpCounts ops_per_item() {
     OpCounts o;
     o.mul = 2;
     o.add = 2;
     return o;
   }
-  static constexpr OpCounts critical_path() { return ops(); }
+  static constexpr OpCounts critical_path() { return ops_per_item(); }
   // Fully pipelined: one evaluation per cycle per lane.
   TimingSpec timing(const TechTable& tech) const {
-    return vd_pipelined_timing(tech, ops(), critical_path(), cfg_.lanes);
+    return vd_pipelined_timing(tech, ops_per_item(), critical_path(), cfg_.lanes);
   }
+  static std::string name() { return vd_evaluator_report_name(kKind); }
+  // The format is the caller\'s Fmt (float, double or a fixed u0.F/s3.F/u1.F set).
+  static std::string arithmetic() { return "per-call format"; }
 
  private:
   Config cfg_;
 };
+
+static_assert(Block<VdEvaluatorP2>);
 
 }  // namespace texsim

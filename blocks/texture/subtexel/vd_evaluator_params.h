@@ -10,8 +10,10 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 #include "rtl_model/number/fixed.h"
+#include "rtl_model/number/number_format.h"
 
 namespace texsim {
 
@@ -92,30 +94,29 @@ using VdFx12 = VdFixedFormat<12, 11>;
 // u0.8 / s3.7 / u1.7: a deliberately narrow format where quantisation dominates.
 using VdFx8 = VdFixedFormat<8, 7>;
 
-enum class VdFormatKind : int { Float, Double, Fx16, Fx12, Fx8 };
-inline constexpr std::array<VdFormatKind, 5> kVdFormatKinds = {
-    VdFormatKind::Float, VdFormatKind::Double, VdFormatKind::Fx16, VdFormatKind::Fx12,
-    VdFormatKind::Fx8};
-// Config-file names of the formats.
-inline constexpr std::array<std::string_view, 5> kVdFormatKeys = {"float", "double", "fx16", "fx12",
-                                                                  "fx8"};
+// The formats of the V(d) blocks (key "format"), by the registry type of their input d.
+inline constexpr NumberFormatChoices<NumberFormat::Float, NumberFormat::Double, NumberFormat::Fx16,
+                                     NumberFormat::Fx12, NumberFormat::Fx8>
+    kVdFormats{{"float", "double", "fx16", "fx12", "fx8"}};
+inline constexpr auto kVdFormatKinds = kVdFormats.kFormats;
 
-// Calls f(Format{}) with the format type selected by `k`.
+// The datapath format (VdFloatFormat or VdFixedFormat) whose input is the registry type T.
+template <class T>
+struct VdFormatOf {
+  using type = VdFloatFormat<T>;
+};
+template <int F>
+struct VdFormatOf<Fixed<0, F, Signedness::Unsigned, Rounding::HalfUp, Overflow::Saturate>> {
+  using type = VdFixedFormat<F, F - 1>;
+};
+static_assert(std::is_same_v<VdFormatOf<number_format_t<NumberFormat::Fx16>>::type, VdFx16>);
+static_assert(std::is_same_v<VdFormatOf<number_format_t<NumberFormat::Fx12>>::type, VdFx12>);
+static_assert(std::is_same_v<VdFormatOf<number_format_t<NumberFormat::Fx8>>::type, VdFx8>);
+
+// Calls f(Format{}) with the V(d) datapath format of `k` (one of kVdFormats).
 template <class F>
-decltype(auto) visit_vd_format(VdFormatKind k, F&& f) {
-  switch (k) {
-    case VdFormatKind::Float:
-      return f(VdFloatFormat<float>{});
-    case VdFormatKind::Double:
-      return f(VdFloatFormat<double>{});
-    case VdFormatKind::Fx16:
-      return f(VdFx16{});
-    case VdFormatKind::Fx12:
-      return f(VdFx12{});
-    case VdFormatKind::Fx8:
-      break;
-  }
-  return f(VdFx8{});
+decltype(auto) visit_vd_format(NumberFormat k, F&& f) {
+  return kVdFormats.visit(k, [&](auto d) { return f(typename VdFormatOf<decltype(d)>::type{}); });
 }
 
 // ---- Arithmetic on mixed formats ------------------------------------------------------

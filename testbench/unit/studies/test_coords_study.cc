@@ -114,7 +114,7 @@ TEST(StudyCoords, SmallStudyIsConsistent) {
     ASSERT_NE(p, nullptr);
     EXPECT_EQ(c.pixels, p->pixels) << c.method;
     if (c.method == "heckbert") {
-      EXPECT_EQ(c.ops, hd.pixel_ops() * c.pixels);  // no set-up
+      EXPECT_EQ(c.ops, hd.ops_per_item() * c.pixels);  // no set-up
       EXPECT_NEAR(c.cpp_spatial.front(), 1.0, 0.2);
       EXPECT_NEAR(c.cpp_shared.front(), 6.0, 0.5);  // 6 mul / 6 add on one unit each
     }

@@ -75,7 +75,7 @@ TEST(StudyVd, WritesTableCsvAndPlot) {
     }
     if (f[0] == "p2" && f[1] == "double") {
       ++p2_double_seen;
-      const auto m = measure_vd_error(VdEvaluatorKind::P2, VdFormatKind::Double);
+      const auto m = measure_vd_error(VdEvaluatorKind::P2, NumberFormat::Double);
       EXPECT_NEAR(max_abs, m.max_abs, 1e-9);
       EXPECT_EQ(f[15], "no");
       EXPECT_EQ(std::stoi(f[12]), 8);  // 2·mul(3) + 2·add(1) in the default table

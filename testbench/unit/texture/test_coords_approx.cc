@@ -140,11 +140,11 @@ TEST(UvApproximationTriangle, ReproducesNodesAndBeatsLowerOrder) {
 TEST(UvApproximationTriangle, MatrixOpsCounted) {
   UvApproximationTriangle::Config c;
   const UvApproximationTriangle q(c);
-  EXPECT_EQ(q.pixel_ops().add, 4u);
+  EXPECT_EQ(q.ops_per_item().add, 4u);
   EXPECT_EQ(q.triangle_setup_ops().div, 12u);
   c.order = UvApproximationTriangle::Order::Bicubic;
   const UvApproximationTriangle cu(c);
-  EXPECT_EQ(cu.pixel_ops().add, 6u);
+  EXPECT_EQ(cu.ops_per_item().add, 6u);
   EXPECT_EQ(cu.triangle_setup_ops().div, 20u);
   EXPECT_GT(cu.triangle_setup_ops().mul, q.triangle_setup_ops().mul);
 }

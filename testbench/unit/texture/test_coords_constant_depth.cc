@@ -101,8 +101,8 @@ TEST(UvConstantDepth, VerticalLinesWhenHVanishes) {
 TEST(UvConstantDepth, OneReciprocalPerLine) {
   const UvConstantDepth b;
   EXPECT_EQ(b.row_setup_ops().rcp, 1u);
-  EXPECT_EQ(b.pixel_ops().div + b.pixel_ops().rcp + b.pixel_ops().mul, 0u);
-  EXPECT_EQ(b.pixel_ops().add, 2u);
+  EXPECT_EQ(b.ops_per_item().div + b.ops_per_item().rcp + b.ops_per_item().mul, 0u);
+  EXPECT_EQ(b.ops_per_item().add, 2u);
 }
 
 }  // namespace

@@ -161,10 +161,10 @@ TEST(DerivativeOps, IterativeVersusBaselines) {
   const DerivativesForwardDiff classic(c);
   c.form = DerivativesForwardDiff::Form::Accelerated;
   const DerivativesForwardDiff accel(c);
-  EXPECT_EQ(it.pixel_ops().div + it.pixel_ops().rcp, 2u);
-  EXPECT_EQ(classic.pixel_ops().div, 4u);
-  EXPECT_LT(it.pixel_ops().arithmetic(), accel.pixel_ops().arithmetic() + 4);
-  EXPECT_LT(it.pixel_ops().arithmetic(), classic.pixel_ops().arithmetic());
+  EXPECT_EQ(it.ops_per_item().div + it.ops_per_item().rcp, 2u);
+  EXPECT_EQ(classic.ops_per_item().div, 4u);
+  EXPECT_LT(it.ops_per_item().arithmetic(), accel.ops_per_item().arithmetic() + 4);
+  EXPECT_LT(it.ops_per_item().arithmetic(), classic.ops_per_item().arithmetic());
 }
 
 }  // namespace

@@ -103,15 +103,15 @@ TEST(UvHeckbertDirect, OpsAndTiming) {
   const TechTable t = TechTable::defaults();
   UvHeckbertDirect::Config c;
   const UvHeckbertDirect d(c);
-  EXPECT_EQ(d.pixel_ops().mul, 6u);
-  EXPECT_EQ(d.pixel_ops().add, 6u);
-  EXPECT_EQ(d.pixel_ops().div, 2u);
+  EXPECT_EQ(d.ops_per_item().mul, 6u);
+  EXPECT_EQ(d.ops_per_item().add, 6u);
+  EXPECT_EQ(d.ops_per_item().div, 2u);
   EXPECT_EQ(d.timing(t).ii, 1u);
   EXPECT_EQ(d.timing(t).latency, 3u + 2u + 12u);
   c.form = UvHeckbertDirect::Form::Reciprocal;
   c.datapath = Datapath::Shared;
   const UvHeckbertDirect r(c);
-  EXPECT_EQ(r.pixel_ops().mul, 8u);
+  EXPECT_EQ(r.ops_per_item().mul, 8u);
   EXPECT_EQ(r.timing(t).ii, 8u);  // one shared multiplier does 8 products
 }
 
@@ -162,8 +162,8 @@ TEST(UvIncrementalAdder, OpsAndTiming) {
   const TechTable t = TechTable::defaults();
   UvIncrementalAdder::Config c;
   const UvIncrementalAdder seq(c);
-  EXPECT_EQ(seq.pixel_ops().add + seq.pixel_ops().mul, 3u);
-  EXPECT_EQ(seq.pixel_ops().div, 2u);
+  EXPECT_EQ(seq.ops_per_item().add + seq.ops_per_item().mul, 3u);
+  EXPECT_EQ(seq.ops_per_item().div, 2u);
   EXPECT_EQ(seq.row_setup_ops().mul, 6u);
   EXPECT_EQ(seq.timing(t).latency, 12u);
   EXPECT_EQ(seq.row_setup_timing(t).latency, 3u + 2u);

@@ -73,8 +73,7 @@ TEST(EwaFilter, ConstantTextureIsExact) {
       make_texture(64, [](double, double) { return glm::vec4(0.25f, 0.5f, 0.75f, 1.0f); });
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> uni(0, 1);
-  for (EwaFilter::Arith ar :
-       {EwaFilter::Arith::Float, EwaFilter::Arith::Double, EwaFilter::Arith::Fixed}) {
+  for (NumberFormat ar : {NumberFormat::Float, NumberFormat::Double, NumberFormat::S18_30}) {
     for (EwaFilter::Weight wt : {EwaFilter::Weight::Lut, EwaFilter::Weight::Exp,
                                  EwaFilter::Weight::Pow8, EwaFilter::Weight::Map}) {
       EwaFilter::Config c;
@@ -103,8 +102,7 @@ TEST(EwaFilter, MatchesReferenceOnSmoothTexture) {
   FootprintReferenceConfig rc;
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> uni(0, 1);
-  for (EwaFilter::Arith ar :
-       {EwaFilter::Arith::Float, EwaFilter::Arith::Double, EwaFilter::Arith::Fixed}) {
+  for (NumberFormat ar : {NumberFormat::Float, NumberFormat::Double, NumberFormat::S18_30}) {
     EwaFilter::Config c;
     c.arith = ar;
     c.minor_texels = 64;  // stay on level 0 for footprints up to 64 texels
@@ -159,8 +157,8 @@ TEST(EwaFilter, FixedTracksDouble) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> uni(0, 1);
   EwaFilter::Config cd, cx;
-  cd.arith = EwaFilter::Arith::Double;
-  cx.arith = EwaFilter::Arith::Fixed;
+  cd.arith = NumberFormat::Double;
+  cx.arith = NumberFormat::S18_30;
   cd.weight = cx.weight = EwaFilter::Weight::Exp;
   const EwaFilter ed(cd), ex(cx);
   double worst = 0;
@@ -218,7 +216,7 @@ TEST(EwaFilter, RowSpanReadsTheSameTexelsAsBox) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> uni(0, 1);
   EwaFilter::Config cb, cs;
-  cb.arith = cs.arith = EwaFilter::Arith::Double;
+  cb.arith = cs.arith = NumberFormat::Double;
   cs.scan = EwaFilter::Scan::RowSpan;
   const EwaFilter eb(cb), es(cs);
   uint64_t visited_box = 0, visited_span = 0;
@@ -334,13 +332,12 @@ TEST(EwaFilter, EdgeNoneIsUnchanged) {
   const Texture tex = make_texture(128, smooth);
   std::mt19937 rng(10);
   std::uniform_real_distribution<double> uni(0, 1);
-  for (EwaFilter::Arith ar :
-       {EwaFilter::Arith::Float, EwaFilter::Arith::Double, EwaFilter::Arith::Fixed}) {
+  for (NumberFormat ar : {NumberFormat::Float, NumberFormat::Double, NumberFormat::S18_30}) {
     EwaFilter::Config a;
     a.arith = ar;
     EwaFilter::Config b = a;
     b.vd.evaluator = VdEvaluatorKind::P1;
-    b.vd.format = VdFormatKind::Fx8;
+    b.vd.format = NumberFormat::Fx8;
     const EwaFilter ea(a), eb(b);
     for (int k = 0; k < 200; ++k) {
       const double major = std::exp2(uni(rng) * 7 - 1), minor = major / (1 + 20 * uni(rng));
@@ -368,12 +365,12 @@ TEST(EwaFilter, EdgeCutoffWeightsOnACircle) {
   const double ox = 0.3, oy = -0.2;  // footprint centre off the texel centre
   for (VdEvaluatorKind k : {VdEvaluatorKind::Exact, VdEvaluatorKind::P2}) {
     EwaFilter::Config c;
-    c.arith = EwaFilter::Arith::Double;
+    c.arith = NumberFormat::Double;
     c.weight = EwaFilter::Weight::Uniform;
     c.minor_texels = 64;  // level 0
     c.edge = EwaFilter::Edge::Vd;
     c.vd.evaluator = k;
-    c.vd.format = VdFormatKind::Double;
+    c.vd.format = NumberFormat::Double;
     const EwaFilter ewa(c);
     const SubtexelCutoff cut = ewa.cutoff();
     const double rpx = 2.8, R = std::sqrt(rpx * rpx + c.reconstruction);
@@ -425,13 +422,13 @@ address_u = "clamp"
   EXPECT_EQ(c.lut_size, 64);
   EXPECT_EQ(c.max_aniso, 8.0);
   EXPECT_EQ(c.scan, EwaFilter::Scan::RowSpan);
-  EXPECT_EQ(c.arith, EwaFilter::Arith::Fixed);
+  EXPECT_EQ(c.arith, NumberFormat::S18_30);
   EXPECT_EQ(c.address_u, AddressMode::Clamp);
   auto vd = toml::parse("edge = \"vd\"\nvd = { evaluator = \"exact\", format = \"fx12\" }\n");
   const EwaFilter::Config cv = EwaFilter::Config::from_toml(ConfigReader(vd, "t.toml", "ewa"));
   EXPECT_EQ(cv.edge, EwaFilter::Edge::Vd);
   EXPECT_EQ(cv.vd.evaluator, VdEvaluatorKind::Exact);
-  EXPECT_EQ(cv.vd.format, VdFormatKind::Fx12);
+  EXPECT_EQ(cv.vd.format, NumberFormat::Fx12);
   EXPECT_NE(EwaFilter(cv).arithmetic().find("V(d) exact fx12"), std::string::npos);
   EXPECT_EQ(c.edge, EwaFilter::Edge::None);
   auto bad = toml::parse("lut_sise = 3\n");

@@ -119,10 +119,10 @@ TEST(Feline, Config) {
   EXPECT_EQ(c.max_probes, 8);
   auto bad = toml::parse("axis = \"diagonal\"\n");
   EXPECT_THROW(FelineFilter::Config::from_toml(ConfigReader(bad, "s.toml", "feline")), InputError);
-  EXPECT_EQ(c.arith, ProbeArith::Float);
+  EXPECT_EQ(c.arith, NumberFormat::Float);
   auto fx = toml::parse("arith = \"double\"\n");
   EXPECT_EQ(FelineFilter::Config::from_toml(ConfigReader(fx, "s.toml", "feline")).arith,
-            ProbeArith::Double);
+            NumberFormat::Double);
   auto badarith = toml::parse("arith = 3\n");
   try {
     (void)FelineFilter::Config::from_toml(ConfigReader(badarith, "s.toml", "feline"));
@@ -182,7 +182,7 @@ TEST(Feline, DoubleAndFixedAgainstLongDoubleReference) {
   // Gaussian weights within the 2^-f table's 3.4·10⁻⁴ + ½ LSB of u1.15; λ within the log2
   // table's 1.44·2^-11 = 7.0·10⁻⁴ (log2 of a length, not ½·log2 of its square) + rounding.
   const std::vector<std::pair<int, int>> sizes = {{256, 256}, {384, 96}};
-  for (ProbeArith a : {ProbeArith::Double, ProbeArith::Fixed}) {
+  for (NumberFormat a : {NumberFormat::Double, NumberFormat::S16_24HalfUp}) {
     for (auto axis : {FelineFilter::Axis::Ellipse, FelineFilter::Axis::Parallelogram}) {
       Deviation d;
       FelineFilter::Config c;
@@ -197,21 +197,21 @@ TEST(Feline, DoubleAndFixedAgainstLongDoubleReference) {
         for (int k = 0; k < 3000; ++k) {
           const Fragment f = random_footprint(rng, w0, h0, k % 3 == 0);
           OpCounts ops;
-          const double rel = a == ProbeArith::Double               ? 1e-9
+          const double rel = a == NumberFormat::Double             ? 1e-9
                              : axis == FelineFilter::Axis::Ellipse ? 3e-6
                                                                    : 4e-9;
           // N = ⌈q⌉ reaches max_probes for every q above max_probes + 1.
-          const ProbeBound b{w0, h0, rel, a == ProbeArith::Fixed, c.max_probes + 1};
+          const ProbeBound b{w0, h0, rel, a == NumberFormat::S16_24HalfUp, c.max_probes + 1};
           compare_probes(fl.probes(tex, f, ops), reference(c, f, w0, h0), b, d);
         }
       }
       std::printf("feline %s %s vs long double: %s\n",
-                  axis == FelineFilter::Axis::Ellipse ? "ellipse" : "parallelogram", to_string(a),
-                  describe(d).c_str());
+                  axis == FelineFilter::Axis::Ellipse ? "ellipse" : "parallelogram",
+                  kProbeArith.key_of(a).data(), describe(d).c_str());
       EXPECT_EQ(d.n_mismatch, 0);
       EXPECT_GT(d.compared, 5800);
       EXPECT_LE(d.pos, 1.0);
-      if (a == ProbeArith::Double) {
+      if (a == NumberFormat::Double) {
         EXPECT_LT(d.w, 1e-7);
         EXPECT_LT(d.lambda, 2e-6);
       } else {
@@ -223,14 +223,14 @@ TEST(Feline, DoubleAndFixedAgainstLongDoubleReference) {
 }
 
 TEST(Feline, HardCasesDefinedInEveryArithmetic) {
-  std::vector<float> px(256 * 256 * 4);
+  std::vector<float> px(size_t{256} * 256 * 4);
   for (size_t i = 0; i < px.size(); ++i)
     px[i] = static_cast<float>((i * 2654435761u) % 1000) / 1000.0f;
   const Texture tex = Texture::from_rgba("n", 256, 256, px, TexelFormat::Rgba32f, true);
   const Rgba mean = tex.texel(tex.levels() - 1, 0, 0);
-  for (ProbeArith a : {ProbeArith::Float, ProbeArith::Double, ProbeArith::Fixed}) {
+  for (NumberFormat a : {NumberFormat::Float, NumberFormat::Double, NumberFormat::S16_24HalfUp}) {
     for (auto axis : {FelineFilter::Axis::Ellipse, FelineFilter::Axis::Parallelogram}) {
-      SCOPED_TRACE(std::string(to_string(a)) +
+      SCOPED_TRACE(std::string(kProbeArith.key_of(a).data()) +
                    (axis == FelineFilter::Axis::Ellipse ? " ellipse" : " parallelogram"));
       FelineFilter::Config c;
       c.arith = a;
@@ -301,8 +301,8 @@ TEST(Feline, FixedColoursTrackDoubleOnAPhotograph) {
   for (auto axis : {FelineFilter::Axis::Ellipse, FelineFilter::Axis::Parallelogram}) {
     FelineFilter::Config cd, cx;
     cd.axis = cx.axis = axis;
-    cd.arith = ProbeArith::Double;
-    cx.arith = ProbeArith::Fixed;
+    cd.arith = NumberFormat::Double;
+    cx.arith = NumberFormat::S16_24HalfUp;
     const FelineFilter fd(cd), fx(cx);
     std::mt19937 rng(9);
     ColourDeviation dev;
@@ -331,7 +331,7 @@ TEST(Feline, OpsAndTimingFollowTheArithmetic) {
   for (auto axis : {FelineFilter::Axis::Ellipse, FelineFilter::Axis::Parallelogram}) {
     FelineFilter::Config cf, cx;
     cf.axis = cx.axis = axis;
-    cx.arith = ProbeArith::Fixed;
+    cx.arith = NumberFormat::S16_24HalfUp;
     const FelineFilter ff(cf), fx(cx);
     for (const FelineFilter* fl : {&ff, &fx}) {
       Fragment f;
@@ -341,7 +341,7 @@ TEST(Feline, OpsAndTimingFollowTheArithmetic) {
       OpCounts ops;
       const FilterOutput o = fl->filter(tex, f, nullptr, ops);
       ASSERT_EQ(o.stats.probes, 7u);
-      EXPECT_EQ(ops, fl->setup_ops() + (fl->per_probe_ops() + addr.ops_setup(false)) * 7u +
+      EXPECT_EQ(ops, fl->setup_ops() + (fl->ops_per_item() + addr.ops_setup(false)) * 7u +
                          probe_normalise_ops());
     }
     const OpCounts sf = ff.setup_ops(), sx = fx.setup_ops();
@@ -351,7 +351,7 @@ TEST(Feline, OpsAndTimingFollowTheArithmetic) {
     EXPECT_EQ(tx.ii, 1u);
     if (axis == FelineFilter::Axis::Ellipse) {
       EXPECT_EQ(sf.lut - sx.lut, 2u);  // atan2, cos, sin, log2 → 1/N, log2
-      EXPECT_GE(sx.add, sf.add + 2 * 3 * ProbeFx::kCordicSteps - 10);
+      EXPECT_GE(sx.add, sf.add + uint64_t{2} * 3 * ProbeFx::kCordicSteps - 10);
       EXPECT_GT(tx.latency, tf.latency + 2 * ProbeFx::kCordicSteps);
     } else {
       EXPECT_EQ(sx.lut, sf.lut + 1);      // the 1/N table

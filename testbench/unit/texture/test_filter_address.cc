@@ -286,7 +286,8 @@ TEST(TexelAddressGen, RandomAgainstDoubleReference) {
   int ties = 0, n = 0;
   double worst_exact = 0, worst_quant = 0;
   for (auto [w, h] : sizes) {
-    const Texture tex = random_texture(w, h, static_cast<uint64_t>(w * 1000 + h));
+    const Texture tex =
+        random_texture(w, h, static_cast<uint64_t>(w) * 1000 + static_cast<uint64_t>(h));
     for (FilterMode f : {FilterMode::Nearest, FilterMode::Bilinear, FilterMode::Trilinear}) {
       for (AddressMode mu : {AddressMode::Wrap, AddressMode::Clamp, AddressMode::Mirror}) {
         for (AddressMode mv : {AddressMode::Wrap, AddressMode::Clamp, AddressMode::Mirror}) {
@@ -363,7 +364,8 @@ TEST(TexelAddressGen, AnisotropicProbesAreCentredAndAveraged) {
         FilterTaps one;
         g.taps(tex, 0.3f + off * lod.axis_u, 0.7f + off * lod.axis_v, lod_at(1.6f), one, ops);
         for (int j = 0; j < one.count; ++j) {
-          const TexelTap& a = t.tap[static_cast<size_t>(k * one.count + j)];
+          const TexelTap& a = t.tap[static_cast<size_t>(k) * static_cast<size_t>(one.count) +
+                                    static_cast<size_t>(j)];
           EXPECT_EQ(a.x, one.tap[j].x);
           EXPECT_EQ(a.y, one.tap[j].y);
           EXPECT_EQ(a.level, one.tap[j].level);
@@ -453,7 +455,7 @@ Rgba reference_blend(const FilterTaps& t, const Texture& tex, int g) {
     const int n = std::min(g, t.count - base);
     std::vector<Rgba> p;
     for (int k = 0; k < n; ++k) {
-      const TexelTap& tk = t.tap[static_cast<size_t>(base + k)];
+      const TexelTap& tk = t.tap[static_cast<size_t>(base) + static_cast<size_t>(k)];
       p.push_back(tex.texel(tk.level, tk.x, tk.y) * tk.w);
     }
     while (p.size() > 1) {
@@ -572,23 +574,23 @@ TEST(TexelAddressGen, OpCountsAndTiming) {
   OpCounts ops;
   FilterTaps t;
   bil.taps(tex, 0.3, 0.4, lod_at(1.0f), t, ops);
-  OpCounts want = bil.ops_setup(false) + bil.ops_per_probe(false);
+  OpCounts want = bil.ops_setup(false) + bil.ops_per_item(false);
   EXPECT_EQ(ops, want);
   // Clamp addressing: 2 cmp per coordinate, 4 coordinates.
-  EXPECT_EQ(bil.ops_per_probe(false).cmp, 8u);
-  EXPECT_EQ(bil.ops_per_probe(false).mul, 2u + 4u);  // scale + weight products
+  EXPECT_EQ(bil.ops_per_item(false).cmp, 8u);
+  EXPECT_EQ(bil.ops_per_item(false).mul, 2u + 4u);  // scale + weight products
   // N probes: N × per-probe (with offset and 1/N) + setup with 1/N.
   LodResult lod = lod_at(1.0f);
   lod.probes = 5;
   ops = {};
   bil.taps(tex, 0.3, 0.4, lod, t, ops);
-  EXPECT_EQ(ops, bil.ops_setup(true) + bil.ops_per_probe(true) * 5);
+  EXPECT_EQ(ops, bil.ops_setup(true) + bil.ops_per_item(true) * 5);
   // Trilinear doubles the level work and adds per-tap level weights.
   const auto tri = gen(FilterMode::Trilinear, AddressMode::Clamp, AddressMode::Clamp);
-  EXPECT_EQ(tri.ops_per_probe(false).mul, 2 * bil.ops_per_probe(false).mul + 8);
+  EXPECT_EQ(tri.ops_per_item(false).mul, 2 * bil.ops_per_item(false).mul + 8);
   // Wrap on NPOT-capable hardware costs multiplies; clamp does not.
   const auto wrap = gen(FilterMode::Bilinear, AddressMode::Wrap, AddressMode::Wrap);
-  EXPECT_EQ(wrap.ops_per_probe(false).mul, bil.ops_per_probe(false).mul + 8);
+  EXPECT_EQ(wrap.ops_per_item(false).mul, bil.ops_per_item(false).mul + 8);
 
   const TechTable tech = TechTable::defaults();
   const auto near = gen(FilterMode::Nearest, AddressMode::Clamp, AddressMode::Clamp);
@@ -621,7 +623,7 @@ TEST(TexelAddressGen, TimingTable) {
     for (AddressMode m : {AddressMode::Clamp, AddressMode::Wrap, AddressMode::Mirror}) {
       const auto g = gen(f, m, m);
       const TimingSpec t = g.timing(tech);
-      const OpCounts o = g.ops_setup(false) + g.ops_per_probe(false);
+      const OpCounts o = g.ops_setup(false) + g.ops_per_item(false);
       std::printf("%-9s %-6s %7u %7.1f  %27lu %4lu %4lu\n", to_string(f), to_string(m), t.latency,
                   t.area, static_cast<unsigned long>(o.add), static_cast<unsigned long>(o.mul),
                   static_cast<unsigned long>(o.cmp));

@@ -79,7 +79,7 @@ TEST(GaussianWeight, FixedPow8BitExactAndWithinBudget) {
   for (int64_t code = 0; code < (int64_t{1} << 16); ++code) {
     const Fx::Q q = Fx::Q::from_raw(code);
     int64_t expect = 0;
-    if (code < 16 * 2048) {
+    if (code < int64_t{16} * 2048) {
       const int64_t t = 32768 - code;
       const int64_t t2 = rhu(t * t, 15), t4 = rhu(t2 * t2, 15);
       expect = rhu(t4 * t4, 15);
@@ -239,10 +239,10 @@ TEST(GaussianWeight, OpsAndTiming) {
   const GaussianWeight p8(c);
   c.function = GaussianWeightFunction::Exp;
   const GaussianWeight ex(c);
-  EXPECT_EQ(p8.texel_ops().mul, 5u + 3u);
-  EXPECT_EQ(p8.texel_ops().lut, 0u);
-  EXPECT_EQ(ex.texel_ops().mul, 5u + 1u);
-  EXPECT_EQ(ex.texel_ops().lut, 1u);
+  EXPECT_EQ(p8.ops_per_item().mul, 5u + 3u);
+  EXPECT_EQ(p8.ops_per_item().lut, 0u);
+  EXPECT_EQ(ex.ops_per_item().mul, 5u + 1u);
+  EXPECT_EQ(ex.ops_per_item().lut, 1u);
   TechTable t = TechTable::defaults();
   t.latency[static_cast<int>(OpKind::Mul)] = 4;
   t.latency[static_cast<int>(OpKind::Lut)] = 9;
@@ -251,7 +251,7 @@ TEST(GaussianWeight, OpsAndTiming) {
             static_cast<uint32_t>(std::ceil(5 * 4 + 3 * t.lat(OpKind::Add) + t.lat(OpKind::Cmp))));
   EXPECT_EQ(ex.timing(t).latency, static_cast<uint32_t>(std::ceil(3 * 4 + 2 * t.lat(OpKind::Add) +
                                                                   t.lat(OpKind::Cmp) + 9)));
-  EXPECT_DOUBLE_EQ(p8.timing(t).area, t.area_of(p8.texel_ops()));
+  EXPECT_DOUBLE_EQ(p8.timing(t).area, t.area_of(p8.ops_per_item()));
   // The seed's axis rules need square roots and divisions the quadratic form does not.
   c.axes = GaussianAxes::SeedLiteral;
   EXPECT_EQ(GaussianWeight(c).setup_ops().sqrt, 2u);
@@ -283,7 +283,7 @@ TEST(GaussianWeight, DefaultTableFigures) {
     GaussianWeight::Config c;
     c.function = f;
     const GaussianWeight g(c);
-    const OpCounts o = g.texel_ops();
+    const OpCounts o = g.ops_per_item();
     std::printf("texel %s: mul %llu add %llu cmp %llu lut %llu | latency %u area %g\n",
                 f == GaussianWeightFunction::Exp ? "exp" : "pow8",
                 static_cast<unsigned long long>(o.mul), static_cast<unsigned long long>(o.add),

@@ -42,9 +42,7 @@ RefLod reference(const Fragment& f, int w, int h, AnisoMode mode, int max_aniso)
   const long double pmax = std::max(px, py), pmin = std::min(px, py);
   RefLod r{};
   r.ratio = pmin > 0 ? pmax / pmin : std::numeric_limits<long double>::infinity();
-  if (mode == AnisoMode::Isotropic) {
-    r.n = 1;
-  } else if (pmax == 0) {
+  if (mode == AnisoMode::Isotropic || pmax == 0) {
     r.n = 1;
   } else if (pmin == 0) {
     r.n = max_aniso;
@@ -283,14 +281,14 @@ TEST(LodUnit, OpCountsAndTiming) {
   LodUnit iso;
   iso.eval(frag(0.01, 0, 0, 0.01), 64, 64, ops);
   iso.eval(frag(0, 0, 0, 0), 64, 64, ops);  // data-independent: the datapath always runs
-  OpCounts one = iso.ops_per_fragment();
+  OpCounts one = iso.ops_per_item();
   EXPECT_EQ(ops, one * 2);
   EXPECT_EQ(one.mul, 8u);
   EXPECT_EQ(one.lut, 1u);
   EXPECT_EQ(one.sqrt, 0u);  // ½·log2 ρ² needs no square root
   LodUnit::Config c;
   c.aniso = AnisoMode::Vulkan;
-  const OpCounts vk = LodUnit(c).ops_per_fragment();
+  const OpCounts vk = LodUnit(c).ops_per_item();
   EXPECT_EQ(vk.div, 1u);
   EXPECT_EQ(vk.sqrt, 1u);
   EXPECT_EQ(vk.lut, 3u);

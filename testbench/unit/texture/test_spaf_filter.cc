@@ -67,7 +67,7 @@ TEST(Spaf, MaskTableAgainstExactMasksAndAreas) {
 
 TEST(Spaf, EdgesThroughTexelCentresHalfCover) {
   // An axis-aligned 4×4-texel quadrilateral whose edges pass through texel centres.
-  std::vector<float> px(16 * 16 * 4, 0.0f);
+  std::vector<float> px(size_t{16} * 16 * 4, 0.0f);
   // Mark texel (x, y) with its index in red so the weights can be recovered.
   const Texture tex = Texture::from_rgba("c", 16, 16, px, TexelFormat::Rgba32f, false);
   SpafFilter::Config c;
@@ -94,7 +94,7 @@ TEST(Spaf, EdgesThroughTexelCentresHalfCover) {
 }
 
 TEST(Spaf, ConstantExactSmoothBounded) {
-  std::vector<float> fl(64 * 64 * 4, 0.8f);
+  std::vector<float> fl(size_t{64} * 64 * 4, 0.8f);
   const Texture flat = Texture::from_rgba("f", 64, 64, fl, TexelFormat::Rgba32f, true);
   const int size = 256;
   std::vector<float> px(static_cast<size_t>(size) * size * 4);
@@ -147,7 +147,7 @@ TEST(Spaf, ConstantExactSmoothBounded) {
 // (no Gaussian) and a texture that is 1 on that ring and 0 inside, the result is
 // Σ ring weights / Σ weights = (16h + 4h²)/(16 + 16h + 4h²), h the coverage at d = 0.
 TEST(Spaf, VdCoverageOfTexelsCutThroughTheirCentres) {
-  std::vector<float> px(16 * 16 * 4, 0.0f);
+  std::vector<float> px(size_t{16} * 16 * 4, 0.0f);
   for (int y = 0; y < 16; ++y) {
     for (int x = 0; x < 16; ++x) {
       const bool ring = (x == 5 || x == 10 || y == 5 || y == 10);
@@ -171,27 +171,27 @@ TEST(Spaf, VdCoverageOfTexelsCutThroughTheirCentres) {
   SpafFilter::Config mask;
   EXPECT_NEAR(run(mask), expect(0.5, 0.25), 1e-6);  // the 4×4 mask at E = 0 holds half the bits
   for (VdEvaluatorKind k : kVdEvaluatorKinds) {
-    for (VdFormatKind fm : {VdFormatKind::Double, VdFormatKind::Fx16, VdFormatKind::Fx8}) {
+    for (NumberFormat fm : {NumberFormat::Double, NumberFormat::Fx16, NumberFormat::Fx8}) {
       SpafFilter::Config c;
       c.coverage = SpafFilter::Coverage::Vd;
       c.vd.evaluator = k;
       c.vd.format = fm;
       const double h = SpafFilter(c).vd_coverage(1, 0, 0);
-      const int fbits = fm == VdFormatKind::Fx8 ? VdFx8::Out::kFracBits : VdFx16::Out::kFracBits;
-      const double h2 = fm == VdFormatKind::Double
+      const int fbits = fm == NumberFormat::Fx8 ? VdFx8::Out::kFracBits : VdFx16::Out::kFracBits;
+      const double h2 = fm == NumberFormat::Double
                             ? h * h
                             : std::floor(std::ldexp(h * h, fbits) + 0.5) / std::ldexp(1.0, fbits);
       // W(0)/W(−½) = ½ for the exact evaluator and P2 (V(0) = ½); P3 and P1 have V̂(0) ≠ ½.
       if (k == VdEvaluatorKind::Exact || k == VdEvaluatorKind::P2) {
         EXPECT_NEAR(h, 0.5,
-                    fm == VdFormatKind::Double
+                    fm == NumberFormat::Double
                         ? 1e-12
-                        : 2 * std::ldexp(1.0, fm == VdFormatKind::Fx8 ? -7 : -15));
+                        : 2 * std::ldexp(1.0, fm == NumberFormat::Fx8 ? -7 : -15));
       } else {
         EXPECT_GT(std::fabs(h - 0.5), 1e-3) << vd_evaluator_name(k);
       }
-      for (SpafFilter::Arith ar :
-           {SpafFilter::Arith::Float, SpafFilter::Arith::Double, SpafFilter::Arith::Fixed}) {
+      for (NumberFormat ar :
+           {NumberFormat::Float, NumberFormat::Double, NumberFormat::S20_28HalfUp}) {
         c.arith = ar;
         FilterOutput o;
         EXPECT_NEAR(run(c, &o), expect(h, h2), 1e-6)
@@ -219,7 +219,7 @@ TEST(Spaf, VdOpsAndTiming) {
        {VdEvaluatorKind::Exact, VdEvaluatorKind::P1, VdEvaluatorKind::P2, VdEvaluatorKind::P3}) {
     c.vd.evaluator = k;
     const SpafFilter sp(c);
-    const OpCounts e = sp.per_partial_edge_ops(), cut = sp.cutoff().ops();
+    const OpCounts e = sp.per_partial_edge_ops(), cut = sp.cutoff().ops_per_item();
     EXPECT_EQ(e.mul, cut.mul + 3) << vd_evaluator_name(k);  // distance, 1/W(−½), product
     EXPECT_EQ(e.add, cut.add);
     EXPECT_EQ(e.cmp, cut.cmp + 1);
@@ -234,7 +234,7 @@ TEST(Spaf, VdOpsAndTiming) {
   }
   EXPECT_GT(prev_latency, mask.timing(tech).latency);
   c = SpafFilter::Config{};
-  c.arith = SpafFilter::Arith::Fixed;
+  c.arith = NumberFormat::S20_28HalfUp;
   EXPECT_GT(SpafFilter(c).timing(tech).area, mask.timing(tech).area);  // the range guard
   EXPECT_EQ(SpafFilter(c).timing(tech).latency, mask.timing(tech).latency);
 }
@@ -261,13 +261,13 @@ TEST(Spaf, FixedAndFloatTrackDouble) {
   for (SpafFilter::Coverage cov : {SpafFilter::Coverage::Mask, SpafFilter::Coverage::Vd}) {
     SpafFilter::Config c;
     c.coverage = cov;
-    c.vd.format = VdFormatKind::Double;
+    c.vd.format = NumberFormat::Double;
     c.texel_budget = 256;
-    c.arith = SpafFilter::Arith::Double;
+    c.arith = NumberFormat::Double;
     const SpafFilter sd(c);
-    c.arith = SpafFilter::Arith::Fixed;
+    c.arith = NumberFormat::S20_28HalfUp;
     const SpafFilter sx(c);
-    c.arith = SpafFilter::Arith::Float;
+    c.arith = NumberFormat::Float;
     const SpafFilter sf(c);
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> uni(0, 1);
@@ -310,14 +310,14 @@ TEST(Spaf, FixedAndFloatTrackDouble) {
 // The footprint lies along a row of texel centres, so its Gaussian weights do not underflow
 // (and V(d) coverage: masks of two close parallel edges can AND to nothing).
 TEST(Spaf, FixedRangeGuard) {
-  std::vector<float> fl(64 * 64 * 4, 0.8f);
+  std::vector<float> fl(size_t{64} * 64 * 4, 0.8f);
   const Texture flat = Texture::from_rgba("f", 64, 64, fl, TexelFormat::Rgba32f, true);
   SpafFilter::Config c;
   c.coverage = SpafFilter::Coverage::Vd;
-  c.vd.format = VdFormatKind::Float;
-  c.arith = SpafFilter::Arith::Fixed;
+  c.vd.format = NumberFormat::Float;
+  c.arith = NumberFormat::S20_28HalfUp;
   const SpafFilter sx(c);
-  c.arith = SpafFilter::Arith::Float;
+  c.arith = NumberFormat::Float;
   const SpafFilter sf(c);
   int first_fallback = 0;
   for (int e = 0; e <= 14; ++e) {
@@ -356,13 +356,13 @@ TEST(Spaf, Config) {
       "2 }\n");
   const auto cv = SpafFilter::Config::from_toml(ConfigReader(vd, "s.toml", "spaf"));
   EXPECT_EQ(cv.coverage, SpafFilter::Coverage::Vd);
-  EXPECT_EQ(cv.arith, SpafFilter::Arith::Fixed);
+  EXPECT_EQ(cv.arith, NumberFormat::S20_28HalfUp);
   EXPECT_EQ(cv.vd.evaluator, VdEvaluatorKind::P3);
-  EXPECT_EQ(cv.vd.format, VdFormatKind::Fx12);
+  EXPECT_EQ(cv.vd.format, NumberFormat::Fx12);
   EXPECT_EQ(cv.vd.lanes, 2u);
   const auto dflt = SpafFilter::Config::from_toml(ConfigReader(toml::table{}, "s.toml", "spaf"));
   EXPECT_EQ(dflt.coverage, SpafFilter::Coverage::Mask);  // existing results unchanged
-  EXPECT_EQ(dflt.arith, SpafFilter::Arith::Float);
+  EXPECT_EQ(dflt.arith, NumberFormat::Float);
   SpafFilter::Config d;
   EXPECT_EQ(SpafFilter(d).table_bytes(), 32u * 16u * 2u);
   EXPECT_GT(SpafFilter(d).timing(TechTable::defaults()).latency, 10u);

@@ -60,7 +60,7 @@ TEST(TextureCache, MatchesExplicitLruModel) {
 TEST(TextureCache, TiledLayoutBeatsLinearOnA2dWalk) {
   // A 2x2 bilinear walk down a column of a 1024-wide texture: tiling keeps rows of a
   // footprint in one line, so it must miss less than a linear layout.
-  std::vector<float> rgba(1024 * 1024 * 4, 0.5f);
+  std::vector<float> rgba(size_t{1024} * 1024 * 4, 0.5f);
   Texture t = Texture::from_rgba("t", 1024, 1024, rgba, TexelFormat::Rgba8, false);
   uint64_t misses[2];
   int k = 0;
@@ -81,7 +81,7 @@ TEST(TextureCache, TiledLayoutBeatsLinearOnA2dWalk) {
 // Byte addresses under each layout against independent statements of the layouts (the
 // model computes them as level base + row part + column part), on odd level sizes.
 TEST(TextureMemory, AddressesMatchLayoutDefinitions) {
-  std::vector<float> rgba(37 * 23 * 4, 0.25f);
+  std::vector<float> rgba(size_t{37} * 23 * 4, 0.25f);
   for (TexelFormat fmt : {TexelFormat::Rgba8, TexelFormat::Rgba32f}) {
     Texture t = Texture::from_rgba("t", 37, 23, rgba, fmt, true);
     for (TexelLayout layout : {TexelLayout::Linear, TexelLayout::Tiled4x4, TexelLayout::Morton}) {

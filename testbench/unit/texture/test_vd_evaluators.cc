@@ -160,7 +160,8 @@ TEST(VdEvaluators, P1SegmentsAtBreakpoints) {
   using In = VdFx16::In;
   for (int64_t code = 0; code <= 32768; ++code) {
     const long double x = static_cast<long double>(code) / 65536.0L;
-    const int expect = code * 1000 < 165 * 65536 ? 0 : (code * 1000 < 305 * 65536 ? 1 : 2);
+    const int expect =
+        code * 1000 < int64_t{165} * 65536 ? 0 : (code * 1000 < int64_t{305} * 65536 ? 1 : 2);
     ASSERT_EQ(VdEvaluatorP1::segment<VdFx16>(In::from_raw(code)), expect) << x;
   }
 }
@@ -260,9 +261,9 @@ TEST(VdEvaluators, FixedWithinQuantisationBudgetOfDouble) {
 // The seed's claims, re-measured (double): P3 and P1 hold, P2 does not — its error at d = 0.5
 // is P2(0.5) − Φ(2.5), which exceeds 7·10⁻³.
 TEST(VdEvaluators, SeedClaims) {
-  const auto p3 = measure_vd_error(VdEvaluatorKind::P3, VdFormatKind::Double, 1'000'000);
-  const auto p2 = measure_vd_error(VdEvaluatorKind::P2, VdFormatKind::Double, 1'000'000);
-  const auto p1 = measure_vd_error(VdEvaluatorKind::P1, VdFormatKind::Double, 1'000'000);
+  const auto p3 = measure_vd_error(VdEvaluatorKind::P3, NumberFormat::Double, 1'000'000);
+  const auto p2 = measure_vd_error(VdEvaluatorKind::P2, NumberFormat::Double, 1'000'000);
+  const auto p1 = measure_vd_error(VdEvaluatorKind::P1, NumberFormat::Double, 1'000'000);
   EXPECT_LE(p3.max_abs, *vd_seed_claim(VdEvaluatorKind::P3));
   EXPECT_LE(p1.max_abs, *vd_seed_claim(VdEvaluatorKind::P1));
   EXPECT_GT(p2.max_abs, *vd_seed_claim(VdEvaluatorKind::P2));
@@ -278,7 +279,7 @@ TEST(VdEvaluators, SeedClaims) {
 // The seed's polynomials fit Φ(d/σ) better than the other plausible normalisation.
 TEST(VdEvaluators, TexelNormalisedVolumeFitsWorse) {
   for (auto k : {VdEvaluatorKind::P3, VdEvaluatorKind::P2, VdEvaluatorKind::P1}) {
-    const auto m = measure_vd_error(k, VdFormatKind::Double, 100'000);
+    const auto m = measure_vd_error(k, NumberFormat::Double, 100'000);
     EXPECT_GT(vd_error_vs_texel_normalised(k), m.max_abs) << vd_evaluator_name(k);
   }
 }
@@ -318,7 +319,7 @@ TEST(VdEvaluators, MinimaxRefitIsLocallyOptimal) {
       }
     }
   }
-  const auto p2 = measure_vd_error(VdEvaluatorKind::P2, VdFormatKind::Double, 100'000);
+  const auto p2 = measure_vd_error(VdEvaluatorKind::P2, NumberFormat::Double, 100'000);
   EXPECT_LT(vd_minimax_fit(2, true).max_abs, *vd_seed_claim(VdEvaluatorKind::P2));
   EXPECT_LT(vd_minimax_fit(2, true).max_abs, p2.max_abs);
 }
@@ -326,7 +327,7 @@ TEST(VdEvaluators, MinimaxRefitIsLocallyOptimal) {
 // Grid + neighbourhood finds the same maximum as every float in a window around it.
 TEST(VdEvaluators, FloatGridMatchesDenseWindow) {
   using F = VdFloatFormat<float>;
-  const auto s = measure_vd_error(VdEvaluatorKind::P3, VdFormatKind::Float, 1'000'000);
+  const auto s = measure_vd_error(VdEvaluatorKind::P3, NumberFormat::Float, 1'000'000);
   double m = 0;
   for (float d = static_cast<float>(s.argmax_d) - 0.002f;
        d <= static_cast<float>(s.argmax_d) + 0.002f; d = std::nextafter(d, 1.0f)) {
@@ -341,7 +342,7 @@ TEST(VdEvaluators, AllFloatsOnRequest) {
   if (!std::getenv("TEXSIM_VD_ALL_FLOATS")) GTEST_SKIP() << "set TEXSIM_VD_ALL_FLOATS=1";
   const auto all = measure_vd_error_all_floats(&std::cout);
   for (const auto& s : all) {
-    const auto g = measure_vd_error(s.evaluator, VdFormatKind::Float);
+    const auto g = measure_vd_error(s.evaluator, NumberFormat::Float);
     std::cout << vd_evaluator_name(s.evaluator) << ": all floats max " << s.max_abs
               << " at d = " << s.argmax_d << " (mean " << s.mean_abs << ", " << s.points
               << " inputs); grid max " << g.max_abs << " at d = " << g.argmax_d << "\n";
@@ -357,14 +358,14 @@ TEST(VdEvaluators, AllFloatsOnRequest) {
 
 // ---- Ops, timing, config ------------------------------------------------------------------
 TEST(VdEvaluators, OpsAndTimingFromTechTable) {
-  EXPECT_EQ(VdEvaluatorP2::ops().mul, 2u);
-  EXPECT_EQ(VdEvaluatorP2::ops().add, 2u);
-  EXPECT_EQ(VdEvaluatorP3::ops().mul, 3u);
-  EXPECT_EQ(VdEvaluatorP3::ops().add, 3u);
-  EXPECT_EQ(VdEvaluatorP1::ops().mul, 1u);
-  EXPECT_EQ(VdEvaluatorP1::ops().add, 1u);
-  EXPECT_EQ(VdEvaluatorP1::ops().cmp, 3u);
-  EXPECT_EQ(VdEvaluatorExact::ops().lut, 1u);
+  EXPECT_EQ(VdEvaluatorP2::ops_per_item().mul, 2u);
+  EXPECT_EQ(VdEvaluatorP2::ops_per_item().add, 2u);
+  EXPECT_EQ(VdEvaluatorP3::ops_per_item().mul, 3u);
+  EXPECT_EQ(VdEvaluatorP3::ops_per_item().add, 3u);
+  EXPECT_EQ(VdEvaluatorP1::ops_per_item().mul, 1u);
+  EXPECT_EQ(VdEvaluatorP1::ops_per_item().add, 1u);
+  EXPECT_EQ(VdEvaluatorP1::ops_per_item().cmp, 3u);
+  EXPECT_EQ(VdEvaluatorExact::ops_per_item().lut, 1u);
   TechTable t = TechTable::defaults();
   t.latency[static_cast<int>(OpKind::Mul)] = 4;
   t.latency[static_cast<int>(OpKind::Add)] = 2;

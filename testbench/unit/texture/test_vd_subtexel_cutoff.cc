@@ -16,7 +16,7 @@ namespace {
 
 using S = VdSeedCoefficients;
 
-SubtexelCutoff make(VdEvaluatorKind k, VdFormatKind f = VdFormatKind::Double) {
+SubtexelCutoff make(VdEvaluatorKind k, NumberFormat f = NumberFormat::Double) {
   SubtexelCutoff::Config c;
   c.evaluator = k;
   c.format = f;
@@ -77,9 +77,9 @@ TEST(SubtexelCutoff, JumpAtZeroIsTwiceTheOffsetOfVAtZero) {
   const double expect[] = {0.0, 2 * S::kP3[0] - 1, 2 * S::kP2[0] - 1, 2 * S::kP1[0][0] - 1};
   for (size_t i = 0; i < kVdEvaluatorKinds.size(); ++i) {
     const auto k = kVdEvaluatorKinds[i];
-    const auto dbl = measure_cutoff_error(k, VdFormatKind::Double);
+    const auto dbl = measure_cutoff_error(k, NumberFormat::Double);
     EXPECT_NEAR(dbl.jump_at_zero, expect[i], 1e-12) << vd_evaluator_name(k);
-    const auto fx = measure_cutoff_error(k, VdFormatKind::Fx16);
+    const auto fx = measure_cutoff_error(k, NumberFormat::Fx16);
     // One input LSB away from 0 the slope (≤ 2.3) adds at most 2.3 · 2^-16 to the step.
     EXPECT_NEAR(fx.jump_at_zero, expect[i], 2.3 / 65536 + 2 * VdFx16::Out::lsb())
         << vd_evaluator_name(k);
@@ -91,7 +91,7 @@ TEST(SubtexelCutoff, JumpAtZeroIsTwiceTheOffsetOfVAtZero) {
 // W's error is the difference of two V errors, so at most twice the evaluator's max error.
 TEST(SubtexelCutoff, ErrorBoundedByTwiceTheEvaluatorError) {
   for (VdEvaluatorKind k : kVdEvaluatorKinds) {
-    for (VdFormatKind f : {VdFormatKind::Double, VdFormatKind::Fx16}) {
+    for (NumberFormat f : {NumberFormat::Double, NumberFormat::Fx16}) {
       const auto v = measure_vd_error(k, f, 1'000'000);
       const auto w = measure_cutoff_error(k, f);
       EXPECT_LE(w.max_abs, 2 * v.max_abs + 1e-12)
@@ -107,7 +107,7 @@ TEST(SubtexelCutoff, ErrorBoundedByTwiceTheEvaluatorError) {
 TEST(SubtexelCutoff, NegativeVolumeBeforeClampMatchesPolynomialShape) {
   const double dstar = -S::kP2[1] / (2 * S::kP2[2]);
   const double p2_dip = S::kP2[2] * (0.5 - dstar) * (0.5 - dstar);
-  EXPECT_NEAR(measure_cutoff_error(VdEvaluatorKind::P2, VdFormatKind::Double).min_unclamped, p2_dip,
+  EXPECT_NEAR(measure_cutoff_error(VdEvaluatorKind::P2, NumberFormat::Double).min_unclamped, p2_dip,
               1e-8);
   // P3: the dip from the cubic's stationary point in [0, 0.5].
   const double a = 3 * S::kP3[3], b = 2 * S::kP3[2], c = S::kP3[1];
@@ -115,11 +115,11 @@ TEST(SubtexelCutoff, NegativeVolumeBeforeClampMatchesPolynomialShape) {
   ASSERT_GT(r, 0.45);
   ASSERT_LT(r, 0.5);
   auto p3 = [](double d) { return S::kP3[0] + d * (S::kP3[1] + d * (S::kP3[2] + d * S::kP3[3])); };
-  EXPECT_NEAR(measure_cutoff_error(VdEvaluatorKind::P3, VdFormatKind::Double).min_unclamped,
+  EXPECT_NEAR(measure_cutoff_error(VdEvaluatorKind::P3, NumberFormat::Double).min_unclamped,
               p3(0.5) - p3(r), 1e-8);
   EXPECT_LT(p3(0.5) - p3(r), 0.0);
-  EXPECT_GE(measure_cutoff_error(VdEvaluatorKind::Exact, VdFormatKind::Double).min_unclamped, 0.0);
-  EXPECT_GE(measure_cutoff_error(VdEvaluatorKind::P1, VdFormatKind::Double).min_unclamped, 0.0);
+  EXPECT_GE(measure_cutoff_error(VdEvaluatorKind::Exact, NumberFormat::Double).min_unclamped, 0.0);
+  EXPECT_GE(measure_cutoff_error(VdEvaluatorKind::P1, NumberFormat::Double).min_unclamped, 0.0);
 }
 
 // W never increases with d, except for P1 at its second breakpoint (on both sides of the
@@ -171,13 +171,13 @@ TEST(SubtexelCutoff, MonotoneExceptP1Breakpoint) {
 TEST(SubtexelCutoff, RuntimeFormatMatchesTemplate) {
   for (VdEvaluatorKind k : kVdEvaluatorKinds) {
     for (double d : {-0.6, -0.31, -0.1, 0.0, 0.04, 0.2, 0.4999, 0.7}) {
-      EXPECT_EQ(make(k, VdFormatKind::Fx16).weight(d),
+      EXPECT_EQ(make(k, NumberFormat::Fx16).weight(d),
                 make(k).weight<VdFx16>(VdFx16::SIn(d)).to_double());
-      EXPECT_EQ(make(k, VdFormatKind::Fx8).weight(d),
+      EXPECT_EQ(make(k, NumberFormat::Fx8).weight(d),
                 make(k).weight<VdFx8>(VdFx8::SIn(d)).to_double());
-      EXPECT_EQ(make(k, VdFormatKind::Float).weight(d),
+      EXPECT_EQ(make(k, NumberFormat::Float).weight(d),
                 static_cast<double>(make(k).weight<VdFloatFormat<float>>(static_cast<float>(d))));
-      EXPECT_EQ(make(k, VdFormatKind::Double).weight(d), make(k).weight<VdFloatFormat<double>>(d));
+      EXPECT_EQ(make(k, NumberFormat::Double).weight(d), make(k).weight<VdFloatFormat<double>>(d));
     }
   }
 }
@@ -186,15 +186,15 @@ TEST(SubtexelCutoff, OpsAndTiming) {
   TechTable t = TechTable::defaults();
   for (VdEvaluatorKind k : kVdEvaluatorKinds) {
     const SubtexelCutoff cut = make(k);
-    const OpCounts ev = visit_vd_evaluator(k, [](auto e) { return e.ops(); });
+    const OpCounts ev = visit_vd_evaluator(k, [](auto e) { return e.ops_per_item(); });
     const OpCounts evp = visit_vd_evaluator(k, [](auto e) { return e.critical_path(); });
-    EXPECT_EQ(cut.ops().mul, ev.mul);
-    EXPECT_EQ(cut.ops().lut, ev.lut);
-    EXPECT_EQ(cut.ops().add, ev.add + 2);
-    EXPECT_EQ(cut.ops().cmp, ev.cmp + 4);
+    EXPECT_EQ(cut.ops_per_item().mul, ev.mul);
+    EXPECT_EQ(cut.ops_per_item().lut, ev.lut);
+    EXPECT_EQ(cut.ops_per_item().add, ev.add + 2);
+    EXPECT_EQ(cut.ops_per_item().cmp, ev.cmp + 4);
     const double path = t.path_latency(evp) + 2 * t.lat(OpKind::Add) + 3 * t.lat(OpKind::Cmp);
     EXPECT_EQ(cut.timing(t).latency, static_cast<uint32_t>(std::ceil(path)));
-    EXPECT_DOUBLE_EQ(cut.timing(t).area, t.area_of(cut.ops()));
+    EXPECT_DOUBLE_EQ(cut.timing(t).area, t.area_of(cut.ops_per_item()));
   }
 }
 
@@ -204,7 +204,7 @@ TEST(SubtexelCutoff, ConfigFromToml) {
                   std::string_view("s.toml"));
   const auto c = SubtexelCutoff::Config::from_toml(ConfigReader(ok, "s.toml", "subtexel"));
   EXPECT_EQ(c.evaluator, VdEvaluatorKind::P1);
-  EXPECT_EQ(c.format, VdFormatKind::Fx12);
+  EXPECT_EQ(c.format, NumberFormat::Fx12);
   EXPECT_EQ(c.lanes, 2u);
   toml::table bad =
       toml::parse(std::string_view("evaluator = \"p4\"\n"), std::string_view("s.toml"));

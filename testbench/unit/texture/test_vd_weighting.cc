@@ -73,7 +73,7 @@ Edge random_edge(std::mt19937& rng, double max_dist) {
   return g;
 }
 
-SpafFilter spaf_vd(VdEvaluatorKind k, VdFormatKind f) {
+SpafFilter spaf_vd(VdEvaluatorKind k, NumberFormat f) {
   SpafFilter::Config c;
   c.coverage = SpafFilter::Coverage::Vd;
   c.vd.evaluator = k;
@@ -83,15 +83,15 @@ SpafFilter spaf_vd(VdEvaluatorKind k, VdFormatKind f) {
 
 TEST(VdWeighting, ExactCoverageMatchesGaussianIntegral) {
   struct Case {
-    VdFormatKind f;
+    NumberFormat f;
     double bound;
   };
   // Fixed: d rounded into s1.F (½ LSB × slope ≤ 2.03), W rounded into u1.F, 1/W(−½) and the
   // product each rounded (½ LSB): within 3 LSB of u1.F. float: erfcf and float rounding.
-  const Case cases[] = {{VdFormatKind::Double, 1e-9},
-                        {VdFormatKind::Float, 1e-6},
-                        {VdFormatKind::Fx16, 3 * VdFx16::Out::lsb()},
-                        {VdFormatKind::Fx12, 3 * VdFx12::Out::lsb()}};
+  const Case cases[] = {{NumberFormat::Double, 1e-9},
+                        {NumberFormat::Float, 1e-6},
+                        {NumberFormat::Fx16, 3 * VdFx16::Out::lsb()},
+                        {NumberFormat::Fx12, 3 * VdFx12::Out::lsb()}};
   for (const Case& cs : cases) {
     const SpafFilter sp = spaf_vd(VdEvaluatorKind::Exact, cs.f);
     std::mt19937 rng(11);
@@ -102,12 +102,12 @@ TEST(VdWeighting, ExactCoverageMatchesGaussianIntegral) {
       worst = std::max(worst, std::fabs(cov - reference_coverage(g.d)));
     }
     std::printf("exact V(d) coverage, format %s: max error %.3g against the Gaussian integral\n",
-                kVdFormatKeys[static_cast<size_t>(cs.f)].data(), worst);
-    EXPECT_LE(worst, cs.bound) << kVdFormatKeys[static_cast<size_t>(cs.f)];
+                kVdFormats.key_of(cs.f).data(), worst);
+    EXPECT_LE(worst, cs.bound) << kVdFormats.key_of(cs.f);
   }
   // The L1-normalised E is not the distance: at 45° it is √2 times too small, which the
   // coverage must undo. An edge at 45° whose E at the centre is −0.3 is 0.424 away.
-  const SpafFilter sp = spaf_vd(VdEvaluatorKind::Exact, VdFormatKind::Double);
+  const SpafFilter sp = spaf_vd(VdEvaluatorKind::Exact, NumberFormat::Double);
   EXPECT_NEAR(sp.vd_coverage(0.5, 0.5, -0.3), reference_coverage(0.3 * std::sqrt(2.0)), 1e-9);
   EXPECT_GT(std::fabs(reference_coverage(0.3 * std::sqrt(2.0)) - reference_coverage(0.3)), 0.03);
   // A centre on the edge keeps exactly half; |E| ≥ ½ is fully in or out in every direction.
@@ -123,12 +123,12 @@ TEST(VdWeighting, ExactCoverageMatchesGaussianIntegral) {
 // differences of two V errors: at most 4·ε_V/Ŵ(−½), ε_V the evaluator's measured maximum.
 TEST(VdWeighting, PolynomialCoverageWithinEvaluatorBound) {
   for (VdEvaluatorKind k : {VdEvaluatorKind::P3, VdEvaluatorKind::P2, VdEvaluatorKind::P1}) {
-    for (VdFormatKind f : {VdFormatKind::Double, VdFormatKind::Fx16}) {
+    for (NumberFormat f : {NumberFormat::Double, NumberFormat::Fx16}) {
       const double eps = measure_vd_error(k, f, 200000).max_abs;
       const SubtexelCutoff cut = SpafFilter(spaf_vd(k, f)).cutoff();
       const double full = cut.weight(-0.5);
       // Fixed: d's rounding (½ LSB of s1.16 × slope ≤ 2.4) and the two output roundings.
-      const double quant = f == VdFormatKind::Fx16 ? 3 * VdFx16::Out::lsb() : 1e-12;
+      const double quant = f == NumberFormat::Fx16 ? 3 * VdFx16::Out::lsb() : 1e-12;
       const double bound = 4 * eps / full + quant;
       const SpafFilter sp = spaf_vd(k, f);
       std::mt19937 rng(12);
@@ -139,8 +139,8 @@ TEST(VdWeighting, PolynomialCoverageWithinEvaluatorBound) {
             std::max(worst, std::fabs(sp.vd_coverage(g.deu, g.dev, g.e) - reference_coverage(g.d)));
       }
       std::printf("%s %s: coverage error %.4f, bound 4·%.4f/%.4f = %.4f\n",
-                  vd_evaluator_name(k).data(), kVdFormatKeys[static_cast<size_t>(f)].data(), worst,
-                  eps, full, bound);
+                  vd_evaluator_name(k).data(), kVdFormats.key_of(f).data(), worst, eps, full,
+                  bound);
       EXPECT_LE(worst, bound) << vd_evaluator_name(k);
       // And the polynomial's error really shows (the bound is not vacuous).
       EXPECT_GE(worst, 0.5 * eps) << vd_evaluator_name(k);
@@ -157,7 +157,7 @@ TEST(VdWeighting, CoverageInUnitIntervalForAnyInput) {
                              0.0,
                              -0.0};
   for (VdEvaluatorKind k : kVdEvaluatorKinds) {
-    for (VdFormatKind f : kVdFormatKinds) {
+    for (NumberFormat f : kVdFormatKinds) {
       const SpafFilter sp = spaf_vd(k, f);
       for (int i = -3000; i <= 3000; ++i) {
         const double e = i / 3000.0, deu = 0.37, dev = -0.63;
@@ -214,8 +214,8 @@ TEST(VdWeighting, FiltersStayFiniteAndInRange) {
     }
   };
   for (VdEvaluatorKind k : kVdEvaluatorKinds) {
-    for (VdFormatKind fm : {VdFormatKind::Float, VdFormatKind::Fx16, VdFormatKind::Fx8}) {
-      for (SpafFilter::Arith ar : {SpafFilter::Arith::Float, SpafFilter::Arith::Fixed}) {
+    for (NumberFormat fm : {NumberFormat::Float, NumberFormat::Fx16, NumberFormat::Fx8}) {
+      for (NumberFormat ar : {NumberFormat::Float, NumberFormat::S20_28HalfUp}) {
         SpafFilter::Config c;
         c.coverage = SpafFilter::Coverage::Vd;
         c.vd.evaluator = k;
@@ -223,7 +223,7 @@ TEST(VdWeighting, FiltersStayFiniteAndInRange) {
         c.arith = ar;
         check(std::string("spaf ") + std::string(vd_evaluator_name(k)), SpafFilter(c));
       }
-      for (EwaFilter::Arith ar : {EwaFilter::Arith::Float, EwaFilter::Arith::Fixed}) {
+      for (NumberFormat ar : {NumberFormat::Float, NumberFormat::S18_30}) {
         EwaFilter::Config c;
         c.edge = EwaFilter::Edge::Vd;
         c.vd.evaluator = k;

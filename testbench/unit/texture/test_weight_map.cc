@@ -143,14 +143,14 @@ TEST(WeightMap, EntriesAreReadExactlyAndOutsideIsZero) {
 TEST(WeightMap, OpsPerKind) {
   WeightMap::Config c;
   c.kind = WeightMap::Kind::RadialR;
-  const OpCounts r = WeightMap(c).ops_per_read();
+  const OpCounts r = WeightMap(c).ops_per_item();
   c.kind = WeightMap::Kind::RadialR2;
-  const OpCounts r2 = WeightMap(c).ops_per_read();
+  const OpCounts r2 = WeightMap(c).ops_per_item();
   EXPECT_EQ(r.sqrt, 1u);
   EXPECT_EQ(r2.sqrt, 0u);  // indexing by r² removes the square root
   EXPECT_EQ(r.mem, 2u);
   c.kind = WeightMap::Kind::Quarter;
-  EXPECT_EQ(WeightMap(c).ops_per_read().mem, 4u);
+  EXPECT_EQ(WeightMap(c).ops_per_item().mem, 4u);
   c.transform = WeightMap::Transform::Jacobian;
   EXPECT_EQ(WeightMap(c).ops_per_step().add, 2u);
   c.transform = WeightMap::Transform::Cholesky;
@@ -176,14 +176,14 @@ TEST(WeightMap, ConfigFromToml) {
 // EWA with a float radial-r² map of the same function equals EWA computing the weights, up to
 // the map's interpolation error.
 TEST(WeightMap, EwaWithMapMatchesComputedWeights) {
-  std::vector<float> px(64 * 64 * 4);
+  std::vector<float> px(size_t{64} * 64 * 4);
   std::mt19937 rng(8);
   std::uniform_real_distribution<float> uni(0, 1);
   for (float& p : px) p = uni(rng);
   const Texture tex = Texture::from_rgba("n", 64, 64, px, TexelFormat::Rgba32f, true);
   EwaFilter::Config cc;
   cc.weight = EwaFilter::Weight::Pow8;
-  cc.arith = EwaFilter::Arith::Double;
+  cc.arith = NumberFormat::Double;
   EwaFilter::Config cm = cc;
   cm.weight = EwaFilter::Weight::Map;
   WeightMap::Config mc;
