@@ -112,9 +112,8 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
       if (!v.is_table())
         throw InputError(at(source_name, v), "materials." + name + ": expected a table");
       const toml::table& mt = *v.as_table();
+      // The effect tables are the texture unit's to check (its effect registry).
       ConfigReader mr(mt, source_name, "materials." + name);
-      mr.reject_unknown(
-          {"texture", "filter", "lod", "coords", "ewa", "multi_probe", "feline", "spaf"});
       SceneMaterial m;
       m.name = name;
       m.line = static_cast<int>(v.source().begin.line);
@@ -123,10 +122,6 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
       if (!tn) throw InputError(at(source_name, v), "materials." + name + ": missing 'texture'");
       if (!tn->is_string()) mr.fail("texture", "expected a texture name");
       m.texture = texture_index(*tn->value<std::string>(), *tn);
-      for (const auto& [ek, ev] : mt) {
-        if (ek.str() != "texture" && !ev.is_table())
-          mr.fail(ek.str(), "expected a table of effect settings");
-      }
       m.effects = &mt;
       s.materials.push_back(std::move(m));
     }
