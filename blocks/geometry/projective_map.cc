@@ -1,9 +1,8 @@
 #include "blocks/geometry/projective_map.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
-
-#include "blocks/base/config_reader.h"
 
 namespace texsim {
 
@@ -132,32 +131,6 @@ DerivsL forward_diff_derivs(const ProjectiveMap& m, long double x, long double y
   const long double u0 = m.u(x, y), v0 = m.v(x, y);
   return {m.u(x + 1, y) - u0, m.v(x + 1, y) - v0, m.u(x, y + 1) - u0, m.v(x, y + 1) - v0};
 }
-
-double quotient_error_bound(double w, double z, double dw, double dz, bool reciprocal, bool fixed,
-                            double unit) {
-  if (!(z - dz > 0)) return std::numeric_limits<double>::infinity();
-  const double u = std::fabs(w) / z;
-  // |(w+δw)/(z+δz) − w/z| = |δw − u·δz| / |z + δz| <= (dw + u·dz)/(z − dz).
-  const double du = (dw + u * dz) / (z - dz);
-  if (!reciprocal) return du + (fixed ? unit / 2 : unit * (u + du));
-  // r = 1/ẑ rounded (<= unit/2 or unit·r), then ŵ·r rounded.
-  const double wmag = std::fabs(w) + dw;
-  return du + (fixed ? unit / 2 * (1 + wmag) : 2.01 * unit * (u + du));
-}
-
-double linear_form_error_bound(long double a, long double b, long double c, long double x,
-                               long double y, bool fixed, double unit) {
-  if (fixed) return unit / 2 * static_cast<double>(std::fabs(x) + std::fabs(y) + 1);
-  // Rounding a, b, c (1 each) and the products and sums (<= 3 more along any term).
-  return 4.01 * unit * static_cast<double>(std::fabs(a * x) + std::fabs(b * y) + std::fabs(c));
-}
-
-Datapath parse_datapath(const ConfigReader& r, Datapath def) {
-  return static_cast<Datapath>(
-      r.get_choice("datapath", static_cast<int>(def), {"spatial", "shared"}));
-}
-
-const char* datapath_name(Datapath d) { return d == Datapath::Spatial ? "spatial" : "shared"; }
 
 TimingSpec derive_timing(const TechTable& t, const OpCounts& ops, const OpCounts& critical_path,
                          Datapath dp, uint32_t lanes, const OpCounts& extra_area_ops) {

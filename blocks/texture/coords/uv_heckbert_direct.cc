@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "blocks/base/config_reader.h"
+#include "blocks/texture/coords/error_bounds.h"
 
 namespace texsim {
 
