@@ -345,7 +345,7 @@ struct Method {
 
 template <template <class, class> class Impl, class Gen, class Block>
 Method<Gen> method(std::string_view name, std::string_view block,
-                   std::vector<std::string_view> fixed = {},
+                   const std::vector<std::string_view>& fixed,
                    std::function<void(typename Block::Config&)> preset = {}) {
   auto read = [fixed, preset](const ConfigReader& r, const Method<Gen>& m) -> GenFactory<Gen> {
     for (std::string_view key : fixed) {
@@ -362,18 +362,16 @@ Method<Gen> method(std::string_view name, std::string_view block,
 
 template <class Block>
 Method<CoordGenerator> coords(std::string_view name, std::string_view block,
-                              std::vector<std::string_view> fixed = {},
+                              const std::vector<std::string_view>& fixed = {},
                               std::function<void(typename Block::Config&)> preset = {}) {
-  return method<CoordGenImpl, CoordGenerator, Block>(name, block, std::move(fixed),
-                                                     std::move(preset));
+  return method<CoordGenImpl, CoordGenerator, Block>(name, block, fixed, std::move(preset));
 }
 
 template <class Block>
 Method<DerivGenerator> derivs(std::string_view name, std::string_view block,
-                              std::vector<std::string_view> fixed = {},
+                              const std::vector<std::string_view>& fixed = {},
                               std::function<void(typename Block::Config&)> preset = {}) {
-  return method<DerivGenImpl, DerivGenerator, Block>(name, block, std::move(fixed),
-                                                     std::move(preset));
+  return method<DerivGenImpl, DerivGenerator, Block>(name, block, fixed, std::move(preset));
 }
 
 // The coordinate methods, in the order reports and studies list them.
@@ -432,6 +430,7 @@ const std::vector<Method<DerivGenerator>>& deriv_methods() {
 template <class Gen>
 std::vector<std::string> names_of(const std::vector<Method<Gen>>& methods) {
   std::vector<std::string> n;
+  n.reserve(methods.size());
   for (const auto& m : methods) n.emplace_back(m.name);
   return n;
 }

@@ -91,7 +91,7 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
       st[static_cast<size_t>(s)] = {front_names[s], t, setup.fifo_depth, 0};
     }
     const auto at = [&](int stage) -> StageConfig& {
-      return st[static_cast<size_t>(front_ + stage)];
+      return st[static_cast<size_t>(front_) + static_cast<size_t>(stage)];
     };
     at(kLod) = {"lod", lod_t, setup.fifo_depth, 0};
     at(kAddress) = {"address", addr_t, setup.fifo_depth, 0};

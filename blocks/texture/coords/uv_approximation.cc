@@ -39,20 +39,21 @@ OpCounts UvApproximation::row_setup_ops() const {
   o.cmp = pts;
   o.rcp = 1;  // h = 1/(n-1)
   // Coefficients and difference table, per coordinate (u and v):
+  constexpr uint64_t kCoords = 2;
   switch (cfg_.order) {
     case Order::Affine:
-      o.add += 2 * 1;
-      o.mul += 2 * 1;
+      o.add += kCoords * 1;
+      o.mul += kCoords * 1;
       break;
     // A1 = 2u0-4u1+2u2 (shifts, 2 adds), A2 = -3u0+4u1-u2 (3 adds); A1·h, (A1h+A2)·h, 2A1h·h.
     case Order::Quadratic:
-      o.add += 2 * (5 + 1);
-      o.mul += 2 * 3;
+      o.add += kCoords * (5 + 1);
+      o.mul += kCoords * 3;
       break;
     // c3, c2, c1: 4 constant products and 3 adds each; then 8 products and 4 adds.
     case Order::Cubic:
-      o.add += 2 * (9 + 4);
-      o.mul += 2 * (12 + 8);
+      o.add += kCoords * (9 + 4);
+      o.mul += kCoords * (12 + 8);
       break;
   }
   return o;
