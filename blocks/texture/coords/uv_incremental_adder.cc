@@ -101,7 +101,8 @@ void UvIncrementalAdder::lane_history(const RowSpan& s, int32_t n, double& round
   if (cfg_.form == Form::KLane) {
     const int32_t k = std::max(1, cfg_.lanes);
     const int32_t j = n % k;
-    roundings = static_cast<double>(j + (n - j) / k);  // n - j is a multiple of k
+    const int32_t steps = (n - j) / k;  // lane j's k-steps before pixel n (exact: n - j = steps·k)
+    roundings = j + steps;
   } else if (cfg_.form == Form::Bidirectional) {
     const int32_t mid = (s.n + 1) / 2;
     if (n >= mid) {
