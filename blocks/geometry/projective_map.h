@@ -8,18 +8,12 @@
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/geometry/camera.h"
 
 namespace texsim {
 
 struct Vec3L {
   long double x = 0, y = 0, z = 0;
-};
-
-// Pinhole camera in view space (camera at the origin looking along +Z). Screen coordinates:
-// xs = cx + f·X/Z, ys = cy + f·Y/Z; pixel (i, j) has its centre at xs = i + 0.5, ys = j + 0.5.
-struct PinholeCamera {
-  long double focal_px = 256;
-  long double cx = 256, cy = 256;
 };
 
 // A plane through the view axis at `distance`, tilted by `tilt_deg` (0 = parallel to the
@@ -32,7 +26,9 @@ struct PlaneView {
   double distance = 1;
   double texels_per_pixel = 1;
   double u_offset = 0, v_offset = 0;
-  PinholeCamera camera{};
+  // Only its imaging counts (the plane is given in view space): by default a 512 × 512 image
+  // with a 90° field of view, f = 256 pixels.
+  Camera camera = square_camera(512);
 };
 
 // View-space frame of a textured plane: texel (u, v) sits at origin + u·axis_u + v·axis_v.
@@ -41,7 +37,7 @@ struct PlaneFrame {
 };
 PlaneFrame plane_frame(const PlaneView& pv);
 // Pixel-index coordinates (centre of pixel i at x = i) of a view-space point with Z > 0.
-void project_to_pixel(const Vec3L& p, const PinholeCamera& cam, long double& x, long double& y);
+void project_to_pixel(const Vec3L& p, const Camera& cam, long double& x, long double& y);
 
 // Screen (pixel index) -> texture (texels) map:
 //   u = (A x + B y + C) / (G x + H y + I),  v = (D x + E y + F) / (G x + H y + I)
@@ -74,7 +70,7 @@ struct ProjectiveMap {
   // Builds the map for texture coordinate (u, v) at view-space point origin + u·axis_u +
   // v·axis_v. Marks the map degenerate (coefficients NaN) if the plane contains the eye.
   static ProjectiveMap from_plane(const Vec3L& origin, const Vec3L& axis_u, const Vec3L& axis_v,
-                                  const PinholeCamera& cam);
+                                  const Camera& cam);
   static ProjectiveMap from_plane_view(const PlaneView& pv);
 };
 

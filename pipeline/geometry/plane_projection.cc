@@ -27,12 +27,11 @@ PlaneProjection::PlaneProjection(const Scene& scene, const ScenePlane& plane) {
   const V3 f = normalize(lv(cam.look_at) - lv(cam.position));
   const V3 r = normalize(cross(f, lv(cam.up)));
   const V3 up = cross(r, f);
-  const V th =
-      std::tan(static_cast<V>(cam.fov_y_deg) * 3.14159265358979323846264338327950288L / 360.0L);
-  const V aspect = static_cast<V>(scene.width) / scene.height;
+  const V th = cam.tan_half_fov_y;
+  const V aspect = static_cast<V>(cam.width) / cam.height;
   // View ray (not normalised, unit component along f) through pixel (x, y): D0 + x Dx + y Dy.
-  const V3 dx = r * (2.0L * th * aspect / scene.width);
-  const V3 dy = up * (-2.0L * th / scene.height);
+  const V3 dx = r * (2.0L * th * aspect / cam.width);
+  const V3 dy = up * (-2.0L * th / cam.height);
   const V3 d0 = f - r * (th * aspect) + up * th;
   // Solve origin + a eu + b ev = cam + t d (Cramer): with n = eu × ev, w = cam − origin,
   // a = d·(w × ev) / d·n, b = d·(eu × w) / d·n, t = −(w·n) / d·n.
@@ -76,8 +75,8 @@ PlaneProjection::PlaneProjection(const Scene& scene, const ScenePlane& plane) {
   }
   tan_half_ = th;
   aspect_ = aspect;
-  width_ = scene.width;
-  height_ = scene.height;
+  width_ = cam.width;
+  height_ = cam.height;
 }
 
 std::vector<glm::dvec2> PlaneProjection::screen_polygon() const {

@@ -1,5 +1,6 @@
 #include "pipeline/scene/scene.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -54,16 +55,21 @@ void parse_output(const ConfigReader& top, Scene& s) {
   s.background = read_vec<3>(out, "background", s.background);
 }
 
-void parse_camera(const ConfigReader& top, Camera& c) {
+// The camera, imaging the output's width × height.
+void parse_camera(const ConfigReader& top, const Scene& s, Camera& c) {
   const ConfigReader cam = top.sub("camera");
   cam.reject_unknown({"position", "look_at", "up", "fov_y", "near"});
   c.position = read_vec<3>(cam, "position", c.position);
   c.look_at = read_vec<3>(cam, "look_at", c.look_at);
   c.up = read_vec<3>(cam, "up", c.up);
-  c.fov_y_deg = cam.get_double("fov_y", c.fov_y_deg);
+  const double fov_y_deg = cam.get_double("fov_y", 60.0);
   c.near = cam.get_double("near", c.near);
-  if (c.fov_y_deg <= 0 || c.fov_y_deg >= 179) cam.fail("fov_y", "must be in (0, 179) degrees");
+  if (fov_y_deg <= 0 || fov_y_deg >= 179) cam.fail("fov_y", "must be in (0, 179) degrees");
   if (c.near <= 0) cam.fail("near", "must be > 0");
+  c.tan_half_fov_y = std::tan(static_cast<long double>(fov_y_deg) *
+                              3.14159265358979323846264338327950288L / 360.0L);
+  c.width = s.width;
+  c.height = s.height;
   const glm::dvec3 f = c.look_at - c.position;
   const glm::dvec3 x{f.y * c.up.z - f.z * c.up.y, f.z * c.up.x - f.x * c.up.z,
                      f.x * c.up.y - f.y * c.up.x};
@@ -164,7 +170,7 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   top.reject_unknown(
       {"output", "camera", "textures", "materials", "planes", "pipeline", "tech", "reference"});
   parse_output(top, s);
-  parse_camera(top, s.camera);
+  parse_camera(top, s, s.camera);
   parse_textures(top, s);
   parse_materials(top, s);
   parse_planes(root, s);
