@@ -57,13 +57,23 @@ struct SetupCost {
   bool counts_rows = false;
 };
 
+// Blocks with a per-triangle set-up (named, so that a block losing it fails to compile).
+template <class Block>
+constexpr bool kTriangleSetup = false;
+template <>
+constexpr bool kTriangleSetup<UvApproximationTriangle> = true;
+template <>
+constexpr bool kTriangleSetup<UvConstantDepth> = true;
+template <>
+constexpr bool kTriangleSetup<DerivativesIterative> = true;
+
 template <class Block>
 SetupCost setup_cost(const Block& b, const TechTable& t) {
   SetupCost s;
   s.row = b.row_setup_ops();
   s.row_lat = lat(b.row_setup_timing(t));
   s.counts_rows = s.row.total() > 0;
-  if constexpr (requires { b.triangle_setup_ops(); }) {
+  if constexpr (kTriangleSetup<Block>) {
     s.triangle = b.triangle_setup_ops();
     s.triangle_lat = lat(b.triangle_setup_timing(t));
   }
