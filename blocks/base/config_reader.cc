@@ -92,9 +92,13 @@ int ConfigReader::get_choice(std::string_view key, int def,
 
 void ConfigReader::reject_unknown(const std::vector<std::string_view>& known) const {
   for (const auto& [k, v] : *table_) {
-    if (std::find(known.begin(), known.end(), k.str()) == known.end()) {
+    const auto in = [&k = k](const std::vector<std::string_view>& keys) {
+      return std::find(keys.begin(), keys.end(), k.str()) != keys.end();
+    };
+    if (!in(known) && !in(unit_keys_)) {
       std::string list;
       for (auto c : known) list += (list.empty() ? "" : ", ") + std::string(c);
+      for (auto c : unit_keys_) list += ", " + std::string(c);
       throw InputError(
           where(&v), block_ + ": unknown key '" + std::string(k.str()) + "' (known: " + list + ")");
     }
@@ -111,6 +115,13 @@ const toml::table* ConfigReader::subtable(std::string_view key) const {
 ConfigReader ConfigReader::sub(std::string_view key) const {
   const toml::table* t = subtable(key);
   return ConfigReader(t ? *t : empty_table(), source_, block_ + "." + std::string(key));
+}
+
+ConfigReader ConfigReader::for_block(std::string block,
+                                     std::vector<std::string_view> unit_keys) const {
+  ConfigReader r(*table_, source_, std::move(block));
+  r.unit_keys_ = std::move(unit_keys);
+  return r;
 }
 
 }  // namespace texsim

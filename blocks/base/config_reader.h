@@ -25,6 +25,9 @@ class ConfigReader {
   void reject_unknown(const std::vector<std::string_view>& known) const;
   const toml::table* subtable(std::string_view key) const;
   ConfigReader sub(std::string_view key) const;  // empty table if absent
+  // The same table as a block inside a unit reads it: messages name `block`, and
+  // reject_unknown also accepts `unit_keys` (the keys the unit itself reads).
+  ConfigReader for_block(std::string block, std::vector<std::string_view> unit_keys) const;
 
   [[noreturn]] void fail(std::string_view key, const std::string& what) const;
   [[noreturn]] void fail_at(const toml::node& node, const std::string& what) const;
@@ -37,6 +40,7 @@ class ConfigReader {
   const toml::table* table_;
   std::string source_;
   std::string block_;
+  std::vector<std::string_view> unit_keys_;
 };
 
 }  // namespace texsim

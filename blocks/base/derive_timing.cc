@@ -3,16 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "blocks/base/config_reader.h"
-
 namespace texsim {
-
-Datapath parse_datapath(const ConfigReader& r, Datapath def) {
-  return static_cast<Datapath>(
-      r.get_choice("datapath", static_cast<int>(def), {"spatial", "shared"}));
-}
-
-const char* datapath_name(Datapath d) { return d == Datapath::Spatial ? "spatial" : "shared"; }
 
 TimingSpec derive_timing(const TechTable& t, const OpCounts& ops, double path_cycles, Datapath dp,
                          uint32_t lanes, const OpCounts& extra_area_ops) {

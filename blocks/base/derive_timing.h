@@ -4,24 +4,12 @@
 // the technology table moves every block alike.
 #include <cstdint>
 
+#include "blocks/base/datapath.h"
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
 
 namespace texsim {
-
-class ConfigReader;
-
-// How a block's operations map onto operators.
-//  Spatial: one operator instance per operation of the data-flow graph, fully pipelined:
-//           II = 1, latency = critical path, area = all operators.
-//  Shared:  one operator of each kind the block uses, time-multiplexed (a compact FPGA block,
-//           or the ALU of a shader core): II = max over kinds of ops of that kind, latency =
-//           critical path + II - 1, area = one operator per kind used.
-enum class Datapath { Spatial, Shared };
-// Reads the key `datapath` (spatial|shared).
-Datapath parse_datapath(const ConfigReader& r, Datapath def);
-const char* datapath_name(Datapath d);
 
 // TimingSpec of `lanes` copies of a datapath with `ops` operators (per item) whose longest
 // dependent chain takes `path_cycles`; `extra_area_ops` adds operators that exist once beside

@@ -1,9 +1,8 @@
 #include "blocks/geometry/projective_map.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
-
-#include "blocks/base/config_reader.h"
 
 namespace texsim {
 
@@ -64,12 +63,12 @@ ProjectiveMap ProjectiveMap::translated(long double du, long double dv) const {
 }
 
 ProjectiveMap ProjectiveMap::from_plane(const Vec3L& origin, const Vec3L& axis_u,
-                                        const Vec3L& axis_v, const PinholeCamera& cam) {
+                                        const Vec3L& axis_v, const Camera& cam) {
   // K' maps a view-space point P to Z·(i, j, 1) with (i, j) the pixel-index coordinates
   // (centre of pixel i at xs = i + 0.5, hence the -0.5).
+  const long double focal = cam.focal_px(), cx = cam.cx(), cy = cam.cy();
   auto kp = [&](const Vec3L& p) {
-    return Vec3L{cam.focal_px * p.x + (cam.cx - 0.5L) * p.z,
-                 cam.focal_px * p.y + (cam.cy - 0.5L) * p.z, p.z};
+    return Vec3L{focal * p.x + (cx - 0.5L) * p.z, focal * p.y + (cy - 0.5L) * p.z, p.z};
   };
   // Texture->screen: M·(u, v, 1) = K'(origin + u·axis_u + v·axis_v) = Z·(i, j, 1).
   const Vec3L c0 = kp(axis_u), c1 = kp(axis_v), c2 = kp(origin);
@@ -99,7 +98,7 @@ ProjectiveMap ProjectiveMap::from_plane(const Vec3L& origin, const Vec3L& axis_u
 PlaneFrame plane_frame(const PlaneView& pv) {
   constexpr long double kDeg = 3.14159265358979323846264338327950288L / 180.0L;
   const long double d = pv.distance;
-  const long double s = d / (pv.camera.focal_px * pv.texels_per_pixel);  // texel size
+  const long double s = d / (pv.camera.focal_px() * pv.texels_per_pixel);  // texel size
   const long double phi = pv.azimuth_deg * kDeg;
   const Vec3L axis{std::cos(phi), std::sin(phi), 0};
   const long double t = pv.tilt_deg * kDeg;
@@ -111,9 +110,10 @@ PlaneFrame plane_frame(const PlaneView& pv) {
   return {origin, au, av};
 }
 
-void project_to_pixel(const Vec3L& p, const PinholeCamera& cam, long double& x, long double& y) {
-  x = cam.focal_px * p.x / p.z + cam.cx - 0.5L;
-  y = cam.focal_px * p.y / p.z + cam.cy - 0.5L;
+void project_to_pixel(const Vec3L& p, const Camera& cam, long double& x, long double& y) {
+  const long double focal = cam.focal_px();
+  x = focal * p.x / p.z + cam.cx() - 0.5L;
+  y = focal * p.y / p.z + cam.cy() - 0.5L;
 }
 
 ProjectiveMap ProjectiveMap::from_plane_view(const PlaneView& pv) {
@@ -131,25 +131,6 @@ DerivsL analytic_derivs(const ProjectiveMap& m, long double x, long double y) {
 DerivsL forward_diff_derivs(const ProjectiveMap& m, long double x, long double y) {
   const long double u0 = m.u(x, y), v0 = m.v(x, y);
   return {m.u(x + 1, y) - u0, m.v(x + 1, y) - v0, m.u(x, y + 1) - u0, m.v(x, y + 1) - v0};
-}
-
-double quotient_error_bound(double w, double z, double dw, double dz, bool reciprocal, bool fixed,
-                            double unit) {
-  if (!(z - dz > 0)) return std::numeric_limits<double>::infinity();
-  const double u = std::fabs(w) / z;
-  // |(w+δw)/(z+δz) − w/z| = |δw − u·δz| / |z + δz| <= (dw + u·dz)/(z − dz).
-  const double du = (dw + u * dz) / (z - dz);
-  if (!reciprocal) return du + (fixed ? unit / 2 : unit * (u + du));
-  // r = 1/ẑ rounded (<= unit/2 or unit·r), then ŵ·r rounded.
-  const double wmag = std::fabs(w) + dw;
-  return du + (fixed ? unit / 2 * (1 + wmag) : 2.01 * unit * (u + du));
-}
-
-double linear_form_error_bound(long double a, long double b, long double c, long double x,
-                               long double y, bool fixed, double unit) {
-  if (fixed) return unit / 2 * static_cast<double>(std::fabs(x) + std::fabs(y) + 1);
-  // Rounding a, b, c (1 each) and the products and sums (<= 3 more along any term).
-  return 4.01 * unit * static_cast<double>(std::fabs(a * x) + std::fabs(b * y) + std::fabs(c));
 }
 
 }  // namespace texsim

@@ -293,6 +293,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
 
 uint64_t generate_scene_trace(const std::string& scene_path, const std::string& out_path) {
   const Scene scene = scene_path.empty() ? default_scene() : load_scene(scene_path);
+  (void)build_materials(scene);  // checks the materials' effects
   TraceHeader h;
   for (size_t i = 0; i < scene.textures.size(); ++i) {
     const Texture t = load_texture(scene.textures[i].source, scene.base_dir);

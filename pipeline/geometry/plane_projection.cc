@@ -27,12 +27,11 @@ PlaneProjection::PlaneProjection(const Scene& scene, const ScenePlane& plane) {
   const V3 f = normalize(lv(cam.look_at) - lv(cam.position));
   const V3 r = normalize(cross(f, lv(cam.up)));
   const V3 up = cross(r, f);
-  const V th =
-      std::tan(static_cast<V>(cam.fov_y_deg) * 3.14159265358979323846264338327950288L / 360.0L);
-  const V aspect = static_cast<V>(scene.width) / scene.height;
+  const V th = cam.tan_half_fov_y;
+  const V aspect = static_cast<V>(cam.width) / cam.height;
   // View ray (not normalised, unit component along f) through pixel (x, y): D0 + x Dx + y Dy.
-  const V3 dx = r * (2.0L * th * aspect / scene.width);
-  const V3 dy = up * (-2.0L * th / scene.height);
+  const V3 dx = r * (2.0L * th * aspect / cam.width);
+  const V3 dy = up * (-2.0L * th / cam.height);
   const V3 d0 = f - r * (th * aspect) + up * th;
   // Solve origin + a eu + b ev = cam + t d (Cramer): with n = eu × ev, w = cam − origin,
   // a = d·(w × ev) / d·n, b = d·(eu × w) / d·n, t = −(w·n) / d·n.
@@ -76,8 +75,8 @@ PlaneProjection::PlaneProjection(const Scene& scene, const ScenePlane& plane) {
   }
   tan_half_ = th;
   aspect_ = aspect;
-  width_ = scene.width;
-  height_ = scene.height;
+  width_ = cam.width;
+  height_ = cam.height;
 }
 
 std::vector<glm::dvec2> PlaneProjection::screen_polygon() const {
@@ -120,20 +119,20 @@ ProjectiveMap PlaneProjection::texel_map(int tw, int th) const {
 UvSample PlaneProjection::at(double xd, double yd) const {
   const V x = xd, y = yd;
   UvSample s;
-  const V den = G * x + H * y + I;
-  if (den == 0) return s;
-  const V nu = A * x + B * y + C, nv = D * x + E * y + F;
-  const V a = (a_[0] * x + a_[1] * y + a_[2]) / den, b = (b_[0] * x + b_[1] * y + b_[2]) / den;
-  const V depth = depth_num_ / den;
+  const V q = den(x, y);
+  if (q == 0) return s;
+  const V nu = num_u(x, y), nv = num_v(x, y);
+  const V a = (a_[0] * x + a_[1] * y + a_[2]) / q, b = (b_[0] * x + b_[1] * y + b_[2]) / q;
+  const V depth = depth_num_ / q;
   s.depth = static_cast<double>(depth);
   s.inside = depth >= near_ && a >= 0 && a <= 1 && b >= 0 && b <= 1;
-  s.u = static_cast<double>(nu / den);
-  s.v = static_cast<double>(nv / den);
-  const V den2 = den * den;
-  s.dudx = static_cast<double>((A * den - G * nu) / den2);
-  s.dudy = static_cast<double>((B * den - H * nu) / den2);
-  s.dvdx = static_cast<double>((D * den - G * nv) / den2);
-  s.dvdy = static_cast<double>((E * den - H * nv) / den2);
+  s.u = static_cast<double>(nu / q);
+  s.v = static_cast<double>(nv / q);
+  const V q2 = q * q;
+  s.dudx = static_cast<double>((A * q - G * nu) / q2);
+  s.dudy = static_cast<double>((B * q - H * nu) / q2);
+  s.dvdx = static_cast<double>((D * q - G * nv) / q2);
+  s.dvdy = static_cast<double>((E * q - H * nv) / q2);
   return s;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
-// Exact screen→texture map of a scene plane (docs/architecture.md#reference-generator):
-// u = (A x + B y + C) / (G x + H y + I), v = (D x + E y + F) / (G x + H y + I) for continuous
-// pixel coordinates (x, y) (pixel centres at +0.5), evaluated in long double.
+// Exact screen→texture map of a scene plane (docs/architecture.md#reference-generator): the
+// plane's ProjectiveMap u = (A x + B y + C) / (G x + H y + I), v = (D x + E y + F) / (G x + H y
+// + I) for continuous pixel coordinates (x, y) (pixel centres at +0.5) and the plane's texture
+// coordinates (uv scale and offset included), evaluated in long double.
 #include <glm/vec2.hpp>
 #include <vector>
 
@@ -32,13 +33,12 @@ struct UvSample {
   }
 };
 
-class PlaneProjection {
+// The map (its coefficients A..I are the ProjectiveMap's), and where on it the plane lies.
+class PlaneProjection : public ProjectiveMap {
  public:
   PlaneProjection(const Scene& scene, const ScenePlane& plane);
   // Evaluates the map at continuous pixel coordinates (x, y).
   UvSample at(double x, double y) const;
-  // Heckbert coefficients A..I of u and v (including the plane's uv scale and offset).
-  long double A, B, C, D, E, F, G, H, I;
 
   // The plane's parallelogram clipped to the near plane and projected to pixel-index
   // coordinates (centre of pixel i at x = i, the coordinate blocks' convention); empty when

@@ -55,8 +55,11 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
     while (std::getline(ss, item, '&')) {
       const auto eq = item.find('=');
       if (eq == std::string::npos || eq == 0) {
-        throw InputError(
-            where, "procedural texture '" + source + "': expected key=value, got '" + item + "'");
+        throw InputError(where, std::string("procedural texture '")
+                                    .append(source)
+                                    .append("': expected key=value, got '")
+                                    .append(item)
+                                    .append("'"));
       }
       kv[item.substr(0, eq)] = item.substr(eq + 1);
     }

@@ -1,5 +1,6 @@
 #include "pipeline/scene/scene.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -36,6 +37,126 @@ glm::vec<N, double> read_vec(const ConfigReader& r, std::string_view key, glm::v
   return v;
 }
 
+toml::table parse_document(const std::string& text, const std::string& source_name) {
+  try {
+    return toml::parse(text, source_name);
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw InputError(source_name + ":" + std::to_string(b.line) + ":" + std::to_string(b.column),
+                     std::string(e.description()));
+  }
+}
+
+void parse_output(const ConfigReader& top, Scene& s) {
+  const ConfigReader out = top.sub("output");
+  out.reject_unknown({"width", "height", "background"});
+  s.width = static_cast<int>(out.get_int("width", s.width, 1, 16384));
+  s.height = static_cast<int>(out.get_int("height", s.height, 1, 16384));
+  s.background = read_vec<3>(out, "background", s.background);
+}
+
+// The camera, imaging the output's width × height.
+void parse_camera(const ConfigReader& top, const Scene& s, Camera& c) {
+  const ConfigReader cam = top.sub("camera");
+  cam.reject_unknown({"position", "look_at", "up", "fov_y", "near"});
+  c.position = read_vec<3>(cam, "position", c.position);
+  c.look_at = read_vec<3>(cam, "look_at", c.look_at);
+  c.up = read_vec<3>(cam, "up", c.up);
+  const double fov_y_deg = cam.get_double("fov_y", 60.0);
+  c.near = cam.get_double("near", c.near);
+  if (fov_y_deg <= 0 || fov_y_deg >= 179) cam.fail("fov_y", "must be in (0, 179) degrees");
+  if (c.near <= 0) cam.fail("near", "must be > 0");
+  c.tan_half_fov_y = std::tan(static_cast<long double>(fov_y_deg) *
+                              3.14159265358979323846264338327950288L / 360.0L);
+  c.width = s.width;
+  c.height = s.height;
+  const glm::dvec3 f = c.look_at - c.position;
+  const glm::dvec3 x{f.y * c.up.z - f.z * c.up.y, f.z * c.up.x - f.x * c.up.z,
+                     f.x * c.up.y - f.y * c.up.x};
+  if (f.x * f.x + f.y * f.y + f.z * f.z == 0 || x.x * x.x + x.y * x.y + x.z * x.z == 0) {
+    cam.fail("look_at", "camera direction is zero or parallel to 'up'");
+  }
+}
+
+// Textures: [textures.NAME] source = "..."
+void parse_textures(const ConfigReader& top, Scene& s) {
+  const toml::table* t = top.subtable("textures");
+  if (!t) return;
+  for (const auto& [k, v] : *t) {
+    const std::string name(k.str());
+    if (!v.is_table()) throw InputError(at(s.path, v), "textures." + name + ": expected a table");
+    const ConfigReader tr(*v.as_table(), s.path, "textures." + name);
+    tr.reject_unknown({"source"});
+    const std::string src = tr.get_string("source", "");
+    if (src.empty()) throw InputError(at(s.path, v), "textures." + name + ": missing 'source'");
+    s.textures.push_back({name, src});
+  }
+}
+
+int texture_index(const Scene& s, const std::string& name, const toml::node& where) {
+  for (size_t i = 0; i < s.textures.size(); ++i)
+    if (s.textures[i].name == name) return static_cast<int>(i);
+  throw InputError(at(s.path, where), "unknown texture '" + name + "'");
+}
+
+// Materials: [materials.NAME] texture = "...", and one table per effect. The effect tables are
+// the texture unit's to check (its effect registry).
+void parse_materials(const ConfigReader& top, Scene& s) {
+  const toml::table* t = top.subtable("materials");
+  if (!t) return;
+  for (const auto& [k, v] : *t) {
+    const std::string name(k.str());
+    if (!v.is_table()) throw InputError(at(s.path, v), "materials." + name + ": expected a table");
+    const toml::table& mt = *v.as_table();
+    const ConfigReader mr(mt, s.path, "materials." + name);
+    SceneMaterial m;
+    m.name = name;
+    m.line = static_cast<int>(v.source().begin.line);
+    m.column = static_cast<int>(v.source().begin.column);
+    const toml::node* tn = mt.get("texture");
+    if (!tn) throw InputError(at(s.path, v), "materials." + name + ": missing 'texture'");
+    if (!tn->is_string()) mr.fail("texture", "expected a texture name");
+    m.texture = texture_index(s, *tn->value<std::string>(), *tn);
+    m.effects = &mt;
+    s.materials.push_back(std::move(m));
+  }
+}
+
+int material_index(const Scene& s, const std::string& name, const toml::node& where) {
+  for (size_t i = 0; i < s.materials.size(); ++i)
+    if (s.materials[i].name == name) return static_cast<int>(i);
+  throw InputError(at(s.path, where), "unknown material '" + name + "'");
+}
+
+ScenePlane parse_plane(const toml::node& e, Scene& s) {
+  if (!e.is_table()) throw InputError(at(s.path, e), "planes: each entry must be a table");
+  const ConfigReader pr(*e.as_table(), s.path, "planes[" + std::to_string(s.planes.size()) + "]");
+  pr.reject_unknown({"material", "origin", "edge_u", "edge_v", "uv_scale", "uv_offset"});
+  ScenePlane p;
+  const toml::node* mn = e.as_table()->get("material");
+  if (!mn || !mn->is_string()) pr.fail("material", "expected a material name");
+  p.material = material_index(s, *mn->value<std::string>(), *mn);
+  p.origin = read_vec<3>(pr, "origin", p.origin);
+  p.edge_u = read_vec<3>(pr, "edge_u", p.edge_u);
+  p.edge_v = read_vec<3>(pr, "edge_v", p.edge_v);
+  p.uv_scale = read_vec<2>(pr, "uv_scale", p.uv_scale);
+  p.uv_offset = read_vec<2>(pr, "uv_offset", p.uv_offset);
+  const glm::dvec3 a = p.edge_u, b = p.edge_v;
+  const glm::dvec3 n{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+  if (n.x * n.x + n.y * n.y + n.z * n.z == 0)
+    pr.fail("edge_v", "plane edges are parallel or zero (degenerate plane)");
+  return p;
+}
+
+// Planes: [[planes]]
+void parse_planes(const toml::table& root, Scene& s) {
+  const toml::node* pn = root.get("planes");
+  if (!pn) return;
+  const toml::array* arr = pn->as_array();
+  if (!arr) throw InputError(at(s.path, *pn), "planes: expected an array of tables ([[planes]])");
+  for (const toml::node& e : *arr) s.planes.push_back(parse_plane(e, s));
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& source_name,
@@ -43,128 +164,17 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   Scene s;
   s.path = source_name;
   s.base_dir = base_dir;
-  toml::table doc;
-  try {
-    doc = toml::parse(text, source_name);
-  } catch (const toml::parse_error& e) {
-    const auto& b = e.source().begin;
-    throw InputError(source_name + ":" + std::to_string(b.line) + ":" + std::to_string(b.column),
-                     std::string(e.description()));
-  }
-  s.root = std::make_shared<toml::table>(std::move(doc));
+  s.root = std::make_shared<toml::table>(parse_document(text, source_name));
   const toml::table& root = *s.root;
-  ConfigReader top(root, source_name, "scene");
+  const ConfigReader top(root, source_name, "scene");
   top.reject_unknown(
       {"output", "camera", "textures", "materials", "planes", "pipeline", "tech", "reference"});
-
-  ConfigReader out = top.sub("output");
-  out.reject_unknown({"width", "height", "background"});
-  s.width = static_cast<int>(out.get_int("width", s.width, 1, 16384));
-  s.height = static_cast<int>(out.get_int("height", s.height, 1, 16384));
-  s.background = read_vec<3>(out, "background", s.background);
-
-  ConfigReader cam = top.sub("camera");
-  cam.reject_unknown({"position", "look_at", "up", "fov_y", "near"});
-  s.camera.position = read_vec<3>(cam, "position", s.camera.position);
-  s.camera.look_at = read_vec<3>(cam, "look_at", s.camera.look_at);
-  s.camera.up = read_vec<3>(cam, "up", s.camera.up);
-  s.camera.fov_y_deg = cam.get_double("fov_y", s.camera.fov_y_deg);
-  s.camera.near = cam.get_double("near", s.camera.near);
-  if (s.camera.fov_y_deg <= 0 || s.camera.fov_y_deg >= 179)
-    cam.fail("fov_y", "must be in (0, 179) degrees");
-  if (s.camera.near <= 0) cam.fail("near", "must be > 0");
-  {
-    const glm::dvec3 f = s.camera.look_at - s.camera.position;
-    const glm::dvec3 c{f.y * s.camera.up.z - f.z * s.camera.up.y,
-                       f.z * s.camera.up.x - f.x * s.camera.up.z,
-                       f.x * s.camera.up.y - f.y * s.camera.up.x};
-    if (f.x * f.x + f.y * f.y + f.z * f.z == 0 || c.x * c.x + c.y * c.y + c.z * c.z == 0) {
-      cam.fail("look_at", "camera direction is zero or parallel to 'up'");
-    }
-  }
-
-  // Textures: [textures.NAME] source = "..."
-  std::vector<std::string> tex_names;
-  if (const toml::table* t = top.subtable("textures")) {
-    for (const auto& [k, v] : *t) {
-      if (!v.is_table())
-        throw InputError(at(source_name, v),
-                         "textures." + std::string(k.str()) + ": expected a table");
-      ConfigReader tr(*v.as_table(), source_name, "textures." + std::string(k.str()));
-      tr.reject_unknown({"source"});
-      const std::string src = tr.get_string("source", "");
-      if (src.empty())
-        throw InputError(at(source_name, v),
-                         "textures." + std::string(k.str()) + ": missing 'source'");
-      s.textures.push_back({std::string(k.str()), src});
-    }
-  }
-  auto texture_index = [&](const std::string& name, const toml::node& where) {
-    for (size_t i = 0; i < s.textures.size(); ++i)
-      if (s.textures[i].name == name) return static_cast<int>(i);
-    throw InputError(at(source_name, where), "unknown texture '" + name + "'");
-  };
-
-  // Materials: [materials.NAME] texture = "...", and one table per effect.
-  if (const toml::table* t = top.subtable("materials")) {
-    for (const auto& [k, v] : *t) {
-      const std::string name(k.str());
-      if (!v.is_table())
-        throw InputError(at(source_name, v), "materials." + name + ": expected a table");
-      const toml::table& mt = *v.as_table();
-      ConfigReader mr(mt, source_name, "materials." + name);
-      mr.reject_unknown(
-          {"texture", "filter", "lod", "coords", "ewa", "multi_probe", "feline", "spaf"});
-      SceneMaterial m;
-      m.name = name;
-      m.line = static_cast<int>(v.source().begin.line);
-      m.column = static_cast<int>(v.source().begin.column);
-      const toml::node* tn = mt.get("texture");
-      if (!tn) throw InputError(at(source_name, v), "materials." + name + ": missing 'texture'");
-      if (!tn->is_string()) mr.fail("texture", "expected a texture name");
-      m.texture = texture_index(*tn->value<std::string>(), *tn);
-      for (const auto& [ek, ev] : mt) {
-        if (ek.str() != "texture" && !ev.is_table())
-          mr.fail(ek.str(), "expected a table of effect settings");
-      }
-      m.effects = &mt;
-      s.materials.push_back(std::move(m));
-    }
-  }
-  auto material_index = [&](const std::string& name, const toml::node& where) {
-    for (size_t i = 0; i < s.materials.size(); ++i)
-      if (s.materials[i].name == name) return static_cast<int>(i);
-    throw InputError(at(source_name, where), "unknown material '" + name + "'");
-  };
-
-  // Planes: [[planes]]
-  if (const toml::node* pn = root.get("planes")) {
-    const toml::array* arr = pn->as_array();
-    if (!arr)
-      throw InputError(at(source_name, *pn), "planes: expected an array of tables ([[planes]])");
-    for (const toml::node& e : *arr) {
-      if (!e.is_table()) throw InputError(at(source_name, e), "planes: each entry must be a table");
-      ConfigReader pr(*e.as_table(), source_name,
-                      "planes[" + std::to_string(s.planes.size()) + "]");
-      pr.reject_unknown({"material", "origin", "edge_u", "edge_v", "uv_scale", "uv_offset"});
-      ScenePlane p;
-      const toml::node* mn = e.as_table()->get("material");
-      if (!mn || !mn->is_string()) pr.fail("material", "expected a material name");
-      p.material = material_index(*mn->value<std::string>(), *mn);
-      p.origin = read_vec<3>(pr, "origin", p.origin);
-      p.edge_u = read_vec<3>(pr, "edge_u", p.edge_u);
-      p.edge_v = read_vec<3>(pr, "edge_v", p.edge_v);
-      p.uv_scale = read_vec<2>(pr, "uv_scale", p.uv_scale);
-      p.uv_offset = read_vec<2>(pr, "uv_offset", p.uv_offset);
-      const glm::dvec3 a = p.edge_u, b = p.edge_v;
-      const glm::dvec3 n{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-      if (n.x * n.x + n.y * n.y + n.z * n.z == 0)
-        pr.fail("edge_v", "plane edges are parallel or zero (degenerate plane)");
-      s.planes.push_back(p);
-    }
-  }
-
-  ConfigReader ref = top.sub("reference");
+  parse_output(top, s);
+  parse_camera(top, s, s.camera);
+  parse_textures(top, s);
+  parse_materials(top, s);
+  parse_planes(root, s);
+  const ConfigReader ref = top.sub("reference");
   ref.reject_unknown({"supersamples"});
   s.reference_supersamples =
       static_cast<int>(ref.get_int("supersamples", s.reference_supersamples, 1, 64));

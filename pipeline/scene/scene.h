@@ -10,16 +10,9 @@
 #include <vector>
 
 #include "blocks/base/tech_table.h"
+#include "blocks/geometry/camera.h"
 
 namespace texsim {
-
-struct Camera {
-  glm::dvec3 position{0, 1, 0};
-  glm::dvec3 look_at{0, 0, -10};
-  glm::dvec3 up{0, 1, 0};
-  double fov_y_deg = 60.0;
-  double near = 0.01;
-};
 
 struct SceneTexture {
   std::string name;
@@ -48,7 +41,7 @@ struct Scene {
   std::string base_dir;  // relative texture paths resolve here
   int width = 320, height = 240;
   glm::dvec3 background{0, 0, 0};
-  Camera camera;
+  Camera camera;  // its image is the output's width × height
   std::vector<SceneTexture> textures;
   std::vector<SceneMaterial> materials;
   std::vector<ScenePlane> planes;

@@ -78,9 +78,9 @@ StudyPlane make_study_plane(const StudyCoordsOptions& o, double tilt) {
   pv.distance = 1;
   pv.texels_per_pixel = 1;
   pv.u_offset = pv.v_offset = o.plane_texels / 2;
-  pv.camera.focal_px = o.width / 2.0L;
-  pv.camera.cx = o.width / 2.0L;
-  pv.camera.cy = o.height / 2.0L;
+  pv.camera.width = o.width;  // f = width / 2: a 90° horizontal field of view
+  pv.camera.height = o.height;
+  pv.camera.tan_half_fov_y = static_cast<long double>(o.height) / o.width;
   const PlaneFrame f = plane_frame(pv);
   const ProjectiveMap raw = ProjectiveMap::from_plane(f.origin, f.axis_u, f.axis_v, pv.camera);
   sp.map = raw;

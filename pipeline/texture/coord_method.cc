@@ -40,427 +40,275 @@ std::unique_ptr<Base> make_for_format(const std::string& format, Args&&... args)
                                                          ", " + FixedC::name() + ")");
 }
 
-uint32_t lat(const TimingSpec& t) { return t.ii == 0 ? 0 : t.latency; }
-
-enum class CoordKind {
-  Heckbert,
-  HeckbertRcp,
-  Incremental,
-  IncrementalK4,
-  IncrementalBidir,
-  Affine,
-  Quadratic,
-  Cubic,
-  Biquadratic,
-  Bicubic,
-  ConstantDepth,
-  Affine16,
-  Quadratic32
+// Impl<T, Block> as a template of T alone, for make_for_format.
+template <template <class, class> class Impl, class Block>
+struct ImplOf {
+  template <class T>
+  using type = Impl<T, Block>;
 };
 
-CoordKind coord_kind(const std::string& m) {
-  const auto& names = CoordGenerator::method_names();
-  for (size_t i = 0; i < names.size(); ++i) {
-    if (names[i] == m) return static_cast<CoordKind>(i);
+uint32_t lat(const TimingSpec& t) { return t.ii == 0 ? 0 : t.latency; }
+
+// Set-up work of a block beside its per-pixel datapath: per row (or line) and per triangle.
+// A block whose row set-up is empty shares another's and counts no rows.
+struct SetupCost {
+  OpCounts row, triangle;
+  uint32_t row_lat = 0, triangle_lat = 0;
+  bool counts_rows = false;
+};
+
+// Blocks with a per-triangle set-up (named, so that a block losing it fails to compile).
+template <class Block>
+constexpr bool kTriangleSetup = false;
+template <>
+constexpr bool kTriangleSetup<UvApproximationTriangle> = true;
+template <>
+constexpr bool kTriangleSetup<UvConstantDepth> = true;
+template <>
+constexpr bool kTriangleSetup<DerivativesIterative> = true;
+
+template <class Block>
+SetupCost setup_cost(const Block& b, const TechTable& t) {
+  SetupCost s;
+  s.row = b.row_setup_ops();
+  s.row_lat = lat(b.row_setup_timing(t));
+  s.counts_rows = s.row.total() > 0;
+  if constexpr (kTriangleSetup<Block>) {
+    s.triangle = b.triangle_setup_ops();
+    s.triangle_lat = lat(b.triangle_setup_timing(t));
   }
-  std::string known;
-  for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
-  throw InputError("coordinate method '" + m + "'", "unknown (known: " + known + ")");
+  return s;
+}
+
+// Appends a generator's fragments and their front-end costs: a row's first pixel carries the
+// row set-up, the triangle's first pixel the triangle set-up.
+struct CoordEmitter {
+  std::vector<CoordFragment>& out;
+  std::vector<ItemCost>& costs;
+  const SetupCost& setup;
+  uint64_t pixels = 0;
+  void operator()(int32_t x, int32_t y, const CoordSample& s, bool row_start) {
+    ItemCost c;
+    if (row_start) c.extra_ii += setup.row_lat;
+    if (pixels == 0) c.extra_ii += setup.triangle_lat;
+    out.push_back({x, y, s});
+    costs.push_back(c);
+    ++pixels;
+  }
+};
+
+// Runs `eval(span, out)` over the given spans; returns the spans walked.
+template <class Eval>
+uint64_t walk_spans(const std::vector<RowSpan>& spans, CoordEmitter& emit, Eval&& eval) {
+  std::vector<CoordSample> buf;
+  uint64_t walked = 0;
+  for (const RowSpan& r : spans) {
+    if (r.n <= 0) continue;
+    buf.assign(static_cast<size_t>(r.n), CoordSample{});
+    eval(r, buf.data());
+    for (int32_t k = 0; k < r.n; ++k) emit(r.x0 + k, r.y, buf[static_cast<size_t>(k)], k == 0);
+    ++walked;
+  }
+  return walked;
+}
+
+// Traversal of each coordinate block over a triangle's pixels; returns the rows (or lines,
+// or segments) walked. Blocks that evaluate raster rows from the map share the first form.
+template <class T, class Block>
+uint64_t walk(const Block& b, const CoordTriangle& tri, const MapCoeffs<T>& mc,
+              CoordEmitter& emit) {
+  return walk_spans(tri.rows, emit,
+                    [&](const RowSpan& r, CoordSample* o) { b.eval_row(mc, r, o); });
+}
+
+// Each segment is a span with its own set-up.
+template <class T>
+uint64_t walk(const UvApproximation& b, const CoordTriangle& tri, const MapCoeffs<T>& mc,
+              CoordEmitter& emit) {
+  std::vector<RowSpan> segments;
+  for (const RowSpan& r : tri.rows) {
+    for (const RowSpan& g : b.segments(r)) segments.push_back(g);
+  }
+  return walk_spans(segments, emit,
+                    [&](const RowSpan& r, CoordSample* o) { b.eval_row(mc, r, o); });
 }
 
 template <class T>
+uint64_t walk(const UvApproximationTriangle& b, const CoordTriangle& tri, const MapCoeffs<T>& mc,
+              CoordEmitter& emit) {
+  UvApproximationTriangle::Triangle tr;
+  for (int k = 0; k < 3; ++k) {
+    tr.x[k] = tri.x[k];
+    tr.y[k] = tri.y[k];
+  }
+  const auto st = b.setup_triangle(mc, tr);
+  return walk_spans(tri.rows, emit,
+                    [&](const RowSpan& r, CoordSample* o) { b.eval_row(st, r, o); });
+}
+
+// Walks the triangle's pixels along constant-depth lines: pixel (major, minor) lies on line
+// j = minor - round(k·major), whose exact course is minor = k·major + j (the rectangle-scan
+// rasterizer's traversal, every line the same digital line shifted by one pixel).
+template <class T>
+uint64_t walk(const UvConstantDepth& b, const CoordTriangle& tri, const MapCoeffs<T>& mc,
+              CoordEmitter& emit) {
+  const bool xm = b.x_major(tri.map);
+  const long double k = b.slope(tri.map);
+  struct P {
+    int64_t j;
+    int32_t major, minor;
+  };
+  std::vector<P> ps;
+  for (const RowSpan& r : tri.rows) {
+    for (int32_t i = 0; i < r.n; ++i) {
+      const int32_t x = r.x0 + i, y = r.y;
+      const int32_t major = xm ? x : y, minor = xm ? y : x;
+      const auto rounded = static_cast<int64_t>(std::floor(k * major + 0.5L));
+      ps.push_back({minor - rounded, major, minor});
+    }
+  }
+  std::sort(ps.begin(), ps.end(),
+            [](const P& a, const P& c) { return a.j != c.j ? a.j < c.j : a.major < c.major; });
+  const auto st = b.setup_triangle(mc);
+  std::vector<CoordSample> buf;
+  uint64_t lines = 0;
+  size_t i = 0;
+  while (i < ps.size()) {
+    size_t e = i + 1;
+    while (e < ps.size() && ps[e].j == ps[i].j && ps[e].major == ps[e - 1].major + 1) ++e;
+    const UvConstantDepth::SlopedSpan l{ps[i].major, static_cast<double>(ps[i].j),
+                                        static_cast<int32_t>(e - i)};
+    buf.assign(e - i, CoordSample{});
+    b.eval_row(mc, st, l, buf.data());
+    for (size_t q = i; q < e; ++q) {
+      const int32_t x = xm ? ps[q].major : ps[q].minor, y = xm ? ps[q].minor : ps[q].major;
+      emit(x, y, buf[q - i], q == i);
+    }
+    ++lines;
+    i = e;
+  }
+  return lines;
+}
+
+// One coordinate block in number format T.
+template <class T, class Block>
 class CoordGenImpl final : public CoordGenerator {
  public:
-  CoordGenImpl(const std::string& method, Datapath dp)
-      : method_(method), format_(format_name<T>()), kind_(coord_kind(method)) {
-    UvHeckbertDirect::Config hc;
-    hc.datapath = dp;
-    hc.form = kind_ == CoordKind::HeckbertRcp ? UvHeckbertDirect::Form::Reciprocal
-                                              : UvHeckbertDirect::Form::Divide;
-    hd_ = UvHeckbertDirect(hc);
-    UvIncrementalAdder::Config ic;
-    ic.datapath = dp;
-    ic.form = kind_ == CoordKind::IncrementalK4      ? UvIncrementalAdder::Form::KLane
-              : kind_ == CoordKind::IncrementalBidir ? UvIncrementalAdder::Form::Bidirectional
-                                                     : UvIncrementalAdder::Form::Sequential;
-    ic.lanes = 4;
-    inc_ = UvIncrementalAdder(ic);
-    UvApproximation::Config ac;
-    ac.datapath = dp;
-    ac.order = kind_ == CoordKind::Affine || kind_ == CoordKind::Affine16
-                   ? UvApproximation::Order::Affine
-               : kind_ == CoordKind::Cubic ? UvApproximation::Order::Cubic
-                                           : UvApproximation::Order::Quadratic;
-    ac.segment = kind_ == CoordKind::Affine16 ? 16 : kind_ == CoordKind::Quadratic32 ? 32 : 0;
-    ap_ = UvApproximation(ac);
-    UvApproximationTriangle::Config tc;
-    tc.datapath = dp;
-    tc.order = kind_ == CoordKind::Bicubic ? UvApproximationTriangle::Order::Bicubic
-                                           : UvApproximationTriangle::Order::Biquadratic;
-    at_ = UvApproximationTriangle(tc);
-    UvConstantDepth::Config cc;
-    cc.datapath = dp;
-    cd_ = UvConstantDepth(cc);
-  }
+  CoordGenImpl(std::string method, const Block& block)
+      : method_(std::move(method)), format_(format_name<T>()), block_(block) {}
   const std::string& method() const override { return method_; }
   const std::string& format() const override { return format_; }
 
   StageConfig stage(const TechTable& t) const override {
     StageConfig s;
     s.name = "coords." + method_;
-    switch (kind_) {
-      case CoordKind::Heckbert:
-      case CoordKind::HeckbertRcp:
-        s.timing = hd_.timing(t);
-        break;
-      case CoordKind::Incremental:
-      case CoordKind::IncrementalK4:
-      case CoordKind::IncrementalBidir:
-        s.timing = inc_.timing(t);
-        break;
-      case CoordKind::Affine:
-      case CoordKind::Quadratic:
-      case CoordKind::Cubic:
-      case CoordKind::Affine16:
-      case CoordKind::Quadratic32:
-        s.timing = ap_.timing(t);
-        break;
-      case CoordKind::Biquadratic:
-      case CoordKind::Bicubic:
-        s.timing = at_.timing(t);
-        break;
-      case CoordKind::ConstantDepth:
-        s.timing = cd_.timing(t);
-        break;
-    }
+    s.timing = block_.timing(t);
     return s;
   }
 
-  OpCounts pixel_ops() const override {
-    switch (kind_) {
-      case CoordKind::Heckbert:
-      case CoordKind::HeckbertRcp:
-        return hd_.ops_per_item();
-      case CoordKind::Incremental:
-      case CoordKind::IncrementalK4:
-      case CoordKind::IncrementalBidir:
-        return inc_.ops_per_item();
-      case CoordKind::Affine:
-      case CoordKind::Quadratic:
-      case CoordKind::Cubic:
-      case CoordKind::Affine16:
-      case CoordKind::Quadratic32:
-        return ap_.ops_per_item();
-      case CoordKind::Biquadratic:
-      case CoordKind::Bicubic:
-        return at_.ops_per_item();
-      case CoordKind::ConstantDepth:
-        return cd_.ops_per_item();
-    }
-    return {};
-  }
+  OpCounts pixel_ops() const override { return block_.ops_per_item(); }
 
   void generate(const CoordTriangle& tri, const TechTable& t, std::vector<CoordFragment>& out,
                 std::vector<ItemCost>& costs, OpCounts& ops,
                 CoordGeneratorStats& stats) const override {
-    const MapCoeffs<T> mc = to_coeffs<T>(tri.map);
-    OpCounts pix, row, trio;
-    uint32_t row_lat = 0, tri_lat = 0;
-    uint64_t pixels = 0, rows = 0;
-    std::vector<CoordSample> buf;
-    bool first = true;
-    auto emit = [&](int32_t x, int32_t y, const CoordSample& s, bool row_start) {
-      ItemCost c;
-      if (row_start) c.extra_ii += row_lat;
-      if (first) c.extra_ii += tri_lat;
-      first = false;
-      out.push_back({x, y, s});
-      costs.push_back(c);
-      ++pixels;
-    };
-    auto run_rows = [&](auto&& eval) {
-      for (const RowSpan& r : tri.rows) {
-        if (r.n <= 0) continue;
-        buf.assign(static_cast<size_t>(r.n), CoordSample{});
-        eval(r, buf.data());
-        for (int32_t k = 0; k < r.n; ++k) emit(r.x0 + k, r.y, buf[k], k == 0);
-        ++rows;
-      }
-    };
-    switch (kind_) {
-      case CoordKind::Heckbert:
-      case CoordKind::HeckbertRcp:
-        pix = hd_.ops_per_item();
-        run_rows([&](const RowSpan& r, CoordSample* o) { hd_.eval_row(mc, r, o); });
-        rows = 0;  // no row set-up
-        break;
-      case CoordKind::Incremental:
-      case CoordKind::IncrementalK4:
-      case CoordKind::IncrementalBidir:
-        pix = inc_.ops_per_item();
-        row = inc_.row_setup_ops();
-        row_lat = lat(inc_.row_setup_timing(t));
-        run_rows([&](const RowSpan& r, CoordSample* o) { inc_.eval_row(mc, r, o); });
-        break;
-      case CoordKind::Affine:
-      case CoordKind::Quadratic:
-      case CoordKind::Cubic:
-      case CoordKind::Affine16:
-      case CoordKind::Quadratic32:
-        pix = ap_.ops_per_item();
-        row = ap_.row_setup_ops();
-        row_lat = lat(ap_.row_setup_timing(t));
-        // Each segment is a span with its own set-up.
-        for (const RowSpan& r : tri.rows) {
-          for (const RowSpan& g : ap_.segments(r)) {
-            if (g.n <= 0) continue;
-            buf.assign(static_cast<size_t>(g.n), CoordSample{});
-            ap_.eval_row(mc, g, buf.data());
-            for (int32_t k = 0; k < g.n; ++k) emit(g.x0 + k, g.y, buf[k], k == 0);
-            ++rows;
-          }
-        }
-        break;
-      case CoordKind::Biquadratic:
-      case CoordKind::Bicubic: {
-        pix = at_.ops_per_item();
-        row = at_.row_setup_ops();
-        trio = at_.triangle_setup_ops();
-        row_lat = lat(at_.row_setup_timing(t));
-        tri_lat = lat(at_.triangle_setup_timing(t));
-        UvApproximationTriangle::Triangle tr;
-        for (int k = 0; k < 3; ++k) {
-          tr.x[k] = tri.x[k];
-          tr.y[k] = tri.y[k];
-        }
-        const auto st = at_.setup_triangle(mc, tr);
-        run_rows([&](const RowSpan& r, CoordSample* o) { at_.eval_row(st, r, o); });
-        break;
-      }
-      case CoordKind::ConstantDepth:
-        pix = cd_.ops_per_item();
-        row = cd_.row_setup_ops();
-        trio = cd_.triangle_setup_ops();
-        row_lat = lat(cd_.row_setup_timing(t));
-        tri_lat = lat(cd_.triangle_setup_timing(t));
-        rows = constant_depth(tri, mc, emit, buf);
-        break;
-    }
-    const bool any = pixels > 0;
-    ops += pix * pixels + row * rows + (any ? trio : OpCounts{});
-    stats.fragments += pixels;
+    const SetupCost setup = setup_cost(block_, t);
+    CoordEmitter emit{out, costs, setup};
+    const uint64_t walked = walk(block_, tri, to_coeffs<T>(tri.map), emit);
+    const uint64_t rows = setup.counts_rows ? walked : 0;
+    const bool any = emit.pixels > 0;
+    const OpCounts here = block_.ops_per_item() * emit.pixels + setup.row * rows +
+                          (any ? setup.triangle : OpCounts{});
+    ops += here;
+    stats.fragments += emit.pixels;
     stats.rows += rows;
     stats.triangles += any ? 1 : 0;
-    const OpCounts here = pix * pixels + row * rows + (any ? trio : OpCounts{});
     stats.divisions += here.div + here.rcp;
   }
 
  private:
-  // Walks the triangle's pixels along constant-depth lines: pixel (major, minor) lies on line
-  // j = minor - round(k·major), whose exact course is minor = k·major + j (the rectangle-scan
-  // rasterizer's traversal, every line the same digital line shifted by one pixel).
-  template <class Emit>
-  uint64_t constant_depth(const CoordTriangle& tri, const MapCoeffs<T>& mc, Emit& emit,
-                          std::vector<CoordSample>& buf) const {
-    const bool xm = cd_.x_major(tri.map);
-    const long double k = cd_.slope(tri.map);
-    struct P {
-      int64_t j;
-      int32_t major, minor;
-    };
-    std::vector<P> ps;
-    for (const RowSpan& r : tri.rows) {
-      for (int32_t i = 0; i < r.n; ++i) {
-        const int32_t x = r.x0 + i, y = r.y;
-        const int32_t major = xm ? x : y, minor = xm ? y : x;
-        const auto rounded = static_cast<int64_t>(std::floor(k * major + 0.5L));
-        ps.push_back({minor - rounded, major, minor});
-      }
-    }
-    std::sort(ps.begin(), ps.end(),
-              [](const P& a, const P& b) { return a.j != b.j ? a.j < b.j : a.major < b.major; });
-    const auto st = cd_.setup_triangle(mc);
-    uint64_t lines = 0;
-    size_t i = 0;
-    while (i < ps.size()) {
-      size_t e = i + 1;
-      while (e < ps.size() && ps[e].j == ps[i].j && ps[e].major == ps[e - 1].major + 1) ++e;
-      const UvConstantDepth::SlopedSpan l{ps[i].major, static_cast<double>(ps[i].j),
-                                          static_cast<int32_t>(e - i)};
-      buf.assign(e - i, CoordSample{});
-      cd_.eval_row(mc, st, l, buf.data());
-      for (size_t q = i; q < e; ++q) {
-        const int32_t x = xm ? ps[q].major : ps[q].minor, y = xm ? ps[q].minor : ps[q].major;
-        emit(x, y, buf[q - i], q == i);
-      }
-      ++lines;
-      i = e;
-    }
-    return lines;
-  }
-
   std::string method_, format_;
-  CoordKind kind_;
-  UvHeckbertDirect hd_;
-  UvIncrementalAdder inc_;
-  UvApproximation ap_;
-  UvApproximationTriangle at_;
-  UvConstantDepth cd_;
+  Block block_;
 };
 
-enum class DerivKind { Analytic, Quad, HeckbertFd, AcceleratedFd, Iterative };
-
-DerivKind deriv_kind(const std::string& m) {
-  const auto& names = DerivGenerator::method_names();
-  for (size_t i = 0; i < names.size(); ++i) {
-    if (names[i] == m) return static_cast<DerivKind>(i);
-  }
-  std::string known;
-  for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
-  throw InputError("derivative method '" + m + "'", "unknown (known: " + known + ")");
-}
+// Per-triangle state of a derivative block: none, or the iterative block's set-up.
+template <class T, class Block>
+struct DerivRows {
+  DerivRows(const Block& block, const MapCoeffs<T>& coeffs) : b(block), mc(coeffs) {}
+  void eval(const RowSpan& r, CoordDerivs* o) const { b.eval_row(mc, r, o); }
+  const Block& b;
+  const MapCoeffs<T>& mc;
+};
 
 template <class T>
+struct DerivRows<T, DerivativesIterative> {
+  DerivRows(const DerivativesIterative& block, const MapCoeffs<T>& coeffs)
+      : b(block), mc(coeffs), st(block.setup_triangle(coeffs)) {}
+  void eval(const RowSpan& r, CoordDerivs* o) const { b.eval_row(mc, st, r, o); }
+  const DerivativesIterative& b;
+  const MapCoeffs<T>& mc;
+  DerivativesIterative::Setup<T> st;
+};
+
+// Derivatives from 2x2 quads: the helper pixels of partly covered quads still run the
+// coordinate datapath (charged as the incremental adder's pixel operations).
+template <class Block>
+constexpr bool kRunsHelperPixels = false;
+template <>
+constexpr bool kRunsHelperPixels<DerivativesQuad> = true;
+
+// One derivative block in number format T.
+template <class T, class Block>
 class DerivGenImpl final : public DerivGenerator {
  public:
-  DerivGenImpl(const std::string& method, Datapath dp)
-      : method_(method), format_(format_name<T>()), kind_(deriv_kind(method)) {
-    DerivativesAnalytic::Config a;
-    a.datapath = dp;
-    an_ = DerivativesAnalytic(a);
-    DerivativesQuad::Config q;
-    q.datapath = dp;
-    qd_ = DerivativesQuad(q);
-    DerivativesForwardDiff::Config f;
-    f.datapath = dp;
-    f.form = kind_ == DerivKind::AcceleratedFd ? DerivativesForwardDiff::Form::Accelerated
-                                               : DerivativesForwardDiff::Form::Classic;
-    fd_ = DerivativesForwardDiff(f);
-    DerivativesIterative::Config i;
-    i.datapath = dp;
-    it_ = DerivativesIterative(i);
-    UvIncrementalAdder::Config ic;
-    ic.datapath = dp;
-    helper_ = UvIncrementalAdder(ic);
-  }
+  DerivGenImpl(std::string method, const Block& block)
+      : method_(std::move(method)), format_(format_name<T>()), block_(block) {}
   const std::string& method() const override { return method_; }
   const std::string& format() const override { return format_; }
 
   StageConfig stage(const TechTable& t) const override {
     StageConfig s;
     s.name = "derivs." + method_;
-    switch (kind_) {
-      case DerivKind::Analytic:
-        s.timing = an_.timing(t);
-        break;
-      case DerivKind::Quad:
-        s.timing = qd_.timing(t);
-        break;
-      case DerivKind::HeckbertFd:
-      case DerivKind::AcceleratedFd:
-        s.timing = fd_.timing(t);
-        break;
-      case DerivKind::Iterative:
-        s.timing = it_.timing(t);
-        break;
-    }
+    s.timing = block_.timing(t);
     return s;
   }
 
-  OpCounts pixel_ops() const override {
-    switch (kind_) {
-      case DerivKind::Analytic:
-        return an_.ops_per_item();
-      case DerivKind::Quad:
-        return qd_.ops_per_item();
-      case DerivKind::HeckbertFd:
-      case DerivKind::AcceleratedFd:
-        return fd_.ops_per_item();
-      case DerivKind::Iterative:
-        return it_.ops_per_item();
-    }
-    return {};
-  }
+  OpCounts pixel_ops() const override { return block_.ops_per_item(); }
 
   void generate(const CoordTriangle& tri, const TechTable& t, std::vector<CoordDerivs>& out,
                 std::vector<ItemCost>& costs, OpCounts& ops) const override {
     const MapCoeffs<T> mc = to_coeffs<T>(tri.map);
-    OpCounts pix, row, trio;
-    uint32_t row_lat = 0, tri_lat = 0;
+    const SetupCost setup = setup_cost(block_, t);
+    const DerivRows<T, Block> rows_of(block_, mc);
     uint64_t pixels = 0, rows = 0;
-    DerivativesIterative::Setup<T> st;
-    switch (kind_) {
-      case DerivKind::Analytic:
-        pix = an_.ops_per_item();
-        break;
-      case DerivKind::Quad:
-        pix = qd_.ops_per_item();
-        break;
-      case DerivKind::HeckbertFd:
-      case DerivKind::AcceleratedFd:
-        pix = fd_.ops_per_item();
-        break;
-      case DerivKind::Iterative:
-        pix = it_.ops_per_item();
-        row = it_.row_setup_ops();
-        trio = it_.triangle_setup_ops();
-        row_lat = lat(it_.row_setup_timing(t));
-        tri_lat = lat(it_.triangle_setup_timing(t));
-        st = it_.setup_triangle(mc);
-        break;
-    }
     std::vector<CoordDerivs> buf;
-    bool first = true;
     std::unordered_set<int64_t> quads;
     for (const RowSpan& r : tri.rows) {
       if (r.n <= 0) continue;
       buf.assign(static_cast<size_t>(r.n), CoordDerivs{});
-      switch (kind_) {
-        case DerivKind::Analytic:
-          an_.eval_row(mc, r, buf.data());
-          break;
-        case DerivKind::Quad:
-          qd_.eval_row(mc, r, buf.data());
-          break;
-        case DerivKind::HeckbertFd:
-        case DerivKind::AcceleratedFd:
-          fd_.eval_row(mc, r, buf.data());
-          break;
-        case DerivKind::Iterative:
-          it_.eval_row(mc, st, r, buf.data());
-          break;
-      }
+      rows_of.eval(r, buf.data());
       for (int32_t k = 0; k < r.n; ++k) {
         ItemCost c;
-        if (k == 0) c.extra_ii += row_lat;
-        if (first) c.extra_ii += tri_lat;
-        first = false;
-        out.push_back(buf[k]);
+        if (k == 0) c.extra_ii += setup.row_lat;
+        if (k == 0 && pixels == 0) c.extra_ii += setup.triangle_lat;
+        out.push_back(buf[static_cast<size_t>(k)]);
         costs.push_back(c);
-        if (kind_ == DerivKind::Quad) {
+        if constexpr (kRunsHelperPixels<Block>)
           quads.insert((static_cast<int64_t>((r.x0 + k) >> 1) << 32) ^ ((r.y >> 1) & 0xffffffff));
-        }
       }
       pixels += static_cast<uint64_t>(r.n);
       ++rows;
     }
-    if (kind_ != DerivKind::Iterative) rows = 0;
-    ops += pix * pixels + row * rows + (pixels > 0 ? trio : OpCounts{});
-    if (kind_ == DerivKind::Quad) {
-      // Helper pixels of partly covered quads still run the coordinate datapath.
-      const uint64_t helpers = 4 * quads.size() - pixels;
-      ops += helper_.ops_per_item() * helpers;
-    }
+    if (!setup.counts_rows) rows = 0;
+    ops += block_.ops_per_item() * pixels + setup.row * rows +
+           (pixels > 0 ? setup.triangle : OpCounts{});
+    if constexpr (kRunsHelperPixels<Block>)
+      ops += helper_.ops_per_item() * (4 * quads.size() - pixels);
   }
 
  private:
   std::string method_, format_;
-  DerivKind kind_;
-  DerivativesAnalytic an_;
-  DerivativesQuad qd_;
-  DerivativesForwardDiff fd_;
-  DerivativesIterative it_;
-  UvIncrementalAdder helper_;
+  Block block_;
+  UvIncrementalAdder helper_;  // its pixel operations only
 };
 
 template <class T>
@@ -491,6 +339,130 @@ class EllipseGenImpl final : public EllipseGenerator {
   EllipseSetup es_;
 };
 
+// ----- The methods: name -> block, with the block settings the method fixes -----
+
+// A method's block, read from a table by the block's own Config::from_toml; `fixed` names the
+// keys the method sets (given in the table they are an error), `preset` sets them.
+template <class Gen>
+using GenFactory = std::function<std::unique_ptr<Gen>(const std::string& format)>;
+
+template <class Gen>
+struct Method {
+  std::string_view name;
+  std::string_view block;  // the block's name in messages
+  std::function<GenFactory<Gen>(const ConfigReader& r, const Method& m)> read;
+};
+
+template <template <class, class> class Impl, class Gen, class Block>
+Method<Gen> method(std::string_view name, std::string_view block,
+                   const std::vector<std::string_view>& fixed,
+                   std::function<void(typename Block::Config&)> preset = {}) {
+  auto read = [fixed, preset](const ConfigReader& r, const Method<Gen>& m) -> GenFactory<Gen> {
+    for (std::string_view key : fixed) {
+      if (r.table().contains(key)) r.fail(key, "is set by method '" + std::string(m.name) + "'");
+    }
+    typename Block::Config c = Block::Config::from_toml(r);
+    if (preset) preset(c);
+    return [c, name = std::string(m.name)](const std::string& format) {
+      return make_for_format<ImplOf<Impl, Block>::template type, Gen>(format, name, Block(c));
+    };
+  };
+  return {name, block, read};
+}
+
+template <class Block>
+Method<CoordGenerator> coords(std::string_view name, std::string_view block,
+                              const std::vector<std::string_view>& fixed = {},
+                              std::function<void(typename Block::Config&)> preset = {}) {
+  return method<CoordGenImpl, CoordGenerator, Block>(name, block, fixed, std::move(preset));
+}
+
+template <class Block>
+Method<DerivGenerator> derivs(std::string_view name, std::string_view block,
+                              const std::vector<std::string_view>& fixed = {},
+                              std::function<void(typename Block::Config&)> preset = {}) {
+  return method<DerivGenImpl, DerivGenerator, Block>(name, block, fixed, std::move(preset));
+}
+
+// The coordinate methods, in the order reports and studies list them.
+const std::vector<Method<CoordGenerator>>& coord_methods() {
+  using Hd = UvHeckbertDirect;
+  using Inc = UvIncrementalAdder;
+  using Ap = UvApproximation;
+  using Tri = UvApproximationTriangle;
+  static const std::vector<Method<CoordGenerator>> m = {
+      coords<Hd>("heckbert", "uv_heckbert_direct", {"form"}),
+      coords<Hd>("heckbert-rcp", "uv_heckbert_direct", {"form"},
+                 [](Hd::Config& c) { c.form = Hd::Form::Reciprocal; }),
+      coords<Inc>("incremental", "uv_incremental_adder", {"form"}),
+      coords<Inc>("incremental-k4", "uv_incremental_adder", {"form"},
+                  [](Inc::Config& c) { c.form = Inc::Form::KLane; }),
+      coords<Inc>("incremental-bidir", "uv_incremental_adder", {"form"},
+                  [](Inc::Config& c) { c.form = Inc::Form::Bidirectional; }),
+      coords<Ap>("affine", "uv_approximation", {"order", "segment"},
+                 [](Ap::Config& c) { c.order = Ap::Order::Affine; }),
+      coords<Ap>("quadratic", "uv_approximation", {"order", "segment"},
+                 [](Ap::Config& c) { c.order = Ap::Order::Quadratic; }),
+      coords<Ap>("cubic", "uv_approximation", {"order", "segment"},
+                 [](Ap::Config& c) { c.order = Ap::Order::Cubic; }),
+      coords<Tri>("biquadratic", "uv_approximation_triangle", {"order"},
+                  [](Tri::Config& c) { c.order = Tri::Order::Biquadratic; }),
+      coords<Tri>("bicubic", "uv_approximation_triangle", {"order"},
+                  [](Tri::Config& c) { c.order = Tri::Order::Bicubic; }),
+      coords<UvConstantDepth>("constant-depth", "uv_constant_depth"),
+      coords<Ap>("affine-16", "uv_approximation", {"order", "segment"},
+                 [](Ap::Config& c) {
+                   c.order = Ap::Order::Affine;
+                   c.segment = 16;
+                 }),
+      coords<Ap>("quadratic-32", "uv_approximation", {"order", "segment"},
+                 [](Ap::Config& c) {
+                   c.order = Ap::Order::Quadratic;
+                   c.segment = 32;
+                 }),
+  };
+  return m;
+}
+
+const std::vector<Method<DerivGenerator>>& deriv_methods() {
+  using Fd = DerivativesForwardDiff;
+  static const std::vector<Method<DerivGenerator>> m = {
+      derivs<DerivativesAnalytic>("analytic", "derivatives_analytic"),
+      derivs<DerivativesQuad>("quad", "derivatives_quad"),
+      derivs<Fd>("heckbert-fd", "derivatives_forward_diff", {"form"}),
+      derivs<Fd>("accelerated-fd", "derivatives_forward_diff", {"form"},
+                 [](Fd::Config& c) { c.form = Fd::Form::Accelerated; }),
+      derivs<DerivativesIterative>("iterative", "derivatives_iterative"),
+  };
+  return m;
+}
+
+template <class Gen>
+std::vector<std::string> names_of(const std::vector<Method<Gen>>& methods) {
+  std::vector<std::string> n;
+  n.reserve(methods.size());
+  for (const auto& m : methods) n.emplace_back(m.name);
+  return n;
+}
+
+template <class Gen>
+const Method<Gen>& find_method(const std::vector<Method<Gen>>& methods, const std::string& name,
+                               const char* what) {
+  std::string known;
+  for (const auto& m : methods) {
+    if (m.name == name) return m;
+    known += (known.empty() ? "" : ", ") + std::string(m.name);
+  }
+  throw InputError(std::string(what) + " '" + name + "'", "unknown (known: " + known + ")");
+}
+
+// A method's block with its defaults and `dp`, as a table holding only `datapath` gives it.
+template <class Gen>
+GenFactory<Gen> default_block(const Method<Gen>& m, Datapath dp) {
+  const toml::table t{{"datapath", datapath_name(dp)}};
+  return m.read(ConfigReader(t, "<defaults>", std::string(m.block)), m);
+}
+
 }  // namespace
 
 const std::vector<std::string>& coord_format_names() {
@@ -500,29 +472,24 @@ const std::vector<std::string>& coord_format_names() {
 }
 
 const std::vector<std::string>& CoordGenerator::method_names() {
-  static const std::vector<std::string> n = {
-      "heckbert",       "heckbert-rcp", "incremental", "incremental-k4", "incremental-bidir",
-      "affine",         "quadratic",    "cubic",       "biquadratic",    "bicubic",
-      "constant-depth", "affine-16",    "quadratic-32"};
+  static const std::vector<std::string> n = names_of(coord_methods());
   return n;
 }
 
 std::unique_ptr<CoordGenerator> CoordGenerator::create(const std::string& method,
                                                        const std::string& format, Datapath dp) {
-  coord_kind(method);  // validate the method before the format
-  return make_for_format<CoordGenImpl, CoordGenerator>(format, method, dp);
+  // The method is checked before the format.
+  return default_block(find_method(coord_methods(), method, "coordinate method"), dp)(format);
 }
 
 const std::vector<std::string>& DerivGenerator::method_names() {
-  static const std::vector<std::string> n = {"analytic", "quad", "heckbert-fd", "accelerated-fd",
-                                             "iterative"};
+  static const std::vector<std::string> n = names_of(deriv_methods());
   return n;
 }
 
 std::unique_ptr<DerivGenerator> DerivGenerator::create(const std::string& method,
                                                        const std::string& format, Datapath dp) {
-  deriv_kind(method);
-  return make_for_format<DerivGenImpl, DerivGenerator>(format, method, dp);
+  return default_block(find_method(deriv_methods(), method, "derivative method"), dp)(format);
 }
 
 std::unique_ptr<EllipseGenerator> EllipseGenerator::create(const std::string& form,
@@ -531,7 +498,6 @@ std::unique_ptr<EllipseGenerator> EllipseGenerator::create(const std::string& fo
 }
 
 CoordUnitConfig CoordUnitConfig::from_toml(const ConfigReader& r) {
-  r.reject_unknown({"method", "derivs", "format", "datapath"});
   CoordUnitConfig c;
   auto choose = [&](std::string_view key, const std::vector<std::string>& names,
                     const std::string& def, bool allow_none) {
@@ -547,12 +513,23 @@ CoordUnitConfig CoordUnitConfig::from_toml(const ConfigReader& r) {
   c.derivs = choose("derivs", DerivGenerator::method_names(), c.derivs, true);
   c.format = choose("format", coord_format_names(), c.format, false);
   c.datapath = parse_datapath(r, c.datapath);
+  // The rest of the table is the coordinate block's: its own from_toml reads (and checks) it.
+  const auto& cm = find_method(coord_methods(), c.coords, "coordinate method");
+  c.coord_block = cm.read(
+      r.for_block(r.block() + "[" + std::string(cm.block) + "]", {"method", "derivs", "format"}),
+      cm);
+  if (c.derivs != "none")
+    c.deriv_block =
+        default_block(find_method(deriv_methods(), c.derivs, "derivative method"), c.datapath);
   return c;
 }
 
 CoordUnit::CoordUnit(const CoordUnitConfig& c) : cfg_(c) {
-  coords_ = CoordGenerator::create(c.coords, c.format, c.datapath);
-  if (c.derivs != "none") derivs_ = DerivGenerator::create(c.derivs, c.format, c.datapath);
+  coords_ = c.coord_block ? c.coord_block(c.format)
+                          : CoordGenerator::create(c.coords, c.format, c.datapath);
+  if (c.derivs == "none") return;
+  derivs_ = c.deriv_block ? c.deriv_block(c.format)
+                          : DerivGenerator::create(c.derivs, c.format, c.datapath);
 }
 
 std::vector<StageConfig> CoordUnit::stages(const TechTable& t) const {

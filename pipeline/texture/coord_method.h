@@ -5,6 +5,7 @@
 // pixels of a screen triangle and reports, per fragment, the value, the ops and the cost in
 // its pipeline stage (docs/studies/study-coords.md).
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -113,8 +114,13 @@ struct CoordUnitConfig {
   std::string derivs = "analytic";  // or "none"
   std::string format = "float";
   Datapath datapath = Datapath::Spatial;
-  // A material's `coords` table: keys method, derivs, format, datapath; unknown keys and
-  // unknown names are InputErrors naming the file, line, block and key.
+  // The method's blocks as their own Config::from_toml read the material's table, in any
+  // number format; unset: the method's blocks with their defaults and `datapath`.
+  std::function<std::unique_ptr<CoordGenerator>(const std::string& format)> coord_block;
+  std::function<std::unique_ptr<DerivGenerator>(const std::string& format)> deriv_block;
+  // A material's `coords` table: keys method, derivs, format, datapath, and the coordinate
+  // block's own keys (e.g. lanes of incremental-k4), read by that block's Config::from_toml.
+  // Unknown keys and names are InputErrors naming the file, line, block and key.
   static CoordUnitConfig from_toml(const ConfigReader& r);
 };
 

@@ -27,27 +27,6 @@ PipelineSetup PipelineSetup::from_toml(const toml::table& t, const std::string& 
   return p;
 }
 
-MaterialSetup material_from_toml(const std::string& name, int texture, const toml::table& effects,
-                                 const std::string& source) {
-  MaterialSetup m;
-  m.name = name;
-  m.texture = texture;
-  ConfigReader r(effects, source, "materials." + name);
-  m.filter = TexelAddressGen::Config::from_toml(r.sub("filter"));
-  m.lod = LodUnit::Config::from_toml(r.sub("lod"));
-  m.footprint = FootprintFilter::from_material(r);
-  if (r.subtable("coords")) {
-    const ConfigReader c = r.sub("coords");
-    m.coords = std::make_shared<const CoordUnit>(CoordUnitConfig::from_toml(c));
-    if (!m.coords->has_derivs() && (m.footprint || m.filter.filter == FilterMode::Trilinear)) {
-      c.fail("derivs", std::string("'none' leaves the ") +
-                           (m.footprint ? m.footprint->name() : "filter.trilinear") +
-                           " of this material without the derivatives it needs");
-    }
-  }
-  return m;
-}
-
 TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
                          const PipelineSetup& setup, const TechTable& tech, bool timing)
     : textures_(textures),
@@ -112,7 +91,7 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
       st[static_cast<size_t>(s)] = {front_names[s], t, setup.fifo_depth, 0};
     }
     const auto at = [&](int stage) -> StageConfig& {
-      return st[static_cast<size_t>(front_ + stage)];
+      return st[static_cast<size_t>(front_) + static_cast<size_t>(stage)];
     };
     at(kLod) = {"lod", lod_t, setup.fifo_depth, 0};
     at(kAddress) = {"address", addr_t, setup.fifo_depth, 0};

@@ -21,24 +21,10 @@
 #include "blocks/texture/sampler/texel_blend.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/texture/coord_method.h"
+#include "pipeline/texture/effect_registry.h"
 #include "pipeline/texture/footprint_filter.h"
 
 namespace texsim {
-
-struct MaterialSetup {
-  std::string name;
-  int texture = 0;
-  LodUnit::Config lod;
-  TexelAddressGen::Config filter;
-  // A footprint filter (EWA, multi-probe, Feline, SPAF) replaces the LOD → address → blend
-  // path for this material when set; null for the classic path.
-  std::shared_ptr<const FootprintFilter> footprint;
-  // A coordinate unit (material table `coords`) computes this material's texture coordinates
-  // and derivatives in front of LOD; null when fragments arrive with their coordinates.
-  std::shared_ptr<const CoordUnit> coords;
-  AddressMode address_u() const { return footprint ? footprint->address_u() : filter.address_u; }
-  AddressMode address_v() const { return footprint ? footprint->address_v() : filter.address_v; }
-};
 
 struct PipelineSetup {
   uint32_t fifo_depth = 4;
@@ -49,12 +35,6 @@ struct PipelineSetup {
   // Reads [pipeline] (keys fifo_depth, layout, cache, dram, blend); errors name file:line:col.
   static PipelineSetup from_toml(const toml::table& t, const std::string& source);
 };
-
-// Reads a material's effect tables (filter, lod, coords, or a footprint filter) into a
-// MaterialSetup. A coordinate unit without derivatives (`derivs = "none"`) is refused for
-// trilinear and footprint filters, which need them.
-MaterialSetup material_from_toml(const std::string& name, int texture, const toml::table& effects,
-                                 const std::string& source);
 
 struct BlockUse {
   std::string name;        // e.g. "lod", "filter.trilinear", "blend", "cache"

@@ -54,8 +54,7 @@ ProjectiveMap plane_map(double tilt, double az, double focal, double u_off = 204
   pv.tilt_deg = tilt;
   pv.azimuth_deg = az;
   pv.u_offset = pv.v_offset = u_off;
-  pv.camera.focal_px = focal;
-  pv.camera.cx = pv.camera.cy = focal;
+  pv.camera = square_camera(static_cast<int>(2 * focal));  // f = focal
   const long double c[1] = {static_cast<long double>(focal) - 0.5L};
   return ProjectiveMap::from_plane_view(pv).normalised(c, c, 1);
 }

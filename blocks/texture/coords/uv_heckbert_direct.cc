@@ -4,6 +4,7 @@
 
 #include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
+#include "blocks/texture/coords/error_bounds.h"
 
 namespace texsim {
 

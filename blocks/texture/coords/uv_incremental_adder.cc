@@ -5,6 +5,7 @@
 
 #include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
+#include "blocks/texture/coords/error_bounds.h"
 
 namespace texsim {
 
@@ -103,8 +104,8 @@ void UvIncrementalAdder::lane_history(const RowSpan& s, int32_t n, double& round
   if (cfg_.form == Form::KLane) {
     const int32_t k = std::max(1, cfg_.lanes);
     const int32_t j = n % k;
-    const int32_t steps = j + (n - j) / k;  // whole lane strides, then single steps
-    roundings = steps;
+    const int32_t steps = (n - j) / k;  // lane j's k-steps before pixel n (exact: n - j = steps·k)
+    roundings = j + steps;
   } else if (cfg_.form == Form::Bidirectional) {
     const int32_t mid = (s.n + 1) / 2;
     if (n >= mid) {

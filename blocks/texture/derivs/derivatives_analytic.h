@@ -9,8 +9,8 @@
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
-#include "blocks/geometry/projective_map.h"
 #include "blocks/raster/row_rasterizer.h"
+#include "blocks/texture/coords/coord_types.h"
 
 namespace texsim {
 

@@ -24,12 +24,12 @@ class Loader : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
   // A 64x32 gradient with 3 channels: r = x/63, g = y/31, b = 0.25.
-  std::string write(const std::string& name, OIIO::TypeDesc type) {
-    const std::string p = (dir_ / name).string();
-    std::vector<float> px(64 * 32 * 3);
+  std::string write(const std::string& name, const OIIO::TypeDesc& type) {
+    std::string p = (dir_ / name).string();
+    std::vector<float> px(size_t{64} * 32 * 3);
     for (int y = 0; y < 32; ++y)
       for (int x = 0; x < 64; ++x) {
-        float* q = &px[(y * 64 + x) * 3];
+        float* q = &px[static_cast<size_t>(y * 64 + x) * 3];
         q[0] = static_cast<float>(x) / 63.0f;
         q[1] = static_cast<float>(y) / 31.0f;
         q[2] = 0.25f;

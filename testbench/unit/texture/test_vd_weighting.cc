@@ -19,7 +19,7 @@
 #include "blocks/texture/subtexel/subtexel_cutoff.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/studies/study_vd.h"
-#include "pipeline/texture/footprint_filter.h"
+#include "pipeline/texture/effect_registry.h"
 #include "testbench/lib/filter_fixtures.h"
 
 namespace texsim {
@@ -250,7 +250,7 @@ TEST(VdWeighting, SelectedPerMaterialInAScene) {
   const Scene s = load_scene(std::string(TEXSIM_SOURCE_DIR) + "/scenes/subtexel_cutoff.toml");
   auto filter_of = [&](const std::string& name) {
     const SceneMaterial& m = material(s, name);
-    return FootprintFilter::from_material(ConfigReader(*m.effects, s.path, "materials." + name));
+    return material_from_toml(name, 0, *m.effects, s.path).footprint;
   };
   const auto spaf = filter_of("spaf_vd");
   ASSERT_NE(spaf, nullptr);
@@ -265,7 +265,7 @@ TEST(VdWeighting, SelectedPerMaterialInAScene) {
   auto parse = [](const std::string& text) {
     static std::vector<std::shared_ptr<toml::table>> keep;  // the reader points into the table
     keep.push_back(std::make_shared<toml::table>(toml::parse(text, std::string_view("m.toml"))));
-    return FootprintFilter::from_material(ConfigReader(*keep.back(), "m.toml", "materials.m"));
+    return material_from_toml("m", 0, *keep.back(), "m.toml").footprint;
   };
   const auto p1 =
       parse("spaf = { coverage = \"vd\", vd = { evaluator = \"p1\", format = \"fx8\" } }\n");

@@ -1,0 +1,93 @@
+#include "pipeline/texture/effect_registry.h"
+
+#include <map>
+
+#include "blocks/texture/footprint/feline_filter.h"
+#include "blocks/texture/footprint/multi_probe_filter.h"
+#include "blocks/texture/footprint/spaf_filter.h"
+#include "pipeline/scene/scene.h"
+
+namespace texsim {
+
+namespace {
+
+constexpr std::string_view kFootprint = "footprint filter";
+
+void build_filter(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
+  m.filter = TexelAddressGen::Config::from_toml(r.sub(key));
+}
+
+void build_lod(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
+  m.lod = LodUnit::Config::from_toml(r.sub(key));
+}
+
+void build_coords(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
+  m.coords = std::make_shared<const CoordUnit>(CoordUnitConfig::from_toml(r.sub(key)));
+}
+
+void build_ewa(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
+  m.footprint = make_ewa_filter(r.sub(key));
+}
+
+template <class Block>
+void build_footprint(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
+  m.footprint = make_footprint_filter<Block>(r.sub(key));
+}
+
+}  // namespace
+
+const std::vector<Effect>& effect_registry() {
+  static const std::vector<Effect> effects = {
+      {"filter", "", build_filter},
+      {"lod", "", build_lod},
+      {"coords", "", build_coords},
+      {"ewa", kFootprint, build_ewa},
+      {"multi_probe", kFootprint, build_footprint<MultiProbeFilter>},
+      {"feline", kFootprint, build_footprint<FelineFilter>},
+      {"spaf", kFootprint, build_footprint<SpafFilter>},
+  };
+  return effects;
+}
+
+MaterialSetup material_from_toml(const std::string& name, int texture, const toml::table& effects,
+                                 const std::string& source) {
+  const ConfigReader r(effects, source, "materials." + name);
+  std::vector<std::string_view> keys = {"texture"};
+  for (const Effect& e : effect_registry()) keys.push_back(e.key);
+  r.reject_unknown(keys);
+  for (const auto& [k, v] : effects) {
+    if (k.str() != "texture" && !v.is_table())
+      r.fail(k.str(), "expected a table of effect settings");
+  }
+  MaterialSetup m;
+  m.name = name;
+  m.texture = texture;
+  std::map<std::string_view, std::string_view> chosen;  // group -> the effect that took it
+  for (const Effect& e : effect_registry()) {
+    if (!effects.contains(e.key)) continue;
+    if (!e.group.empty()) {
+      const auto [it, fresh] = chosen.try_emplace(e.group, e.key);
+      if (!fresh) {
+        r.fail(e.key, "a material takes one " + std::string(e.group) + "; it already has '" +
+                          std::string(it->second) + "'");
+      }
+    }
+    e.build(r, e.key, m);
+  }
+  if (m.coords && !m.coords->has_derivs() &&
+      (m.footprint || m.filter.filter == FilterMode::Trilinear)) {
+    r.sub("coords").fail("derivs", std::string("'none' leaves the ") +
+                                       (m.footprint ? m.footprint->name() : "filter.trilinear") +
+                                       " of this material without the derivatives it needs");
+  }
+  return m;
+}
+
+std::vector<MaterialSetup> build_materials(const Scene& scene) {
+  std::vector<MaterialSetup> mats;
+  for (const SceneMaterial& m : scene.materials)
+    mats.push_back(material_from_toml(m.name, m.texture, *m.effects, scene.path));
+  return mats;
+}
+
+}  // namespace texsim

@@ -1,0 +1,59 @@
+#pragma once
+// A material's effects. Every key of a material's table beside `texture` names one effect;
+// the registry maps it to the factory that builds its block from the key's table (with the
+// block's own Config::from_toml). The builder builds only the effects a material names: a
+// material without `coords` gets no coordinate unit, one without a footprint filter key the
+// classic LOD → address → blend path (whose `lod` and `filter` tables are optional).
+// Adding an effect: its block, and one line in effect_registry() (effect_registry.cc).
+#include <toml++/toml.h>
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "blocks/base/config_reader.h"
+#include "blocks/texture/sampler/lod_unit.h"
+#include "blocks/texture/sampler/texel_address_gen.h"
+#include "pipeline/texture/coord_method.h"
+#include "pipeline/texture/footprint_filter.h"
+
+namespace texsim {
+
+struct Scene;
+
+struct MaterialSetup {
+  std::string name;
+  int texture = 0;
+  LodUnit::Config lod;
+  TexelAddressGen::Config filter;
+  // A footprint filter (EWA, multi-probe, Feline, SPAF) replaces the LOD → address → blend
+  // path for this material when set; null for the classic path.
+  std::shared_ptr<const FootprintFilter> footprint;
+  // A coordinate unit (material table `coords`) computes this material's texture coordinates
+  // and derivatives in front of LOD; null when fragments arrive with their coordinates.
+  std::shared_ptr<const CoordUnit> coords;
+  AddressMode address_u() const { return footprint ? footprint->address_u() : filter.address_u; }
+  AddressMode address_v() const { return footprint ? footprint->address_v() : filter.address_v; }
+};
+
+struct Effect {
+  std::string_view key;  // the key in a material's table
+  // Effects of one group exclude each other in a material (e.g. "footprint filter"); "": none.
+  std::string_view group;
+  // Builds the effect from the material's table (`material.sub(key)` is the effect's own).
+  void (*build)(const ConfigReader& material, std::string_view key, MaterialSetup& m);
+};
+
+// Every effect, in the order messages list them.
+const std::vector<Effect>& effect_registry();
+
+// Builds a material from its table: unknown keys and non-table effects are InputErrors naming
+// file:line:column. A coordinate unit without derivatives (`derivs = "none"`) is refused for
+// trilinear and footprint filters, which need them.
+MaterialSetup material_from_toml(const std::string& name, int texture, const toml::table& effects,
+                                 const std::string& source);
+// The scene's materials, in order.
+std::vector<MaterialSetup> build_materials(const Scene& scene);
+
+}  // namespace texsim
