@@ -25,7 +25,7 @@ namespace {
 std::string unknown_subcommand(const CLI::App& app, int argc, char** argv) {
   const CLI::App* level = &app;
   for (int i = 1; i < argc; ++i) {
-    const std::string word = argv[i];
+    std::string word = argv[i];
     if (word.empty() || word[0] == '-') return "";
     const auto subs = level->get_subcommands([](const CLI::App*) { return true; });
     if (subs.empty()) return "";
