@@ -1,6 +1,6 @@
 #pragma once
 // Near/far-plane clipper of the geometry subsystem (ПГП): Sutherland–Hodgman against one
-// plane of constant view-space depth (docs/coords-derivations.md, "Scenes").
+// plane of constant view-space depth (docs/derivations/coords-derivations.md, "Scenes").
 #include <vector>
 
 #include "blocks/geometry/projective_map.h"

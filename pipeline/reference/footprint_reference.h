@@ -2,7 +2,7 @@
 // Ground truth of the anisotropic filter study: the level-0 texture, reconstructed bilinearly in
 // double, integrated over each pixel's footprint by dense supersampling in screen space, every
 // sample mapped through the exact projective map and weighted by the Gaussian pixel model
-// (docs/anisotropic-filters.md §0). Not a hardware block: a testbench reference.
+// (docs/derivations/anisotropic-filters.md §0). Not a hardware block: a testbench reference.
 #include <cstdint>
 #include <glm/vec4.hpp>
 

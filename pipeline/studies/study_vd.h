@@ -1,7 +1,7 @@
 #pragma once
 // `texsim study vd`: maximum absolute error of each V(d) evaluator block in each number format
 // against Φ(d/σ), next to the seed's claims, with ops, latency and area from the technology
-// table (docs/vd-evaluators.md explains the method and the results).
+// table (docs/derivations/vd-evaluators.md explains the method and the results).
 #include <array>
 #include <cstdint>
 #include <optional>

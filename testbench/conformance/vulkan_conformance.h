@@ -1,7 +1,7 @@
 #pragma once
 // Vulkan texel-filtering conformance checker: from the spec's precision rules, the set of
 // results an implementation may return for one isotropic sample, and a pass/fail verdict
-// (docs/filters.md §6). Independent of the filter blocks: it shares only Texture and AddressMode.
+// (docs/derivations/filters.md §6). Independent of the filter blocks: it shares only Texture and AddressMode.
 // Arithmetic: double, with the spec's tolerances made explicit as intervals.
 #include <string>
 
@@ -49,7 +49,7 @@ struct ConformanceVerdict {
   double miss = 0;  // distance outside the closest acceptable range (0 when passing)
 };
 
-// Conformance checker for Vulkan isotropic texel filtering (docs/filters.md §7): acceptable
+// Conformance checker for Vulkan isotropic texel filtering (docs/derivations/filters.md §7): acceptable
 // result set from LOD, sub-texel and mipmap precision rules; not a model of any hardware.
 class VulkanConformance {
  public:

@@ -1,6 +1,6 @@
 // Stability suite of the coordinate-generation blocks: the hard cases of issue 3, each
 // asserting a numeric bound against the long double map in every number format
-// (docs/coords-derivations.md §3.3 states the bounds; §8 the rejection rules).
+// (docs/derivations/coords-derivations.md §3.3 states the bounds; §8 the rejection rules).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,7 +1,7 @@
 // Stability suite of the anisotropic filter family: zero-area footprints, magnification,
 // anisotropy 10⁴:1, derivatives of 10⁶ texels, NaN/Inf inputs, all weights zero, footprints
 // across the borders in each addressing mode, 1×1 textures. Every case asserts a numeric bound
-// or the documented fallback (docs/anisotropic-filters.md §7).
+// or the documented fallback (docs/derivations/anisotropic-filters.md §7).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,7 +1,7 @@
 #pragma once
 // UvApproximation: texture coordinates along a raster row from a polynomial through exact
 // points (affine: 2, quadratic: 3, cubic: 4), evaluated per pixel by forward differences
-// (seed 002's approximations; docs/coords-derivations.md §4, incl. the A2 erratum).
+// (seed 002's approximations; docs/derivations/coords-derivations.md §4, incl. the A2 erratum).
 #include <algorithm>
 #include <array>
 #include <cstdint>

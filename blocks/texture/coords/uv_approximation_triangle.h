@@ -2,7 +2,7 @@
 // UvApproximationTriangle: texture coordinates over a triangle from a biquadratic (6 exact
 // points: vertices + edge midpoints, 12 coefficients) or bicubic (10 points, 20 coefficients)
 // polynomial in the barycentric coordinates, evaluated along rows by forward differences
-// (seed 002's surface approximations; docs/coords-derivations.md §4.3).
+// (seed 002's surface approximations; docs/derivations/coords-derivations.md §4.3).
 #include <algorithm>
 #include <array>
 #include <cstdint>

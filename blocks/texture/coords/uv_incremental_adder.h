@@ -2,7 +2,7 @@
 // UvIncrementalAdder: the thesis's modified Heckbert: per raster row one set-up of the
 // numerators w, t and denominator z, then +A, +D, +G per pixel and a division pair; in the
 // sequential, k-lane (w_n = w_{n-k} + k·A) and bidirectional two-lane forms
-// (docs/coords-derivations.md §3, error bounds §3.3).
+// (docs/derivations/coords-derivations.md §3, error bounds §3.3).
 #include <algorithm>
 #include <cstdint>
 #include <string>
@@ -113,7 +113,7 @@ class UvIncrementalAdder {
   }
 
   // A-priori bound (texels) on |u - u_exact| and |v - v_exact| at pixel n of span s for number
-  // format T, derived in docs/coords-derivations.md §3.3. Returns +inf where the bound does not
+  // format T, derived in docs/derivations/coords-derivations.md §3.3. Returns +inf where the bound does not
   // apply (denominator within its own error of zero).
   template <class T>
   double error_bound(const ProjectiveMap& m, const RowSpan& s, int32_t n) const;

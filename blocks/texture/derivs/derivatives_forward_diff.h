@@ -2,7 +2,7 @@
 // DerivativesForwardDiff: the thesis's baseline derivatives, formula (9): u(x+1,y) - u(x,y)
 // and u(x,y+1) - u(x,y) with the neighbours' coordinates evaluated by Heckbert's formula
 // ("classic") or from the pixel's own numerators plus A, G, D / B, H, E ("accelerated")
-// (docs/coords-derivations.md §6.3).
+// (docs/derivations/coords-derivations.md §6.3).
 #include <algorithm>
 #include <cstdint>
 #include <string>

@@ -1,7 +1,7 @@
 #pragma once
 // DerivativesQuad: derivatives as a GPU 2×2 quad computes them (coarse): du/dx = u(x1,y0) -
 // u(x0,y0), du/dy = u(x0,y1) - u(x0,y0) of the quad's coordinates, shared by its four pixels
-// (docs/coords-derivations.md §6.2).
+// (docs/derivations/coords-derivations.md §6.2).
 #include <algorithm>
 #include <cstdint>
 #include <string>

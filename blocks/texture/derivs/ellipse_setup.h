@@ -2,7 +2,7 @@
 // EllipseSetup: Heckbert's EWA footprint ellipse A U² + B U V + C V² = F from the four
 // derivatives (A = Vx²+Vy², B = -2(UxVx+UyVy), C = Ux²+Uy², F = (UxVy-UyVx)²), F either as the
 // squared Jacobian or seed 004's F' = AC - B²/4, and the normalised A/F, B/F, C/F
-// (docs/coords-derivations.md §7).
+// (docs/derivations/coords-derivations.md §7).
 #include <cmath>
 #include <cstdint>
 #include <string>

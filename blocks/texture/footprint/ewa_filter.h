@@ -2,7 +2,7 @@
 // EWA filter (Greene & Heckbert): footprint set-up with max-anisotropy clamp, reconstruction
 // term and texel budget, level selection from the minor axis, bounding-box (or row-span) scan
 // with incremental Q, and Gaussian weights from a LUT, computed (exp or power-8) or read from
-// a weight map (docs/anisotropic-filters.md §1–§3); optionally a V(d) sub-texel cut-off of the
+// a weight map (docs/derivations/anisotropic-filters.md §1–§3); optionally a V(d) sub-texel cut-off of the
 // texels within half a texel of the ellipse boundary (§9).
 // Arithmetic: set-up in float or double; per-texel Q in float, double or fixed s18.30;
 // colour accumulation in float (double for the double datapath); with edge = "vd" the boundary
@@ -32,7 +32,7 @@ class WeightMap;
 
 // A fixed-point Q datapath: 18 integer bits (with sign) hold Q at the bounding-box corners of
 // footprints up to 256:1 anisotropy; 30 fraction bits keep the incremental drift along a row of
-// 1024 texels below 2.5·10⁻⁴ (docs/anisotropic-filters.md §1.4).
+// 1024 texels below 2.5·10⁻⁴ (docs/derivations/anisotropic-filters.md §1.4).
 using EwaQFixed = number_format_t<NumberFormat::S18_30>;
 
 class EwaFilter {
@@ -100,7 +100,7 @@ class EwaFilter {
   // Signed distance in texels from a point to the ellipse boundary Q = 1 (negative inside),
   // from Q ≥ 0 and ∇Q = (∂Q/∂U, ∂Q/∂V) there: d = (√Q − 1)/|∇√Q| = 2(Q − √Q)/|∇Q|, the
   // distance to the boundary's tangent at the point's radial projection onto it (exact on the
-  // axes and for circles; docs/anisotropic-filters.md §9). ∇Q = 0 (the centre) gives −∞.
+  // axes and for circles; docs/derivations/anisotropic-filters.md §9). ∇Q = 0 (the centre) gives −∞.
   template <class S>
   static S boundary_distance(S q, S gx, S gy) {
     const S g2 = gx * gx + gy * gy;

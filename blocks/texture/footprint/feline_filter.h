@@ -2,7 +2,7 @@
 // Feline-style trilinear probes (McCormack et al.; Texram; seed 004): N trilinear probes along
 // a line through the footprint centre — the longer side of the parallelogram spanned by the
 // two derivative vectors (Texram) or the ellipse's major axis (Feline) — at the LOD of the
-// shorter axis, equally or Gaussian weighted (docs/anisotropic-filters.md §5).
+// shorter axis, equally or Gaussian weighted (docs/derivations/anisotropic-filters.md §5).
 // Arithmetic (Config::arith): set-up = line, minor size, N, LOD, probe positions and weights.
 //  - float:  the ellipse footprint set-up in float32, the rest (and the parallelogram axis) in
 //            double (the block's original model, kept bit-identical).

@@ -34,7 +34,7 @@ struct FilterOutput {
   FilterStats stats;
 };
 
-// Per-coordinate operations of the addressing modes (the table of docs/filters.md §3).
+// Per-coordinate operations of the addressing modes (the table of docs/derivations/filters.md §3).
 OpCounts address_mode_ops(AddressMode m);
 
 // Footprint of one fragment in level-0 texels as the covariance Σ = R²·J·Jᵀ of the pixel

@@ -1,5 +1,5 @@
 #pragma once
-// Gaussian pixel-model weight unit (thesis formula 4; docs/gaussian-weights.md): per footprint
+// Gaussian pixel-model weight unit (thesis formula 4; docs/derivations/gaussian-weights.md): per footprint
 // a set-up turns the derivatives into q(U, V) = a·U² + b·U·V + c·V², per texel it evaluates q
 // and the weight exp(−q/2) or its power-8 form (1 − q/16)^8 (three squarings, 0 from q = 16).
 // The set-up is either the exact quadratic form (Heckbert's A, B, C over F) or the seed's

@@ -4,7 +4,7 @@
 // (deu, dev) = (ΔV, −ΔU)/(|ΔU| + |ΔV|); a texel with every |E| ≥ ½ is fully in or out,
 // otherwise its coverage comes from sub-texel masks (a table indexed by (slope, E), ANDed and
 // counted) or from the V(d) cut-off volume of a Gaussian texel (thesis, METHODS §5.4); the
-// coverage multiplies a Gaussian weight (docs/anisotropic-filters.md §6, §9).
+// coverage multiplies a Gaussian weight (docs/derivations/anisotropic-filters.md §6, §9).
 // Arithmetic: level selection and box in double (control decisions); per-level set-up
 // (corners, normals, Q coefficients) in float32, double for arith = "double"; edge functions
 // and Q stepped per texel in T = float32, double, or SpafFixed = s20.28 (HalfUp rounding,

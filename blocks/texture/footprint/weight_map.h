@@ -1,7 +1,7 @@
 #pragma once
 // Weight map (thesis ch. 3): generator of the precomputed weight texture W over normalised
 // footprint coordinates, and the reader that replaces the per-texel weight computation by a
-// bilinear (1-D: linear) read of it (docs/anisotropic-filters.md §2).
+// bilinear (1-D: linear) read of it (docs/derivations/anisotropic-filters.md §2).
 // Arithmetic: the generator evaluates W in double and rounds it into the element format
 // (u0.8, u0.16 or float); the reader's transform and interpolation are float32.
 #include <cstdint>

@@ -1,7 +1,7 @@
 #pragma once
 // Texel address generator: mip level selection, texel coordinates, address modes and filter
 // weights of the nearest, bilinear and trilinear filters, with anisotropic probes
-// (docs/filters.md §2–§4). One block for the three filters: they share one datapath (nearest
+// (docs/derivations/filters.md §2–§4). One block for the three filters: they share one datapath (nearest
 // is its 1-tap degenerate case, trilinear runs it on two levels), selected by Config::filter.
 // Arithmetic: float32 coordinates, converted to fixed point with `sub_texel_bits` fraction
 // bits (round to nearest even); LOD to fixed point with `mipmap_bits` fraction bits; weights
@@ -39,7 +39,7 @@ struct FilterTaps {
 enum class FilterMode { Nearest, Bilinear, Trilinear };
 const char* to_string(FilterMode m);
 
-// Texel address generator (docs/filters.md §2–§4): levels, texel coordinates, wrap/clamp/mirror
+// Texel address generator (docs/derivations/filters.md §2–§4): levels, texel coordinates, wrap/clamp/mirror
 // and weights of nearest/bilinear/trilinear taps, per anisotropic probe.
 class TexelAddressGen {
  public:
@@ -297,7 +297,7 @@ inline void TexelAddressGen::taps(const Texture& tex, double u, double v, const 
     const float au = finite_or_zero(lod.axis_u), av = finite_or_zero(lod.axis_v);
     const float inv_n = 1.0f / static_cast<float>(n);
     for (int k = 0; k < n; ++k) {
-      // Probe k of N, centred on (u, v), one probe step apart (docs/filters.md §4).
+      // Probe k of N, centred on (u, v), one probe step apart (docs/derivations/filters.md §4).
       const float off = static_cast<float>(k) - 0.5f * static_cast<float>(n - 1);
       const float pu = uf + off * au;
       const float pv = vf + off * av;

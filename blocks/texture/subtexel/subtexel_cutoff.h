@@ -1,7 +1,7 @@
 #pragma once
 // Sub-texel cut-off volume W = V(0.5) − V(d) of a Gaussian texel (σ = 0.2) cut by a footprint
 // edge at signed distance d, with V(−d) = 1 − V(d), on a selectable V(d) evaluator block;
-// models the thesis's sub-texel weighting (docs/vd-evaluators.md §"Cut-off volume").
+// models the thesis's sub-texel weighting (docs/derivations/vd-evaluators.md §"Cut-off volume").
 // Arithmetic: the evaluator's format (float, double, or fixed u0.F/s3.F/u1.F, signed input
 // s1.F); V̂ is clamped to V̂(0.5) because P2 and P3 are not monotonic near d = 0.5.
 #include <cstdint>

@@ -1,6 +1,6 @@
 #pragma once
 // What the four V(d) evaluator blocks share: their configuration (only the lane count) and
-// the timing of a fully pipelined datapath (docs/vd-evaluators.md).
+// the timing of a fully pipelined datapath (docs/derivations/vd-evaluators.md).
 #include <cstdint>
 #include <string>
 

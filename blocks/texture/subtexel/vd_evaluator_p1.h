@@ -1,7 +1,7 @@
 #pragma once
 // V(d) evaluator with the seed's piecewise-linear P1: two comparators pick one of three
 // (offset, slope) pairs, then 1 mul + 1 add; models the thesis's fig. 6b block
-// (docs/vd-evaluators.md). Arithmetic: as P2 (the format's types, HalfUp, saturating).
+// (docs/derivations/vd-evaluators.md). Arithmetic: as P2 (the format's types, HalfUp, saturating).
 #include <cstdint>
 #include <string>
 

@@ -1,6 +1,6 @@
 #pragma once
 // V(d) evaluator with the seed's quadratic P2(d) = 0.5 + 2.151·d − 2.358·d² in Horner form
-// (2 mul, 2 add): models the thesis's fig. 6a block; derived in docs/vd-evaluators.md.
+// (2 mul, 2 add): models the thesis's fig. 6a block; derived in docs/derivations/vd-evaluators.md.
 // Arithmetic: the format's type throughout (float, double, or u0.F input / s3.F coefficients
 // and intermediates / u1.F output, each product rounded once, HalfUp, saturating).
 #include <cstdint>

@@ -1,6 +1,6 @@
 #pragma once
 // V(d) evaluator with the seed's cubic P3(d) = 0.496 + 2.288·d − 3.074·d² + 0.956·d³ in Horner
-// form (3 mul, 3 add): the cubic the thesis proposes beside P2; docs/vd-evaluators.md.
+// form (3 mul, 3 add): the cubic the thesis proposes beside P2; docs/derivations/vd-evaluators.md.
 // Arithmetic: the format's type throughout (float, double, or u0.F input / s3.F coefficients
 // and intermediates / u1.F output, each product rounded once, HalfUp, saturating).
 #include <cstdint>

@@ -1,5 +1,5 @@
 #pragma once
-// Shared parameters of the V(d) evaluator blocks (docs/vd-evaluators.md): σ, the seed's
+// Shared parameters of the V(d) evaluator blocks (docs/derivations/vd-evaluators.md): σ, the seed's
 // polynomial coefficients and breakpoints, and the number formats (widths, rounding,
 // overflow) of every datapath variant. The C++ models and a later RTL version read the widths
 // and coefficients from here only, so the two cannot drift apart.
@@ -89,7 +89,7 @@ struct VdFixedFormat {
 // u0.16 / s3.15 / u1.15: 18-bit coefficients fit the 18-bit port of FPGA DSP multipliers.
 using VdFx16 = VdFixedFormat<16, 15>;
 // u0.12 / s3.11 / u1.11: the narrowest format whose quantisation error stays well below the
-// polynomials' own error (docs/vd-evaluators.md shows the measured knee).
+// polynomials' own error (docs/derivations/vd-evaluators.md shows the measured knee).
 using VdFx12 = VdFixedFormat<12, 11>;
 // u0.8 / s3.7 / u1.7: a deliberately narrow format where quantisation dominates.
 using VdFx8 = VdFixedFormat<8, 7>;

@@ -446,7 +446,7 @@ TEST(TexelAddressGen, RoundHalfEvenMatchesLlrint) {
   EXPECT_EQ(TexelAddressGen::round_half_even(8388607.5f), 8388608);
 }
 
-// Reference for the blend order of docs/filters.md §5: groups of taps_per_cycle taps in tap
+// Reference for the blend order of docs/derivations/filters.md §5: groups of taps_per_cycle taps in tap
 // order, a binary tree in each group (pairs, an odd last element passed up), the group sums
 // accumulated from 0. Written with plain Rgba arithmetic and Texture::texel.
 Rgba reference_blend(const FilterTaps& t, const Texture& tex, int g) {
@@ -612,7 +612,7 @@ TEST(TexelAddressGen, OpCountsAndTiming) {
 }
 
 // Prints latency/area/op counts per filter and address mode under the default tech table
-// (docs/filters.md quotes this table), and checks the orderings an architect relies on.
+// (docs/derivations/filters.md quotes this table), and checks the orderings an architect relies on.
 TEST(TexelAddressGen, TimingTable) {
   const TechTable tech = TechTable::defaults();
   std::printf("%-9s %-6s %7s %7s  per isotropic fragment: %4s %4s %4s\n", "filter", "mode",

@@ -1,7 +1,7 @@
 // Gaussian pixel-model weight unit: power-8 form against exp(−q/2), fixed-point datapath
 // bit-exact against an integer model, the exact quadratic form against the screen-space
 // distance, and the seed's θ/L/d axis rules' error for rotated footprints (the table in
-// docs/gaussian-weights.md is printed by AxesErrorTable).
+// docs/derivations/gaussian-weights.md is printed by AxesErrorTable).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -37,7 +37,7 @@ MaxAt pow8_vs_exp(double lo, double hi, int n) {
 }
 
 TEST(GaussianWeight, Pow8AgainstExp) {
-  // Documented in docs/gaussian-weights.md: max |(1 − q/16)^8 − exp(−q/2)| on [0, 16).
+  // Documented in docs/derivations/gaussian-weights.md: max |(1 − q/16)^8 − exp(−q/2)| on [0, 16).
   const MaxAt m = pow8_vs_exp(0.0, 16.0, 1'600'000);
   std::printf("pow8 vs exp on [0,16): max %.6f at q = %.5f\n", m.max, m.at);
   EXPECT_LE(m.max, 0.03531);
@@ -262,7 +262,7 @@ TEST(GaussianWeight, OpsAndTiming) {
   EXPECT_GT(GaussianWeight(c).setup_timing(t).latency, 0u);
 }
 
-// Prints the default-table figures quoted in docs/gaussian-weights.md.
+// Prints the default-table figures quoted in docs/derivations/gaussian-weights.md.
 TEST(GaussianWeight, DefaultTableFigures) {
   const TechTable t = TechTable::defaults();
   for (GaussianAxes a :

@@ -1,6 +1,6 @@
 // V(d) evaluator blocks: fixed-point datapaths bit-exact against an independent integer model,
 // float/double equal to the formula in that type, the reference checked against MPFR, and the
-// measured maximum error against Φ(d/σ) within the bounds docs/vd-evaluators.md states.
+// measured maximum error against Φ(d/σ) within the bounds docs/derivations/vd-evaluators.md states.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -201,7 +201,7 @@ TEST(VdReference, AgreesWithMpfr) {
 }
 
 // ---- Measured error bounds --------------------------------------------------------------
-// The bounds docs/vd-evaluators.md states (the measured maximum rounded up in the third
+// The bounds docs/derivations/vd-evaluators.md states (the measured maximum rounded up in the third
 // significant digit; for the exact evaluator in float/double, two ulps of [0.5, 1): its error
 // is rounding noise whose maximum depends on the grid). Columns: float, double, u0.16, u0.12,
 // u0.8.
