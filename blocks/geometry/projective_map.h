@@ -1,7 +1,7 @@
 #pragma once
 // ProjectiveMap: the 3x3 screen->texture map A..I of a textured plane seen by a pinhole camera,
-// in long double (the reference of every coordinate block); docs/derivations/coords-derivations.md §1.
-// Timing of the blocks that use it comes from blocks/base/derive_timing.h (included here).
+// in long double (the reference of every coordinate block); docs/derivations/coords-derivations.md
+// §1. Timing of the blocks that use it comes from blocks/base/derive_timing.h (included here).
 #include <cstdint>
 
 #include "blocks/base/derive_timing.h"

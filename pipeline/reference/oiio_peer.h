@@ -1,7 +1,8 @@
 #pragma once
 // A real library beside the simulated filters: OpenImageIO's TextureSystem answering the same
 // queries (u, v and the four derivatives) in its anisotropic mode, on a tiled, MIP-mapped .tx
-// made from the same level-0 texels (docs/derivations/anisotropic-filters.md §6). Not a hardware block.
+// made from the same level-0 texels (docs/derivations/anisotropic-filters.md §6). Not a hardware
+// block.
 #include <memory>
 #include <string>
 

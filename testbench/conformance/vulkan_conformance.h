@@ -1,8 +1,8 @@
 #pragma once
 // Vulkan texel-filtering conformance checker: from the spec's precision rules, the set of
 // results an implementation may return for one isotropic sample, and a pass/fail verdict
-// (docs/derivations/filters.md §6). Independent of the filter blocks: it shares only Texture and AddressMode.
-// Arithmetic: double, with the spec's tolerances made explicit as intervals.
+// (docs/derivations/filters.md §6). Independent of the filter blocks: it shares only Texture and
+// AddressMode. Arithmetic: double, with the spec's tolerances made explicit as intervals.
 #include <string>
 
 #include "blocks/texture/memory/texture_memory.h"
@@ -49,8 +49,9 @@ struct ConformanceVerdict {
   double miss = 0;  // distance outside the closest acceptable range (0 when passing)
 };
 
-// Conformance checker for Vulkan isotropic texel filtering (docs/derivations/filters.md §7): acceptable
-// result set from LOD, sub-texel and mipmap precision rules; not a model of any hardware.
+// Conformance checker for Vulkan isotropic texel filtering (docs/derivations/filters.md §7):
+// acceptable result set from LOD, sub-texel and mipmap precision rules; not a model of any
+// hardware.
 class VulkanConformance {
  public:
   VulkanConformance(const VkSamplerState& sampler, const VkFilterPrecision& precision)

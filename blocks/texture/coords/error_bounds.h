@@ -1,5 +1,6 @@
 #pragma once
-// A-priori error bounds of the coordinate blocks' steps (docs/derivations/coords-derivations.md §3.3).
+// A-priori error bounds of the coordinate blocks' steps (docs/derivations/coords-derivations.md
+// §3.3).
 namespace texsim {
 
 // Bound on |ŵ/ẑ − w/z| (texels) after the division step of a block, given |ŵ − w| <= dw and

@@ -1,7 +1,8 @@
 #pragma once
 // UvConstantDepth: texture coordinates along constant-depth lines (seed 002): per triangle the
 // slope k = -G/H of the lines on which the denominator is constant (scan axis chosen by |k|),
-// per line one reciprocal R = 1/q, per pixel u += R·(A + B·k) (docs/derivations/coords-derivations.md §5).
+// per line one reciprocal R = 1/q, per pixel u += R·(A + B·k)
+// (docs/derivations/coords-derivations.md §5).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

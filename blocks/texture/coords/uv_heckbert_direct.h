@@ -59,7 +59,8 @@ class UvHeckbertDirect {
   }
 
   // A-priori bound (texels) on the error at pixel (x, y) in format T
-  // (docs/derivations/coords-derivations.md §3.3); +inf where the denominator is within its error of 0.
+  // (docs/derivations/coords-derivations.md §3.3); +inf where the denominator is within its error
+  // of 0.
   template <class T>
   double error_bound(const ProjectiveMap& m, int32_t x, int32_t y) const {
     return bound_impl(m, x, y, format_is_fixed<T>(), format_unit<T>());

@@ -113,8 +113,8 @@ class UvIncrementalAdder {
   }
 
   // A-priori bound (texels) on |u - u_exact| and |v - v_exact| at pixel n of span s for number
-  // format T, derived in docs/derivations/coords-derivations.md §3.3. Returns +inf where the bound does not
-  // apply (denominator within its own error of zero).
+  // format T, derived in docs/derivations/coords-derivations.md §3.3. Returns +inf where the bound
+  // does not apply (denominator within its own error of zero).
   template <class T>
   double error_bound(const ProjectiveMap& m, const RowSpan& s, int32_t n) const;
 

@@ -1,7 +1,7 @@
 #pragma once
 // DerivativesAnalytic: exact screen-space derivatives of the perspective map per pixel,
-// du/dx = (A - G·u)/q etc., from the row's incremental u, v and q (docs/derivations/coords-derivations.md
-// §6.1).
+// du/dx = (A - G·u)/q etc., from the row's incremental u, v and q
+// (docs/derivations/coords-derivations.md §6.1).
 #include <algorithm>
 #include <cstdint>
 #include <string>

@@ -1,7 +1,8 @@
 #pragma once
 // DerivativesIterative: the thesis's iterative forward-difference derivatives: x numerators
 // constant along a row, y numerators stepped by (BG - AH), (EG - DH) per pixel, denominators
-// (K+Gx)(K+G+Gx) for x and the corrected (K+Gx)(K+H+Gx) for y (docs/derivations/coords-derivations.md §6.4).
+// (K+Gx)(K+G+Gx) for x and the corrected (K+Gx)(K+H+Gx) for y
+// (docs/derivations/coords-derivations.md §6.4).
 #include <algorithm>
 #include <cstdint>
 #include <string>

@@ -2,12 +2,11 @@
 // EWA filter (Greene & Heckbert): footprint set-up with max-anisotropy clamp, reconstruction
 // term and texel budget, level selection from the minor axis, bounding-box (or row-span) scan
 // with incremental Q, and Gaussian weights from a LUT, computed (exp or power-8) or read from
-// a weight map (docs/derivations/anisotropic-filters.md §1–§3); optionally a V(d) sub-texel cut-off of the
-// texels within half a texel of the ellipse boundary (§9).
-// Arithmetic: set-up in float or double; per-texel Q in float, double or fixed s18.30;
-// colour accumulation in float (double for the double datapath); with edge = "vd" the boundary
-// distance in float (double for the double datapath) and the cut-off fraction in the cut-off's
-// format (float, double, fixed u0.F/s1.F/u1.F).
+// a weight map (docs/derivations/anisotropic-filters.md §1–§3); optionally a V(d) sub-texel cut-off
+// of the texels within half a texel of the ellipse boundary (§9). Arithmetic: set-up in float or
+// double; per-texel Q in float, double or fixed s18.30; colour accumulation in float (double for
+// the double datapath); with edge = "vd" the boundary distance in float (double for the double
+// datapath) and the cut-off fraction in the cut-off's format (float, double, fixed u0.F/s1.F/u1.F).
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -100,7 +99,8 @@ class EwaFilter {
   // Signed distance in texels from a point to the ellipse boundary Q = 1 (negative inside),
   // from Q ≥ 0 and ∇Q = (∂Q/∂U, ∂Q/∂V) there: d = (√Q − 1)/|∇√Q| = 2(Q − √Q)/|∇Q|, the
   // distance to the boundary's tangent at the point's radial projection onto it (exact on the
-  // axes and for circles; docs/derivations/anisotropic-filters.md §9). ∇Q = 0 (the centre) gives −∞.
+  // axes and for circles; docs/derivations/anisotropic-filters.md §9). ∇Q = 0 (the centre) gives
+  // −∞.
   template <class S>
   static S boundary_distance(S q, S gx, S gy) {
     const S g2 = gx * gx + gy * gy;

@@ -1,8 +1,8 @@
 #pragma once
-// Gaussian pixel-model weight unit (thesis formula 4; docs/derivations/gaussian-weights.md): per footprint
-// a set-up turns the derivatives into q(U, V) = a·U² + b·U·V + c·V², per texel it evaluates q
-// and the weight exp(−q/2) or its power-8 form (1 − q/16)^8 (three squarings, 0 from q = 16).
-// The set-up is either the exact quadratic form (Heckbert's A, B, C over F) or the seed's
+// Gaussian pixel-model weight unit (thesis formula 4; docs/derivations/gaussian-weights.md): per
+// footprint a set-up turns the derivatives into q(U, V) = a·U² + b·U·V + c·V², per texel it
+// evaluates q and the weight exp(−q/2) or its power-8 form (1 − q/16)^8 (three squarings, 0 from q
+// = 16). The set-up is either the exact quadratic form (Heckbert's A, B, C over F) or the seed's
 // θ/L/d axis formulas, kept as approximations whose error the testbench measures.
 // Arithmetic: set-up and q in float/double; the weight in float, double or fixed
 // (q u5.11 → weight u1.15, HalfUp, saturating).

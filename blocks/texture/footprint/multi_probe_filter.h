@@ -2,8 +2,9 @@
 // Multi-ellipse probe filter (Mavridis & Papaioannou; seed 004 eq. 12–17): the footprint
 // ellipse approximated by N trilinear probes along its major axis, N = 2·R_major/(α·R_minor) − 1
 // (odd), spread over L = 2·(R_major − α·R_minor), weighted by a Gaussian of their distance to
-// the centre; optionally half the probes per frame, alternating (docs/derivations/anisotropic-filters.md §4).
-// Arithmetic (Config::arith): set-up = footprint, axes, N, LOD, probe positions and weights.
+// the centre; optionally half the probes per frame, alternating
+// (docs/derivations/anisotropic-filters.md §4). Arithmetic (Config::arith): set-up = footprint,
+// axes, N, LOD, probe positions and weights.
 //  - float:  footprint set-up in float32; axes, N, positions and weights evaluated in double
 //            from it (the block's original model, kept bit-identical).
 //  - double: the same in double throughout.

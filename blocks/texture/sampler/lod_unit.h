@@ -1,7 +1,7 @@
 #pragma once
 // LOD unit: scale factor, anisotropy ratio and LOD λ of one fragment from its derivatives, as
-// the front of a texture filter pipe computes them (docs/derivations/filters.md §1, Vulkan "Scale Factor
-// Operation, LOD Operation"). Arithmetic: float32 throughout; log2 is a table look-up.
+// the front of a texture filter pipe computes them (docs/derivations/filters.md §1, Vulkan "Scale
+// Factor Operation, LOD Operation"). Arithmetic: float32 throughout; log2 is a table look-up.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -28,8 +28,8 @@ struct LodResult {
   float axis_u = 0, axis_v = 0;
 };
 
-// LOD unit (docs/derivations/filters.md §1): isotropic ρ or the Vulkan anisotropic rule N = min(⌈ρmax/ρmin⌉,
-// maxAniso), λ = log2(ρmax/N), then bias and clamp.
+// LOD unit (docs/derivations/filters.md §1): isotropic ρ or the Vulkan anisotropic rule N =
+// min(⌈ρmax/ρmin⌉, maxAniso), λ = log2(ρmax/N), then bias and clamp.
 class LodUnit {
  public:
   struct Config {

@@ -1,11 +1,11 @@
 #pragma once
 // Texel address generator: mip level selection, texel coordinates, address modes and filter
 // weights of the nearest, bilinear and trilinear filters, with anisotropic probes
-// (docs/derivations/filters.md §2–§4). One block for the three filters: they share one datapath (nearest
-// is its 1-tap degenerate case, trilinear runs it on two levels), selected by Config::filter.
-// Arithmetic: float32 coordinates, converted to fixed point with `sub_texel_bits` fraction
-// bits (round to nearest even); LOD to fixed point with `mipmap_bits` fraction bits; weights
-// are products of those fixed-point fractions (exact in float32) and 1/N.
+// (docs/derivations/filters.md §2–§4). One block for the three filters: they share one datapath
+// (nearest is its 1-tap degenerate case, trilinear runs it on two levels), selected by
+// Config::filter. Arithmetic: float32 coordinates, converted to fixed point with `sub_texel_bits`
+// fraction bits (round to nearest even); LOD to fixed point with `mipmap_bits` fraction bits;
+// weights are products of those fixed-point fractions (exact in float32) and 1/N.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -39,8 +39,8 @@ struct FilterTaps {
 enum class FilterMode { Nearest, Bilinear, Trilinear };
 const char* to_string(FilterMode m);
 
-// Texel address generator (docs/derivations/filters.md §2–§4): levels, texel coordinates, wrap/clamp/mirror
-// and weights of nearest/bilinear/trilinear taps, per anisotropic probe.
+// Texel address generator (docs/derivations/filters.md §2–§4): levels, texel coordinates,
+// wrap/clamp/mirror and weights of nearest/bilinear/trilinear taps, per anisotropic probe.
 class TexelAddressGen {
  public:
   struct Config {

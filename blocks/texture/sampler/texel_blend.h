@@ -1,7 +1,7 @@
 #pragma once
 // Texel blend: the weighted-sum datapath Σ w·texel over a fragment's taps, with texel reads
-// (docs/derivations/filters.md §5). Arithmetic: float32 products and a float32 adder tree per group of
-// `taps_per_cycle` taps, the group sums accumulated in tap order.
+// (docs/derivations/filters.md §5). Arithmetic: float32 products and a float32 adder tree per group
+// of `taps_per_cycle` taps, the group sums accumulated in tap order.
 #include <algorithm>
 #include <bit>
 #include <cstddef>
@@ -19,7 +19,8 @@
 
 namespace texsim {
 
-// Texel blend (docs/derivations/filters.md §5): reads the taps' texels and forms the weighted RGBA sum.
+// Texel blend (docs/derivations/filters.md §5): reads the taps' texels and forms the weighted RGBA
+// sum.
 class TexelBlend {
  public:
   struct Config {

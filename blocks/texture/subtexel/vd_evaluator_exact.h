@@ -1,9 +1,9 @@
 #pragma once
 // V(d) evaluator computing Φ(d/σ) itself, the reference block against which the seed's
-// approximations are weighed (docs/derivations/vd-evaluators.md). In float/double it evaluates erfc in
-// that type; in a fixed format it is a ROM holding Φ(d/σ) correctly rounded to the output
-// format for every input code (2^(F−1)+1 entries cover [0, 0.5]). Either way one table
-// look-up (lut) per evaluation.
+// approximations are weighed (docs/derivations/vd-evaluators.md). In float/double it evaluates erfc
+// in that type; in a fixed format it is a ROM holding Φ(d/σ) correctly rounded to the output format
+// for every input code (2^(F−1)+1 entries cover [0, 0.5]). Either way one table look-up (lut) per
+// evaluation.
 #include <cmath>
 #include <cstdint>
 #include <string>

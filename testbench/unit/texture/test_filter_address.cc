@@ -446,8 +446,8 @@ TEST(TexelAddressGen, RoundHalfEvenMatchesLlrint) {
   EXPECT_EQ(TexelAddressGen::round_half_even(8388607.5f), 8388608);
 }
 
-// Reference for the blend order of docs/derivations/filters.md §5: groups of taps_per_cycle taps in tap
-// order, a binary tree in each group (pairs, an odd last element passed up), the group sums
+// Reference for the blend order of docs/derivations/filters.md §5: groups of taps_per_cycle taps in
+// tap order, a binary tree in each group (pairs, an odd last element passed up), the group sums
 // accumulated from 0. Written with plain Rgba arithmetic and Texture::texel.
 Rgba reference_blend(const FilterTaps& t, const Texture& tex, int g) {
   Rgba acc(0.0f);
