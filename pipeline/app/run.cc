@@ -48,8 +48,9 @@ class Progress {
 // The textures of a run and the map from fragment texture ids to them.
 struct RunTextures {
   TextureSet set;
-  std::map<uint32_t, int> index;
-  std::vector<std::string> names;  // "name = source", for the report
+  std::map<uint32_t, int> index;       // texture id of the input -> texture of the set
+  std::map<std::string, int> by_name;  // texture name -> texture of the set
+  std::vector<std::string> names;      // "name = source", for the report
 };
 
 // A trace's texture table: each texture loaded (relative to the trace) and checked against the
@@ -67,7 +68,9 @@ RunTextures load_trace_textures(const TraceReader& reader, const std::string& tr
                                        " but the trace's texture table says " +
                                        std::to_string(e.width) + "x" + std::to_string(e.height));
     }
-    t.index[e.id] = t.set.add(std::move(tex));
+    const int id = t.set.add(std::move(tex));
+    t.index[e.id] = id;
+    t.by_name[e.name] = id;
     t.names.push_back(e.name + " = " + e.source);
   }
   return t;
@@ -77,20 +80,33 @@ RunTextures load_trace_textures(const TraceReader& reader, const std::string& tr
 RunTextures load_scene_textures(const Scene& scene) {
   RunTextures t;
   for (size_t i = 0; i < scene.textures.size(); ++i) {
-    t.index[static_cast<uint32_t>(i)] =
-        t.set.add(load_texture(scene.textures[i].source, scene.base_dir));
+    const int id = t.set.add(load_texture(scene.textures[i].source, scene.base_dir));
+    t.index[static_cast<uint32_t>(i)] = id;
+    t.by_name[scene.textures[i].name] = id;
     t.names.push_back(scene.textures[i].name + " = " + scene.textures[i].source);
   }
   return t;
 }
 
-// The scene's materials (a fragment's material is that of plane `prim`), or one default.
-std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene, bool from_trace,
+// The scene's materials (a fragment's material is that of plane `prim`), or one default. Each
+// material's texture is bound by name to the loaded textures (with a trace: its table's).
+std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene,
+                                         const RunTextures& textures, const std::string& trace,
                                          std::ostream& log) {
+  const bool from_trace = !trace.empty();
   std::vector<MaterialSetup> mats;
   if (use_scene) {
     for (const auto& m : scene.materials) {
-      mats.push_back(material_from_toml(m.name, m.texture, *m.effects, scene.path));
+      const std::string& name = scene.textures[static_cast<size_t>(m.texture)].name;
+      const auto it = textures.by_name.find(name);
+      if (it == textures.by_name.end()) {
+        std::string have;
+        for (const auto& [n, id] : textures.by_name) have += (have.empty() ? "'" : ", '") + n + "'";
+        throw InputError(trace, "the texture table has no texture named '" + name +
+                                    "', which material '" + m.name + "' of " + scene.path +
+                                    " uses (the table has " + (have.empty() ? "none" : have) + ")");
+      }
+      mats.push_back(material_from_toml(m.name, it->second, *m.effects, scene.path));
     }
   }
   if (from_trace) {
@@ -203,7 +219,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   if (!opt.trace.empty()) reader = std::make_unique<TraceReader>(opt.trace);
   RunTextures textures =
       reader ? load_trace_textures(*reader, opt.trace) : load_scene_textures(scene);
-  const std::vector<MaterialSetup> mats = run_materials(scene, use_scene, reader != nullptr, log);
+  const std::vector<MaterialSetup> mats = run_materials(scene, use_scene, textures, opt.trace, log);
   const PipelineSetup setup =
       PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : toml::table{}, scene.path);
   TextureUnit unit(textures.set, mats, setup, scene.tech, !opt.functional);

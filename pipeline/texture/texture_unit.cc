@@ -254,7 +254,12 @@ void TextureUnit::drop(int material, const ItemCost* front, bool rejected) {
 
 Rgba TextureUnit::process(const Fragment& f, int material, const ItemCost* front) {
   Path& p = paths_[static_cast<size_t>(material)];
-  const Texture& tex = textures_[p.texture];
+  // The fragment's own texture: a trace may texture a material's primitive with any texture of
+  // its table, and the reference filters the same one.
+  if (f.tex >= static_cast<uint32_t>(textures_.size()))
+    throw std::out_of_range("texture unit: fragment texture " + std::to_string(f.tex) +
+                            " is not loaded");
+  const Texture& tex = textures_[static_cast<int>(f.tex)];
   if (p.footprint) return process_footprint(f, p, tex, front);
   const LodResult lod = p.lod.eval(f, tex.width(0), tex.height(0));
   p.addr.taps(tex, f.u, f.v, lod, taps_);

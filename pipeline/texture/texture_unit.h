@@ -64,8 +64,9 @@ class TextureUnit {
   TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
               const PipelineSetup& setup, const TechTable& tech, bool timing);
 
-  // Filters one fragment with its material's blocks; in timing mode also sends it through the
-  // clocked pipeline and the cache. Fragments must arrive in order. `front` is null, or the
+  // Filters one fragment with its material's blocks and the fragment's own texture (f.tex, an
+  // index into the unit's TextureSet); in timing mode also sends it through the clocked
+  // pipeline and the cache. Fragments must arrive in order. `front` is null, or the
   // fragment's costs in the coordinate front end (one per stage of its material's coordinate
   // unit, as CoordUnit::generate gives them).
   Rgba process(const Fragment& f, int material, const ItemCost* front = nullptr);

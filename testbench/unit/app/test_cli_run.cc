@@ -260,6 +260,72 @@ TEST_F(Cli, HelpAndVersionExitZero) {
   EXPECT_EQ(r.out.rfind("texsim ", 0), 0u) << r.out;
 }
 
+// A trace's textures are bound to the scene's materials by name, and each fragment is filtered
+// with its own texture: listing the table in another order (ids and fragments consistent)
+// changes nothing, and a table without a texture a material uses is refused by name.
+TEST_F(Cli, TraceTexturesBindByNameNotPosition) {
+  const std::string csv = path("d.csv"), shuffled = path("shuffled.csv"), part = path("part.csv");
+  ASSERT_EQ(sh("trace gen default -o " + csv).code, 0);
+  // The default scene's table is checker 0, grid 1, noise 2: list it as noise 0, grid 1,
+  // checker 2, and swap ids 0 and 2 in the records.
+  std::ifstream in(csv);
+  std::ofstream out(shuffled), partial(part);
+  std::string line;
+  std::vector<std::string> table;
+  while (std::getline(in, line)) {
+    if (line.rfind("# texture ", 0) == 0) {
+      table.push_back(line);
+      continue;
+    }
+    if (!table.empty()) {
+      ASSERT_EQ(table.size(), 3u);
+      for (int id : {2, 1, 0}) {
+        std::string e = table[static_cast<size_t>(id)];
+        e[10] = static_cast<char>('0' + (2 - id));
+        out << e << "\n";
+      }
+      partial << table[0] << "\n";  // checker only
+      table.clear();
+    }
+    if (!line.empty() && std::isdigit(static_cast<unsigned char>(line[0]))) {
+      // frame,prim,x,y,tex,...: swap texture ids 0 and 2
+      size_t at = 0;
+      for (int comma = 0; comma < 4; ++comma) at = line.find(',', at) + 1;
+      if (line[at] == '0')
+        line[at] = '2';
+      else if (line[at] == '2')
+        line[at] = '0';
+    }
+    out << line << "\n";
+    if (line.rfind("frame,", 0) == 0 || line[0] == '#') partial << line << "\n";
+  }
+  out.close();
+  partial << "0,0,10,200,0,0.5,0.5,0.01,0,0,0.01\n";
+  partial.close();
+  Result r = sh("run default --no-progress --trace " + csv + " --out " + path("a"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = sh("run default --no-progress --trace " + shuffled + " --out " + path("b"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json a = load_json(path("a") + "/report.json");
+  const Json b = load_json(path("b") + "/report.json");
+  EXPECT_EQ(num(a, "fragments"), num(b, "fragments"));
+  EXPECT_DOUBLE_EQ(num(a, "accuracy.psnr_db"), num(b, "accuracy.psnr_db"));
+  EXPECT_GT(num(a, "accuracy.psnr_db"), 20.0);
+  auto slurp = [](const std::string& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  };
+  EXPECT_EQ(slurp(path("a") + "/image.png"), slurp(path("b") + "/image.png"));
+  // The panel's texture (grid) is missing from a checker-only table.
+  r = sh("run default --no-progress --trace " + part + " --out " + path("c"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("no texture named 'grid'"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("material 'panel'"), std::string::npos) << r.out;
+  expect_no_outputs(path("c"));
+}
+
 TEST_F(Cli, TraceGenWritesTheFormTheExtensionNames) {
   const std::string csv = path("gen.csv"), trc = path("gen.trc");
   ASSERT_EQ(sh("trace gen default -o " + csv).code, 0);

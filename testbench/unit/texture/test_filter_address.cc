@@ -538,6 +538,7 @@ TEST(TextureUnit, CountedOpsAndColoursEqualPerCallBlocks) {
       f.dudy = d(rng) * 0.1;
       f.dvdy = d(rng);
       const int m = i % 3;
+      f.tex = static_cast<uint32_t>(mats[static_cast<size_t>(m)].texture);
       const Rgba got = unit.process(f, m);
       const Texture& tex = ts[mats[static_cast<size_t>(m)].texture];
       const LodResult lod =
