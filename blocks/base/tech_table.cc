@@ -21,7 +21,8 @@ TechTable TechTable::from_toml(const toml::table& table, const std::string& sour
   ConfigReader r(table, source, "tech");
   r.reject_unknown({"latency", "area", "clock_mhz"});
   t.clock_mhz = r.get_double("clock_mhz", t.clock_mhz);
-  if (t.clock_mhz <= 0) r.fail("clock_mhz", "must be > 0");
+  if (!(t.clock_mhz > 0 && t.clock_mhz <= kMaxClockMhz))
+    r.fail("clock_mhz", "must be in (0, " + std::to_string(static_cast<int>(kMaxClockMhz)) + "]");
   std::vector<std::string_view> kinds(kOpKindNames.begin(), kOpKindNames.end());
   for (const char* group : {"latency", "area"}) {
     ConfigReader g = r.sub(group);
@@ -29,7 +30,9 @@ TechTable TechTable::from_toml(const toml::table& table, const std::string& sour
     auto& arr = std::string_view(group) == "latency" ? t.latency : t.area;
     for (int k = 0; k < kOpKinds; ++k) {
       arr[k] = g.get_double(kOpKindNames[k], arr[k]);
-      if (arr[k] < 0) g.fail(kOpKindNames[k], "must be >= 0");
+      const double hi = std::string_view(group) == "latency" ? kMaxOpLatency : kMaxOpArea;
+      if (!(arr[k] >= 0 && arr[k] <= hi))
+        g.fail(kOpKindNames[k], "must be in [0, " + std::to_string(static_cast<int>(hi)) + "]");
     }
   }
   return t;

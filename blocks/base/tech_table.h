@@ -15,6 +15,13 @@ class table;
 namespace texsim {
 
 struct TechTable {
+  // Ranges a scene may set (docs/timing-model.md): they keep every derived latency, area and
+  // cycle count finite and far inside 32-bit latencies, and the pipeline's memory (which
+  // grows with latency ÷ II) bounded.
+  static constexpr double kMaxOpLatency = 1000;  // cycles of one operator
+  static constexpr double kMaxOpArea = 1e6;      // adder equivalents of one operator
+  static constexpr double kMaxClockMhz = 1e5;
+
   // Latency in cycles of one operator of each kind (pipelined: one new operation per cycle).
   std::array<double, kOpKinds> latency{};
   // Area of one operator instance, in adder-equivalents (a 32-bit adder = 1).

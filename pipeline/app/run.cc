@@ -220,8 +220,11 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   RunTextures textures =
       reader ? load_trace_textures(*reader, opt.trace) : load_scene_textures(scene);
   const std::vector<MaterialSetup> mats = run_materials(scene, use_scene, textures, opt.trace, log);
+  // Both branches lvalues: a conditional with a temporary would copy the table, and a copied
+  // toml table loses the line:column its messages name.
+  static const toml::table kNoPipeline;
   const PipelineSetup setup =
-      PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : toml::table{}, scene.path);
+      PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : kNoPipeline, scene.path);
   TextureUnit unit(textures.set, mats, setup, scene.tech, !opt.functional);
 
   std::vector<PlaneProjection> maps;
@@ -284,6 +287,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     throw InputError(opt.trace.empty() ? scene.path : opt.trace, "no fragments to render");
   images.crop();
 
+  unit.check_timing_invariants();
   RunSummary sum;
   sum.fragments = unit.fragments();
   sum.cycles = unit.cycles();

@@ -26,7 +26,7 @@ struct StageConfig {
 
 // Per-item variable cost in one stage (e.g. a cache miss, or a row set-up).
 struct ItemCost {
-  uint32_t extra_latency = 0;  // added to the stage latency for this item (non-blocking)
+  uint64_t extra_latency = 0;  // added to the stage latency for this item (non-blocking)
   uint32_t extra_ii = 0;       // added to the stage's initiation interval (blocks the lane)
 };
 

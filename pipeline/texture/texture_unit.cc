@@ -155,7 +155,7 @@ int distinct_lines(const FilterTaps& taps, const Texture& tex, uint32_t shift, u
 
 }  // namespace
 
-uint32_t TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start) {
+uint64_t TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start) {
   // Each distinct line of the fragment's taps is one tag look-up.
   const uint32_t shift = cache_.line_shift();
   uint64_t lines[128];
@@ -178,7 +178,7 @@ uint32_t TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, 
       ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
   }
   cache_.count_texels(static_cast<uint64_t>(taps.count));
-  return static_cast<uint32_t>(ready - hit_ready);
+  return ready - hit_ready;
 }
 
 void TextureUnit::count_frame(const Fragment& f) {
@@ -190,7 +190,7 @@ void TextureUnit::count_frame(const Fragment& f) {
   ++fragments_;
 }
 
-uint32_t TextureUnit::cache_lookups(const std::vector<TexelRef>& texels, const Texture& tex,
+uint64_t TextureUnit::cache_lookups(const std::vector<TexelRef>& texels, const Texture& tex,
                                     uint64_t start) {
   lines_.clear();
   for (const TexelRef& t : texels) lines_.push_back(cache_.line_of(tex.address(t.level, t.x, t.y)));
@@ -203,7 +203,7 @@ uint32_t TextureUnit::cache_lookups(const std::vector<TexelRef>& texels, const T
       ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
   }
   cache_.count_texels(texels.size());
-  return static_cast<uint32_t>(ready - hit_ready);
+  return ready - hit_ready;
 }
 
 // A footprint filter is one block that scans, weights and accumulates: it occupies the address
@@ -286,6 +286,21 @@ Rgba TextureUnit::process(const Fragment& f, int material, const ItemCost* front
     });
   }
   return colour;
+}
+
+void TextureUnit::check_timing_invariants() const {
+  if (!pipe_) return;
+  const uint64_t cycles = pipe_->cycles();
+  auto fail = [&](const std::string& what, uint64_t need) {
+    throw std::logic_error("timing invariant violated: " + what + " needs " + std::to_string(need) +
+                           " cycles but the run took " + std::to_string(cycles));
+  };
+  for (int s = 0; s < pipe_->stage_count(); ++s) {
+    const uint64_t lanes = std::max<uint32_t>(1, pipe_->config(s).timing.lanes);
+    const uint64_t busy = pipe_->stats(s).busy;
+    if (cycles < busy / lanes) fail("stage '" + pipe_->config(s).name + "'", busy / lanes);
+  }
+  if (cycles < dram_.stats().busy_cycles) fail("the DRAM channel", dram_.stats().busy_cycles);
 }
 
 std::vector<BlockUse> TextureUnit::material_blocks(int material) const {

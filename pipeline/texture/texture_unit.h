@@ -90,6 +90,10 @@ class TextureUnit {
   const FrontEndStats& front_end_stats() const { return front_stats_; }
 
   bool timing() const { return timing_; }
+  // Checks what every timed run must satisfy: the total cycles are at least each stage's busy
+  // issue slots ÷ its lanes, and at least the DRAM channel's busy cycles. Throws
+  // std::logic_error naming the stage and the figures if not (a defect of the model).
+  void check_timing_invariants() const;
   uint64_t fragments() const { return fragments_; }
   uint64_t cycles() const { return pipe_ ? pipe_->cycles() : 0; }
   std::vector<BlockUse> blocks() const;
@@ -135,8 +139,8 @@ class TextureUnit {
   };
   // Tag look-ups of the fragment's distinct lines at cycle `start`; returns the cycles the
   // cache stage waits beyond its hit latency (DRAM refills).
-  uint32_t cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start);
-  uint32_t cache_lookups(const std::vector<TexelRef>& texels, const Texture& tex, uint64_t start);
+  uint64_t cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start);
+  uint64_t cache_lookups(const std::vector<TexelRef>& texels, const Texture& tex, uint64_t start);
   Rgba process_footprint(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
   // Cost of front-end stage s for a fragment of path p (with the dropped fragments' cycles).
   ItemCost front_cost(const Path& p, const ItemCost* front, int s) {

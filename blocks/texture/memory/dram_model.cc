@@ -14,8 +14,8 @@ DramModel::Config DramModel::Config::from_toml(const ConfigReader& r) {
   Config c;
   c.latency = static_cast<uint32_t>(r.get_int("latency", c.latency, 0, 1'000'000));
   c.bytes_per_cycle = r.get_double("bytes_per_cycle", c.bytes_per_cycle);
-  if (c.bytes_per_cycle <= 0 || c.bytes_per_cycle > 1e6) {
-    r.fail("bytes_per_cycle", "must be in (0, 1e6]");
+  if (!(c.bytes_per_cycle >= kMinBytesPerCycle && c.bytes_per_cycle <= 1e6)) {
+    r.fail("bytes_per_cycle", "must be in [1/1024, 1e6]");
   }
   return c;
 }
@@ -32,7 +32,8 @@ uint64_t DramModel::read(uint64_t now, uint32_t bytes) {
   channel_free_ = start + transfer;
   ++stats_.requests;
   stats_.bytes += bytes;
-  stats_.busy_cycles += static_cast<uint64_t>(std::ceil(transfer));
+  busy_ += transfer;
+  stats_.busy_cycles = static_cast<uint64_t>(std::ceil(busy_));
   return static_cast<uint64_t>(std::ceil(channel_free_)) + cfg_.latency;
 }
 

@@ -21,7 +21,7 @@ class DramModel {
   struct Stats {
     uint64_t requests = 0;
     uint64_t bytes = 0;
-    uint64_t busy_cycles = 0;  // cycles the channel was transferring
+    uint64_t busy_cycles = 0;  // cycles the channel was transferring (rounded up once)
   };
 
   DramModel();
@@ -30,6 +30,9 @@ class DramModel {
   uint64_t read(uint64_t now, uint32_t bytes);
   const Stats& stats() const { return stats_; }
   const Config& config() const { return cfg_; }
+  // Smallest bandwidth a scene may set: 64-byte lines then take 65,536 cycles each, which keeps
+  // a 10^7-fragment trace's cycle count far below 2^53 (where double stops counting exactly).
+  static constexpr double kMinBytesPerCycle = 1.0 / 1024;
 
   // Item: one line request (one memory read).
   static OpCounts ops_per_item() {
@@ -45,6 +48,7 @@ class DramModel {
 
  private:
   Config cfg_;
+  double busy_ = 0;          // exact transfer time, summed; busy_cycles is its ceiling
   double channel_free_ = 0;  // cycle the channel finishes its current transfer
   Stats stats_;
 };

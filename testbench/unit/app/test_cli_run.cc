@@ -397,6 +397,41 @@ TEST_F(Cli, SceneTypeErrorNamesKeyLineAndColumn) {
   expect_no_outputs(path("out"));
 }
 
+// Timing parameters outside their documented ranges are refused with the place, instead of
+// overflowing into fewer cycles, a 32-bit wrap, latency 1 or an area of null.
+TEST_F(Cli, TimingParametersOutsideTheirRangesAreRefused) {
+  const std::string base =
+      "[output]\nwidth = 32\nheight = 32\n[textures.t]\nsource = \"procedural:checker\"\n"
+      "[materials.m]\ntexture = \"t\"\n[[planes]]\nmaterial = \"m\"\n"
+      "origin = [-2.0, -1.0, -4.0]\nedge_u = [4.0, 0.0, 0.0]\nedge_v = [0.0, 2.0, 0.0]\n";
+  struct Case {
+    std::string table, key;
+  };
+  for (const Case& c :
+       {Case{"[pipeline.dram]\nbytes_per_cycle = 1e-300\n", "bytes_per_cycle"},
+        Case{"[pipeline.dram]\nbytes_per_cycle = 1e-10\n", "bytes_per_cycle"},
+        Case{"[tech.latency]\nmul = 1e19\n", "mul"}, Case{"[tech.latency]\nmul = 1e7\n", "mul"},
+        Case{"[tech.area]\nmul = 1e308\n", "mul"},
+        Case{"[tech]\nclock_mhz = 1e300\n", "clock_mhz"}}) {
+    write("s.toml", base + c.table);
+    const Result r = sh("run " + path("s.toml") + " --no-progress --out " + path("out"));
+    EXPECT_EQ(r.code, 2) << c.table << r.out;
+    EXPECT_NE(r.out.find("s.toml:14:"), std::string::npos) << c.table << r.out;
+    EXPECT_NE(r.out.find(c.key), std::string::npos) << c.table << r.out;
+    EXPECT_NE(r.out.find("must be in"), std::string::npos) << c.table << r.out;
+    expect_no_outputs(path("out"));
+  }
+  // At the edge of the ranges a run completes, and its cycles hold the DRAM's busy time.
+  write("s.toml", base +
+                      "[pipeline.dram]\nbytes_per_cycle = 0.0009765625\n[tech.latency]\n"
+                      "mul = 1000\n");
+  const Result r = sh("run " + path("s.toml") + " --no-progress --out " + path("edge"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json j = load_json(path("edge") + "/report.json");
+  EXPECT_GE(num(j, "cycles"), num(j, "dram.busy_cycles"));
+  EXPECT_GE(num(j, "dram.busy_cycles"), 65536.0);
+}
+
 TEST_F(Cli, SceneUnknownMaterialAndFilter) {
   write("bad.toml",
         "[textures.t]\nsource = \"procedural:checker\"\n[materials.m]\ntexture = \"t\"\n"
