@@ -16,28 +16,33 @@
 #include "blocks/texture/derivs/derivatives_forward_diff.h"
 #include "blocks/texture/derivs/derivatives_iterative.h"
 #include "blocks/texture/derivs/derivatives_quad.h"
+#include "rtl_model/number/number_format.h"
 
 namespace texsim {
 
 namespace {
 
-// The fixed-point widths of the study: a 32-bit datapath, a 48-bit one and a 60-bit one,
-// each with enough integer bits (sign + 15/19/23) for coordinates of a 4096-texel plane
-// and pixel indices of an 8192-pixel row.
-using FixedA = Fixed<16, 16>;
-using FixedB = Fixed<20, 28>;
-using FixedC = Fixed<24, 36>;
+// The block in the number format a scene names, from the one registry of number formats
+// (rtl_model/number/number_format.h: kCoordFormats). The fixed-point formats have enough
+// integer bits (sign + 15/19/23) for coordinates of a 4096-texel plane and pixel indices of
+// an 8192-pixel row.
+static_assert(std::is_same_v<number_format_t<NumberFormat::S16_16>, Fixed<16, 16>>);
+static_assert(std::is_same_v<number_format_t<NumberFormat::S20_28>, Fixed<20, 28>>);
+static_assert(std::is_same_v<number_format_t<NumberFormat::S24_36>, Fixed<24, 36>>);
 
 template <template <class> class Impl, class Base, class... Args>
 std::unique_ptr<Base> make_for_format(const std::string& format, Args&&... args) {
-  if (format == "float") return std::make_unique<Impl<float>>(args...);
-  if (format == "double") return std::make_unique<Impl<double>>(args...);
-  if (format == FixedA::name()) return std::make_unique<Impl<FixedA>>(args...);
-  if (format == FixedB::name()) return std::make_unique<Impl<FixedB>>(args...);
-  if (format == FixedC::name()) return std::make_unique<Impl<FixedC>>(args...);
-  throw InputError("number format '" + format + "'", "unknown (known: float, double, " +
-                                                         FixedA::name() + ", " + FixedB::name() +
-                                                         ", " + FixedC::name() + ")");
+  const std::vector<std::string_view> keys = kCoordFormats.key_list();
+  const auto it = std::find(keys.begin(), keys.end(), format);
+  if (it == keys.end()) {
+    std::string known;
+    for (std::string_view k : keys) known += (known.empty() ? "" : ", ") + std::string(k);
+    throw InputError("number format '" + format + "'", "unknown (known: " + known + ")");
+  }
+  const NumberFormat f = kCoordFormats.at(static_cast<int>(it - keys.begin()));
+  return kCoordFormats.visit(f, [&](auto v) -> std::unique_ptr<Base> {
+    return std::make_unique<Impl<decltype(v)>>(args...);
+  });
 }
 
 // Impl<T, Block> as a template of T alone, for make_for_format.
@@ -466,8 +471,7 @@ GenFactory<Gen> default_block(const Method<Gen>& m, Datapath dp) {
 }  // namespace
 
 const std::vector<std::string>& coord_format_names() {
-  static const std::vector<std::string> n = {"float", "double", FixedA::name(), FixedB::name(),
-                                             FixedC::name()};
+  static const std::vector<std::string> n(kCoordFormats.keys.begin(), kCoordFormats.keys.end());
   return n;
 }
 
