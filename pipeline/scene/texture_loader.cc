@@ -11,6 +11,11 @@ namespace texsim {
 
 namespace {
 constexpr int kMaxSize = 65536;
+// Largest level-0 texture, in texels (8192 × 8192): its decoding buffers (float, up to 64
+// channels read as 4) then stay near 2 GiB.
+constexpr uint64_t kMaxTexels = uint64_t{1} << 26;
+// Largest texture file read.
+constexpr uintmax_t kMaxFileBytes = uintmax_t{1} << 31;
 
 std::vector<float> to_rgba(const std::vector<float>& src, int w, int h, int nch) {
   std::vector<float> out(static_cast<size_t>(w) * h * 4);
@@ -41,7 +46,15 @@ Texture load_texture(const std::string& source, const std::string& base_dir,
                      TexelFormatChoice format) {
   if (is_procedural_source(source)) return make_procedural_texture(source, source);
   const std::string path = resolve_texture_path(source, base_dir);
-  if (!std::filesystem::exists(path)) throw InputError(path, "texture file not found");
+  // Only regular files: a device or FIFO (e.g. /dev/zero) would never end.
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status)) throw InputError(path, "texture file not found");
+  if (!std::filesystem::is_regular_file(status))
+    throw InputError(path, "not a regular file (a texture must be an image file)");
+  const uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (ec || bytes > kMaxFileBytes)
+    throw InputError(path, "texture file larger than 2 GiB (or its size cannot be read)");
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw InputError(path, "cannot read texture: " + OIIO::geterror());
   std::vector<int> ws, hs;
@@ -55,6 +68,10 @@ Texture load_texture(const std::string& source, const std::string& base_dir,
       throw InputError(path, "unsupported texture size " + std::to_string(w) + "x" +
                                  std::to_string(h) + "x" + std::to_string(nch) +
                                  " (2-D, at most 65536 per side)");
+    }
+    if (m == 0 && static_cast<uint64_t>(w) * static_cast<uint64_t>(h) > kMaxTexels) {
+      throw InputError(path, "texture " + std::to_string(w) + "x" + std::to_string(h) +
+                                 " has more than the 8192x8192 texels a texture may have");
     }
     eight_bit = eight_bit && spec.format == OIIO::TypeDesc::UINT8;
     std::vector<float> px(static_cast<size_t>(w) * h * nch);

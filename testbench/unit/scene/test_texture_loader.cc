@@ -2,10 +2,13 @@
 // pyramid construction, procedural textures and their error messages.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <zlib.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 #include "blocks/base/input_error.h"
 #include "pipeline/scene/procedural_texture.h"
@@ -113,6 +116,47 @@ TEST_F(Loader, ErrorsNameTheFile) {
     EXPECT_NE(std::string(e.what()).find("missing.png: texture file not found"), std::string::npos)
         << e.what();
   }
+}
+
+// Devices, FIFOs and directories are refused before anything reads them (a texture naming
+// /dev/zero used to hang the run), and a file declaring more texels than a texture may have is
+// refused from its header, before any pixel buffer is allocated.
+TEST_F(Loader, SpecialFilesAndHugeDeclaredSizesAreRefused) {
+  auto expect_error = [](const std::string& source, const std::string& dir, const char* what) {
+    try {
+      load_texture(source, dir);
+      ADD_FAILURE() << source << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  expect_error("/dev/zero", "", "/dev/zero: not a regular file");
+  expect_error(dir_.string(), "", "not a regular file");
+  const std::string fifo = (dir_ / "pipe.png").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  expect_error(fifo, "", "pipe.png: not a regular file");
+  // A PNG whose header declares 20000 x 20000 RGB pixels (no pixel data follows).
+  auto be32 = [](std::string& s, uint32_t v) {
+    for (int k = 3; k >= 0; --k) s += static_cast<char>((v >> (8 * k)) & 0xFF);
+  };
+  auto chunk = [&](std::string& png, const std::string& type, const std::string& data) {
+    be32(png, static_cast<uint32_t>(data.size()));
+    const std::string body = type + data;
+    png += body;
+    be32(png, static_cast<uint32_t>(crc32(0, reinterpret_cast<const Bytef*>(body.data()),
+                                          static_cast<uInt>(body.size()))));
+  };
+  std::string ihdr;
+  be32(ihdr, 20000);
+  be32(ihdr, 20000);
+  ihdr += std::string("\x08\x02\x00\x00\x00", 5);  // 8-bit RGB, no interlace
+  std::string png("\x89PNG\r\n\x1a\n", 8);
+  chunk(png, "IHDR", ihdr);
+  chunk(png, "IDAT", std::string("\x78\x9c", 2));  // the start of a zlib stream, no pixels
+  chunk(png, "IEND", "");
+  const std::string huge = (dir_ / "huge.png").string();
+  std::ofstream(huge, std::ios::binary) << png;
+  expect_error(huge, "", "20000x20000 has more than the 8192x8192 texels");
 }
 
 TEST(Procedural, CheckerNoiseGridAndErrors) {
