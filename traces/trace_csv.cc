@@ -396,13 +396,13 @@ TraceCsvWriter::TraceCsvWriter(const std::string& path, const TraceHeader& heade
 TraceCsvWriter::~TraceCsvWriter() {
   if (!closed_) {
     file_.reset();
-    std::remove(temp_.c_str());
+    discard_temp(temp_, path_);
   }
 }
 
 void TraceCsvWriter::fail(const std::string& what) {
   file_.reset();
-  std::remove(temp_.c_str());
+  discard_temp(temp_, path_);
   closed_ = true;
   throw InputError(path_, what);
 }

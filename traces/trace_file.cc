@@ -357,13 +357,13 @@ TraceWriter::TraceWriter(const std::string& path, const TraceHeader& header,
 TraceWriter::~TraceWriter() {
   if (!closed_) {
     file_.reset();
-    std::remove(temp_.c_str());
+    discard_temp(temp_, path_);
   }
 }
 
 void TraceWriter::fail(const std::string& what) {
   file_.reset();
-  std::remove(temp_.c_str());
+  discard_temp(temp_, path_);
   closed_ = true;
   throw InputError(path_, what);
 }

@@ -11,16 +11,36 @@
 
 namespace texsim {
 
-std::string temp_path_for(const std::string& path) {
-  return path + ".tmp." + std::to_string(::getpid());
+bool writes_in_place(const std::string& path) {
+  if (path == "-") return true;
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  return !ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st) &&
+         !std::filesystem::is_directory(st);
+}
+
+std::string scratch_path_for(const std::string& path, const std::string& ext) {
+  return path + ".tmp." + std::to_string(::getpid()) + ext;
+}
+
+std::string temp_path_for(const std::string& path, const std::string& ext) {
+  if (path == "-") return "/dev/stdout";
+  if (writes_in_place(path)) return path;
+  return scratch_path_for(path, ext);
 }
 
 void commit_temp(const std::string& temp, const std::string& path) {
+  if (temp == path || (path == "-" && temp == "/dev/stdout")) return;
   if (std::rename(temp.c_str(), path.c_str()) != 0) {
     const std::string err = std::strerror(errno);
     std::remove(temp.c_str());
     throw InputError(path, "cannot write output file: " + err);
   }
+}
+
+void discard_temp(const std::string& temp, const std::string& path) {
+  if (temp == path || (path == "-" && temp == "/dev/stdout")) return;
+  std::remove(temp.c_str());
 }
 
 void write_file_atomic(const std::string& path, const std::string& content) {
@@ -47,7 +67,7 @@ AtomicTextFile::AtomicTextFile(std::string path)
 AtomicTextFile::~AtomicTextFile() {
   if (!committed_) {
     out_.close();
-    std::remove(temp_.c_str());
+    discard_temp(temp_, path_);
   }
 }
 

@@ -125,7 +125,9 @@ int run_cli(int argc, char** argv) {
       run_simulation(run, std::cout);
     } else if (*gen) {
       const uint64_t n = generate_scene_trace(gen_scene == "default" ? "" : gen_scene, gen_out);
-      std::cout << "texsim trace gen: wrote " << n << " fragments to " << gen_out << "\n";
+      // With -o - the trace itself is on standard output: the summary goes to stderr.
+      (gen_out == "-" ? std::cerr : std::cout)
+          << "texsim trace gen: wrote " << n << " fragments to " << gen_out << "\n";
     } else if (*info) {
       return trace_info(info_in, std::cout);
     } else if (*vd || *coords || *filters) {
@@ -135,7 +137,8 @@ int run_cli(int argc, char** argv) {
       return run_study_filters(study_out, std::cout);
     } else if (*conv) {
       trace_convert(conv_in, conv_out);
-      std::cout << "texsim trace convert: wrote " << conv_out << "\n";
+      (conv_out == "-" ? std::cerr : std::cout)
+          << "texsim trace convert: wrote " << conv_out << "\n";
     }
   } catch (const InputError& e) {
     std::cerr << "texsim: error: " << printable(e.what()) << "\n";

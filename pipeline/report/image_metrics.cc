@@ -71,14 +71,14 @@ AccuracyMetrics compare_images(const ImageRgb& img, const ImageRgb& ref, int32_t
 
 namespace {
 void write_rgb8(const std::string& path, int w, int h, const std::vector<uint8_t>& px) {
-  const std::string tmp = temp_path_for(path) + std::string(".png");
+  const std::string tmp = temp_path_for(path, ".png");
   auto out = OIIO::ImageOutput::create(path);
   if (!out) throw InputError(path, "no image writer for this file type: " + OIIO::geterror());
   OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
   // The temporary name keeps the real extension's writer (created above from `path`).
   if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()) ||
       !out->close()) {
-    std::remove(tmp.c_str());
+    discard_temp(tmp, path);
     throw InputError(path, "cannot write image: " + out->geterror());
   }
   commit_temp(tmp, path);

@@ -84,9 +84,9 @@ std::string data_label(std::string s) {
 }  // namespace
 
 void write_plot_png(const std::string& path, const PlotSpec& spec) {
-  const std::string tmp_png = temp_path_for(path) + ".png";
-  const std::string err_path = temp_path_for(path) + ".err";
-  const std::string data_path = temp_path_for(path) + ".dat";
+  const std::string tmp_png = temp_path_for(path, ".png");
+  const std::string err_path = scratch_path_for(path, ".err");
+  const std::string data_path = scratch_path_for(path, ".dat");
   std::ostringstream gp;
   {
     std::ofstream data(data_path);
@@ -142,7 +142,7 @@ void write_plot_png(const std::string& path, const PlotSpec& spec) {
   std::remove(data_path.c_str());
   std::remove(err_path.c_str());
   if (rc != 0 || !std::filesystem::exists(tmp_png)) {
-    std::remove(tmp_png.c_str());
+    discard_temp(tmp_png, path);
     throw InputError(path, "gnuplot failed (is gnuplot-nox installed?): " + err);
   }
   commit_temp(tmp_png, path);

@@ -2,6 +2,9 @@
 // images and accuracy; `trace gen` round-trips through `run --trace`; bad input gives one
 // clear message (file, line:column or record, what is wrong), exit code 2, and no outputs.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -349,6 +352,48 @@ TEST_F(Cli, TraceGenWritesTheFormTheExtensionNames) {
   };
   EXPECT_EQ(records(a.out), records(b.out));
   EXPECT_NE(records(a.out), "none") << a.out;
+}
+
+// Streams and special files are written in place: "-" is standard output, and a FIFO or a
+// character device stays what it is (temp-then-rename used to replace it with a regular file).
+TEST_F(Cli, TraceWritersKeepStreamsAndSpecialFiles) {
+  auto slurp = [](const std::string& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  };
+  const std::string trc = path("d.trc");
+  ASSERT_EQ(sh("trace gen default -o " + trc).code, 0);
+  const std::string reference = slurp(trc);
+  ASSERT_GT(reference.size(), 1000u);
+  // Standard output: the trace's bytes, and the summary line on stderr.
+  const std::string piped = path("piped.trc");
+  ASSERT_EQ(std::system(
+                (std::string(TEXSIM_BINARY) + " trace gen default -o - > " + piped + " 2>/dev/null")
+                    .c_str()),
+            0);
+  EXPECT_EQ(slurp(piped), reference);
+  // A FIFO read by another process.
+  const std::string fifo = path("fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string drained = path("drained.trc");
+  const std::string reader = "cat " + fifo + " > " + drained + " &";
+  ASSERT_EQ(std::system(reader.c_str()), 0);
+  ASSERT_EQ(sh("trace gen default -o " + fifo).code, 0);
+  for (int i = 0; i < 100 && slurp(drained).size() < reference.size(); ++i) ::usleep(20000);
+  EXPECT_EQ(slurp(drained), reference);
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_EQ(sh("trace convert " + trc + " " + fifo + " & cat " + fifo + " > /dev/null").code, 0);
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  // A character device (a private node like /dev/null, 1:3); creating one needs root.
+  const std::string dev = path("null");
+  if (::mknod(dev.c_str(), S_IFCHR | 0600, ::makedev(1, 3)) == 0) {
+    EXPECT_EQ(sh("trace gen default -o " + dev).code, 0);
+    EXPECT_TRUE(fs::is_character_file(dev));
+  }
+  for (const auto& e : fs::directory_iterator(dir_))
+    EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
 }
 
 TEST_F(Cli, TraceGenThenRunTraceMatchesSceneRun) {
