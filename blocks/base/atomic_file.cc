@@ -55,6 +55,14 @@ void ensure_dir(const std::string& dir) {
   if (ec || !std::filesystem::is_directory(dir)) {
     throw InputError(dir, "cannot create output directory" + (ec ? ": " + ec.message() : ""));
   }
+  // Outputs are written at the end of a run: find out now, not after minutes of work, whether
+  // files can be created here.
+  const std::string probe = scratch_path_for(dir + "/.texsim-write-check", "");
+  std::FILE* f = std::fopen(probe.c_str(), "wb");
+  if (!f)
+    throw InputError(dir, std::string("cannot write in output directory: ") + std::strerror(errno));
+  std::fclose(f);
+  std::remove(probe.c_str());
 }
 
 AtomicTextFile::AtomicTextFile(std::string path)

@@ -23,7 +23,8 @@ std::string scratch_path_for(const std::string& path, const std::string& ext);
 void discard_temp(const std::string& temp, const std::string& path);
 // Writes `content` to `path` atomically.
 void write_file_atomic(const std::string& path, const std::string& content);
-// Creates the directory (and parents) or throws InputError naming it.
+// Creates the directory (and parents) and checks that a file can be created in it, or throws
+// InputError naming it and the reason.
 void ensure_dir(const std::string& dir);
 
 // A text file written atomically: stream into it, then commit(); destruction without commit()

@@ -210,6 +210,7 @@ void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImag
 }  // namespace
 
 RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
+  ensure_dir(opt.out);  // an unwritable --out is found before the run, not after it
   // Scene: a file, the built-in default, or (trace only) none.
   const bool use_scene = !opt.scene.empty() || opt.trace.empty();
   Scene scene =

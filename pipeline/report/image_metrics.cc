@@ -3,7 +3,9 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
@@ -76,10 +78,13 @@ void write_rgb8(const std::string& path, int w, int h, const std::vector<uint8_t
   if (!out) throw InputError(path, "no image writer for this file type: " + OIIO::geterror());
   OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
   // The temporary name keeps the real extension's writer (created above from `path`).
+  errno = 0;
   if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()) ||
       !out->close()) {
+    // The reason, in terms of the file asked for (the library's message names the temporary).
+    const std::string reason = errno ? std::strerror(errno) : out->geterror();
     discard_temp(tmp, path);
-    throw InputError(path, "cannot write image: " + out->geterror());
+    throw InputError(path, "cannot write image: " + reason);
   }
   commit_temp(tmp, path);
 }

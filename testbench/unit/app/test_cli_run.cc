@@ -6,6 +6,7 @@
 #include <sys/sysmacros.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -570,6 +571,19 @@ TEST_F(Cli, UnwritableOutputDirectory) {
   const Result r = sh("run --no-progress --out " + path("file") + "/sub");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("cannot create output directory"), std::string::npos) << r.out;
+  // A directory that exists but takes no files (/proc refuses them, even to root) is found
+  // before any work: a study or run stops at once, naming the directory and the reason.
+  for (const char* cmd : {"study filters --out /proc", "study coords --out /proc",
+                          "study vd --out /proc", "run --no-progress --out /proc"}) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const Result p = sh(cmd);
+    const double secs =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(p.code, 2) << cmd << p.out;
+    EXPECT_NE(p.out.find("/proc: cannot write in output directory"), std::string::npos)
+        << cmd << p.out;
+    EXPECT_LT(secs, 5.0) << cmd;  // the studies take 17-77 s when they do run
+  }
 }
 
 }  // namespace
