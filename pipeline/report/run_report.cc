@@ -260,7 +260,11 @@ std::string report_markdown(const RunInfo& info, const TextureUnit& unit,
 void write_run_reports(const std::string& dir, const RunInfo& info, const TextureUnit& unit,
                        const AccuracyMetrics& acc) {
   const std::vector<MaterialRow> rows = material_rows(info, unit);
-  write_file_atomic(dir + "/report.json", report_json(info, unit, acc, rows).dump(2) + "\n");
+  // Names come from input files and need not be UTF-8: invalid bytes become U+FFFD instead of
+  // making the JSON writer throw after the images were written.
+  const std::string json = report_json(info, unit, acc, rows)
+                               .dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+  write_file_atomic(dir + "/report.json", json + "\n");
   write_file_atomic(dir + "/report.md", report_markdown(info, unit, acc, rows));
 }
 

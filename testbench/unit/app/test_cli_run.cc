@@ -478,6 +478,21 @@ TEST_F(Cli, TimingParametersOutsideTheirRangesAreRefused) {
   EXPECT_GE(num(j, "dram.busy_cycles"), 65536.0);
 }
 
+// A scene file whose name is not UTF-8 (TOML itself refuses invalid UTF-8 inside the file)
+// still gives a valid report: invalid bytes are replaced in report.json (the JSON writer used
+// to throw after the images were in place).
+TEST_F(Cli, NonUtf8NamesStillGiveAValidReport) {
+  write("s\xff.toml",
+        "[output]\nwidth = 32\nheight = 32\n[textures.t]\nsource = \"procedural:checker\"\n"
+        "[materials.m]\ntexture = \"t\"\n[[planes]]\nmaterial = \"m\"\n"
+        "origin = [-2.0, -1.0, -4.0]\nedge_u = [4.0, 0.0, 0.0]\nedge_v = [0.0, 2.0, 0.0]\n");
+  const Result r = sh("run '" + path("s\xff.toml") + "' --no-progress --out " + path("out"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json j = load_json(path("out") + "/report.json");
+  EXPECT_GT(num(j, "fragments"), 0);
+  EXPECT_TRUE(fs::exists(path("out") + "/report.md"));
+}
+
 TEST_F(Cli, SceneUnknownMaterialAndFilter) {
   write("bad.toml",
         "[textures.t]\nsource = \"procedural:checker\"\n[materials.m]\ntexture = \"t\"\n"
