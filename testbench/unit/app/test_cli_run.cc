@@ -34,6 +34,14 @@ Result sh(const std::string& args) {
   return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
 }
 
+// The whole content of a file (empty if it cannot be read).
+std::string slurp(const std::string& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -315,12 +323,6 @@ TEST_F(Cli, TraceTexturesBindByNameNotPosition) {
   EXPECT_EQ(num(a, "fragments"), num(b, "fragments"));
   EXPECT_DOUBLE_EQ(num(a, "accuracy.psnr_db"), num(b, "accuracy.psnr_db"));
   EXPECT_GT(num(a, "accuracy.psnr_db"), 20.0);
-  auto slurp = [](const std::string& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-  };
   EXPECT_EQ(slurp(path("a") + "/image.png"), slurp(path("b") + "/image.png"));
   // The panel's texture (grid) is missing from a checker-only table.
   r = sh("run default --no-progress --trace " + part + " --out " + path("c"));
@@ -358,12 +360,6 @@ TEST_F(Cli, TraceGenWritesTheFormTheExtensionNames) {
 // Streams and special files are written in place: "-" is standard output, and a FIFO or a
 // character device stays what it is (temp-then-rename used to replace it with a regular file).
 TEST_F(Cli, TraceWritersKeepStreamsAndSpecialFiles) {
-  auto slurp = [](const std::string& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-  };
   const std::string trc = path("d.trc");
   ASSERT_EQ(sh("trace gen default -o " + trc).code, 0);
   const std::string reference = slurp(trc);
