@@ -43,7 +43,6 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     Path p;
     p.lod = LodUnit(m.lod);
     p.addr = TexelAddressGen(m.filter);
-    p.texture = m.texture;
     p.footprint = m.footprint.get();
     p.coords = m.coords.get();
     if (p.coords) {

@@ -118,7 +118,6 @@ class TextureUnit {
   struct Path {
     LodUnit lod;
     TexelAddressGen addr;
-    int texture = 0;
     uint64_t fragments = 0;
     uint64_t aniso_fragments = 0;  // fragments with N > 1
     uint64_t probes = 0;           // Σ N over all fragments

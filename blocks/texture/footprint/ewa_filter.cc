@@ -600,8 +600,7 @@ FilterOutput EwaFilter::filter(const Texture& tex, const Fragment& f,
 }
 
 uint32_t EwaFilter::issue_cycles(const FilterStats& s) const {
-  const uint32_t lanes = static_cast<uint32_t>(std::max(cfg_.lanes, 1));
-  return std::max<uint32_t>(1, (s.visited + lanes - 1) / lanes);
+  return scan_issue_cycles(s, cfg_.lanes);
 }
 
 TimingSpec EwaFilter::timing(const TechTable& tech) const {

@@ -29,6 +29,13 @@ struct FilterStats {
   bool bad_input = false;  // non-finite coordinates or derivatives were replaced
 };
 
+// Cycles a scanning filter (EWA, SPAF) spends on one lookup: its scan slots over `lanes`
+// weight units, at least one.
+inline uint32_t scan_issue_cycles(const FilterStats& s, int lanes) {
+  const auto n = static_cast<uint32_t>(lanes > 1 ? lanes : 1);
+  return s.visited > n ? (s.visited + n - 1) / n : 1;
+}
+
 struct FilterOutput {
   Rgba colour{0, 0, 0, 0};
   FilterStats stats;

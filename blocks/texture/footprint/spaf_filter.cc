@@ -482,8 +482,7 @@ FilterOutput SpafFilter::filter(const Texture& tex, const Fragment& f,
 }
 
 uint32_t SpafFilter::issue_cycles(const FilterStats& s) const {
-  const auto lanes = static_cast<uint32_t>(std::max(cfg_.lanes, 1));
-  return std::max<uint32_t>(1, (s.visited + lanes - 1) / lanes);
+  return scan_issue_cycles(s, cfg_.lanes);
 }
 
 OpCounts SpafFilter::setup_ops() const {
