@@ -12,6 +12,7 @@
 #include "blocks/base/version.h"
 #include "pipeline/app/run.h"
 #include "pipeline/kernel/clocked_pipeline.h"
+#include "pipeline/report/provenance.h"
 #include "pipeline/studies/study_coords.h"
 #include "pipeline/studies/study_filters.h"
 #include "pipeline/studies/study_vd.h"
@@ -122,6 +123,7 @@ int run_cli(int argc, char** argv) {
   try {
     if (*run_cmd) {
       run.progress = !no_progress && ::isatty(STDERR_FILENO);
+      run.command = command_line(argc, argv);
       run_simulation(run, std::cout);
     } else if (*gen) {
       const uint64_t n = generate_scene_trace(gen_scene == "default" ? "" : gen_scene, gen_out);

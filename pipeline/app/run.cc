@@ -8,6 +8,7 @@
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
+#include "blocks/base/version.h"
 #include "pipeline/geometry/plane_projection.h"
 #include "pipeline/raster/fragment_generator.h"
 #include "pipeline/raster/scene_front_end.h"
@@ -51,7 +52,14 @@ struct RunTextures {
   std::map<uint32_t, int> index;       // texture id of the input -> texture of the set
   std::map<std::string, int> by_name;  // texture name -> texture of the set
   std::vector<std::string> names;      // "name = source", for the report
+  std::vector<InputDigest> digests;    // texture files, for the report's provenance
 };
+
+InputDigest texture_digest(const std::string& name, const std::string& source,
+                           const std::string& dir) {
+  if (is_procedural_source(source)) return {"texture " + name, source, "", 0};
+  return digest_file("texture " + name, resolve_texture_path(source, dir));
+}
 
 // A trace's texture table: each texture loaded (relative to the trace) and checked against the
 // size the table declares.
@@ -72,6 +80,7 @@ RunTextures load_trace_textures(const TraceReader& reader, const std::string& tr
     t.index[e.id] = id;
     t.by_name[e.name] = id;
     t.names.push_back(e.name + " = " + e.source);
+    t.digests.push_back(texture_digest(e.name, e.source, dir));
   }
   return t;
 }
@@ -84,6 +93,8 @@ RunTextures load_scene_textures(const Scene& scene) {
     t.index[static_cast<uint32_t>(i)] = id;
     t.by_name[scene.textures[i].name] = id;
     t.names.push_back(scene.textures[i].name + " = " + scene.textures[i].source);
+    t.digests.push_back(
+        texture_digest(scene.textures[i].name, scene.textures[i].source, scene.base_dir));
   }
   return t;
 }
@@ -192,6 +203,24 @@ class RunImages {
   uint64_t count_ = 0;
 };
 
+Provenance run_provenance(const RunOptions& opt, const std::string& scene_path,
+                          const RunTextures& textures, const PipelineSetup& setup,
+                          const TechTable& tech) {
+  Provenance p;
+  p.version = kTexsimVersion;
+  p.command = opt.command;
+  if (!scene_path.empty()) {
+    p.inputs.push_back(opt.scene.empty() || opt.scene == "default"
+                           ? InputDigest{"scene", scene_path, "", 0}
+                           : digest_file("scene", scene_path));
+  }
+  if (!opt.trace.empty()) p.inputs.push_back(digest_file("trace", opt.trace));
+  p.inputs.insert(p.inputs.end(), textures.digests.begin(), textures.digests.end());
+  p.setup = setup;
+  p.tech = tech;
+  return p;
+}
+
 // Writes the images and reports to opt.out and a summary to log.
 void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImages& images,
                        const TextureUnit& unit, const RunSummary& sum, std::ostream& log) {
@@ -299,6 +328,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   info.width = images.img.width;
   info.height = images.img.height;
   info.textures = textures.names;
+  info.provenance = run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech);
   for (int m = 0; m < unit.material_count(); ++m)
     info.material_accuracy.push_back(compare_images(images.img, images.ref, m));
   const int n = scene.reference_supersamples;

@@ -14,6 +14,7 @@ struct RunOptions {
   std::string out = "out";  // output directory
   bool functional = false;  // colours and op counts only: no cache, no clock
   bool progress = false;    // progress line on stderr
+  std::string command;      // the command line, for the report's provenance
 };
 
 struct RunSummary {

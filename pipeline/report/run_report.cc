@@ -120,6 +120,38 @@ Json material_json(const MaterialRow& r) {
   return e;
 }
 
+// Cycles and areas in physical terms at the clock of the tech table.
+struct Physical {
+  double clock_mhz = 0;
+  double seconds = 0;               // the run's cycles at the clock
+  double fragments_per_second = 0;  // 0 in functional mode (no clock)
+  double area_total = 0;            // sum of the listed blocks' areas
+};
+
+Physical physical(const RunInfo& info, const TextureUnit& unit) {
+  Physical ph;
+  ph.clock_mhz = info.provenance.tech.clock_mhz;
+  ph.seconds = static_cast<double>(unit.cycles()) / (ph.clock_mhz * 1e6);
+  if (ph.seconds > 0) ph.fragments_per_second = static_cast<double>(unit.fragments()) / ph.seconds;
+  for (const auto& b : unit.blocks()) ph.area_total += b.timing.area;
+  return ph;
+}
+
+void add_physical_json(Json& j, const RunInfo& info, const TextureUnit& unit) {
+  const Physical ph = physical(info, unit);
+  j["area_total"] = ph.area_total;
+  if (!unit.timing()) return;
+  j["physical"] = {{"clock_mhz", ph.clock_mhz},
+                   {"time_us", ph.seconds * 1e6},
+                   {"fragments_per_second", ph.fragments_per_second}};
+  uint64_t start = 0;
+  for (auto& f : j["frames"]) {
+    const auto end = f["cycles_end"].get<uint64_t>();
+    f["time_us"] = static_cast<double>(end - start) / ph.clock_mhz;
+    start = end;
+  }
+}
+
 // report.json; docs/reports.md lists every key.
 Json report_json(const RunInfo& info, const TextureUnit& unit, const AccuracyMetrics& acc,
                  const std::vector<MaterialRow>& rows) {
@@ -151,6 +183,8 @@ Json report_json(const RunInfo& info, const TextureUnit& unit, const AccuracyMet
     j["front_end"] = {
         {"generated", fe.generated}, {"occluded", fe.occluded}, {"rejected", fe.rejected}};
   }
+  add_physical_json(j, info, unit);
+  j["provenance"] = provenance_json(info.provenance);
   return j;
 }
 
@@ -171,7 +205,13 @@ void md_summary(std::ostream& md, const RunInfo& info, const TextureUnit& unit,
   md << "| image | " << info.width << " × " << info.height << " |\n";
   md << "| fragments | " << unit.fragments() << " |\n";
   md << "| cycles | " << unit.cycles() << " ("
-     << fmt(per_fragment(static_cast<double>(unit.cycles()), frags)) << " per fragment) |\n\n";
+     << fmt(per_fragment(static_cast<double>(unit.cycles()), frags)) << " per fragment) |\n";
+  const Physical ph = physical(info, unit);
+  if (unit.timing()) {
+    md << "| time at " << fmt(ph.clock_mhz) << " MHz | " << fmt(ph.seconds * 1e6) << " µs ("
+       << fmt(ph.fragments_per_second / 1e6) << " M fragments/s) |\n";
+  }
+  md << "| area (sum of blocks) | " << fmt(ph.area_total) << " |\n\n";
   md << "## Accuracy against the ground truth\n\n" << info.reference << "\n\n";
   md << "| PSNR (dB) | NMSE | max abs error | mean abs error | pixels |\n|---|---|---|---|---|\n";
   md << "| " << fmt(acc.psnr_db) << " | " << fmt(acc.nmse) << " | " << fmt(acc.max_abs) << " | "
@@ -252,6 +292,7 @@ std::string report_markdown(const RunInfo& info, const TextureUnit& unit,
   md_memory(md, unit);
   md << "\n## Images\n\n`image.png` (filtered result), `reference.png` (ground truth), `error.png` "
         "(max-channel absolute error; white = the largest error in this run).\n";
+  provenance_markdown(md, info.provenance);
   return md.str();
 }
 

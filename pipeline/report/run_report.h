@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "pipeline/report/image_metrics.h"
+#include "pipeline/report/provenance.h"
 #include "pipeline/texture/texture_unit.h"
 
 namespace texsim {
@@ -15,6 +16,7 @@ struct RunInfo {
   int width = 0, height = 0;
   std::vector<std::string> textures;
   std::vector<AccuracyMetrics> material_accuracy;  // per material of the texture unit
+  Provenance provenance;
 };
 
 // Writes DIR/report.json and DIR/report.md (atomically).

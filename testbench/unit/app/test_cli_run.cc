@@ -13,87 +13,12 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-namespace fs = std::filesystem;
+#include "testbench/lib/cli_harness.h"
 
 namespace {
 
-struct Result {
-  int code;
-  std::string out;
-};
-
-Result sh(const std::string& args) {
-  const fs::path log =
-      fs::temp_directory_path() / ("texsim_cli_" + std::to_string(::getpid()) + ".log");
-  const std::string cmd = std::string(TEXSIM_BINARY) + " " + args + " >" + log.string() + " 2>&1";
-  const int rc = std::system(cmd.c_str());
-  std::ifstream in(log);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  fs::remove(log);
-  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
-}
-
-// The whole content of a file (empty if it cannot be read).
-std::string slurp(const std::string& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-class Cli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("texsim_cli_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  void write(const std::string& name, const std::string& text) const {
-    std::ofstream(path(name)) << text;
-  }
-  // The output directory must hold no report and no temporary file after a failed run.
-  void expect_no_outputs(const std::string& out) const {
-    if (!fs::exists(out)) return;
-    for (const auto& e : fs::directory_iterator(out)) ADD_FAILURE() << "left behind: " << e.path();
-  }
-  fs::path dir_;
-};
-
-using Json = nlohmann::json;
-
-Json load_json(const std::string& path) {
-  std::ifstream in(path);
-  return Json::parse(in);
-}
-
-// Value at a dotted path ("blocks.lod.ops.lut"); block names contain dots, so the longest
-// matching key wins at each level.
-const Json* find(const Json& j, const std::string& path) {
-  if (path.empty()) return &j;
-  if (!j.is_object()) return nullptr;
-  for (size_t end = path.size(); end != std::string::npos && end > 0;
-       end = path.rfind('.', end - 1)) {
-    const std::string key = path.substr(0, end);
-    if (j.contains(key)) {
-      const Json* r = find(j[key], end == path.size() ? "" : path.substr(end + 1));
-      if (r) return r;
-    }
-    if (end == 0) break;
-  }
-  return nullptr;
-}
-
-double num(const Json& j, const std::string& path) {
-  const Json* n = find(j, path);
-  if (n && n->is_number()) return n->get<double>();
-  ADD_FAILURE() << "missing numeric key " << path;
-  return 0;
-}
+using namespace cli_harness;  // NOLINT(google-build-using-namespace)
+namespace fs = std::filesystem;
 
 TEST_F(Cli, RunDefaultSceneWritesReportImagesAndAccuracy) {
   const std::string out = path("out");
