@@ -4,6 +4,8 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
+#include <map>
+#include <new>
 #include <string>
 
 #include "blocks/base/atomic_file.h"
@@ -42,6 +44,27 @@ std::string unknown_subcommand(const CLI::App& app, int argc, char** argv) {
 
 // Parses the command line. Returns -1 to go on, else the exit status: 0 for --help and
 // --version, 2 for a usage error (bad input, as everywhere else).
+// "4G", "512M", "65536K", "1000000" (bytes; K, M, G are powers of 1024).
+uint64_t parse_byte_size(const std::string& text, const std::string& option) {
+  size_t used = 0;
+  double v = -1;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  std::string unit = text.substr(used);
+  if (unit.size() > 1 && (unit.back() == 'B' || unit.back() == 'b')) unit.pop_back();
+  static const std::map<std::string, double> kUnits = {
+      {"", 1},        {"K", 1024},    {"k", 1024},  {"M", 1 << 20},  {"m", 1 << 20},
+      {"G", 1 << 30}, {"g", 1 << 30}, {"Ki", 1024}, {"Mi", 1 << 20}, {"Gi", 1 << 30}};
+  const auto it = kUnits.find(unit);
+  if (used == 0 || it == kUnits.end() || !(v > 0) || v * it->second > 1e18) {
+    throw texsim::InputError(option, "'" + text + "' is not a size (e.g. 4G, 512M, 1000000)");
+  }
+  return static_cast<uint64_t>(v * it->second);
+}
+
 int parse_command_line(CLI::App& app, int argc, char** argv) {
   const std::string unknown = unknown_subcommand(app, argc, argv);
   if (!unknown.empty()) {
@@ -84,6 +107,16 @@ int run_cli(int argc, char** argv) {
   run_cmd->add_option("--out", run.out, "Output directory")->capture_default_str();
   run_cmd->add_flag("--functional", run.functional,
                     "Functional only: colours and op counts, no cache or clock");
+  run_cmd
+      ->add_option("--frame", run.frame,
+                   "Frame whose images are written (default: the first); every frame's "
+                   "accuracy is in the report")
+      ->check(CLI::NonNegativeNumber);
+  std::string max_memory = "4G";
+  run_cmd
+      ->add_option("--max-memory", max_memory,
+                   "Refuse a run estimated to need more memory (bytes, or with K/M/G suffix)")
+      ->capture_default_str();
   bool no_progress = false;
   run_cmd->add_flag("--no-progress", no_progress, "Do not show the progress line");
 
@@ -124,6 +157,7 @@ int run_cli(int argc, char** argv) {
     if (*run_cmd) {
       run.progress = !no_progress && ::isatty(STDERR_FILENO);
       run.command = command_line(argc, argv);
+      run.max_memory = parse_byte_size(max_memory, "--max-memory");
       run_simulation(run, std::cout);
     } else if (*gen) {
       const uint64_t n = generate_scene_trace(gen_scene == "default" ? "" : gen_scene, gen_out);
@@ -144,6 +178,11 @@ int run_cli(int argc, char** argv) {
     }
   } catch (const InputError& e) {
     std::cerr << "texsim: error: " << printable(e.what()) << "\n";
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "texsim: error: out of memory: this machine could not give the run the memory "
+                 "it needed; lower the image size, the textures or the trace's pixel extent "
+                 "(docs/usage.md, --max-memory)\n";
     return 2;
   } catch (const DeadlockError& e) {
     std::cerr << "texsim: " << printable(e.what()) << "\n";

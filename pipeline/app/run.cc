@@ -1,6 +1,10 @@
 #include "pipeline/app/run.h"
 
+#include <sys/stat.h>
+
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -9,6 +13,7 @@
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
 #include "blocks/base/version.h"
+#include "pipeline/app/run_images.h"
 #include "pipeline/geometry/plane_projection.h"
 #include "pipeline/raster/fragment_generator.h"
 #include "pipeline/raster/scene_front_end.h"
@@ -157,51 +162,56 @@ struct GroundTruth {
   }
 };
 
-// The simulated image and its ground truth. Traces do not declare their extent: the images
-// grow to the fragments seen and are cropped to them at the end.
-class RunImages {
- public:
-  RunImages(int width, int height, glm::dvec3 background)
-      : img(std::max(width, 1), std::max(height, 1), background),
-        ref(std::max(width, 1), std::max(height, 1), background),
-        background_(background),
-        max_x_(width - 1),
-        max_y_(height - 1) {}
-
-  // colour null: not textured (coordinates rejected), the pixel keeps the background and
-  // counts as an error.
-  void set(int x, int y, const Rgba* colour, int material, const glm::dvec4& truth) {
-    if (x >= img.width || y >= img.height) {
-      // Grow geometrically; cropped at the end.
-      const int w = x < img.width ? img.width : std::min(1 << 14, std::max(x + 1, 2 * img.width));
-      const int h =
-          y < img.height ? img.height : std::min(1 << 14, std::max(y + 1, 2 * img.height));
-      img.resize(w, h, background_);
-      ref.resize(w, h, background_);
-    }
-    max_x_ = std::max(max_x_, x);
-    max_y_ = std::max(max_y_, y);
-    img.set(x, y, colour ? *colour : glm::vec4(glm::dvec4(background_, 1.0)), material);
-    ref.set(x, y, glm::vec4(truth.x, truth.y, truth.z, truth.w));
-    ++count_;
-  }
-  uint64_t count() const { return count_; }
-  // Crops both images to the pixels written.
-  void crop() {
-    const int width = max_x_ + 1, height = max_y_ + 1;
-    if (img.width != width || img.height != height) {
-      img.resize(width, height, background_);
-      ref.resize(width, height, background_);
-    }
-  }
-
-  ImageRgb img, ref;
-
- private:
-  glm::dvec3 background_;
-  int max_x_, max_y_;
-  uint64_t count_ = 0;
+// Where a run's images lie: the canvas written and the extent of its buffers.
+struct ImageLayout {
+  int canvas_w = 0, canvas_h = 0;
+  PixelRect extent;
+  int pairs = 1;  // buffer pairs: two when a kept frame waits while later frames are compared
 };
+
+// A trace's layout from a first pass over it (which also finds bad records before the run):
+// the canvas holds the scene's image (if any) and every fragment; the buffers only the
+// fragments' bounding box.
+ImageLayout trace_layout(const TraceSummary& sum, const Scene* scene) {
+  ImageLayout l;
+  l.extent = {static_cast<int>(sum.x.lo), static_cast<int>(sum.y.lo),
+              static_cast<int>(sum.x.hi) + 1, static_cast<int>(sum.y.hi) + 1};
+  l.canvas_w = std::max(scene ? scene->width : 0, l.extent.x1);
+  l.canvas_h = std::max(scene ? scene->height : 0, l.extent.y1);
+  l.pairs = sum.frames.size() > 1 || sum.frames_overflow ? 2 : 1;
+  return l;
+}
+
+uint64_t texture_bytes(const TextureSet& set) {
+  uint64_t b = 0;
+  for (int t = 0; t < set.size(); ++t) {
+    for (int l = 0; l < set[t].levels(); ++l) {
+      b += static_cast<uint64_t>(set[t].width(l)) * static_cast<uint64_t>(set[t].height(l)) *
+           static_cast<uint64_t>(set[t].bytes_per_texel());
+    }
+  }
+  return b;
+}
+
+std::string gib(uint64_t bytes) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f GiB", static_cast<double>(bytes) / (1 << 30));
+  return buf;
+}
+
+// Refuses a run whose estimated memory exceeds --max-memory, naming what sets the size.
+void check_memory(const RunOptions& opt, const ImageLayout& l, const TextureSet& textures,
+                  const std::string& source, const std::string& what) {
+  const uint64_t tex = texture_bytes(textures);
+  const uint64_t img = RunImages::estimate_bytes(l.extent, l.pairs, l.canvas_w, l.canvas_h);
+  if (tex + img <= opt.max_memory) return;
+  throw InputError(source, what + ": the run needs an estimated " + gib(tex + img) + " (images " +
+                               std::to_string(l.extent.x1 - l.extent.x0) + " x " +
+                               std::to_string(l.extent.y1 - l.extent.y0) + " pixels of a " +
+                               std::to_string(l.canvas_w) + " x " + std::to_string(l.canvas_h) +
+                               " image: " + gib(img) + "; textures: " + gib(tex) +
+                               "), over the --max-memory limit of " + gib(opt.max_memory));
+}
 
 Provenance run_provenance(const RunOptions& opt, const std::string& scene_path,
                           const RunTextures& textures, const PipelineSetup& setup,
@@ -225,15 +235,83 @@ Provenance run_provenance(const RunOptions& opt, const std::string& scene_path,
 void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImages& images,
                        const TextureUnit& unit, const RunSummary& sum, std::ostream& log) {
   ensure_dir(opt.out);
-  write_image(opt.out + "/image.png", images.img);
-  write_image(opt.out + "/reference.png", images.ref);
-  write_error_heatmap(opt.out + "/error.png", images.img, images.ref, sum.accuracy.max_abs);
+  write_image(opt.out + "/image.png", images.image());
+  write_image(opt.out + "/reference.png", images.reference());
+  write_error_heatmap(opt.out + "/error.png", images.image(), images.reference(),
+                      images.kept_accuracy().max_abs);
   write_run_reports(opt.out, info, unit, sum.accuracy);
   log << "texsim run: " << sum.fragments << " fragments, " << sum.cycles << " cycles, PSNR "
-      << sum.accuracy.psnr_db << " dB\n";
-  log << "  report: " << opt.out << "/report.json, " << opt.out << "/report.md\n";
+      << sum.accuracy.psnr_db << " dB";
+  if (info.frames.size() > 1) {
+    log << " over " << info.frames.size() << " frames (images: frame " << info.image_frame << ")";
+  }
+  log << "\n  report: " << opt.out << "/report.json, " << opt.out << "/report.md\n";
   log << "  images: " << opt.out << "/image.png, " << opt.out << "/reference.png, " << opt.out
       << "/error.png\n";
+}
+
+// First pass over a trace: its records are checked, its pixel extent and frames found.
+TraceSummary first_pass(const RunOptions& opt) {
+  struct stat st {};
+  if (::stat(opt.trace.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    throw InputError(opt.trace,
+                     "is not a regular file: a run reads its trace twice (first for the "
+                     "pixels and frames it covers)");
+  }
+  TraceSummary sum = summarize_trace(opt.trace);
+  if (sum.records == 0) throw InputError(opt.trace, "no fragments to render");
+  if (opt.frame >= 0 && !sum.frames_overflow &&
+      sum.frames.count(static_cast<uint32_t>(opt.frame)) == 0) {
+    std::string have;
+    for (const auto& [f, n] : sum.frames) {
+      if (have.size() > 60) {
+        have += ", ...";
+        break;
+      }
+      have += (have.empty() ? "" : ", ") + std::to_string(f);
+    }
+    throw InputError(opt.trace, "--frame " + std::to_string(opt.frame) +
+                                    ": the trace has no such frame (its frames: " + have + ")");
+  }
+  return sum;
+}
+
+// The run's layout, checked against --max-memory before any buffer is made.
+ImageLayout run_layout(const RunOptions& opt, const Scene& scene, bool use_scene,
+                       const TraceSummary* trace, const std::vector<PlaneProjection>& maps,
+                       const TextureSet& textures) {
+  if (trace != nullptr) {
+    const ImageLayout l = trace_layout(*trace, use_scene ? &scene : nullptr);
+    check_memory(opt, l, textures, opt.trace,
+                 "its fragments cover pixels (" + std::to_string(l.extent.x0) + ", " +
+                     std::to_string(l.extent.y0) + ") to (" + std::to_string(l.extent.x1 - 1) +
+                     ", " + std::to_string(l.extent.y1 - 1) + ")");
+    return l;
+  }
+  if (opt.frame > 0) {
+    throw InputError(scene.path,
+                     "--frame " + std::to_string(opt.frame) + ": a scene renders frame 0 only");
+  }
+  const ImageLayout l{scene.width, scene.height, scene_extent(scene, maps), 1};
+  check_memory(opt, l, textures, scene.path,
+               "[output] width = " + std::to_string(scene.width) +
+                   ", height = " + std::to_string(scene.height));
+  return l;
+}
+
+std::string reference_text(int n, bool exact, size_t frames) {
+  std::string s =
+      "Ground truth: level-0 texture, bilinear reconstruction in double, box-filtered over "
+      "each pixel with " +
+      std::to_string(n) + "x" + std::to_string(n) + " samples " +
+      (exact ? "mapped exactly through each plane's projective map."
+             : "over the parallelogram spanned by the fragment's derivatives.");
+  if (frames > 1) {
+    s += " Each of the " + std::to_string(frames) +
+         " frames is compared with its own ground truth (frames[].accuracy); the totals pool "
+         "the covered pixels of all frames.";
+  }
+  return s;
 }
 
 }  // namespace
@@ -245,8 +323,12 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   Scene scene =
       (opt.scene.empty() || opt.scene == "default") ? default_scene() : load_scene(opt.scene);
 
+  std::unique_ptr<TraceSummary> trace_sum;
   std::unique_ptr<TraceReader> reader;
-  if (!opt.trace.empty()) reader = std::make_unique<TraceReader>(opt.trace);
+  if (!opt.trace.empty()) {
+    trace_sum = std::make_unique<TraceSummary>(first_pass(opt));
+    reader = std::make_unique<TraceReader>(opt.trace);
+  }
   RunTextures textures =
       reader ? load_trace_textures(*reader, opt.trace) : load_scene_textures(scene);
   const std::vector<MaterialSetup> mats = run_materials(scene, use_scene, textures, opt.trace, log);
@@ -255,27 +337,34 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   static const toml::table kNoPipeline;
   const PipelineSetup setup =
       PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : kNoPipeline, scene.path);
-  TextureUnit unit(textures.set, mats, setup, scene.tech, !opt.functional);
-
   std::vector<PlaneProjection> maps;
   if (use_scene) {
     for (const auto& p : scene.planes) maps.emplace_back(scene, p);
   }
+  const ImageLayout layout = run_layout(opt, scene, use_scene, trace_sum.get(), maps, textures.set);
+  TextureUnit unit(textures.set, mats, setup, scene.tech, !opt.functional);
+
   const GroundTruth truth{textures.set, mats, maps, scene.reference_supersamples};
-  RunImages images(use_scene ? scene.width : 0, use_scene ? scene.height : 0, scene.background);
+  RunImages images(layout.extent, layout.canvas_w, layout.canvas_h, scene.background,
+                   unit.material_count(), opt.frame);
   Progress progress(opt.progress);
+  const std::string& input = opt.trace.empty() ? scene.path : opt.trace;
   // Fragments are processed as they stream in. f: as given; g: texture id of the loaded texture.
-  auto record = [&](const Fragment& f, const Fragment& g, int material, const Rgba* colour) {
-    images.set(static_cast<int>(f.x), static_cast<int>(f.y), colour, material,
-               truth(f, g, material));
+  auto record = [&](const Fragment& f, const Fragment& g, int material, const Rgba* colour,
+                    uint64_t index) {
+    try {
+      images.set(f.frame, static_cast<int>(f.x), static_cast<int>(f.y), colour, material,
+                 truth(f, g, material));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(input, "record " + std::to_string(index) + ": " + e.what());
+    }
     progress.tick(images.count());
   };
   auto handle = [&](const Fragment& f, uint64_t index) {
     auto it = textures.index.find(f.tex);
     if (it == textures.index.end()) {
-      throw InputError(opt.trace.empty() ? scene.path : opt.trace,
-                       "record " + std::to_string(index) + ": texture id " + std::to_string(f.tex) +
-                           " is not in the texture table");
+      throw InputError(input, "record " + std::to_string(index) + ": texture id " +
+                                  std::to_string(f.tex) + " is not in the texture table");
     }
     if (f.x >= (1u << 14) || f.y >= (1u << 14)) {
       throw InputError(opt.trace, "record " + std::to_string(index) + ": pixel (" +
@@ -294,11 +383,11 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
       material = scene.planes[f.prim].material;
     }
     const Rgba c = unit.process(g, material);
-    record(f, g, material, &c);
+    record(f, g, material, &c, index);
   };
+  uint64_t index = 0;
   if (reader) {
     std::vector<Fragment> chunk;
-    uint64_t index = 0;
     while (reader->next_chunk(chunk) > 0) {
       for (const Fragment& f : chunk) handle(f, index++);
     }
@@ -307,41 +396,37 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     draw_scene_front_end(scene, maps, unit, [&](const Fragment& f, int material, const Rgba* c) {
       Fragment g = f;
       g.tex = static_cast<uint32_t>(textures.index.at(f.tex));
-      record(f, g, material, c);
+      record(f, g, material, c, index++);
     });
   } else {
-    uint64_t index = 0;
     generate_fragments(scene, 0, [&](const Fragment& f) { handle(f, index++); });
   }
-  if (images.count() == 0)
-    throw InputError(opt.trace.empty() ? scene.path : opt.trace, "no fragments to render");
-  images.crop();
+  images.finish();
+  if (images.count() == 0) throw InputError(input, "no fragments to render");
+  if (!images.has_kept_frame()) {
+    throw InputError(input, "--frame " + std::to_string(opt.frame) + ": no fragment of that frame");
+  }
 
   unit.check_timing_invariants();
   RunSummary sum;
   sum.fragments = unit.fragments();
   sum.cycles = unit.cycles();
-  sum.accuracy = compare_images(images.img, images.ref);
+  sum.accuracy = images.total();
   RunInfo info;
   info.scene = use_scene ? scene.path : "(none: trace only)";
   info.trace = opt.trace;
-  info.width = images.img.width;
-  info.height = images.img.height;
+  info.width = layout.canvas_w;
+  info.height = layout.canvas_h;
   info.textures = textures.names;
-  info.provenance = run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech);
   for (int m = 0; m < unit.material_count(); ++m)
-    info.material_accuracy.push_back(compare_images(images.img, images.ref, m));
-  const int n = scene.reference_supersamples;
-  info.reference =
-      "Ground truth: level-0 texture, bilinear reconstruction in double, box-filtered over "
-      "each pixel with " +
-      std::to_string(n) + "x" + std::to_string(n) + " samples " +
-      (truth.exact() ? "mapped exactly through each plane's projective map."
-                     : "over the parallelogram spanned by the fragment's derivatives.");
+    info.material_accuracy.push_back(images.material(m));
+  info.frames = images.frames();
+  info.image_frame = images.kept_frame();
+  info.reference = reference_text(scene.reference_supersamples, truth.exact(), info.frames.size());
+  info.provenance = run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech);
   write_run_outputs(opt, info, images, unit, sum, log);
   return sum;
 }
-
 uint64_t generate_scene_trace(const std::string& scene_path, const std::string& out_path) {
   const Scene scene = scene_path.empty() ? default_scene() : load_scene(scene_path);
   (void)build_materials(scene);  // checks the materials' effects

@@ -1,6 +1,7 @@
 #pragma once
 // `texsim run` and `texsim trace gen`: drive the texture unit with a scene or a trace and
 // write the report, images and accuracy.
+#include <cstdint>
 #include <iosfwd>
 #include <string>
 
@@ -15,6 +16,8 @@ struct RunOptions {
   bool functional = false;  // colours and op counts only: no cache, no clock
   bool progress = false;    // progress line on stderr
   std::string command;      // the command line, for the report's provenance
+  int64_t frame = -1;       // the frame whose images are written; -1: the first frame
+  uint64_t max_memory = uint64_t{4} << 30;  // refuse runs estimated to need more (bytes)
 };
 
 struct RunSummary {

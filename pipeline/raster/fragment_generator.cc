@@ -1,6 +1,7 @@
 #include "pipeline/raster/fragment_generator.h"
 
 #include "pipeline/geometry/plane_projection.h"
+#include "pipeline/geometry/screen_extent.h"
 
 namespace texsim {
 
@@ -9,8 +10,10 @@ void generate_fragments(const Scene& scene, uint32_t frame,
   std::vector<PlaneProjection> maps;
   maps.reserve(scene.planes.size());
   for (const auto& p : scene.planes) maps.emplace_back(scene, p);
-  for (int y = 0; y < scene.height; ++y) {
-    for (int x = 0; x < scene.width; ++x) {
+  // Pixels outside the planes' extent cannot be covered: not visited.
+  const PixelRect r = scene_extent(scene, maps);
+  for (int y = r.y0; y < r.y1; ++y) {
+    for (int x = r.x0; x < r.x1; ++x) {
       int best = -1;
       UvSample hit;
       for (size_t p = 0; p < maps.size(); ++p) {

@@ -3,6 +3,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -12,20 +13,34 @@
 
 namespace texsim {
 
-ImageRgb::ImageRgb(int w, int h, glm::dvec3 background)
+ImageRgb::ImageRgb(int w, int h, glm::dvec3 bg) : ImageRgb(0, 0, w, h, w, h, bg) {}
+
+ImageRgb::ImageRgb(int x0_, int y0_, int w, int h, int canvas_w, int canvas_h,
+                   glm::dvec3 background_)
     : width(w),
       height(h),
+      x0(x0_),
+      y0(y0_),
+      canvas_width(canvas_w),
+      canvas_height(canvas_h),
+      background(background_),
       rgb(static_cast<size_t>(w) * h * 3),
       covered(static_cast<size_t>(w) * h, 0),
       label(static_cast<size_t>(w) * h, -1) {
-  for (size_t i = 0; i < static_cast<size_t>(w) * h; ++i) {
-    rgb[i * 3] = static_cast<float>(background.x);
-    rgb[i * 3 + 1] = static_cast<float>(background.y);
-    rgb[i * 3 + 2] = static_cast<float>(background.z);
+  clear();
+}
+
+void ImageRgb::clear() {
+  for (size_t i = 0; i < covered.size(); ++i) {
+    for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = background[c];
   }
+  std::fill(covered.begin(), covered.end(), 0);
+  std::fill(label.begin(), label.end(), -1);
 }
 
 void ImageRgb::set(int x, int y, const glm::vec4& c, int32_t lbl) {
+  x -= x0;
+  y -= y0;
   if (x < 0 || y < 0 || x >= width || y >= height) return;
   const size_t i = static_cast<size_t>(y) * width + x;
   rgb[i * 3] = c.r;
@@ -35,40 +50,49 @@ void ImageRgb::set(int x, int y, const glm::vec4& c, int32_t lbl) {
   label[i] = lbl;
 }
 
-void ImageRgb::resize(int w, int h, glm::dvec3 background) {
-  ImageRgb g(w, h, background);
-  for (int y = 0; y < std::min(h, height); ++y) {
-    for (int x = 0; x < std::min(w, width); ++x) {
-      const size_t s = static_cast<size_t>(y) * width + x, d = static_cast<size_t>(y) * w + x;
-      for (int c = 0; c < 3; ++c) g.rgb[d * 3 + c] = rgb[s * 3 + c];
-      g.covered[d] = covered[s];
-      g.label[d] = label[s];
-    }
-  }
-  *this = std::move(g);
+void ErrorSums::add(const ErrorSums& o) {
+  pixels += o.pixels;
+  se += o.se;
+  sref += o.sref;
+  sabs += o.sabs;
+  max_abs = std::max(max_abs, o.max_abs);
 }
 
-AccuracyMetrics compare_images(const ImageRgb& img, const ImageRgb& ref, int32_t only_label) {
+AccuracyMetrics ErrorSums::metrics() const {
   AccuracyMetrics m;
-  double se = 0, sref = 0, sabs = 0;
-  for (size_t i = 0; i < img.covered.size(); ++i) {
-    if (!img.covered[i] || (only_label >= 0 && img.label[i] != only_label)) continue;
-    ++m.pixels;
-    for (int c = 0; c < 3; ++c) {
-      const double e = static_cast<double>(img.rgb[i * 3 + c]) - ref.rgb[i * 3 + c];
-      se += e * e;
-      sabs += std::abs(e);
-      sref += static_cast<double>(ref.rgb[i * 3 + c]) * ref.rgb[i * 3 + c];
-      m.max_abs = std::max(m.max_abs, std::abs(e));
-    }
-  }
-  if (m.pixels == 0) return m;
-  const double n = 3.0 * static_cast<double>(m.pixels);
+  m.pixels = pixels;
+  m.max_abs = max_abs;
+  if (pixels == 0) return m;
+  const double n = 3.0 * static_cast<double>(pixels);
   m.mse = se / n;
   m.mean_abs = sabs / n;
   m.nmse = sref > 0 ? se / sref : 0;
   m.psnr_db = m.mse > 0 ? 10.0 * std::log10(1.0 / m.mse) : 999.0;
   return m;
+}
+
+std::vector<ErrorSums> error_sums(const ImageRgb& img, const ImageRgb& ref, int labels) {
+  std::vector<ErrorSums> sums(static_cast<size_t>(1 + std::max(labels, 0)));
+  for (size_t i = 0; i < img.covered.size(); ++i) {
+    if (!img.covered[i]) continue;
+    ErrorSums px;
+    px.pixels = 1;
+    for (int c = 0; c < 3; ++c) {
+      const double e = static_cast<double>(img.rgb[i * 3 + c]) - ref.rgb[i * 3 + c];
+      px.se += e * e;
+      px.sabs += std::abs(e);
+      px.sref += static_cast<double>(ref.rgb[i * 3 + c]) * ref.rgb[i * 3 + c];
+      px.max_abs = std::max(px.max_abs, std::abs(e));
+    }
+    sums[0].add(px);
+    if (img.label[i] >= 0 && img.label[i] < labels) sums[1 + img.label[i]].add(px);
+  }
+  return sums;
+}
+
+AccuracyMetrics compare_images(const ImageRgb& img, const ImageRgb& ref, int32_t only_label) {
+  const std::vector<ErrorSums> s = error_sums(img, ref, only_label + 1);
+  return s[only_label >= 0 ? 1 + only_label : 0].metrics();
 }
 
 namespace {
@@ -77,6 +101,12 @@ void write_rgb8(const std::string& path, int w, int h, const std::vector<uint8_t
   auto out = OIIO::ImageOutput::create(path);
   if (!out) throw InputError(path, "no image writer for this file type: " + OIIO::geterror());
   OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+  // Very large images (up to 16384²) are written with fast compression: the default level
+  // takes several seconds per image there.
+  if (static_cast<int64_t>(w) * h > (int64_t{1} << 24)) {
+    spec.attribute("png:compressionLevel", 1);
+    spec.attribute("png:filter", 8);  // PNG_FILTER_NONE: no per-row filter search
+  }
   // The temporary name keeps the real extension's writer (created above from `path`).
   errno = 0;
   if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()) ||
@@ -88,14 +118,35 @@ void write_rgb8(const std::string& path, int w, int h, const std::vector<uint8_t
   }
   commit_temp(tmp, path);
 }
+
+// The buffer's 8-bit pixels placed on the canvas (outside the buffer: `fill`).
+void write_placed(const std::string& path, const ImageRgb& img, const std::vector<uint8_t>& px,
+                  const std::array<uint8_t, 3>& fill) {
+  if (img.x0 == 0 && img.y0 == 0 && img.canvas_width == img.width &&
+      img.canvas_height == img.height) {
+    write_rgb8(path, img.width, img.height, px);
+    return;
+  }
+  std::vector<uint8_t> canvas(static_cast<size_t>(img.canvas_width) * img.canvas_height * 3);
+  for (size_t i = 0; i < canvas.size(); i += 3) std::copy(fill.begin(), fill.end(), &canvas[i]);
+  for (int y = 0; y < img.height; ++y) {
+    const size_t src = static_cast<size_t>(y) * img.width * 3;
+    const size_t dst = (static_cast<size_t>(y + img.y0) * img.canvas_width + img.x0) * 3;
+    std::copy_n(&px[src], static_cast<size_t>(img.width) * 3, &canvas[dst]);
+  }
+  write_rgb8(path, img.canvas_width, img.canvas_height, canvas);
+}
+
+uint8_t to8(float v) {
+  return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+}
 }  // namespace
 
 void write_image(const std::string& path, const ImageRgb& img) {
   std::vector<uint8_t> px(img.rgb.size());
-  for (size_t i = 0; i < px.size(); ++i) {
-    px[i] = static_cast<uint8_t>(std::lround(std::clamp(img.rgb[i], 0.0f, 1.0f) * 255.0f));
-  }
-  write_rgb8(path, img.width, img.height, px);
+  for (size_t i = 0; i < px.size(); ++i) px[i] = to8(img.rgb[i]);
+  write_placed(path, img, px,
+               {to8(img.background.r), to8(img.background.g), to8(img.background.b)});
 }
 
 void write_error_heatmap(const std::string& path, const ImageRgb& img, const ImageRgb& ref,
@@ -114,7 +165,7 @@ void write_error_heatmap(const std::string& path, const ImageRgb& img, const Ima
     px[i * 3 + 1] = static_cast<uint8_t>(std::lround(g * 255));
     px[i * 3 + 2] = static_cast<uint8_t>(std::lround(b * 255));
   }
-  write_rgb8(path, img.width, img.height, px);
+  write_placed(path, img, px, {0, 0, 0});
 }
 
 }  // namespace texsim

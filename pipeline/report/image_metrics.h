@@ -8,15 +8,26 @@
 
 namespace texsim {
 
+// A pixel buffer placed on a canvas: the buffer holds the part of the written image that
+// fragments can reach (x0, y0, width, height); canvas pixels outside it are the background.
 struct ImageRgb {
-  int width = 0, height = 0;
+  int width = 0, height = 0;                // the buffer
+  int x0 = 0, y0 = 0;                       // its top-left pixel on the canvas
+  int canvas_width = 0, canvas_height = 0;  // the image written
+  glm::vec3 background{0.0f};
   std::vector<float> rgb;        // 3 floats per pixel
   std::vector<uint8_t> covered;  // 1 where a fragment wrote
   std::vector<int32_t> label;    // what wrote each pixel (e.g. its material); -1 = nothing
+  // A w × h image that is all buffer.
   ImageRgb(int w, int h, glm::dvec3 background);
+  // A w × h buffer at (x0, y0) of a canvas_w × canvas_h image.
+  ImageRgb(int x0, int y0, int w, int h, int canvas_w, int canvas_h, glm::dvec3 background);
+  // Canvas coordinates; pixels outside the buffer are ignored.
   void set(int x, int y, const glm::vec4& c, int32_t lbl = 0);
-  // Grows the image (keeping its pixels); new pixels get `background`.
-  void resize(int w, int h, glm::dvec3 background);
+  // Every pixel back to the background, none covered.
+  void clear();
+  // Bytes a buffer of `pixels` pixels holds.
+  static constexpr uint64_t kBytesPerPixel = 3 * sizeof(float) + 1 + sizeof(int32_t);
 };
 
 struct AccuracyMetrics {
@@ -28,9 +39,21 @@ struct AccuracyMetrics {
   double mean_abs = 0;
 };
 
+// Sums behind AccuracyMetrics, so that several images (frames) pool into one figure.
+struct ErrorSums {
+  uint64_t pixels = 0;
+  double se = 0, sref = 0, sabs = 0;  // Σ err², Σ ref², Σ |err| over R, G, B
+  double max_abs = 0;
+  void add(const ErrorSums& o);
+  AccuracyMetrics metrics() const;
+};
+
 // Compares the covered pixels of `img` with `ref` (same size); with `only_label` >= 0, only
 // the pixels of img labelled so.
 AccuracyMetrics compare_images(const ImageRgb& img, const ImageRgb& ref, int32_t only_label = -1);
+// The sums of compare_images: [0] over all covered pixels, [1 + l] over pixels labelled l for
+// l < labels (one pass).
+std::vector<ErrorSums> error_sums(const ImageRgb& img, const ImageRgb& ref, int labels);
 
 // Writes an 8-bit PNG (or any OIIO format by extension) atomically; throws InputError.
 void write_image(const std::string& path, const ImageRgb& img);

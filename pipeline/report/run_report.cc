@@ -105,6 +105,14 @@ void add_memory_json(Json& j, const TextureUnit& unit) {
                {"busy_cycles", unit.dram().stats().busy_cycles}};
 }
 
+Json accuracy_json(const AccuracyMetrics& a) {
+  return {{"psnr_db", a.psnr_db},
+          {"nmse", a.nmse},
+          {"max_abs", a.max_abs},
+          {"mean_abs", a.mean_abs},
+          {"pixels", a.pixels}};
+}
+
 Json material_json(const MaterialRow& r) {
   Json e;
   e["fragments"] = r.fragments;
@@ -112,11 +120,7 @@ Json material_json(const MaterialRow& r) {
   e["ops"] = ops_json(r.ops);
   e["ops_per_fragment"] = r.per_fragment(static_cast<double>(r.ops.total()));
   e["texels_per_fragment"] = r.per_fragment(static_cast<double>(r.texels));
-  e["accuracy"] = {{"psnr_db", r.acc.psnr_db},
-                   {"nmse", r.acc.nmse},
-                   {"max_abs", r.acc.max_abs},
-                   {"mean_abs", r.acc.mean_abs},
-                   {"pixels", r.acc.pixels}};
+  e["accuracy"] = accuracy_json(r.acc);
   return e;
 }
 
@@ -164,14 +168,19 @@ Json report_json(const RunInfo& info, const TextureUnit& unit, const AccuracyMet
   j["cycles"] = unit.cycles();
   j["cycles_per_fragment"] = per_fragment(static_cast<double>(unit.cycles()), frags);
   j["image"] = {{"width", info.width}, {"height", info.height}};
+  if (info.frames.size() > 1) j["image"]["frame"] = info.image_frame;
   j["textures"] = info.textures;
   for (const auto& b : unit.blocks()) j["blocks"][b.name] = block_json(b, frags);
   if (const ClockedPipeline* p = unit.pipeline()) add_stages_json(j, *p);
   add_memory_json(j, unit);
   j["frames"] = Json::array();
-  for (const auto& f : unit.frames()) {
-    j["frames"].push_back(
-        {{"frame", f.frame}, {"fragments", f.fragments}, {"cycles_end", f.cycles}});
+  for (size_t i = 0; i < unit.frames().size(); ++i) {
+    const FrameStats& f = unit.frames()[i];
+    Json e = {{"frame", f.frame}, {"fragments", f.fragments}, {"cycles_end", f.cycles}};
+    // Frames are contiguous, so the unit's and the images' frames are the same list.
+    if (i < info.frames.size() && info.frames[i].frame == f.frame)
+      e["accuracy"] = accuracy_json(info.frames[i].accuracy);
+    j["frames"].push_back(e);
   }
   j["accuracy"] = {{"psnr_db", acc.psnr_db},     {"nmse", acc.nmse}, {"max_abs", acc.max_abs},
                    {"mean_abs", acc.mean_abs},   {"mse", acc.mse},   {"pixels", acc.pixels},
@@ -202,7 +211,10 @@ void md_summary(std::ostream& md, const RunInfo& info, const TextureUnit& unit,
   md << "| scene | `" << info.scene << "` |\n";
   if (!info.trace.empty()) md << "| trace | `" << info.trace << "` |\n";
   md << "| mode | " << (unit.timing() ? "timing" : "functional") << " |\n";
-  md << "| image | " << info.width << " × " << info.height << " |\n";
+  md << "| image | " << info.width << " × " << info.height;
+  if (info.frames.size() > 1)
+    md << " (frame " << info.image_frame << " of " << info.frames.size() << " frames)";
+  md << " |\n";
   md << "| fragments | " << unit.fragments() << " |\n";
   md << "| cycles | " << unit.cycles() << " ("
      << fmt(per_fragment(static_cast<double>(unit.cycles()), frags)) << " per fragment) |\n";
@@ -216,6 +228,14 @@ void md_summary(std::ostream& md, const RunInfo& info, const TextureUnit& unit,
   md << "| PSNR (dB) | NMSE | max abs error | mean abs error | pixels |\n|---|---|---|---|---|\n";
   md << "| " << fmt(acc.psnr_db) << " | " << fmt(acc.nmse) << " | " << fmt(acc.max_abs) << " | "
      << fmt(acc.mean_abs) << " | " << acc.pixels << " |\n\n";
+  if (info.frames.size() <= 1) return;
+  md << "Per frame:\n\n| frame | PSNR (dB) | NMSE | max abs error | pixels "
+        "|\n|---|---|---|---|---|\n";
+  for (const FrameAccuracy& f : info.frames) {
+    md << "| " << f.frame << " | " << fmt(f.accuracy.psnr_db) << " | " << fmt(f.accuracy.nmse)
+       << " | " << fmt(f.accuracy.max_abs) << " | " << f.accuracy.pixels << " |\n";
+  }
+  md << "\n";
 }
 
 void md_materials(std::ostream& md, const TextureUnit& unit, const std::vector<MaterialRow>& rows) {

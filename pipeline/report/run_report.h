@@ -9,6 +9,11 @@
 
 namespace texsim {
 
+struct FrameAccuracy {
+  uint32_t frame = 0;
+  AccuracyMetrics accuracy;
+};
+
 struct RunInfo {
   std::string scene;      // scene file or "<built-in default scene>"
   std::string trace;      // trace file, or "" when fragments came from the scene
@@ -16,6 +21,8 @@ struct RunInfo {
   int width = 0, height = 0;
   std::vector<std::string> textures;
   std::vector<AccuracyMetrics> material_accuracy;  // per material of the texture unit
+  std::vector<FrameAccuracy> frames;               // each frame against its own ground truth
+  uint32_t image_frame = 0;                        // the frame the images show
   Provenance provenance;
 };
 

@@ -22,10 +22,11 @@ struct Result {
   std::string out;
 };
 
-inline Result sh(const std::string& args) {
+// Runs a shell command line, its standard output and error captured together.
+inline Result shell(const std::string& command) {
   const fs::path log =
       fs::temp_directory_path() / ("texsim_cli_" + std::to_string(::getpid()) + ".log");
-  const std::string cmd = std::string(TEXSIM_BINARY) + " " + args + " >" + log.string() + " 2>&1";
+  const std::string cmd = "{ " + command + "; } >" + log.string() + " 2>&1";
   const int rc = std::system(cmd.c_str());
   std::ifstream in(log);
   std::stringstream ss;
@@ -33,6 +34,9 @@ inline Result sh(const std::string& args) {
   fs::remove(log);
   return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
 }
+
+// Runs texsim with `args`.
+inline Result sh(const std::string& args) { return shell(std::string(TEXSIM_BINARY) + " " + args); }
 
 // The whole content of a file (empty if it cannot be read).
 inline std::string slurp(const std::string& p) {
