@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "blocks/base/input_error.h"
+#include "blocks/base/temp_registry.h"
 
 namespace texsim {
 
@@ -20,7 +21,9 @@ bool writes_in_place(const std::string& path) {
 }
 
 std::string scratch_path_for(const std::string& path, const std::string& ext) {
-  return path + ".tmp." + std::to_string(::getpid()) + ext;
+  std::string p = path + ".tmp." + std::to_string(::getpid()) + ext;
+  track_temp(p);  // removed if a signal ends the process before the file is
+  return p;
 }
 
 std::string temp_path_for(const std::string& path, const std::string& ext) {
@@ -33,14 +36,15 @@ void commit_temp(const std::string& temp, const std::string& path) {
   if (temp == path || (path == "-" && temp == "/dev/stdout")) return;
   if (std::rename(temp.c_str(), path.c_str()) != 0) {
     const std::string err = std::strerror(errno);
-    std::remove(temp.c_str());
+    remove_temp(temp);
     throw InputError(path, "cannot write output file: " + err);
   }
+  untrack_temp(temp);
 }
 
 void discard_temp(const std::string& temp, const std::string& path) {
   if (temp == path || (path == "-" && temp == "/dev/stdout")) return;
-  std::remove(temp.c_str());
+  remove_temp(temp);
 }
 
 void write_file_atomic(const std::string& path, const std::string& content) {
@@ -59,10 +63,13 @@ void ensure_dir(const std::string& dir) {
   // files can be created here.
   const std::string probe = scratch_path_for(dir + "/.texsim-write-check", "");
   std::FILE* f = std::fopen(probe.c_str(), "wb");
-  if (!f)
-    throw InputError(dir, std::string("cannot write in output directory: ") + std::strerror(errno));
+  if (!f) {
+    const std::string reason = std::strerror(errno);
+    untrack_temp(probe);
+    throw InputError(dir, "cannot write in output directory: " + reason);
+  }
   std::fclose(f);
-  std::remove(probe.c_str());
+  remove_temp(probe);
 }
 
 AtomicTextFile::AtomicTextFile(std::string path)

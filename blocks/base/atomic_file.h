@@ -17,7 +17,8 @@ std::string temp_path_for(const std::string& path, const std::string& ext = "");
 // Renames the finished temporary file onto `path` (throws InputError naming `path` and the
 // reason on failure); nothing to do for a target written in place.
 void commit_temp(const std::string& temp, const std::string& path);
-// A scratch file beside `path` (never `path` itself): `path`.tmp.<pid>`ext`.
+// A scratch file beside `path` (never `path` itself): `path`.tmp.<pid>`ext`, tracked for
+// removal on SIGINT/SIGTERM until remove_temp (temp_registry.h), commit_temp or discard_temp.
 std::string scratch_path_for(const std::string& path, const std::string& ext);
 // Removes an unfinished temporary file; never the target written in place.
 void discard_temp(const std::string& temp, const std::string& path);

@@ -11,6 +11,7 @@
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
 #include "blocks/base/printable.h"
+#include "blocks/base/temp_registry.h"
 #include "blocks/base/version.h"
 #include "pipeline/app/run.h"
 #include "pipeline/kernel/clocked_pipeline.h"
@@ -197,6 +198,7 @@ int run_cli(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  texsim::install_temp_cleanup();  // SIGINT/SIGTERM/SIGHUP remove unfinished outputs
   // Whatever escapes the subcommands (or the command-line set-up itself) is an internal error.
   try {
     return run_cli(argc, argv);

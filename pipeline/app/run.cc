@@ -12,6 +12,7 @@
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
+#include "blocks/base/output_set.h"
 #include "blocks/base/version.h"
 #include "pipeline/app/run_images.h"
 #include "pipeline/geometry/plane_projection.h"
@@ -234,12 +235,14 @@ Provenance run_provenance(const RunOptions& opt, const std::string& scene_path,
 // Writes the images and reports to opt.out and a summary to log.
 void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImages& images,
                        const TextureUnit& unit, const RunSummary& sum, std::ostream& log) {
-  ensure_dir(opt.out);
-  write_image(opt.out + "/image.png", images.image());
-  write_image(opt.out + "/reference.png", images.reference());
-  write_error_heatmap(opt.out + "/error.png", images.image(), images.reference(),
+  // All five files are moved into opt.out together, once every one was written.
+  OutputSet outputs(opt.out);
+  write_image(outputs.path("image.png"), images.image());
+  write_image(outputs.path("reference.png"), images.reference());
+  write_error_heatmap(outputs.path("error.png"), images.image(), images.reference(),
                       images.kept_accuracy().max_abs);
-  write_run_reports(opt.out, info, unit, sum.accuracy);
+  write_run_reports(outputs.staging(), info, unit, sum.accuracy);
+  outputs.commit();
   log << "texsim run: " << sum.fragments << " fragments, " << sum.cycles << " cycles, PSNR "
       << sum.accuracy.psnr_db << " dB";
   if (info.frames.size() > 1) {

@@ -16,6 +16,7 @@
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
+#include "blocks/base/temp_registry.h"
 
 namespace texsim {
 
@@ -139,8 +140,8 @@ void write_plot_png(const std::string& path, const PlotSpec& spec) {
     ss << e.rdbuf();
     err = ss.str();
   }
-  std::remove(data_path.c_str());
-  std::remove(err_path.c_str());
+  remove_temp(data_path);
+  remove_temp(err_path);
   if (rc != 0 || !std::filesystem::exists(tmp_png)) {
     discard_temp(tmp_png, path);
     throw InputError(path, "gnuplot failed (is gnuplot-nox installed?): " + err);
