@@ -113,6 +113,12 @@ int run_cli(int argc, char** argv) {
                    "Frame whose images are written (default: the first); every frame's "
                    "accuracy is in the report")
       ->check(CLI::NonNegativeNumber);
+  run_cmd
+      ->add_option("--threads", run.threads,
+                   "Threads for the ground truth (0: one per hardware thread); results are "
+                   "identical for any count")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
   std::string max_memory = "4G";
   run_cmd
       ->add_option("--max-memory", max_memory,

@@ -1,5 +1,6 @@
 #include "pipeline/app/run.h"
 
+#include <OpenImageIO/parallel.h>
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -16,6 +17,7 @@
 #include "blocks/base/version.h"
 #include "pipeline/app/run_images.h"
 #include "pipeline/geometry/plane_projection.h"
+#include "pipeline/kernel/parallel_range.h"
 #include "pipeline/raster/fragment_generator.h"
 #include "pipeline/raster/scene_front_end.h"
 #include "pipeline/reference/ground_truth.h"
@@ -232,6 +234,60 @@ Provenance run_provenance(const RunOptions& opt, const std::string& scene_path,
   return p;
 }
 
+// Fragments waiting for their ground truth, computed in parallel a batch at a time and then
+// recorded in arrival order. Each truth depends on its fragment alone, so every thread count
+// gives the same bits.
+class TruthBatch {
+ public:
+  TruthBatch(const GroundTruth& truth, RunImages& images, Progress& progress, std::string input,
+             int threads)
+      : truth_(truth),
+        images_(images),
+        progress_(progress),
+        input_(std::move(input)),
+        threads_(threads) {
+    items_.reserve(kSize);
+  }
+  // colour null: not textured.
+  void add(const Fragment& f, const Fragment& g, int material, const Rgba* colour, uint64_t index) {
+    items_.push_back({f, g, material, colour != nullptr, colour ? *colour : Rgba(0), index, {}});
+    if (items_.size() == kSize) flush();
+  }
+  void flush() {
+    parallel_range(items_.size(), threads_, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i)
+        items_[i].truth = truth_(items_[i].f, items_[i].g, items_[i].material);
+    });
+    for (const Item& it : items_) {
+      try {
+        images_.set(it.f.frame, static_cast<int>(it.f.x), static_cast<int>(it.f.y),
+                    it.textured ? &it.colour : nullptr, it.material, it.truth);
+      } catch (const std::invalid_argument& e) {
+        throw InputError(input_, "record " + std::to_string(it.index) + ": " + e.what());
+      }
+      progress_.tick(images_.count());
+    }
+    items_.clear();
+  }
+
+ private:
+  static constexpr size_t kSize = 16384;
+  struct Item {
+    Fragment f, g;
+    int material;
+    bool textured;
+    Rgba colour;
+    uint64_t index;
+    glm::dvec4 truth;
+  };
+  const GroundTruth& truth_;
+  RunImages& images_;
+  Progress& progress_;
+  std::string input_;
+  int threads_;
+  std::vector<Item> items_;
+};
+
 // Writes the images and reports to opt.out and a summary to log.
 void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImages& images,
                        const TextureUnit& unit, const RunSummary& sum, std::ostream& log) {
@@ -353,16 +409,9 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   Progress progress(opt.progress);
   const std::string& input = opt.trace.empty() ? scene.path : opt.trace;
   // Fragments are processed as they stream in. f: as given; g: texture id of the loaded texture.
+  TruthBatch batch(truth, images, progress, input, opt.threads);
   auto record = [&](const Fragment& f, const Fragment& g, int material, const Rgba* colour,
-                    uint64_t index) {
-    try {
-      images.set(f.frame, static_cast<int>(f.x), static_cast<int>(f.y), colour, material,
-                 truth(f, g, material));
-    } catch (const std::invalid_argument& e) {
-      throw InputError(input, "record " + std::to_string(index) + ": " + e.what());
-    }
-    progress.tick(images.count());
-  };
+                    uint64_t index) { batch.add(f, g, material, colour, index); };
   auto handle = [&](const Fragment& f, uint64_t index) {
     auto it = textures.index.find(f.tex);
     if (it == textures.index.end()) {
@@ -404,6 +453,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   } else {
     generate_fragments(scene, 0, [&](const Fragment& f) { handle(f, index++); });
   }
+  batch.flush();
   images.finish();
   if (images.count() == 0) throw InputError(input, "no fragments to render");
   if (!images.has_kept_frame()) {
