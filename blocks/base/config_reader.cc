@@ -20,6 +20,8 @@ ConfigReader::ConfigReader(const toml::table& table, std::string source, std::st
 std::string ConfigReader::where(const toml::node* node) const {
   const toml::node* n = node ? node : table_;
   const auto& src = n->source();
+  // A value from the command line (scene_overrides.h) is named by its option.
+  if (src.path && src.path->rfind("--set ", 0) == 0) return *src.path;
   if (src.begin.line > 0) {
     return source_ + ":" + std::to_string(src.begin.line) + ":" + std::to_string(src.begin.column);
   }

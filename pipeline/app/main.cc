@@ -113,6 +113,9 @@ int run_cli(int argc, char** argv) {
                    "Frame whose images are written (default: the first); every frame's "
                    "accuracy is in the report")
       ->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--set", run.overrides,
+                      "KEY=VALUE: change one scene key before the scene is read, e.g. "
+                      "pipeline.fifo_depth=8 or materials.floor.filter.mode=ewa (repeatable)");
   run_cmd
       ->add_option("--threads", run.threads,
                    "Threads for the ground truth (0: one per hardware thread); results are "

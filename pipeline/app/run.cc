@@ -379,8 +379,9 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   ensure_dir(opt.out);  // an unwritable --out is found before the run, not after it
   // Scene: a file, the built-in default, or (trace only) none.
   const bool use_scene = !opt.scene.empty() || opt.trace.empty();
-  Scene scene =
-      (opt.scene.empty() || opt.scene == "default") ? default_scene() : load_scene(opt.scene);
+  Scene scene = (opt.scene.empty() || opt.scene == "default")
+                    ? default_scene(opt.overrides)
+                    : load_scene(opt.scene, opt.overrides);
 
   std::unique_ptr<TraceSummary> trace_sum;
   std::unique_ptr<TraceReader> reader;

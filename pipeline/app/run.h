@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 #include "pipeline/report/image_metrics.h"
 
@@ -15,9 +16,10 @@ struct RunOptions {
   std::string out = "out";  // output directory
   bool functional = false;  // colours and op counts only: no cache, no clock
   bool progress = false;    // progress line on stderr
-  std::string command;      // the command line, for the report's provenance
-  int threads = 0;          // threads for the ground truth; 0: one per hardware thread
-  int64_t frame = -1;       // the frame whose images are written; -1: the first frame
+  std::vector<std::string> overrides;  // --set KEY=VALUE, applied to the scene
+  std::string command;                 // the command line, for the report's provenance
+  int threads = 0;                     // threads for the ground truth; 0: one per hardware thread
+  int64_t frame = -1;                  // the frame whose images are written; -1: the first frame
   uint64_t max_memory = uint64_t{4} << 30;  // refuse runs estimated to need more (bytes)
 };
 

@@ -7,6 +7,7 @@
 
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
+#include "pipeline/scene/scene_overrides.h"
 
 namespace texsim {
 
@@ -160,11 +161,12 @@ void parse_planes(const toml::table& root, Scene& s) {
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& source_name,
-                  const std::string& base_dir) {
+                  const std::string& base_dir, const std::vector<std::string>& overrides) {
   Scene s;
   s.path = source_name;
   s.base_dir = base_dir;
   s.root = std::make_shared<toml::table>(parse_document(text, source_name));
+  apply_overrides(*s.root, overrides);
   const toml::table& root = *s.root;
   const ConfigReader top(root, source_name, "scene");
   top.reject_unknown(
@@ -183,13 +185,13 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   return s;
 }
 
-Scene load_scene(const std::string& path) {
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open scene file");
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string dir = std::filesystem::path(path).parent_path().string();
-  return parse_scene(ss.str(), path, dir);
+  return parse_scene(ss.str(), path, dir, overrides);
 }
 
 const char* default_scene_text() {
@@ -247,6 +249,8 @@ supersamples = 8
 )";
 }
 
-Scene default_scene() { return parse_scene(default_scene_text(), "<built-in default scene>", ""); }
+Scene default_scene(const std::vector<std::string>& overrides) {
+  return parse_scene(default_scene_text(), "<built-in default scene>", "", overrides);
+}
 
 }  // namespace texsim

@@ -53,11 +53,13 @@ struct Scene {
 
 // Parses a scene file; throws InputError "file:line:column: what" on syntax, type, range and
 // reference errors (unknown texture or material names, unknown keys).
-Scene load_scene(const std::string& path);
+// `overrides`: "KEY=VALUE" changes applied to the document before it is read
+// (scene_overrides.h).
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 Scene parse_scene(const std::string& text, const std::string& source_name,
-                  const std::string& base_dir);
+                  const std::string& base_dir, const std::vector<std::string>& overrides = {});
 // The built-in default scene (procedural textures), so `texsim run` needs no files.
-Scene default_scene();
+Scene default_scene(const std::vector<std::string>& overrides = {});
 const char* default_scene_text();
 
 }  // namespace texsim

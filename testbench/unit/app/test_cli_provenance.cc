@@ -135,4 +135,22 @@ TEST_F(Cli, AnyThreadCountGivesTheSameOutputs) {
   EXPECT_EQ(a, b);
 }
 
+TEST_F(Cli, SetOverridesAKeyAndIsValidatedLikeTheFile) {
+  const Result r =
+      sh("run --no-progress --set pipeline.fifo_depth=9 --set tech.latency.mul=4 "
+         "--out " +
+         path("o"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json j = load_json(path("o/report.json"));
+  EXPECT_EQ(num(j, "provenance.pipeline.fifo_depth"), 9);
+  EXPECT_EQ(num(j, "provenance.tech.latency.mul"), 4);
+  const Result bad = sh("run --no-progress --set pipeline.fifo_depth=0 --out " + path("b"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("texsim: error: --set pipeline.fifo_depth: pipeline.fifo_depth: value 0 "
+                         "out of range"),
+            std::string::npos)
+      << bad.out;
+  expect_no_outputs(path("b"));
+}
+
 }  // namespace
