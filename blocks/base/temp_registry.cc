@@ -12,7 +12,7 @@ namespace texsim {
 
 namespace {
 
-constexpr size_t kSlots = 64;
+constexpr size_t kSlots = 256;
 constexpr size_t kPathMax = 4096;
 
 // A slot is free (0), being written (1) or holds a path (2); the handler reads only slots in

@@ -9,7 +9,7 @@ namespace texsim {
 
 // Installs the handler for SIGINT, SIGTERM and SIGHUP (once, from main).
 void install_temp_cleanup();
-// Starts and stops tracking a path (a path already tracked is tracked once). At most 64 paths
+// Starts and stops tracking a path (a path already tracked is tracked once). At most 256 paths
 // of up to 4095 bytes are tracked at a time; others are not removed on a signal.
 void track_temp(const std::string& path);
 void untrack_temp(const std::string& path);

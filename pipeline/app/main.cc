@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <new>
@@ -14,6 +15,7 @@
 #include "blocks/base/temp_registry.h"
 #include "blocks/base/version.h"
 #include "pipeline/app/run.h"
+#include "pipeline/app/sweep.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/report/provenance.h"
 #include "pipeline/studies/study_coords.h"
@@ -89,17 +91,20 @@ int parse_command_line(CLI::App& app, int argc, char** argv) {
   return -1;
 }
 
-// Parses the command line and runs the subcommand; returns the exit status (docs/cli.md).
-int run_cli(int argc, char** argv) {
-  using namespace texsim;
-  CLI::App app{"texsim: cycle-approximate simulator of a hardware texture unit"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("texsim ") + kTexsimVersion);
+// `run` and its options.
+struct RunCli {
+  texsim::RunOptions opt;
+  std::string max_memory = "4G";
+  bool no_progress = false;
+  CLI::App* cmd = nullptr;
+};
 
-  RunOptions run;
-  auto* run_cmd = app.add_subcommand("run",
-                                     "Simulate a scene (default: the built-in scene) or a trace; "
-                                     "write report.json, report.md and images to --out");
+void add_run_command(CLI::App& app, RunCli& r) {
+  texsim::RunOptions& run = r.opt;
+  r.cmd = app.add_subcommand("run",
+                             "Simulate a scene (default: the built-in scene) or a trace; "
+                             "write report.json, report.md and images to --out");
+  CLI::App* run_cmd = r.cmd;
   run_cmd->add_option("scene", run.scene,
                       "Scene file (TOML), or 'default' (the built-in scene, also used when both "
                       "scene and --trace are omitted)");
@@ -122,13 +127,66 @@ int run_cli(int argc, char** argv) {
                    "identical for any count")
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();
-  std::string max_memory = "4G";
   run_cmd
-      ->add_option("--max-memory", max_memory,
+      ->add_option("--max-memory", r.max_memory,
                    "Refuse a run estimated to need more memory (bytes, or with K/M/G suffix)")
       ->capture_default_str();
-  bool no_progress = false;
-  run_cmd->add_flag("--no-progress", no_progress, "Do not show the progress line");
+  run_cmd->add_flag("--no-progress", r.no_progress, "Do not show the progress line");
+}
+
+// `sweep` and `merge` and their options.
+struct SweepCli {
+  texsim::SweepOptions opt;
+  std::string file, shard;
+  std::vector<std::string> merge_dirs;
+  std::string merge_out = "out/merged";
+  CLI::App* cmd = nullptr;
+  CLI::App* merge = nullptr;
+};
+
+void add_sweep_commands(CLI::App& app, SweepCli& s) {
+  s.cmd = app.add_subcommand(
+      "sweep",
+      "Run a grid of scenes/traces x scene-key overrides as numbered jobs (docs/sweeps.md)");
+  s.cmd->add_option("file", s.file, "Sweep file (TOML: [sweep] and [grid])")->required();
+  s.cmd->add_option("--out", s.opt.out, "Output directory (default: the sweep's out)");
+  s.cmd->add_option("--jobs", s.opt.jobs, "Jobs at a time (0: one per hardware thread)")
+      ->check(CLI::Range(0, 1024));
+  s.cmd->add_option("--shard", s.shard, "K/N: run only jobs with id % N == K-1 (GNU parallel)");
+  s.cmd->add_option("--job", s.opt.job, "Run one job (a Slurm array task)")
+      ->check(CLI::NonNegativeNumber);
+  s.cmd->add_flag("--slurm", s.opt.slurm, "Write OUT/sweep.sbatch (a job array) instead");
+  s.cmd->add_flag("--list", s.opt.list, "Print the jobs (JSON lines) and exit");
+  s.merge = app.add_subcommand("merge", "Combine sweep outputs into merged.csv and merged.md");
+  s.merge->add_option("dirs", s.merge_dirs, "Sweep output directories")->required();
+  s.merge->add_option("--out", s.merge_out, "Output directory")->capture_default_str();
+}
+
+int run_sweep_command(SweepCli& s, const char* argv0) {
+  if (!s.shard.empty()) {
+    const size_t slash = s.shard.find('/');
+    try {
+      s.opt.shard = std::stoi(s.shard.substr(0, slash));
+      s.opt.shards = slash == std::string::npos ? 0 : std::stoi(s.shard.substr(slash + 1));
+    } catch (const std::exception&) {
+      s.opt.shards = 0;
+    }
+    if (s.opt.shards < 1 || s.opt.shard < 1 || s.opt.shard > s.opt.shards)
+      throw texsim::InputError("--shard " + s.shard, "expected K/N with 1 <= K <= N");
+  }
+  s.opt.command = std::filesystem::absolute(argv0).string();
+  return texsim::run_sweep(s.file, s.opt, std::cout);
+}
+
+// Parses the command line and runs the subcommand; returns the exit status (docs/cli.md).
+int run_cli(int argc, char** argv) {
+  using namespace texsim;
+  CLI::App app{"texsim: cycle-approximate simulator of a hardware texture unit"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("texsim ") + kTexsimVersion);
+
+  RunCli run;
+  add_run_command(app, run);
 
   auto* trace_cmd = app.add_subcommand("trace", "Make, inspect and convert fragment traces");
   trace_cmd->require_subcommand(1);
@@ -162,13 +220,16 @@ int run_cli(int argc, char** argv) {
   for (auto* s : {vd, coords, filters})
     s->add_option("--out", study_out, "Output directory")->capture_default_str();
 
+  SweepCli sweep;
+  add_sweep_commands(app, sweep);
+
   if (const int status = parse_command_line(app, argc, argv); status >= 0) return status;
   try {
-    if (*run_cmd) {
-      run.progress = !no_progress && ::isatty(STDERR_FILENO);
-      run.command = command_line(argc, argv);
-      run.max_memory = parse_byte_size(max_memory, "--max-memory");
-      run_simulation(run, std::cout);
+    if (*run.cmd) {
+      run.opt.progress = !run.no_progress && ::isatty(STDERR_FILENO);
+      run.opt.command = command_line(argc, argv);
+      run.opt.max_memory = parse_byte_size(run.max_memory, "--max-memory");
+      run_simulation(run.opt, std::cout);
     } else if (*gen) {
       const uint64_t n = generate_scene_trace(gen_scene == "default" ? "" : gen_scene, gen_out);
       // With -o - the trace itself is on standard output: the summary goes to stderr.
@@ -181,6 +242,10 @@ int run_cli(int argc, char** argv) {
       if (*vd) return run_study_vd(study_out, std::cout);
       if (*coords) return run_study_coords(study_out, std::cout);
       return run_study_filters(study_out, std::cout);
+    } else if (*sweep.cmd) {
+      return run_sweep_command(sweep, argv[0]);
+    } else if (*sweep.merge) {
+      merge_sweeps(sweep.merge_dirs, sweep.merge_out, std::cout);
     } else if (*conv) {
       trace_convert(conv_in, conv_out);
       (conv_out == "-" ? std::cerr : std::cout)

@@ -1,7 +1,8 @@
 #include "pipeline/scene/scene_overrides.h"
 
-#include <cctype>
 #include <toml++/toml.h>
+
+#include <cctype>
 
 #include "blocks/base/input_error.h"
 
