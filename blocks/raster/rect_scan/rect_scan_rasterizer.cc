@@ -77,9 +77,11 @@ RectScanRasterizer::Config RectScanRasterizer::Config::from_toml(const ConfigRea
       static_cast<int>(r.get_int("slope_bits", c.slope_bits, 1, LineStepper::kMaxSlopeBits));
   c.fast_clock_mhz = r.get_double("fast_clock_mhz", c.fast_clock_mhz);
   c.memory_clock_mhz = r.get_double("memory_clock_mhz", c.memory_clock_mhz);
-  for (const char* key : {"fast_clock_mhz", "memory_clock_mhz"}) {
-    const double v = r.get_double(key, 1);
-    if (!(v > 0) || v > TechTable::kMaxClockMhz) r.fail(key, "must be in (0, 1e5]");
+  if (!(c.fast_clock_mhz > 0) || c.fast_clock_mhz > TechTable::kMaxClockMhz) {
+    r.fail("fast_clock_mhz", "must be in (0, 1e5]");
+  }
+  if (!(c.memory_clock_mhz > 0) || c.memory_clock_mhz > TechTable::kMaxClockMhz) {
+    r.fail("memory_clock_mhz", "must be in (0, 1e5]");
   }
   c.coverage = static_cast<RectScanCoverage>(r.get_choice("coverage", 0, {"top_left", "outline"}));
   return c;

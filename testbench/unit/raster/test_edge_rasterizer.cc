@@ -93,6 +93,7 @@ TEST(EdgeRasterizer, MatchesBruteForceTopLeftInEveryOrientation) {
 }
 
 TEST(EdgeRasterizer, SharedEdgesOfQuadsAreCoveredOnce) {
+  int on_edge = 0;  // centres exactly on an open shared edge
   std::mt19937_64 rng(12);
   std::uniform_real_distribution<double> ux(0, kW), uy(0, kH);
   std::uniform_int_distribution<int> gx(0, kW), gy(0, kH);
@@ -118,15 +119,21 @@ TEST(EdgeRasterizer, SharedEdgesOfQuadsAreCoveredOnce) {
         const int n = cov[at(x, y)];
         ASSERT_LE(n, 1) << t;
         // A pixel centre exactly on the open shared edge is covered exactly once.
-        const bool on1 = EdgeRasterizer::edge_value(s1, 2, x, y) == 0;  // edge v0-v1 of t1
-        const bool strictly_between =
-            reference_covers<double>(s1, x, y) || reference_covers<double>(s2, x, y);
+        // The shared edge a-b of t1 is oriented edge 2 (a→b), or edge 1 (b→a) when set-up
+        // swapped b and c.
+        const int shared = s1.perm[1] == 1 ? 2 : 1;
+        const bool on1 = EdgeRasterizer::edge_value(s1, shared, x, y) == 0;
+        const double along = ((x - a.x) * (b.x - a.x) + (y - a.y) * (b.y - a.y)) /
+                             ((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y));
+        const bool strictly_between = along > 1e-9 && along < 1 - 1e-9;
         if (on1 && strictly_between) {
           EXPECT_EQ(n, 1);
+          ++on_edge;
         }
       }
     }
   }
+  EXPECT_GT(on_edge, 50);
 }
 
 TEST(EdgeRasterizer, FansAndGridsCoverEveryPixelOnce) {

@@ -14,6 +14,8 @@
 #include <set>
 #include <vector>
 
+#include "blocks/base/config_reader.h"
+#include "blocks/base/input_error.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/geometry/projective_map.h"
 #include "blocks/raster/edge_rasterizer.h"
@@ -309,6 +311,64 @@ TEST(RectScanRasterizer, SharedEdgesNoHolesNoDuplicates) {
       }
     }
   }
+}
+
+// Random pairs sharing an edge, in both windings, with a common row line of either axis.
+TEST(RectScanRasterizer, PairsSharingAnEdgeCoverItOnce) {
+  int on_edge = 0;  // centres exactly on an open shared edge
+  std::mt19937_64 rng(25);
+  std::uniform_real_distribution<double> ux(0, kW), uy(0, kH), uk(-1, 1);
+  std::uniform_int_distribution<int> gx(0, kW), gy(0, kH);
+  const RectScanRasterizer r = rect_scan();
+  for (int t = 0; t < 600; ++t) {
+    const RowLine line = r.line_for_slope(t % 2 == 0, t % 7 == 0 ? std::round(uk(rng)) : uk(rng));
+    ScreenVertex a{ux(rng), uy(rng)}, b{ux(rng), uy(rng)};
+    if (t % 3 == 0) a = {double(gx(rng)), double(gy(rng))}, b = {double(gx(rng)), double(gy(rng))};
+    const ScreenVertex c{ux(rng), uy(rng)}, d{ux(rng), uy(rng)};
+    const double side_c = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    const double side_d = (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x);
+    if (!(side_c * side_d < 0)) continue;
+    const ScreenVertex t1[3] = {a, b, c}, t2[3] = {t % 4 < 2 ? b : a, t % 4 < 2 ? a : b, d};
+    const PixelSet s1 = scan_pixels(r.rasterize(t1, line, kScreen));
+    const PixelSet s2 = scan_pixels(r.rasterize(t2, line, kScreen));
+    for (const auto& p : s1) ASSERT_EQ(s2.count(p), 0u) << t;
+    // Centres on the open shared edge: exactly one of the two.
+    const auto st = EdgeRasterizer().setup(t1, kScreen);
+    for (int32_t y = 0; y < kH; ++y) {
+      for (int32_t x = 0; x < kW; ++x) {
+        const int shared = st.perm[1] == 1 ? 2 : 1;  // a→b, or b→a after the set-up's swap
+        if (!st.ok() || EdgeRasterizer::edge_value(st, shared, x, y) != 0) continue;
+        const double along = ((x - a.x) * (b.x - a.x) + (y - a.y) * (b.y - a.y)) /
+                             ((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y));
+        if (along > 1e-9 && along < 1 - 1e-9) {
+          EXPECT_EQ(s1.count({x, y}) + s2.count({x, y}), 1u) << t << " " << x << "," << y;
+          ++on_edge;
+        }
+      }
+    }
+  }
+  EXPECT_GT(on_edge, 50);
+}
+
+TEST(RectScanRasterizer, ConfigFromToml) {
+  const toml::table t = toml::parse(
+      "subpixel_bits = 4\nslope_bits = 8\nfast_clock_mhz = 800\nmemory_clock_mhz = 200\n"
+      "coverage = \"outline\"\n");
+  const auto c = RectScanRasterizer::Config::from_toml(ConfigReader(t, "s.toml", "raster"));
+  EXPECT_EQ(c.subpixel_bits, 4);
+  EXPECT_EQ(c.slope_bits, 8);
+  EXPECT_DOUBLE_EQ(c.memory_clock_mhz, 200);
+  EXPECT_EQ(c.coverage, RectScanCoverage::Outline);
+  for (const char* bad : {"fast_clock_mhz = 0\n", "memory_clock_mhz = -1\n", "slope_bits = 40\n",
+                          "coverage = \"parity\"\n", "clock = 3\n", "subpixel_bits = 17\n"}) {
+    const toml::table b = toml::parse(bad);
+    EXPECT_THROW(RectScanRasterizer::Config::from_toml(ConfigReader(b, "s.toml", "raster")),
+                 InputError)
+        << bad;
+    EXPECT_THROW(EdgeRasterizer::Config::from_toml(ConfigReader(b, "s.toml", "raster")), InputError)
+        << bad;
+  }
+  EXPECT_NE(RectScanRasterizer(c).arithmetic().find("2^8"), std::string::npos);
 }
 
 // The seed's convention (outline included) against top-left: the extra pixels, and the pixels
