@@ -148,6 +148,9 @@ RectScanResult RectScanRasterizer::rasterize(const ScreenVertex v[3], const RowL
     }
     s.rows_textured += s.pixels_textured > textured_before;
   }
+  s.steps = li.steps();
+  s.minor_steps = li.minor_steps();
+  s.memory_reads = mem.reads();
   s.comparator_hits = bp.hits();
   s.crossings = bkt.crossings();
   s.vertex_hits = bkt.vertex_hits();

@@ -39,6 +39,8 @@ struct RectScanStats {
   uint64_t pixels_textured = 0;  // pixels sent to texturing
   uint64_t background_pixels = 0;
   uint64_t comparator_hits = 0, crossings = 0, vertex_hits = 0;
+  uint64_t steps = 0, minor_steps = 0;  // ЛІ/БКП: major steps, carries into the minor axis
+  uint64_t memory_reads = 0;            // auxiliary-memory reads (one per step)
   uint64_t outline_marks = 0, memory_words = 0;  // preparation: pixels drawn, memory size
   uint64_t fast_cycles = 0;    // background pixels and row starts, at the fast clock
   uint64_t memory_cycles = 0;  // textured pixels, at the memory clock

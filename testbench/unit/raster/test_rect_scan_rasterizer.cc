@@ -428,6 +428,9 @@ TEST(RectScanRasterizer, CyclesAtBothClocksAndDivisions) {
     EXPECT_EQ(s.memory_cycles, s.pixels_textured);
     EXPECT_EQ(s.fast_cycles, s.background_pixels + s.rows_scanned);
     EXPECT_LE(s.rows_textured, s.rows_scanned);
+    EXPECT_EQ(s.steps, s.pixels_visited - s.rows_scanned);  // the first pixel of a row is loaded
+    EXPECT_EQ(s.memory_reads, s.steps);
+    EXPECT_LE(s.minor_steps, s.steps);
     std::printf(
         "%-28s rows %3llu (q = divisions %3llu) visited %4llu textured %4llu  fast-clock "
         "cycles %4llu  memory-clock cycles %4llu (+%llu outline writes)  %.0f ns\n",
