@@ -4,14 +4,9 @@
 #include <cstdint>
 #include <vector>
 
-namespace texsim {
+#include "blocks/raster/raster_types.h"
 
-// Pixels x0 .. x0+n-1 of raster row y.
-struct RowSpan {
-  int32_t x0 = 0;
-  int32_t y = 0;
-  int32_t n = 0;
-};
+namespace texsim {
 
 // Pixels of the triangle (x[i], y[i]) covered within [0,w)×[0,h), as rows; none when the
 // triangle is degenerate or not finite.
