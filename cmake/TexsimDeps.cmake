@@ -10,10 +10,11 @@ find_package(nlohmann_json REQUIRED)
 find_package(tinyobjloader REQUIRED)
 pkg_check_modules(HIDAPI REQUIRED IMPORTED_TARGET hidapi-hidraw)
 pkg_check_modules(MPFR REQUIRED IMPORTED_TARGET mpfr)
+find_package(SQLite3 REQUIRED)
 
 add_library(texsim_deps INTERFACE)
 add_library(texsim::deps ALIAS texsim_deps)
 # SYSTEM include paths keep third-party headers out of -Werror.
 target_link_libraries(texsim_deps INTERFACE glm::glm OpenImageIO::OpenImageIO CLI11::CLI11
   tomlplusplus::tomlplusplus PkgConfig::HIDAPI PkgConfig::MPFR ZLIB::ZLIB nlohmann_json::nlohmann_json Threads::Threads
-  tinyobjloader::tinyobjloader_double)
+  tinyobjloader::tinyobjloader_double SQLite::SQLite3)

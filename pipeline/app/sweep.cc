@@ -14,8 +14,10 @@
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
+#include "pipeline/app/results_ledger.h"
 #include "pipeline/app/run.h"
 #include "pipeline/kernel/parallel_range.h"
+#include "pipeline/report/provenance.h"
 
 namespace texsim {
 
@@ -227,6 +229,7 @@ namespace {
 // One merged row: the job and its report's headline figures.
 struct MergedRow {
   Json job, report;
+  std::string report_sha1;
 };
 
 std::string csv_field(std::string v) {
@@ -298,7 +301,8 @@ int merge_sweeps(const std::vector<std::string>& dirs, const std::string& out, s
         throw InputError(j.string(),
                          "has no job.json and report.json (a job that did not finish?)");
       }
-      rows.push_back({read_json(j / "job.json"), read_json(j / "report.json")});
+      rows.push_back({read_json(j / "job.json"), read_json(j / "report.json"),
+                      digest_file("report", (j / "report.json").string()).sha1});
     }
   }
   if (rows.empty())
@@ -325,8 +329,12 @@ int merge_sweeps(const std::vector<std::string>& dirs, const std::string& out, s
   ensure_dir(out);
   write_file_atomic(out + "/merged.csv", csv.str());
   write_file_atomic(out + "/merged.md", md.str());
+  ResultsLedger ledger(out + "/ledger.sqlite");
+  int added = 0;
+  for (const MergedRow& r : rows) added += ledger.add(r.job, r.report, r.report_sha1) ? 1 : 0;
   log << "texsim merge: " << rows.size() << " jobs -> " << out << "/merged.csv, " << out
-      << "/merged.md\n";
+      << "/merged.md; ledger " << out << "/ledger.sqlite: " << added << " new, " << ledger.rows()
+      << " in all\n";
   return static_cast<int>(rows.size());
 }
 
