@@ -68,6 +68,22 @@ uint64_t parse_byte_size(const std::string& text, const std::string& option) {
   return static_cast<uint64_t>(v * it->second);
 }
 
+// "auto" (0) or an error in (0, 1].
+double parse_error_scale(const std::string& text) {
+  if (text == "auto") return 0;
+  size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !(v > 0 && v <= 1)) {
+    throw texsim::InputError("--error-scale", "'" + text + "' is not 'auto' or a number in (0, 1]");
+  }
+  return v;
+}
+
 int parse_command_line(CLI::App& app, int argc, char** argv) {
   const std::string unknown = unknown_subcommand(app, argc, argv);
   if (!unknown.empty()) {
@@ -96,6 +112,7 @@ struct RunCli {
   texsim::RunOptions opt;
   std::string max_memory = "4G";
   bool no_progress = false;
+  std::string error_scale = "auto";
   CLI::App* cmd = nullptr;
 };
 
@@ -130,6 +147,11 @@ void add_run_command(CLI::App& app, RunCli& r) {
   run_cmd
       ->add_option("--max-memory", r.max_memory,
                    "Refuse a run estimated to need more memory (bytes, or with K/M/G suffix)")
+      ->capture_default_str();
+  run_cmd
+      ->add_option("--error-scale", r.error_scale,
+                   "Error drawn white in error.png: 'auto' (the largest error of the imaged "
+                   "frame) or a fixed value in (0, 1], e.g. 0.05, to compare runs")
       ->capture_default_str();
   run_cmd->add_flag("--no-progress", r.no_progress, "Do not show the progress line");
 }
@@ -229,6 +251,7 @@ int run_cli(int argc, char** argv) {
       run.opt.progress = !run.no_progress && ::isatty(STDERR_FILENO);
       run.opt.command = command_line(argc, argv);
       run.opt.max_memory = parse_byte_size(run.max_memory, "--max-memory");
+      run.opt.error_scale = parse_error_scale(run.error_scale);
       run_simulation(run.opt, std::cout);
     } else if (*gen) {
       const uint64_t n = generate_scene_trace(gen_scene == "default" ? "" : gen_scene, gen_out);

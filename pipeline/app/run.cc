@@ -296,7 +296,7 @@ void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImag
   write_image(outputs.path("image.png"), images.image());
   write_image(outputs.path("reference.png"), images.reference());
   write_error_heatmap(outputs.path("error.png"), images.image(), images.reference(),
-                      images.kept_accuracy().max_abs);
+                      info.error_scale);
   write_run_reports(outputs.staging(), info, unit, sum.accuracy);
   outputs.commit();
   log << "texsim run: " << sum.fragments << " fragments, " << sum.cycles << " cycles, PSNR "
@@ -476,6 +476,9 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     info.material_accuracy.push_back(images.material(m));
   info.frames = images.frames();
   info.image_frame = images.kept_frame();
+  info.error_scale_auto = !(opt.error_scale > 0);
+  info.error_scale = info.error_scale_auto ? images.kept_accuracy().max_abs : opt.error_scale;
+  info.error_bar_rows = colour_bar_rows(layout.canvas_h);
   info.reference = reference_text(scene.reference_supersamples, truth.exact(), info.frames.size());
   info.provenance = run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech);
   write_run_outputs(opt, info, images, unit, sum, log);

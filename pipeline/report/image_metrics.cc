@@ -120,21 +120,26 @@ void write_rgb8(const std::string& path, int w, int h, const std::vector<uint8_t
 }
 
 // The buffer's 8-bit pixels placed on the canvas (outside the buffer: `fill`).
-void write_placed(const std::string& path, const ImageRgb& img, const std::vector<uint8_t>& px,
-                  const std::array<uint8_t, 3>& fill) {
-  if (img.x0 == 0 && img.y0 == 0 && img.canvas_width == img.width &&
-      img.canvas_height == img.height) {
-    write_rgb8(path, img.width, img.height, px);
-    return;
+// The buffer's 8-bit pixels placed on the canvas (outside the buffer: `fill`), with
+// `extra_rows` more rows below for the caller.
+std::vector<uint8_t> placed(const ImageRgb& img, std::vector<uint8_t> px,
+                            const std::array<uint8_t, 3>& fill, int extra_rows = 0) {
+  const bool whole = img.x0 == 0 && img.y0 == 0 && img.canvas_width == img.width &&
+                     img.canvas_height == img.height;
+  const size_t row = static_cast<size_t>(img.canvas_width) * 3;
+  if (whole) {
+    px.resize(px.size() + row * static_cast<size_t>(extra_rows), 0);
+    return px;
   }
-  std::vector<uint8_t> canvas(static_cast<size_t>(img.canvas_width) * img.canvas_height * 3);
-  for (size_t i = 0; i < canvas.size(); i += 3) std::copy(fill.begin(), fill.end(), &canvas[i]);
+  std::vector<uint8_t> canvas(row * static_cast<size_t>(img.canvas_height + extra_rows));
+  for (size_t i = 0; i < row * static_cast<size_t>(img.canvas_height); i += 3)
+    std::copy(fill.begin(), fill.end(), &canvas[i]);
   for (int y = 0; y < img.height; ++y) {
     const size_t src = static_cast<size_t>(y) * img.width * 3;
-    const size_t dst = (static_cast<size_t>(y + img.y0) * img.canvas_width + img.x0) * 3;
+    const size_t dst = static_cast<size_t>(y + img.y0) * row + static_cast<size_t>(img.x0) * 3;
     std::copy_n(&px[src], static_cast<size_t>(img.width) * 3, &canvas[dst]);
   }
-  write_rgb8(path, img.canvas_width, img.canvas_height, canvas);
+  return canvas;
 }
 
 uint8_t to8(float v) {
@@ -145,9 +150,21 @@ uint8_t to8(float v) {
 void write_image(const std::string& path, const ImageRgb& img) {
   std::vector<uint8_t> px(img.rgb.size());
   for (size_t i = 0; i < px.size(); ++i) px[i] = to8(img.rgb[i]);
-  write_placed(path, img, px,
-               {to8(img.background.r), to8(img.background.g), to8(img.background.b)});
+  write_rgb8(path, img.canvas_width, img.canvas_height,
+             placed(img, std::move(px),
+                    {to8(img.background.r), to8(img.background.g), to8(img.background.b)}));
 }
+
+std::array<uint8_t, 3> heat_colour(double t) {
+  // Black → red → yellow → white.
+  t = std::clamp(t, 0.0, 1.0);
+  const auto c = [](double v) {
+    return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255));
+  };
+  return {c(3 * t), c(3 * t - 1), c(3 * t - 2)};
+}
+
+int colour_bar_rows(int canvas_height) { return std::max(8, canvas_height / 12); }
 
 void write_error_heatmap(const std::string& path, const ImageRgb& img, const ImageRgb& ref,
                          double scale) {
@@ -157,15 +174,27 @@ void write_error_heatmap(const std::string& path, const ImageRgb& img, const Ima
     double e = 0;
     for (int c = 0; c < 3; ++c)
       e = std::max(e, std::abs(static_cast<double>(img.rgb[i * 3 + c]) - ref.rgb[i * 3 + c]));
-    const double t = scale > 0 ? std::clamp(e / scale, 0.0, 1.0) : 0.0;
-    // Black → red → yellow → white ramp.
-    const double r = std::clamp(3 * t, 0.0, 1.0), g = std::clamp(3 * t - 1, 0.0, 1.0),
-                 b = std::clamp(3 * t - 2, 0.0, 1.0);
-    px[i * 3] = static_cast<uint8_t>(std::lround(r * 255));
-    px[i * 3 + 1] = static_cast<uint8_t>(std::lround(g * 255));
-    px[i * 3 + 2] = static_cast<uint8_t>(std::lround(b * 255));
+    const auto rgb = heat_colour(scale > 0 ? e / scale : 0.0);
+    std::copy(rgb.begin(), rgb.end(), &px[i * 3]);
   }
-  write_placed(path, img, px, {0, 0, 0});
+  // The colour bar below the image: two black rows, the ramp from 0 (left) to `scale`
+  // (right), and in its last two rows grey ticks at 0, ¼, ½, ¾ and 1 of the width.
+  const int w = img.canvas_width, bar = colour_bar_rows(img.canvas_height);
+  std::vector<uint8_t> out = placed(img, std::move(px), {0, 0, 0}, bar);
+  const size_t row = static_cast<size_t>(w) * 3;
+  for (int y = 2; y < bar; ++y) {
+    uint8_t* line = &out[static_cast<size_t>(img.canvas_height + y) * row];
+    for (int x = 0; x < w; ++x) {
+      const auto rgb = heat_colour(w > 1 ? static_cast<double>(x) / (w - 1) : 1.0);
+      std::copy(rgb.begin(), rgb.end(), line + static_cast<size_t>(x) * 3);
+    }
+    if (y < bar - 2) continue;
+    for (int k = 0; k <= 4; ++k) {
+      const int x = std::min(w - 1, k * (w - 1) / 4);
+      std::fill_n(line + static_cast<size_t>(x) * 3, 3, uint8_t{128});
+    }
+  }
+  write_rgb8(path, w, img.canvas_height + bar, out);
 }
 
 }  // namespace texsim

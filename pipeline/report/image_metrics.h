@@ -1,5 +1,6 @@
 #pragma once
 // Rendered and reference images, their error metrics and PNG output (via OpenImageIO).
+#include <array>
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -57,7 +58,12 @@ std::vector<ErrorSums> error_sums(const ImageRgb& img, const ImageRgb& ref, int 
 
 // Writes an 8-bit PNG (or any OIIO format by extension) atomically; throws InputError.
 void write_image(const std::string& path, const ImageRgb& img);
-// Heat map of max-channel absolute error, scaled so `scale` maps to the hottest colour.
+// Heat map of max-channel absolute error: black (0) through red and yellow to white (`scale`
+// and above). Below the image (which keeps its size and pixels) a colour bar of
+// colour_bar_rows() rows: two black rows, then the ramp from 0 at the left to `scale` at the
+// right, its last two rows with grey ticks at 0, ¼, ½, ¾ and 1 of the width.
+std::array<uint8_t, 3> heat_colour(double t);  // t = error / scale
+int colour_bar_rows(int canvas_height);
 void write_error_heatmap(const std::string& path, const ImageRgb& img, const ImageRgb& ref,
                          double scale);
 

@@ -193,6 +193,12 @@ Json report_json(const RunInfo& info, const TextureUnit& unit, const AccuracyMet
         {"generated", fe.generated}, {"occluded", fe.occluded}, {"rejected", fe.rejected}};
   }
   add_physical_json(j, info, unit);
+  j["error_map"] = {{"scale", info.error_scale},
+                    {"auto", info.error_scale_auto},
+                    {"bar_rows", info.error_bar_rows},
+                    {"ticks",
+                     {0.0, 0.25 * info.error_scale, 0.5 * info.error_scale, 0.75 * info.error_scale,
+                      info.error_scale}}};
   j["provenance"] = provenance_json(info.provenance);
   return j;
 }
@@ -311,7 +317,12 @@ std::string report_markdown(const RunInfo& info, const TextureUnit& unit,
   if (const ClockedPipeline* p = unit.pipeline()) md_stages(md, *p);
   md_memory(md, unit);
   md << "\n## Images\n\n`image.png` (filtered result), `reference.png` (ground truth), `error.png` "
-        "(max-channel absolute error; white = the largest error in this run).\n";
+        "(max-channel absolute error, black 0 through red and yellow to white "
+     << fmt(info.error_scale)
+     << (info.error_scale_auto ? " = the largest error of the imaged frame" : " (--error-scale)")
+     << "; below the image a colour bar of " << info.error_bar_rows
+     << " rows from 0 at the left to " << fmt(info.error_scale)
+     << " at the right, ticks at 0, ¼, ½, ¾ and 1 of the width).\n";
   provenance_markdown(md, info.provenance);
   return md.str();
 }

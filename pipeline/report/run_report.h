@@ -23,6 +23,9 @@ struct RunInfo {
   std::vector<AccuracyMetrics> material_accuracy;  // per material of the texture unit
   std::vector<FrameAccuracy> frames;               // each frame against its own ground truth
   uint32_t image_frame = 0;                        // the frame the images show
+  double error_scale = 0;                          // error.png: the error drawn white
+  bool error_scale_auto = true;                    // scale = the largest error of the imaged frame
+  int error_bar_rows = 0;                          // colour bar rows below error.png's image
   Provenance provenance;
 };
 

@@ -6,6 +6,7 @@
 #include <sys/sysmacros.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -76,6 +77,15 @@ TEST_F(Cli, FootprintFiltersPerMaterial) {
   }
   EXPECT_EQ(find(j, "blocks.filter.multi_probe"), nullptr);      // no material names it
   EXPECT_EQ(find(j, "blocks.lod")->at("materials").size(), 1u);  // only the trilinear one
+  // Every method gets comparable pixels: fragment counts within 1 % of each other (the old
+  // layout gave 606 to trilinear and SPAF, 16,889 to EWA and Feline).
+  double lo = 1e18, hi = 0;
+  for (const auto& [name, m] : j.at("materials").items()) {
+    lo = std::min(lo, m.at("fragments").get<double>());
+    hi = std::max(hi, m.at("fragments").get<double>());
+  }
+  EXPECT_GT(lo, 1000);
+  EXPECT_LT(hi / lo, 1.01) << lo << " " << hi;
   // EWA scans many texels per fragment: far more cycles per fragment than trilinear alone.
   EXPECT_GT(num(j, "cycles_per_fragment"), 4.0);
   // Two footprint filters in one material are rejected with the place.
@@ -156,6 +166,22 @@ TEST_F(Cli, OneBlockInTwoConfigurationsIsTwoUnitsAndWeightMapKeysAreRead) {
   const Result bad = sh("run " + path("typo.toml") + " --out " + path("out2"));
   EXPECT_EQ(bad.code, 2) << bad.out;
   EXPECT_NE(bad.out.find("sise"), std::string::npos) << bad.out;
+}
+
+TEST_F(Cli, ErrorMapScaleIsRecordedAndFixedOnRequest) {
+  Result r = sh("run --no-progress --out " + path("a"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json a = load_json(path("a/report.json"));
+  EXPECT_EQ(num(a, "error_map.scale"), num(a, "accuracy.max_abs"));
+  EXPECT_TRUE(a.at("error_map").at("auto").get<bool>());
+  r = sh("run --no-progress --error-scale 0.1 --out " + path("b"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json b = load_json(path("b/report.json"));
+  EXPECT_EQ(num(b, "error_map.scale"), 0.1);
+  EXPECT_FALSE(b.at("error_map").at("auto").get<bool>());
+  EXPECT_EQ(num(b, "error_map.bar_rows"), 20);  // 240 / 12 rows below the 320 x 240 image
+  EXPECT_NE(slurp(path("b/report.md")).find("white 0.1 (--error-scale)"), std::string::npos);
+  EXPECT_EQ(sh("run --no-progress --error-scale 0 --out " + path("c")).code, 2);
 }
 
 TEST_F(Cli, FunctionalModeHasOpsButNoCycles) {
