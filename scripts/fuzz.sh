@@ -19,8 +19,10 @@ run() {  # run NAME CORPUS [ENV=VALUE]
   local work="$build/corpus/$name${1:+-crc}"
   mkdir -p "$work"
   echo "== $name ${1:-} ($secs s)"
+  local dict=()  # testbench/fuzz/NAME.dict: the format's keywords, when the harness has one
+  [[ -f testbench/fuzz/${name#fuzz_}.dict ]] && dict=(-dict="../testbench/fuzz/${name#fuzz_}.dict")
   (cd "$build" && env "$@" "./testbench/$name" -max_total_time="$secs" -rss_limit_mb=2048 \
-     -max_len=65536 -print_final_stats=1 "../$work" "../$seeds" 2>&1 | tail -n 12)
+     -max_len=65536 -print_final_stats=1 "${dict[@]}" "../$work" "../$seeds" 2>&1 | tail -n 12)
 }
 run fuzz_trace_reader testbench/fuzz/corpus/trace
 run fuzz_trace_reader testbench/fuzz/corpus/trace TEXSIM_FUZZ_FIX_CRC=1
