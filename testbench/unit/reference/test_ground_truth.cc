@@ -12,7 +12,7 @@ namespace {
 
 // 4x4, texel (x, y) has red = x + 4y.
 Texture numbered() {
-  std::vector<float> rgba(4 * 4 * 4, 1.0f);
+  std::vector<float> rgba(size_t{4} * 4 * 4, 1.0f);
   for (int i = 0; i < 16; ++i) rgba[static_cast<size_t>(i) * 4] = static_cast<float>(i);
   return Texture::from_rgba("numbered", 4, 4, rgba, TexelFormat::Rgba32f, false);
 }
