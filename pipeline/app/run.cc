@@ -97,7 +97,7 @@ RunTextures load_trace_textures(const TraceReader& reader, const std::string& tr
 RunTextures load_scene_textures(const Scene& scene) {
   RunTextures t;
   for (size_t i = 0; i < scene.textures.size(); ++i) {
-    const int id = t.set.add(load_texture(scene.textures[i].source, scene.base_dir));
+    const int id = t.set.add(load_scene_texture(scene, i));
     t.index[static_cast<uint32_t>(i)] = id;
     t.by_name[scene.textures[i].name] = id;
     t.names.push_back(scene.textures[i].name + " = " + scene.textures[i].source);
@@ -489,7 +489,7 @@ uint64_t generate_scene_trace(const std::string& scene_path, const std::string& 
   (void)build_materials(scene);  // checks the materials' effects
   TraceHeader h;
   for (size_t i = 0; i < scene.textures.size(); ++i) {
-    const Texture t = load_texture(scene.textures[i].source, scene.base_dir);
+    const Texture t = load_scene_texture(scene, i);
     std::string src = scene.textures[i].source;
     if (!is_procedural_source(src)) {
       // Paths in the trace are absolute so the trace can be moved away from the scene.

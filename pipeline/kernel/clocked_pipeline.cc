@@ -59,6 +59,16 @@ const StageStats& ClockedPipeline::stats(int s) const {
   return st;
 }
 
+uint64_t ClockedPipeline::issue_end(int s) const {
+  const size_t k = static_cast<size_t>(s);
+  const uint64_t issued = items_of(k), p = ring_mask_ + 1;
+  uint64_t end = 0;
+  // Each lane was last used by one of the last `lanes` items.
+  for (uint64_t j = 1; j <= std::min<uint64_t>(issued, hot_[k].lanes); ++j)
+    end = std::max(end, ring_[k * p + ((issued - j) & ring_mask_)].lane_free);
+  return end;
+}
+
 void ClockedPipeline::report_stuck(uint64_t item, int stage) {
   stuck_stage_ = stage;
   std::ostringstream os;

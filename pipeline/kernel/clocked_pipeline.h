@@ -83,6 +83,9 @@ class ClockedPipeline {
   const StageConfig& config(int s) const { return stages_[s].cfg; }
   // A snapshot of stage s's counters, refreshed by each call.
   const StageStats& stats(int s) const;
+  // When stage s's issue slots end: its lanes' last free cycle. The last items' slots (ii plus
+  // extra_ii) may end after cycles().
+  uint64_t issue_end(int s) const;
   // Busy issue slots ÷ (cycles × lanes).
   double utilisation(int s) const;
 

@@ -25,6 +25,15 @@ int address(long long i, int size, AddressMode m) {
   return 0;
 }
 
+// The integer texel coordinate floor(x) = f as a long long that addresses the same texel.
+// Beyond 2^53 every double is an integer and may not fit a long long: it becomes a value of
+// the same sign and residue modulo 2·size (so wrap, mirror and clamp address the same texel).
+long long texel_index(double f, int size) {
+  if (std::fabs(f) < 0x1p53) return static_cast<long long>(f);
+  const long long far = (2LL * size) << 20;
+  return static_cast<long long>(std::fmod(f, 2.0 * size)) + (f > 0 ? far : -far);
+}
+
 glm::dvec4 fetch(const Texture& t, int x, int y) {
   const Rgba c = t.texel(0, x, y);
   return {c.r, c.g, c.b, c.a};
@@ -37,9 +46,10 @@ glm::dvec4 reference_bilinear(const Texture& tex, AddressMode au, AddressMode av
   const int w = tex.width(0), h = tex.height(0);
   if (!std::isfinite(u) || !std::isfinite(v)) return {0, 0, 0, 0};
   const double x = u * w - 0.5, y = v * h - 0.5;
+  if (!std::isfinite(x) || !std::isfinite(y)) return {0, 0, 0, 0};  // u·w overflowed
   const double fx0 = std::floor(x), fy0 = std::floor(y);
   const double a = x - fx0, b = y - fy0;
-  const auto ix = static_cast<long long>(fx0), iy = static_cast<long long>(fy0);
+  const long long ix = texel_index(fx0, w), iy = texel_index(fy0, h);
   const int x0 = address(ix, w, au), x1 = address(ix + 1, w, au);
   const int y0 = address(iy, h, av), y1 = address(iy + 1, h, av);
   return (1 - a) * (1 - b) * fetch(tex, x0, y0) + a * (1 - b) * fetch(tex, x1, y0) +

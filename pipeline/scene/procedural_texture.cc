@@ -43,11 +43,12 @@ float value_noise(double x, double y, int period, uint32_t seed) {
 
 bool is_procedural_source(const std::string& source) { return source.rfind(kPrefix, 0) == 0; }
 
-Texture make_procedural_texture(const std::string& source, const std::string& where) {
+ProceduralSpec parse_procedural_source(const std::string& source, const std::string& where) {
   if (!is_procedural_source(source)) throw InputError(where, "not a procedural texture: " + source);
-  std::string rest = source.substr(std::string(kPrefix).size());
+  const std::string rest = source.substr(std::string(kPrefix).size());
   const auto q = rest.find('?');
-  const std::string kind = rest.substr(0, q);
+  ProceduralSpec spec;
+  spec.kind = rest.substr(0, q);
   std::map<std::string, std::string> kv;
   if (q != std::string::npos) {
     std::stringstream ss(rest.substr(q + 1));
@@ -77,15 +78,38 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
     kv.erase(it);
     return static_cast<int>(v);
   };
-  const int size = get_int("size", 256, 1, 16384);
-  TexelFormat format = TexelFormat::Rgba8;
+  spec.size = get_int("size", spec.size, 1, 16384);
   if (auto it = kv.find("format"); it != kv.end()) {
     if (it->second == "rgba32f")
-      format = TexelFormat::Rgba32f;
+      spec.format = TexelFormat::Rgba32f;
     else if (it->second != "rgba8")
-      throw InputError(where, "procedural texture: format must be rgba8 or rgba32f");
+      throw InputError(where,
+                       "procedural texture '" + source + "': format must be rgba8 or rgba32f");
     kv.erase(it);
   }
+  if (spec.kind == "checker") {
+    spec.cells = get_int("cells", spec.cells, 1, spec.size);
+  } else if (spec.kind == "grid") {
+    spec.cells = get_int("cells", spec.cells, 1, spec.size);
+    spec.line = get_int("line", spec.line, 1, spec.size);
+  } else if (spec.kind == "noise") {
+    spec.seed = get_int("seed", spec.seed, 0, 1 << 30);
+    spec.octaves = get_int("octaves", spec.octaves, 1, 12);
+    spec.cells = get_int("cells", spec.cells, 1, spec.size);
+  } else {
+    throw InputError(where, "procedural texture '" + source + "': unknown kind '" + spec.kind +
+                                "' (known: checker, grid, noise)");
+  }
+  if (!kv.empty()) {
+    throw InputError(
+        where, "procedural texture '" + source + "': unknown key '" + kv.begin()->first + "'");
+  }
+  return spec;
+}
+
+Texture make_procedural_texture(const std::string& source, const std::string& where) {
+  const ProceduralSpec spec = parse_procedural_source(source, where);
+  const int size = spec.size, cells = spec.cells;
   std::vector<float> rgba(static_cast<size_t>(size) * size * 4, 1.0f);
   auto put = [&](int x, int y, float r, float g, float b) {
     float* p = &rgba[(static_cast<size_t>(y) * size + x) * 4];
@@ -94,8 +118,7 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
     p[2] = b;
     p[3] = 1.0f;
   };
-  if (kind == "checker") {
-    const int cells = get_int("cells", 8, 1, size);
+  if (spec.kind == "checker") {
     for (int y = 0; y < size; ++y)
       for (int x = 0; x < size; ++x) {
         const bool on = ((x * cells / size) + (y * cells / size)) % 2 == 0;
@@ -104,9 +127,8 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
         else
           put(x, y, 0.08f, 0.12f, 0.30f);
       }
-  } else if (kind == "grid") {
-    const int cells = get_int("cells", 8, 1, size);
-    const int line = get_int("line", 2, 1, size);
+  } else if (spec.kind == "grid") {
+    const int line = spec.line;
     for (int y = 0; y < size; ++y)
       for (int x = 0; x < size; ++x) {
         const bool on = (x * cells % size) < line * cells || (y * cells % size) < line * cells;
@@ -115,33 +137,23 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
         else
           put(x, y, 0.1f, 0.3f, 0.1f);
       }
-  } else if (kind == "noise") {
-    const int seed = get_int("seed", 1, 0, 1 << 30);
-    const int octaves = get_int("octaves", 5, 1, 12);
-    const int cells = get_int("cells", 8, 1, size);
+  } else {  // noise
     for (int y = 0; y < size; ++y)
       for (int x = 0; x < size; ++x) {
         double sum = 0, amp = 0.5, norm = 0;
-        for (int o = 0; o < octaves; ++o) {
+        for (int o = 0; o < spec.octaves; ++o) {
           const int period = cells << o;
           const double s = static_cast<double>(period) / size;
-          sum += amp *
-                 value_noise((x + 0.5) * s, (y + 0.5) * s, period, static_cast<uint32_t>(seed + o));
+          sum += amp * value_noise((x + 0.5) * s, (y + 0.5) * s, period,
+                                   static_cast<uint32_t>(spec.seed + o));
           norm += amp;
           amp *= 0.5;
         }
         const auto v = static_cast<float>(sum / norm);
         put(x, y, v, 0.6f * v + 0.2f, 1.0f - v);
       }
-  } else {
-    throw InputError(where, "procedural texture '" + source + "': unknown kind '" + kind +
-                                "' (known: checker, grid, noise)");
   }
-  if (!kv.empty()) {
-    throw InputError(
-        where, "procedural texture '" + source + "': unknown key '" + kv.begin()->first + "'");
-  }
-  return Texture::from_rgba(source, size, size, rgba, format, true);
+  return Texture::from_rgba(source, size, size, rgba, spec.format, true);
 }
 
 }  // namespace texsim

@@ -7,10 +7,20 @@
 
 namespace texsim {
 
-// Parses and builds e.g. "procedural:checker?size=512&cells=16". Keys (all optional):
+// A parsed "procedural:KIND?key=value&..." source. Keys (all optional):
 //   size (texels, square, default 256), cells (checker/grid cells per side, default 8),
 //   line (grid line width in texels, default 2), seed and octaves (noise), format (rgba8|rgba32f).
+struct ProceduralSpec {
+  std::string kind;  // checker, grid or noise
+  int size = 256, cells = 8, line = 2, seed = 1, octaves = 5;
+  TexelFormat format = TexelFormat::Rgba8;
+};
+
+// Parses and checks a spec without building any texels (a scene checks its sources so).
 // Throws InputError naming `where` and the bad key on a malformed spec.
+ProceduralSpec parse_procedural_source(const std::string& source, const std::string& where);
+
+// Parses and builds e.g. "procedural:checker?size=512&cells=16"; errors as above.
 Texture make_procedural_texture(const std::string& source, const std::string& where);
 
 bool is_procedural_source(const std::string& source);

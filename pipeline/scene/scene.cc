@@ -7,6 +7,7 @@
 
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
+#include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene_overrides.h"
 
 namespace texsim {
@@ -90,7 +91,12 @@ void parse_textures(const ConfigReader& top, Scene& s) {
     tr.reject_unknown({"source"});
     const std::string src = tr.get_string("source", "");
     if (src.empty()) throw InputError(at(s.path, v), "textures." + name + ": missing 'source'");
-    s.textures.push_back({name, src});
+    const std::string where =
+        at(s.path, *v.as_table()->get("source")) + ": textures." + name + ".source";
+    // A procedural spec is checked here, where its line:column is known; files are opened
+    // only when the textures are loaded (a run with a trace uses the trace's instead).
+    if (is_procedural_source(src)) (void)parse_procedural_source(src, where);
+    s.textures.push_back({name, src, where});
   }
 }
 

@@ -17,6 +17,9 @@ namespace texsim {
 struct SceneTexture {
   std::string name;
   std::string source;  // file path (relative to the scene file) or "procedural:..."
+  // "file:line:column: textures.NAME.source" of the source value: messages about the texture
+  // (a bad procedural spec, a missing or unreadable file) start with it.
+  std::string where;
 };
 
 struct SceneMaterial {
@@ -52,7 +55,8 @@ struct Scene {
 };
 
 // Parses a scene file; throws InputError "file:line:column: what" on syntax, type, range and
-// reference errors (unknown texture or material names, unknown keys).
+// reference errors (unknown texture or material names, unknown keys, malformed procedural
+// texture specs). Texture files are not opened here (load_scene_texture does).
 // `overrides`: "KEY=VALUE" changes applied to the document before it is read
 // (scene_overrides.h).
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});

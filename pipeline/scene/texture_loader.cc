@@ -93,4 +93,13 @@ Texture load_texture(const std::string& source, const std::string& base_dir,
   return Texture::from_rgba(name, ws[0], hs[0], levels[0], fmt, true);
 }
 
+Texture load_scene_texture(const Scene& scene, size_t index, TexelFormatChoice format) {
+  const SceneTexture& t = scene.textures.at(index);
+  try {
+    return load_texture(t.source, scene.base_dir, format);
+  } catch (const InputError& e) {
+    throw InputError(t.where, e.what());
+  }
+}
+
 }  // namespace texsim

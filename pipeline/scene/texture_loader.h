@@ -4,6 +4,7 @@
 #include <string>
 
 #include "blocks/texture/memory/texture_memory.h"
+#include "pipeline/scene/scene.h"
 
 namespace texsim {
 
@@ -15,6 +16,11 @@ enum class TexelFormatChoice { Auto, Rgba8, Rgba32f };
 // stored (no colour-space conversion). Throws InputError naming the file on any problem.
 Texture load_texture(const std::string& source, const std::string& base_dir,
                      TexelFormatChoice format = TexelFormatChoice::Auto);
+
+// Loads texture `index` of `scene` as load_texture does; an InputError then starts with the
+// scene file and the line:column of the texture's source (SceneTexture::where).
+Texture load_scene_texture(const Scene& scene, size_t index,
+                           TexelFormatChoice format = TexelFormatChoice::Auto);
 
 // Resolves `source` against `base_dir` as load_texture does.
 std::string resolve_texture_path(const std::string& source, const std::string& base_dir);

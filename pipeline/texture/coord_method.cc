@@ -168,7 +168,9 @@ uint64_t walk(const UvConstantDepth& b, const CoordTriangle& tri, const MapCoeff
     for (int32_t i = 0; i < r.n; ++i) {
       const int32_t x = r.x0 + i, y = r.y;
       const int32_t major = xm ? x : y, minor = xm ? y : x;
-      const auto rounded = static_cast<int64_t>(std::floor(k * major + 0.5L));
+      // A NaN or infinite slope (a map the block rejects) must not convert out of range.
+      const long double line = std::floor(k * major + 0.5L);
+      const int64_t rounded = std::fabs(line) < 0x1p62L ? static_cast<int64_t>(line) : 0;
       ps.push_back({minor - rounded, major, minor});
     }
   }

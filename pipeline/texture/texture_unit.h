@@ -90,8 +90,9 @@ class TextureUnit {
   const FrontEndStats& front_end_stats() const { return front_stats_; }
 
   bool timing() const { return timing_; }
-  // Checks what every timed run must satisfy: the total cycles are at least each stage's busy
-  // issue slots ÷ its lanes, and at least the DRAM channel's busy cycles. Throws
+  // Checks what every timed run must satisfy: the total cycles, or a stage's last issue slot
+  // when that ends later, are at least the stage's busy issue slots ÷ its lanes, and the total
+  // cycles at least the DRAM channel's busy cycles. Throws
   // std::logic_error naming the stage and the figures if not (a defect of the model).
   void check_timing_invariants() const;
   uint64_t fragments() const { return fragments_; }

@@ -15,8 +15,7 @@
 namespace texsim::fuzz {
 
 inline std::string write_input(const uint8_t* data, size_t size, const char* ext) {
-  const std::string path =
-      "/tmp/texsim-fuzz-" + std::to_string(static_cast<long>(::getpid())) + ext;
+  std::string path = "/tmp/texsim-fuzz-" + std::to_string(static_cast<long>(::getpid())) + ext;
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) std::abort();
   if (size && std::fwrite(data, 1, size, f) != size) std::abort();

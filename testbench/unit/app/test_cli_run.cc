@@ -462,8 +462,28 @@ TEST_F(Cli, MissingTextureFileNamesIt) {
         "\"t\"\n[[planes]]\nmaterial = \"m\"\n");
   const Result r = sh("run " + path("s.toml") + " --out " + path("out"));
   EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("s.toml:2:10: textures.t.source: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("no_such.png: texture file not found"), std::string::npos) << r.out;
   expect_no_outputs(path("out"));
+}
+
+// A bad procedural spec names the scene file and the line:column of the value, for run and
+// trace gen alike (it used to name only the spec).
+TEST_F(Cli, BadProceduralSpecNamesSceneLineAndColumn) {
+  write("s.toml",
+        "[textures.t]\nsource = \"procedural:checker?size=0\"\n[materials.m]\ntexture = "
+        "\"t\"\n[[planes]]\nmaterial = \"m\"\n");
+  for (const std::string& cmd : {"run " + path("s.toml") + " --out " + path("out"),
+                                 "trace gen " + path("s.toml") + " -o " + path("out/t.trc")}) {
+    const Result r = sh(cmd);
+    EXPECT_EQ(r.code, 2) << cmd;
+    EXPECT_NE(r.out.find("s.toml:2:10: textures.t.source: procedural texture "
+                         "'procedural:checker?size=0': size must be an integer in [1, 16384]"),
+              std::string::npos)
+        << cmd << "\n"
+        << r.out;
+    expect_no_outputs(path("out"));
+  }
 }
 
 TEST_F(Cli, UnreadableTextureNamesIt) {
@@ -473,6 +493,7 @@ TEST_F(Cli, UnreadableTextureNamesIt) {
         "= \"m\"\n");
   const Result r = sh("run " + path("s.toml") + " --out " + path("out"));
   EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("s.toml:2:10: textures.t.source: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("junk.png: cannot read texture"), std::string::npos) << r.out;
   expect_no_outputs(path("out"));
 }

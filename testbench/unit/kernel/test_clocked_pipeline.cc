@@ -161,5 +161,19 @@ TEST(ClockedPipeline, MatchesCycleSteppedReferenceOnRandomConfigs) {
   }
 }
 
+// A last item whose issue slots (ii + extra_ii) outlast its latency: cycles() is when it left,
+// issue_end() when the stage could issue again, and the busy slots fit up to the latter.
+TEST(ClockedPipeline, IssueEndCoversSlotsThatRunPastTheLastLeave) {
+  ClockedPipeline p({stage("a", 2, 1, 2, 4, 0)});
+  ItemCost heavy;
+  heavy.extra_ii = 100;
+  p.issue(0);
+  p.issue(0, &heavy);
+  EXPECT_EQ(p.cycles(), 2u);
+  EXPECT_EQ(p.issue_end(0), 101u);  // issued at 0 on lane 1: 0 + ii 1 + 100
+  EXPECT_GT(p.stats(0).busy / 4, p.cycles());
+  EXPECT_GE(p.issue_end(0), p.stats(0).busy / 4);
+}
+
 }  // namespace
 }  // namespace texsim

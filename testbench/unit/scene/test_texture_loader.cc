@@ -1,5 +1,6 @@
 // Texture loading through OpenImageIO (PNG, JPEG, EXR, TIFF, mip-mapped .tx from maketx),
-// pyramid construction, procedural textures and their error messages.
+// pyramid construction, procedural textures and their error messages, which name the scene
+// file and the line:column of the texture's source when the texture comes from a scene.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -12,6 +13,7 @@
 
 #include "blocks/base/input_error.h"
 #include "pipeline/scene/procedural_texture.h"
+#include "pipeline/scene/scene.h"
 #include "pipeline/scene/texture_loader.h"
 
 namespace fs = std::filesystem;
@@ -174,6 +176,43 @@ TEST(Procedural, CheckerNoiseGridAndErrors) {
   EXPECT_THROW(make_procedural_texture("procedural:checker?size=0", "x"), InputError);
   EXPECT_THROW(make_procedural_texture("procedural:checker?colour=red", "x"), InputError);
   EXPECT_THROW(make_procedural_texture("procedural:checker?size", "x"), InputError);
+}
+
+std::string scene_error(const std::string& source, const std::string& base_dir) {
+  const std::string text =
+      "[textures.floor]\nsource = \"" + source + "\"\n[materials.m]\ntexture = \"floor\"\n";
+  try {
+    const Scene s = parse_scene(text, "s.toml", base_dir);
+    (void)load_scene_texture(s, 0);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A bad procedural spec is refused while the scene is parsed, at the value's line:column (it
+// used to name only the spec itself, when the texture was built).
+TEST(SceneTextures, BadProceduralSpecsNameSceneFileLineAndColumn) {
+  for (const char* spec : {"procedural:checker?size=0", "procedural:plaid", "procedural:grid?line",
+                           "procedural:noise?octaves=13", "procedural:checker?format=rgb"}) {
+    const std::string e = scene_error(spec, "");
+    EXPECT_EQ(e.rfind("s.toml:2:10: textures.floor.source: procedural texture '", 0), 0) << e;
+  }
+  EXPECT_EQ(scene_error("procedural:checker?size=0", ""),
+            "s.toml:2:10: textures.floor.source: procedural texture "
+            "'procedural:checker?size=0': size must be an integer in [1, 16384]");
+  EXPECT_EQ(scene_error("procedural:checker?size=8&cells=8", ""), "");
+}
+
+// Missing and unreadable texture files name the scene's line:column, then the file.
+TEST_F(Loader, SceneTextureFileErrorsNameSceneFileLineAndColumn) {
+  const std::string missing = scene_error("missing.png", dir_.string());
+  EXPECT_EQ(missing.rfind("s.toml:2:10: textures.floor.source: ", 0), 0) << missing;
+  EXPECT_NE(missing.find("missing.png: texture file not found"), std::string::npos) << missing;
+  std::ofstream(dir_ / "junk.png") << "this is not a png";
+  const std::string junk = scene_error("junk.png", dir_.string());
+  EXPECT_EQ(junk.rfind("s.toml:2:10: textures.floor.source: ", 0), 0) << junk;
+  EXPECT_NE(junk.find("junk.png: cannot read texture"), std::string::npos) << junk;
 }
 
 }  // namespace

@@ -1,0 +1,96 @@
+// libFuzzer harness: scene TOML text through everything `texsim run` builds from it: the scene
+// parser, the materials' effects, the [pipeline] setup, the clocked texture unit, the planes'
+// projective maps, and a small render through the front end or the reference generator with
+// the ground truth of each pixel. Bad input must end in InputError; a broken timing invariant
+// (std::logic_error) is a finding like any other exception.
+//
+// To keep each input fast, and the harness off the disk: texture files are replaced by a small
+// procedural stand-in, procedural textures larger than kMaxTextureSize are too (their spec is
+// still parsed and checked), the image is scaled down to at most kMaxSide pixels per side and
+// the ground truth takes at most 2x2 samples per pixel.
+#include <algorithm>
+#include <cstdio>
+#include <vector>
+
+#include "pipeline/geometry/plane_projection.h"
+#include "pipeline/raster/fragment_generator.h"
+#include "pipeline/raster/scene_front_end.h"
+#include "pipeline/reference/ground_truth.h"
+#include "pipeline/scene/procedural_texture.h"
+#include "pipeline/scene/scene.h"
+#include "pipeline/texture/effect_registry.h"
+#include "pipeline/texture/texture_unit.h"
+#include "testbench/fuzz/fuzz_input.h"
+
+namespace {
+
+using namespace texsim;
+
+constexpr int kMaxTextureSize = 64;
+constexpr int kMaxSide = 24;
+
+TextureSet scene_textures(const Scene& scene) {
+  TextureSet set;
+  for (const SceneTexture& t : scene.textures) {
+    const bool small = is_procedural_source(t.source) &&
+                       parse_procedural_source(t.source, t.where).size <= kMaxTextureSize;
+    set.add(
+        make_procedural_texture(small ? t.source : "procedural:checker?size=32&cells=4", t.where));
+  }
+  return set;
+}
+
+// The same view at most kMaxSide pixels per side.
+void shrink_image(Scene& scene) {
+  const int side = std::max(scene.width, scene.height);
+  if (side <= kMaxSide) return;
+  scene.width = std::max(1, scene.width * kMaxSide / side);
+  scene.height = std::max(1, scene.height * kMaxSide / side);
+  scene.camera.width = scene.width;
+  scene.camera.height = scene.height;
+}
+
+void run_scene(const std::string& text) {
+  Scene scene = parse_scene(text, "fuzz.toml", "");
+  shrink_image(scene);
+  TextureSet textures = scene_textures(scene);
+  std::vector<MaterialSetup> mats = build_materials(scene);
+  if (mats.empty()) {  // as `texsim run` does: one default material
+    mats.emplace_back();
+    mats.back().name = "default";
+    mats.back().filter.filter = FilterMode::Trilinear;
+  }
+  static const toml::table kNoPipeline;
+  const PipelineSetup setup =
+      PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : kNoPipeline, scene.path);
+  TextureUnit unit(textures, mats, setup, scene.tech, true);
+  std::vector<PlaneProjection> maps;
+  for (const ScenePlane& p : scene.planes) maps.emplace_back(scene, p);
+  const int n = std::min(scene.reference_supersamples, 2);
+  auto truth = [&](const Fragment& f, int material) {
+    const MaterialSetup& m = mats[static_cast<size_t>(material)];
+    (void)ground_truth_exact(textures[static_cast<int>(f.tex)], m.address_u(), m.address_v(),
+                             maps[f.prim], static_cast<int>(f.x), static_cast<int>(f.y), n);
+  };
+  if (unit.front_stages() > 0) {
+    draw_scene_front_end(scene, maps, unit,
+                         [&](const Fragment& f, int material, const Rgba*) { truth(f, material); });
+  } else {
+    generate_fragments(scene, 0, [&](const Fragment& f) {
+      const int material = scene.planes[f.prim].material;
+      (void)unit.process(f, material);
+      truth(f, material);
+    });
+  }
+  unit.check_timing_invariants();
+  (void)unit.blocks();
+  for (int m = 0; m < unit.material_count(); ++m) (void)unit.material_blocks(m);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  texsim::fuzz::expect_clean([&] { run_scene(text); });
+  return 0;
+}
