@@ -42,6 +42,15 @@ TEST(Sweep, GridExpandsInFileOrderLastKeyFastest) {
   for (int i = 0; i < 6; ++i) EXPECT_EQ(s.jobs[static_cast<size_t>(i)].id, i);
 }
 
+TEST(Sweep, ShippedExampleExpands) {
+  const Sweep s = load_sweep(std::string(TEXSIM_SOURCE_DIR) + "/scenes/sweeps/cache_fifo.toml");
+  ASSERT_EQ(s.jobs.size(), 12u);
+  EXPECT_EQ(s.jobs[0].scene, "default");
+  EXPECT_EQ(s.jobs[6].scene, std::string(TEXSIM_SOURCE_DIR) + "/scenes/sweeps/../coords.toml");
+  EXPECT_EQ(s.jobs[11].overrides,
+            (std::vector<std::string>{"pipeline.cache.size_bytes=65536", "pipeline.fifo_depth=8"}));
+}
+
 TEST(Sweep, BadSweepFilesNameLineAndColumn) {
   TempDir d("sweep");
   const auto error = [&](const std::string& text) {
