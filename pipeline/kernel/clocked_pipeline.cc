@@ -78,11 +78,17 @@ void ClockedPipeline::report_stuck(uint64_t item, int stage) {
   throw DeadlockError(os.str());
 }
 
+uint64_t ClockedPipeline::run_end() const {
+  uint64_t end = cycles_;
+  for (int s = 0; s < stage_count(); ++s) end = std::max(end, issue_end(s));
+  return end;
+}
+
 double ClockedPipeline::utilisation(int s) const {
   const auto& st = stats(s);
-  if (cycles_ == 0) return 0.0;
-  return static_cast<double>(st.busy) /
-         (static_cast<double>(cycles_) * stages_[s].cfg.timing.lanes);
+  const uint64_t end = run_end();
+  if (end == 0) return 0.0;
+  return static_cast<double>(st.busy) / (static_cast<double>(end) * stages_[s].cfg.timing.lanes);
 }
 
 void ClockedPipeline::dump_state(std::ostream& os) const {

@@ -77,7 +77,11 @@ class ClockedPipeline {
   }
 
   // Total cycles: when the last item left the last stage.
+  // Cycle at which the last item left the pipeline.
   uint64_t cycles() const { return cycles_; }
+  // End of the run: the last exit, or later if a stage's last issue slot (extra cycles charged
+  // after an item, e.g. a set-up) outlasts it. Utilisation is measured against this.
+  uint64_t run_end() const;
   uint64_t items() const { return items_; }
   int stage_count() const { return static_cast<int>(stages_.size()); }
   const StageConfig& config(int s) const { return stages_[s].cfg; }

@@ -289,7 +289,10 @@ Rgba TextureUnit::process(const Fragment& f, int material, const ItemCost* front
 
 void TextureUnit::check_timing_invariants() const {
   if (!pipe_) return;
-  const uint64_t cycles = pipe_->cycles();
+  // The run ends at the last exit or at a stage's last issue slot, whichever is later (the
+  // last items' slots can outlast the run: a triangle's or row's set-up, and the front-end
+  // cycles of dropped fragments, are charged as extra issue cycles after a fragment).
+  const uint64_t cycles = pipe_->run_end();
   auto fail = [&](const std::string& what, uint64_t need) {
     throw std::logic_error("timing invariant violated: " + what + " needs " + std::to_string(need) +
                            " cycles but the run took " + std::to_string(cycles));
@@ -297,11 +300,7 @@ void TextureUnit::check_timing_invariants() const {
   for (int s = 0; s < pipe_->stage_count(); ++s) {
     const uint64_t lanes = std::max<uint32_t>(1, pipe_->config(s).timing.lanes);
     const uint64_t busy = pipe_->stats(s).busy;
-    // The last items' issue slots may run past the end of the run (a triangle's or row's
-    // set-up, and the front-end cycles of dropped fragments, are charged as extra issue cycles
-    // to the next fragment): busy slots fit up to their end.
-    const uint64_t end = std::max(cycles, pipe_->issue_end(s));
-    if (end < busy / lanes) fail("stage '" + pipe_->config(s).name + "'", busy / lanes);
+    if (cycles < busy / lanes) fail("stage '" + pipe_->config(s).name + "'", busy / lanes);
   }
   if (cycles < dram_.stats().busy_cycles) fail("the DRAM channel", dram_.stats().busy_cycles);
 }

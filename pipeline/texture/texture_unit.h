@@ -96,7 +96,7 @@ class TextureUnit {
   // std::logic_error naming the stage and the figures if not (a defect of the model).
   void check_timing_invariants() const;
   uint64_t fragments() const { return fragments_; }
-  uint64_t cycles() const { return pipe_ ? pipe_->cycles() : 0; }
+  uint64_t cycles() const { return pipe_ ? pipe_->run_end() : 0; }
   std::vector<BlockUse> blocks() const;
   // The blocks material m used, with only its own operations and texels (cache excluded).
   std::vector<BlockUse> material_blocks(int m) const;
@@ -108,7 +108,7 @@ class TextureUnit {
   const DramModel& dram() const { return dram_; }
   const std::vector<FrameStats>& frames() const {
     // The current frame's cycles are the pipeline's so far (set here, not per fragment).
-    if (pipe_ && !frames_.empty()) frames_.back().cycles = pipe_->cycles();
+    if (pipe_ && !frames_.empty()) frames_.back().cycles = pipe_->run_end();
     return frames_;
   }
 

@@ -173,6 +173,9 @@ TEST(ClockedPipeline, IssueEndCoversSlotsThatRunPastTheLastLeave) {
   EXPECT_EQ(p.issue_end(0), 101u);  // issued at 0 on lane 1: 0 + ii 1 + 100
   EXPECT_GT(p.stats(0).busy / 4, p.cycles());
   EXPECT_GE(p.issue_end(0), p.stats(0).busy / 4);
+  // The run ends with that slot: utilisation never exceeds 1.
+  EXPECT_EQ(p.run_end(), 101u);
+  EXPECT_LE(p.utilisation(0), 1.0);
 }
 
 }  // namespace
