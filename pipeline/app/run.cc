@@ -75,7 +75,15 @@ RunTextures load_trace_textures(const TraceReader& reader, const std::string& tr
   RunTextures t;
   const std::string dir = std::filesystem::path(trace_path).parent_path().string();
   for (const auto& e : reader.header().textures) {
-    Texture tex = load_texture(e.source, dir);
+    Texture tex = [&] {
+      try {
+        return load_texture(e.source, dir);
+      } catch (const InputError& err) {
+        // Name the trace and its table entry as well as the file.
+        throw InputError(trace_path, "texture table entry " + std::to_string(e.id) + " ('" +
+                                         e.name + "'): " + err.what());
+      }
+    }();
     if (static_cast<uint32_t>(tex.width(0)) != e.width ||
         static_cast<uint32_t>(tex.height(0)) != e.height) {
       throw InputError(trace_path, "texture " + std::to_string(e.id) + " ('" + e.source + "') is " +

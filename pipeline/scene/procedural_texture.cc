@@ -78,7 +78,8 @@ ProceduralSpec parse_procedural_source(const std::string& source, const std::str
     kv.erase(it);
     return static_cast<int>(v);
   };
-  spec.size = get_int("size", spec.size, 1, 16384);
+  // As for texture files: at most 8192 × 8192 texels (an rgba32f pyramid of that is 1.4 GB).
+  spec.size = get_int("size", spec.size, 1, 8192);
   if (auto it = kv.find("format"); it != kv.end()) {
     if (it->second == "rgba32f")
       spec.format = TexelFormat::Rgba32f;

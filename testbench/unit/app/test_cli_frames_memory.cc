@@ -172,6 +172,28 @@ TEST_F(Cli, LargestSceneImageIsEstimatedAndRefusedOrSizedByItsPlanes) {
   EXPECT_LT(children_peak_mib(), 1200);
 }
 
+TEST_F(Cli, TraceTextureErrorsNameTheTraceAndEntryAndSizesAreBounded) {
+  write("t.csv",
+        "# texture 0 crate nofile.png 64 64\n"
+        "frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy,lod_bias\n" +
+            frag(0, 1, 1));
+  Result r = sh("run --no-progress --trace " + path("t.csv") + " --out " + path("o"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find(path("t.csv") + ": texture table entry 0 ('crate'): "), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("nofile.png"), std::string::npos) << r.out;
+  // A procedural texture is bounded like a file (16384² rgba32f would be 5.7 GB).
+  write("big.csv",
+        "# texture 0 big \"procedural:noise?size=16384&format=rgba32f\" 16384 16384\n"
+        "frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy,lod_bias\n" +
+            frag(0, 1, 1));
+  r = sh("run --no-progress --trace " + path("big.csv") + " --out " + path("o"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("size must be an integer in [1, 8192]"), std::string::npos) << r.out;
+  EXPECT_LT(children_peak_mib(), 300);
+  expect_no_outputs(path("o"));
+}
+
 TEST_F(Cli, MaxMemoryOptionIsParsedAndChecked) {
   write("t.csv", std::string(kTable) + block(0));
   Result r =

@@ -478,7 +478,7 @@ TEST_F(Cli, BadProceduralSpecNamesSceneLineAndColumn) {
     const Result r = sh(cmd);
     EXPECT_EQ(r.code, 2) << cmd;
     EXPECT_NE(r.out.find("s.toml:2:10: textures.t.source: procedural texture "
-                         "'procedural:checker?size=0': size must be an integer in [1, 16384]"),
+                         "'procedural:checker?size=0': size must be an integer in [1, 8192]"),
               std::string::npos)
         << cmd << "\n"
         << r.out;

@@ -200,7 +200,7 @@ TEST(SceneTextures, BadProceduralSpecsNameSceneFileLineAndColumn) {
   }
   EXPECT_EQ(scene_error("procedural:checker?size=0", ""),
             "s.toml:2:10: textures.floor.source: procedural texture "
-            "'procedural:checker?size=0': size must be an integer in [1, 16384]");
+            "'procedural:checker?size=0': size must be an integer in [1, 8192]");
   EXPECT_EQ(scene_error("procedural:checker?size=8&cells=8", ""), "");
 }
 
