@@ -14,6 +14,16 @@ const toml::table& empty_table() {
 }
 }  // namespace
 
+toml::table parse_toml(const std::string& text, const std::string& source_name) {
+  try {
+    return toml::parse(text, source_name);
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw InputError(source_name + ":" + std::to_string(b.line) + ":" + std::to_string(b.column),
+                     std::string(e.description()));
+  }
+}
+
 ConfigReader::ConfigReader(const toml::table& table, std::string source, std::string block)
     : table_(&table), source_(std::move(source)), block_(std::move(block)) {}
 

@@ -10,6 +10,9 @@
 
 namespace texsim {
 
+// Parses TOML text; a syntax error is an InputError "source:line:column: what".
+toml::table parse_toml(const std::string& text, const std::string& source_name);
+
 class ConfigReader {
  public:
   // `block` names the owner in messages, e.g. "cache" or "material 'floor'".

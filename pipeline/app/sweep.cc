@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "blocks/base/atomic_file.h"
+#include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
 #include "pipeline/app/results_ledger.h"
 #include "pipeline/app/run.h"
@@ -26,24 +27,17 @@ using Json = nlohmann::ordered_json;
 
 namespace {
 
-std::string where(const std::string& file, const toml::node& n) {
-  return file + ":" + std::to_string(n.source().begin.line) + ":" +
-         std::to_string(n.source().begin.column);
-}
-
 // A list of strings at `key` of `t` (absent: empty), paths made relative to the sweep file.
-std::vector<std::string> paths(const toml::table& t, const char* key, const std::string& file) {
+std::vector<std::string> paths(const toml::table& t, const ConfigReader& r, const char* key) {
   std::vector<std::string> out;
   const toml::node* n = t.get(key);
   if (!n) return out;
   const toml::array* a = n->as_array();
-  if (!a)
-    throw InputError(where(file, *n),
-                     std::string("sweep.") + key + ": expected an array of strings");
-  const fs::path dir = fs::path(file).parent_path();
+  if (!a) r.fail(key, "expected an array of strings");
+  const fs::path dir = fs::path(r.source()).parent_path();
   for (const toml::node& e : *a) {
     const auto s = e.value<std::string>();
-    if (!s) throw InputError(where(file, e), std::string("sweep.") + key + ": expected a string");
+    if (!s) throw InputError(r.where(&e), std::string("sweep.") + key + ": expected a string");
     out.push_back(*s == "default" || fs::path(*s).is_absolute() ? *s : (dir / *s).string());
   }
   return out;
@@ -58,36 +52,23 @@ std::string toml_text(const toml::node& n) {
 }  // namespace
 
 Sweep load_sweep(const std::string& path) {
-  toml::table root;
-  try {
-    root = toml::parse_file(path);
-  } catch (const toml::parse_error& e) {
-    const auto& b = e.source().begin;
-    throw InputError(path + ":" + std::to_string(b.line) + ":" + std::to_string(b.column),
-                     std::string(e.description()));
-  }
-  for (const auto& [k, v] : root) {
-    if (k != "sweep" && k != "grid")
-      throw InputError(where(path, v),
-                       "unknown table '" + std::string(k.str()) + "' (known: sweep, grid)");
-  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "cannot open sweep file");
+  std::stringstream text;
+  text << in.rdbuf();
+  const toml::table root = parse_toml(text.str(), path);
+  ConfigReader(root, path, "sweep file").reject_unknown({"sweep", "grid"});
   const toml::table* sw = root["sweep"].as_table();
   if (!sw) throw InputError(path, "needs a [sweep] table with scenes = [...] or traces = [...]");
-  for (const auto& [k, v] : *sw) {
-    if (k != "scenes" && k != "traces" && k != "out")
-      throw InputError(where(path, v), "sweep: unknown key '" + std::string(k.str()) +
-                                           "' (known: scenes, traces, out)");
-  }
+  const ConfigReader sr(*sw, path, "sweep");
+  sr.reject_unknown({"scenes", "traces", "out"});
   Sweep s;
   s.path = path;
-  s.out = "out/sweep";
-  if (const toml::node* o = sw->get("out")) {
-    const auto v = o->value<std::string>();
-    if (!v) throw InputError(where(path, *o), "sweep.out: expected a string");
-    s.out = fs::path(*v).is_absolute() ? *v : (fs::path(path).parent_path() / *v).string();
-  }
-  const std::vector<std::string> scenes = paths(*sw, "scenes", path),
-                                 traces = paths(*sw, "traces", path);
+  s.out = sr.get_string("out", "out/sweep");
+  if (sw->contains("out") && !fs::path(s.out).is_absolute())
+    s.out = (fs::path(path).parent_path() / s.out).string();
+  const std::vector<std::string> scenes = paths(*sw, sr, "scenes"),
+                                 traces = paths(*sw, sr, "traces");
   if (scenes.empty() && traces.empty())
     throw InputError(path, "sweep: scenes and traces are both empty");
   // Inputs: every scene alone, every trace with every scene (or alone).
@@ -106,7 +87,7 @@ Sweep load_sweep(const std::string& path) {
     for (const auto& [k, v] : *g) {
       const toml::array* a = v.as_array();
       if (!a || a->empty())
-        throw InputError(where(path, v),
+        throw InputError(ConfigReader(*g, path, "grid").where(&v),
                          "grid." + std::string(k.str()) + ": expected a non-empty array of values");
       axes.emplace_back();
       for (const toml::node& e : *a)

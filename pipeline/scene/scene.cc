@@ -39,16 +39,6 @@ glm::vec<N, double> read_vec(const ConfigReader& r, std::string_view key, glm::v
   return v;
 }
 
-toml::table parse_document(const std::string& text, const std::string& source_name) {
-  try {
-    return toml::parse(text, source_name);
-  } catch (const toml::parse_error& e) {
-    const auto& b = e.source().begin;
-    throw InputError(source_name + ":" + std::to_string(b.line) + ":" + std::to_string(b.column),
-                     std::string(e.description()));
-  }
-}
-
 void parse_output(const ConfigReader& top, Scene& s) {
   const ConfigReader out = top.sub("output");
   out.reject_unknown({"width", "height", "background"});
@@ -171,7 +161,7 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   Scene s;
   s.path = source_name;
   s.base_dir = base_dir;
-  s.root = std::make_shared<toml::table>(parse_document(text, source_name));
+  s.root = std::make_shared<toml::table>(parse_toml(text, source_name));
   apply_overrides(*s.root, overrides);
   const toml::table& root = *s.root;
   const ConfigReader top(root, source_name, "scene");
