@@ -39,7 +39,7 @@ PlaneTriangles plane_triangles(const PlaneProjection& proj, int width, int heigh
       t.x[k] = poly[idx[k]].x;
       t.y[k] = poly[idx[k]].y;
     }
-    t.rows = rasterize_rows(t.x, t.y, width, height);
+    t.rows = triangle_rows(t.x, t.y, width, height);
     if (!t.rows.empty()) pt.tris.push_back(std::move(t));
   }
   return pt;

@@ -108,7 +108,7 @@ StudyPlane make_study_plane(const StudyCoordsOptions& o, double tilt) {
           t.x[k] = static_cast<double>(px[idx[k]]);
           t.y[k] = static_cast<double>(py[idx[k]]);
         }
-        t.rows = rasterize_rows(t.x, t.y, o.width, o.height);
+        t.rows = triangle_rows(t.x, t.y, o.width, o.height);
         if (t.rows.empty()) continue;
         sp.tris.push_back(std::move(t));
       }

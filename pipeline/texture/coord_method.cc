@@ -7,6 +7,7 @@
 
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
+#include "blocks/raster/guard_band_clipper.h"
 #include "blocks/texture/coords/uv_approximation.h"
 #include "blocks/texture/coords/uv_approximation_triangle.h"
 #include "blocks/texture/coords/uv_constant_depth.h"
@@ -19,6 +20,11 @@
 #include "rtl_model/number/number_format.h"
 
 namespace texsim {
+
+std::vector<RowSpan> triangle_rows(const double x[3], const double y[3], int32_t w, int32_t h) {
+  const std::vector<ScreenVertex> tri = {{x[0], y[0], 1}, {x[1], y[1], 1}, {x[2], y[2], 1}};
+  return rasterize_convex(EdgeRasterizer(), tri, Scissor{0, 0, w, h});
+}
 
 namespace {
 

@@ -14,7 +14,7 @@
 #include "blocks/base/tech_table.h"
 #include "blocks/geometry/near_clipper.h"
 #include "blocks/geometry/projective_map.h"
-#include "blocks/raster/row_rasterizer.h"
+#include "blocks/raster/raster_types.h"
 #include "blocks/texture/derivs/ellipse_setup.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 
@@ -31,6 +31,10 @@ struct CoordTriangle {
   double y[3] = {0, 0, 0};
   std::vector<RowSpan> rows;
 };
+
+// The pixels of [0,w)×[0,h) the screen triangle (x[i], y[i]) covers, as raster rows: the
+// edge-function rasteriser (top-left rule, 8 sub-pixel bits) behind the guard-band clipper.
+std::vector<RowSpan> triangle_rows(const double x[3], const double y[3], int32_t w, int32_t h);
 
 struct CoordFragment {
   int32_t x = 0, y = 0;

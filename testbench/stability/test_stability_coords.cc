@@ -515,7 +515,7 @@ TEST(StabilityCoords, NanAndInfInputsAreRejected) {
     tri.map = eye;
     tri.x[1] = 50;
     tri.y[2] = 50;
-    tri.rows = rasterize_rows(tri.x, tri.y, 64, 64);
+    tri.rows = triangle_rows(tri.x, tri.y, 64, 64);
     std::vector<CoordFragment> frags;
     std::vector<ItemCost> costs;
     OpCounts ops;

@@ -11,7 +11,7 @@
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
-#include "blocks/raster/row_rasterizer.h"
+#include "blocks/raster/raster_types.h"
 #include "blocks/texture/coords/coord_types.h"
 
 namespace texsim {

@@ -1,17 +1,19 @@
 // Edge-function rasteriser: top-left rule against a brute-force point-in-triangle test, shared
 // edges covered exactly once (pairs, fans, grids), hard cases with defined outcomes,
-// perspective-correct weights, and the measured coverage difference to the row rasteriser.
+// perspective-correct weights, and the measured coverage difference to closed triangles, the guard
+// band.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <set>
 #include <vector>
 
 #include "blocks/base/tech_table.h"
 #include "blocks/raster/edge_rasterizer.h"
-#include "blocks/raster/row_rasterizer.h"
+#include "blocks/raster/guard_band_clipper.h"
 
 namespace texsim {
 namespace {
@@ -295,10 +297,29 @@ TEST(EdgeRasterizer, PerspectiveCorrectWeightsReproduceTheViewPoint) {
   EXPECT_GT(checked, 1000);
 }
 
-// The row rasteriser (blocks/raster/row_rasterizer) includes pixel centres on every edge
-// (closed triangle, long double, no snapping); this block includes them on top and left edges
-// only. Measured over random triangles of every orientation.
-TEST(EdgeRasterizer, CoverageDifferenceToTheRowRasterizer) {
+// The closed triangle (long double, no snapping) includes pixel centres on every edge, the
+// convention of the row rasteriser this block replaced; this block includes them on top and
+// left edges only. Measured over random triangles of every orientation.
+std::vector<int> closed_coverage(const double x[3], const double y[3]) {
+  std::vector<int> c(static_cast<size_t>(kW * kH), 0);
+  const long double area = (static_cast<long double>(x[1]) - x[0]) * (y[2] - y[0]) -
+                           (static_cast<long double>(x[2]) - x[0]) * (y[1] - y[0]);
+  if (area == 0) return c;
+  for (int32_t py = 0; py < kH; ++py) {
+    for (int32_t px = 0; px < kW; ++px) {
+      bool in = true;
+      for (int e = 0; e < 3; ++e) {
+        const long double ax = x[e], ay = y[e], bx = x[(e + 1) % 3], by = y[(e + 1) % 3];
+        const long double ev = (bx - ax) * (py - ay) - (by - ay) * (px - ax);
+        in = in && (area > 0 ? ev >= 0 : ev <= 0);
+      }
+      c[at(px, py)] = in ? 1 : 0;
+    }
+  }
+  return c;
+}
+
+TEST(EdgeRasterizer, CoverageDifferenceToClosedTriangles) {
   std::mt19937_64 rng(15);
   std::uniform_real_distribution<double> ux(-4, kW + 4), uy(-4, kH + 4);
   std::uniform_int_distribution<int> gx(-4, kW + 4), gy(-4, kH + 4);
@@ -313,10 +334,7 @@ TEST(EdgeRasterizer, CoverageDifferenceToTheRowRasterizer) {
         if (mode == 2) p = {double(gx(rng)), double(gy(rng))};  // integers
       }
       const double x[3] = {v[0].x, v[1].x, v[2].x}, y[3] = {v[0].y, v[1].y, v[2].y};
-      std::vector<int> rc(static_cast<size_t>(kW * kH), 0);
-      for (const RowSpan& s : rasterize_rows(x, y, kW, kH)) {
-        for (int32_t i = s.x0; i < s.x0 + s.n; ++i) rc[at(i, s.y)] = 1;
-      }
+      const std::vector<int> rc = closed_coverage(x, y);
       const std::vector<int> ec = coverage(r, v, kScreen);
       for (size_t i = 0; i < rc.size(); ++i) {
         both += rc[i] && ec[i];
@@ -326,7 +344,7 @@ TEST(EdgeRasterizer, CoverageDifferenceToTheRowRasterizer) {
     }
     const char* names[3] = {"random doubles", "on the 1/256 grid", "integer vertices"};
     std::printf(
-        "coverage vs row rasteriser (%s): common %llu, row only %llu (%.4f%%), edge only "
+        "coverage vs closed triangles (%s): common %llu, closed only %llu (%.4f%%), edge only "
         "%llu (%.4f%%)\n",
         names[mode], static_cast<unsigned long long>(both),
         static_cast<unsigned long long>(row_only),
@@ -357,6 +375,44 @@ TEST(EdgeRasterizer, BlockContract) {
   EXPECT_EQ(s.triangles, 1u);
   EXPECT_GT(s.pixels_visited, s.pixels_covered);
   EXPECT_GT(s.pixels_covered, 100u);
+}
+
+// A triangle reaching far beyond the guard band (a plane running towards the eye) is clipped
+// in screen space first: its coverage on the screen is the closed triangle's minus at most the
+// pixels on its bottom/right edges, and a convex polygon's fan covers each pixel once.
+TEST(GuardBandClipper, FarVerticesAreClippedWithoutChangingScreenCoverage) {
+  const EdgeRasterizer r = with_bits(8);
+  const double x[3] = {-3.0e9, 50.5, 20.25}, y[3] = {10.3, 1.2e9, -7.7};
+  const std::vector<ScreenVertex> tri = {{x[0], y[0], 1}, {x[1], y[1], 1}, {x[2], y[2], 1}};
+  ASSERT_FALSE(r.setup(tri.data(), kScreen).ok());  // beyond ±2^30 units: refused unclipped
+  std::vector<int> ec(static_cast<size_t>(kW * kH), 0);
+  for (const RowSpan& s : rasterize_convex(r, tri, kScreen)) {
+    for (int32_t i = s.x0; i < s.x0 + s.n; ++i) ++ec[at(i, s.y)];
+  }
+  const std::vector<int> cc = closed_coverage(x, y);
+  uint64_t n = 0, closed_only = 0;
+  for (size_t i = 0; i < ec.size(); ++i) {
+    EXPECT_LE(ec[i], 1) << i;
+    EXPECT_LE(ec[i], cc[i]) << i;  // nothing outside the triangle
+    n += static_cast<uint64_t>(ec[i]);
+    closed_only += static_cast<uint64_t>(cc[i] - ec[i]);
+  }
+  EXPECT_GT(n, 500u);
+  EXPECT_LE(closed_only, static_cast<uint64_t>(kW + kH));  // one edge's pixels at most
+  // A hexagon: its fan's pixels once each, the union equal to the closed polygon's interior.
+  std::vector<ScreenVertex> hex;
+  for (int k = 0; k < 6; ++k) {
+    const double a = k * 3.14159265358979 / 3 + 0.1;
+    hex.push_back({31.3 + 40 * std::cos(a), 23.7 + 30 * std::sin(a), 1});
+  }
+  std::vector<int> hc(static_cast<size_t>(kW * kH), 0);
+  std::set<int32_t> rows;
+  for (const RowSpan& s : rasterize_convex(r, hex, kScreen)) {
+    EXPECT_TRUE(rows.insert(s.y).second) << "one span per row";
+    for (int32_t i = s.x0; i < s.x0 + s.n; ++i) ++hc[at(i, s.y)];
+  }
+  for (int v : hc) EXPECT_LE(v, 1);
+  EXPECT_GT(rows.size(), 40u);
 }
 
 }  // namespace

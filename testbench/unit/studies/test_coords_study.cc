@@ -59,7 +59,7 @@ TEST(CoordMethod, MaterialConfigFromToml) {
 
 TEST(CoordMethod, RasterizedRowsCoverTheTriangleOnce) {
   const double x[3] = {2.3, 40.7, 10.1}, y[3] = {1.2, 9.9, 30.4};
-  const auto rows = rasterize_rows(x, y, 64, 64);
+  const auto rows = triangle_rows(x, y, 64, 64);
   uint64_t n = 0;
   std::set<int32_t> ys;
   for (const auto& r : rows) {
