@@ -19,6 +19,11 @@ glm::dmat3 rotation_about(double deg, const glm::dvec3& axis) {
 
 }  // namespace
 
+glm::dmat3 aviation_rotation(double yaw_deg, double pitch_deg, double roll_deg) {
+  return rotation_about(yaw_deg, {0, 1, 0}) * rotation_about(pitch_deg, {0, 0, 1}) *
+         rotation_about(roll_deg, {1, 0, 0});
+}
+
 AviationCamera::Config AviationCamera::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"x", "y", "z", "yaw_deg", "pitch_deg", "roll_deg", "screen_distance",
                     "pixel_size", "width", "height", "near"});
@@ -41,9 +46,7 @@ AviationCamera::Config AviationCamera::Config::from_toml(const ConfigReader& r) 
 }
 
 AviationCamera::AviationCamera(const Config& c) : cfg_(c) {
-  // Seed order (eq. 2.17): yaw about Y, then pitch about Z, then roll about X.
-  a_ = rotation_about(c.yaw_deg, {0, 1, 0}) * rotation_about(c.pitch_deg, {0, 0, 1}) *
-       rotation_about(c.roll_deg, {1, 0, 0});
+  a_ = aviation_rotation(c.yaw_deg, c.pitch_deg, c.roll_deg);
   ye0_ = c.height / 2.0 * c.pixel_size;
   ze0_ = c.width / 2.0 * c.pixel_size;
 }

@@ -25,6 +25,10 @@ namespace texsim {
 
 class ConfigReader;
 
+// A = Aψ·Aϑ·Aγ (eq. 2.17): yaw about Y, then pitch about Z, then roll about X, in degrees.
+// Column j is the g-frame direction of v-axis j (u: the view axis, v: up, w: right).
+glm::dmat3 aviation_rotation(double yaw_deg, double pitch_deg, double roll_deg);
+
 class AviationCamera {
  public:
   struct Config {

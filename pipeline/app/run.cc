@@ -407,7 +407,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
       PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : kNoPipeline, scene.path);
   std::vector<PlaneProjection> maps;
   if (use_scene) {
-    for (const auto& p : scene.planes) maps.emplace_back(scene, p);
+    for (const auto& p : scene.primitives) maps.emplace_back(scene, p);
   }
   const ImageLayout layout = run_layout(opt, scene, use_scene, trace_sum.get(), maps, textures.set);
   TextureUnit unit(textures.set, mats, setup, scene.tech, !opt.functional);
@@ -436,12 +436,12 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     g.tex = static_cast<uint32_t>(it->second);
     int material = 0;
     if (truth.exact()) {
-      if (f.prim >= scene.planes.size()) {
+      if (f.prim >= scene.primitives.size()) {
         throw InputError(opt.trace, "record " + std::to_string(index) + ": primitive " +
                                         std::to_string(f.prim) + " is not a plane of scene " +
                                         scene.path);
       }
-      material = scene.planes[f.prim].material;
+      material = scene.primitives[f.prim].material;
     }
     const Rgba c = unit.process(g, material);
     record(f, g, material, &c, index);

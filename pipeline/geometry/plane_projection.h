@@ -1,6 +1,7 @@
 #pragma once
-// Exact screen→texture map of a scene plane (docs/architecture.md#reference-generator): the
-// plane's ProjectiveMap u = (A x + B y + C) / (G x + H y + I), v = (D x + E y + F) / (G x + H y
+// Exact screen→texture map of a scene primitive (a parallelogram or a triangle)
+// (docs/architecture.md#reference-generator): the plane's ProjectiveMap u = (A x + B y + C) / (G x
+// + H y + I), v = (D x + E y + F) / (G x + H y
 // + I) for continuous pixel coordinates (x, y) (pixel centres at +0.5) and the plane's texture
 // coordinates (uv scale and offset included), evaluated in long double.
 #include <glm/vec2.hpp>
@@ -36,7 +37,13 @@ struct UvSample {
 // The map (its coefficients A..I are the ProjectiveMap's), and where on it the plane lies.
 class PlaneProjection : public ProjectiveMap {
  public:
-  PlaneProjection(const Scene& scene, const ScenePlane& plane);
+  PlaneProjection(const Scene& scene, const ScenePrimitive& plane);
+  // The camera sees the side edge_v × edge_u points to (the primitive's back).
+  bool back_facing() const { return back_facing_; }
+  // Zero area (parallel or zero edges): no pixel is on it.
+  bool degenerate() const { return degenerate_; }
+  // Not drawn: degenerate, or back-facing with back-face culling on.
+  bool culled() const { return degenerate_ || (cull_back_ && back_facing_); }
   // Evaluates the map at continuous pixel coordinates (x, y).
   UvSample at(double x, double y) const;
 
@@ -50,14 +57,16 @@ class PlaneProjection : public ProjectiveMap {
 
  private:
   // Plane parameters a, b (each in [0,1] on the parallelogram) share the denominator.
-  long double a_[3], b_[3];  // numerators of a and b: k0 x + k1 y + k2
-  long double depth_num_;    // depth = depth_num_ / (G x + H y + I)
+  long double a_[3], b_[3];   // numerators of a and b: k0 x + k1 y + k2
+  long double depth_num_[3];  // depth = (d0 x + d1 y + d2) / (G x + H y + I)
   double near_;
   // Camera frame and the plane's corners, for screen_polygon().
   long double cam_[3], right_[3], up_[3], fwd_[3];
   long double tan_half_, aspect_;
   int width_, height_;
-  long double corner_[4][3];
+  bool orthographic_ = false, triangle_ = false, degenerate_ = false, back_facing_ = false;
+  bool cull_back_ = false;
+  long double corner_[4][3];  // a triangle uses the first three
 };
 
 }  // namespace texsim

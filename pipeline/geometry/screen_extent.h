@@ -17,6 +17,10 @@ struct PixelRect {
   }
 };
 
+// Bounding box of one primitive's screen polygon with one pixel of margin, clipped to a
+// width × height image; empty when it is not in view or culled.
+PixelRect primitive_extent(const PlaneProjection& map, int width, int height);
+
 // Bounding box of the planes' screen polygons with one pixel of margin, clipped to the
 // scene's image; empty when no plane is in view.
 PixelRect scene_extent(const Scene& scene, const std::vector<PlaneProjection>& maps);

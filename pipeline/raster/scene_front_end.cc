@@ -21,7 +21,7 @@ PlaneTriangles plane_triangles(const PlaneProjection& proj, int width, int heigh
   PlaneTriangles pt;
   const std::vector<glm::dvec2> poly = proj.screen_polygon();
   ProjectiveMap m = proj.texel_map(tw, th);
-  if (poly.size() < 3 || !m.finite()) return pt;
+  if (proj.culled() || poly.size() < 3 || !m.finite()) return pt;
   std::vector<long double> xs, ys;
   for (const auto& p : poly) {
     xs.push_back(p.x);
@@ -53,8 +53,8 @@ void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>
     return static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
   };
   std::vector<PlaneTriangles> planes;
-  for (size_t p = 0; p < scene.planes.size(); ++p) {
-    const int m = scene.planes[p].material;
+  for (size_t p = 0; p < scene.primitives.size(); ++p) {
+    const int m = scene.primitives[p].material;
     const Texture& tex = unit.texture_of(m);
     const MaterialSetup& ms = unit.material(m);
     planes.push_back(plane_triangles(maps[p], w, h, tex.width(0), tex.height(0), ms.address_u(),
@@ -83,7 +83,7 @@ void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>
   std::vector<CoordUnitFragment> frags;
   std::vector<ItemCost> costs;
   for (size_t p = 0; p < planes.size(); ++p) {
-    const int m = scene.planes[p].material;
+    const int m = scene.primitives[p].material;
     const Texture& tex = unit.texture_of(m);
     const double tw = tex.width(0), th = tex.height(0);
     Fragment f;

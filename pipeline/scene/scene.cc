@@ -7,7 +7,9 @@
 
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
+#include "blocks/geometry/aviation_camera.h"
 #include "pipeline/scene/procedural_texture.h"
+#include "pipeline/scene/scene_meshes.h"
 #include "pipeline/scene/scene_overrides.h"
 
 namespace texsim {
@@ -47,19 +49,43 @@ void parse_output(const ConfigReader& top, Scene& s) {
   s.background = read_vec<3>(out, "background", s.background);
 }
 
+// The camera's orientation from aviation angles (seed 003 §2.1): the view axis and the screen's
+// up direction are columns u and v of A = Aψ·Aϑ·Aγ.
+void aviation_pose(const ConfigReader& cam, Camera& c) {
+  for (const char* k : {"look_at", "up"}) {
+    if (cam.table().contains(k)) cam.fail(k, "not together with yaw/pitch/roll");
+  }
+  const glm::dmat3 a = aviation_rotation(cam.get_double("yaw", 0), cam.get_double("pitch", 0),
+                                         cam.get_double("roll", 0));
+  c.look_at = c.position + a[0];
+  c.up = a[1];
+}
+
 // The camera, imaging the output's width × height.
 void parse_camera(const ConfigReader& top, const Scene& s, Camera& c) {
   const ConfigReader cam = top.sub("camera");
-  cam.reject_unknown({"position", "look_at", "up", "fov_y", "near"});
+  cam.reject_unknown({"position", "look_at", "up", "yaw", "pitch", "roll", "projection", "fov_y",
+                      "height", "near"});
   c.position = read_vec<3>(cam, "position", c.position);
-  c.look_at = read_vec<3>(cam, "look_at", c.look_at);
-  c.up = read_vec<3>(cam, "up", c.up);
+  if (cam.table().contains("yaw") || cam.table().contains("pitch") ||
+      cam.table().contains("roll")) {
+    aviation_pose(cam, c);
+  } else {
+    c.look_at = read_vec<3>(cam, "look_at", c.look_at);
+    c.up = read_vec<3>(cam, "up", c.up);
+  }
+  c.orthographic = cam.get_choice("projection", 0, {"perspective", "orthographic"}) == 1;
   const double fov_y_deg = cam.get_double("fov_y", 60.0);
+  const double view_height = cam.get_double("height", 2.0);
+  if (c.orthographic && cam.table().contains("fov_y")) cam.fail("fov_y", "perspective only");
+  if (!c.orthographic && cam.table().contains("height")) cam.fail("height", "orthographic only");
   c.near = cam.get_double("near", c.near);
   if (fov_y_deg <= 0 || fov_y_deg >= 179) cam.fail("fov_y", "must be in (0, 179) degrees");
+  if (!(view_height > 0) || view_height > 1e9) cam.fail("height", "must be in (0, 1e9]");
   if (c.near <= 0) cam.fail("near", "must be > 0");
   c.tan_half_fov_y = std::tan(static_cast<long double>(fov_y_deg) *
                               3.14159265358979323846264338327950288L / 360.0L);
+  c.ortho_half_height = view_height / 2.0L;
   c.width = s.width;
   c.height = s.height;
   const glm::dvec3 f = c.look_at - c.position;
@@ -125,19 +151,23 @@ int material_index(const Scene& s, const std::string& name, const toml::node& wh
   throw InputError(at(s.path, where), "unknown material '" + name + "'");
 }
 
-ScenePlane parse_plane(const toml::node& e, Scene& s) {
+ScenePrimitive parse_plane(const toml::node& e, Scene& s) {
   if (!e.is_table()) throw InputError(at(s.path, e), "planes: each entry must be a table");
-  const ConfigReader pr(*e.as_table(), s.path, "planes[" + std::to_string(s.planes.size()) + "]");
+  const ConfigReader pr(*e.as_table(), s.path,
+                        "planes[" + std::to_string(s.primitives.size()) + "]");
   pr.reject_unknown({"material", "origin", "edge_u", "edge_v", "uv_scale", "uv_offset"});
-  ScenePlane p;
+  ScenePrimitive p;
+  glm::dvec2 uv_scale{1, 1};
   const toml::node* mn = e.as_table()->get("material");
   if (!mn || !mn->is_string()) pr.fail("material", "expected a material name");
   p.material = material_index(s, *mn->value<std::string>(), *mn);
   p.origin = read_vec<3>(pr, "origin", p.origin);
   p.edge_u = read_vec<3>(pr, "edge_u", p.edge_u);
   p.edge_v = read_vec<3>(pr, "edge_v", p.edge_v);
-  p.uv_scale = read_vec<2>(pr, "uv_scale", p.uv_scale);
-  p.uv_offset = read_vec<2>(pr, "uv_offset", p.uv_offset);
+  uv_scale = read_vec<2>(pr, "uv_scale", uv_scale);
+  p.uv_origin = read_vec<2>(pr, "uv_offset", p.uv_origin);
+  p.uv_edge_u = {uv_scale.x, 0};
+  p.uv_edge_v = {0, uv_scale.y};
   const glm::dvec3 a = p.edge_u, b = p.edge_v;
   const glm::dvec3 n{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
   if (n.x * n.x + n.y * n.y + n.z * n.z == 0)
@@ -151,7 +181,7 @@ void parse_planes(const toml::table& root, Scene& s) {
   if (!pn) return;
   const toml::array* arr = pn->as_array();
   if (!arr) throw InputError(at(s.path, *pn), "planes: expected an array of tables ([[planes]])");
-  for (const toml::node& e : *arr) s.planes.push_back(parse_plane(e, s));
+  for (const toml::node& e : *arr) s.primitives.push_back(parse_plane(e, s));
 }
 
 }  // namespace
@@ -165,13 +195,14 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   apply_overrides(*s.root, overrides);
   const toml::table& root = *s.root;
   const ConfigReader top(root, source_name, "scene");
-  top.reject_unknown(
-      {"output", "camera", "textures", "materials", "planes", "pipeline", "tech", "reference"});
+  top.reject_unknown({"output", "camera", "textures", "materials", "planes", "meshes", "pipeline",
+                      "tech", "reference"});
   parse_output(top, s);
   parse_camera(top, s, s.camera);
   parse_textures(top, s);
   parse_materials(top, s);
   parse_planes(root, s);
+  parse_meshes(root, s);
   const ConfigReader ref = top.sub("reference");
   ref.reject_unknown({"supersamples"});
   s.reference_supersamples =

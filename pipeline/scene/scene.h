@@ -1,8 +1,9 @@
 #pragma once
 // Scene description (TOML, docs/scenes.md): output size, camera, textures, materials with the
-// effects each needs, textured planes, pipeline/memory/technology configuration.
+// effects each needs, textured planes and meshes, pipeline/memory/technology configuration.
 #include <toml++/toml.h>
 
+#include <cstdint>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <memory>
@@ -31,12 +32,28 @@ struct SceneMaterial {
   int line = 0, column = 0;  // where it is declared, for messages
 };
 
-// A textured parallelogram: points origin + a·edge_u + b·edge_v, a, b ∈ [0, 1], with
-// texture coordinates (u, v) = uv_offset + (a, b) * uv_scale.
-struct ScenePlane {
+// A textured planar primitive: the points origin + a·edge_u + b·edge_v with a, b >= 0 and
+// either a, b <= 1 (a parallelogram: a [[planes]] entry) or a + b <= 1 (a triangle: a face of a
+// [[meshes]] entry), with texture coordinates (u, v) = uv_origin + a·uv_edge_u + b·uv_edge_v.
+struct ScenePrimitive {
+  enum class Shape : uint8_t { Parallelogram, Triangle };
+  Shape shape = Shape::Parallelogram;
   int material = 0;
   glm::dvec3 origin{0, 0, 0}, edge_u{1, 0, 0}, edge_v{0, 0, -1};
-  glm::dvec2 uv_scale{1, 1}, uv_offset{0, 0};
+  glm::dvec2 uv_origin{0, 0}, uv_edge_u{1, 0}, uv_edge_v{0, 1};
+  // Back-face culling: not drawn when the camera sees the side edge_v × edge_u points to (a
+  // mesh's faces wound counter-clockwise seen from outside face edge_u × edge_v outwards).
+  bool cull_back = false;
+  int mesh = -1;  // index into Scene::meshes; -1 for a [[planes]] entry
+};
+
+// A [[meshes]] entry: its faces are Scene::primitives[first, first + count).
+struct SceneMesh {
+  std::string source;  // file path as given, or "box" / "grid"
+  std::string uv;      // "file", "planar", "box" or "spherical"
+  int material = 0;
+  size_t first = 0, count = 0;
+  size_t vertices = 0;  // distinct positions, each transformed once by the geometry subsystem
 };
 
 struct Scene {
@@ -47,7 +64,9 @@ struct Scene {
   Camera camera;  // its image is the output's width × height
   std::vector<SceneTexture> textures;
   std::vector<SceneMaterial> materials;
-  std::vector<ScenePlane> planes;
+  // [[planes]] first, in order, then every mesh's faces: a fragment's `prim` indexes this.
+  std::vector<ScenePrimitive> primitives;
+  std::vector<SceneMesh> meshes;
   int reference_supersamples = 8;         // per axis, per pixel, for the ground truth
   const toml::table* pipeline = nullptr;  // [pipeline] table (in root), or null
   TechTable tech = TechTable::defaults();

@@ -131,7 +131,7 @@ View make_view(const StudyTexture& st, double nominal, const StudyFiltersOptions
   const Scene scene =
       parse_scene(view_scene_text(nominal, opt.size, opt.texels_per_pixel, tex.width(0)),
                   "study filters view", "");
-  const PlaneProjection proj(scene, scene.planes[0]);
+  const PlaneProjection proj(scene, scene.primitives[0]);
   View v{nominal, plane_fragments(proj, opt.size), ImageRgb(opt.size, opt.size, scene.background),
          0, 0};
   FootprintReferenceConfig rc;
@@ -199,7 +199,7 @@ std::vector<Fragment> study_filter_fragments(double aniso, const StudyFiltersOpt
                                              int texture_size) {
   const Scene scene = parse_scene(
       view_scene_text(aniso, opt.size, opt.texels_per_pixel, texture_size), "study view", "");
-  return plane_fragments(PlaneProjection(scene, scene.planes[0]), opt.size);
+  return plane_fragments(PlaneProjection(scene, scene.primitives[0]), opt.size);
 }
 
 int run_study_filters(const std::string& out_dir, std::ostream& log) {

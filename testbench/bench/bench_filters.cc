@@ -50,7 +50,7 @@ struct Fixture {
   Fixture() {
     tex.place(0, TexelLayout::Tiled4x4);
     const Scene scene = parse_scene(scene_text(8), "bench", "");
-    const PlaneProjection proj(scene, scene.planes[0]);
+    const PlaneProjection proj(scene, scene.primitives[0]);
     for (int y = 0; y < 128; ++y) {
       for (int x = 0; x < 128; ++x) {
         const UvSample s = proj.at(x + 0.5, y + 0.5);

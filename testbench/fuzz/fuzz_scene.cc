@@ -65,7 +65,7 @@ void run_scene(const std::string& text) {
       PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : kNoPipeline, scene.path);
   TextureUnit unit(textures, mats, setup, scene.tech, true);
   std::vector<PlaneProjection> maps;
-  for (const ScenePlane& p : scene.planes) maps.emplace_back(scene, p);
+  for (const ScenePrimitive& p : scene.primitives) maps.emplace_back(scene, p);
   const int n = std::min(scene.reference_supersamples, 2);
   auto truth = [&](const Fragment& f, int material) {
     const MaterialSetup& m = mats[static_cast<size_t>(material)];
@@ -77,7 +77,7 @@ void run_scene(const std::string& text) {
                          [&](const Fragment& f, int material, const Rgba*) { truth(f, material); });
   } else {
     generate_fragments(scene, 0, [&](const Fragment& f) {
-      const int material = scene.planes[f.prim].material;
+      const int material = scene.primitives[f.prim].material;
       (void)unit.process(f, material);
       truth(f, material);
     });

@@ -15,7 +15,7 @@ namespace {
 TEST(Scene, DefaultSceneParses) {
   const Scene s = default_scene();
   EXPECT_EQ(s.width, 320);
-  EXPECT_EQ(s.planes.size(), 3u);
+  EXPECT_EQ(s.primitives.size(), 3u);
   EXPECT_EQ(s.materials.size(), 3u);
   EXPECT_EQ(s.textures.size(), 3u);
 }
@@ -47,8 +47,8 @@ TEST(Scene, ErrorsCarryLineAndColumn) {
 
 TEST(PlaneProjection, DerivativesMatchCentralDifferences) {
   const Scene s = default_scene();
-  for (size_t p = 0; p < s.planes.size(); ++p) {
-    const PlaneProjection m(s, s.planes[p]);
+  for (size_t p = 0; p < s.primitives.size(); ++p) {
+    const PlaneProjection m(s, s.primitives[p]);
     for (double y : {130.5, 180.5, 239.5}) {
       for (double x : {0.5, 100.5, 319.5}) {
         const UvSample c = m.at(x, y);
@@ -75,7 +75,7 @@ TEST(PlaneProjection, MapsPlaneCornersToTheirTextureCoordinates) {
       "[materials.m]\ntexture = \"t\"\n[[planes]]\nmaterial = \"m\"\norigin = [-1.0, 1.0, -2.0]\n"
       "edge_u = [2.0, 0.0, 0.0]\nedge_v = [0.0, -2.0, 0.0]\nuv_scale = [4.0, 4.0]\n",
       "s", "");
-  const PlaneProjection m(s, s.planes[0]);
+  const PlaneProjection m(s, s.primitives[0]);
   // At depth 2 with a 90° field of view the screen spans [-2, 2]: the plane covers the middle half.
   const UvSample a = m.at(25.0, 25.0), b = m.at(75.0, 75.0);
   EXPECT_NEAR(a.u, 0.0, 1e-12);
@@ -93,7 +93,7 @@ TEST(FragmentGenerator, NearestPlaneWins) {
   const Scene s = default_scene();
   const auto frags = generate_fragments(s);
   std::vector<PlaneProjection> maps;
-  for (const auto& p : s.planes) maps.emplace_back(s, p);
+  for (const auto& p : s.primitives) maps.emplace_back(s, p);
   for (size_t i = 0; i < frags.size(); i += 97) {
     const Fragment& f = frags[i];
     const UvSample mine = maps[f.prim].at(f.x + 0.5, f.y + 0.5);

@@ -76,7 +76,7 @@ Drawn draw(const Scene& scene, bool timing = true) {
     mats.push_back(material_from_toml(m.name, m.texture, *m.effects, scene.path));
   TextureUnit unit(textures, mats, PipelineSetup{}, scene.tech, timing);
   std::vector<PlaneProjection> maps;
-  for (const auto& p : scene.planes) maps.emplace_back(scene, p);
+  for (const auto& p : scene.primitives) maps.emplace_back(scene, p);
   Drawn d;
   d.front = unit.front_stages();
   draw_scene_front_end(scene, maps, unit, [&](const Fragment& f, int, const Rgba* c) {
@@ -117,7 +117,7 @@ TEST(SceneFrontEnd, EveryMethodMatchesTheExactMapWithinItsBound) {
       {"{ method = 'quadratic', derivs = 'analytic', format = 'double' }", 2.0, 1e-9},
   };
   const Scene ref_scene = parse_scene(scene_text("", false), "ref.toml", ".");
-  const PlaneProjection exact(ref_scene, ref_scene.planes[0]);
+  const PlaneProjection exact(ref_scene, ref_scene.primitives[0]);
   std::set<std::pair<uint32_t, uint32_t>> ref_pixels;
   for (const Fragment& f : generate_fragments(ref_scene)) ref_pixels.insert({f.x, f.y});
   for (const Case& c : cases) {
@@ -241,7 +241,7 @@ TEST(SceneFrontEnd, MillionTexelOffsetsAreRebasedAndUnrepresentableOnesRejected)
   // 48-bit format keeps its precision.
   const std::string c = "{ method = 'incremental', derivs = 'iterative', format = 's20.28' }";
   const Scene far = parse_scene(scene_text(c, false, "[4000.0, -3000.0]"), "s.toml", ".");
-  const PlaneProjection exact(far, far.planes[0]);
+  const PlaneProjection exact(far, far.primitives[0]);
   const Drawn d = draw(far);
   ASSERT_GT(d.frags.size(), 5000u);
   double worst = 0;
@@ -286,7 +286,7 @@ coords = { method = "bicubic", derivs = "heckbert-fd", format = "s16.16", datapa
   TextureSet textures;
   textures.add(load_texture(scene.textures[0].source, ""));
   TextureUnit unit(textures, build_materials(scene), PipelineSetup{}, scene.tech, true);
-  std::vector<PlaneProjection> maps{PlaneProjection(scene, scene.planes[0])};
+  std::vector<PlaneProjection> maps{PlaneProjection(scene, scene.primitives[0])};
   draw_scene_front_end(scene, maps, unit, [](const Fragment&, int, const Rgba*) {});
   EXPECT_EQ(unit.fragments(), 2u);
   const StageStats& coords = unit.pipeline()->stats(0);

@@ -26,7 +26,7 @@ struct MaterialPixels {
 std::map<std::string, MaterialPixels> pixels_by_material(const Scene& scene) {
   std::map<std::string, MaterialPixels> by;
   for (const Fragment& f : generate_fragments(scene)) {
-    MaterialPixels& m = by[scene.materials[scene.planes[f.prim].material].name];
+    MaterialPixels& m = by[scene.materials[scene.primitives[f.prim].material].name];
     const int y = static_cast<int>(f.y);
     ++m.fragments;
     m.first_row = std::min(m.first_row, y);

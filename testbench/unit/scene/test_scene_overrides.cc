@@ -26,8 +26,8 @@ TEST(SceneOverrides, ChangeKeysAsTheFileWould) {
   EXPECT_EQ(s.width, 100);
   EXPECT_EQ(s.height, base.height);
   EXPECT_EQ(s.background, glm::dvec3(0.5, 0.25, 1));
-  EXPECT_EQ(s.planes[1].material, s.planes[0].material);
-  EXPECT_NE(base.planes[1].material, base.planes[0].material);
+  EXPECT_EQ(s.primitives[1].material, s.primitives[0].material);
+  EXPECT_NE(base.primitives[1].material, base.primitives[0].material);
   EXPECT_EQ(s.reference_supersamples, 3);
   EXPECT_EQ(s.tech.clock_mhz, 250);
   EXPECT_EQ(s.tech.lat(OpKind::Mul), 5);
