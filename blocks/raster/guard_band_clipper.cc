@@ -47,10 +47,9 @@ std::vector<ScreenVertex> clip_to_guard_band(const std::vector<ScreenVertex>& po
   return p;
 }
 
-std::vector<RowSpan> rasterize_convex(const EdgeRasterizer& r,
-                                      const std::vector<ScreenVertex>& poly, const Scissor& sc,
-                                      EdgeRasterStats* stats) {
-  const double margin = guard_band_margin(r.config().subpixel_bits);
+std::vector<ScreenVertex> within_guard_band(const std::vector<ScreenVertex>& poly,
+                                            const Scissor& sc, int subpixel_bits) {
+  const double margin = guard_band_margin(subpixel_bits);
   const auto beyond = [&](const ScreenVertex& v) {
     return !(v.x >= sc.x0 - margin && v.x <= sc.x1 + margin && v.y >= sc.y0 - margin &&
              v.y <= sc.y1 + margin);
@@ -58,9 +57,15 @@ std::vector<RowSpan> rasterize_convex(const EdgeRasterizer& r,
   const bool all_finite = std::all_of(poly.begin(), poly.end(), [](const ScreenVertex& v) {
     return std::isfinite(v.x) && std::isfinite(v.y);
   });
-  const std::vector<ScreenVertex> p = all_finite && std::any_of(poly.begin(), poly.end(), beyond)
-                                          ? clip_to_guard_band(poly, sc, margin)
-                                          : poly;
+  return all_finite && std::any_of(poly.begin(), poly.end(), beyond)
+             ? clip_to_guard_band(poly, sc, margin)
+             : poly;
+}
+
+std::vector<RowSpan> rasterize_convex(const EdgeRasterizer& r,
+                                      const std::vector<ScreenVertex>& poly, const Scissor& sc,
+                                      EdgeRasterStats* stats) {
+  const std::vector<ScreenVertex> p = within_guard_band(poly, sc, r.config().subpixel_bits);
   std::vector<RowSpan> spans;
   for (size_t i = 1; i + 1 < p.size(); ++i) {
     const ScreenVertex tri[3] = {p[0], p[i], p[i + 1]};

@@ -24,6 +24,11 @@ double guard_band_margin(int subpixel_bits);
 std::vector<ScreenVertex> clip_to_guard_band(const std::vector<ScreenVertex>& poly,
                                              const Scissor& sc, double margin);
 
+// The polygon itself when every vertex lies within the guard band of `subpixel_bits` around the
+// scissor (or one is not finite: the rasteriser rejects it), otherwise its clip to it.
+std::vector<ScreenVertex> within_guard_band(const std::vector<ScreenVertex>& poly,
+                                            const Scissor& sc, int subpixel_bits);
+
 // The covered pixels of a convex polygon as one span per row (the union of its fan's
 // triangles, each rasterised with the top-left rule, so no pixel twice and none missing on the
 // fan's inner edges); clipped to the guard band first only when a vertex lies beyond it.

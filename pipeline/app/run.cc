@@ -16,6 +16,7 @@
 #include "blocks/base/output_set.h"
 #include "blocks/base/version.h"
 #include "pipeline/app/run_images.h"
+#include "pipeline/geometry/geometry_unit.h"
 #include "pipeline/geometry/plane_projection.h"
 #include "pipeline/kernel/parallel_range.h"
 #include "pipeline/raster/fragment_generator.h"
@@ -173,11 +174,24 @@ struct GroundTruth {
   }
 };
 
+// The geometry and rasterisation sections of a scene run (raster: per material, empty when
+// the coordinate front end drew the scene).
+SubsystemsInfo scene_subsystems(const Scene& scene, const std::vector<PlaneProjection>& maps,
+                                const std::vector<MaterialSetup>& mats,
+                                const std::vector<RasterCounters>& raster) {
+  SubsystemsInfo s;
+  s.geometry = run_geometry(scene, maps);
+  for (size_t m = 0; m < raster.size() && m < mats.size(); ++m)
+    s.raster.push_back({mats[m].name, mats[m].raster.block_name(), raster[m]});
+  return s;
+}
+
 // Where a run's images lie: the canvas written and the extent of its buffers.
 struct ImageLayout {
   int canvas_w = 0, canvas_h = 0;
   PixelRect extent;
   int pairs = 1;  // buffer pairs: two when a kept frame waits while later frames are compared
+  uint64_t scene_bytes = 0;  // a scene run's primitive projections and depth test
 };
 
 // A trace's layout from a first pass over it (which also finds bad records before the run):
@@ -215,12 +229,13 @@ void check_memory(const RunOptions& opt, const ImageLayout& l, const TextureSet&
                   const std::string& source, const std::string& what) {
   const uint64_t tex = texture_bytes(textures);
   const uint64_t img = RunImages::estimate_bytes(l.extent, l.pairs, l.canvas_w, l.canvas_h);
-  if (tex + img <= opt.max_memory) return;
-  throw InputError(source, what + ": the run needs an estimated " + gib(tex + img) + " (images " +
-                               std::to_string(l.extent.x1 - l.extent.x0) + " x " +
+  if (tex + img + l.scene_bytes <= opt.max_memory) return;
+  throw InputError(source, what + ": the run needs an estimated " + gib(tex + img + l.scene_bytes) +
+                               " (images " + std::to_string(l.extent.x1 - l.extent.x0) + " x " +
                                std::to_string(l.extent.y1 - l.extent.y0) + " pixels of a " +
                                std::to_string(l.canvas_w) + " x " + std::to_string(l.canvas_h) +
                                " image: " + gib(img) + "; textures: " + gib(tex) +
+                               "; primitives and depth test: " + gib(l.scene_bytes) +
                                "), over the --max-memory limit of " + gib(opt.max_memory));
 }
 
@@ -359,7 +374,9 @@ ImageLayout run_layout(const RunOptions& opt, const Scene& scene, bool use_scene
     throw InputError(scene.path,
                      "--frame " + std::to_string(opt.frame) + ": a scene renders frame 0 only");
   }
-  const ImageLayout l{scene.width, scene.height, scene_extent(scene, maps), 1};
+  ImageLayout l{scene.width, scene.height, scene_extent(scene, maps), 1};
+  l.scene_bytes = l.extent.pixels() * kDepthTestBytesPerPixel +
+                  maps.size() * sizeof(PlaneProjection) * 2;  // the run's and the generator's
   check_memory(opt, l, textures, scene.path,
                "[output] width = " + std::to_string(scene.width) +
                    ", height = " + std::to_string(scene.height));
@@ -438,7 +455,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     if (truth.exact()) {
       if (f.prim >= scene.primitives.size()) {
         throw InputError(opt.trace, "record " + std::to_string(index) + ": primitive " +
-                                        std::to_string(f.prim) + " is not a plane of scene " +
+                                        std::to_string(f.prim) + " is not a primitive of scene " +
                                         scene.path);
       }
       material = scene.primitives[f.prim].material;
@@ -447,6 +464,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     record(f, g, material, &c, index);
   };
   uint64_t index = 0;
+  std::vector<RasterCounters> raster;
   if (reader) {
     std::vector<Fragment> chunk;
     while (reader->next_chunk(chunk) > 0) {
@@ -460,7 +478,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
       record(f, g, material, c, index++);
     });
   } else {
-    generate_fragments(scene, 0, [&](const Fragment& f) { handle(f, index++); });
+    generate_fragments(
+        scene, 0, [&](const Fragment& f) { handle(f, index++); }, &raster);
   }
   batch.flush();
   images.finish();
@@ -488,6 +507,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   info.error_scale = info.error_scale_auto ? images.kept_accuracy().max_abs : opt.error_scale;
   info.error_bar_rows = colour_bar_rows(layout.canvas_h);
   info.reference = reference_text(scene.reference_supersamples, truth.exact(), info.frames.size());
+  if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
   info.provenance = run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech);
   write_run_outputs(opt, info, images, unit, sum, log);
   return sum;

@@ -1,18 +1,26 @@
 #pragma once
-// Reference fragment generator: rasterises a scene's textured planes at pixel centres (nearest
-// plane wins) and emits fragments with exact texture coordinates and derivatives.
+// Fragment generator of a scene: every primitive the geometry subsystem keeps is drawn through
+// its material's rasteriser (primitive_raster.h); a depth test keeps the nearest primitive per
+// pixel (the first one on a tie); each kept pixel becomes a fragment with the exact texture
+// coordinates and derivatives of its primitive's projective map at the pixel centre.
 #include <functional>
 #include <vector>
 
 #include "blocks/base/fragment.h"
+#include "pipeline/raster/primitive_raster.h"
 #include "pipeline/scene/scene.h"
 
 namespace texsim {
 
-// Calls `emit` for every covered pixel in raster order (rows top to bottom), frame `frame`.
-// Fragment::prim is the plane index, Fragment::tex the material's texture index.
+// Calls `emit` for every kept pixel in raster order (rows top to bottom), frame `frame`.
+// Fragment::prim is the primitive index, Fragment::tex the material's texture index.
+// `raster`, if given, receives each material's rasteriser counters (indexed by material).
 void generate_fragments(const Scene& scene, uint32_t frame,
-                        const std::function<void(const Fragment&)>& emit);
+                        const std::function<void(const Fragment&)>& emit,
+                        std::vector<RasterCounters>* raster = nullptr);
 std::vector<Fragment> generate_fragments(const Scene& scene, uint32_t frame = 0);
+
+// Bytes the depth test holds per pixel of the scene's extent (owner and depth).
+constexpr uint64_t kDepthTestBytesPerPixel = sizeof(int32_t) + sizeof(double);
 
 }  // namespace texsim

@@ -51,13 +51,6 @@ using Json = nlohmann::ordered_json;
 
 double per_fragment(double v, double frags) { return frags > 0 ? v / frags : 0.0; }
 
-Json ops_json(const OpCounts& ops) {
-  Json e;
-  for (int k = 0; k < kOpKinds; ++k)
-    e[std::string(kOpKindNames[k])] = ops.get(static_cast<OpKind>(k));
-  return e;
-}
-
 Json block_json(const BlockUse& b, double frags) {
   Json e;
   e["ops"] = ops_json(b.ops);
@@ -192,6 +185,7 @@ Json report_json(const RunInfo& info, const TextureUnit& unit, const AccuracyMet
     j["front_end"] = {
         {"generated", fe.generated}, {"occluded", fe.occluded}, {"rejected", fe.rejected}};
   }
+  add_subsystems_json(j, info.subsystems);
   add_physical_json(j, info, unit);
   j["error_map"] = {{"scale", info.error_scale},
                     {"auto", info.error_scale_auto},
@@ -313,6 +307,7 @@ std::string report_markdown(const RunInfo& info, const TextureUnit& unit,
   std::ostringstream md;
   md_summary(md, info, unit, acc);
   md_materials(md, unit, rows);
+  subsystems_markdown(md, info.subsystems);
   md_blocks(md, unit);
   if (const ClockedPipeline* p = unit.pipeline()) md_stages(md, *p);
   md_memory(md, unit);

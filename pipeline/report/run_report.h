@@ -5,6 +5,7 @@
 
 #include "pipeline/report/image_metrics.h"
 #include "pipeline/report/provenance.h"
+#include "pipeline/report/subsystems_report.h"
 #include "pipeline/texture/texture_unit.h"
 
 namespace texsim {
@@ -26,6 +27,7 @@ struct RunInfo {
   double error_scale = 0;                          // error.png: the error drawn white
   bool error_scale_auto = true;                    // scale = the largest error of the imaged frame
   int error_bar_rows = 0;                          // colour bar rows below error.png's image
+  SubsystemsInfo subsystems;                       // geometry and rasterisation of a scene run
   Provenance provenance;
 };
 

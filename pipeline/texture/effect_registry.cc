@@ -34,13 +34,30 @@ void build_footprint(const ConfigReader& r, std::string_view key, MaterialSetup&
   m.footprint = make_footprint_filter<Block>(r.sub(key));
 }
 
+void build_raster(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
+  m.raster = RasterSetup::from_toml(r.sub(key));
+}
+
 }  // namespace
+
+RasterSetup RasterSetup::from_toml(const ConfigReader& r) {
+  RasterSetup s;
+  s.method = static_cast<Method>(r.get_choice("method", 0, {"edge", "rect_scan"}));
+  if (s.method == Method::Edge) {
+    s.edge = EdgeRasterizer::Config::from_toml(r.for_block("raster.edge", {"method"}));
+  } else {
+    s.rect_scan =
+        RectScanRasterizer::Config::from_toml(r.for_block("raster.rect_scan", {"method"}));
+  }
+  return s;
+}
 
 const std::vector<Effect>& effect_registry() {
   static const std::vector<Effect> effects = {
       {"filter", "", build_filter},
       {"lod", "", build_lod},
       {"coords", "", build_coords},
+      {"raster", "", build_raster},
       {"ewa", kFootprint, build_ewa},
       {"multi_probe", kFootprint, build_footprint<MultiProbeFilter>},
       {"feline", kFootprint, build_footprint<FelineFilter>},
@@ -79,6 +96,11 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
     r.sub("coords").fail("derivs", std::string("'none' leaves the ") +
                                        (m.footprint ? m.footprint->name() : "filter.trilinear") +
                                        " of this material without the derivatives it needs");
+  }
+  if (m.coords && m.raster.method != RasterSetup::Method::Edge) {
+    r.sub("raster").fail("method",
+                         "a coordinate unit walks the edge-function rasteriser's rows; "
+                         "rect_scan is for materials without `coords`");
   }
   return m;
 }

@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "blocks/base/config_reader.h"
+#include "blocks/raster/edge_rasterizer.h"
+#include "blocks/raster/rect_scan/rect_scan_rasterizer.h"
 #include "blocks/texture/sampler/lod_unit.h"
 #include "blocks/texture/sampler/texel_address_gen.h"
 #include "pipeline/texture/coord_method.h"
@@ -21,6 +23,19 @@
 namespace texsim {
 
 struct Scene;
+
+// The rasteriser a material's primitives are drawn with (effect `raster`; without it, the
+// edge-function rasteriser with its defaults). The block's own keys sit beside `method`.
+struct RasterSetup {
+  enum class Method : uint8_t { Edge, RectScan };
+  Method method = Method::Edge;
+  EdgeRasterizer::Config edge;
+  RectScanRasterizer::Config rect_scan;
+  static RasterSetup from_toml(const ConfigReader& r);
+  std::string block_name() const {
+    return method == Method::Edge ? "raster.edge" : "raster.rect_scan";
+  }
+};
 
 struct MaterialSetup {
   std::string name;
@@ -33,6 +48,7 @@ struct MaterialSetup {
   // A coordinate unit (material table `coords`) computes this material's texture coordinates
   // and derivatives in front of LOD; null when fragments arrive with their coordinates.
   std::shared_ptr<const CoordUnit> coords;
+  RasterSetup raster;
   AddressMode address_u() const { return footprint ? footprint->address_u() : filter.address_u; }
   AddressMode address_v() const { return footprint ? footprint->address_v() : filter.address_v; }
 };

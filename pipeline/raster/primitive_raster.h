@@ -1,0 +1,39 @@
+#pragma once
+// Draws one scene primitive through its material's rasteriser (the rasterisation subsystem ПРП,
+// docs/rasterizers.md): the primitive's near-clipped screen polygon, brought within the guard
+// band, is split into a fan of triangles, each rasterised by the edge-function rasteriser or the
+// rectangle-scan rasteriser; the covered pixels are handed on with the rasteriser's counters.
+#include <cstdint>
+#include <functional>
+
+#include "blocks/base/op_counts.h"
+#include "blocks/base/tech_table.h"
+#include "pipeline/geometry/plane_projection.h"
+#include "pipeline/texture/effect_registry.h"
+
+namespace texsim {
+
+struct RasterCounters {
+  uint64_t primitives = 0;  // primitives drawn (culled ones never reach the rasteriser)
+  uint64_t triangles = 0, rejected = 0;
+  uint64_t rows = 0;            // rows entered (edge: bounding-box rows; rect_scan: rectangle rows)
+  uint64_t pixels_visited = 0;  // pixels stepped through
+  uint64_t pixels_covered = 0;  // pixels handed on (before the depth test)
+  // Rectangle scan only: reciprocals (= q rows with a textured pixel) and its two clocks.
+  uint64_t divisions = 0;
+  uint64_t fast_cycles = 0, memory_cycles = 0;
+  // Edge: one visited pixel per issue slot at the pipeline clock.
+  uint64_t cycles = 0;
+  double time_ns = 0;  // rectangle scan: both clocks; edge: cycles at the tech table's clock
+  OpCounts ops;
+  RasterCounters& operator+=(const RasterCounters& o);
+};
+
+// Calls visit(x, y) for every pixel of [0,w)×[0,h) the rasteriser covers (a pixel once per fan
+// triangle that covers it: the fan's triangles share edges, so once in all), in the
+// rasteriser's order, and adds its counters to `c`. A culled primitive draws nothing.
+void rasterize_primitive(const PlaneProjection& map, const RasterSetup& r, const TechTable& tech,
+                         int width, int height, RasterCounters& c,
+                         const std::function<void(int32_t, int32_t)>& visit);
+
+}  // namespace texsim
