@@ -73,6 +73,12 @@ TEST(MaterialEffects, EachShippedSceneBuildsExactlyTheBlocksItsMaterialsNeed) {
       for (const BlockUse& b : unit.material_blocks(static_cast<int>(i)))
         built.insert(prefix_of(b.name));
       EXPECT_EQ(built, needed(sm)) << scene.path << ": material " << sm.name;
+      // The rasteriser is the one the material names (edge without a `raster` table); it is
+      // drawn by the fragment generator, never a block of the texture unit.
+      const toml::node* r = sm.effects->at_path("raster.method").node();
+      const std::string method = r ? r->value_or(std::string()) : "edge";
+      EXPECT_EQ(mats[i].raster.block_name(), "raster." + method) << sm.name;
+      EXPECT_EQ(built.count("raster.edge") + built.count("raster.rect_scan"), 0u);
     }
   }
 }
