@@ -40,7 +40,9 @@ TerrainRayMarcher::Result TerrainRayMarcher::march(const AviationCamera& cam, co
   const glm::dvec3 eye(cc.x, cc.y, cc.z);
   const glm::dvec3 v = cam.view_vector(xs, ys);
   const double len = glm::length(v);
-  if (!std::isfinite(len) || !(len > 0) || !std::isfinite(top) || g.nx <= 0 || g.nz <= 0) {
+  const bool eye_ok = std::isfinite(eye.x) && std::isfinite(eye.y) && std::isfinite(eye.z);
+  if (!eye_ok || !std::isfinite(len) || !(len > 0) || !std::isfinite(top) || g.nx <= 0 ||
+      g.nz <= 0) {
     return r;
   }
   const glm::dvec3 d = v / len;
