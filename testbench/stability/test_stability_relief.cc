@@ -13,6 +13,7 @@
 #include "blocks/texture/relief/parallax_mapper.h"
 #include "blocks/texture/relief/sphere_tracer.h"
 #include "blocks/texture/relief/terrain_ray_marcher.h"
+#include "blocks/texture/relief/visibility_aware_filter.h"
 
 namespace texsim {
 namespace {
@@ -200,6 +201,23 @@ TEST(StabilityRelief, ParallaxOneTexelSpikeAndExtremeHeights) {
   const auto top = ParallaxMapper().map(ReliefHeightMap(4, 4, 1.0F), 1, 1, -1, 0, 0.1, ops);
   EXPECT_EQ(top.depth, 0.0);
   EXPECT_EQ(top.u, 1.0);
+}
+
+TEST(StabilityRelief, VisibilityFilterGrazingViewsAndNaNHeights) {
+  ReliefHeightMap hm = spike_map();
+  hm.at(3, 3) = std::numeric_limits<float>::quiet_NaN();
+  VisibilityAwareFilter::ColourMap tex{9, 9, std::vector<glm::vec4>(81, glm::vec4(0.25F))};
+  VisibilityAwareFilter::Config c;
+  c.max_trace_steps = 8;
+  const VisibilityAwareFilter f(c);
+  for (const auto& v : {glm::dvec3(1, 0, 0), glm::dvec3(0, 1, -1), glm::dvec3(1, 1, 1e-9)}) {
+    OpCounts ops;
+    const auto r = f.filter(hm, tex, {4, 4, 2, 0, 0, 2}, v.x, v.y, v.z, ops);
+    // Every trace is bounded; a constant texture stays constant whatever is hidden.
+    EXPECT_LE(r.stats.trace_reads, r.stats.traced * 8U);
+    EXPECT_NEAR(r.colour.x, 0.25F, 1e-6F);
+    EXPECT_EQ(r.stats.visible + r.stats.hidden + r.stats.skipped, r.stats.texels);
+  }
 }
 
 TEST(StabilityTerrain, NoDataNaNAndHorizontalRays) {
