@@ -14,6 +14,7 @@
 #include "blocks/base/printable.h"
 #include "blocks/base/temp_registry.h"
 #include "blocks/base/version.h"
+#include "pipeline/app/cosim.h"
 #include "pipeline/app/run.h"
 #include "pipeline/app/sweep.h"
 #include "pipeline/kernel/clocked_pipeline.h"
@@ -245,6 +246,9 @@ int run_cli(int argc, char** argv) {
   SweepCli sweep;
   add_sweep_commands(app, sweep);
 
+  CosimOptions cosim;
+  CLI::App* cosim_cmd = add_cosim_command(app, cosim);
+
   if (const int status = parse_command_line(app, argc, argv); status >= 0) return status;
   try {
     if (*run.cmd) {
@@ -265,6 +269,8 @@ int run_cli(int argc, char** argv) {
       if (*vd) return run_study_vd(study_out, std::cout);
       if (*coords) return run_study_coords(study_out, std::cout);
       return run_study_filters(study_out, std::cout);
+    } else if (*cosim_cmd) {
+      return run_cosim(cosim, std::cout, std::cerr);
     } else if (*sweep.cmd) {
       return run_sweep_command(sweep, argv[0]);
     } else if (*sweep.merge) {
