@@ -21,6 +21,7 @@
 #include "pipeline/report/provenance.h"
 #include "pipeline/studies/study_coords.h"
 #include "pipeline/studies/study_filters.h"
+#include "pipeline/studies/study_rtl.h"
 #include "pipeline/studies/study_vd.h"
 #include "traces/trace_tools.h"
 
@@ -240,8 +241,20 @@ int run_cli(int argc, char** argv) {
   auto* filters = study_cmd->add_subcommand(
       "filters",
       "Anisotropic filters vs ground truth and OpenImageIO: error vs cycles and texels fetched");
-  for (auto* s : {vd, coords, filters})
+  auto* rtl = study_cmd->add_subcommand(
+      "rtl", "RTL blocks on an iCE40 FPGA: yosys cells, LUTs, DSPs and nextpnr Fmax over seeds");
+  for (auto* s : {vd, coords, filters, rtl})
     s->add_option("--out", study_out, "Output directory")->capture_default_str();
+  StudyRtlOptions rtl_opt;
+  std::vector<std::string> rtl_params;
+  rtl->add_option("--rtl", rtl_opt.rtl_dir, "Folder of Verilog blocks (one module per file)")
+      ->capture_default_str();
+  rtl->add_option("--param", rtl_params,
+                  "NAME=v1,v2,...: build each block that has parameter "
+                  "NAME at these values (repeatable)");
+  rtl->add_option("--seeds", rtl_opt.seeds, "Placer seeds per build")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
 
   SweepCli sweep;
   add_sweep_commands(app, sweep);
@@ -264,6 +277,9 @@ int run_cli(int argc, char** argv) {
           << "texsim trace gen: wrote " << n << " fragments to " << gen_out << "\n";
     } else if (*info) {
       return trace_info(info_in, std::cout);
+    } else if (*rtl) {
+      for (const std::string& p : rtl_params) rtl_opt.params.push_back(parse_rtl_param(p));
+      return run_study_rtl(study_out, rtl_opt, std::cout);
     } else if (*vd || *coords || *filters) {
       ensure_dir(study_out);
       if (*vd) return run_study_vd(study_out, std::cout);
