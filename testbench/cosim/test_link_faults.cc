@@ -4,6 +4,7 @@
 // one `texsim cosim` uses, over the virtual board with the V(d) cores.
 #include <gtest/gtest.h>
 
+#include <deque>
 #include <memory>
 #include <random>
 #include <string>
@@ -175,6 +176,48 @@ TEST(LinkFaults, PersistentCorruptionEndsInAnErrorNamingTheCrc) {
   } catch (const LinkError& e) {
     EXPECT_NE(std::string(e.what()).find("CRC mismatch"), std::string::npos) << e.what();
   }
+}
+
+// Answers every STREAM first with a well-formed response (right channel, command and tag,
+// valid CRC) for other vectors, as a stale response whose tag was reused would look.
+class ForgingTransport : public Transport {
+ public:
+  explicit ForgingTransport(Transport& board) : board_(board) {}
+  void write(const Report& r) override {
+    board_.write(r);
+    if (r[4] != (kInitBit | static_cast<uint8_t>(Command::Stream))) return;
+    ByteReader req(std::span<const uint8_t>(r).subspan(kInitHeader, 6), "forged");
+    const uint32_t first = req.u32();
+    const uint16_t count = req.u16();
+    ByteWriter w;
+    w.u8(0).u32(first + 1000).u16(count);
+    for (uint16_t i = 0; i < count; ++i) w.u32(0xDEAD);
+    const Message m{(uint32_t{r[0]} << 24) | (uint32_t{r[1]} << 16) | (uint32_t{r[2]} << 8) | r[3],
+                    static_cast<uint8_t>(Command::Stream), r[5], w.take()};
+    for (const Report& f : encode_message(m)) forged_.emplace_back(f.begin(), f.end());
+  }
+  std::vector<uint8_t> read(int timeout_ms) override {
+    if (forged_.empty()) return board_.read(timeout_ms);
+    std::vector<uint8_t> f = std::move(forged_.front());
+    forged_.pop_front();
+    return f;
+  }
+  std::string describe() const override { return "forging board"; }
+
+ private:
+  Transport& board_;
+  std::deque<std::vector<uint8_t>> forged_;
+};
+
+TEST(LinkFaults, AResponseForOtherVectorsIsNeverAccepted) {
+  const std::vector<uint32_t> in = random_inputs(1000, 8);
+  std::unique_ptr<VirtualBoard> board = make_board();
+  ForgingTransport forging(*board);
+  LinkStats s;
+  EXPECT_EQ(run(forging, in, &s), core_results("vd_p2", in));
+  EXPECT_GT(s.stray, 0u);
+  EXPECT_NE(s.last_malformed.find("for vectors 960+40 carries vectors 1960+40"), std::string::npos)
+      << s.last_malformed;
 }
 
 TEST(LinkBoard, RefusalsAreClearErrors) {
