@@ -14,12 +14,14 @@
 #include "blocks/base/printable.h"
 #include "blocks/base/temp_registry.h"
 #include "blocks/base/version.h"
+#include "pipeline/app/cosim.h"
 #include "pipeline/app/run.h"
 #include "pipeline/app/sweep.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/report/provenance.h"
 #include "pipeline/studies/study_coords.h"
 #include "pipeline/studies/study_filters.h"
+#include "pipeline/studies/study_rtl.h"
 #include "pipeline/studies/study_vd.h"
 #include "traces/trace_tools.h"
 
@@ -239,11 +241,26 @@ int run_cli(int argc, char** argv) {
   auto* filters = study_cmd->add_subcommand(
       "filters",
       "Anisotropic filters vs ground truth and OpenImageIO: error vs cycles and texels fetched");
-  for (auto* s : {vd, coords, filters})
+  auto* rtl = study_cmd->add_subcommand(
+      "rtl", "RTL blocks on an iCE40 FPGA: yosys cells, LUTs, DSPs and nextpnr Fmax over seeds");
+  for (auto* s : {vd, coords, filters, rtl})
     s->add_option("--out", study_out, "Output directory")->capture_default_str();
+  StudyRtlOptions rtl_opt;
+  std::vector<std::string> rtl_params;
+  rtl->add_option("--rtl", rtl_opt.rtl_dir, "Folder of Verilog blocks (one module per file)")
+      ->capture_default_str();
+  rtl->add_option("--param", rtl_params,
+                  "NAME=v1,v2,...: build each block that has parameter "
+                  "NAME at these values (repeatable)");
+  rtl->add_option("--seeds", rtl_opt.seeds, "Placer seeds per build")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
 
   SweepCli sweep;
   add_sweep_commands(app, sweep);
+
+  CosimOptions cosim;
+  CLI::App* cosim_cmd = add_cosim_command(app, cosim);
 
   if (const int status = parse_command_line(app, argc, argv); status >= 0) return status;
   try {
@@ -260,11 +277,16 @@ int run_cli(int argc, char** argv) {
           << "texsim trace gen: wrote " << n << " fragments to " << gen_out << "\n";
     } else if (*info) {
       return trace_info(info_in, std::cout);
+    } else if (*rtl) {
+      for (const std::string& p : rtl_params) rtl_opt.params.push_back(parse_rtl_param(p));
+      return run_study_rtl(study_out, rtl_opt, std::cout);
     } else if (*vd || *coords || *filters) {
       ensure_dir(study_out);
       if (*vd) return run_study_vd(study_out, std::cout);
       if (*coords) return run_study_coords(study_out, std::cout);
       return run_study_filters(study_out, std::cout);
+    } else if (*cosim_cmd) {
+      return run_cosim(cosim, std::cout, std::cerr);
     } else if (*sweep.cmd) {
       return run_sweep_command(sweep, argv[0]);
     } else if (*sweep.merge) {

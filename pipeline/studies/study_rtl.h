@@ -1,0 +1,29 @@
+#pragma once
+// `texsim study rtl`: what each RTL block costs on an FPGA (docs/rtl/study.md). Every Verilog
+// file of a folder (default rtl_model/rtl) is synthesised with yosys (generic cells, and LUT4 /
+// flip-flops / carries / SB_MAC16 for the iCE40 UP5K), at each value of the swept parameters,
+// and placed and routed with nextpnr-ice40 at several seeds (median, min and max Fmax). Writes
+// rtl.csv, rtl.md and rtl.png; missing tools or no Verilog files: says so and writes nothing.
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace texsim {
+
+struct StudyRtlOptions {
+  std::string rtl_dir = "rtl_model/rtl";
+  // NAME -> values: each block that declares parameter NAME is built at every value.
+  std::vector<std::pair<std::string, std::vector<int>>> params;
+  int seeds = 5;  // placer seeds 1..seeds
+};
+
+// Parses "NAME=v1,v2,..." (the --param option); throws InputError.
+std::pair<std::string, std::vector<int>> parse_rtl_param(const std::string& text);
+
+// Median of a non-empty list.
+double median_of(std::vector<double> v);
+
+int run_study_rtl(const std::string& out_dir, const StudyRtlOptions& opt, std::ostream& log);
+
+}  // namespace texsim
