@@ -14,6 +14,7 @@
 
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
+#include "blocks/texture/sampler/bilinear_lerp.h"
 #include "blocks/texture/subtexel/vd_evaluator_p1.h"
 #include "blocks/texture/subtexel/vd_evaluator_p2.h"
 #include "blocks/texture/subtexel/vd_evaluator_params.h"
@@ -68,6 +69,16 @@ inline std::vector<Param> vd_p1_params() {
           {"S2", c.p1[2][1].raw()}};
 }
 
+// ---- Bilinear lerp (rtl_model/rtl/bilinear_lerp.v) ----------------------------------------
+inline constexpr BilinearLerp::Config kLerp{8, 8};  // RGBA8 texels, u0.8 sub-texel weights
+
+inline std::vector<Param> bilinear_lerp_params() {
+  return {{"T", kLerp.texel_bits},
+          {"S", kLerp.sub_bits},
+          {"MUL_LAT", op_latency(OpKind::Mul)},
+          {"ADD_LAT", op_latency(OpKind::Add)}};
+}
+
 // A Verilog block, its parameters and the latency the C++ timing model gives it.
 struct RtlBlock {
   std::string module;
@@ -77,7 +88,8 @@ struct RtlBlock {
 
 inline std::vector<RtlBlock> rtl_blocks() {
   return {{"vd_p2", vd_p2_params(), VdEvaluatorP2().timing(tech()).latency},
-          {"vd_p1", vd_p1_params(), VdEvaluatorP1().timing(tech()).latency}};
+          {"vd_p1", vd_p1_params(), VdEvaluatorP1().timing(tech()).latency},
+          {"bilinear_lerp", bilinear_lerp_params(), BilinearLerp(kLerp).timing(tech()).latency}};
 }
 
 }  // namespace texsim::rtl_params

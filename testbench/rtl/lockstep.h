@@ -11,6 +11,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "blocks/base/op_counts.h"
@@ -38,6 +39,15 @@ inline std::string ops_text(const OpCounts& o) {
   std::ostringstream s;
   s << "add " << o.add << " mul " << o.mul << " div " << o.div << " cmp " << o.cmp;
   return s.str();
+}
+
+// A transaction's input for the mismatch report: numbers as they are, structs by text().
+template <class In>
+std::string input_text(const In& in) {
+  if constexpr (std::is_arithmetic_v<In>)
+    return std::to_string(in);
+  else
+    return in.text();
 }
 
 // Expected transactions in issue order, compared with what the block retires.
@@ -129,7 +139,7 @@ void stream_lockstep(RtlHarness<Model>& h, Scoreboard& sb, const std::vector<In>
     }
     OutWords want = ref(vectors[i], ops);
     if (perturb != 0 && i == perturb_at) want[0] += perturb;
-    sb.expect(std::to_string(vectors[i]), h.cycle(), want, ops);
+    sb.expect(input_text(vectors[i]), h.cycle(), want, ops);
     top.in_valid = 1;
     set_in(top, vectors[i]);
     clock();
