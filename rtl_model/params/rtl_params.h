@@ -14,6 +14,7 @@
 
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
+#include "blocks/texture/coords/uv_incremental_adder.h"
 #include "blocks/texture/sampler/bilinear_lerp.h"
 #include "blocks/texture/subtexel/vd_evaluator_p1.h"
 #include "blocks/texture/subtexel/vd_evaluator_p2.h"
@@ -79,6 +80,31 @@ inline std::vector<Param> bilinear_lerp_params() {
           {"ADD_LAT", op_latency(OpKind::Add)}};
 }
 
+// ---- Incremental u/v adder, k-lane form, with dividers (rtl_model/rtl/uv_incremental.v) ----
+using UvFixed = Fixed<16, 16>;  // s15.16 map coefficients, accumulators and u, v
+inline UvIncrementalAdder::Config uv_config() {
+  UvIncrementalAdder::Config c;
+  c.form = UvIncrementalAdder::Form::KLane;
+  c.lanes = 4;
+  c.division = UvIncrementalAdder::Division::Divide;
+  c.datapath = Datapath::Spatial;
+  return c;
+}
+inline constexpr int kUvCoordBits = 16;  // signed x0 and y of the row load
+inline constexpr int kUvCountBits = 16;  // pixel count of the row load
+
+inline std::vector<Param> uv_incremental_params() {
+  const UvIncrementalAdder a(uv_config());
+  return {{"W", UvFixed::kBits},
+          {"F", UvFixed::kFracBits},
+          {"K", a.lane_count()},
+          {"SETUP_LAT", a.row_setup_timing(tech()).latency},
+          {"DIV_LAT", a.timing(tech()).latency},
+          {"MIN_DEN", UvFixed(uv_config().min_denominator).raw()},
+          {"XW", kUvCoordBits},
+          {"NW", kUvCountBits}};
+}
+
 // A Verilog block, its parameters and the latency the C++ timing model gives it.
 struct RtlBlock {
   std::string module;
@@ -89,7 +115,9 @@ struct RtlBlock {
 inline std::vector<RtlBlock> rtl_blocks() {
   return {{"vd_p2", vd_p2_params(), VdEvaluatorP2().timing(tech()).latency},
           {"vd_p1", vd_p1_params(), VdEvaluatorP1().timing(tech()).latency},
-          {"bilinear_lerp", bilinear_lerp_params(), BilinearLerp(kLerp).timing(tech()).latency}};
+          {"bilinear_lerp", bilinear_lerp_params(), BilinearLerp(kLerp).timing(tech()).latency},
+          {"uv_incremental", uv_incremental_params(),
+           UvIncrementalAdder(uv_config()).timing(tech()).latency}};
 }
 
 }  // namespace texsim::rtl_params

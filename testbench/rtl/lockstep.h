@@ -26,12 +26,16 @@ inline uint64_t lockstep_vectors(uint64_t def = 100000) {
   return s != nullptr && *s != '\0' ? std::strtoull(s, nullptr, 10) : def;
 }
 
-inline constexpr int kOutWords = 4;
+inline constexpr int kOutWords = 16;
 using OutWords = std::array<int64_t, kOutWords>;
 
 inline std::string words_text(const OutWords& w) {
+  int used = kOutWords;
+  while (used > 1 && w[static_cast<size_t>(used - 1)] == 0) --used;
   std::ostringstream s;
-  s << "{" << w[0] << ", " << w[1] << ", " << w[2] << ", " << w[3] << "}";
+  s << "{";
+  for (int i = 0; i < used; ++i) s << (i > 0 ? ", " : "") << w[static_cast<size_t>(i)];
+  s << "}";
   return s.str();
 }
 

@@ -38,9 +38,12 @@ std::vector<LerpIn> lerp_vectors(const BilinearLerp::Config& c, uint64_t n_rando
   const uint64_t alt = word / ((uint64_t{1} << (2 * c.texel_bits)) + 1) *
                        ((uint64_t{1} << c.texel_bits) - 1);  // channels 0, max, 0, max
   std::vector<LerpIn> v;
-  const std::array<uint64_t, 4> quads[] = {{0, 0, 0, 0},       {word, word, word, word},
-                                           {0, word, 0, word}, {word, 0, word, 0},
-                                           {0, 0, word, word}, {alt, word - alt, word - alt, alt},
+  const std::array<uint64_t, 4> quads[] = {{0},
+                                           {word, word, word, word},
+                                           {0, word, 0, word},
+                                           {word, 0, word, 0},
+                                           {0, 0, word, word},
+                                           {alt, word - alt, word - alt, alt},
                                            {word, 0, 0, word}};
   for (const auto& q : quads) {
     for (uint32_t fx : {0u, 1u, wmax / 2, wmax / 2 + 1, wmax}) {
@@ -75,12 +78,9 @@ Scoreboard run_lerp(uint64_t n_random, uint32_t latency, int64_t perturb = 0,
     top.fy = static_cast<uint8_t>(in.fy);
   };
   stream_lockstep(
-      h, sb, vectors, set_in,
-      [](Model& top) {
-        return OutWords{static_cast<int64_t>(top.out), 0, 0, 0};
-      },
+      h, sb, vectors, set_in, [](Model& top) { return OutWords{static_cast<int64_t>(top.out)}; },
       [&](const LerpIn& in, OpCounts& ops) {
-        return OutWords{static_cast<int64_t>(core.lerp(in.quad, in.fx, in.fy, ops)), 0, 0, 0};
+        return OutWords{static_cast<int64_t>(core.lerp(in.quad, in.fx, in.fy, ops))};
       },
       35, 0.125, perturb, perturb_at);
   std::cout << sb.summary() << "\n" << sb.report();

@@ -47,13 +47,11 @@ Scoreboard run_vd(const char* name, const Core& core, uint32_t latency, uint64_t
       [](Model& top, uint32_t d) {
         top.d = static_cast<std::remove_reference_t<decltype(top.d)>>(d);
       },
-      [](Model& top) {
-        return OutWords{static_cast<int64_t>(top.v), 0, 0, 0};
-      },
+      [](Model& top) { return OutWords{static_cast<int64_t>(top.v)}; },
       [&](uint32_t d, OpCounts& ops) {
         ops += Core::ops_per_item();
         const auto v = core.template eval<Fmt>(In::from_raw(d));
-        return OutWords{v.raw(), 0, 0, 0};
+        return OutWords{v.raw()};
       },
       34, 0.125, perturb, perturb_at);
   std::cout << sb.summary() << "\n" << sb.report();
