@@ -101,7 +101,6 @@ endif()
 if(TEXSIM_BUILD_TESTS AND TEXSIM_BUILD_BENCH AND EXISTS ${TEXSIM_RTL_BENCH})
   find_package(benchmark REQUIRED)
   add_executable(bench_rtl_vs_cpp ${TEXSIM_RTL_BENCH})
-  target_link_libraries(bench_rtl_vs_cpp PRIVATE ${TEXSIM_RTL_LIBS} benchmark::benchmark
-    benchmark::benchmark_main)
+  target_link_libraries(bench_rtl_vs_cpp PRIVATE ${TEXSIM_RTL_LIBS} benchmark::benchmark)
   texsim_set_warnings(bench_rtl_vs_cpp)
 endif()

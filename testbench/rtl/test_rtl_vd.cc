@@ -8,8 +8,13 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <random>
+#include <sstream>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -85,6 +90,27 @@ TEST(RtlLockstep, VdScoreboardCatchesLatency) {
   const Scoreboard sb = run_vd<Vvd_p1>("vd_p1", VdEvaluatorP1(), p1_latency() + 1, 0);
   EXPECT_EQ(sb.mismatches(), sb.compared());
   EXPECT_NE(sb.report().find("latency"), std::string::npos) << sb.report();
+}
+
+// Waveforms are switched at run time: a trace path writes a VCD of the block's signals.
+TEST(RtlHarness, WritesVcdWhenAsked) {
+  const std::string path = testing::TempDir() + "texsim_vd_p2_trace.vcd";
+  {
+    RtlHarness<Vvd_p2> h("vd_p2", path);
+    h.reset();
+    h.top().in_valid = 1;
+    h.top().d = 0x8000;
+    for (int i = 0; i < 12; ++i) h.step();
+    EXPECT_EQ(h.top().v, VdEvaluatorP2().eval<Fmt>(In::from_raw(0x8000)).raw());
+  }
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("$var wire 16"), std::string::npos);
+  EXPECT_NE(text.str().find("out_valid"), std::string::npos);
+  std::remove(path.c_str());
+  RtlHarness<Vvd_p1> quiet("vd_p1", "");
+  EXPECT_EQ(quiet.trace_path().empty(), std::getenv("TEXSIM_RTL_TRACE") == nullptr);
 }
 
 }  // namespace
