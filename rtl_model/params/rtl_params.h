@@ -14,6 +14,7 @@
 
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
+#include "blocks/raster/rect_scan/line_stepper.h"
 #include "blocks/texture/coords/uv_incremental_adder.h"
 #include "blocks/texture/sampler/bilinear_lerp.h"
 #include "blocks/texture/subtexel/vd_evaluator_p1.h"
@@ -105,6 +106,14 @@ inline std::vector<Param> uv_incremental_params() {
           {"NW", kUvCountBits}};
 }
 
+// ---- Rectangle-scan address generator (rtl_model/rtl/rect_scan_stepper.v) --------------------
+inline constexpr LineStepper::Config kRectScanLine{};  // slope_bits as the C++ default
+inline constexpr int kRectScanCoordBits = 16;          // signed pixel coordinates
+
+inline std::vector<Param> rect_scan_stepper_params() {
+  return {{"SLOPE_BITS", kRectScanLine.slope_bits}, {"CW", kRectScanCoordBits}};
+}
+
 // A Verilog block, its parameters and the latency the C++ timing model gives it.
 struct RtlBlock {
   std::string module;
@@ -117,7 +126,10 @@ inline std::vector<RtlBlock> rtl_blocks() {
           {"vd_p1", vd_p1_params(), VdEvaluatorP1().timing(tech()).latency},
           {"bilinear_lerp", bilinear_lerp_params(), BilinearLerp(kLerp).timing(tech()).latency},
           {"uv_incremental", uv_incremental_params(),
-           UvIncrementalAdder(uv_config()).timing(tech()).latency}};
+           UvIncrementalAdder(uv_config()).timing(tech()).latency},
+          // Sequential: a pixel leaves at load + rows started + pixels visited (the C++ model's
+          // fast-clock cycles), checked per pixel; no pipeline latency of its own.
+          {"rect_scan_stepper", rect_scan_stepper_params(), 0}};
 }
 
 }  // namespace texsim::rtl_params
