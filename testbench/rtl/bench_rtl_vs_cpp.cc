@@ -2,6 +2,7 @@
 // Cpp/<block> runs the functional core, Rtl/<block> clocks the Verilated block one input per
 // cycle (no tracing, no scoreboard). After the runs the speed ratio per block is printed.
 #include <Vbilinear_lerp.h>
+#include <Vrect_scan_stepper.h>
 #include <Vuv_incremental.h>
 #include <Vvd_p1.h>
 #include <Vvd_p2.h>
@@ -15,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "blocks/raster/rect_scan/coordinate_counters.h"
+#include "blocks/raster/rect_scan/row_start_counter.h"
 #include "rtl_model/params/rtl_params.h"
 #include "rtl_model/verilator/rtl_harness.h"
 
@@ -141,6 +144,55 @@ void rtl_uv(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * kRowPixels);
 }
 
+// A 33 × 9 rectangle along a line of slope 0.3, scanned by the C++ elements and by the RTL.
+constexpr int32_t kScanCols = 33, kScanRows = 9;
+
+void cpp_rect_scan(benchmark::State& state) {
+  RowLine line;
+  line.delta_major = int64_t{1} << rtl_params::kRectScanLine.slope_bits;
+  line.delta_minor = line.delta_major * 3 / 10;
+  for (auto _ : state) {
+    LineStepper li(rtl_params::kRectScanLine);
+    RowStartCounter start;
+    CoordinateCounters counters(true);
+    int64_t sum = 0;
+    start.load(0, 0);
+    for (; start.minor() < kScanRows; start.next_row()) {
+      counters.load(start.major0(), start.minor());
+      li.start_row(line);
+      for (;;) {
+        sum += counters.x() ^ counters.y();
+        if (counters.major() >= kScanCols - 1) break;
+        counters.step(li.step(line));
+      }
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * kScanCols * kScanRows);
+}
+
+void rtl_rect_scan(benchmark::State& state) {
+  RtlHarness<Vrect_scan_stepper> h("rect_scan_stepper");
+  h.reset();
+  Vrect_scan_stepper& top = h.top();
+  top.x_major = 1;
+  top.delta_minor = static_cast<uint16_t>((1 << rtl_params::kRectScanLine.slope_bits) * 3 / 10);
+  top.major1 = kScanCols - 1;
+  top.t_hi = kScanRows - 1;
+  for (auto _ : state) {
+    int64_t sum = 0;
+    top.in_valid = 1;
+    h.step();
+    top.in_valid = 0;
+    while (!top.in_ready) {
+      h.step();
+      sum += top.out_x ^ top.out_y;
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * kScanCols * kScanRows);
+}
+
 BENCHMARK(cpp_vd<VdEvaluatorP2>)->Name("Cpp/vd_p2");
 void rtl_vd_p2(benchmark::State& state) { rtl_vd<Vvd_p2>(state, "vd_p2"); }
 void rtl_vd_p1(benchmark::State& state) { rtl_vd<Vvd_p1>(state, "vd_p1"); }
@@ -152,10 +204,13 @@ BENCHMARK(cpp_lerp)->Name("Cpp/bilinear_lerp");
 BENCHMARK(rtl_lerp)->Name("Rtl/bilinear_lerp");
 BENCHMARK(cpp_uv)->Name("Cpp/uv_incremental");
 BENCHMARK(rtl_uv)->Name("Rtl/uv_incremental");
+BENCHMARK(cpp_rect_scan)->Name("Cpp/rect_scan_stepper");
+BENCHMARK(rtl_rect_scan)->Name("Rtl/rect_scan_stepper");
 
 // Console output as usual, plus the time per item of every run for the ratio table.
 class RatioReporter : public benchmark::ConsoleReporter {
  public:
+  RatioReporter() : ConsoleReporter(OO_Tabular) {}
   void ReportRuns(const std::vector<Run>& runs) override {
     for (const Run& r : runs) {
       const auto it = r.counters.find("items_per_second");
@@ -170,7 +225,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
       if (name.rfind("Cpp/", 0) != 0) continue;
       const auto rtl = rate_.find("Rtl/" + name.substr(4));
       if (rtl == rate_.end()) continue;
-      std::printf("  %-16s C++ %10.3g  RTL %10.3g  ratio %6.1fx\n", name.substr(4).c_str(), cpp,
+      std::printf("  %-18s C++ %10.3g  RTL %10.3g  ratio %6.1fx\n", name.substr(4).c_str(), cpp,
                   rtl->second, cpp / rtl->second);
     }
   }
