@@ -1,0 +1,108 @@
+# RTL blocks under Verilator (docs/rtl/blocks.md): the parameter generator, one static library
+# per Verilated block, the harness, the lockstep tests and the C++-vs-RTL benchmark. Verilator
+# is used when found; without it these targets are skipped with a message and nothing fails.
+
+set(TEXSIM_RTL_DIR ${PROJECT_SOURCE_DIR}/rtl_model/rtl)
+set(TEXSIM_RTL_GEN ${PROJECT_BINARY_DIR}/rtl_model/params)
+set(TEXSIM_RTL_TESTS ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_vd.cc
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_lerp.cc
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_uv.cc
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_scan.cc)
+set(TEXSIM_RTL_BENCH ${PROJECT_SOURCE_DIR}/testbench/rtl/bench_rtl_vs_cpp.cc)
+set(TEXSIM_RTL_CC ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc
+  ${PROJECT_SOURCE_DIR}/rtl_model/verilator/rtl_harness.cc)
+texsim_listed(${TEXSIM_RTL_TESTS} ${TEXSIM_RTL_BENCH} ${TEXSIM_RTL_CC})
+
+find_package(verilator 5 QUIET HINTS $ENV{VERILATOR_ROOT} /usr/share/verilator)
+if(NOT verilator_FOUND OR NOT VERILATOR_BIN)
+  message(STATUS "Verilator not found: RTL blocks, lockstep tests and RTL benchmark skipped")
+  return()
+endif()
+message(STATUS "Verilator ${verilator_VERSION}: RTL lockstep tests enabled")
+
+# Parameters: rtl_params.h (C++) -> texsim_params.vh and one -G file per block.
+set(TEXSIM_RTL_BLOCKS vd_p2 vd_p1 bilinear_lerp uv_incremental rect_scan_stepper)
+add_executable(gen_rtl_params ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc)
+target_link_libraries(gen_rtl_params PRIVATE texsim_blocks)
+texsim_set_warnings(gen_rtl_params)
+set(gen_outputs ${TEXSIM_RTL_GEN}/texsim_params.vh)
+foreach(b ${TEXSIM_RTL_BLOCKS})
+  list(APPEND gen_outputs ${TEXSIM_RTL_GEN}/${b}.vc)
+endforeach()
+add_custom_command(OUTPUT ${gen_outputs}
+  COMMAND ${CMAKE_COMMAND} -E make_directory ${TEXSIM_RTL_GEN}
+  COMMAND gen_rtl_params ${TEXSIM_RTL_GEN}
+  DEPENDS gen_rtl_params
+  COMMENT "Generating RTL parameters from rtl_model/params/rtl_params.h" VERBATIM)
+# One target owns the generated files, so parallel builds run the generator once.
+add_custom_target(texsim_rtl_params DEPENDS ${gen_outputs})
+
+# The Verilator runtime, compiled once for every block.
+add_library(texsim_verilated STATIC
+  ${VERILATOR_ROOT}/include/verilated.cpp
+  ${VERILATOR_ROOT}/include/verilated_threads.cpp
+  ${VERILATOR_ROOT}/include/verilated_vcd_c.cpp)
+target_include_directories(texsim_verilated SYSTEM PUBLIC
+  ${VERILATOR_ROOT}/include ${VERILATOR_ROOT}/include/vltstd)
+target_compile_definitions(texsim_verilated PUBLIC VM_TRACE=1 VM_TRACE_VCD=1 VM_COVERAGE=0 VM_SC=0)
+target_compile_options(texsim_verilated PRIVATE -w)
+target_link_libraries(texsim_verilated PUBLIC Threads::Threads)
+
+# texsim_verilate(TOP SOURCES f.v ...): verilates module TOP with its generated -G file into
+# the static library texsim_rtl_TOP (header <VTOP.h>). Verilator's C++ output has names that
+# depend on the design, so one includer file (VTOP__all.cpp) collects it for the compiler.
+function(texsim_verilate top)
+  cmake_parse_arguments(A "" "" "SOURCES" ${ARGN})
+  list(TRANSFORM A_SOURCES PREPEND ${TEXSIM_RTL_DIR}/)
+  set(mdir ${PROJECT_BINARY_DIR}/rtl_model/verilated/${top})
+  add_custom_command(OUTPUT ${mdir}/V${top}__all.cpp
+    COMMAND ${CMAKE_COMMAND} -E rm -rf ${mdir}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${mdir}
+    COMMAND ${VERILATOR_BIN} --cc --trace -O3 --x-assign fast --x-initial fast -Wno-fatal
+      -Wno-DECLFILENAME --top-module ${top} --prefix V${top} --Mdir ${mdir}
+      -f ${TEXSIM_RTL_GEN}/${top}.vc -I${TEXSIM_RTL_GEN} ${A_SOURCES}
+    COMMAND ${CMAKE_COMMAND} -DDIR=${mdir} -DPREFIX=V${top}
+      -P ${PROJECT_SOURCE_DIR}/cmake/TexsimVerilatorIncluder.cmake
+    DEPENDS ${A_SOURCES} ${TEXSIM_RTL_GEN}/${top}.vc
+    COMMENT "Verilating ${top}" VERBATIM)
+  add_library(texsim_rtl_${top} STATIC ${mdir}/V${top}__all.cpp)
+  target_include_directories(texsim_rtl_${top} SYSTEM PUBLIC ${mdir})
+  target_link_libraries(texsim_rtl_${top} PUBLIC texsim_verilated)
+  target_compile_options(texsim_rtl_${top} PRIVATE -w)
+  add_dependencies(texsim_rtl_${top} texsim_rtl_params)
+endfunction()
+
+set(rtl_common texsim_pipe.v texsim_round_sat.v texsim_op_counters.v)
+texsim_verilate(vd_p2 SOURCES vd_p2.v ${rtl_common})
+texsim_verilate(vd_p1 SOURCES vd_p1.v ${rtl_common})
+texsim_verilate(bilinear_lerp SOURCES bilinear_lerp.v ${rtl_common})
+texsim_verilate(rect_scan_stepper SOURCES rect_scan_stepper.v ${rtl_common})
+texsim_verilate(uv_incremental SOURCES uv_incremental.v texsim_fixed_div.v texsim_udiv_pipe.v
+  ${rtl_common})
+
+add_library(texsim_rtl_harness STATIC ${PROJECT_SOURCE_DIR}/rtl_model/verilator/rtl_harness.cc)
+target_include_directories(texsim_rtl_harness PUBLIC ${PROJECT_SOURCE_DIR})
+target_link_libraries(texsim_rtl_harness PUBLIC texsim_blocks texsim_verilated)
+texsim_set_warnings(texsim_rtl_harness)
+set(TEXSIM_RTL_LIBS texsim_rtl_harness)
+foreach(b ${TEXSIM_RTL_BLOCKS})
+  list(APPEND TEXSIM_RTL_LIBS texsim_rtl_${b})
+endforeach()
+
+if(TEXSIM_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+  include(GoogleTest)
+  foreach(src ${TEXSIM_RTL_TESTS})
+    get_filename_component(name ${src} NAME_WE)
+    add_executable(${name} ${src})
+    target_link_libraries(${name} PRIVATE ${TEXSIM_RTL_LIBS} GTest::gtest GTest::gtest_main)
+    texsim_set_warnings(${name})
+    gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 600)
+  endforeach()
+endif()
+if(TEXSIM_BUILD_TESTS AND TEXSIM_BUILD_BENCH AND EXISTS ${TEXSIM_RTL_BENCH})
+  find_package(benchmark REQUIRED)
+  add_executable(bench_rtl_vs_cpp ${TEXSIM_RTL_BENCH})
+  target_link_libraries(bench_rtl_vs_cpp PRIVATE ${TEXSIM_RTL_LIBS} benchmark::benchmark)
+  texsim_set_warnings(bench_rtl_vs_cpp)
+endif()

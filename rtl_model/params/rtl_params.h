@@ -1,0 +1,135 @@
+#pragma once
+// The one parameter source of the RTL blocks (docs/rtl/blocks.md): the number formats, the
+// coefficients and the latencies each Verilog block is built with, taken from the C++ block
+// models themselves (their format types, VdCoefficientsIn, timing() on the default technology
+// table). gen_rtl_params turns this into the Verilog side at build time (texsim_params.vh and
+// one Verilator -G file per block, both marked "generated — do not edit"); the lockstep
+// tests read the same values from here, so the two sides cannot drift apart.
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "blocks/base/op_counts.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/raster/rect_scan/line_stepper.h"
+#include "blocks/texture/coords/uv_incremental_adder.h"
+#include "blocks/texture/sampler/bilinear_lerp.h"
+#include "blocks/texture/subtexel/vd_evaluator_p1.h"
+#include "blocks/texture/subtexel/vd_evaluator_p2.h"
+#include "blocks/texture/subtexel/vd_evaluator_params.h"
+
+namespace texsim::rtl_params {
+
+// Technology table the RTL's pipeline depths follow: one register stage per cycle of each
+// operator's latency.
+inline TechTable tech() { return TechTable::defaults(); }
+
+// Cycles of one operator of kind k, which must be a whole number to be a register count.
+inline int op_latency(OpKind k) {
+  const double c = tech().lat(k);
+  if (c != std::floor(c) || c < 0)
+    throw std::logic_error("rtl_params: operator latency is not a whole number of cycles");
+  return static_cast<int>(c);
+}
+
+// ---- V(d) evaluators P2 and P1 (rtl_model/rtl/vd_p2.v, vd_p1.v) ---------------------------
+using VdFormat = VdFx16;  // u0.16 input, s3.15 coefficients, u1.15 output
+inline constexpr int kVdFin = VdFormat::In::kFracBits;
+inline constexpr int kVdFc = VdFormat::Coef::kFracBits;
+
+// A named integer parameter of one Verilog module.
+using Param = std::pair<std::string, int64_t>;
+
+inline std::vector<Param> vd_p2_params() {
+  const auto& c = VdCoefficientsIn<VdFormat>::get();
+  return {{"FIN", kVdFin},
+          {"FC", kVdFc},
+          {"MUL_LAT", op_latency(OpKind::Mul)},
+          {"ADD_LAT", op_latency(OpKind::Add)},
+          {"C0", c.p2[0].raw()},
+          {"C1", c.p2[1].raw()},
+          {"C2", c.p2[2].raw()}};
+}
+
+inline std::vector<Param> vd_p1_params() {
+  const auto& c = VdCoefficientsIn<VdFormat>::get();
+  return {{"FIN", kVdFin},
+          {"FC", kVdFc},
+          {"MUL_LAT", op_latency(OpKind::Mul)},
+          {"ADD_LAT", op_latency(OpKind::Add)},
+          {"CMP_LAT", op_latency(OpKind::Cmp)},
+          {"B0", c.p1_break[0].raw()},
+          {"B1", c.p1_break[1].raw()},
+          {"A0", c.p1[0][0].raw()},
+          {"S0", c.p1[0][1].raw()},
+          {"A1", c.p1[1][0].raw()},
+          {"S1", c.p1[1][1].raw()},
+          {"A2", c.p1[2][0].raw()},
+          {"S2", c.p1[2][1].raw()}};
+}
+
+// ---- Bilinear lerp (rtl_model/rtl/bilinear_lerp.v) ----------------------------------------
+inline constexpr BilinearLerp::Config kLerp{8, 8};  // RGBA8 texels, u0.8 sub-texel weights
+
+inline std::vector<Param> bilinear_lerp_params() {
+  return {{"T", kLerp.texel_bits},
+          {"S", kLerp.sub_bits},
+          {"MUL_LAT", op_latency(OpKind::Mul)},
+          {"ADD_LAT", op_latency(OpKind::Add)}};
+}
+
+// ---- Incremental u/v adder, k-lane form, with dividers (rtl_model/rtl/uv_incremental.v) ----
+using UvFixed = Fixed<16, 16>;  // s15.16 map coefficients, accumulators and u, v
+inline UvIncrementalAdder::Config uv_config() {
+  UvIncrementalAdder::Config c;
+  c.form = UvIncrementalAdder::Form::KLane;
+  c.lanes = 4;
+  c.division = UvIncrementalAdder::Division::Divide;
+  c.datapath = Datapath::Spatial;
+  return c;
+}
+inline constexpr int kUvCoordBits = 16;  // signed x0 and y of the row load
+inline constexpr int kUvCountBits = 16;  // pixel count of the row load
+
+inline std::vector<Param> uv_incremental_params() {
+  const UvIncrementalAdder a(uv_config());
+  return {{"W", UvFixed::kBits},
+          {"F", UvFixed::kFracBits},
+          {"K", a.lane_count()},
+          {"SETUP_LAT", a.row_setup_timing(tech()).latency},
+          {"DIV_LAT", a.timing(tech()).latency},
+          {"MIN_DEN", UvFixed(uv_config().min_denominator).raw()},
+          {"XW", kUvCoordBits},
+          {"NW", kUvCountBits}};
+}
+
+// ---- Rectangle-scan address generator (rtl_model/rtl/rect_scan_stepper.v) --------------------
+inline constexpr LineStepper::Config kRectScanLine{};  // slope_bits as the C++ default
+inline constexpr int kRectScanCoordBits = 16;          // signed pixel coordinates
+
+inline std::vector<Param> rect_scan_stepper_params() {
+  return {{"SLOPE_BITS", kRectScanLine.slope_bits}, {"CW", kRectScanCoordBits}};
+}
+
+// A Verilog block, its parameters and the latency the C++ timing model gives it.
+struct RtlBlock {
+  std::string module;
+  std::vector<Param> params;
+  uint32_t latency;
+};
+
+inline std::vector<RtlBlock> rtl_blocks() {
+  return {{"vd_p2", vd_p2_params(), VdEvaluatorP2().timing(tech()).latency},
+          {"vd_p1", vd_p1_params(), VdEvaluatorP1().timing(tech()).latency},
+          {"bilinear_lerp", bilinear_lerp_params(), BilinearLerp(kLerp).timing(tech()).latency},
+          {"uv_incremental", uv_incremental_params(),
+           UvIncrementalAdder(uv_config()).timing(tech()).latency},
+          // Sequential: a pixel leaves at load + rows started + pixels visited (the C++ model's
+          // fast-clock cycles), checked per pixel; no pipeline latency of its own.
+          {"rect_scan_stepper", rect_scan_stepper_params(), 0}};
+}
+
+}  // namespace texsim::rtl_params

@@ -1,0 +1,27 @@
+// texsim_pipe: N pipeline registers on a W-bit bus (N = 0: a wire). Every block's latency is
+// made of these, one run per operator, so a block's cycle count is the sum of its operators'
+// latencies from the technology table, as in the C++ timing model (derive_timing).
+module texsim_pipe #(
+    parameter int W = 1,
+    parameter int N = 1
+) (
+    input  logic         clk,
+    input  logic         rst,
+    input  logic [W-1:0] d,
+    output logic [W-1:0] q
+);
+  if (N == 0) begin : g_wire
+    assign q = d;
+  end else begin : g_regs
+    logic [W-1:0] r[N];
+    always_ff @(posedge clk) begin
+      if (rst) begin
+        for (int i = 0; i < N; i++) r[i] <= '0;
+      end else begin
+        r[0] <= d;
+        for (int i = 1; i < N; i++) r[i] <= r[i-1];
+      end
+    end
+    assign q = r[N-1];
+  end
+endmodule

@@ -1,0 +1,117 @@
+// Lockstep of the V(d) evaluators P2 and P1 (rtl_model/rtl/vd_p2.v, vd_p1.v) against the C++
+// cores (blocks/texture/subtexel/vd_evaluator_p2.h, vd_evaluator_p1.h) in the format of
+// rtl_model/params/rtl_params.h: every u0.16 code once (the directed corner cases are among
+// them: 0, the P1 breakpoints and their neighbours, 0.5 and the largest code), then seeded
+// random codes with random idle cycles.
+#include <Vvd_p1.h>
+#include <Vvd_p2.h>
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "rtl_model/params/rtl_params.h"
+#include "testbench/rtl/lockstep.h"
+
+namespace texsim::rtl {
+namespace {
+
+using Fmt = rtl_params::VdFormat;
+using In = Fmt::In;
+
+std::vector<uint32_t> vd_vectors(uint64_t n_random, uint64_t seed) {
+  std::vector<uint32_t> v;
+  const auto& c = VdCoefficientsIn<Fmt>::get();
+  for (int64_t b : {c.p1_break[0].raw(), c.p1_break[1].raw()}) {
+    for (int64_t k = b - 2; k <= b + 2; ++k) v.push_back(static_cast<uint32_t>(k));
+  }
+  for (uint32_t d = 0; d <= static_cast<uint32_t>(In::kRawMax); ++d) v.push_back(d);
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<uint32_t> code(0, static_cast<uint32_t>(In::kRawMax));
+  for (uint64_t i = 0; i < n_random; ++i) v.push_back(code(rng));
+  return v;
+}
+
+template <class Model, class Core>
+Scoreboard run_vd(const char* name, const Core& core, uint32_t latency, uint64_t n_random,
+                  int64_t perturb = 0, size_t perturb_at = 0) {
+  RtlHarness<Model> h(name);
+  h.reset();
+  Scoreboard sb(name, latency);
+  const std::vector<uint32_t> vectors = vd_vectors(n_random, 12);
+  stream_lockstep(
+      h, sb, vectors,
+      [](Model& top, uint32_t d) {
+        top.d = static_cast<std::remove_reference_t<decltype(top.d)>>(d);
+      },
+      [](Model& top) { return OutWords{static_cast<int64_t>(top.v)}; },
+      [&](uint32_t d, OpCounts& ops) {
+        ops += Core::ops_per_item();
+        const auto v = core.template eval<Fmt>(In::from_raw(d));
+        return OutWords{v.raw()};
+      },
+      34, 0.125, perturb, perturb_at);
+  std::cout << sb.summary() << "\n" << sb.report();
+  return sb;
+}
+
+uint32_t p2_latency() { return VdEvaluatorP2().timing(rtl_params::tech()).latency; }
+uint32_t p1_latency() { return VdEvaluatorP1().timing(rtl_params::tech()).latency; }
+
+TEST(RtlLockstep, VdP2MatchesCppBitForBit) {
+  const Scoreboard sb = run_vd<Vvd_p2>("vd_p2", VdEvaluatorP2(), p2_latency(), lockstep_vectors());
+  EXPECT_EQ(sb.mismatches(), 0u) << sb.report();
+  EXPECT_GT(sb.compared(), 65536u);
+}
+
+TEST(RtlLockstep, VdP1MatchesCppBitForBit) {
+  const Scoreboard sb = run_vd<Vvd_p1>("vd_p1", VdEvaluatorP1(), p1_latency(), lockstep_vectors());
+  EXPECT_EQ(sb.mismatches(), 0u) << sb.report();
+  EXPECT_GT(sb.compared(), 65536u);
+}
+
+// Negative controls: the scoreboard catches a one-LSB difference in one transaction, and a
+// latency other than the C++ timing spec's.
+TEST(RtlLockstep, VdScoreboardCatchesOneLsb) {
+  const Scoreboard sb = run_vd<Vvd_p2>("vd_p2", VdEvaluatorP2(), p2_latency(), 1000, 1, 40000);
+  EXPECT_EQ(sb.mismatches(), 1u);
+  EXPECT_NE(sb.report().find("transaction 40000"), std::string::npos) << sb.report();
+}
+
+TEST(RtlLockstep, VdScoreboardCatchesLatency) {
+  const Scoreboard sb = run_vd<Vvd_p1>("vd_p1", VdEvaluatorP1(), p1_latency() + 1, 0);
+  EXPECT_EQ(sb.mismatches(), sb.compared());
+  EXPECT_NE(sb.report().find("latency"), std::string::npos) << sb.report();
+}
+
+// Waveforms are switched at run time: a trace path writes a VCD of the block's signals.
+TEST(RtlHarness, WritesVcdWhenAsked) {
+  const std::string path = testing::TempDir() + "texsim_vd_p2_trace.vcd";
+  {
+    RtlHarness<Vvd_p2> h("vd_p2", path);
+    h.reset();
+    h.top().in_valid = 1;
+    h.top().d = 0x8000;
+    for (int i = 0; i < 12; ++i) h.step();
+    EXPECT_EQ(h.top().v, VdEvaluatorP2().eval<Fmt>(In::from_raw(0x8000)).raw());
+  }
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("$var wire 16"), std::string::npos);
+  EXPECT_NE(text.str().find("out_valid"), std::string::npos);
+  std::remove(path.c_str());
+  RtlHarness<Vvd_p1> quiet("vd_p1", "");
+  EXPECT_EQ(quiet.trace_path().empty(), std::getenv("TEXSIM_RTL_TRACE") == nullptr);
+}
+
+}  // namespace
+}  // namespace texsim::rtl
