@@ -11,35 +11,13 @@
 #include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene_meshes.h"
 #include "pipeline/scene/scene_overrides.h"
+#include "pipeline/scene/scene_values.h"
 
 namespace texsim {
 
 namespace {
 
-std::string at(const std::string& src, const toml::node& n) {
-  const auto& b = n.source().begin;
-  return src + ":" + std::to_string(b.line) + ":" + std::to_string(b.column);
-}
-
-template <int N>
-glm::vec<N, double> read_vec(const ConfigReader& r, std::string_view key, glm::vec<N, double> def) {
-  const toml::node* n = r.table().get(key);
-  if (!n) return def;
-  const toml::array* a = n->as_array();
-  if (!a || a->size() != N) r.fail(key, "expected an array of " + std::to_string(N) + " numbers");
-  glm::vec<N, double> v;
-  for (int i = 0; i < N; ++i) {
-    const toml::node& e = *a->get(static_cast<size_t>(i));
-    if (auto f = e.value_exact<double>())
-      v[i] = *f;
-    else if (auto k = e.value_exact<int64_t>())
-      v[i] = static_cast<double>(*k);
-    else
-      r.fail_at(e, std::string(key) + ": element " + std::to_string(i) + " is not a number");
-    if (!std::isfinite(v[i])) r.fail_at(e, std::string(key) + ": element must be finite");
-  }
-  return v;
-}
+std::string at(const std::string& src, const toml::node& n) { return source_at(src, n); }
 
 void parse_output(const ConfigReader& top, Scene& s) {
   const ConfigReader out = top.sub("output");

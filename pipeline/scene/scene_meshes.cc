@@ -9,31 +9,13 @@
 #include "blocks/geometry/aviation_camera.h"
 #include "pipeline/scene/mesh.h"
 #include "pipeline/scene/obj_loader.h"
+#include "pipeline/scene/scene_values.h"
 
 namespace texsim {
 
 namespace {
 
-std::string at(const std::string& src, const toml::node& n) {
-  const auto& b = n.source().begin;
-  return src + ":" + std::to_string(b.line) + ":" + std::to_string(b.column);
-}
-
-// A vector of N finite numbers, or `def` when absent.
-template <int N>
-glm::vec<N, double> vec(const ConfigReader& r, std::string_view key, glm::vec<N, double> def) {
-  const toml::node* n = r.table().get(key);
-  if (!n) return def;
-  const toml::array* a = n->as_array();
-  if (!a || a->size() != N) r.fail(key, "expected an array of " + std::to_string(N) + " numbers");
-  for (int i = 0; i < N; ++i) {
-    const toml::node& e = *a->get(static_cast<size_t>(i));
-    const std::optional<double> v = e.value<double>();
-    if (!v || !std::isfinite(*v)) r.fail_at(e, std::string(key) + ": expected a finite number");
-    def[i] = *v;
-  }
-  return def;
-}
+std::string at(const std::string& src, const toml::node& n) { return source_at(src, n); }
 
 int material_of(const Scene& s, const ConfigReader& r) {
   const toml::node* n = r.table().get("material");
@@ -48,13 +30,13 @@ Mesh build_mesh(const ConfigReader& r, const Scene& s, const std::string& source
                 UvProjection proj) {
   if (source == "box") {
     if (r.table().contains("cells")) r.fail("cells", "grid only");
-    const glm::dvec3 size = vec<3>(r, "size", glm::dvec3(1));
+    const glm::dvec3 size = read_vec<3>(r, "size", glm::dvec3(1));
     if (!(size.x > 0 && size.y > 0 && size.z > 0)) r.fail("size", "must be > 0");
     return make_box(size);
   }
   if (source == "grid") {
-    const glm::dvec2 size = vec<2>(r, "size", glm::dvec2(1));
-    const glm::dvec2 cells = vec<2>(r, "cells", glm::dvec2(1));
+    const glm::dvec2 size = read_vec<2>(r, "size", glm::dvec2(1));
+    const glm::dvec2 cells = read_vec<2>(r, "cells", glm::dvec2(1));
     if (!(size.x > 0 && size.y > 0)) r.fail("size", "must be > 0");
     for (int i = 0; i < 2; ++i) {
       if (!(cells[i] >= 1 && cells[i] <= 1024 && cells[i] == std::floor(cells[i])))
@@ -78,8 +60,8 @@ struct Placement {
 
 Placement placement(const ConfigReader& r) {
   Placement pl;
-  pl.position = vec<3>(r, "position", pl.position);
-  const glm::dvec3 rot = vec<3>(r, "rotation", glm::dvec3(0));
+  pl.position = read_vec<3>(r, "position", pl.position);
+  const glm::dvec3 rot = read_vec<3>(r, "rotation", glm::dvec3(0));
   pl.rotation = aviation_rotation(rot.x, rot.y, rot.z);
   pl.scale = r.get_double("scale", 1);
   if (!(pl.scale > 0) || !std::isfinite(pl.scale)) r.fail("scale", "must be a finite number > 0");
@@ -105,7 +87,7 @@ void parse_mesh(const toml::node& e, Scene& s) {
   Mesh mesh = build_mesh(r, s, sm.source, proj);
   project_uvs(mesh, proj);  // procedural meshes carry their own; a projection replaces them
   const Placement pl = placement(r);
-  const glm::dvec2 uv_scale = vec<2>(r, "uv_scale", glm::dvec2(1));
+  const glm::dvec2 uv_scale = read_vec<2>(r, "uv_scale", glm::dvec2(1));
   const bool cull = r.get_choice("cull", 0, {"none", "back"}) == 1;
   if (s.primitives.size() + mesh.triangles.size() > kMaxScenePrimitives) {
     throw InputError(at(s.path, e), sm.source + ": the scene would hold more than " +

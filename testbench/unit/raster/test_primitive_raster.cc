@@ -15,9 +15,8 @@
 namespace texsim {
 namespace {
 
-// A perspective view of a 12 x 9 grid of quads with jittered inner vertices.
-Scene jittered_grid(unsigned seed) {
-  std::string text = R"([output]
+// The view and the one material of both test scenes.
+const char* const kView = R"([output]
 width = 160
 height = 120
 [camera]
@@ -28,7 +27,11 @@ fov_y = 50.0
 source = "procedural:checker?size=64&cells=4"
 [materials.m]
 texture = "t"
-[[meshes]]
+)";
+
+// A perspective view of a 12 x 9 grid of quads with jittered inner vertices.
+Scene jittered_grid(unsigned seed) {
+  const std::string text = std::string(kView) + R"([[meshes]]
 material = "m"
 source = "grid"
 size = [4.0, 3.0]
@@ -104,18 +107,7 @@ TEST(PrimitiveRaster, MeshGridHasNoHolesNoDuplicatesWithEitherRasterizer) {
 
 // A floor seen in perspective, its material drawn by `raster` ("" for the default).
 Scene floor_scene(const std::string& raster) {
-  return parse_scene(R"([output]
-width = 160
-height = 120
-[camera]
-position = [0.3, 2.5, 4.0]
-look_at = [0.0, 0.0, 0.0]
-fov_y = 50.0
-[textures.t]
-source = "procedural:checker?size=64&cells=4"
-[materials.m]
-texture = "t"
-)" + raster + R"(
+  return parse_scene(std::string(kView) + raster + R"(
 [[planes]]
 material = "m"
 origin = [-2.0, 0.0, 1.5]
