@@ -10,6 +10,8 @@
 #include <numbers>
 #include <random>
 
+#include "blocks/base/config_reader.h"
+#include "blocks/base/input_error.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/texture/relief/distance_map_builder.h"
 #include "blocks/texture/relief/sphere_tracer.h"
@@ -278,6 +280,23 @@ TEST(DistanceMap, TracerTimingAndConfig) {
   EXPECT_GE(s.latency, 1U);
   EXPECT_EQ(s.ii, 1U);
   EXPECT_EQ(t.ops_per_item().mem, 1U);
+}
+
+TEST(DistanceMap, ConfigsReadAndReject) {
+  const toml::table t = toml::parse("depth = 12\ncone_deg = 30\n");
+  const auto c = DistanceMapBuilder::Config::from_toml(ConfigReader(t, "s.toml", "relief"));
+  EXPECT_EQ(c.depth, 12);
+  EXPECT_DOUBLE_EQ(c.cone_deg, 30);
+  for (const char* bad : {"cone_deg = 90\n", "penetration = 0\n", "depht = 3\n"}) {
+    const toml::table b = toml::parse(bad);
+    EXPECT_THROW(DistanceMapBuilder::Config::from_toml(ConfigReader(b, "s.toml", "relief")),
+                 InputError);
+  }
+  const toml::table s = toml::parse("max_iterations = 8\nmin_step = 0.25\n");
+  const auto sc = SphereTracer::Config::from_toml(ConfigReader(s, "s.toml", "tracer"));
+  EXPECT_EQ(sc.max_iterations, 8);
+  const toml::table b = toml::parse("max_iterations = 0\n");
+  EXPECT_THROW(SphereTracer::Config::from_toml(ConfigReader(b, "s.toml", "tracer")), InputError);
 }
 
 }  // namespace

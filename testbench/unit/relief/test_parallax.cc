@@ -7,6 +7,8 @@
 #include <numbers>
 #include <random>
 
+#include "blocks/base/config_reader.h"
+#include "blocks/base/input_error.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/texture/relief/parallax_mapper.h"
 
@@ -139,6 +141,18 @@ TEST(Parallax, TimingFromOps) {
   const TimingSpec s = pm.timing(TechTable::defaults());
   EXPECT_GE(s.latency, 1U);
   EXPECT_EQ(pm.ops_per_item().mem, 4U);
+}
+
+TEST(Parallax, ConfigsReadAndReject) {
+  const toml::table t = toml::parse("method = \"offset\"\ndepth_texels = 2\n");
+  const auto c = ParallaxMapper::Config::from_toml(ConfigReader(t, "s.toml", "parallax"));
+  EXPECT_EQ(c.method, ParallaxMapper::Method::Offset);
+  EXPECT_EQ(ParallaxMapper(c).name(), "relief.parallax_offset");
+  for (const char* bad : {"min_view_z = 0\n", "min_layers = 40\n", "method = \"steep\"\n"}) {
+    const toml::table b = toml::parse(bad);
+    EXPECT_THROW(ParallaxMapper::Config::from_toml(ConfigReader(b, "s.toml", "parallax")),
+                 InputError);
+  }
 }
 
 }  // namespace
