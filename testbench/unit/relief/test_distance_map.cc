@@ -274,6 +274,27 @@ TEST(DistanceMap, RefinedNeedsFewerIterationsOnSharpRelief) {
   }
 }
 
+TEST(DistanceMap, GainDependsOnTheCone) {
+  // The refined map serves only rays inside its cone: a narrower cone allows longer steps.
+  std::mt19937_64 rng(2024);
+  const ReliefHeightMap hm = random_map(rng, 48, 48, true);
+  double prev_gain = 1;
+  for (const double cone : {20.0, 45.0, 70.0}) {
+    DistanceMapBuilder::Config c;
+    c.depth = 16;
+    c.cone_deg = cone;
+    const DistanceMapBuilder b(c);
+    const TraceStats sc = trace_many(b.classic(hm), b, hm, 9, 2000);
+    const TraceStats sr = trace_many(b.refined(hm), b, hm, 9, 2000);
+    const double gain = 1 - sr.iterations / sc.iterations;
+    std::printf("cone %2.0f deg: iterations classic %.3f refined %.3f (%.1f %%)\n", cone,
+                sc.iterations, sr.iterations, 100 * gain);
+    EXPECT_GT(gain, 0.0);
+    EXPECT_LT(gain, prev_gain);
+    prev_gain = gain;
+  }
+}
+
 TEST(DistanceMap, TracerTimingAndConfig) {
   const SphereTracer t;
   const TimingSpec s = t.timing(TechTable::defaults());
