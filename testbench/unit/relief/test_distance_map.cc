@@ -205,11 +205,10 @@ struct TraceStats {
 };
 
 TraceStats trace_many(const DistanceMap& m, const DistanceMapBuilder& b, const ReliefHeightMap& hm,
-                      uint64_t seed, int n) {
+                      uint64_t seed, int n, const SphereTracer& tracer = SphereTracer()) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> ux(1.0, hm.width - 2.0), uy(1.0, hm.height - 2.0),
       uc(0, 1);
-  const SphereTracer tracer;
   TraceStats s;
   for (int i = 0; i < n; ++i) {
     // Directions uniform in the admissible cone's solid angle.
@@ -271,6 +270,33 @@ TEST(DistanceMap, RefinedNeedsFewerIterationsOnSharpRelief) {
     // (both maps): bounded as measured, and the refined map adds little to it.
     EXPECT_LT(sc.far, 0.12);  // measured 8.2 % (sharp)
     EXPECT_LE(sr.far, sc.far + 0.01);
+  }
+}
+
+TEST(DistanceMap, SafetyMarginTradesIterationsForClippedVoxels) {
+  std::mt19937_64 rng(2024);
+  const ReliefHeightMap hm = random_map(rng, 48, 48, true);
+  DistanceMapBuilder::Config c;
+  c.depth = 16;
+  const DistanceMapBuilder b(c);
+  const DistanceMap classic = b.classic(hm), refined = b.refined(hm);
+  double prev_far = 1, prev_it = 0;
+  for (const double safety : {0.0, 0.5, 0.87}) {
+    SphereTracer::Config tc;
+    tc.safety = safety;
+    tc.min_step = safety > 0 ? 0.25 : 0.0;
+    const SphereTracer tracer(tc);
+    const TraceStats sc = trace_many(classic, b, hm, 5, 2000, tracer);
+    const TraceStats sr = trace_many(refined, b, hm, 5, 2000, tracer);
+    std::printf(
+        "safety %.2f: iterations classic %.3f refined %.3f, clipped voxels stepped "
+        "through %.2f %% / %.2f %%\n",
+        safety, sc.iterations, sr.iterations, 100 * sc.far, 100 * sr.far);
+    EXPECT_LE(sc.far, prev_far);
+    EXPECT_GT(sc.iterations, prev_it);
+    EXPECT_LT(sr.iterations, sc.iterations);
+    prev_far = sc.far;
+    prev_it = sc.iterations;
   }
 }
 
