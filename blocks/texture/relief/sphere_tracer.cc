@@ -12,13 +12,16 @@ namespace texsim {
 static_assert(Block<SphereTracer>);
 
 SphereTracer::Config SphereTracer::Config::from_toml(const ConfigReader& r) {
-  r.reject_unknown({"max_iterations", "min_step", "datapath"});
+  r.reject_unknown({"max_iterations", "min_step", "safety", "datapath"});
   Config c;
   c.max_iterations =
       static_cast<int32_t>(r.get_int("max_iterations", c.max_iterations, 1, 1 << 16));
   c.min_step = r.get_double("min_step", c.min_step);
+  c.safety = r.get_double("safety", c.safety);
   c.datapath = parse_datapath(r, c.datapath);
   if (!(c.min_step >= 0 && c.min_step <= 16)) r.fail("min_step", "must be in [0, 16]");
+  if (!(c.safety >= 0 && c.safety <= 4)) r.fail("safety", "must be in [0, 4]");
+  if (c.safety > 0 && !(c.min_step > 0)) r.fail("min_step", "must be > 0 when safety > 0");
   return c;
 }
 
@@ -67,10 +70,10 @@ SphereTracer::Result SphereTracer::trace(const DistanceMap& m, const glm::dvec3&
       res.status = Status::Capped;
       return res;
     }
-    p += d * std::max(dist, cfg_.min_step);
+    p += d * std::max(dist - cfg_.safety, cfg_.min_step);
     ++res.iterations;
     ops.mul += 3;
-    ops.add += 3;
+    ops.add += 3 + (cfg_.safety > 0 ? 1 : 0);
     ops.cmp += 1;  // max with min_step
   }
 }

@@ -23,6 +23,10 @@ class SphereTracer {
   struct Config {
     int32_t max_iterations = 64;  // steps per ray; a ray that needs more ends Capped
     double min_step = 0.0;        // lower bound of a step (0: the map's value as is)
+    // Subtracted from every distance read before stepping: a point of a voxel can be up to
+    // √3/2 nearer the surface than the voxel's centre, so a margin trades iterations for fewer
+    // voxels stepped through (docs/derivations/relief.md §4). Needs min_step > 0.
+    double safety = 0.0;
     Datapath datapath = Datapath::Spatial;
     static Config from_toml(const ConfigReader& r);
   };

@@ -6,6 +6,8 @@
 #include <limits>
 #include <random>
 
+#include "blocks/base/config_reader.h"
+#include "blocks/base/input_error.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/lighting/blinn_phong_shader.h"
 #include "blocks/lighting/normal_unit.h"
@@ -148,6 +150,23 @@ TEST(Lighting, TimingFromOps) {
   EXPECT_GE(BlinnPhongShader().timing(t).latency, 1U);
   EXPECT_EQ(BlinnPhongShader().timing(t).ii, 1U);
   EXPECT_GE(NormalUnit().timing(t).latency, 1U);
+}
+
+TEST(Lighting, ConfigsReadAndReject) {
+  const toml::table t = toml::parse("shininess = 8\nambient = 0.2\n");
+  const auto c = BlinnPhongShader::Config::from_toml(ConfigReader(t, "s.toml", "lighting"));
+  EXPECT_DOUBLE_EQ(c.shininess, 8);
+  EXPECT_DOUBLE_EQ(c.ambient, 0.2);
+  for (const char* bad : {"shininess = 0\n", "diffuse = -1\n", "spec = 1\n"}) {
+    const toml::table b = toml::parse(bad);
+    EXPECT_THROW(BlinnPhongShader::Config::from_toml(ConfigReader(b, "s.toml", "lighting")),
+                 InputError);
+  }
+  const toml::table n = toml::parse("source = \"height_map\"\nbump_scale = 2\n");
+  const auto nc = NormalUnit::Config::from_toml(ConfigReader(n, "s.toml", "normals"));
+  EXPECT_EQ(nc.source, NormalUnit::Source::HeightMap);
+  const toml::table b = toml::parse("source = \"bump\"\n");
+  EXPECT_THROW(NormalUnit::Config::from_toml(ConfigReader(b, "s.toml", "normals")), InputError);
 }
 
 }  // namespace

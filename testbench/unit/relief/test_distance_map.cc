@@ -10,6 +10,8 @@
 #include <numbers>
 #include <random>
 
+#include "blocks/base/config_reader.h"
+#include "blocks/base/input_error.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/texture/relief/distance_map_builder.h"
 #include "blocks/texture/relief/sphere_tracer.h"
@@ -203,11 +205,10 @@ struct TraceStats {
 };
 
 TraceStats trace_many(const DistanceMap& m, const DistanceMapBuilder& b, const ReliefHeightMap& hm,
-                      uint64_t seed, int n) {
+                      uint64_t seed, int n, const SphereTracer& tracer = SphereTracer()) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> ux(1.0, hm.width - 2.0), uy(1.0, hm.height - 2.0),
       uc(0, 1);
-  const SphereTracer tracer;
   TraceStats s;
   for (int i = 0; i < n; ++i) {
     // Directions uniform in the admissible cone's solid angle.
@@ -272,12 +273,77 @@ TEST(DistanceMap, RefinedNeedsFewerIterationsOnSharpRelief) {
   }
 }
 
+TEST(DistanceMap, SafetyMarginTradesIterationsForClippedVoxels) {
+  std::mt19937_64 rng(2024);
+  const ReliefHeightMap hm = random_map(rng, 48, 48, true);
+  DistanceMapBuilder::Config c;
+  c.depth = 16;
+  const DistanceMapBuilder b(c);
+  const DistanceMap classic = b.classic(hm), refined = b.refined(hm);
+  double prev_far = 1, prev_it = 0;
+  for (const double safety : {0.0, 0.5, 0.87}) {
+    SphereTracer::Config tc;
+    tc.safety = safety;
+    tc.min_step = safety > 0 ? 0.25 : 0.0;
+    const SphereTracer tracer(tc);
+    const TraceStats sc = trace_many(classic, b, hm, 5, 2000, tracer);
+    const TraceStats sr = trace_many(refined, b, hm, 5, 2000, tracer);
+    std::printf(
+        "safety %.2f: iterations classic %.3f refined %.3f, clipped voxels stepped "
+        "through %.2f %% / %.2f %%\n",
+        safety, sc.iterations, sr.iterations, 100 * sc.far, 100 * sr.far);
+    EXPECT_LE(sc.far, prev_far);
+    EXPECT_GT(sc.iterations, prev_it);
+    EXPECT_LT(sr.iterations, sc.iterations);
+    prev_far = sc.far;
+    prev_it = sc.iterations;
+  }
+}
+
+TEST(DistanceMap, GainDependsOnTheCone) {
+  // The refined map serves only rays inside its cone: a narrower cone allows longer steps.
+  std::mt19937_64 rng(2024);
+  const ReliefHeightMap hm = random_map(rng, 48, 48, true);
+  double prev_gain = 1;
+  for (const double cone : {20.0, 45.0, 70.0}) {
+    DistanceMapBuilder::Config c;
+    c.depth = 16;
+    c.cone_deg = cone;
+    const DistanceMapBuilder b(c);
+    const TraceStats sc = trace_many(b.classic(hm), b, hm, 9, 2000);
+    const TraceStats sr = trace_many(b.refined(hm), b, hm, 9, 2000);
+    const double gain = 1 - sr.iterations / sc.iterations;
+    std::printf("cone %2.0f deg: iterations classic %.3f refined %.3f (%.1f %%)\n", cone,
+                sc.iterations, sr.iterations, 100 * gain);
+    EXPECT_GT(gain, 0.0);
+    EXPECT_LT(gain, prev_gain);
+    prev_gain = gain;
+  }
+}
+
 TEST(DistanceMap, TracerTimingAndConfig) {
   const SphereTracer t;
   const TimingSpec s = t.timing(TechTable::defaults());
   EXPECT_GE(s.latency, 1U);
   EXPECT_EQ(s.ii, 1U);
   EXPECT_EQ(t.ops_per_item().mem, 1U);
+}
+
+TEST(DistanceMap, ConfigsReadAndReject) {
+  const toml::table t = toml::parse("depth = 12\ncone_deg = 30\n");
+  const auto c = DistanceMapBuilder::Config::from_toml(ConfigReader(t, "s.toml", "relief"));
+  EXPECT_EQ(c.depth, 12);
+  EXPECT_DOUBLE_EQ(c.cone_deg, 30);
+  for (const char* bad : {"cone_deg = 90\n", "penetration = 0\n", "depht = 3\n"}) {
+    const toml::table b = toml::parse(bad);
+    EXPECT_THROW(DistanceMapBuilder::Config::from_toml(ConfigReader(b, "s.toml", "relief")),
+                 InputError);
+  }
+  const toml::table s = toml::parse("max_iterations = 8\nmin_step = 0.25\n");
+  const auto sc = SphereTracer::Config::from_toml(ConfigReader(s, "s.toml", "tracer"));
+  EXPECT_EQ(sc.max_iterations, 8);
+  const toml::table b = toml::parse("max_iterations = 0\n");
+  EXPECT_THROW(SphereTracer::Config::from_toml(ConfigReader(b, "s.toml", "tracer")), InputError);
 }
 
 }  // namespace

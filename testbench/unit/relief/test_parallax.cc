@@ -7,6 +7,8 @@
 #include <numbers>
 #include <random>
 
+#include "blocks/base/config_reader.h"
+#include "blocks/base/input_error.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/texture/relief/parallax_mapper.h"
 
@@ -121,6 +123,45 @@ TEST(Parallax, IterativeMatchesLongDoubleReference) {
   EXPECT_GE(within_bracket, n * 99 / 100);
 }
 
+TEST(Parallax, MethodsCostAgainstError) {
+  // Per method: height reads per fragment and the mean texel-coordinate error against the
+  // long double reference intersection, on the smooth map, views up to 60° from the normal.
+  const ReliefHeightMap hm = wave_map(64, 3);
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> pos(8, 56), ang(0, 2 * std::numbers::pi), tilt(0, 1.05);
+  ParallaxMapper::Config off, lim, it4, it;
+  off.method = lim.method = ParallaxMapper::Method::Offset;
+  off.offset_limiting = false;
+  it4.min_layers = 4;
+  it4.max_layers = 8;
+  it4.binary_steps = 2;
+  const ParallaxMapper methods[] = {ParallaxMapper(off), ParallaxMapper(lim), ParallaxMapper(it4),
+                                    ParallaxMapper(it)};
+  const char* names[] = {"offset", "offset limited", "iterative 4..8 + 2", "iterative 8..32 + 5"};
+  double err[4] = {}, reads[4] = {};
+  const int n = 400;
+  for (int i = 0; i < n; ++i) {
+    const double u = pos(rng), v = pos(rng), a = ang(rng), t = tilt(rng);
+    const double vx = std::sin(t) * std::cos(a), vy = std::sin(t) * std::sin(a), vz = std::cos(t);
+    const long double sx = -vx / vz * 4, sy = -vy / vz * 4;
+    const long double ref = reference_depth(hm, u, v, sx, sy);
+    for (int m = 0; m < 4; ++m) {
+      OpCounts ops;
+      const auto r = methods[m].map(hm, u, v, vx, vy, vz, ops);
+      err[m] += std::hypot(r.u - static_cast<double>(u + sx * ref),
+                           r.v - static_cast<double>(v + sy * ref));
+      reads[m] += r.samples;
+    }
+  }
+  for (int m = 0; m < 4; ++m) {
+    std::printf("parallax %-20s %.2f height reads, mean error %.4f texel\n", names[m], reads[m] / n,
+                err[m] / n);
+  }
+  EXPECT_LT(err[3], err[2]);
+  EXPECT_LT(err[2], err[0]);
+  EXPECT_LT(err[3] / n, 0.01);
+}
+
 TEST(Parallax, FlatMapsAtTopAndBottom) {
   const ParallaxMapper pm;
   OpCounts ops;
@@ -139,6 +180,18 @@ TEST(Parallax, TimingFromOps) {
   const TimingSpec s = pm.timing(TechTable::defaults());
   EXPECT_GE(s.latency, 1U);
   EXPECT_EQ(pm.ops_per_item().mem, 4U);
+}
+
+TEST(Parallax, ConfigsReadAndReject) {
+  const toml::table t = toml::parse("method = \"offset\"\ndepth_texels = 2\n");
+  const auto c = ParallaxMapper::Config::from_toml(ConfigReader(t, "s.toml", "parallax"));
+  EXPECT_EQ(c.method, ParallaxMapper::Method::Offset);
+  EXPECT_EQ(ParallaxMapper(c).name(), "relief.parallax_offset");
+  for (const char* bad : {"min_view_z = 0\n", "min_layers = 40\n", "method = \"steep\"\n"}) {
+    const toml::table b = toml::parse(bad);
+    EXPECT_THROW(ParallaxMapper::Config::from_toml(ConfigReader(b, "s.toml", "parallax")),
+                 InputError);
+  }
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 #include <limits>
 #include <random>
 
+#include "blocks/base/config_reader.h"
+#include "blocks/base/input_error.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/texture/relief/visibility_aware_filter.h"
 
@@ -165,6 +167,17 @@ TEST(VisibilityAwareFilter, BadInputsFallBack) {
   const auto big = make(true).filter(hm, tex, {4, 4, 1e6, 0, 0, 1e6}, 0, 0, 1, ops);
   EXPECT_LE(big.stats.texels, 65U * 65U);
   EXPECT_GE(make(true).timing(TechTable::defaults()).latency, 1U);
+}
+
+TEST(VisibilityAwareFilter, ConfigsReadAndReject) {
+  const toml::table t = toml::parse("row_rule = false\ntrace_step = 0.25\n");
+  const auto c = Filter::Config::from_toml(ConfigReader(t, "s.toml", "visibility"));
+  EXPECT_FALSE(c.row_rule);
+  EXPECT_DOUBLE_EQ(c.trace_step, 0.25);
+  for (const char* bad : {"trace_step = 0\n", "rowrule = true\n"}) {
+    const toml::table b = toml::parse(bad);
+    EXPECT_THROW(Filter::Config::from_toml(ConfigReader(b, "s.toml", "visibility")), InputError);
+  }
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <random>
 
+#include "blocks/base/config_reader.h"
+#include "blocks/base/input_error.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/geometry/terrain/terrain_height_evaluator.h"
 
@@ -276,6 +278,37 @@ TEST(TerrainHeight, TimingAndFetches) {
   EXPECT_EQ(e.fetches_per_item(), 4);
   EXPECT_EQ(make(FiniteKind::Cosine, Deformation::Widened).fetches_per_item(), 9);
   EXPECT_GE(e.timing(TechTable::defaults()).latency, 1U);
+}
+
+TEST(TerrainHeight, TentWithoutDeformationIsBilinear) {
+  // The tent is the bilinear kernel: the finite functions are its C¹ alternatives for height
+  // data, and the tent's slope jumps by exactly the second difference at every node.
+  std::mt19937_64 rng(3);
+  const TerrainGrid g = random_grid(rng, 8);
+  const auto e = make(FiniteKind::Tent, Deformation::None);
+  OpCounts ops;
+  const double x = 3.3, z = 4.6;
+  const double h00 = g.node(3, 4), h10 = g.node(4, 4), h01 = g.node(3, 5), h11 = g.node(4, 5);
+  const double bil =
+      (1 - 0.6) * ((1 - 0.3) * h00 + 0.3 * h10) + 0.6 * ((1 - 0.3) * h01 + 0.3 * h11);
+  EXPECT_NEAR(e.height(g, x, z, ops), bil, 1e-12);
+  double lo = 0;
+  EXPECT_NEAR(slope_jump_ratio(e, lo), 1.0, 1e-6);
+  EXPECT_NEAR(lo, 1.0, 1e-6);
+}
+
+TEST(TerrainHeight, ConfigsReadAndReject) {
+  const toml::table t =
+      toml::parse("function = \"exp2\"\ndeformation = \"blended\"\nblend_shift = 2\n");
+  const auto c = TerrainHeightEvaluator::Config::from_toml(ConfigReader(t, "s.toml", "terrain"));
+  EXPECT_EQ(c.basis.kind, FiniteKind::Exp2);
+  EXPECT_EQ(c.basis.deformation, Deformation::Blended);
+  EXPECT_DOUBLE_EQ(c.basis.blend_weight(), 0.25);
+  for (const char* bad : {"function = \"sinc\"\n", "blend_shift = 31\n", "shift = 1\n"}) {
+    const toml::table b = toml::parse(bad);
+    EXPECT_THROW(TerrainHeightEvaluator::Config::from_toml(ConfigReader(b, "s.toml", "terrain")),
+                 InputError);
+  }
 }
 
 }  // namespace

@@ -7,6 +7,8 @@
 #include <glm/geometric.hpp>
 #include <random>
 
+#include "blocks/base/config_reader.h"
+#include "blocks/base/input_error.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/texture/relief/terrain_ray_marcher.h"
 
@@ -161,6 +163,20 @@ TEST(TerrainRayMarcher, HorizonAndCap) {
   EXPECT_FALSE(capped.hit);
   EXPECT_EQ(capped.steps, 3U);
   EXPECT_GE(m.timing(TechTable::defaults()).latency, 1U);
+}
+
+TEST(TerrainRayMarcher, ConfigsReadAndReject) {
+  const toml::table t =
+      toml::parse("step = 0.5\nnormal = \"central\"\ndeformation = \"widened\"\n");
+  const auto c = TerrainRayMarcher::Config::from_toml(ConfigReader(t, "s.toml", "terrain"));
+  EXPECT_DOUBLE_EQ(c.step, 0.5);
+  EXPECT_EQ(c.normal, TerrainRayMarcher::NormalMode::CentralDifference);
+  EXPECT_EQ(TerrainRayMarcher(c).evaluator().fetches_per_item(), 9);
+  for (const char* bad : {"step = 0\n", "normal_epsilon = 2\n", "steps = 3\n"}) {
+    const toml::table b = toml::parse(bad);
+    EXPECT_THROW(TerrainRayMarcher::Config::from_toml(ConfigReader(b, "s.toml", "terrain")),
+                 InputError);
+  }
 }
 
 }  // namespace
