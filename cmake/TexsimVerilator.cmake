@@ -29,13 +29,17 @@ set(gen_outputs ${TEXSIM_RTL_GEN}/texsim_params.vh)
 foreach(b ${TEXSIM_RTL_BLOCKS})
   list(APPEND gen_outputs ${TEXSIM_RTL_GEN}/${b}.vc)
 endforeach()
-add_custom_command(OUTPUT ${gen_outputs}
+# The generator rewrites only the files whose text changed, so a stamp is the rule's output
+# and the files are byproducts: a block is re-verilated only when its own parameters change.
+add_custom_command(OUTPUT ${TEXSIM_RTL_GEN}/params.stamp
+  BYPRODUCTS ${gen_outputs}
   COMMAND ${CMAKE_COMMAND} -E make_directory ${TEXSIM_RTL_GEN}
   COMMAND gen_rtl_params ${TEXSIM_RTL_GEN}
+  COMMAND ${CMAKE_COMMAND} -E touch ${TEXSIM_RTL_GEN}/params.stamp
   DEPENDS gen_rtl_params
   COMMENT "Generating RTL parameters from rtl_model/params/rtl_params.h" VERBATIM)
 # One target owns the generated files, so parallel builds run the generator once.
-add_custom_target(texsim_rtl_params DEPENDS ${gen_outputs})
+add_custom_target(texsim_rtl_params DEPENDS ${TEXSIM_RTL_GEN}/params.stamp)
 
 # The Verilator runtime, compiled once for every block.
 add_library(texsim_verilated STATIC
