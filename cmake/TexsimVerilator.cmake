@@ -7,7 +7,8 @@ set(TEXSIM_RTL_GEN ${PROJECT_BINARY_DIR}/rtl_model/params)
 set(TEXSIM_RTL_TESTS ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_vd.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_lerp.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_uv.cc
-  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_scan.cc)
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_scan.cc
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_control.cc)
 set(TEXSIM_RTL_BENCH ${PROJECT_SOURCE_DIR}/testbench/rtl/bench_rtl_vs_cpp.cc)
 set(TEXSIM_RTL_CC ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc
   ${PROJECT_SOURCE_DIR}/rtl_model/verilator/rtl_harness.cc)
@@ -21,7 +22,8 @@ endif()
 message(STATUS "Verilator ${verilator_VERSION}: RTL lockstep tests enabled")
 
 # Parameters: rtl_params.h (C++) -> texsim_params.vh and one -G file per block.
-set(TEXSIM_RTL_BLOCKS vd_p2 vd_p1 bilinear_lerp uv_incremental rect_scan_stepper)
+set(TEXSIM_RTL_BLOCKS vd_p2 vd_p1 bilinear_lerp uv_incremental rect_scan_stepper
+  rect_scan_control)
 add_executable(gen_rtl_params ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc)
 target_link_libraries(gen_rtl_params PRIVATE texsim_blocks)
 texsim_set_warnings(gen_rtl_params)
@@ -81,6 +83,7 @@ texsim_verilate(vd_p2 SOURCES vd_p2.v ${rtl_common})
 texsim_verilate(vd_p1 SOURCES vd_p1.v ${rtl_common})
 texsim_verilate(bilinear_lerp SOURCES bilinear_lerp.v ${rtl_common})
 texsim_verilate(rect_scan_stepper SOURCES rect_scan_stepper.v ${rtl_common})
+texsim_verilate(rect_scan_control SOURCES rect_scan_control.v ${rtl_common})
 texsim_verilate(uv_incremental SOURCES uv_incremental.v texsim_fixed_div.v texsim_udiv_pipe.v
   ${rtl_common})
 
