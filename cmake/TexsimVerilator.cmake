@@ -7,7 +7,8 @@ set(TEXSIM_RTL_GEN ${PROJECT_BINARY_DIR}/rtl_model/params)
 set(TEXSIM_RTL_TESTS ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_vd.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_lerp.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_uv.cc
-  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_scan.cc)
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_scan.cc
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_control.cc)
 set(TEXSIM_RTL_BENCH ${PROJECT_SOURCE_DIR}/testbench/rtl/bench_rtl_vs_cpp.cc)
 set(TEXSIM_RTL_CC ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc
   ${PROJECT_SOURCE_DIR}/rtl_model/verilator/rtl_harness.cc)
@@ -21,7 +22,8 @@ endif()
 message(STATUS "Verilator ${verilator_VERSION}: RTL lockstep tests enabled")
 
 # Parameters: rtl_params.h (C++) -> texsim_params.vh and one -G file per block.
-set(TEXSIM_RTL_BLOCKS vd_p2 vd_p1 bilinear_lerp uv_incremental rect_scan_stepper)
+set(TEXSIM_RTL_BLOCKS vd_p2 vd_p1 bilinear_lerp uv_incremental rect_scan_stepper
+  rect_scan_control)
 add_executable(gen_rtl_params ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc)
 target_link_libraries(gen_rtl_params PRIVATE texsim_blocks)
 texsim_set_warnings(gen_rtl_params)
@@ -29,13 +31,17 @@ set(gen_outputs ${TEXSIM_RTL_GEN}/texsim_params.vh)
 foreach(b ${TEXSIM_RTL_BLOCKS})
   list(APPEND gen_outputs ${TEXSIM_RTL_GEN}/${b}.vc)
 endforeach()
-add_custom_command(OUTPUT ${gen_outputs}
+# The generator rewrites only the files whose text changed, so a stamp is the rule's output
+# and the files are byproducts: a block is re-verilated only when its own parameters change.
+add_custom_command(OUTPUT ${TEXSIM_RTL_GEN}/params.stamp
+  BYPRODUCTS ${gen_outputs}
   COMMAND ${CMAKE_COMMAND} -E make_directory ${TEXSIM_RTL_GEN}
   COMMAND gen_rtl_params ${TEXSIM_RTL_GEN}
+  COMMAND ${CMAKE_COMMAND} -E touch ${TEXSIM_RTL_GEN}/params.stamp
   DEPENDS gen_rtl_params
   COMMENT "Generating RTL parameters from rtl_model/params/rtl_params.h" VERBATIM)
 # One target owns the generated files, so parallel builds run the generator once.
-add_custom_target(texsim_rtl_params DEPENDS ${gen_outputs})
+add_custom_target(texsim_rtl_params DEPENDS ${TEXSIM_RTL_GEN}/params.stamp)
 
 # The Verilator runtime, compiled once for every block.
 add_library(texsim_verilated STATIC
@@ -77,6 +83,7 @@ texsim_verilate(vd_p2 SOURCES vd_p2.v ${rtl_common})
 texsim_verilate(vd_p1 SOURCES vd_p1.v ${rtl_common})
 texsim_verilate(bilinear_lerp SOURCES bilinear_lerp.v ${rtl_common})
 texsim_verilate(rect_scan_stepper SOURCES rect_scan_stepper.v ${rtl_common})
+texsim_verilate(rect_scan_control SOURCES rect_scan_control.v ${rtl_common})
 texsim_verilate(uv_incremental SOURCES uv_incremental.v texsim_fixed_div.v texsim_udiv_pipe.v
   ${rtl_common})
 

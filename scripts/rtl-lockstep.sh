@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 vectors=${2:-1000000}
-tests=(test_rtl_vd test_rtl_lerp test_rtl_uv test_rtl_rect_scan)
+tests=(test_rtl_vd test_rtl_lerp test_rtl_uv test_rtl_rect_scan test_rtl_rect_control)
 if [ ! -f "$build/CMakeCache.txt" ]; then
   cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
 fi

@@ -15,6 +15,7 @@
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/raster/rect_scan/line_stepper.h"
+#include "blocks/raster/rect_scan/texturing_control.h"
 #include "blocks/texture/coords/uv_incremental_adder.h"
 #include "blocks/texture/sampler/bilinear_lerp.h"
 #include "blocks/texture/subtexel/vd_evaluator_p1.h"
@@ -114,6 +115,10 @@ inline std::vector<Param> rect_scan_stepper_params() {
   return {{"SLOPE_BITS", kRectScanLine.slope_bits}, {"CW", kRectScanCoordBits}};
 }
 
+inline std::vector<Param> rect_scan_control_params() {
+  return {{"CW", kRectScanCoordBits}, {"LAT", TexturingControl().timing(tech()).latency}};
+}
+
 // A Verilog block, its parameters and the latency the C++ timing model gives it.
 struct RtlBlock {
   std::string module;
@@ -122,14 +127,16 @@ struct RtlBlock {
 };
 
 inline std::vector<RtlBlock> rtl_blocks() {
-  return {{"vd_p2", vd_p2_params(), VdEvaluatorP2().timing(tech()).latency},
-          {"vd_p1", vd_p1_params(), VdEvaluatorP1().timing(tech()).latency},
-          {"bilinear_lerp", bilinear_lerp_params(), BilinearLerp(kLerp).timing(tech()).latency},
-          {"uv_incremental", uv_incremental_params(),
-           UvIncrementalAdder(uv_config()).timing(tech()).latency},
-          // Sequential: a pixel leaves at load + rows started + pixels visited (the C++ model's
-          // fast-clock cycles), checked per pixel; no pipeline latency of its own.
-          {"rect_scan_stepper", rect_scan_stepper_params(), 0}};
+  return {
+      {"vd_p2", vd_p2_params(), VdEvaluatorP2().timing(tech()).latency},
+      {"vd_p1", vd_p1_params(), VdEvaluatorP1().timing(tech()).latency},
+      {"bilinear_lerp", bilinear_lerp_params(), BilinearLerp(kLerp).timing(tech()).latency},
+      {"uv_incremental", uv_incremental_params(),
+       UvIncrementalAdder(uv_config()).timing(tech()).latency},
+      // Sequential: a pixel leaves at load + rows started + pixels visited (the C++ model's
+      // fast-clock cycles), checked per pixel; no pipeline latency of its own.
+      {"rect_scan_stepper", rect_scan_stepper_params(), 0},
+      {"rect_scan_control", rect_scan_control_params(), TexturingControl().timing(tech()).latency}};
 }
 
 }  // namespace texsim::rtl_params

@@ -81,9 +81,11 @@ TEST(RtlLockstep, VdP1MatchesCppBitForBit) {
 // Negative controls: the scoreboard catches a one-LSB difference in one transaction, and a
 // latency other than the C++ timing spec's.
 TEST(RtlLockstep, VdScoreboardCatchesOneLsb) {
-  const Scoreboard sb = run_vd<Vvd_p2>("vd_p2", VdEvaluatorP2(), p2_latency(), 1000, 1, 40000);
+  const auto at = static_cast<size_t>(In::kRawMax / 2 + 7);  // inside the exhaustive sweep
+  const Scoreboard sb = run_vd<Vvd_p2>("vd_p2", VdEvaluatorP2(), p2_latency(), 1000, 1, at);
   EXPECT_EQ(sb.mismatches(), 1u);
-  EXPECT_NE(sb.report().find("transaction 40000"), std::string::npos) << sb.report();
+  EXPECT_NE(sb.report().find("transaction " + std::to_string(at) + " "), std::string::npos)
+      << sb.report();
 }
 
 TEST(RtlLockstep, VdScoreboardCatchesLatency) {
@@ -99,14 +101,16 @@ TEST(RtlHarness, WritesVcdWhenAsked) {
     RtlHarness<Vvd_p2> h("vd_p2", path);
     h.reset();
     h.top().in_valid = 1;
-    h.top().d = 0x8000;
-    for (int i = 0; i < 12; ++i) h.step();
-    EXPECT_EQ(h.top().v, VdEvaluatorP2().eval<Fmt>(In::from_raw(0x8000)).raw());
+    const int64_t half = In::kRawMax / 2 + 1;  // d = 0.5
+    h.top().d = static_cast<uint16_t>(half);
+    for (uint32_t i = 0; i < p2_latency(); ++i) h.step();
+    EXPECT_EQ(h.top().v, VdEvaluatorP2().eval<Fmt>(In::from_raw(half)).raw());
   }
   std::ifstream in(path);
   std::stringstream text;
   text << in.rdbuf();
-  EXPECT_NE(text.str().find("$var wire 16"), std::string::npos);
+  EXPECT_NE(text.str().find("$var wire " + std::to_string(rtl_params::kVdFin) + " "),
+            std::string::npos);
   EXPECT_NE(text.str().find("out_valid"), std::string::npos);
   std::remove(path.c_str());
   RtlHarness<Vvd_p1> quiet("vd_p1", "");
