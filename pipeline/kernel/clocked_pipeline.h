@@ -8,6 +8,7 @@
 #include <iosfwd>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -76,6 +77,28 @@ class ClockedPipeline {
     }
   }
 
+  // As issue_with() for a pipeline of exactly kStages stages (the caller knows the count from
+  // construction; checked on entry): the stage sequence is unrolled and cost_at receives the
+  // stage as std::integral_constant<int, s>, so a caller's per-stage cost is chosen at compile
+  // time and inlined into the stage's step.
+  template <int kStages, class CostFn>
+  [[gnu::always_inline]] uint64_t issue_fixed(uint64_t ready, CostFn&& cost_at) {
+    if (stages_.size() != static_cast<size_t>(kStages))
+      throw std::logic_error("ClockedPipeline::issue_fixed: wrong stage count");
+    const ItemCtx c = item_ctx();
+    uint64_t arrival = ready;
+    [&]<int... kStage>(std::integer_sequence<int, kStage...>) __attribute__((always_inline)) {
+      ((arrival = step(
+            c, static_cast<size_t>(kStage), arrival,
+            [&](int, uint64_t start) __attribute__((always_inline)) {
+              return cost_at(std::integral_constant<int, kStage>{}, start);
+            })),
+       ...);
+    }
+    (std::make_integer_sequence<int, kStages>{});
+    return retire(arrival);
+  }
+
   // Total cycles: when the last item left the last stage.
   // Cycle at which the last item left the pipeline.
   uint64_t cycles() const { return cycles_; }
@@ -139,7 +162,7 @@ class ClockedPipeline {
   ItemCtx item_ctx() { return {items_, ring_mask_, watchdog_, ring_.data(), hot_.data()}; }
   template <class CostFn>
   [[gnu::always_inline]] uint64_t step(const ItemCtx& c, size_t s, uint64_t arrival,
-                                       CostFn& cost_at) {
+                                       CostFn&& cost_at) {
     const uint64_t i = c.i, mask = c.mask;
     Hot& st = c.hot[s];
     Entry* const e = c.ring + s * (mask + 1);
