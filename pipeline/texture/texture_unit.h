@@ -148,9 +148,11 @@ class TextureUnit {
   uint64_t cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start);
   // The same for the quads of a linear probe (one or two levels), under layout L.
   template <TexelLayout L>
-  uint64_t cache_lookups(const TexelQuad* q, int n, const Texture& tex, uint64_t start);
+  [[gnu::always_inline]] inline uint64_t cache_lookups(const TexelQuad* q, int n,
+                                                       const Texture& tex, uint64_t start);
   // Charges the DRAM refills of lines[0 .. n) looked up at `start`; returns the extra wait.
-  uint64_t access_lines(const uint64_t* lines, int n, uint64_t texels, uint64_t start);
+  [[gnu::always_inline]] inline uint64_t access_lines(const uint64_t* lines, int n, uint64_t texels,
+                                                      uint64_t start);
   // Kernels: kFront is the number of front-end stages of a timed unit, -1 for a functional
   // one. process_any handles every filter with the general tap list; process_linear a
   // bilinear or trilinear material with quads in registers (falling back to process_any for
@@ -167,7 +169,8 @@ class TextureUnit {
   Kernel choose_kernel(const Path& p) const;
   // Sends the fragment through the clocked pipeline; `lookups(start)` does its cache look-ups.
   template <int kFront, class Lookups>
-  void issue_timed(Path& p, const ItemCost* front, uint32_t probes, Lookups&& lookups);
+  [[gnu::always_inline]] inline void issue_timed(Path& p, const ItemCost* front, uint32_t probes,
+                                                 Lookups&& lookups);
   void count_fragment(const Fragment& f, Path& p, uint32_t probes) {
     ++p.fragments;
     p.aniso_fragments += probes > 1;
