@@ -39,7 +39,11 @@ void flatten(const Json& j, const std::string& path, std::ostringstream& out) {
   }
   out << "\n";
   for (const auto& [k, v] : j.items()) {
-    if (v.is_object()) flatten(v, path + "." + k, out);
+    if (!v.is_object()) continue;
+    std::string sub = path;
+    sub += ".";
+    sub += k;
+    flatten(v, sub, out);
   }
 }
 
