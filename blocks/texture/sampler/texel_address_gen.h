@@ -92,14 +92,14 @@ class TexelAddressGen {
   [[gnu::always_inline]] TexelQuad linear_quad(const Texture& tex, int32_t level, float u, float v,
                                                float w) const;
   // Level selection from λ on a pyramid of `levels` levels.
-  LevelSelect select_levels(float lambda, int levels) const;
+  [[gnu::always_inline]] LevelSelect select_levels(float lambda, int levels) const;
   // Vulkan's wrapping of one integer texel coordinate into [0, size).
   static int32_t address(int64_t i, int32_t size, AddressMode mode);
 
   // The float→fixed converters' rounding: nearest integer, ties to even (= std::llrint in the
   // default rounding mode, without the library call). Below 2^23 adding and subtracting 2^23
   // rounds to an integer in float32 arithmetic; larger floats are integers already.
-  static int64_t round_half_even(float x) {
+  [[gnu::always_inline]] static int64_t round_half_even(float x) {
     constexpr float k = 8388608.0f;  // 2^23
     const float a = std::fabs(x);
     if (a < k) {
