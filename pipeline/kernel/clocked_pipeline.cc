@@ -27,17 +27,18 @@ ClockedPipeline::ClockedPipeline(std::vector<StageConfig> stages) {
     h.latency = t.latency;
     h.ii = t.ii;
     h.lanes = t.lanes;
-    h.cap = st.inflight_cap;
+    h.lanes_w = t.lanes * kEntry;
+    h.cap_w = st.inflight_cap * kEntry;
     longest = std::max<uint64_t>({longest, t.lanes, cfg.fifo_depth, st.inflight_cap});
     st.cfg = std::move(cfg);
     stages_.push_back(std::move(st));
     hot_.push_back(h);
   }
   for (size_t s = 0; s + 1 < stages_.size(); ++s)
-    hot_[s].next_depth = stages_[s + 1].cfg.fifo_depth;
+    hot_[s].depth_w = stages_[s + 1].cfg.fifo_depth * kEntry;
   const uint64_t p = std::bit_ceil(longest);
   ring_mask_ = p - 1;
-  ring_.assign((stages_.size() + 1) * p, Entry{0, 0, 0, 0});
+  ring_.assign((stages_.size() + 1) * p * kEntry, 0);
 }
 
 uint64_t ClockedPipeline::items_of(size_t s) const {
@@ -65,7 +66,7 @@ uint64_t ClockedPipeline::issue_end(int s) const {
   uint64_t end = 0;
   // Each lane was last used by one of the last `lanes` items.
   for (uint64_t j = 1; j <= std::min<uint64_t>(issued, hot_[k].lanes); ++j)
-    end = std::max(end, ring_[k * p + ((issued - j) & ring_mask_)].lane_free);
+    end = std::max(end, ring_[(k * p + ((issued - j) & ring_mask_)) * kEntry + kLaneFree]);
   return end;
 }
 
@@ -106,7 +107,7 @@ void ClockedPipeline::dump_state(std::ostream& os) const {
       uint64_t f = 0;
       if (issued > l) {
         const uint64_t j = issued - 1 - (issued - 1 - l) % h.lanes;
-        f = ring_[s * p + (j & ring_mask_)].lane_free;
+        f = ring_[(s * p + (j & ring_mask_)) * kEntry + kLaneFree];
       }
       os << " " << f;
     }

@@ -8,6 +8,7 @@
 #include <iosfwd>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -76,6 +77,28 @@ class ClockedPipeline {
     }
   }
 
+  // As issue_with() for a pipeline of exactly kStages stages (the caller knows the count from
+  // construction; checked on entry): the stage sequence is unrolled and cost_at receives the
+  // stage as std::integral_constant<int, s>, so a caller's per-stage cost is chosen at compile
+  // time and inlined into the stage's step.
+  template <int kStages, class CostFn>
+  [[gnu::always_inline]] uint64_t issue_fixed(uint64_t ready, CostFn&& cost_at) {
+    if (stages_.size() != static_cast<size_t>(kStages))
+      throw std::logic_error("ClockedPipeline::issue_fixed: wrong stage count");
+    const ItemCtx c = item_ctx();
+    uint64_t arrival = ready;
+    [&]<int... kStage>(std::integer_sequence<int, kStage...>) __attribute__((always_inline)) {
+      ((arrival = step(
+            c, static_cast<size_t>(kStage), arrival,
+            [&](int, uint64_t start) __attribute__((always_inline)) {
+              return cost_at(std::integral_constant<int, kStage>{}, start);
+            })),
+       ...);
+    }
+    (std::make_integer_sequence<int, kStages>{});
+    return retire(arrival);
+  }
+
   // Total cycles: when the last item left the last stage.
   // Cycle at which the last item left the pipeline.
   uint64_t cycles() const { return cycles_; }
@@ -103,21 +126,22 @@ class ClockedPipeline {
   // configuration. The per-item history a stage needs (lane free time, start, leave and
   // finish cycles) is kept in a ring of one power-of-two size P >= every lane count, FIFO
   // depth and in-flight limit: item i writes entry i mod P and reads item i − k at
-  // (i − k) mod P, so no ring position has to be stored or advanced.
+  // (i − k) mod P, so no ring position has to be stored or advanced. An entry is kEntry
+  // words; positions and offsets are counted in words (i·kEntry), so an address is one
+  // scaled index.
+  static constexpr uint64_t kEntry = 4;
+  enum Word : uint64_t { kLaneFree, kStart, kLeave, kFinish };  // one item's history in one stage
   struct Hot {
     uint64_t last_leave = 0;
     uint64_t last_start = 0;
-    uint32_t latency = 1, ii = 1;
-    uint32_t lanes = 1;       // item i issues on the lane item i − lanes used
-    uint32_t cap = 1;         // in-flight limit: item i − cap must have left
-    uint32_t next_depth = 1;  // FIFO in front of the next stage: item i − depth left it
+    // 64-bit, so each is an operand of the arithmetic that uses it.
+    uint64_t latency = 1, ii = 1;
+    uint64_t lanes = 1;
+    uint64_t lanes_w = kEntry;  // item i issues on the lane item i − lanes used (in words)
+    uint64_t cap_w = kEntry;    // in-flight limit: item i − cap must have left (in words)
+    uint64_t depth_w = kEntry;  // FIFO in front of the next stage: item i − depth left it
     // Counters; busy (= items · ii + extra) and last_done (= last_leave) follow from them.
     uint64_t starved = 0, blocked = 0, full = 0, extra = 0;
-  };
-  // One item's history in one stage.
-  struct Entry {
-    uint64_t lane_free;  // when the lane it used can issue again
-    uint64_t start, leave, finish;
   };
   struct Stage {
     StageConfig cfg;
@@ -126,31 +150,34 @@ class ClockedPipeline {
   };
 
   // Stage s of the current item, arriving at `arrival`; returns when it leaves. Stage s owns
-  // ring_[sP .. (s + 1)P); a sentinel stage n (never written) makes the last stage read
-  // "no back-pressure". The rings start zeroed and item i − k (k <= P) for i < k reads an
-  // entry not yet written, so a predecessor that does not exist reads as cycle 0.
+  // ring_[s·W .. (s + 1)·W), W = P·kEntry words; a sentinel stage n (never written) makes the
+  // last stage read "no back-pressure". The rings start zeroed and item i − k (k <= P) for
+  // i < k reads an entry not yet written, so a predecessor that does not exist reads as cycle 0.
   // What every stage of one item needs, loaded once per item (held in registers: reloading
   // members after each uint64_t store would be needed otherwise).
   struct ItemCtx {
-    uint64_t i, mask, watchdog;
-    Entry* ring;
+    uint64_t iw, mask_w, stage_w, watchdog;  // item position, (P − 1)·kEntry, W, in words
+    uint64_t* ring;
     Hot* hot;
   };
-  ItemCtx item_ctx() { return {items_, ring_mask_, watchdog_, ring_.data(), hot_.data()}; }
+  ItemCtx item_ctx() {
+    const uint64_t p = ring_mask_ + 1;
+    return {items_ * kEntry, ring_mask_ * kEntry, p * kEntry, watchdog_, ring_.data(), hot_.data()};
+  }
   template <class CostFn>
   [[gnu::always_inline]] uint64_t step(const ItemCtx& c, size_t s, uint64_t arrival,
-                                       CostFn& cost_at) {
-    const uint64_t i = c.i, mask = c.mask;
+                                       CostFn&& cost_at) {
+    const uint64_t iw = c.iw, mask = c.mask_w;
     Hot& st = c.hot[s];
-    Entry* const e = c.ring + s * (mask + 1);
+    uint64_t* const e = c.ring + s * c.stage_w;
     // Everything this stage needs is read before the first store (ring and counters are all
     // uint64_t, so a store would make the compiler reload them).
-    const uint64_t free_at = e[(i - st.lanes) & mask].lane_free;
+    const uint64_t free_at = e[((iw - st.lanes_w) & mask) + kLaneFree];
     // The item i − inflight_cap must have left before this one can enter.
-    const Entry& old = e[(i - st.cap) & mask];
-    const uint64_t slot_free = old.leave, slot_finish = old.finish;
+    const uint64_t* const old = e + ((iw - st.cap_w) & mask);
+    const uint64_t slot_free = old[kLeave], slot_finish = old[kFinish];
     // Back-pressure: item i − depth must have left the next stage's input FIFO.
-    const uint64_t next_start = e[mask + 1 + ((i - st.next_depth) & mask)].start;
+    const uint64_t next_start = e[c.stage_w + ((iw - st.depth_w) & mask) + kStart];
     const uint64_t last_start = st.last_start, last_leave = st.last_leave;
     // Items issue in order from the FIFO head, so never before the previous item issued.
     const uint64_t avail = std::max(free_at, arrival);
@@ -165,12 +192,12 @@ class ClockedPipeline {
     const ItemCost cost = cost_at(static_cast<int>(s), start);
     const uint64_t finish = start + st.latency + cost.extra_latency;
     const uint64_t leave = std::max(std::max(finish, last_leave), next_start);  // in order
-    Entry& me = e[i & mask];
-    me.lane_free = start + st.ii + cost.extra_ii;
-    if (leave - arrival > c.watchdog) report_stuck(i, static_cast<int>(s));
-    me.start = start;
-    me.leave = leave;
-    me.finish = finish;
+    uint64_t* const me = e + (iw & mask);
+    me[kLaneFree] = start + st.ii + cost.extra_ii;
+    if (leave - arrival > c.watchdog) report_stuck(iw / kEntry, static_cast<int>(s));
+    me[kStart] = start;
+    me[kLeave] = leave;
+    me[kFinish] = finish;
     st.last_leave = leave;
     st.last_start = start;
     st.starved += avail - free_at;  // start >= arrival: a starved lane waited until arrival
@@ -194,8 +221,8 @@ class ClockedPipeline {
 
   std::vector<Stage> stages_;
   std::vector<Hot> hot_;
-  std::vector<Entry> ring_;
-  uint64_t ring_mask_ = 0;  // P − 1
+  std::vector<uint64_t> ring_;  // kEntry words per entry, P entries per stage
+  uint64_t ring_mask_ = 0;      // P − 1
   uint64_t items_ = 0;
   uint64_t cycles_ = 0;
   uint64_t watchdog_ = uint64_t{1} << 40;

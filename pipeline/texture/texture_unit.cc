@@ -98,6 +98,7 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     at(kBlend) = {"blend", blend_.timing(tech_), setup.fifo_depth, 0};
     pipe_ = std::make_unique<ClockedPipeline>(std::move(st));
   }
+  for (auto& p : paths_) p.kernel = choose_kernel(p);
 }
 
 namespace {
@@ -154,6 +155,17 @@ int distinct_lines(const FilterTaps& taps, const Texture& tex, uint32_t shift, u
 
 }  // namespace
 
+uint64_t TextureUnit::access_lines(const uint64_t* lines, int n, uint64_t texels, uint64_t start) {
+  const uint64_t hit_ready = start + setup_.cache.hit_latency;
+  uint64_t ready = hit_ready;
+  for (int k = 0; k < n; ++k) {
+    if (!cache_.access_line(lines[k]))
+      ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
+  }
+  cache_.count_texels(texels);
+  return ready - hit_ready;
+}
+
 uint64_t TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start) {
   // Each distinct line of the fragment's taps is one tag look-up.
   const uint32_t shift = cache_.line_shift();
@@ -170,23 +182,41 @@ uint64_t TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, 
       n = distinct_lines<TexelLayout::Morton>(taps, tex, shift, lines);
       break;
   }
-  const uint64_t hit_ready = start + setup_.cache.hit_latency;
-  uint64_t ready = hit_ready;
-  for (int k = 0; k < n; ++k) {
-    if (!cache_.access_line(lines[k]))
-      ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
-  }
-  cache_.count_texels(static_cast<uint64_t>(taps.count));
-  return ready - hit_ready;
+  return access_lines(lines, n, static_cast<uint64_t>(taps.count), start);
 }
 
-void TextureUnit::count_frame(const Fragment& f) {
-  if (frames_.empty() || frames_.back().frame != f.frame) {
-    if (!frames_.empty() && pipe_) frames_.back().cycles = pipe_->cycles();
-    frames_.push_back({f.frame, 0, 0});
+template <TexelLayout L>
+uint64_t TextureUnit::cache_lookups(const TexelQuad* q, int n, const Texture& tex, uint64_t start) {
+  // The lines distinct_lines() finds for the quads' taps, in the same order.
+  const uint32_t shift = cache_.line_shift();
+  const auto bpt = static_cast<uint64_t>(tex.bytes_per_texel());
+  uint64_t lines[8];
+  int k = 0;
+  for (int j = 0; j < n; ++j) {
+    const Texture::Level& lv = tex.level(q[j].level);
+    const uint64_t base = tex.base() + lv.offset;
+    const uint64_t r0 = Texture::row_index(L, lv, q[j].y0), r1 = Texture::row_index(L, lv, q[j].y1);
+    const uint64_t c0 = Texture::col_index(L, q[j].x0), c1 = Texture::col_index(L, q[j].x1);
+    const uint64_t l00 = (base + (r0 + c0) * bpt) >> shift, l10 = (base + (r0 + c1) * bpt) >> shift;
+    const uint64_t l01 = (base + (r1 + c0) * bpt) >> shift, l11 = (base + (r1 + c1) * bpt) >> shift;
+    if (j == 0) {
+      lines[k++] = l00;
+      if (l10 != l00) lines[k++] = l10;
+      if (l01 != l00 && l01 != l10) lines[k++] = l01;
+      if (l11 != l00 && l11 != l10 && l11 != l01) lines[k++] = l11;
+    } else {
+      add_line(l00, lines, k);
+      add_line(l10, lines, k);
+      add_line(l01, lines, k);
+      add_line(l11, lines, k);
+    }
   }
-  ++frames_.back().fragments;
-  ++fragments_;
+  return access_lines(lines, k, 4 * static_cast<uint64_t>(n), start);
+}
+
+void TextureUnit::new_frame(const Fragment& f) {
+  if (!frames_.empty() && pipe_) frames_.back().cycles = pipe_->cycles();
+  frames_.push_back({f.frame, 0, 0});
 }
 
 uint64_t TextureUnit::cache_lookups(const std::vector<TexelRef>& texels, const Texture& tex,
@@ -259,32 +289,114 @@ Rgba TextureUnit::process(const Fragment& f, int material, const ItemCost* front
     throw std::out_of_range("texture unit: fragment texture " + std::to_string(f.tex) +
                             " is not loaded");
   const Texture& tex = textures_[static_cast<int>(f.tex)];
-  if (p.footprint) return process_footprint(f, p, tex, front);
-  const LodResult lod = p.lod.eval(f, tex.width(0), tex.height(0));
+  return (this->*p.kernel)(f, p, tex, front);
+}
+
+template <int kFront, class Lookups>
+void TextureUnit::issue_timed(Path& p, const ItemCost* front, uint32_t probes, Lookups&& lookups) {
+  // Per-stage costs: the address stage issues one probe per cycle, cache and blend take
+  // their texels in groups, and a miss in the cache stage waits for DRAM.
+  pipe_->issue_fixed<kFront + kStages>(
+      0, [&](auto stage, uint64_t start) __attribute__((always_inline)) {
+        constexpr int s = decltype(stage)::value;
+        ItemCost c;
+        if constexpr (s < kFront) {
+          c = front_cost(p, front, s);
+        } else if constexpr (s == kFront + kAddress) {
+          c.extra_ii = probes - 1;
+        } else if constexpr (s == kFront + kCache) {
+          c.extra_ii = p.cache_extra_ii[probes];
+          c.extra_latency = lookups(start);
+        } else if constexpr (s == kFront + kBlend) {
+          c.extra_ii = p.blend_extra_ii[probes];
+        }
+        return c;
+      });
+}
+
+template <int kFront>
+Rgba TextureUnit::process_taps(const Fragment& f, Path& p, const Texture& tex,
+                               const ItemCost* front, const LodResult& lod) {
   p.addr.taps(tex, f.u, f.v, lod, taps_);
   const Rgba colour = blend_.blend(taps_, tex);
   const uint32_t probes = TexelAddressGen::issue_cycles(lod);
-  ++p.fragments;
-  p.aniso_fragments += probes > 1;
-  p.probes += probes;
-  count_frame(f);
-  if (pipe_) {
-    // Per-stage costs: the address stage issues one probe per cycle, cache and blend take
-    // their texels in groups, and a miss in the cache stage waits for DRAM.
-    const int addr = front_ + kAddress, cache = front_ + kCache, blend = front_ + kBlend;
-    pipe_->issue_with(0, [&](int s, uint64_t start) {
-      if (s < kMaxFront && s < front_) return front_cost(p, front, s);
-      ItemCost c;
-      if (s == addr) c.extra_ii = probes - 1;
-      if (s == cache) {
-        c.extra_ii = p.cache_extra_ii[probes];
-        c.extra_latency = cache_lookups(taps_, tex, start);
-      }
-      if (s == blend) c.extra_ii = p.blend_extra_ii[probes];
-      return c;
-    });
+  count_fragment(f, p, probes);
+  if constexpr (kFront >= 0) {
+    issue_timed<kFront>(p, front, probes,
+                        [&](uint64_t start) { return cache_lookups(taps_, tex, start); });
   }
   return colour;
+}
+
+template <int kFront>
+Rgba TextureUnit::process_any(const Fragment& f, Path& p, const Texture& tex,
+                              const ItemCost* front) {
+  if (p.footprint) return process_footprint(f, p, tex, front);
+  return process_taps<kFront>(f, p, tex, front, p.lod.eval(f, tex.width(0), tex.height(0)));
+}
+
+template <FilterMode kFilter, TexelLayout L, int kFront>
+Rgba TextureUnit::process_linear(const Fragment& f, Path& p, const Texture& tex,
+                                 const ItemCost* front) {
+  const LodResult lod = p.lod.eval(f, tex.width(0), tex.height(0));
+  if (TexelAddressGen::issue_cycles(lod) != 1 || tex.layout() != L)
+    return process_taps<kFront>(f, p, tex, front, lod);
+  // One probe at (u, v): the taps TexelAddressGen::taps() gives, as quads.
+  using texel_address_detail::finite_or_zero;
+  const TexelAddressGen::LevelSelect sel = p.addr.select_levels(lod.lambda, tex.levels());
+  const float uf = finite_or_zero(static_cast<float>(f.u));
+  const float vf = finite_or_zero(static_cast<float>(f.v));
+  TexelQuad q[2];
+  constexpr int n = kFilter == FilterMode::Trilinear ? 2 : 1;
+  if constexpr (n == 1) {
+    q[0] = p.addr.linear_quad(tex, sel.d_hi, uf, vf, 1.0f);
+  } else {
+    q[0] = p.addr.linear_quad(tex, sel.d_hi, uf, vf, 1.0f - sel.delta);
+    q[1] = p.addr.linear_quad(tex, sel.d_lo, uf, vf, sel.delta);
+  }
+  const Rgba colour = blend_.blend_quads(q, n, tex);
+  count_fragment(f, p, 1);
+  if constexpr (kFront >= 0) {
+    issue_timed<kFront>(p, front, 1,
+                        [&](uint64_t start) { return cache_lookups<L>(q, n, tex, start); });
+  }
+  return colour;
+}
+
+template <int kFront>
+TextureUnit::Kernel TextureUnit::pick_kernel(FilterMode filter, TexelLayout layout, bool quads) {
+  if (!quads) return &TextureUnit::process_any<kFront>;
+  constexpr FilterMode kBi = FilterMode::Bilinear, kTri = FilterMode::Trilinear;
+  const bool tri = filter == kTri;
+  switch (layout) {
+    case TexelLayout::Linear:
+      return tri ? &TextureUnit::process_linear<kTri, TexelLayout::Linear, kFront>
+                 : &TextureUnit::process_linear<kBi, TexelLayout::Linear, kFront>;
+    case TexelLayout::Tiled4x4:
+      return tri ? &TextureUnit::process_linear<kTri, TexelLayout::Tiled4x4, kFront>
+                 : &TextureUnit::process_linear<kBi, TexelLayout::Tiled4x4, kFront>;
+    case TexelLayout::Morton:
+      return tri ? &TextureUnit::process_linear<kTri, TexelLayout::Morton, kFront>
+                 : &TextureUnit::process_linear<kBi, TexelLayout::Morton, kFront>;
+  }
+  return &TextureUnit::process_any<kFront>;
+}
+
+TextureUnit::Kernel TextureUnit::choose_kernel(const Path& p) const {
+  const FilterMode filter = p.addr.config().filter;
+  const bool linear = filter != FilterMode::Nearest;
+  const bool quads =
+      !p.footprint && linear && blend_.quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
+  const TexelLayout layout = textures_.layout();
+  if (!pipe_) return pick_kernel<-1>(filter, layout, quads);
+  switch (front_) {
+    case 0:
+      return pick_kernel<0>(filter, layout, quads);
+    case 1:
+      return pick_kernel<1>(filter, layout, quads);
+    default:
+      return pick_kernel<kMaxFront>(filter, layout, quads);
+  }
 }
 
 void TextureUnit::check_timing_invariants() const {

@@ -116,7 +116,13 @@ class TextureUnit {
   // One material's blocks. Op counts depend only on the probe number N of each fragment, so
   // the hot path counts fragments and probes and blocks() multiplies the per-fragment and
   // per-probe counts of the blocks: exact, and three increments instead of three OpCounts sums.
+  struct Path;
+  // The per-fragment datapath of one material, chosen at construction (filter, layout, the
+  // number of front-end stages, functional or timed) so the hot path has no run-time switches
+  // on the configuration.
+  using Kernel = Rgba (TextureUnit::*)(const Fragment&, Path&, const Texture&, const ItemCost*);
   struct Path {
+    Kernel kernel = nullptr;
     LodUnit lod;
     TexelAddressGen addr;
     uint64_t fragments = 0;
@@ -140,6 +146,37 @@ class TextureUnit {
   // Tag look-ups of the fragment's distinct lines at cycle `start`; returns the cycles the
   // cache stage waits beyond its hit latency (DRAM refills).
   uint64_t cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start);
+  // The same for the quads of a linear probe (one or two levels), under layout L.
+  template <TexelLayout L>
+  [[gnu::always_inline]] inline uint64_t cache_lookups(const TexelQuad* q, int n,
+                                                       const Texture& tex, uint64_t start);
+  // Charges the DRAM refills of lines[0 .. n) looked up at `start`; returns the extra wait.
+  [[gnu::always_inline]] inline uint64_t access_lines(const uint64_t* lines, int n, uint64_t texels,
+                                                      uint64_t start);
+  // Kernels: kFront is the number of front-end stages of a timed unit, -1 for a functional
+  // one. process_any handles every filter with the general tap list; process_linear a
+  // bilinear or trilinear material with quads in registers (falling back to process_any for
+  // anisotropic fragments or a texture not in layout L).
+  template <int kFront>
+  Rgba process_any(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  template <FilterMode kFilter, TexelLayout L, int kFront>
+  Rgba process_linear(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  template <int kFront>
+  Rgba process_taps(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front,
+                    const LodResult& lod);
+  template <int kFront>
+  static Kernel pick_kernel(FilterMode filter, TexelLayout layout, bool quads);
+  Kernel choose_kernel(const Path& p) const;
+  // Sends the fragment through the clocked pipeline; `lookups(start)` does its cache look-ups.
+  template <int kFront, class Lookups>
+  [[gnu::always_inline]] inline void issue_timed(Path& p, const ItemCost* front, uint32_t probes,
+                                                 Lookups&& lookups);
+  void count_fragment(const Fragment& f, Path& p, uint32_t probes) {
+    ++p.fragments;
+    p.aniso_fragments += probes > 1;
+    p.probes += probes;
+    count_frame(f);
+  }
   uint64_t cache_lookups(const std::vector<TexelRef>& texels, const Texture& tex, uint64_t start);
   Rgba process_footprint(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
   // Cost of front-end stage s for a fragment of path p (with the dropped fragments' cycles).
@@ -150,7 +187,12 @@ class TextureUnit {
     pending_front_[s] = 0;
     return c;
   }
-  void count_frame(const Fragment& f);
+  void count_frame(const Fragment& f) {
+    if (frames_.empty() || frames_.back().frame != f.frame) new_frame(f);
+    ++frames_.back().fragments;
+    ++fragments_;
+  }
+  void new_frame(const Fragment& f);
 
   TextureSet& textures_;
   std::vector<MaterialSetup> mats_;

@@ -4,10 +4,12 @@
 // Run: build/testbench/bench_texture_unit --benchmark_counters_tabular=true
 // Wall-clock figures move with other load on the machine: compare binaries side by side in one
 // session, or count instructions per fragment, which load does not change (one command):
-//   valgrind --tool=callgrind --toggle-collect='texsim::TextureUnit::process*'
-//     build/testbench/bench_texture_unit --benchmark_filter='BM_Bilinear_Timing$'
-//     --benchmark_min_time=0.000001
-// (one iteration; the collected total divided by the `fragments` counter).
+//   valgrind --tool=callgrind --toggle-collect='texsim::TextureUnit::process(texsim::Fragment
+//     const&, int, texsim::ItemCost const*)' build/testbench/bench_texture_unit
+//     --benchmark_filter='BM_Bilinear_Timing$' --benchmark_min_time=0.000001
+// (one iteration; the collected total divided by the `fragments` counter). The exact signature
+// matters: a pattern such as 'process*' also matches functions called inside process() and
+// switches collection off when they return. docs/performance.md has the figures.
 #include <benchmark/benchmark.h>
 
 #include "pipeline/raster/fragment_generator.h"

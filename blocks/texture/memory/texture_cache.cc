@@ -45,7 +45,7 @@ TextureCache::TextureCache(const Config& c) : cfg_(c) {
   ways_.assign(static_cast<size_t>(sets_) * c.ways, Way{kInvalid, 0});
 }
 
-void TextureCache::fill(Way* set, uint64_t line) {
+uint32_t TextureCache::fill(Way* set, uint64_t line) {
   // The least recently used way (the first of equals; empty ways have stamp 0).
   uint32_t victim = 0;
   for (uint32_t w = 1; w < cfg_.ways; ++w) {
@@ -55,6 +55,7 @@ void TextureCache::fill(Way* set, uint64_t line) {
   set[victim].stamp = clock_;
   ++stats_.misses;
   stats_.fill_bytes += cfg_.line_bytes;
+  return victim;
 }
 
 TimingSpec TextureCache::timing(const TechTable& tech) const {

@@ -39,17 +39,27 @@ class TextureCache {
   // The same for a line number (addr >> log2(line_bytes)). Inline: a hit is the common case
   // and costs a few compares.
   bool access_line(uint64_t line) {
-    Way* set = ways_.data() + static_cast<size_t>(line & (sets_ - 1)) * cfg_.ways;
     ++stats_.accesses;
     ++clock_;
+    // First the way of the last hit or fill: neighbouring fragments mostly read the same
+    // lines. A line is in at most one way, so a match there is the hit the search would find.
+    Way* const last = ways_.data() + last_;
+    if (last->tag == line) {
+      last->stamp = clock_;
+      ++stats_.hits;
+      return true;
+    }
+    const size_t first = static_cast<size_t>(line & (sets_ - 1)) * cfg_.ways;
+    Way* set = ways_.data() + first;
     for (uint32_t w = 0; w < cfg_.ways; ++w) {
       if (set[w].tag == line) {
         set[w].stamp = clock_;
         ++stats_.hits;
+        last_ = first + w;
         return true;
       }
     }
-    fill(set, line);
+    last_ = first + fill(set, line);
     return false;
   }
   uint32_t line_shift() const { return line_shift_; }
@@ -73,12 +83,13 @@ class TextureCache {
 
  private:
   struct Way;
-  void fill(Way* set, uint64_t line);  // miss: refill the LRU way of `set`
+  uint32_t fill(Way* set, uint64_t line);  // miss: refill the LRU way of `set`; returns it
 
   Config cfg_;
   uint32_t sets_ = 1;
   uint32_t line_shift_ = 6;
   uint64_t clock_ = 0;
+  size_t last_ = 0;  // index of the way that hit or was filled last
   // One set's ways side by side: a look-up reads one contiguous block.
   struct Way {
     uint64_t tag;    // line number; kInvalid = empty

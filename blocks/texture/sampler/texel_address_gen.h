@@ -27,6 +27,13 @@ struct TexelTap {
   int32_t x, y;
   float w;
 };
+// The 2x2 texels of a linear filter on one level, addressed, and their weights in tap order
+// (x0,y0) (x1,y0) (x0,y1) (x1,y1): four taps in a form the texture unit keeps in registers.
+struct TexelQuad {
+  int32_t level;
+  int32_t x0, x1, y0, y1;
+  float w[4];
+};
 // All taps of one fragment: up to maxAniso (16) probes × 8 taps.
 struct FilterTaps {
   std::array<TexelTap, 128> tap;
@@ -80,15 +87,19 @@ class TexelAddressGen {
   // may count fragments and probes and multiply ops_setup() and ops_per_item() at the end.
   void taps(const Texture& tex, double u, double v, const LodResult& lod, FilterTaps& out) const;
 
+  // The quad of a linear filter at (u, v) (finite, normalised) on `level`, weights scaled by
+  // w: the four taps taps() writes for one linear probe on one level.
+  [[gnu::always_inline]] TexelQuad linear_quad(const Texture& tex, int32_t level, float u, float v,
+                                               float w) const;
   // Level selection from λ on a pyramid of `levels` levels.
-  LevelSelect select_levels(float lambda, int levels) const;
+  [[gnu::always_inline]] LevelSelect select_levels(float lambda, int levels) const;
   // Vulkan's wrapping of one integer texel coordinate into [0, size).
   static int32_t address(int64_t i, int32_t size, AddressMode mode);
 
   // The float→fixed converters' rounding: nearest integer, ties to even (= std::llrint in the
   // default rounding mode, without the library call). Below 2^23 adding and subtracting 2^23
   // rounds to an integer in float32 arithmetic; larger floats are integers already.
-  static int64_t round_half_even(float x) {
+  [[gnu::always_inline]] static int64_t round_half_even(float x) {
     constexpr float k = 8388608.0f;  // 2^23
     const float a = std::fabs(x);
     if (a < k) {
@@ -143,7 +154,7 @@ namespace texel_address_detail {
 // float→fixed converter of the datapath). |x| is limited to 2^30 texels first: beyond that a
 // float32 coordinate has no fraction bits left, and the limit keeps the integer in range.
 // x·2^bits is exact (at most 2^46), so this equals rounding ldexp(x, bits).
-inline int64_t to_fixed(float x, float scale) {
+[[gnu::always_inline]] inline int64_t to_fixed(float x, float scale) {
   constexpr float kLimit = 1073741824.0f;  // 2^30
   x = std::clamp(x, -kLimit, kLimit);
   return TexelAddressGen::round_half_even(x * scale);
@@ -248,8 +259,8 @@ inline TexelTap* TexelAddressGen::emit_nearest(const Texture& tex, int32_t level
   return out + 1;
 }
 
-inline TexelTap* TexelAddressGen::emit_linear(const Texture& tex, int32_t level, float u, float v,
-                                              float w, TexelTap* out) const {
+inline TexelQuad TexelAddressGen::linear_quad(const Texture& tex, int32_t level, float u, float v,
+                                              float w) const {
   using namespace texel_address_detail;
   const Texture::Level& lv = tex.level(level);
   const int32_t wl = lv.width, hl = lv.height;
@@ -260,14 +271,25 @@ inline TexelTap* TexelAddressGen::emit_linear(const Texture& tex, int32_t level,
   const int64_t yf = to_fixed(v * static_cast<float>(hl) - 0.5f, fix_scale_);
   const float a = static_cast<float>(xf & mask) * frac_scale_;
   const float be = static_cast<float>(yf & mask) * frac_scale_;
-  int32_t x0, x1, y0, y1;
-  address_pair(xf >> b, wl, cfg_.address_u, x0, x1);
-  address_pair(yf >> b, hl, cfg_.address_v, y0, y1);
+  TexelQuad q;
+  q.level = level;
+  address_pair(xf >> b, wl, cfg_.address_u, q.x0, q.x1);
+  address_pair(yf >> b, hl, cfg_.address_v, q.y0, q.y1);
   const float wi0 = 1.0f - a, wj0 = 1.0f - be;
-  out[0] = {level, x0, y0, wi0 * wj0 * w};
-  out[1] = {level, x1, y0, a * wj0 * w};
-  out[2] = {level, x0, y1, wi0 * be * w};
-  out[3] = {level, x1, y1, a * be * w};
+  q.w[0] = wi0 * wj0 * w;
+  q.w[1] = a * wj0 * w;
+  q.w[2] = wi0 * be * w;
+  q.w[3] = a * be * w;
+  return q;
+}
+
+inline TexelTap* TexelAddressGen::emit_linear(const Texture& tex, int32_t level, float u, float v,
+                                              float w, TexelTap* out) const {
+  const TexelQuad q = linear_quad(tex, level, u, v, w);
+  out[0] = {level, q.x0, q.y0, q.w[0]};
+  out[1] = {level, q.x1, q.y0, q.w[1]};
+  out[2] = {level, q.x0, q.y1, q.w[2]};
+  out[3] = {level, q.x1, q.y1, q.w[3]};
   return out + 4;
 }
 

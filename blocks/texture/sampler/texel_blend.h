@@ -42,6 +42,12 @@ class TexelBlend {
   // The same without counting (the count is ops_per_item() times the number of taps).
   Rgba blend(const FilterTaps& taps, const Texture& tex) const;
 
+  // The same for a linear probe given as one quad (bilinear) or two (trilinear, finer level
+  // first): equal to blend() of the taps the quads stand for. Needs taps_per_cycle >= 4·n (all
+  // taps in one group); quads_in_one_group(n) says whether it holds.
+  [[gnu::always_inline]] Rgba blend_quads(const TexelQuad* q, int n, const Texture& tex) const;
+  bool quads_in_one_group(int n) const { return cfg_.taps_per_cycle >= 4 * n; }
+
   // Cycles one fragment occupies the datapath: ⌈count / taps_per_cycle⌉ (at least 1).
   uint32_t issue_cycles(const FilterTaps& taps) const {
     const int g = cfg_.taps_per_cycle > 1 ? cfg_.taps_per_cycle : 1;
@@ -166,6 +172,35 @@ inline Rgba blend_taps(const FilterTaps& taps, const Texture& tex, int g) {
   return {acc[0], acc[1], acc[2], acc[3]};
 }
 
+// w · texel of a quad's four taps, in tap order.
+template <class Fetch>
+[[gnu::always_inline]] inline void quad_products(const TexelQuad& q, const Texture& tex, F4* p) {
+  const Texture::Level& lv = tex.level(q.level);
+  const auto texels = Fetch::data(lv);
+  const auto width = static_cast<size_t>(lv.width);
+  const size_t r0 = static_cast<size_t>(q.y0) * width, r1 = static_cast<size_t>(q.y1) * width;
+  const auto x0 = static_cast<size_t>(q.x0), x1 = static_cast<size_t>(q.x1);
+  p[0] = Fetch::at(texels, r0 + x0) * q.w[0];
+  p[1] = Fetch::at(texels, r0 + x1) * q.w[1];
+  p[2] = Fetch::at(texels, r1 + x0) * q.w[2];
+  p[3] = Fetch::at(texels, r1 + x1) * q.w[3];
+}
+
+// The adder trees of blend_taps for 4 and 8 taps in one group.
+template <class Fetch>
+[[gnu::always_inline]] inline Rgba blend_quads(const TexelQuad* q, int n, const Texture& tex) {
+  F4 acc = {0.0f, 0.0f, 0.0f, 0.0f};
+  F4 p[8];
+  quad_products<Fetch>(q[0], tex, p);
+  if (n == 1) {
+    acc += (p[0] + p[1]) + (p[2] + p[3]);
+  } else {
+    quad_products<Fetch>(q[1], tex, p + 4);
+    acc += ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
+  }
+  return {acc[0], acc[1], acc[2], acc[3]};
+}
+
 }  // namespace texel_blend_detail
 
 inline Rgba TexelBlend::blend(const FilterTaps& taps, const Texture& tex) const {
@@ -173,6 +208,13 @@ inline Rgba TexelBlend::blend(const FilterTaps& taps, const Texture& tex) const 
   const int g = std::clamp(cfg_.taps_per_cycle, 1, 32);
   return tex.format() == TexelFormat::Rgba8 ? blend_taps<FetchRgba8>(taps, tex, g)
                                             : blend_taps<FetchRgba32f>(taps, tex, g);
+}
+
+inline Rgba TexelBlend::blend_quads(const TexelQuad* q, int n, const Texture& tex) const {
+  using namespace texel_blend_detail;
+  return tex.format() == TexelFormat::Rgba8
+             ? texel_blend_detail::blend_quads<FetchRgba8>(q, n, tex)
+             : texel_blend_detail::blend_quads<FetchRgba32f>(q, n, tex);
 }
 
 }  // namespace texsim
