@@ -168,15 +168,15 @@ materials.wall.psnr 41.514287091535081
 }
 TEST_F(GoldenFigures, Coords) {
   check(scene("coords"), R"(
-fragments 65942
-cycles 401004
-blocks.blend.ops add=6409280 cmp=0 div=0 lut=0 mem=1602320 mul=6409280 rcp=0 sqrt=0
+fragments 65940
+cycles 400988
+blocks.blend.ops add=6409024 cmp=0 div=0 lut=0 mem=1602256 mul=6409024 rcp=0 sqrt=0
 blocks.blend.texels 0
-blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=1602320 mul=0 rcp=0 sqrt=0
-blocks.cache.texels 1602320
-blocks.coords.constant-depth[float].ops add=27974 cmp=348 div=2 lut=0 mem=0 mul=3464 rcp=346 sqrt=0
+blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=1602256 mul=0 rcp=0 sqrt=0
+blocks.cache.texels 1602256
+blocks.coords.constant-depth[float].ops add=27972 cmp=348 div=2 lut=0 mem=0 mul=3464 rcp=346 sqrt=0
 blocks.coords.constant-depth[float].texels 0
-blocks.coords.heckbert[float].ops add=77682 cmp=12947 div=25894 lut=0 mem=0 mul=77682 rcp=0 sqrt=0
+blocks.coords.heckbert[float].ops add=77676 cmp=12946 div=25892 lut=0 mem=0 mul=77676 rcp=0 sqrt=0
 blocks.coords.heckbert[float].texels 0
 blocks.coords.incremental[s16.16].ops add=44241 cmp=14057 div=28114 lut=0 mem=0 mul=2070 rcp=0 sqrt=0
 blocks.coords.incremental[s16.16].texels 0
@@ -186,45 +186,45 @@ blocks.coords.quadratic-32[float].ops add=32052 cmp=1023 div=2046 lut=0 mem=0 mu
 blocks.coords.quadratic-32[float].texels 0
 blocks.derivs.accelerated-fd[float].ops add=59670 cmp=11934 div=23868 lut=0 mem=0 mul=0 rcp=0 sqrt=0
 blocks.derivs.accelerated-fd[float].texels 0
-blocks.derivs.analytic[float].ops add=51788 cmp=12947 div=0 lut=0 mem=0 mul=129470 rcp=12947 sqrt=0
+blocks.derivs.analytic[float].ops add=51784 cmp=12946 div=0 lut=0 mem=0 mul=129460 rcp=12946 sqrt=0
 blocks.derivs.analytic[float].texels 0
 blocks.derivs.iterative[s16.16].ops add=72371 cmp=14057 div=0 lut=0 mem=0 mul=86444 rcp=28114 sqrt=0
 blocks.derivs.iterative[s16.16].texels 0
 blocks.derivs.iterative[s20.28].ops add=72371 cmp=14057 div=0 lut=0 mem=0 mul=86444 rcp=28114 sqrt=0
 blocks.derivs.iterative[s20.28].texels 0
-blocks.derivs.quad[float].ops add=14918 cmp=657 div=1314 lut=0 mem=0 mul=0 rcp=0 sqrt=0
+blocks.derivs.quad[float].ops add=14920 cmp=658 div=1316 lut=0 mem=0 mul=0 rcp=0 sqrt=0
 blocks.derivs.quad[float].texels 0
-blocks.filter.trilinear.ops add=5605656 cmp=2063914 div=0 lut=65942 mem=0 mul=7742904 rcp=0 sqrt=0
-blocks.filter.trilinear.texels 1602320
-blocks.lod.ops add=461594 cmp=527536 div=65942 lut=197826 mem=0 mul=659420 rcp=0 sqrt=65942
+blocks.filter.trilinear.ops add=5605434 cmp=2063836 div=0 lut=65940 mem=0 mul=7742596 rcp=0 sqrt=0
+blocks.filter.trilinear.texels 1602256
+blocks.lod.ops add=461580 cmp=527520 div=65940 lut=197820 mem=0 mul=659400 rcp=0 sqrt=65940
 blocks.lod.texels 0
-stages.address.busy 200290
-stages.address.stalls blocked=200365 latency_full=0 multi_cycle=134348 starved=70
-stages.blend.busy 200290
-stages.blend.stalls blocked=0 latency_full=0 multi_cycle=134348 starved=200708
-stages.cache.busy 400580
-stages.cache.stalls blocked=0 latency_full=222 multi_cycle=334638 starved=94
-stages.coords.busy 83472
-stages.coords.stalls blocked=316798 latency_full=0 multi_cycle=17530 starved=0
-stages.derivs.busy 69408
-stages.derivs.stalls blocked=330614 latency_full=0 multi_cycle=3466 starved=335
-stages.lod.busy 65942
-stages.lod.stalls blocked=334405 latency_full=0 multi_cycle=0 starved=130
-hits 277367
-misses 35879
-texel_reads 1602320
-dram busy_cycles=143516 bytes=2296256 requests=35879
-psnr_db 20.564096773715352
+stages.address.busy 200282
+stages.address.stalls blocked=200357 latency_full=0 multi_cycle=134342 starved=70
+stages.blend.busy 200282
+stages.blend.stalls blocked=0 latency_full=0 multi_cycle=134342 starved=200700
+stages.cache.busy 400564
+stages.cache.stalls blocked=0 latency_full=222 multi_cycle=334624 starved=94
+stages.coords.busy 83470
+stages.coords.stalls blocked=316784 latency_full=0 multi_cycle=17530 starved=0
+stages.derivs.busy 69406
+stages.derivs.stalls blocked=330600 latency_full=0 multi_cycle=3466 starved=335
+stages.lod.busy 65940
+stages.lod.stalls blocked=334391 latency_full=0 multi_cycle=0 starved=130
+hits 277353
+misses 35877
+texel_reads 1602256
+dram busy_cycles=143508 bytes=2296128 requests=35877
+psnr_db 20.564136471872757
 max_abs 0.51329612731933594
-materials.constant_depth.fragments 12947
-materials.constant_depth.ops add=2431590 cmp=501546 div=14263 lut=51788 mem=306336 mul=2839268 rcp=346 sqrt=12947
-materials.constant_depth.psnr 22.517763658807265
+materials.constant_depth.fragments 12946
+materials.constant_depth.ops add=2431403 cmp=501508 div=14264 lut=51784 mem=306312 mul=2839046 rcp=346 sqrt=12946
+materials.constant_depth.psnr 22.517428211367076
 materials.exact.fragments 5967
-materials.exact.ops add=1512427 cmp=286489 div=5967 lut=23868 mem=196984 mul=1795214 rcp=0 sqrt=5967
-materials.exact.psnr 19.77306440017491
-materials.heckbert.fragments 12947
-materials.heckbert.ops add=2530322 cmp=528083 div=38841 lut=51788 mem=307984 mul=3057376 rcp=12947 sqrt=12947
-materials.heckbert.psnr 22.534322657921596
+materials.exact.ops add=1512368 cmp=286481 div=5967 lut=23868 mem=196976 mul=1795144 rcp=0 sqrt=5967
+materials.exact.psnr 19.773849858784686
+materials.heckbert.fragments 12946
+materials.heckbert.ops add=2530125 cmp=528042 div=38838 lut=51784 mem=307960 mul=3057138 rcp=12946 sqrt=12946
+materials.heckbert.psnr 22.533987210223284
 materials.incremental.fragments 14057
 materials.incremental.ops add=2455581 cmp=537057 div=42171 lut=56228 mem=298088 mul=2865468 rcp=28114 sqrt=14057
 materials.incremental.psnr 22.816790383938415
@@ -232,51 +232,51 @@ materials.incremental_s16.fragments 14057
 materials.incremental_s16.ops add=2455994 cmp=537113 div=42171 lut=56228 mem=298144 mul=2865958 rcp=28114 sqrt=14057
 materials.incremental_s16.psnr 17.746968251077
 materials.quadratic_32.fragments 5967
-materials.quadratic_32.ops add=1587924 cmp=297246 div=31881 lut=23868 mem=194784 mul=1782102 rcp=341 sqrt=5967
-materials.quadratic_32.psnr 19.84462277263215
+materials.quadratic_32.ops add=1587865 cmp=297238 div=31881 lut=23868 mem=194776 mul=1782032 rcp=341 sqrt=5967
+materials.quadratic_32.psnr 19.845429536735491
 )");
 }
 TEST_F(GoldenFigures, FootprintFilters) {
   check(scene("footprint_filters"), R"(
 fragments 8356
-cycles 81320
+cycles 81308
 blocks.blend.ops add=66816 cmp=0 div=0 lut=0 mem=16704 mul=66816 rcp=0 sqrt=0
 blocks.blend.texels 0
-blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=268290 mul=0 rcp=0 sqrt=0
-blocks.cache.texels 268290
-blocks.filter.ewa.ops add=1211254 cmp=343778 div=0 lut=99775 mem=97685 mul=1060803 rcp=6270 sqrt=6270
-blocks.filter.ewa.texels 97685
-blocks.filter.feline.ops add=914958 cmp=221720 div=0 lut=21748 mem=107104 mul=1062620 rcp=8360 sqrt=6270
-blocks.filter.feline.texels 107104
-blocks.filter.spaf.ops add=1124260 cmp=827837 div=0 lut=152744 mem=46797 mul=688369 rcp=12528 sqrt=4176
-blocks.filter.spaf.texels 46797
+blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=268284 mul=0 rcp=0 sqrt=0
+blocks.cache.texels 268284
+blocks.filter.ewa.ops add=1211128 cmp=343717 div=0 lut=99774 mem=97684 mul=1060796 rcp=6270 sqrt=6270
+blocks.filter.ewa.texels 97684
+blocks.filter.feline.ops add=914892 cmp=221705 div=0 lut=21747 mem=107096 mul=1062545 rcp=8360 sqrt=6270
+blocks.filter.feline.texels 107096
+blocks.filter.spaf.ops add=1124379 cmp=827973 div=0 lut=152755 mem=46800 mul=688401 rcp=12528 sqrt=4176
+blocks.filter.spaf.texels 46800
 blocks.filter.trilinear.ops add=56376 cmp=31320 div=0 lut=0 mem=0 mul=75168 rcp=0 sqrt=0
 blocks.filter.trilinear.texels 16704
 blocks.lod.ops add=10440 cmp=6264 div=0 lut=2088 mem=0 mul=16704 rcp=0 sqrt=0
 blocks.lod.texels 0
-stages.address.busy 81157
-stages.address.stalls blocked=0 latency_full=0 multi_cycle=72801 starved=14
+stages.address.busy 81145
+stages.address.stalls blocked=0 latency_full=0 multi_cycle=72789 starved=14
 stages.blend.busy 8356
-stages.blend.stalls blocked=0 latency_full=0 multi_cycle=0 starved=72956
-stages.cache.busy 68652
-stages.cache.stalls blocked=0 latency_full=3802 multi_cycle=60296 starved=8857
+stages.blend.stalls blocked=0 latency_full=0 multi_cycle=0 starved=72944
+stages.cache.busy 68650
+stages.cache.stalls blocked=0 latency_full=3809 multi_cycle=60294 starved=8840
 stages.lod.busy 8356
-stages.lod.stalls blocked=72647 latency_full=0 multi_cycle=0 starved=0
-hits 45101
-misses 6358
-texel_reads 268290
-dram busy_cycles=25432 bytes=406912 requests=6358
-psnr_db 18.273772255854468
+stages.lod.stalls blocked=72635 latency_full=0 multi_cycle=0 starved=0
+hits 45089
+misses 6365
+texel_reads 268284
+dram busy_cycles=25460 bytes=407360 requests=6365
+psnr_db 18.273778857430599
 max_abs 0.6152784526348114
 materials.ewa.fragments 2090
-materials.ewa.ops add=1211254 cmp=343778 div=0 lut=99775 mem=97685 mul=1060803 rcp=6270 sqrt=6270
-materials.ewa.psnr 18.780234147667475
+materials.ewa.ops add=1211128 cmp=343717 div=0 lut=99774 mem=97684 mul=1060796 rcp=6270 sqrt=6270
+materials.ewa.psnr 18.780237853653031
 materials.feline.fragments 2090
-materials.feline.ops add=914958 cmp=221720 div=0 lut=21748 mem=107104 mul=1062620 rcp=8360 sqrt=6270
-materials.feline.psnr 18.398521398147146
+materials.feline.ops add=914892 cmp=221705 div=0 lut=21747 mem=107096 mul=1062545 rcp=8360 sqrt=6270
+materials.feline.psnr 18.39853000279496
 materials.spaf.fragments 2088
-materials.spaf.ops add=1124260 cmp=827837 div=0 lut=152744 mem=46797 mul=688369 rcp=12528 sqrt=4176
-materials.spaf.psnr 18.373892130542583
+materials.spaf.ops add=1124379 cmp=827973 div=0 lut=152755 mem=46800 mul=688401 rcp=12528 sqrt=4176
+materials.spaf.psnr 18.373907223248892
 materials.trilinear.fragments 2088
 materials.trilinear.ops add=133632 cmp=37584 div=0 lut=2088 mem=16704 mul=158688 rcp=0 sqrt=0
 materials.trilinear.psnr 17.624281598223334
@@ -285,77 +285,170 @@ materials.trilinear.psnr 17.624281598223334
 TEST_F(GoldenFigures, Photo) {
   check(scene("photo"), R"(
 fragments 91005
-cycles 944494
-blocks.blend.ops add=14949248 cmp=0 div=0 lut=0 mem=3737312 mul=14949248 rcp=0 sqrt=0
+cycles 944510
+blocks.blend.ops add=14949568 cmp=0 div=0 lut=0 mem=3737392 mul=14949568 rcp=0 sqrt=0
 blocks.blend.texels 0
-blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=3737312 mul=0 rcp=0 sqrt=0
-blocks.cache.texels 3737312
-blocks.filter.trilinear.ops add=12764310 cmp=4463171 div=0 lut=79902 mem=0 mul=17712182 rcp=0 sqrt=0
-blocks.filter.trilinear.texels 3737312
-blocks.lod.ops add=614829 cmp=672525 div=79902 lut=250809 mem=0 mul=887844 rcp=0 sqrt=79902
+blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=3737392 mul=0 rcp=0 sqrt=0
+blocks.cache.texels 3737392
+blocks.filter.trilinear.ops add=12764591 cmp=4463243 div=0 lut=79903 mem=0 mul=17712582 rcp=0 sqrt=0
+blocks.filter.trilinear.texels 3737392
+blocks.lod.ops add=614831 cmp=672530 div=79903 lut=250811 mem=0 mul=887846 rcp=0 sqrt=79903
 blocks.lod.texels 0
-stages.address.busy 467164
-stages.address.stalls blocked=477023 latency_full=0 multi_cycle=376159 starved=37
-stages.blend.busy 467164
-stages.blend.stalls blocked=0 latency_full=0 multi_cycle=376159 starved=477324
-stages.cache.busy 934328
-stages.cache.stalls blocked=0 latency_full=10006 multi_cycle=843323 starved=61
+stages.address.busy 467174
+stages.address.stalls blocked=477029 latency_full=0 multi_cycle=376169 starved=37
+stages.blend.busy 467174
+stages.blend.stalls blocked=0 latency_full=0 multi_cycle=376169 starved=477330
+stages.cache.busy 934348
+stages.cache.stalls blocked=0 latency_full=10002 multi_cycle=843343 starved=61
 stages.lod.busy 91005
-stages.lod.stalls blocked=852987 latency_full=0 multi_cycle=0 starved=0
-hits 489101
-misses 60105
-texel_reads 3737312
-dram busy_cycles=240420 bytes=3846720 requests=60105
-psnr_db 30.749996861095656
+stages.lod.stalls blocked=853003 latency_full=0 multi_cycle=0 starved=0
+hits 489113
+misses 60106
+texel_reads 3737392
+dram busy_cycles=240424 bytes=3846784 requests=60106
+psnr_db 30.750034902571382
 max_abs 0.29517409205436707
-materials.floor.fragments 79902
-materials.floor.ops add=27706619 cmp=4847018 div=79902 lut=319608 mem=3648488 mul=32883094 rcp=0 sqrt=79902
-materials.floor.psnr 31.391347792823268
-materials.wall.fragments 11103
-materials.wall.ops add=621768 cmp=288678 div=0 lut=11103 mem=88824 mul=666180 rcp=0 sqrt=0
-materials.wall.psnr 27.765839017187695
+materials.floor.fragments 79903
+materials.floor.ops add=27707278 cmp=4847121 div=79903 lut=319612 mem=3648576 mul=32883876 rcp=0 sqrt=79903
+materials.floor.psnr 31.391376992820629
+materials.wall.fragments 11102
+materials.wall.ops add=621712 cmp=288652 div=0 lut=11102 mem=88816 mul=666120 rcp=0 sqrt=0
+materials.wall.psnr 27.765683250393081
 )");
 }
 TEST_F(GoldenFigures, SubtexelCutoff) {
   check(scene("subtexel_cutoff"), R"(
 fragments 33986
-cycles 279080
-blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=673727 mul=0 rcp=0 sqrt=0
-blocks.cache.texels 673727
-blocks.filter.ewa[ewa].ops add=2343454 cmp=662237 div=0 lut=202238 mem=192478 mul=2271309 rcp=29280 sqrt=29280
-blocks.filter.ewa[ewa].texels 192478
-blocks.filter.ewa[ewa_vd].ops add=3369506 cmp=1416589 div=0 lut=202238 mem=192478 mul=3093656 rcp=131059 sqrt=232838
-blocks.filter.ewa[ewa_vd].texels 192478
-blocks.filter.spaf[spaf].ops add=3498171 cmp=2723920 div=0 lut=472172 mem=141389 mul=2117277 rcp=43398 sqrt=14466
-blocks.filter.spaf[spaf].texels 141389
-blocks.filter.spaf[spaf_vd].ops add=3927383 cmp=4005040 div=0 lut=154615 mem=147382 mul=2657111 rcp=72330 sqrt=43398
-blocks.filter.spaf[spaf_vd].texels 147382
-stages.address.busy 278919
-stages.address.stalls blocked=0 latency_full=0 multi_cycle=244933 starved=14
+cycles 279060
+blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=673697 mul=0 rcp=0 sqrt=0
+blocks.cache.texels 673697
+blocks.filter.ewa[ewa].ops add=2343701 cmp=662307 div=0 lut=202259 mem=192498 mul=2271547 rcp=29283 sqrt=29283
+blocks.filter.ewa[ewa].texels 192498
+blocks.filter.ewa[ewa_vd].ops add=3369843 cmp=1416722 div=0 lut=202259 mem=192498 mul=3093962 rcp=131070 sqrt=232857
+blocks.filter.ewa[ewa_vd].texels 192498
+blocks.filter.spaf[spaf].ops add=3497413 cmp=2723298 div=0 lut=472071 mem=141355 mul=2116845 rcp=43392 sqrt=14464
+blocks.filter.spaf[spaf].texels 141355
+blocks.filter.spaf[spaf_vd].ops add=3926545 cmp=4004192 div=0 lut=154578 mem=147346 mul=2656589 rcp=72320 sqrt=43392
+blocks.filter.spaf[spaf_vd].texels 147346
+stages.address.busy 278899
+stages.address.stalls blocked=0 latency_full=0 multi_cycle=244913 starved=14
 stages.blend.busy 33986
-stages.blend.stalls blocked=0 latency_full=0 multi_cycle=0 starved=245086
-stages.cache.busy 180648
-stages.cache.stalls blocked=0 latency_full=191 multi_cycle=146662 starved=98231
+stages.blend.stalls blocked=0 latency_full=0 multi_cycle=0 starved=245066
+stages.cache.busy 180640
+stages.cache.stalls blocked=0 latency_full=191 multi_cycle=146654 starved=98219
 stages.lod.busy 33986
-stages.lod.stalls blocked=244833 latency_full=0 multi_cycle=0 starved=0
-hits 126197
+stages.lod.stalls blocked=244813 latency_full=0 multi_cycle=0 starved=0
+hits 126193
 misses 3432
-texel_reads 673727
+texel_reads 673697
 dram busy_cycles=13728 bytes=219648 requests=3432
-psnr_db 19.234016145371825
+psnr_db 19.234016495581429
 max_abs 0.53897284716367722
-materials.ewa.fragments 9760
-materials.ewa.ops add=2343454 cmp=662237 div=0 lut=202238 mem=192478 mul=2271309 rcp=29280 sqrt=29280
-materials.ewa.psnr 19.280583606552234
-materials.ewa_vd.fragments 9760
-materials.ewa_vd.ops add=3369506 cmp=1416589 div=0 lut=202238 mem=192478 mul=3093656 rcp=131059 sqrt=232838
-materials.ewa_vd.psnr 19.421015497326497
-materials.spaf.fragments 7233
-materials.spaf.ops add=3498171 cmp=2723920 div=0 lut=472172 mem=141389 mul=2117277 rcp=43398 sqrt=14466
-materials.spaf.psnr 19.088362962412806
-materials.spaf_vd.fragments 7233
-materials.spaf_vd.ops add=3927383 cmp=4005040 div=0 lut=154615 mem=147382 mul=2657111 rcp=72330 sqrt=43398
-materials.spaf_vd.psnr 19.075587231864169
+materials.ewa.fragments 9761
+materials.ewa.ops add=2343701 cmp=662307 div=0 lut=202259 mem=192498 mul=2271547 rcp=29283 sqrt=29283
+materials.ewa.psnr 19.281028524838312
+materials.ewa_vd.fragments 9761
+materials.ewa_vd.ops add=3369843 cmp=1416722 div=0 lut=202259 mem=192498 mul=3093962 rcp=131070 sqrt=232857
+materials.ewa_vd.psnr 19.421460440579239
+materials.spaf.fragments 7232
+materials.spaf.ops add=3497413 cmp=2723298 div=0 lut=472071 mem=141355 mul=2116845 rcp=43392 sqrt=14464
+materials.spaf.psnr 19.087763805606986
+materials.spaf_vd.fragments 7232
+materials.spaf_vd.ops add=3926545 cmp=4004192 div=0 lut=154578 mem=147346 mul=2656589 rcp=72320 sqrt=43392
+materials.spaf_vd.psnr 19.074987078462325
+)");
+}
+TEST_F(GoldenFigures, Cube) {
+  check(scene("cube"), R"(
+fragments 21438
+cycles 130795
+blocks.blend.ops add=1883904 cmp=0 div=0 lut=0 mem=470976 mul=1883904 rcp=0 sqrt=0
+blocks.blend.texels 0
+blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=470976 mul=0 rcp=0 sqrt=0
+blocks.cache.texels 470976
+blocks.filter.trilinear.ops add=1182882 cmp=1092018 div=0 lut=21438 mem=0 mul=1338060 rcp=0 sqrt=0
+blocks.filter.trilinear.texels 470976
+blocks.lod.ops add=150066 cmp=171504 div=21438 lut=64314 mem=0 mul=214380 rcp=0 sqrt=21438
+blocks.lod.texels 0
+stages.address.busy 58872
+stages.address.stalls blocked=71672 latency_full=0 multi_cycle=37434 starved=37
+stages.blend.busy 58872
+stages.blend.stalls blocked=0 latency_full=0 multi_cycle=37434 starved=71916
+stages.cache.busy 117744
+stages.cache.stalls blocked=0 latency_full=12896 multi_cycle=96306 starved=59
+stages.lod.busy 21438
+stages.lod.stalls blocked=108966 latency_full=0 multi_cycle=0 starved=0
+hits 69444
+misses 25301
+texel_reads 470976
+dram busy_cycles=101204 bytes=1619264 requests=25301
+psnr_db 31.916107460723708
+max_abs 0.19431997835636139
+materials.crate.fragments 21438
+materials.crate.ops add=3216852 cmp=1263522 div=21438 lut=85752 mem=470976 mul=3436344 rcp=0 sqrt=21438
+materials.crate.psnr 31.916107460723708
+)");
+}
+TEST_F(GoldenFigures, Bunny) {
+  check(scene("bunny"), R"(
+fragments 23575
+cycles 68449
+blocks.blend.ops add=754400 cmp=0 div=0 lut=0 mem=188600 mul=754400 rcp=0 sqrt=0
+blocks.blend.texels 0
+blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=188600 mul=0 rcp=0 sqrt=0
+blocks.cache.texels 188600
+blocks.filter.trilinear.ops add=636525 cmp=353625 div=0 lut=0 mem=0 mul=848700 rcp=0 sqrt=0
+blocks.filter.trilinear.texels 188600
+blocks.lod.ops add=117875 cmp=70725 div=0 lut=23575 mem=0 mul=188600 rcp=0 sqrt=0
+blocks.lod.texels 0
+stages.address.busy 23575
+stages.address.stalls blocked=44716 latency_full=0 multi_cycle=0 starved=14
+stages.blend.busy 23575
+stages.blend.stalls blocked=0 latency_full=0 multi_cycle=0 starved=44866
+stages.cache.busy 47150
+stages.cache.stalls blocked=0 latency_full=21216 multi_cycle=23575 starved=38
+stages.lod.busy 23575
+stages.lod.stalls blocked=44650 latency_full=0 multi_cycle=0 starved=0
+hits 70827
+misses 2905
+texel_reads 188600
+dram busy_cycles=11620 bytes=185920 requests=2905
+psnr_db 39.387176238245196
+max_abs 0.19143196940422058
+materials.fur.fragments 23575
+materials.fur.ops add=1508800 cmp=424350 div=0 lut=23575 mem=188600 mul=1791700 rcp=0 sqrt=0
+materials.fur.psnr 39.387176238245196
+)");
+}
+TEST_F(GoldenFigures, Flight) {
+  check(scene("flight"), R"(
+fragments 54859
+cycles 441464
+blocks.blend.ops add=7042144 cmp=0 div=0 lut=0 mem=1760536 mul=7042144 rcp=0 sqrt=0
+blocks.blend.texels 0
+blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=1760536 mul=0 rcp=0 sqrt=0
+blocks.cache.texels 1760536
+blocks.filter.trilinear.ops add=6106386 cmp=2144549 div=0 lut=54859 mem=0 mul=8472264 rcp=0 sqrt=0
+blocks.filter.trilinear.texels 1760536
+blocks.lod.ops add=384013 cmp=438872 div=54859 lut=164577 mem=0 mul=548590 rcp=0 sqrt=54859
+blocks.lod.texels 0
+stages.address.busy 220067
+stages.address.stalls blocked=221139 latency_full=0 multi_cycle=165208 starved=37
+stages.blend.busy 220067
+stages.blend.stalls blocked=0 latency_full=0 multi_cycle=165208 starved=221390
+stages.cache.busy 440134
+stages.cache.stalls blocked=0 latency_full=1162 multi_cycle=385275 starved=61
+stages.lod.busy 54859
+stages.lod.stalls blocked=386219 latency_full=0 multi_cycle=0 starved=0
+hits 236385
+misses 17403
+texel_reads 1760536
+dram busy_cycles=69612 bytes=1113792 requests=17403
+psnr_db 27.648557367405779
+max_abs 0.25345852971076965
+materials.ground.fragments 54859
+materials.ground.ops add=13532543 cmp=2583421 div=54859 lut=219436 mem=1760536 mul=16062998 rcp=0 sqrt=54859
+materials.ground.psnr 27.648557367405779
 )");
 }
 TEST_F(GoldenFigures, SampleTrace) {
