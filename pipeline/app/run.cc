@@ -185,6 +185,25 @@ struct GroundTruth {
   }
 };
 
+// Relief and lighting need each primitive's shading frame, in the unit and the reference
+// (empty when no material has either effect).
+struct SurfaceSetup {
+  std::vector<SurfaceFrame> frames;
+  std::vector<SurfaceReference> refs;
+  bool active() const { return !refs.empty(); }
+};
+
+SurfaceSetup surface_setup(const Scene& scene, const std::vector<MaterialSetup>& mats,
+                           const TextureSet& set) {
+  SurfaceSetup s;
+  if (std::none_of(mats.begin(), mats.end(),
+                   [](const MaterialSetup& m) { return m.relief || m.lighting; }))
+    return s;
+  for (const auto& p : scene.primitives) s.frames.emplace_back(scene, p);
+  for (const auto& m : mats) s.refs.emplace_back(m, set);
+  return s;
+}
+
 // The geometry and rasterisation sections of a scene run (raster: per material, empty when
 // the coordinate front end drew the scene).
 SubsystemsInfo scene_subsystems(const Scene& scene, const std::vector<PlaneProjection>& maps,
@@ -445,23 +464,11 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   }
   const ImageLayout layout = run_layout(opt, scene, use_scene, trace_sum.get(), maps, textures.set);
   TextureUnit unit(textures.set, mats, setup, scene.tech, !opt.functional);
-  // Relief and lighting need each primitive's shading frame, in the unit and the reference.
-  const bool surface_effects = std::any_of(mats.begin(), mats.end(), [](const MaterialSetup& m) {
-    return m.relief.has_value() || m.lighting.has_value();
-  });
-  std::vector<SurfaceFrame> frames;
-  std::vector<SurfaceReference> surface_refs;
-  if (surface_effects) {
-    for (const auto& p : scene.primitives) frames.emplace_back(scene, p);
-    unit.set_surfaces(frames);
-    for (const auto& m : mats) surface_refs.emplace_back(m, textures.set);
-  }
-
-  GroundTruth truth{textures.set, mats, maps, scene.reference_supersamples};
-  if (surface_effects) {
-    truth.surface = &surface_refs;
-    truth.frames = &frames;
-  }
+  const SurfaceSetup surf = surface_setup(scene, mats, textures.set);
+  if (surf.active()) unit.set_surfaces(surf.frames);
+  const GroundTruth truth{
+      textures.set, mats, maps, scene.reference_supersamples, surf.active() ? &surf.refs : nullptr,
+      &surf.frames};
   RunImages images(layout.extent, layout.canvas_w, layout.canvas_h, scene.background,
                    unit.material_count(), opt.frame);
   Progress progress(opt.progress);
@@ -539,7 +546,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   info.error_scale = info.error_scale_auto ? images.kept_accuracy().max_abs : opt.error_scale;
   info.error_bar_rows = colour_bar_rows(layout.canvas_h);
   info.reference = reference_text(scene.reference_supersamples, truth.exact(), info.frames.size(),
-                                  surface_effects);
+                                  surf.active());
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
   info.provenance = run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech);
   write_run_outputs(opt, info, images, unit, sum, log);

@@ -111,6 +111,7 @@ TEST(SurfaceEffects, TimedUnitHasReliefAndLightingStagesOnlyWhenUsed) {
   TextureSet tex = scene_textures(s);
   const TextureUnit unit(tex, build_materials(s), PipelineSetup{}, s.tech, true);
   std::vector<std::string> names;
+  names.reserve(static_cast<size_t>(unit.pipeline()->stage_count()));
   for (int st = 0; st < unit.pipeline()->stage_count(); ++st)
     names.push_back(unit.pipeline()->config(st).name);
   EXPECT_EQ(names,
@@ -138,8 +139,8 @@ TEST(SurfaceEffects, FlatLightingIsTheClosedForm) {
 }
 
 Texture flat_height(float h) {
-  return Texture::from_rgba("h", 32, 32, std::vector<float>(32 * 32 * 4, h), TexelFormat::Rgba32f,
-                            false);
+  return Texture::from_rgba("h", 32, 32, std::vector<float>(size_t{32} * 32 * 4, h),
+                            TexelFormat::Rgba32f, false);
 }
 
 TEST(SurfaceEffects, ParallaxOverFlatHeightsShiftsByTheClosedForm) {
