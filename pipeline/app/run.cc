@@ -22,6 +22,7 @@
 #include "pipeline/raster/fragment_generator.h"
 #include "pipeline/raster/scene_front_end.h"
 #include "pipeline/reference/ground_truth.h"
+#include "pipeline/reference/surface_reference.h"
 #include "pipeline/report/run_report.h"
 #include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene.h"
@@ -134,7 +135,8 @@ std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene,
                                     "', which material '" + m.name + "' of " + scene.path +
                                     " uses (the table has " + (have.empty() ? "none" : have) + ")");
       }
-      mats.push_back(material_from_toml(m.name, it->second, *m.effects, scene.path));
+      mats.push_back(
+          material_from_toml(m.name, it->second, *m.effects, scene.path, &textures.by_name));
     }
   }
   if (from_trace) {
@@ -162,17 +164,45 @@ struct GroundTruth {
   const std::vector<MaterialSetup>& mats;
   const std::vector<PlaneProjection>& maps;  // empty: from the fragment's derivatives
   int supersamples;
+  // Materials with relief or lighting (empty: none): their reference, and the primitives'
+  // shading frames.
+  const std::vector<SurfaceReference>* surface = nullptr;
+  const std::vector<SurfaceFrame>* frames = nullptr;
 
   bool exact() const { return !maps.empty(); }
   // f: the fragment as given; g: the same with its texture id mapped to the loaded texture.
   glm::dvec4 operator()(const Fragment& f, const Fragment& g, int material) const {
     const Texture& tex = textures[static_cast<int>(g.tex)];
     const MaterialSetup& ms = mats[static_cast<size_t>(material)];
+    if (exact() && surface && (*surface)[static_cast<size_t>(material)].active()) {
+      return (*surface)[static_cast<size_t>(material)](tex, maps[f.prim], (*frames)[f.prim],
+                                                       static_cast<int>(f.x), static_cast<int>(f.y),
+                                                       supersamples);
+    }
     return exact() ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), maps[f.prim],
                                         static_cast<int>(f.x), static_cast<int>(f.y), supersamples)
                    : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, supersamples);
   }
 };
+
+// Relief and lighting need each primitive's shading frame, in the unit and the reference
+// (empty when no material has either effect).
+struct SurfaceSetup {
+  std::vector<SurfaceFrame> frames;
+  std::vector<SurfaceReference> refs;
+  bool active() const { return !refs.empty(); }
+};
+
+SurfaceSetup surface_setup(const Scene& scene, const std::vector<MaterialSetup>& mats,
+                           const TextureSet& set) {
+  SurfaceSetup s;
+  if (std::none_of(mats.begin(), mats.end(),
+                   [](const MaterialSetup& m) { return m.relief || m.lighting; }))
+    return s;
+  for (const auto& p : scene.primitives) s.frames.emplace_back(scene, p);
+  for (const auto& m : mats) s.refs.emplace_back(m, set);
+  return s;
+}
 
 // The geometry and rasterisation sections of a scene run (raster: per material, empty when
 // the coordinate front end drew the scene).
@@ -383,13 +413,19 @@ ImageLayout run_layout(const RunOptions& opt, const Scene& scene, bool use_scene
   return l;
 }
 
-std::string reference_text(int n, bool exact, size_t frames) {
+std::string reference_text(int n, bool exact, size_t frames, bool surface) {
   std::string s =
       "Ground truth: level-0 texture, bilinear reconstruction in double, box-filtered over "
       "each pixel with " +
       std::to_string(n) + "x" + std::to_string(n) + " samples " +
       (exact ? "mapped exactly through each plane's projective map."
              : "over the parallelogram spanned by the fragment's derivatives.");
+  if (surface) {
+    s += " Materials with relief: every sample is shifted by the (u, v) offset of the pixel "
+         "centre's view ray meeting the height field (1024-layer search, 24 halvings, double). "
+         "Materials with lighting: every sample is lit (Blinn-Phong in double) with the normal "
+         "at its own coordinates and the pixel's view vector, then averaged.";
+  }
   if (frames > 1) {
     s += " Each of the " + std::to_string(frames) +
          " frames is compared with its own ground truth (frames[].accuracy); the totals pool "
@@ -428,8 +464,11 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   }
   const ImageLayout layout = run_layout(opt, scene, use_scene, trace_sum.get(), maps, textures.set);
   TextureUnit unit(textures.set, mats, setup, scene.tech, !opt.functional);
-
-  const GroundTruth truth{textures.set, mats, maps, scene.reference_supersamples};
+  const SurfaceSetup surf = surface_setup(scene, mats, textures.set);
+  if (surf.active()) unit.set_surfaces(surf.frames);
+  const GroundTruth truth{
+      textures.set, mats, maps, scene.reference_supersamples, surf.active() ? &surf.refs : nullptr,
+      &surf.frames};
   RunImages images(layout.extent, layout.canvas_w, layout.canvas_h, scene.background,
                    unit.material_count(), opt.frame);
   Progress progress(opt.progress);
@@ -506,7 +545,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   info.error_scale_auto = !(opt.error_scale > 0);
   info.error_scale = info.error_scale_auto ? images.kept_accuracy().max_abs : opt.error_scale;
   info.error_bar_rows = colour_bar_rows(layout.canvas_h);
-  info.reference = reference_text(scene.reference_supersamples, truth.exact(), info.frames.size());
+  info.reference = reference_text(scene.reference_supersamples, truth.exact(), info.frames.size(),
+                                  surf.active());
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
   info.provenance = run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech);
   write_run_outputs(opt, info, images, unit, sum, log);

@@ -23,6 +23,8 @@ struct MaterialRow {
   std::vector<std::string> blocks;
   OpCounts ops;
   uint64_t texels = 0;
+  bool relief = false;  // relief loop steps and height reads (materials with relief only)
+  uint64_t relief_steps = 0, relief_fetches = 0;
   AccuracyMetrics acc;
   double per_fragment(double v) const {
     return fragments > 0 ? v / static_cast<double>(fragments) : 0.0;
@@ -40,6 +42,9 @@ std::vector<MaterialRow> material_rows(const RunInfo& info, const TextureUnit& u
       r.ops += b.ops;
       r.texels += b.texels;
     }
+    r.relief = unit.material_has_relief(m);
+    r.relief_steps = unit.material_relief_steps(m);
+    r.relief_fetches = unit.material_relief_fetches(m);
     if (static_cast<size_t>(m) < info.material_accuracy.size())
       r.acc = info.material_accuracy[static_cast<size_t>(m)];
     rows.push_back(r);
@@ -113,6 +118,12 @@ Json material_json(const MaterialRow& r) {
   e["ops"] = ops_json(r.ops);
   e["ops_per_fragment"] = r.per_fragment(static_cast<double>(r.ops.total()));
   e["texels_per_fragment"] = r.per_fragment(static_cast<double>(r.texels));
+  if (r.relief) {
+    e["relief"] = {{"steps", r.relief_steps},
+                   {"fetches", r.relief_fetches},
+                   {"steps_per_fragment", r.per_fragment(static_cast<double>(r.relief_steps))},
+                   {"fetches_per_fragment", r.per_fragment(static_cast<double>(r.relief_fetches))}};
+  }
   e["accuracy"] = accuracy_json(r.acc);
   return e;
 }

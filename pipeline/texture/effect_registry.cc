@@ -34,6 +34,25 @@ void build_footprint(const ConfigReader& r, std::string_view key, MaterialSetup&
   m.footprint = make_footprint_filter<Block>(r.sub(key));
 }
 
+void build_relief(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
+  m.relief = ReliefSetup::from_toml(r.sub(key));
+}
+
+void build_lighting(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
+  m.lighting = LightingSetup::from_toml(r.sub(key));
+}
+
+// The id of texture `name` that effect `key` names in its `field`.
+int bind_texture(const ConfigReader& r, std::string_view key, std::string_view field,
+                 const std::string& name, const std::map<std::string, int>& textures) {
+  const auto it = textures.find(name);
+  if (it != textures.end()) return it->second;
+  std::string have;
+  for (const auto& [n, id] : textures) have += (have.empty() ? "'" : ", '") + n + "'";
+  r.sub(key).fail(field, "no texture named '" + name +
+                             "' (textures: " + (have.empty() ? std::string("none") : have) + ")");
+}
+
 void build_raster(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
   m.raster = RasterSetup::from_toml(r.sub(key));
 }
@@ -58,6 +77,8 @@ const std::vector<Effect>& effect_registry() {
       {"lod", "", build_lod},
       {"coords", "", build_coords},
       {"raster", "", build_raster},
+      {"relief", "", build_relief},
+      {"lighting", "", build_lighting},
       {"ewa", kFootprint, build_ewa},
       {"multi_probe", kFootprint, build_footprint<MultiProbeFilter>},
       {"feline", kFootprint, build_footprint<FelineFilter>},
@@ -67,7 +88,8 @@ const std::vector<Effect>& effect_registry() {
 }
 
 MaterialSetup material_from_toml(const std::string& name, int texture, const toml::table& effects,
-                                 const std::string& source) {
+                                 const std::string& source,
+                                 const std::map<std::string, int>* textures) {
   const ConfigReader r(effects, source, "materials." + name);
   std::vector<std::string_view> keys = {"texture"};
   for (const Effect& e : effect_registry()) keys.push_back(e.key);
@@ -97,6 +119,14 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
                                        (m.footprint ? m.footprint->name() : "filter.trilinear") +
                                        " of this material without the derivatives it needs");
   }
+  if (textures && m.relief) {
+    m.relief->height_tex =
+        bind_texture(r, "relief", "height_texture", m.relief->height_texture, *textures);
+  }
+  if (textures && m.lighting && m.lighting->normal != LightingSetup::Normal::Flat) {
+    m.lighting->normal_tex =
+        bind_texture(r, "lighting", "normal_texture", m.lighting->normal_texture, *textures);
+  }
   if (m.coords && m.raster.method != RasterSetup::Method::Edge) {
     r.sub("raster").fail("method",
                          "a coordinate unit walks the edge-function rasteriser's rows; "
@@ -106,9 +136,12 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
 }
 
 std::vector<MaterialSetup> build_materials(const Scene& scene) {
+  std::map<std::string, int> textures;
+  for (size_t i = 0; i < scene.textures.size(); ++i)
+    textures[scene.textures[i].name] = static_cast<int>(i);
   std::vector<MaterialSetup> mats;
   for (const SceneMaterial& m : scene.materials)
-    mats.push_back(material_from_toml(m.name, m.texture, *m.effects, scene.path));
+    mats.push_back(material_from_toml(m.name, m.texture, *m.effects, scene.path, &textures));
   return mats;
 }
 

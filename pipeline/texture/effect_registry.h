@@ -7,7 +7,9 @@
 // Adding an effect: its block, and one line in effect_registry() (effect_registry.cc).
 #include <toml++/toml.h>
 
+#include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,6 +21,7 @@
 #include "blocks/texture/sampler/texel_address_gen.h"
 #include "pipeline/texture/coord_method.h"
 #include "pipeline/texture/footprint_filter.h"
+#include "pipeline/texture/surface_effects.h"
 
 namespace texsim {
 
@@ -49,6 +52,9 @@ struct MaterialSetup {
   // and derivatives in front of LOD; null when fragments arrive with their coordinates.
   std::shared_ptr<const CoordUnit> coords;
   RasterSetup raster;
+  // Relief (in front of LOD) and lighting (after the blend): absent unless the material asks.
+  std::optional<ReliefSetup> relief;
+  std::optional<LightingSetup> lighting;
   AddressMode address_u() const { return footprint ? footprint->address_u() : filter.address_u; }
   AddressMode address_v() const { return footprint ? footprint->address_v() : filter.address_v; }
 };
@@ -66,9 +72,11 @@ const std::vector<Effect>& effect_registry();
 
 // Builds a material from its table: unknown keys and non-table effects are InputErrors naming
 // file:line:column. A coordinate unit without derivatives (`derivs = "none"`) is refused for
-// trilinear and footprint filters, which need them.
+// trilinear and footprint filters, which need them. `textures` (name -> texture id) binds the
+// textures that relief and lighting name; an unknown name is an InputError. Null: unbound.
 MaterialSetup material_from_toml(const std::string& name, int texture, const toml::table& effects,
-                                 const std::string& source);
+                                 const std::string& source,
+                                 const std::map<std::string, int>* textures = nullptr);
 // The scene's materials, in order.
 std::vector<MaterialSetup> build_materials(const Scene& scene);
 

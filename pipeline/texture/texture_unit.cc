@@ -12,6 +12,8 @@ namespace {
 enum Stage { kLod, kAddress, kCache, kBlend, kStages };
 constexpr int kMaxFront =
     2;  // coordinate and derivative stages (a constant bound for the compiler)
+// The kernels' kFront for a timed unit with relief or lighting stages: stages by index.
+constexpr int kAnyStages = 1000;
 }  // namespace
 
 PipelineSetup PipelineSetup::from_toml(const toml::table& t, const std::string& source) {
@@ -49,6 +51,25 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
       p.front_count = p.coords->has_derivs() ? 2 : 1;
       front_ = std::max(front_, p.front_count);
     }
+    if (m.relief) {
+      if (m.relief->height_tex < 0 || m.relief->height_tex >= textures_.size())
+        throw std::invalid_argument("texture unit: material '" + m.name +
+                                    "': relief height texture is not bound");
+      reliefs_.push_back(
+          std::make_unique<ReliefEffect>(*m.relief, textures_[m.relief->height_tex]));
+      p.relief = reliefs_.back().get();
+      p.relief_step_ii = p.relief->timing(tech_).ii;
+    }
+    if (m.lighting) {
+      const int nt = m.lighting->normal_tex;
+      if (m.lighting->normal != LightingSetup::Normal::Flat && (nt < 0 || nt >= textures_.size()))
+        throw std::invalid_argument("texture unit: material '" + m.name +
+                                    "': lighting normal texture is not bound");
+      lightings_.push_back(
+          std::make_unique<LightingEffect>(*m.lighting, nt >= 0 ? &textures_[nt] : nullptr));
+      p.lighting = lightings_.back().get();
+      p.light_extra_ii = p.lighting->timing(tech_).ii - 1;
+    }
     const uint32_t tpc = setup.cache.texels_per_cycle;
     for (int n = 1; n <= 16; ++n) {
       FilterTaps t;
@@ -58,6 +79,14 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     }
     paths_.push_back(p);
   }
+  // Relief and lighting stages exist only when some material uses them.
+  const bool any_relief =
+      std::any_of(paths_.begin(), paths_.end(), [](const Path& p) { return p.relief; });
+  const bool any_light =
+      std::any_of(paths_.begin(), paths_.end(), [](const Path& p) { return p.lighting; });
+  relief_stage_ = any_relief ? front_ : -1;
+  base_ = front_ + (any_relief ? 1 : 0);
+  light_stage_ = any_light ? base_ + kStages : -1;
   if (timing_) {
     // One stage per hardware unit; a unit serving several materials is sized for the slowest.
     TimingSpec lod_t{}, addr_t{};
@@ -69,7 +98,7 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     }
     TimingSpec cache_t;
     cache_t.latency = setup.cache.hit_latency;
-    std::vector<StageConfig> st(static_cast<size_t>(front_ + kStages));
+    std::vector<StageConfig> st(static_cast<size_t>(base_ + kStages + (any_light ? 1 : 0)));
     // Front end: one stage per coordinate-unit stage, sized for the slowest and widest unit;
     // each unit's own throughput comes back through front_extra (per-fragment issue cycles).
     static const char* const front_names[2] = {"coords", "derivs"};
@@ -90,8 +119,20 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
       st[static_cast<size_t>(s)] = {front_names[s], t, setup.fifo_depth, 0};
     }
     const auto at = [&](int stage) -> StageConfig& {
-      return st[static_cast<size_t>(front_) + static_cast<size_t>(stage)];
+      return st[static_cast<size_t>(base_) + static_cast<size_t>(stage)];
     };
+    // Relief: a loop issuing one step per step ii; lighting: normal unit then shader. Both
+    // sized for the slowest material (issue cycles per fragment come per item).
+    TimingSpec relief_t{}, light_t{};
+    for (const auto& p : paths_) {
+      if (p.relief) relief_t.latency = std::max(relief_t.latency, p.relief->timing(tech_).latency);
+      if (p.lighting)
+        light_t.latency = std::max(light_t.latency, p.lighting->timing(tech_).latency);
+    }
+    if (any_relief)
+      st[static_cast<size_t>(relief_stage_)] = {"relief", relief_t, setup.fifo_depth, 0};
+    if (any_light)
+      st[static_cast<size_t>(light_stage_)] = {"lighting", light_t, setup.fifo_depth, 0};
     at(kLod) = {"lod", lod_t, setup.fifo_depth, 0};
     at(kAddress) = {"address", addr_t, setup.fifo_depth, 0};
     at(kCache) = {"cache", cache_t, setup.fifo_depth, setup.cache.miss_queue};
@@ -248,10 +289,11 @@ Rgba TextureUnit::process_footprint(const Fragment& f, Path& p, const Texture& t
     const auto n = static_cast<uint32_t>(fetched_.size());
     const uint32_t tpc = setup_.cache.texels_per_cycle;
     const uint32_t scan = p.footprint->issue_cycles(out.stats);
-    const int addr = front_ + kAddress, cache = front_ + kCache;
+    const int addr = base_ + kAddress, cache = base_ + kCache;
     pipe_->issue_with(0, [&](int s, uint64_t start) {
       if (s < kMaxFront && s < front_) return front_cost(p, front, s);
       ItemCost c;
+      add_effect_costs(s, c);
       if (s == addr) c.extra_ii = scan > 0 ? scan - 1 : 0;
       if (s == cache) {
         c.extra_ii = n > 0 ? (n + tpc - 1) / tpc - 1 : 0;
@@ -283,6 +325,43 @@ void TextureUnit::drop(int material, const ItemCost* front, bool rejected) {
 
 Rgba TextureUnit::process(const Fragment& f, int material, const ItemCost* front) {
   Path& p = paths_[static_cast<size_t>(material)];
+  if (p.relief || p.lighting) return process_surface(f, p, material, front);
+  return filter_fragment(f, p, front);
+}
+
+Rgba TextureUnit::process_surface(const Fragment& f, Path& p, int material, const ItemCost* front) {
+  if (f.prim >= surfaces_.size()) {
+    throw std::invalid_argument(
+        "texture unit: material '" + mats_[static_cast<size_t>(material)].name +
+        "' has relief or lighting, which needs the plane of its primitive (a scene run); "
+        "primitive " +
+        std::to_string(f.prim) + " is not known");
+  }
+  const SurfaceFrame& sf = surfaces_[f.prim];
+  // The eye direction through the pixel's centre, in the primitive's tangent frame.
+  const glm::dvec3 view_ts = sf.to_tangent(sf.view(f.x + 0.5, f.y + 0.5));
+  Fragment g = f;
+  cur_relief_ii_ = 0;
+  if (p.relief) {
+    const ReliefEffect::Shift sh =
+        p.relief->shift(f.u, f.v, view_ts, sf.u_length(), sf.v_length(), p.relief_ops);
+    g.u = sh.u;
+    g.v = sh.v;
+    p.relief_steps += sh.steps;
+    p.relief_fetches += sh.fetches;
+    cur_relief_ii_ = sh.steps > 0 ? sh.steps * p.relief_step_ii - 1 : 0;
+  }
+  cur_light_ii_ = p.lighting ? p.light_extra_ii : 0;
+  Rgba c = filter_fragment(g, p, front);
+  cur_relief_ii_ = cur_light_ii_ = 0;
+  if (p.lighting) {
+    const glm::dvec3 light_ts = sf.to_tangent(p.lighting->setup().light_dir);
+    c = p.lighting->shade(c, g.u, g.v, view_ts, light_ts, p.normal_ops, p.shader_ops);
+  }
+  return c;
+}
+
+Rgba TextureUnit::filter_fragment(const Fragment& f, Path& p, const ItemCost* front) {
   // The fragment's own texture: a trace may texture a material's primitive with any texture of
   // its table, and the reference filters the same one.
   if (f.tex >= static_cast<uint32_t>(textures_.size()))
@@ -296,6 +375,29 @@ template <int kFront, class Lookups>
 void TextureUnit::issue_timed(Path& p, const ItemCost* front, uint32_t probes, Lookups&& lookups) {
   // Per-stage costs: the address stage issues one probe per cycle, cache and blend take
   // their texels in groups, and a miss in the cache stage waits for DRAM.
+  if constexpr (kFront == kAnyStages) {
+    // A unit with relief or lighting stages: every stage by index, the effects' extra cycles.
+    const int addr = base_ + kAddress, cache = base_ + kCache, blend = base_ + kBlend;
+    pipe_->issue_with(0, [&](int s, uint64_t start) {
+      if (s < kMaxFront && s < front_) return front_cost(p, front, s);
+      ItemCost c;
+      add_effect_costs(s, c);
+      if (s == addr) c.extra_ii = probes - 1;
+      if (s == cache) {
+        c.extra_ii = p.cache_extra_ii[probes];
+        c.extra_latency = lookups(start);
+      }
+      if (s == blend) c.extra_ii = p.blend_extra_ii[probes];
+      return c;
+    });
+  } else {
+    issue_fixed_stages<kFront>(p, front, probes, lookups);
+  }
+}
+
+template <int kFront, class Lookups>
+void TextureUnit::issue_fixed_stages(Path& p, const ItemCost* front, uint32_t probes,
+                                     Lookups& lookups) {
   pipe_->issue_fixed<kFront + kStages>(
       0, [&](auto stage, uint64_t start) __attribute__((always_inline)) {
         constexpr int s = decltype(stage)::value;
@@ -389,6 +491,8 @@ TextureUnit::Kernel TextureUnit::choose_kernel(const Path& p) const {
       !p.footprint && linear && blend_.quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
   const TexelLayout layout = textures_.layout();
   if (!pipe_) return pick_kernel<-1>(filter, layout, quads);
+  if (relief_stage_ >= 0 || light_stage_ >= 0)
+    return pick_kernel<kAnyStages>(filter, layout, quads);
   switch (front_) {
     case 0:
       return pick_kernel<0>(filter, layout, quads);
@@ -434,9 +538,22 @@ std::vector<BlockUse> TextureUnit::material_blocks(int material) const {
     if (p.coords->has_derivs())
       add("derivs." + cc.derivs + "[" + cc.format + "]", arith, st[1].timing, p.deriv_ops);
   }
+  if (p.relief)
+    add(p.relief->name(), p.relief->arithmetic(), p.relief->timing(tech_), p.relief_ops);
+  // Lighting comes after the blend (its blocks last).
+  const auto add_lighting = [&] {
+    if (!p.lighting) return;
+    if (p.lighting->has_normal_unit()) {
+      const NormalUnit& n = p.lighting->normal_unit();
+      add(n.name(), n.arithmetic(), n.timing(tech_), p.normal_ops);
+    }
+    const BlinnPhongShader& sh = p.lighting->shader();
+    add(sh.name(), sh.arithmetic(), sh.timing(tech_), p.shader_ops);
+  };
   if (p.footprint) {
     add(p.footprint->name(), p.footprint->arithmetic(), p.footprint->timing(tech_), p.footprint_ops,
         p.footprint_texels);
+    add_lighting();
     return out;
   }
   // Per-fragment and per-probe counts times the fragments and probes seen (see Path).
@@ -449,6 +566,7 @@ std::vector<BlockUse> TextureUnit::material_blocks(int material) const {
   add(p.lod.name(), p.lod.arithmetic(), p.lod.timing(tech_), p.lod.ops_per_item() * p.fragments);
   add(p.addr.name(), p.addr.arithmetic(), p.addr.timing(tech_), addr_ops, taps);
   add(blend_.name(), blend_.arithmetic(), blend_.timing(tech_), TexelBlend::ops_per_item() * taps);
+  add_lighting();
   return out;
 }
 

@@ -19,6 +19,7 @@
 #include "blocks/texture/sampler/lod_unit.h"
 #include "blocks/texture/sampler/texel_address_gen.h"
 #include "blocks/texture/sampler/texel_blend.h"
+#include "pipeline/geometry/surface_frame.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/texture/coord_method.h"
 #include "pipeline/texture/effect_registry.h"
@@ -74,6 +75,17 @@ class TextureUnit {
   // Coordinate front end: the stages (0, 1 or 2: coordinates, derivatives) in front of LOD,
   // present only when some material has a coordinate unit.
   int front_stages() const { return front_; }
+  // The shading frames of the scene's primitives (indexed by Fragment::prim), which relief and
+  // lighting need for the view vector. Without them a material with either effect is refused.
+  void set_surfaces(std::vector<SurfaceFrame> frames) { surfaces_ = std::move(frames); }
+  // Relief loop steps and height reads of material m over the run (0 without relief).
+  uint64_t material_relief_steps(int m) const {
+    return paths_[static_cast<size_t>(m)].relief_steps;
+  }
+  uint64_t material_relief_fetches(int m) const {
+    return paths_[static_cast<size_t>(m)].relief_fetches;
+  }
+  bool material_has_relief(int m) const { return paths_[static_cast<size_t>(m)].relief != nullptr; }
   const MaterialSetup& material(int m) const { return mats_[static_cast<size_t>(m)]; }
   const Texture& texture_of(int m) const {
     return textures_[mats_[static_cast<size_t>(m)].texture];
@@ -142,6 +154,13 @@ class TextureUnit {
     // Added issue cycles per front-end stage so the shared stage (sized for the widest unit)
     // gives this unit its own throughput: ceil(ii × lanes_stage / lanes_unit) − 1.
     uint32_t front_extra[2] = {};
+    // Relief and lighting of this material (null: none), their operations and the relief's
+    // loop steps and height reads (data-dependent, counted per call).
+    const ReliefEffect* relief = nullptr;
+    const LightingEffect* lighting = nullptr;
+    OpCounts relief_ops, normal_ops, shader_ops;
+    uint64_t relief_steps = 0, relief_fetches = 0;
+    uint32_t relief_step_ii = 1, light_extra_ii = 0;
   };
   // Tag look-ups of the fragment's distinct lines at cycle `start`; returns the cycles the
   // cache stage waits beyond its hit latency (DRAM refills).
@@ -171,6 +190,10 @@ class TextureUnit {
   template <int kFront, class Lookups>
   [[gnu::always_inline]] inline void issue_timed(Path& p, const ItemCost* front, uint32_t probes,
                                                  Lookups&& lookups);
+  // The fixed stage sequence of a unit without relief or lighting stages.
+  template <int kFront, class Lookups>
+  [[gnu::always_inline]] inline void issue_fixed_stages(Path& p, const ItemCost* front,
+                                                        uint32_t probes, Lookups& lookups);
   void count_fragment(const Fragment& f, Path& p, uint32_t probes) {
     ++p.fragments;
     p.aniso_fragments += probes > 1;
@@ -179,6 +202,14 @@ class TextureUnit {
   }
   uint64_t cache_lookups(const std::vector<TexelRef>& texels, const Texture& tex, uint64_t start);
   Rgba process_footprint(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  Rgba filter_fragment(const Fragment& f, Path& p, const ItemCost* front);
+  // Relief → filter → lighting for a material with either effect.
+  Rgba process_surface(const Fragment& f, Path& p, int material, const ItemCost* front);
+  // Extra issue cycles of the relief and lighting stages for the current fragment.
+  void add_effect_costs(int s, ItemCost& c) const {
+    if (s == relief_stage_) c.extra_ii += cur_relief_ii_;
+    if (s == light_stage_) c.extra_ii += cur_light_ii_;
+  }
   // Cost of front-end stage s for a fragment of path p (with the dropped fragments' cycles).
   ItemCost front_cost(const Path& p, const ItemCost* front, int s) {
     ItemCost c;
@@ -209,6 +240,12 @@ class TextureUnit {
   std::vector<uint64_t> lines_;
   uint64_t fragments_ = 0;
   int front_ = 0;
+  int base_ = 0;  // index of the LOD stage: after the front end and the relief stage
+  int relief_stage_ = -1, light_stage_ = -1;  // -1: no material needs the stage
+  uint32_t cur_relief_ii_ = 0, cur_light_ii_ = 0;
+  std::vector<std::unique_ptr<ReliefEffect>> reliefs_;
+  std::vector<std::unique_ptr<LightingEffect>> lightings_;
+  std::vector<SurfaceFrame> surfaces_;
   uint32_t pending_front_[2] = {};  // issue cycles of dropped fragments, per front-end stage
   FrontEndStats front_stats_;
   mutable std::vector<FrameStats> frames_;

@@ -39,6 +39,13 @@ std::set<std::string> needed(const SceneMaterial& m) {
     const toml::node* d = m.effects->at_path("coords.derivs").node();
     if (!d || d->value_or(std::string()) != "none") want.insert("derivs.");
   }
+  // Relief and lighting: their blocks only when the material names them.
+  if (m.effects->contains("relief")) want.insert("relief.");
+  if (m.effects->contains("lighting")) {
+    want.insert("lighting.blinn_phong");
+    const toml::node* n = m.effects->at_path("lighting.normal").node();
+    if (n && n->value_or(std::string()) != "flat") want.insert("lighting.normal_unit");
+  }
   if (!footprint.empty()) {
     want.insert(footprint);
   } else {
@@ -55,6 +62,7 @@ std::string prefix_of(const std::string& block) {
     if (block.rfind(p, 0) == 0) return p;
   }
   if (block.rfind("filter.", 0) == 0) return "filter.";
+  if (block.rfind("relief.", 0) == 0) return "relief.";
   return block;
 }
 
@@ -106,7 +114,8 @@ TEST(MaterialEffects, UnknownOrMisplacedEffectsNameFileLineAndColumn) {
       error_of(std::string(kTexture) + "[materials.m]\ntexture = \"t\"\nfiltre = {}\n");
   EXPECT_NE(unknown.find("s.toml:5:1"), std::string::npos) << unknown;
   EXPECT_NE(unknown.find("materials.m: unknown key 'filtre' (known: texture, filter, lod, coords, "
-                         "raster, ewa, multi_probe, feline, spaf)"),
+                         "raster, relief, lighting, ewa, multi_probe, feline, "
+                         "spaf)"),
             std::string::npos)
       << unknown;
   const std::string scalar =
@@ -123,8 +132,10 @@ TEST(MaterialEffects, UnknownOrMisplacedEffectsNameFileLineAndColumn) {
 
 TEST(MaterialEffects, EveryRegisteredEffectBuilds) {
   for (const Effect& e : effect_registry()) {
-    const std::string text =
-        std::string(kTexture) + "[materials.m]\ntexture = \"t\"\n" + std::string(e.key) + " = {}\n";
+    // Relief needs its height map; every other effect builds from an empty table.
+    const std::string table = e.key == "relief" ? "{ height_texture = 't' }" : "{}";
+    const std::string text = std::string(kTexture) + "[materials.m]\ntexture = \"t\"\n" +
+                             std::string(e.key) + " = " + table + "\n";
     EXPECT_EQ(error_of(text), "") << e.key;
   }
 }

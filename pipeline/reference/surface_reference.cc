@@ -1,0 +1,120 @@
+#include "pipeline/reference/surface_reference.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "pipeline/reference/ground_truth.h"
+
+namespace texsim {
+
+namespace {
+
+constexpr int kLayers = 1024, kHalvings = 24;
+
+// Blinn-Phong in double (docs/derivations/lighting.md §1), each channel clamped to [0, 1].
+glm::dvec3 blinn_phong(const glm::dvec3& base, const glm::dvec3& n, const glm::dvec3& l,
+                       const glm::dvec3& v, const BlinnPhongShader::Config& c) {
+  const double ndl = glm::dot(n, l);
+  double spec = 0;
+  if (ndl > 0) {
+    const glm::dvec3 h = glm::normalize(l + v);
+    spec = std::pow(std::max(glm::dot(n, h), 0.0), c.shininess);
+  }
+  const glm::dvec3 light(c.light_r, c.light_g, c.light_b);
+  return glm::clamp(
+      base * (c.ambient + c.diffuse * std::max(ndl, 0.0)) + light * (c.specular * spec), 0.0, 1.0);
+}
+
+}  // namespace
+
+SurfaceReference::SurfaceReference(const MaterialSetup& m, const TextureSet& textures)
+    : au_(m.address_u()), av_(m.address_v()), relief_(m.relief), lighting_(m.lighting) {
+  if (relief_ && relief_->height_tex >= 0)
+    relief_hm_ = height_map_of(textures[relief_->height_tex]);
+  if (lighting_ && lighting_->normal_tex >= 0) {
+    normal_tex_ = &textures[lighting_->normal_tex];
+    if (lighting_->normal == LightingSetup::Normal::HeightMap)
+      normal_hm_ = height_map_of(*normal_tex_);
+  }
+}
+
+glm::dvec2 SurfaceReference::relief_uv(double u, double v, const glm::dvec3& view_ts, double u_len,
+                                       double v_len) const {
+  const ReliefHeightMap& hm = relief_hm_;
+  if (hm.width <= 0 || !std::isfinite(u) || !std::isfinite(v)) return {u, v};
+  const double tu = std::floor(u), tv = std::floor(v);
+  const double x = (u - tu) * hm.width - 0.5, y = (v - tv) * hm.height - 0.5;
+  const glm::dvec3 vt = view_in_texels(view_ts, u_len, v_len, hm.width, hm.height);
+  const double len = glm::length(vt);
+  if (!(len > 0) || !std::isfinite(len)) return {u, v};
+  // Texel shift per unit of depth (0 at the polygon, 1 at height 0); V.z clamped as the
+  // blocks' grazing limit is not a property of the surface: 1e-3 only avoids a division by 0.
+  const double vz = std::max(vt.z / len, 1e-3);
+  const double sx = -vt.x / len / vz * relief_->scale, sy = -vt.y / len / vz * relief_->scale;
+  // First layer whose depth reaches below the surface (depth d is under height 1 − d).
+  double lo = 0, hi = 1;
+  bool hit = false;
+  for (int i = 1; i <= kLayers; ++i) {
+    const double d = static_cast<double>(i) / kLayers;
+    if (d >= 1 - hm.bilinear(x + sx * d, y + sy * d)) {
+      lo = d - 1.0 / kLayers;
+      hi = d;
+      hit = true;
+      break;
+    }
+  }
+  if (hit) {
+    for (int k = 0; k < kHalvings; ++k) {
+      const double d = 0.5 * (lo + hi);
+      (d >= 1 - hm.bilinear(x + sx * d, y + sy * d) ? hi : lo) = d;
+    }
+  }
+  return {tu + (x + sx * hi + 0.5) / hm.width, tv + (y + sy * hi + 0.5) / hm.height};
+}
+
+glm::dvec3 SurfaceReference::normal_at(double u, double v) const {
+  if (!lighting_ || lighting_->normal == LightingSetup::Normal::Flat) return {0, 0, 1};
+  glm::dvec3 n;
+  if (lighting_->normal == LightingSetup::Normal::NormalMap) {
+    n = normal_map_rgb(*normal_tex_, u, v) * 2.0 - 1.0;
+    n.y = -n.y;  // green up: towards −v
+  } else {
+    const ReliefHeightMap& hm = normal_hm_;
+    const double x = (u - std::floor(u)) * hm.width - 0.5,
+                 y = (v - std::floor(v)) * hm.height - 0.5;
+    const double s = lighting_->normals.bump_scale * 0.5;
+    n = {-(hm.bilinear(x + 1, y) - hm.bilinear(x - 1, y)) * s,
+         -(hm.bilinear(x, y + 1) - hm.bilinear(x, y - 1)) * s, 1.0};
+  }
+  const double l = glm::length(n);
+  return l > 0 && std::isfinite(l) ? n / l : glm::dvec3(0, 0, 1);
+}
+
+glm::dvec4 SurfaceReference::operator()(const Texture& tex, const PlaneProjection& map,
+                                        const SurfaceFrame& sf, int px, int py, int n) const {
+  const glm::dvec3 view_ts = sf.to_tangent(sf.view(px + 0.5, py + 0.5));
+  glm::dvec2 shift(0);
+  if (relief_) {
+    const UvSample c = map.at(px + 0.5, py + 0.5);
+    shift = relief_uv(c.u, c.v, view_ts, sf.u_length(), sf.v_length()) - glm::dvec2(c.u, c.v);
+  }
+  const glm::dvec3 light_ts = lighting_ ? sf.to_tangent(lighting_->light_dir) : glm::dvec3(0, 0, 1);
+  glm::dvec4 sum(0);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const UvSample s = map.at(px + (i + 0.5) / n, py + (j + 0.5) / n);
+      const double u = s.u + shift.x, v = s.v + shift.y;
+      glm::dvec4 c = reference_bilinear(tex, au_, av_, u, v);
+      if (lighting_) {
+        const glm::dvec3 lit = blinn_phong(glm::clamp(glm::dvec3(c), 0.0, 1.0), normal_at(u, v),
+                                           light_ts, view_ts, lighting_->shader);
+        c = glm::dvec4(lit, c.a);
+      }
+      sum += c;
+    }
+  }
+  return sum / static_cast<double>(n * n);
+}
+
+}  // namespace texsim

@@ -1,0 +1,40 @@
+#pragma once
+// Ground truth of a material with relief or lighting (docs/scenes.md#relief-and-lighting),
+// written apart from the blocks it checks:
+//  - relief: the view ray through the pixel's centre is intersected with the height field by a
+//    1024-layer linear search and 24 halvings over bilinear heights, in double; every sample
+//    of the pixel's box filter is shifted by the (u, v) offset found there;
+//  - lighting: each sample's bilinear colour is lit in double by the same Blinn-Phong model
+//    with the normal at the sample's (shifted) coordinates (bilinear normal map, or central
+//    differences of the bilinear height map) and the pixel's view vector, then averaged.
+#include <glm/vec4.hpp>
+#include <optional>
+
+#include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/relief/relief_types.h"
+#include "pipeline/geometry/plane_projection.h"
+#include "pipeline/geometry/surface_frame.h"
+#include "pipeline/texture/effect_registry.h"
+
+namespace texsim {
+
+class SurfaceReference {
+ public:
+  SurfaceReference(const MaterialSetup& m, const TextureSet& textures);
+  bool active() const { return relief_.has_value() || lighting_.has_value(); }
+  glm::dvec4 operator()(const Texture& tex, const PlaneProjection& map, const SurfaceFrame& sf,
+                        int px, int py, int n) const;
+  // The reference relief's (u, v) for normalised (u, v) and a unit tangent-space view vector.
+  glm::dvec2 relief_uv(double u, double v, const glm::dvec3& view_ts, double u_len,
+                       double v_len) const;
+
+ private:
+  glm::dvec3 normal_at(double u, double v) const;
+  AddressMode au_, av_;
+  std::optional<ReliefSetup> relief_;
+  std::optional<LightingSetup> lighting_;
+  ReliefHeightMap relief_hm_, normal_hm_;
+  const Texture* normal_tex_ = nullptr;
+};
+
+}  // namespace texsim

@@ -1,0 +1,211 @@
+#include "pipeline/texture/surface_effects.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "blocks/base/input_error.h"
+
+namespace texsim {
+
+namespace {
+
+// The effect's own keys beside those of the blocks it builds.
+const std::vector<std::string_view> kLightingKeys = {"model", "normal", "normal_texture",
+                                                     "light_dir", "bump_scale"};
+
+glm::dvec3 read_vec3(const ConfigReader& r, std::string_view key, glm::dvec3 def) {
+  const toml::node* n = r.table().get(key);
+  if (!n) return def;
+  const toml::array* a = n->as_array();
+  if (!a || a->size() != 3) r.fail(key, "expected an array of three numbers");
+  glm::dvec3 v;
+  for (int i = 0; i < 3; ++i) {
+    const auto x = (*a)[static_cast<size_t>(i)].value<double>();
+    if (!x || !std::isfinite(*x)) r.fail(key, "expected an array of three finite numbers");
+    v[i] = *x;
+  }
+  if (!(glm::length(v) > 0)) r.fail(key, "must not be the zero vector");
+  return glm::normalize(v);
+}
+
+double frac_floor(double x) { return std::isfinite(x) ? std::floor(x) : 0.0; }
+
+}  // namespace
+
+LightingSetup LightingSetup::from_toml(const ConfigReader& r) {
+  LightingSetup s;
+  (void)r.get_choice("model", 0, {"blinn_phong"});
+  s.normal = static_cast<Normal>(r.get_choice("normal", 0, {"flat", "normal_map", "height_map"}));
+  s.normal_texture = r.get_string("normal_texture", "");
+  if (s.normal != Normal::Flat && s.normal_texture.empty())
+    r.fail("normal", "needs `normal_texture`, the name of the map's texture");
+  if (s.normal == Normal::Flat && !s.normal_texture.empty())
+    r.fail("normal_texture", "flat normals read no texture");
+  s.light_dir = read_vec3(r, "light_dir", glm::normalize(s.light_dir));
+  s.normals.source =
+      s.normal == Normal::HeightMap ? NormalUnit::Source::HeightMap : NormalUnit::Source::NormalMap;
+  s.normals.bump_scale = r.get_double("bump_scale", s.normals.bump_scale);
+  if (!(std::fabs(s.normals.bump_scale) <= 1e6)) r.fail("bump_scale", "must be finite, |s| <= 1e6");
+  s.shader =
+      BlinnPhongShader::Config::from_toml(r.for_block("lighting.blinn_phong", kLightingKeys));
+  return s;
+}
+
+ReliefSetup ReliefSetup::from_toml(const ConfigReader& r) {
+  r.reject_unknown(
+      {"method", "height_texture", "scale", "parallax", "tracer", "distance_map", "refined"});
+  ReliefSetup s;
+  s.method = static_cast<Method>(r.get_choice("method", 1, {"parallax", "steep", "distance_map"}));
+  s.height_texture = r.get_string("height_texture", "");
+  if (s.height_texture.empty()) r.fail("height_texture", "is required: the height map's texture");
+  s.scale = r.get_double("scale", s.scale);
+  if (!(s.scale > 0 && s.scale <= 1024)) r.fail("scale", "must be in (0, 1024] texels");
+  s.refined = r.get_bool("refined", s.refined);
+  const ConfigReader p = r.sub("parallax");
+  if (p.table().contains("method") || p.table().contains("depth_texels"))
+    p.fail("method", "is set by relief.method and relief.scale, not here");
+  s.parallax = ParallaxMapper::Config::from_toml(p);
+  s.parallax.method = s.method == Method::Parallax ? ParallaxMapper::Method::Offset
+                                                   : ParallaxMapper::Method::Iterative;
+  s.parallax.depth_texels = s.scale;
+  s.tracer = SphereTracer::Config::from_toml(r.sub("tracer"));
+  s.distance_map = DistanceMapBuilder::Config::from_toml(r.sub("distance_map"));
+  return s;
+}
+
+std::string ReliefSetup::block_name() const {
+  switch (method) {
+    case Method::Parallax:
+      return "relief.parallax_offset";
+    case Method::Steep:
+      return "relief.parallax_iterative";
+    case Method::DistanceMap:
+      return refined ? "relief.sphere_tracer[refined]" : "relief.sphere_tracer";
+  }
+  return "relief";
+}
+
+ReliefHeightMap height_map_of(const Texture& t) {
+  ReliefHeightMap hm(t.width(0), t.height(0));
+  for (int y = 0; y < hm.height; ++y) {
+    for (int x = 0; x < hm.width; ++x) hm.at(x, y) = std::clamp(t.texel(0, x, y).r, 0.0F, 1.0F);
+  }
+  return hm;
+}
+
+glm::dvec3 view_in_texels(const glm::dvec3& view_ts, double u_len, double v_len, int hm_w,
+                          int hm_h) {
+  // World length of one texel along u and v, and their geometric mean for the depth axis.
+  const double su = u_len / hm_w, sv = v_len / hm_h, sz = std::sqrt(su * sv);
+  return {view_ts.x / su, view_ts.y / sv, view_ts.z / sz};
+}
+
+ReliefEffect::ReliefEffect(const ReliefSetup& s, const Texture& height)
+    : setup_(s), hm_(height_map_of(height)), mapper_(s.parallax), tracer_(s.tracer) {
+  if (s.method == ReliefSetup::Method::DistanceMap) {
+    const DistanceMapBuilder b(s.distance_map);
+    dmap_ = s.refined ? b.refined(hm_) : b.classic(hm_);
+  }
+}
+
+std::string ReliefEffect::arithmetic() const {
+  return setup_.method == ReliefSetup::Method::DistanceMap ? tracer_.arithmetic()
+                                                           : mapper_.arithmetic();
+}
+
+TimingSpec ReliefEffect::timing(const TechTable& t) const {
+  return setup_.method == ReliefSetup::Method::DistanceMap ? tracer_.timing(t) : mapper_.timing(t);
+}
+
+ReliefEffect::Shift ReliefEffect::shift(double u, double v, const glm::dvec3& view_ts, double u_len,
+                                        double v_len, OpCounts& ops) const {
+  Shift s{u, v, 0, 0};
+  // The height map repeats with the texture: work in the tile holding (u, v).
+  const double tu = frac_floor(u), tv = frac_floor(v);
+  const double x = (u - tu) * hm_.width - 0.5, y = (v - tv) * hm_.height - 0.5;
+  const glm::dvec3 vt = view_in_texels(view_ts, u_len, v_len, hm_.width, hm_.height);
+  double sx = x, sy = y;
+  if (setup_.method == ReliefSetup::Method::DistanceMap) {
+    const double layers_per_texel = dmap_.depth / setup_.scale;
+    const glm::dvec3 dir(-vt.x, -vt.y, -vt.z * layers_per_texel);
+    const SphereTracer::Result r =
+        tracer_.trace(dmap_, {x, y, static_cast<double>(dmap_.depth)}, dir, ops);
+    s.steps = r.iterations;
+    s.fetches = r.fetches;
+    if (r.status == SphereTracer::Status::Invalid) return s;
+    sx = r.pos.x;
+    sy = r.pos.y;
+  } else {
+    const ParallaxMapper::Result r = mapper_.map(hm_, x, y, vt.x, vt.y, vt.z, ops);
+    s.steps = setup_.method == ReliefSetup::Method::Parallax ? 1 : r.linear_steps + r.binary_steps;
+    s.fetches = 4 * r.samples;
+    if (r.bad_input) return s;
+    sx = r.u;
+    sy = r.v;
+  }
+  s.u = tu + (sx + 0.5) / hm_.width;
+  s.v = tv + (sy + 0.5) / hm_.height;
+  return s;
+}
+
+glm::dvec3 normal_map_rgb(const Texture& t, double u, double v) {
+  const int w = t.width(0), h = t.height(0);
+  if (!std::isfinite(u) || !std::isfinite(v)) return {0.5, 0.5, 1.0};
+  const double x = (u - std::floor(u)) * w - 0.5, y = (v - std::floor(v)) * h - 0.5;
+  const double fx = std::floor(x), fy = std::floor(y), a = x - fx, b = y - fy;
+  const auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
+  const int x0 = wrap(static_cast<int>(fx), w), x1 = wrap(static_cast<int>(fx) + 1, w);
+  const int y0 = wrap(static_cast<int>(fy), h), y1 = wrap(static_cast<int>(fy) + 1, h);
+  const auto at = [&](int xi, int yi) {
+    const Rgba c = t.texel(0, xi, yi);
+    return glm::dvec3(c.r, c.g, c.b);
+  };
+  return (1 - a) * (1 - b) * at(x0, y0) + a * (1 - b) * at(x1, y0) + (1 - a) * b * at(x0, y1) +
+         a * b * at(x1, y1);
+}
+
+LightingEffect::LightingEffect(const LightingSetup& s, const Texture* normal_tex)
+    : setup_(s), tex_(normal_tex), normals_(s.normals), shader_(s.shader) {
+  if (s.normal != LightingSetup::Normal::Flat && !tex_)
+    throw std::logic_error("lighting: the normal texture '" + s.normal_texture + "' is not bound");
+  if (s.normal == LightingSetup::Normal::HeightMap) hm_ = height_map_of(*tex_);
+}
+
+Rgba LightingEffect::shade(const Rgba& c, double u, double v, const glm::dvec3& view_ts,
+                           const glm::dvec3& light_ts, OpCounts& normal_ops,
+                           OpCounts& shader_ops) const {
+  glm::vec3 n(0, 0, 1);
+  if (setup_.normal == LightingSetup::Normal::NormalMap) {
+    // Bilinear read of the map (4 texels, 3 channels): then the unit decodes and normalises.
+    normal_ops.mem += 4;
+    normal_ops.mul += 9;
+    normal_ops.add += 9;
+    const glm::vec3 rgb(normal_map_rgb(*tex_, u, v));
+    n = normals_.from_map(rgb, normal_ops).n;
+    n.y = -n.y;  // green up: towards −v
+  } else if (setup_.normal == LightingSetup::Normal::HeightMap) {
+    const double x = (u - frac_floor(u)) * hm_.width, y = (v - frac_floor(v)) * hm_.height;
+    n = normals_
+            .from_height(hm_, static_cast<int32_t>(std::floor(x)),
+                         static_cast<int32_t>(std::floor(y)), normal_ops)
+            .n;
+  }
+  const glm::vec3 lit =
+      shader_
+          .shade(glm::vec3(c.r, c.g, c.b), n, glm::vec3(light_ts), glm::vec3(view_ts), shader_ops)
+          .rgb;
+  return {lit.x, lit.y, lit.z, c.a};
+}
+
+TimingSpec LightingEffect::timing(const TechTable& t) const {
+  TimingSpec s = shader_.timing(t);
+  if (!has_normal_unit()) return s;
+  const TimingSpec n = normals_.timing(t);
+  s.latency += n.latency;
+  s.ii = std::max(s.ii, n.ii);
+  s.area += n.area;
+  return s;
+}
+
+}  // namespace texsim

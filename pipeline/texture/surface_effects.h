@@ -1,0 +1,118 @@
+#pragma once
+// The relief and lighting effects of a material (docs/scenes.md#relief-and-lighting):
+//  - relief (a stage in front of LOD): shifts a fragment's (u, v) along the tangent-space view
+//    vector over a height map, by offset parallax, steep/relief parallax (ParallaxMapper) or
+//    sphere tracing a distance map (DistanceMapBuilder + SphereTracer);
+//  - lighting (ПРО, a stage after the blend): the filtered colour lit per fragment by one
+//    directional light (BlinnPhongShader) with a normal that is the plane's, a normal map's or
+//    a height map's (NormalUnit).
+// Both work in the primitive's tangent frame: x along +u, y along +v, z out of the surface
+// (pipeline/geometry/surface_frame.h). Normal maps use the OpenGL convention (green up, i.e.
+// towards −v): their y is negated into the frame.
+// Setups are read from a material's table; texture names are bound to texture ids later.
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <memory>
+#include <string>
+
+#include "blocks/base/config_reader.h"
+#include "blocks/base/op_counts.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/base/timing_spec.h"
+#include "blocks/lighting/blinn_phong_shader.h"
+#include "blocks/lighting/normal_unit.h"
+#include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/relief/distance_map_builder.h"
+#include "blocks/texture/relief/parallax_mapper.h"
+#include "blocks/texture/relief/sphere_tracer.h"
+
+namespace texsim {
+
+struct LightingSetup {
+  enum class Normal : uint8_t { Flat, NormalMap, HeightMap };
+  Normal normal = Normal::Flat;
+  std::string normal_texture;           // texture name (normal_map, height_map)
+  int normal_tex = -1;                  // its texture id once bound
+  glm::dvec3 light_dir{0.3, 0.5, 1.0};  // world space, towards the light (normalised here)
+  BlinnPhongShader::Config shader;
+  NormalUnit::Config normals;  // source and bump_scale
+  static LightingSetup from_toml(const ConfigReader& r);
+};
+
+struct ReliefSetup {
+  enum class Method : uint8_t { Parallax, Steep, DistanceMap };
+  Method method = Method::Steep;
+  std::string height_texture;
+  int height_tex = -1;
+  double scale = 8;  // depth of the relief below the polygon, in height-map texels
+  ParallaxMapper::Config parallax;
+  SphereTracer::Config tracer;
+  DistanceMapBuilder::Config distance_map;
+  bool refined = false;  // distance_map: the refined map instead of Donnelly's classic one
+  static ReliefSetup from_toml(const ConfigReader& r);
+  std::string block_name() const;
+};
+
+// A height texture's level 0 as relief heights (red channel, clamped to [0, 1]).
+ReliefHeightMap height_map_of(const Texture& t);
+
+// The tangent-space view vector in height-map texel units (x, y) and relief depth units (z):
+// the relief's blocks take directions in texels. u_len, v_len: world length of a unit of u, v.
+glm::dvec3 view_in_texels(const glm::dvec3& view_ts, double u_len, double v_len, int hm_w,
+                          int hm_h);
+
+// The relief stage of one material.
+class ReliefEffect {
+ public:
+  ReliefEffect(const ReliefSetup& s, const Texture& height);
+  struct Shift {
+    double u = 0, v = 0;   // the shifted normalised coordinates
+    uint32_t steps = 0;    // iterations of the method's loop (1 for offset parallax)
+    uint32_t fetches = 0;  // height (or distance) reads: bilinear reads count 4
+  };
+  // (u, v): normalised coordinates on the polygon; view_ts: unit tangent-space view vector;
+  // u_len, v_len: world length of a unit of u and of v on the plane.
+  Shift shift(double u, double v, const glm::dvec3& view_ts, double u_len, double v_len,
+              OpCounts& ops) const;
+  std::string name() const { return setup_.block_name(); }
+  std::string arithmetic() const;
+  // Timing of one step of the loop.
+  TimingSpec timing(const TechTable& t) const;
+  const ReliefSetup& setup() const { return setup_; }
+
+ private:
+  ReliefSetup setup_;
+  ReliefHeightMap hm_;
+  ParallaxMapper mapper_;
+  SphereTracer tracer_;
+  DistanceMap dmap_;
+};
+
+// The lighting stage of one material.
+class LightingEffect {
+ public:
+  // normal_tex: the normal or height texture (null for flat normals).
+  LightingEffect(const LightingSetup& s, const Texture* normal_tex);
+  // c: filtered colour; (u, v): normalised coordinates of the fragment (after relief);
+  // view_ts, light_ts: unit vectors in the tangent frame. Alpha is kept.
+  Rgba shade(const Rgba& c, double u, double v, const glm::dvec3& view_ts,
+             const glm::dvec3& light_ts, OpCounts& normal_ops, OpCounts& shader_ops) const;
+  bool has_normal_unit() const { return setup_.normal != LightingSetup::Normal::Flat; }
+  const NormalUnit& normal_unit() const { return normals_; }
+  const BlinnPhongShader& shader() const { return shader_; }
+  // The stage: the normal unit then the shader.
+  TimingSpec timing(const TechTable& t) const;
+  const LightingSetup& setup() const { return setup_; }
+
+ private:
+  LightingSetup setup_;
+  const Texture* tex_ = nullptr;
+  ReliefHeightMap hm_;  // height_map normals
+  NormalUnit normals_;
+  BlinnPhongShader shader_;
+};
+
+// The normal map's texel at normalised (u, v): bilinear over level 0, wrapped (RGB in [0, 1]).
+glm::dvec3 normal_map_rgb(const Texture& t, double u, double v);
+
+}  // namespace texsim
