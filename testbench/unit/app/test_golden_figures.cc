@@ -451,6 +451,52 @@ materials.ground.ops add=13532543 cmp=2583421 div=54859 lut=219436 mem=1760536 m
 materials.ground.psnr 27.648557367405779
 )");
 }
+TEST_F(GoldenFigures, ReliefWall) {
+  check(scene("relief_wall"), R"(
+fragments 47622
+cycles 614881
+blocks.blend.ops add=3137792 cmp=0 div=0 lut=0 mem=784448 mul=3137792 rcp=0 sqrt=0
+blocks.blend.texels 0
+blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=784448 mul=0 rcp=0 sqrt=0
+blocks.cache.texels 784448
+blocks.filter.trilinear.ops add=2722308 cmp=1117802 div=0 lut=24932 mem=0 mul=3730612 rcp=0 sqrt=0
+blocks.filter.trilinear.texels 784448
+blocks.lighting.blinn_phong.ops add=619086 cmp=428598 div=0 lut=47622 mem=0 mul=857196 rcp=47622 sqrt=47622
+blocks.lighting.blinn_phong.texels 0
+blocks.lighting.normal_unit.ops add=439808 cmp=47622 div=0 lut=0 mem=190488 mul=630296 rcp=47622 sqrt=47622
+blocks.lighting.normal_unit.texels 0
+blocks.lod.ops add=287974 cmp=267526 div=24932 lut=97486 mem=0 mul=430840 rcp=0 sqrt=24932
+blocks.lod.texels 0
+blocks.relief.parallax_iterative.ops add=5761766 cmp=643493 div=0 lut=0 mem=2274788 mul=2229663 rcp=49864 sqrt=24932
+blocks.relief.parallax_iterative.texels 0
+blocks.relief.parallax_offset.ops add=272280 cmp=68070 div=0 lut=0 mem=90760 mul=363040 rcp=45380 sqrt=22690
+blocks.relief.parallax_offset.texels 0
+stages.address.busy 98056
+stages.address.stalls blocked=36232 latency_full=0 multi_cycle=50434 starved=480468
+stages.blend.busy 98056
+stages.blend.stalls blocked=0 latency_full=0 multi_cycle=50434 starved=516760
+stages.cache.busy 196112
+stages.cache.stalls blocked=0 latency_full=18518 multi_cycle=148490 starved=400183
+stages.lighting.busy 47622
+stages.lighting.stalls blocked=0 latency_full=0 multi_cycle=0 starved=567203
+stages.lod.busy 47622
+stages.lod.stalls blocked=27513 latency_full=0 multi_cycle=0 starved=539491
+stages.relief.busy 591387
+stages.relief.stalls blocked=23201 latency_full=0 multi_cycle=543765 starved=0
+hits 146544
+misses 38198
+texel_reads 784448
+dram busy_cycles=152792 bytes=2444672 requests=38198
+psnr_db 26.231085247406185
+max_abs 0.39585393667221069
+materials.floor.fragments 22690
+materials.floor.ops add=2110170 cmp=703390 div=0 lut=45380 mem=363040 mul=2677420 rcp=90760 sqrt=68070
+materials.floor.psnr 23.320616543745114
+materials.wall.fragments 24932
+materials.wall.ops add=11130844 cmp=1869721 div=24932 lut=124660 mem=2977444 mul=8702019 rcp=99728 sqrt=99728
+materials.wall.psnr 35.048862333608625
+)");
+}
 TEST_F(GoldenFigures, SampleTrace) {
   check(std::string("--trace ") + TEXSIM_SOURCE_DIR + "/traces/samples/basic.trc", R"(
 fragments 8
