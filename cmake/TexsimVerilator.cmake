@@ -12,11 +12,22 @@ set(TEXSIM_RTL_TESTS ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_vd.cc
 set(TEXSIM_RTL_BENCH ${PROJECT_SOURCE_DIR}/testbench/rtl/bench_rtl_vs_cpp.cc)
 set(TEXSIM_RTL_CC ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc
   ${PROJECT_SOURCE_DIR}/rtl_model/verilator/rtl_harness.cc)
-texsim_listed(${TEXSIM_RTL_TESTS} ${TEXSIM_RTL_BENCH} ${TEXSIM_RTL_CC})
+# The virtual board's RTL blocks (rtl_model/verilator/vd_rtl_block.h): the Verilated V(d)
+# blocks, or without Verilator a stand-in that says so. `texsim` links one of the two.
+set(TEXSIM_RTL_BOARD_CC ${PROJECT_SOURCE_DIR}/rtl_model/verilator/vd_rtl_block.cc)
+set(TEXSIM_RTL_BOARD_ABSENT_CC ${PROJECT_SOURCE_DIR}/rtl_model/verilator/vd_rtl_block_absent.cc)
+set(TEXSIM_RTL_BOARD_TEST ${PROJECT_SOURCE_DIR}/testbench/cosim/test_rtl_board.cc)
+texsim_listed(${TEXSIM_RTL_TESTS} ${TEXSIM_RTL_BENCH} ${TEXSIM_RTL_CC} ${TEXSIM_RTL_BOARD_CC}
+  ${TEXSIM_RTL_BOARD_ABSENT_CC} ${TEXSIM_RTL_BOARD_TEST})
 
 find_package(verilator 5 QUIET HINTS $ENV{VERILATOR_ROOT} /usr/share/verilator)
 if(NOT verilator_FOUND OR NOT VERILATOR_BIN)
-  message(STATUS "Verilator not found: RTL blocks, lockstep tests and RTL benchmark skipped")
+  message(STATUS "Verilator not found: RTL blocks, lockstep tests and RTL benchmark skipped; "
+    "the virtual board runs the C++ models only")
+  add_library(texsim_rtl_board STATIC ${TEXSIM_RTL_BOARD_ABSENT_CC})
+  target_link_libraries(texsim_rtl_board PUBLIC texsim_link)
+  texsim_set_warnings(texsim_rtl_board)
+  target_link_libraries(texsim_app PUBLIC texsim_rtl_board)
   return()
 endif()
 message(STATUS "Verilator ${verilator_VERSION}: RTL lockstep tests enabled")
@@ -96,6 +107,13 @@ foreach(b ${TEXSIM_RTL_BLOCKS})
   list(APPEND TEXSIM_RTL_LIBS texsim_rtl_${b})
 endforeach()
 
+# The Verilated V(d) blocks behind the virtual board of `texsim cosim --board rtl`.
+add_library(texsim_rtl_board STATIC ${TEXSIM_RTL_BOARD_CC})
+target_link_libraries(texsim_rtl_board PUBLIC texsim_link texsim_rtl_harness texsim_rtl_vd_p2
+  texsim_rtl_vd_p1)
+texsim_set_warnings(texsim_rtl_board)
+target_link_libraries(texsim_app PUBLIC texsim_rtl_board)
+
 if(TEXSIM_BUILD_TESTS)
   find_package(GTest REQUIRED)
   include(GoogleTest)
@@ -106,6 +124,10 @@ if(TEXSIM_BUILD_TESTS)
     texsim_set_warnings(${name})
     gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 600)
   endforeach()
+  add_executable(test_rtl_board ${TEXSIM_RTL_BOARD_TEST})
+  target_link_libraries(test_rtl_board PRIVATE texsim_rtl_board GTest::gtest GTest::gtest_main)
+  texsim_set_warnings(test_rtl_board)
+  gtest_discover_tests(test_rtl_board DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 600)
 endif()
 if(TEXSIM_BUILD_TESTS AND TEXSIM_BUILD_BENCH AND EXISTS ${TEXSIM_RTL_BENCH})
   find_package(benchmark REQUIRED)

@@ -12,6 +12,7 @@
 #include "rtl_model/link/link_host.h"
 #include "rtl_model/link/vd_core_block.h"
 #include "rtl_model/link/virtual_board.h"
+#include "rtl_model/verilator/vd_rtl_block.h"
 
 namespace texsim {
 
@@ -19,10 +20,15 @@ namespace {
 
 using namespace texsim::link;
 
-std::unique_ptr<Transport> open_link(const CosimOptions& opt) {
+// The virtual board's blocks: "rtl" or "model" (the board is resolved, never empty here).
+std::unique_ptr<Transport> open_link(const CosimOptions& opt, const std::string& board) {
   if (opt.link == "virtual") {
     std::vector<std::unique_ptr<BoardBlock>> blocks;
-    for (const std::string& n : core_block_names()) blocks.push_back(make_core_block(n));
+    if (board == "rtl") {
+      for (const std::string& n : rtl_block_names()) blocks.push_back(make_rtl_block(n));
+    } else {
+      for (const std::string& n : core_block_names()) blocks.push_back(make_core_block(n));
+    }
     return std::make_unique<VirtualBoard>(std::move(blocks));
   }
   if (opt.link == "hid") {
@@ -66,15 +72,45 @@ Tally stream_and_compare(LinkHost& host, BoardBlock& core, const CosimOptions& o
   return t;
 }
 
+// What the virtual board runs, said on `out`: by default the RTL when the build has it and it
+// is built for the format asked, else the C++ models. An explicit --board rtl that cannot be
+// served is an error.
+std::string resolve_board(const CosimOptions& opt, std::ostream& out) {
+  if (opt.link != "virtual") {
+    if (!opt.board.empty()) throw LinkError("--board applies to --link virtual only");
+    return "";
+  }
+  const bool rtl_fits = rtl_board_available() && opt.frac_bits == rtl_frac_bits();
+  if (opt.board == "rtl" && !rtl_board_available()) {
+    throw LinkError(
+        "--board rtl: texsim was built without Verilator, so the virtual board can run only the "
+        "C++ models (--board model); install Verilator and rebuild for the RTL");
+  }
+  std::string board = opt.board.empty() ? (rtl_fits ? "rtl" : "model") : opt.board;
+  if (board == "rtl") {
+    out << "virtual board runs the Verilated RTL (rtl_model/rtl), one input per clock\n";
+  } else if (!rtl_board_available()) {
+    out << "virtual board runs the C++ models (texsim was built without Verilator: no RTL)\n";
+  } else {
+    out << "virtual board runs the C++ models"
+        << (opt.board.empty()
+                ? " (the RTL is built for u0." + std::to_string(rtl_frac_bits()) + " inputs only)"
+                : std::string())
+        << "\n";
+  }
+  return board;
+}
+
 int cosim(const CosimOptions& opt, std::ostream& out) {
   if (opt.frac_bits != 16 && opt.frac_bits != 12 && opt.frac_bits != 8) {
     throw LinkError("--frac-bits " + std::to_string(opt.frac_bits) + ": 16, 12 or 8");
   }
+  const std::string board = resolve_board(opt, out);
   std::unique_ptr<BoardBlock> core = make_core_block(opt.block);
   const std::vector<uint8_t> config = {static_cast<uint8_t>(opt.frac_bits)};
   if (const std::string why = core->configure(config); !why.empty()) throw LinkError(why);
 
-  std::unique_ptr<Transport> transport = open_link(opt);
+  std::unique_ptr<Transport> transport = open_link(opt, board);
   LinkOptions lo;
   lo.timeout_ms = opt.timeout_ms;
   LinkHost host(*transport, lo);
@@ -138,6 +174,10 @@ CLI::App* add_cosim_command(CLI::App& app, CosimOptions& opt) {
   cmd->add_option("--link", opt.link, "virtual (in process) or hid (a board on USB)")
       ->check(CLI::IsMember({"virtual", "hid"}))
       ->capture_default_str();
+  cmd->add_option("--board", opt.board,
+                  "What the virtual board runs: rtl (the Verilated RTL; the default when texsim "
+                  "was built with Verilator) or model (the C++ cores)")
+      ->check(CLI::IsMember({"rtl", "model"}));
   cmd->add_option("--vectors", opt.vectors, "Random input vectors to stream")
       ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 32))
       ->capture_default_str();

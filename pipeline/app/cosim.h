@@ -15,6 +15,9 @@ namespace texsim {
 struct CosimOptions {
   std::string block = "vd_p2";
   std::string link = "virtual";  // "virtual" or "hid"
+  // What the virtual board runs: "rtl" (the Verilated RTL), "model" (the C++ cores), or ""
+  // for rtl when this build has Verilator and model otherwise.
+  std::string board;
   uint64_t vectors = 100000;
   uint64_t seed = 1;
   int frac_bits = 16;         // the block's configuration: input fraction bits (16, 12, 8)

@@ -157,6 +157,16 @@ void add_run_command(CLI::App& app, RunCli& r) {
                    "frame) or a fixed value in (0, 1], e.g. 0.05, to compare runs")
       ->capture_default_str();
   run_cmd->add_flag("--no-progress", r.no_progress, "Do not show the progress line");
+  run_cmd
+      ->add_option("--timeline", run.timeline,
+                   "Write the clocked pipeline's stage activity as a VCD (GTKWave): per stage "
+                   "busy, items issued and items in flight; one time unit = one cycle")
+      ->excludes("--functional");
+  run_cmd
+      ->add_option("--timeline-limit", run.timeline_limit,
+                   "Fragments recorded in the --timeline VCD (the first ones)")
+      ->check(CLI::Range(uint64_t{1}, uint64_t{100000000}))
+      ->capture_default_str();
 }
 
 // `sweep` and `merge` and their options.

@@ -19,6 +19,7 @@
 #include "pipeline/geometry/geometry_unit.h"
 #include "pipeline/geometry/plane_projection.h"
 #include "pipeline/kernel/parallel_range.h"
+#include "pipeline/kernel/stage_timeline.h"
 #include "pipeline/raster/fragment_generator.h"
 #include "pipeline/raster/scene_front_end.h"
 #include "pipeline/reference/ground_truth.h"
@@ -434,6 +435,16 @@ std::string reference_text(int n, bool exact, size_t frames, bool surface) {
   return s;
 }
 
+// The stage timeline when --timeline asks for one (then each fragment's stage times are
+// copied), else null.
+std::unique_ptr<StageTimeline> make_timeline(const RunOptions& opt, const TextureUnit& unit) {
+  if (opt.timeline.empty()) return nullptr;
+  if (!unit.pipeline()) {
+    throw InputError(opt.timeline, "--timeline needs the clocked pipeline (not --functional)");
+  }
+  return std::make_unique<StageTimeline>(opt.timeline_limit);
+}
+
 }  // namespace
 
 RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
@@ -475,8 +486,12 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   const std::string& input = opt.trace.empty() ? scene.path : opt.trace;
   // Fragments are processed as they stream in. f: as given; g: texture id of the loaded texture.
   TruthBatch batch(truth, images, progress, input, opt.threads);
+  const std::unique_ptr<StageTimeline> timeline = make_timeline(opt, unit);
   auto record = [&](const Fragment& f, const Fragment& g, int material, const Rgba* colour,
-                    uint64_t index) { batch.add(f, g, material, colour, index); };
+                    uint64_t index) {
+    if (timeline) timeline->observe(*unit.pipeline());
+    batch.add(f, g, material, colour, index);
+  };
   auto handle = [&](const Fragment& f, uint64_t index) {
     auto it = textures.index.find(f.tex);
     if (it == textures.index.end()) {
@@ -549,7 +564,9 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
                                   surf.active());
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
   info.provenance = run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech);
+  if (timeline) timeline->write_vcd(opt.timeline);  // first: a bad path leaves no report
   write_run_outputs(opt, info, images, unit, sum, log);
+  if (timeline) log << "  timeline: " << opt.timeline << timeline->summary() << "\n";
   return sum;
 }
 uint64_t generate_scene_trace(const std::string& scene_path, const std::string& out_path) {

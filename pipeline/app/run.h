@@ -22,6 +22,8 @@ struct RunOptions {
   double error_scale = 0;  // error.png: the error drawn white; 0: the imaged frame's largest
   int64_t frame = -1;      // the frame whose images are written; -1: the first frame
   uint64_t max_memory = uint64_t{4} << 30;  // refuse runs estimated to need more (bytes)
+  std::string timeline;                     // VCD of the pipeline's stage activity; "" = none
+  uint64_t timeline_limit = 10000;          // fragments recorded in the timeline (the first ones)
 };
 
 struct RunSummary {

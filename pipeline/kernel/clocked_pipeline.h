@@ -116,6 +116,16 @@ class ClockedPipeline {
   // Busy issue slots ÷ (cycles × lanes).
   double utilisation(int s) const;
 
+  // Stage s's cycles of the last item issued: when it started there, when its result was
+  // ready and when it left. Read only by optional tracing (stage_timeline.h), after an issue.
+  struct ItemTimes {
+    uint64_t start, finish, leave;
+  };
+  ItemTimes last_item(int s) const {
+    const Entry& e = ring_[static_cast<size_t>(s) * (ring_mask_ + 1) + ((items_ - 1) & ring_mask_)];
+    return {e.start, e.finish, e.leave};
+  }
+
   // Cycles one item may wait in one stage before the run is declared stuck.
   void set_watchdog(uint64_t cycles) { watchdog_ = cycles; }
   // Writes each stage's state (last start/leave times, FIFO occupancy) for a deadlock report.

@@ -1,0 +1,91 @@
+// The stage timeline (pipeline/kernel/stage_timeline.h): each item's start and leave cycle per
+// stage, as the kernel timed them, written as a VCD whose values follow from them.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "pipeline/kernel/stage_timeline.h"
+#include "testbench/lib/cli_harness.h"
+#include "testbench/lib/vcd_reader.h"
+
+namespace texsim {
+namespace {
+
+StageConfig stage(const char* name, uint32_t lat) {
+  StageConfig c;
+  c.name = name;
+  c.timing.latency = lat;
+  return c;
+}
+
+TEST(StageTimeline, LastItemIsWhatTheKernelTimed) {
+  ClockedPipeline p({stage("a", 2), stage("b", 3)});
+  // Item k starts in a at k, leaves it at k + 2, starts in b there and leaves at k + 5.
+  for (uint64_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(p.issue(), k + 5);
+    EXPECT_EQ(p.last_item(0).start, k);
+    EXPECT_EQ(p.last_item(0).leave, k + 2);
+    EXPECT_EQ(p.last_item(1).start, k + 2);
+    EXPECT_EQ(p.last_item(1).finish, k + 5);
+    EXPECT_EQ(p.last_item(1).leave, k + 5);
+  }
+}
+
+TEST(StageTimeline, VcdHeaderAndValueChanges) {
+  ClockedPipeline p({stage("a", 2), stage("b.x", 3)});
+  StageTimeline tl(10);
+  for (int k = 0; k < 3; ++k) {
+    p.issue();
+    tl.observe(p);
+    tl.observe(p);  // no new item: nothing recorded twice
+  }
+  EXPECT_EQ(tl.recorded(), 3u);
+  const std::string file =
+      (std::filesystem::temp_directory_path() / "texsim_stage_timeline.vcd").string();
+  tl.write_vcd(file);
+  const vcd_reader::Vcd v = vcd_reader::parse(cli_harness::slurp(file));
+  std::filesystem::remove(file);
+  EXPECT_EQ(v.timescale, "1ns");
+  EXPECT_TRUE(v.definitions_ended);
+  EXPECT_NE(v.comment.find("3 of 3 items"), std::string::npos) << v.comment;
+  EXPECT_EQ(v.width.at("a.busy"), 1);
+  EXPECT_EQ(v.width.at("a.items"), 32);
+  EXPECT_EQ(v.width.at("b_x.inflight"), 16);  // names made VCD-safe
+  // a: starts 0, 1, 2; leaves 2, 3, 4. b: starts 2, 3, 4; leaves 5, 6, 7.
+  EXPECT_EQ(v.at("a.busy", 0), 1u);
+  EXPECT_EQ(v.at("a.items", 1), 2u);
+  EXPECT_EQ(v.at("a.inflight", 1), 2u);
+  EXPECT_EQ(v.at("a.inflight", 2), 2u);  // one in, one out
+  EXPECT_EQ(v.at("a.busy", 3), 1u);
+  EXPECT_EQ(v.at("a.busy", 4), 0u);
+  EXPECT_EQ(v.at("b_x.busy", 1), 0u);
+  EXPECT_EQ(v.at("b_x.busy", 2), 1u);
+  EXPECT_EQ(v.at("b_x.inflight", 4), 3u);
+  EXPECT_EQ(v.at("b_x.items", 100), 3u);
+  EXPECT_EQ(v.at("b_x.busy", 6), 1u);
+  EXPECT_EQ(v.at("b_x.busy", 7), 0u);
+  // Only changes are written: a's busy rises once and falls once.
+  EXPECT_EQ(v.changes.at("a.busy").size(), 3u);  // $dumpvars 0, then 1 at #0, 0 at #4
+}
+
+TEST(StageTimeline, LimitKeepsTheFirstItems) {
+  ClockedPipeline p({stage("a", 2)});
+  StageTimeline tl(2);
+  for (int k = 0; k < 5; ++k) {
+    p.issue();
+    tl.observe(p);
+  }
+  EXPECT_EQ(tl.recorded(), 2u);
+  EXPECT_EQ(tl.seen(), 5u);
+  const std::string file =
+      (std::filesystem::temp_directory_path() / "texsim_stage_timeline_limit.vcd").string();
+  tl.write_vcd(file);
+  const vcd_reader::Vcd v = vcd_reader::parse(cli_harness::slurp(file));
+  std::filesystem::remove(file);
+  EXPECT_NE(v.comment.find("2 of 5 items"), std::string::npos) << v.comment;
+  EXPECT_EQ(v.at("a.items", 1000), 2u);
+  EXPECT_EQ(v.at("a.busy", 3), 0u);
+}
+
+}  // namespace
+}  // namespace texsim
