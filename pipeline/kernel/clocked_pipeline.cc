@@ -115,4 +115,11 @@ void ClockedPipeline::dump_state(std::ostream& os) const {
   }
 }
 
+ClockedPipeline::ItemTimes ClockedPipeline::last_item(int s) const {
+  const uint64_t p = ring_mask_ + 1;
+  const uint64_t* e =
+      ring_.data() + static_cast<uint64_t>(s) * p * kEntry + ((items_ - 1) & ring_mask_) * kEntry;
+  return {e[kStart], e[kFinish], e[kLeave]};
+}
+
 }  // namespace texsim

@@ -121,10 +121,7 @@ class ClockedPipeline {
   struct ItemTimes {
     uint64_t start, finish, leave;
   };
-  ItemTimes last_item(int s) const {
-    const Entry& e = ring_[static_cast<size_t>(s) * (ring_mask_ + 1) + ((items_ - 1) & ring_mask_)];
-    return {e.start, e.finish, e.leave};
-  }
+  ItemTimes last_item(int s) const;
 
   // Cycles one item may wait in one stage before the run is declared stuck.
   void set_watchdog(uint64_t cycles) { watchdog_ = cycles; }
