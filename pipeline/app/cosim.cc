@@ -113,6 +113,9 @@ int cosim(const CosimOptions& opt, std::ostream& out) {
   std::unique_ptr<Transport> transport = open_link(opt, board);
   LinkOptions lo;
   lo.timeout_ms = opt.timeout_ms;
+  // Linux hidraw queues at most 64 input reports per open device and drops the rest: keep the
+  // responses in flight (2 x 18 reports of a 250-vector STREAM) well below that.
+  if (opt.link == "hid") lo.window = 2;
   LinkHost host(*transport, lo);
   const Capabilities& caps = host.capabilities();
   out << "texsim cosim: " << opt.block << " on the " << transport->describe() << " (firmware "

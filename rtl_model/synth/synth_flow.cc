@@ -67,14 +67,15 @@ int count_prefix(const json& cells, const std::string& prefix) {
   return n;
 }
 
-// read_verilog and hierarchy with the job's parameters.
-// The block's source, copied into the work folder.
-const std::string kBlockFile = "block.sv";
-
+// read_verilog (the source by its absolute path, includes also from its folder) and hierarchy
+// with the job's parameters. yosys takes double-quoted file names in read_verilog.
 std::string read_design(const SynthJob& job) {
-  std::string s = "read_verilog -sv " + kBlockFile + "\nhierarchy -top " + job.top;
-  for (const auto& [name, value] : job.params)
+  const fs::path src = fs::absolute(job.file);
+  std::string s = "read_verilog -sv -I \"" + src.parent_path().string() + "\" \"" + src.string() +
+                  "\"\nhierarchy -top " + job.top;
+  for (const auto& [name, value] : job.params) {
     s += " -chparam " + name + " " + std::to_string(value);
+  }
   return s + "\n";
 }
 
@@ -178,7 +179,10 @@ SynthResult run_synth(const SynthJob& job, const Tools& tools) {
   SynthResult r;
   const fs::path dir = job.work_dir;
   fs::create_directories(dir);
-  fs::copy_file(job.file, dir / kBlockFile, fs::copy_options::overwrite_existing);
+  if (fs::absolute(job.file).string().find('"') != std::string::npos) {
+    r.error = "cannot pass a file name with a double quote to yosys: " + job.file;
+    return r;
+  }
   // Generic: $mul count after proc/opt, then cells after `synth`.
   write_text(dir / "generic.ys", read_design(job) +
                                      "proc\nopt\ntee -q -o pre.json stat -json\nsynth -top " +
