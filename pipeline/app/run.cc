@@ -445,6 +445,41 @@ std::unique_ptr<StageTimeline> make_timeline(const RunOptions& opt, const Textur
   return std::make_unique<StageTimeline>(opt.timeline_limit);
 }
 
+// The loaded texture's index of a streamed fragment; its texture id must be in the table and
+// its pixel within the image limit.
+uint32_t loaded_texture(const Fragment& f, uint64_t index, const RunTextures& textures,
+                        const std::string& input, const std::string& trace) {
+  auto it = textures.index.find(f.tex);
+  if (it == textures.index.end()) {
+    throw InputError(input, "record " + std::to_string(index) + ": texture id " +
+                                std::to_string(f.tex) + " is not in the texture table");
+  }
+  if (f.x >= (1u << 14) || f.y >= (1u << 14)) {
+    throw InputError(trace, "record " + std::to_string(index) + ": pixel (" + std::to_string(f.x) +
+                                ", " + std::to_string(f.y) +
+                                ") is outside the 16384x16384 image limit");
+  }
+  return static_cast<uint32_t>(it->second);
+}
+
+// The report's image, texture and accuracy fields of a finished run.
+RunInfo images_info(const RunOptions& opt, const ImageLayout& layout, const RunTextures& textures,
+                    const TextureUnit& unit, const RunImages& images) {
+  RunInfo info;
+  info.trace = opt.trace;
+  info.width = layout.canvas_w;
+  info.height = layout.canvas_h;
+  info.textures = textures.names;
+  for (int m = 0; m < unit.material_count(); ++m)
+    info.material_accuracy.push_back(images.material(m));
+  info.frames = images.frames();
+  info.image_frame = images.kept_frame();
+  info.error_scale_auto = !(opt.error_scale > 0);
+  info.error_scale = info.error_scale_auto ? images.kept_accuracy().max_abs : opt.error_scale;
+  info.error_bar_rows = colour_bar_rows(layout.canvas_h);
+  return info;
+}
+
 }  // namespace
 
 RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
@@ -493,18 +528,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     batch.add(f, g, material, colour, index);
   };
   auto handle = [&](const Fragment& f, uint64_t index) {
-    auto it = textures.index.find(f.tex);
-    if (it == textures.index.end()) {
-      throw InputError(input, "record " + std::to_string(index) + ": texture id " +
-                                  std::to_string(f.tex) + " is not in the texture table");
-    }
-    if (f.x >= (1u << 14) || f.y >= (1u << 14)) {
-      throw InputError(opt.trace, "record " + std::to_string(index) + ": pixel (" +
-                                      std::to_string(f.x) + ", " + std::to_string(f.y) +
-                                      ") is outside the 16384x16384 image limit");
-    }
     Fragment g = f;
-    g.tex = static_cast<uint32_t>(it->second);
+    g.tex = loaded_texture(f, index, textures, input, opt.trace);
     int material = 0;
     if (truth.exact()) {
       if (f.prim >= scene.primitives.size()) {
@@ -547,19 +572,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   sum.fragments = unit.fragments();
   sum.cycles = unit.cycles();
   sum.accuracy = images.total();
-  RunInfo info;
+  RunInfo info = images_info(opt, layout, textures, unit, images);
   info.scene = use_scene ? scene.path : "(none: trace only)";
-  info.trace = opt.trace;
-  info.width = layout.canvas_w;
-  info.height = layout.canvas_h;
-  info.textures = textures.names;
-  for (int m = 0; m < unit.material_count(); ++m)
-    info.material_accuracy.push_back(images.material(m));
-  info.frames = images.frames();
-  info.image_frame = images.kept_frame();
-  info.error_scale_auto = !(opt.error_scale > 0);
-  info.error_scale = info.error_scale_auto ? images.kept_accuracy().max_abs : opt.error_scale;
-  info.error_bar_rows = colour_bar_rows(layout.canvas_h);
   info.reference = reference_text(scene.reference_supersamples, truth.exact(), info.frames.size(),
                                   surf.active());
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
