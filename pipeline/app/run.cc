@@ -558,7 +558,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     });
   } else {
     generate_fragments(
-        scene, 0, [&](const Fragment& f) { handle(f, index++); }, &raster);
+        scene, 0, [&](const Fragment& f) { handle(f, index++); }, &raster, &mats);
   }
   batch.flush();
   images.finish();

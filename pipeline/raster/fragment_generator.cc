@@ -10,8 +10,11 @@ namespace texsim {
 
 void generate_fragments(const Scene& scene, uint32_t frame,
                         const std::function<void(const Fragment&)>& emit,
-                        std::vector<RasterCounters>* raster) {
-  const std::vector<MaterialSetup> mats = build_materials(scene);
+                        std::vector<RasterCounters>* raster,
+                        const std::vector<MaterialSetup>* built) {
+  const std::vector<MaterialSetup> own =
+      built ? std::vector<MaterialSetup>{} : build_materials(scene);
+  const std::vector<MaterialSetup>& mats = built ? *built : own;
   std::vector<PlaneProjection> maps;
   maps.reserve(scene.primitives.size());
   for (const auto& p : scene.primitives) maps.emplace_back(scene, p);

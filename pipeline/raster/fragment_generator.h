@@ -9,15 +9,18 @@
 #include "blocks/base/fragment.h"
 #include "pipeline/raster/primitive_raster.h"
 #include "pipeline/scene/scene.h"
+#include "pipeline/texture/effect_registry.h"
 
 namespace texsim {
 
 // Calls `emit` for every kept pixel in raster order (rows top to bottom), frame `frame`.
 // Fragment::prim is the primitive index, Fragment::tex the material's texture index.
 // `raster`, if given, receives each material's rasteriser counters (indexed by material).
+// `mats`: the scene's materials if the caller has built them (otherwise built here).
 void generate_fragments(const Scene& scene, uint32_t frame,
                         const std::function<void(const Fragment&)>& emit,
-                        std::vector<RasterCounters>* raster = nullptr);
+                        std::vector<RasterCounters>* raster = nullptr,
+                        const std::vector<MaterialSetup>* mats = nullptr);
 std::vector<Fragment> generate_fragments(const Scene& scene, uint32_t frame = 0);
 
 // Bytes the depth test holds per pixel of the scene's extent (owner and depth).

@@ -95,7 +95,6 @@ RasterStudyRow measure_one(double tilt, double azimuth) {
     r.rect_time_ns += res.stats.time_ns;
     digital_rows(m, res, acc);
   }
-  r.heckbert_divisions = r.pixels;
   r.edge_time_ns = static_cast<double>(r.edge_visited) * 1000.0 / tech.clock_mhz;
   r.compared = acc.n;
   r.mean_err_texels = acc.n ? acc.sum / static_cast<double>(acc.n) : 0;
@@ -112,8 +111,8 @@ StudyTable table(const std::vector<RasterStudyRow>& rows) {
                 "max error texels", "mean error px", "max error px"},
                "rrrrrrrrrrrrrrr");
   for (const auto& r : rows) {
-    t.add({fmt(r.tilt_deg), fmt(r.azimuth_deg), std::to_string(r.pixels),
-           std::to_string(r.heckbert_divisions), std::to_string(r.rows),
+    t.add({fmt(r.tilt_deg), fmt(r.azimuth_deg), std::to_string(r.pixels), std::to_string(r.pixels),
+           std::to_string(r.rows),
            fmt(r.pixels ? static_cast<double>(r.rows) / static_cast<double>(r.pixels) : 0, 3),
            std::to_string(r.edge_visited),
            std::to_string(r.fast_cycles) + " / " + std::to_string(r.memory_cycles),

@@ -16,11 +16,11 @@ namespace texsim {
 
 struct RasterStudyRow {
   double tilt_deg = 0, azimuth_deg = 0;
-  uint64_t pixels = 0;              // covered pixels (the whole screen)
-  uint64_t compared = 0;            // of them, in front of the horizon band (q >= 1/64)
-  uint64_t edge_visited = 0;        // edge rasteriser: bounding-box pixels (one per cycle)
-  uint64_t heckbert_divisions = 0;  // one per pixel
-  uint64_t rows = 0;                // rectangle scan: textured rows = reciprocals
+  uint64_t pixels =
+      0;  // = Heckbert divisions (one per pixel)              // covered pixels (the whole screen)
+  uint64_t compared = 0;      // of them, in front of the horizon band (q >= 1/64)
+  uint64_t edge_visited = 0;  // edge rasteriser: bounding-box pixels (one per cycle)
+  uint64_t rows = 0;          // rectangle scan: textured rows = reciprocals
   uint64_t fast_cycles = 0, memory_cycles = 0;
   double edge_time_ns = 0, rect_time_ns = 0;
   double mean_err_texels = 0, max_err_texels = 0;  // digital rows against exact Heckbert
