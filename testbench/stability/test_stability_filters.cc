@@ -281,6 +281,31 @@ TEST(StabilityFilters, AllWeightsZeroFallsBack) {
   EXPECT_TRUE(std::isfinite(p.colour.r));
 }
 
+// A footprint whose only covered texel lies far out on the Gaussian: its weight, and so the
+// weight sum, is subnormal, and 1/sum overflows float32. Found by the anisotropic envelope
+// check (testbench/conformance); the sum now counts as zero and the bilinear fallback answers.
+TEST(StabilityFilters, SubnormalWeightSumsFallBack) {
+  const Texture tex = noise_texture(256, 256, 3);
+  SpafFilter::Config c;
+  c.half_px = 0.5;
+  const SpafFilter spaf(c);
+  Fragment f;
+  f.u = 0.024769837334611987;
+  f.v = 0.54184392590860142;
+  f.dudx = 0.00043065549993926891;
+  f.dvdx = 0.0014077893602729495;
+  f.dudy = -0.001494111480067677;
+  f.dvdy = -0.0035912819298586007;
+  OpCounts ops;
+  const FilterOutput o = spaf.filter(tex, f, nullptr, ops);
+  for (int ch = 0; ch < 4; ++ch) {
+    EXPECT_TRUE(std::isfinite(o.colour[ch]));
+    EXPECT_GE(o.colour[ch], 0.0f);
+    EXPECT_LE(o.colour[ch], 1.0f);
+  }
+  EXPECT_TRUE(o.stats.fallback);
+}
+
 TEST(StabilityFilters, BordersInEachAddressMode) {
   // A horizontal ramp (not periodic): wrap, clamp and mirror give different answers at u = 0.
   const int size = 64;

@@ -561,7 +561,7 @@ FilterOutput EwaFilter::filter_t(const Texture& tex, const Fragment& f,
   }
   // Normalise each level; a level whose weights are all zero gives way to the other one, and
   // if both are zero the bilinear sample at the centre of the finer level is the result.
-  const bool ok0 = w0sum > Acc(0), ok1 = w1sum > Acc(0);
+  const bool ok0 = normalisable(w0sum), ok1 = normalisable(w1sum);
   ops += normalise_ops();
   if (frac > 0) ops += normalise_ops();
   if (!ok0 && !ok1) {

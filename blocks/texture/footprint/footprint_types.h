@@ -4,6 +4,7 @@
 // FilterOutput), the footprint set-up with its max-anisotropy clamp, and the bilinear
 // fallback, so that a cache model and the pipeline see every filter the same way.
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "blocks/base/fragment.h"
@@ -34,6 +35,14 @@ struct FilterStats {
 inline uint32_t scan_issue_cycles(const FilterStats& s, int lanes) {
   const auto n = static_cast<uint32_t>(lanes > 1 ? lanes : 1);
   return s.visited > n ? (s.visited + n - 1) / n : 1;
+}
+
+// Whether a weight sum can be normalised: at least the smallest normal number of its type, so
+// that its reciprocal is finite. A sum of subnormal weights counts as zero (every weight
+// underflowed): the caller's fallback, never an infinite colour.
+template <class A>
+bool normalisable(A wsum) {
+  return wsum >= std::numeric_limits<A>::min();
 }
 
 struct FilterOutput {

@@ -65,7 +65,7 @@ FilterOutput run_probes(const TexelAddressGen& addr, const Texture& tex, const P
   out.stats.probes = static_cast<uint32_t>(probes.n);
   out.stats.visited = out.stats.probes;
   out.stats.level = probes.n > 0 ? finest : 0;
-  if (wsum > 0) {
+  if (normalisable(wsum)) {
     out.colour = sum * (1.0f / wsum);
   } else if (probes.n > 0) {
     out.stats.fallback = true;  // every Gaussian weight underflowed: the probes' mean

@@ -431,7 +431,7 @@ struct SpafRun {
     norm.rcp = 1;
     norm.mul = 4;
     ops += norm;
-    if (!(wsum > Acc(0))) return fallback();
+    if (!normalisable(wsum)) return fallback();
     out.colour = Rgba(sum * (Acc(1) / wsum));
     return out;
   }
