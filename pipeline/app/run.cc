@@ -169,6 +169,7 @@ struct GroundTruth {
   // shading frames.
   const std::vector<SurfaceReference>* surface = nullptr;
   const std::vector<SurfaceFrame>* frames = nullptr;
+  PixelSamples pixel;  // the pixel model's samples (supersamples per pixel width)
 
   bool exact() const { return !maps.empty(); }
   // f: the fragment as given; g: the same with its texture id mapped to the loaded texture.
@@ -181,8 +182,8 @@ struct GroundTruth {
                                                        supersamples);
     }
     return exact() ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), maps[f.prim],
-                                        static_cast<int>(f.x), static_cast<int>(f.y), supersamples)
-                   : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, supersamples);
+                                        static_cast<int>(f.x), static_cast<int>(f.y), pixel)
+                   : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, pixel);
   }
 };
 
@@ -414,13 +415,12 @@ ImageLayout run_layout(const RunOptions& opt, const Scene& scene, bool use_scene
   return l;
 }
 
-std::string reference_text(int n, bool exact, size_t frames, bool surface) {
-  std::string s =
-      "Ground truth: level-0 texture, bilinear reconstruction in double, box-filtered over "
-      "each pixel with " +
-      std::to_string(n) + "x" + std::to_string(n) + " samples " +
-      (exact ? "mapped exactly through each plane's projective map."
-             : "over the parallelogram spanned by the fragment's derivatives.");
+std::string reference_text(const GroundTruth& truth, TruthPixel pixel, size_t frames,
+                           bool surface) {
+  std::string s = "Ground truth: level-0 texture, bilinear reconstruction in double, " +
+                  truth.pixel.describe(pixel, truth.supersamples) + " " +
+                  (truth.exact() ? "mapped exactly through each plane's projective map."
+                                 : "over the parallelogram spanned by the fragment's derivatives.");
   if (surface) {
     s += " Materials with relief: every sample is shifted by the (u, v) offset of the pixel "
          "centre's view ray meeting the height field (1024-layer search, 24 halvings, double). "
@@ -512,9 +512,18 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   TextureUnit unit(textures.set, mats, setup, scene.tech, !opt.functional);
   const SurfaceSetup surf = surface_setup(scene, mats, textures.set);
   if (surf.active()) unit.set_surfaces(surf.frames);
-  const GroundTruth truth{
-      textures.set, mats, maps, scene.reference_supersamples, surf.active() ? &surf.refs : nullptr,
-      &surf.frames};
+  if (surf.active() && scene.reference_pixel != TruthPixel::Box) {
+    throw InputError(scene.path,
+                     "[reference] pixel = \"gaussian\" is not available for materials with relief "
+                     "or lighting (their reference is box-filtered)");
+  }
+  const GroundTruth truth{textures.set,
+                          mats,
+                          maps,
+                          scene.reference_supersamples,
+                          surf.active() ? &surf.refs : nullptr,
+                          &surf.frames,
+                          PixelSamples::make(scene.reference_pixel, scene.reference_supersamples)};
   RunImages images(layout.extent, layout.canvas_w, layout.canvas_h, scene.background,
                    unit.material_count(), opt.frame);
   Progress progress(opt.progress);
@@ -574,8 +583,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   sum.accuracy = images.total();
   RunInfo info = images_info(opt, layout, textures, unit, images);
   info.scene = use_scene ? scene.path : "(none: trace only)";
-  info.reference = reference_text(scene.reference_supersamples, truth.exact(), info.frames.size(),
-                                  surf.active());
+  info.reference = reference_text(truth, scene.reference_pixel, info.frames.size(), surf.active());
+  info.reference_pixel = to_string(scene.reference_pixel);
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
   info.provenance = run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech);
   if (timeline) timeline->write_vcd(opt.timeline);  // first: a bad path leaves no report

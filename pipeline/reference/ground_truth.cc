@@ -56,29 +56,75 @@ glm::dvec4 reference_bilinear(const Texture& tex, AddressMode au, AddressMode av
          (1 - a) * b * fetch(tex, x0, y1) + a * b * fetch(tex, x1, y1);
 }
 
-glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
-                              const PlaneProjection& map, int px, int py, int n) {
-  glm::dvec4 sum(0);
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      const UvSample s = map.at(px + (i + 0.5) / n, py + (j + 0.5) / n);
-      sum += reference_bilinear(tex, au, av, s.u, s.v);
+PixelSamples PixelSamples::make(TruthPixel p, int n) {
+  PixelSamples s;
+  if (p == TruthPixel::Box) {
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        s.x.push_back((i + 0.5) / n);
+        s.y.push_back((j + 0.5) / n);
+        s.w.push_back(1.0);
+      }
+    }
+    s.weight_sum = static_cast<double>(n * n);
+    return s;
+  }
+  const PixelModel g;
+  const int m = static_cast<int>(std::ceil(2 * g.radius_px * n));
+  const double step = 2 * g.radius_px / m;
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < m; ++i) {
+      const double dx = -g.radius_px + (i + 0.5) * step, dy = -g.radius_px + (j + 0.5) * step;
+      const double w = g.weight(dx * dx + dy * dy);
+      if (w == 0) continue;
+      s.x.push_back(0.5 + dx);
+      s.y.push_back(0.5 + dy);
+      s.w.push_back(w);
+      s.weight_sum += w;
     }
   }
-  return sum / static_cast<double>(n * n);
+  return s;
+}
+
+std::string PixelSamples::describe(TruthPixel p, int n) const {
+  if (p == TruthPixel::Box) {
+    return "box-filtered over each pixel with " + std::to_string(n) + "x" + std::to_string(n) +
+           " samples";
+  }
+  return "weighted over each pixel by the Gaussian pixel model (sigma 0.5 px, truncated at 1 px, "
+         "EWA's pixel model) with " +
+         std::to_string(w.size()) + " samples";
+}
+
+glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
+                              const PlaneProjection& map, int px, int py, const PixelSamples& s) {
+  glm::dvec4 sum(0);
+  for (size_t k = 0; k < s.w.size(); ++k) {
+    const UvSample t = map.at(px + s.x[k], py + s.y[k]);
+    sum += s.w[k] * reference_bilinear(tex, au, av, t.u, t.v);
+  }
+  return sum / s.weight_sum;
+}
+
+glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
+                              const PlaneProjection& map, int px, int py, int n) {
+  return ground_truth_exact(tex, au, av, map, px, py, PixelSamples::make(TruthPixel::Box, n));
+}
+
+glm::dvec4 ground_truth_footprint(const Texture& tex, AddressMode au, AddressMode av,
+                                  const Fragment& f, const PixelSamples& s) {
+  glm::dvec4 sum(0);
+  for (size_t k = 0; k < s.w.size(); ++k) {
+    const double sx = s.x[k] - 0.5, sy = s.y[k] - 0.5;
+    sum += s.w[k] * reference_bilinear(tex, au, av, f.u + sx * f.dudx + sy * f.dudy,
+                                       f.v + sx * f.dvdx + sy * f.dvdy);
+  }
+  return sum / s.weight_sum;
 }
 
 glm::dvec4 ground_truth_footprint(const Texture& tex, AddressMode au, AddressMode av,
                                   const Fragment& f, int n) {
-  glm::dvec4 sum(0);
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      const double sx = (i + 0.5) / n - 0.5, sy = (j + 0.5) / n - 0.5;
-      sum += reference_bilinear(tex, au, av, f.u + sx * f.dudx + sy * f.dudy,
-                                f.v + sx * f.dvdx + sy * f.dvdy);
-    }
-  }
-  return sum / static_cast<double>(n * n);
+  return ground_truth_footprint(tex, au, av, f, PixelSamples::make(TruthPixel::Box, n));
 }
 
 }  // namespace texsim

@@ -186,9 +186,14 @@ Json report_json(const RunInfo& info, const TextureUnit& unit, const AccuracyMet
       e["accuracy"] = accuracy_json(info.frames[i].accuracy);
     j["frames"].push_back(e);
   }
-  j["accuracy"] = {{"psnr_db", acc.psnr_db},     {"nmse", acc.nmse}, {"max_abs", acc.max_abs},
-                   {"mean_abs", acc.mean_abs},   {"mse", acc.mse},   {"pixels", acc.pixels},
-                   {"reference", info.reference}};
+  j["accuracy"] = {{"psnr_db", acc.psnr_db},
+                   {"nmse", acc.nmse},
+                   {"max_abs", acc.max_abs},
+                   {"mean_abs", acc.mean_abs},
+                   {"mse", acc.mse},
+                   {"pixels", acc.pixels},
+                   {"reference", info.reference},
+                   {"pixel", info.reference_pixel}};
   // Accuracy next to cost, material by material (each material is one method variant).
   for (const MaterialRow& r : rows) j["materials"][r.name] = material_json(r);
   if (unit.front_stages() > 0) {

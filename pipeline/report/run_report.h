@@ -16,9 +16,10 @@ struct FrameAccuracy {
 };
 
 struct RunInfo {
-  std::string scene;      // scene file or "<built-in default scene>"
-  std::string trace;      // trace file, or "" when fragments came from the scene
-  std::string reference;  // how the ground truth was made
+  std::string scene;                    // scene file or "<built-in default scene>"
+  std::string trace;                    // trace file, or "" when fragments came from the scene
+  std::string reference;                // how the ground truth was made
+  std::string reference_pixel = "box";  // its pixel model ([reference] pixel)
   int width = 0, height = 0;
   std::vector<std::string> textures;
   std::vector<AccuracyMetrics> material_accuracy;  // per material of the texture unit

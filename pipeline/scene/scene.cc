@@ -182,13 +182,16 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   parse_planes(root, s);
   parse_meshes(root, s);
   const ConfigReader ref = top.sub("reference");
-  ref.reject_unknown({"supersamples"});
+  ref.reject_unknown({"supersamples", "pixel"});
   s.reference_supersamples =
       static_cast<int>(ref.get_int("supersamples", s.reference_supersamples, 1, 64));
+  s.reference_pixel = static_cast<TruthPixel>(ref.get_choice("pixel", 0, {"box", "gaussian"}));
   s.pipeline = top.subtable("pipeline");
   if (const toml::table* t = top.subtable("tech")) s.tech = TechTable::from_toml(*t, source_name);
   return s;
 }
+
+const char* to_string(TruthPixel p) { return p == TruthPixel::Box ? "box" : "gaussian"; }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   std::ifstream in(path, std::ios::binary);

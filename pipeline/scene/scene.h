@@ -56,6 +56,12 @@ struct SceneMesh {
   size_t vertices = 0;  // distinct positions, each transformed once by the geometry subsystem
 };
 
+// Which pixel the ground truth is ([reference] pixel): the pixel's square with uniform weight,
+// or the Gaussian of EWA's pixel model. The ranking of filters depends on it (a box favours
+// probe filters, a Gaussian EWA; docs/studies/study-filters.md).
+enum class TruthPixel : uint8_t { Box, Gaussian };
+const char* to_string(TruthPixel p);
+
 struct Scene {
   std::string path;      // file the scene came from ("<built-in>" for the default)
   std::string base_dir;  // relative texture paths resolve here
@@ -67,7 +73,8 @@ struct Scene {
   // [[planes]] first, in order, then every mesh's faces: a fragment's `prim` indexes this.
   std::vector<ScenePrimitive> primitives;
   std::vector<SceneMesh> meshes;
-  int reference_supersamples = 8;         // per axis, per pixel, for the ground truth
+  int reference_supersamples = 8;  // per axis, per pixel, for the ground truth
+  TruthPixel reference_pixel = TruthPixel::Box;
   const toml::table* pipeline = nullptr;  // [pipeline] table (in root), or null
   TechTable tech = TechTable::defaults();
   std::shared_ptr<toml::table> root;  // the parsed document (keeps source positions)

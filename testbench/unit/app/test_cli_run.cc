@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -96,6 +97,30 @@ TEST_F(Cli, FootprintFiltersPerMaterial) {
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.out.find("two.toml:6:"), std::string::npos) << bad.out;
   EXPECT_NE(bad.out.find("one footprint filter"), std::string::npos) << bad.out;
+}
+
+TEST_F(Cli, ReferencePixelModelIsChosenAndStated) {
+  // The same view against both truths: each report names its pixel, the errors differ.
+  const std::string box = path("box"), gauss = path("gauss");
+  ASSERT_EQ(sh("run --no-progress --out " + box).code, 0);
+  const Result r = sh("run --no-progress --set reference.pixel=gaussian --out " + gauss);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json jb = load_json(box + "/report.json"), jg = load_json(gauss + "/report.json");
+  EXPECT_EQ(find(jb, "accuracy.pixel")->get<std::string>(), "box");
+  EXPECT_EQ(find(jg, "accuracy.pixel")->get<std::string>(), "gaussian");
+  EXPECT_NE(find(jg, "accuracy.reference")->get<std::string>().find("Gaussian"), std::string::npos);
+  EXPECT_GT(std::fabs(num(jb, "accuracy.psnr_db") - num(jg, "accuracy.psnr_db")), 0.5);
+  EXPECT_EQ(num(jb, "cycles"), num(jg, "cycles"));  // the truth does not touch the unit
+  // An unknown pixel names the key; relief materials have only the box reference.
+  const Result bad = sh("run --set reference.pixel=triangle --out " + path("bad"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("pixel"), std::string::npos) << bad.out;
+  const Result relief =
+      sh(std::string("run ") + TEXSIM_SOURCE_DIR +
+         "/scenes/relief_wall.toml --set reference.pixel=gaussian --out " + path("relief"));
+  EXPECT_EQ(relief.code, 2);
+  EXPECT_NE(relief.out.find("relief_wall.toml"), std::string::npos) << relief.out;
+  EXPECT_FALSE(fs::exists(path("relief") + "/report.json"));
 }
 
 TEST_F(Cli, CoordinateUnitsPerMaterial) {
