@@ -10,6 +10,7 @@
 
 #include "blocks/base/tech_table.h"
 #include "pipeline/kernel/clocked_pipeline.h"
+#include "pipeline/kernel/parallel_range.h"
 #include "pipeline/report/plot.h"
 #include "pipeline/studies/study_table.h"
 
@@ -351,12 +352,11 @@ void deriv_errors(const StudyPlane& sp, const DerivRefs& refs, const std::vector
   if (!good_e) row.max_rel_ellipse = INFINITY;
 }
 
-void measure_derivs(const StudyCoordsOptions& o, const StudyPlane& sp,
-                    const std::vector<std::string>& dmethods,
-                    const std::vector<std::string>& formats, const TechTable& tech,
-                    std::vector<DerivStudyRow>& out) {
-  const DerivRefs refs = deriv_refs(sp, o.max_aniso);
-  for (const auto& method : dmethods) {
+// One derivative method on one plane, in every format and both ellipse forms.
+void measure_derivs(const StudyCoordsOptions& o, const StudyPlane& sp, const DerivRefs& refs,
+                    const std::string& method, const std::vector<std::string>& formats,
+                    const TechTable& tech, std::vector<DerivStudyRow>& out) {
+  {
     double cpp[3] = {0, 0, 0};
     OpCounts dops;
     deriv_cycles(o, sp, refs, method, tech, cpp, dops);
@@ -393,22 +393,49 @@ StudyCoordsResult measure_study_coords(const StudyCoordsOptions& o, std::ostream
   const auto& formats = or_all(o.formats, coord_format_names());
   StudyCoordsResult res;
   const auto t0 = std::chrono::steady_clock::now();
-  for (double tilt : o.tilts) {
-    StudyPlane sp = make_study_plane(o, tilt);
+  // Tasks: every tilt's plane and derivative references, then per tilt one task per
+  // coordinate method and one per derivative method; each writes its own slot, and the slots
+  // are joined in the serial order.
+  const size_t nt = o.tilts.size(), nc = cmethods.size(), per = nc + dmethods.size();
+  std::vector<StudyPlane> planes(nt);
+  std::vector<DerivRefs> refs(nt);
+  parallel_tasks(nt, o.threads, [&](size_t t) {
+    planes[t] = make_study_plane(o, o.tilts[t]);
+    refs[t] = deriv_refs(planes[t], o.max_aniso);
+  });
+  std::vector<std::vector<CoordStudyRow>> coords(nt * nc);
+  std::vector<std::vector<DerivStudyRow>> derivs(nt * dmethods.size());
+  // The derivative tasks are the longest: they go first.
+  parallel_tasks(nt * per, o.threads, [&](size_t k) {
+    const size_t nd = nt * dmethods.size();
+    if (k < nd) {
+      const size_t t = k / dmethods.size();
+      measure_derivs(o, planes[t], refs[t], dmethods[k % dmethods.size()], formats, tech,
+                     derivs[k]);
+      return;
+    }
+    const size_t t = (k - nd) / nc, m = (k - nd) % nc;
+    const CoordStudyRow base = coord_method_costs(o, planes[t], cmethods[m], tech);
+    for (const auto& format : formats) {
+      CoordStudyRow row = base;
+      coord_errors(planes[t], format, tech, row);
+      coords[t * nc + m].push_back(std::move(row));
+    }
+  });
+  for (size_t t = 0; t < nt; ++t) {
+    StudyPlane& sp = planes[t];
     if (log) {
-      *log << "study coords: tilt " << tilt << "°: " << sp.tris.size() << " triangles, "
+      *log << "study coords: tilt " << sp.tilt << "°: " << sp.tris.size() << " triangles, "
            << sp.pixels << " pixels, " << sp.rows << " rows\n";
     }
-    for (const auto& method : cmethods) {
-      const CoordStudyRow base = coord_method_costs(o, sp, method, tech);
-      for (const auto& format : formats) {
-        CoordStudyRow row = base;
-        coord_errors(sp, format, tech, row);
-        res.coords.push_back(std::move(row));
-      }
+    for (size_t m = 0; m < nc; ++m) {
+      for (auto& row : coords[t * nc + m]) res.coords.push_back(std::move(row));
     }
-    measure_derivs(o, sp, dmethods, formats, tech, res.derivs);
+    for (size_t d = 0; d < dmethods.size(); ++d) {
+      for (auto& row : derivs[t * dmethods.size() + d]) res.derivs.push_back(std::move(row));
+    }
     sp.tris.clear();  // keep the summary only
+    refs[t] = {};
     res.planes.push_back(std::move(sp));
   }
   if (log) {
@@ -864,8 +891,9 @@ std::string study_coords_csv(const StudyCoordsOptions& o, const StudyCoordsResul
   return t.csv();
 }
 
-int run_study_coords(const std::string& out_dir, std::ostream& log) {
-  const StudyCoordsOptions o;
+int run_study_coords(const std::string& out_dir, std::ostream& log, int threads) {
+  StudyCoordsOptions o;
+  o.threads = threads;
   const StudyCoordsResult r = measure_study_coords(o, &log);
   const StudyFiles files(out_dir);
   // Plot: error against cycles at the steepest tilt not above 85°: one series per number

@@ -29,6 +29,7 @@ struct StudyCoordsOptions {
   std::vector<uint32_t> filter_ii = {1, 4, 8};
   uint32_t filter_latency = 8;
   uint32_t max_aniso = 16;  // EWA stage: anisotropy clamp of the texel-count model
+  int threads = 0;          // worker threads (0: one per core); results do not depend on it
 };
 
 // A study plane: the quad clipped to [z_near, z_far], fan-triangulated and rasterized.
@@ -84,6 +85,6 @@ std::string study_coords_markdown(const StudyCoordsOptions& o, const StudyCoords
 std::string study_coords_csv(const StudyCoordsOptions& o, const StudyCoordsResult& r);
 
 // Writes coords.csv, coords.md and coords.png into out_dir (atomically). Returns 0.
-int run_study_coords(const std::string& out_dir, std::ostream& log);
+int run_study_coords(const std::string& out_dir, std::ostream& log, int threads = 0);
 
 }  // namespace texsim

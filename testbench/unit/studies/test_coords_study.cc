@@ -140,6 +140,18 @@ TEST(StudyCoords, SmallStudyIsConsistent) {
   EXPECT_EQ(lines, 1 + r.coords.size() + r.derivs.size());
 }
 
+// Tasks run on any number of threads give the same tables, byte for byte.
+TEST(StudyCoords, ThreadCountDoesNotChangeTheTables) {
+  StudyCoordsOptions o = small();
+  o.threads = 1;
+  const StudyCoordsResult one = measure_study_coords(o, nullptr);
+  o.threads = 3;
+  const StudyCoordsResult three = measure_study_coords(o, nullptr);
+  EXPECT_EQ(study_coords_csv(o, one), study_coords_csv(o, three));
+  EXPECT_EQ(study_coords_markdown(o, one), study_coords_markdown(o, three));
+  EXPECT_GT(one.derivs.size(), 0u);
+}
+
 // The full study (about 20 s), run on request (one command line):
 //   TEXSIM_STUDY_OUT=/tmp/coords build/testbench/test_coords_study
 //   --gtest_also_run_disabled_tests --gtest_filter='*FullStudy*'
