@@ -260,11 +260,12 @@ int run_cli(int argc, char** argv) {
   for (auto* s : {vd, coords, filters, raster, rtl})
     s->add_option("--out", study_out, "Output directory")->capture_default_str();
   int study_threads = 0;
-  coords
-      ->add_option("--threads", study_threads,
-                   "Worker threads (0: one per core); the outputs do not depend on it")
-      ->check(CLI::Range(0, 1024))
-      ->capture_default_str();
+  for (auto* s : {vd, coords}) {
+    s->add_option("--threads", study_threads,
+                  "Worker threads (0: one per core); the outputs do not depend on it")
+        ->check(CLI::Range(0, 1024))
+        ->capture_default_str();
+  }
   StudyRtlOptions rtl_opt;
   std::vector<std::string> rtl_params;
   rtl->add_option("--rtl", rtl_opt.rtl_dir, "Folder of Verilog blocks (one module per file)")
@@ -302,7 +303,7 @@ int run_cli(int argc, char** argv) {
       return run_study_rtl(study_out, rtl_opt, std::cout);
     } else if (*vd || *coords || *filters || *raster) {
       ensure_dir(study_out);
-      if (*vd) return run_study_vd(study_out, std::cout);
+      if (*vd) return run_study_vd(study_out, std::cout, study_threads);
       if (*coords) return run_study_coords(study_out, std::cout, study_threads);
       if (*raster) return run_study_raster(study_out, std::cout);
       return run_study_filters(study_out, std::cout);

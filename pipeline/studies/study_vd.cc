@@ -14,6 +14,7 @@
 
 #include "blocks/base/tech_table.h"
 #include "blocks/texture/subtexel/subtexel_cutoff.h"
+#include "pipeline/kernel/parallel_range.h"
 #include "pipeline/report/plot.h"
 #include "pipeline/studies/study_table.h"
 
@@ -383,21 +384,23 @@ struct VdRow {
   std::optional<double> claim;
 };
 
-std::vector<VdRow> measure_vd_rows(const TechTable& tech, std::ostream& log) {
-  std::vector<VdRow> rows;
-  for (VdEvaluatorKind k : kVdEvaluatorKinds) {
-    for (NumberFormat f : kVdFormatKinds) {
-      VdRow r;
-      r.s = measure_vd_error(k, f);
-      visit_vd_evaluator(k, [&](auto ev) {
-        r.ops = ev.ops_per_item();
-        r.timing = ev.timing(tech);
-      });
-      r.claim = vd_seed_claim(k);
-      log << "  vd " << vd_evaluator_name(k) << " " << format_label(f) << ": max "
-          << fmt_e(r.s.max_abs) << " at d = " << fmt_g(r.s.argmax_d, 8) << "\n";
-      rows.push_back(r);
-    }
+std::vector<VdRow> measure_vd_rows(const TechTable& tech, std::ostream& log, int threads) {
+  // One task per evaluator × format, each filling its own row; logged in order afterwards.
+  const size_t nf = kVdFormatKinds.size();
+  std::vector<VdRow> rows(kVdEvaluatorKinds.size() * nf);
+  parallel_tasks(rows.size(), threads, [&](size_t i) {
+    const VdEvaluatorKind k = kVdEvaluatorKinds[i / nf];
+    VdRow& r = rows[i];
+    r.s = measure_vd_error(k, kVdFormatKinds[i % nf]);
+    visit_vd_evaluator(k, [&](auto ev) {
+      r.ops = ev.ops_per_item();
+      r.timing = ev.timing(tech);
+    });
+    r.claim = vd_seed_claim(k);
+  });
+  for (const VdRow& r : rows) {
+    log << "  vd " << vd_evaluator_name(r.s.evaluator) << " " << format_label(r.s.format)
+        << ": max " << fmt_e(r.s.max_abs) << " at d = " << fmt_g(r.s.argmax_d, 8) << "\n";
   }
   return rows;
 }
@@ -536,10 +539,10 @@ PlotSpec vd_plot() {
 
 }  // namespace
 
-int run_study_vd(const std::string& out_dir, std::ostream& log) {
+int run_study_vd(const std::string& out_dir, std::ostream& log, int threads) {
   const auto t0 = std::chrono::steady_clock::now();
   const StudyFiles files(out_dir);
-  const std::vector<VdRow> rows = measure_vd_rows(TechTable::defaults(), log);
+  const std::vector<VdRow> rows = measure_vd_rows(TechTable::defaults(), log, threads);
   files.csv("vd.csv", vd_csv(rows));
   files.text("vd.md", vd_error_section(rows) + vd_fit_section(rows) + vd_cutoff_section());
   files.plot("vd.png", vd_plot());

@@ -75,6 +75,6 @@ CutoffErrorStats measure_cutoff_error(VdEvaluatorKind k, NumberFormat f);
 
 // Writes vd.csv, vd.md and vd.png into out_dir (created if missing); returns 0 on success.
 // Progress and a summary go to `log`. Runs in a few seconds on one core.
-int run_study_vd(const std::string& out_dir, std::ostream& log);
+int run_study_vd(const std::string& out_dir, std::ostream& log, int threads = 0);
 
 }  // namespace texsim
