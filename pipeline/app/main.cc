@@ -230,6 +230,10 @@ int run_cli(int argc, char** argv) {
       "gen", "Write a scene's reference fragments (exact double coordinates)");
   gen->add_option("scene", gen_scene, "Scene file; 'default' for the built-in scene")->required();
   gen->add_option("-o,--output", gen_out, "Output trace (.trc binary, .csv text)")->required();
+  std::vector<std::string> gen_overrides;
+  gen->add_option("--set", gen_overrides,
+                  "KEY=VALUE: change one scene key before the scene is read, as for run "
+                  "(repeatable)");
   std::string info_in;
   auto* info =
       trace_cmd->add_subcommand("info", "Print a trace's header, texture table and statistics");
@@ -292,7 +296,8 @@ int run_cli(int argc, char** argv) {
       run.opt.error_scale = parse_error_scale(run.error_scale);
       run_simulation(run.opt, std::cout);
     } else if (*gen) {
-      const uint64_t n = generate_scene_trace(gen_scene == "default" ? "" : gen_scene, gen_out);
+      const uint64_t n =
+          generate_scene_trace(gen_scene == "default" ? "" : gen_scene, gen_out, gen_overrides);
       // With -o - the trace itself is on standard output: the summary goes to stderr.
       (gen_out == "-" ? std::cerr : std::cout)
           << "texsim trace gen: wrote " << n << " fragments to " << gen_out << "\n";

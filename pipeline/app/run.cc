@@ -592,8 +592,10 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   if (timeline) log << "  timeline: " << opt.timeline << timeline->summary() << "\n";
   return sum;
 }
-uint64_t generate_scene_trace(const std::string& scene_path, const std::string& out_path) {
-  const Scene scene = scene_path.empty() ? default_scene() : load_scene(scene_path);
+uint64_t generate_scene_trace(const std::string& scene_path, const std::string& out_path,
+                              const std::vector<std::string>& overrides) {
+  const Scene scene =
+      scene_path.empty() ? default_scene(overrides) : load_scene(scene_path, overrides);
   (void)build_materials(scene);  // checks the materials' effects
   TraceHeader h;
   for (size_t i = 0; i < scene.textures.size(); ++i) {

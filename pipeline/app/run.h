@@ -36,6 +36,7 @@ struct RunSummary {
 RunSummary run_simulation(const RunOptions& opt, std::ostream& log);
 
 // Writes the scene's reference fragments (exact double coordinates and derivatives) as a trace.
-uint64_t generate_scene_trace(const std::string& scene_path, const std::string& out_path);
+uint64_t generate_scene_trace(const std::string& scene_path, const std::string& out_path,
+                              const std::vector<std::string>& overrides = {});
 
 }  // namespace texsim

@@ -331,6 +331,18 @@ TEST_F(Cli, TraceGenWritesTheFormTheExtensionNames) {
   };
   EXPECT_EQ(records(a.out), records(b.out));
   EXPECT_NE(records(a.out), "none") << a.out;
+  // --set changes the scene first, as for run: a quarter of the pixels, fewer fragments; a
+  // bad key names itself and writes nothing.
+  const std::string small = path("small.trc");
+  const Result s =
+      sh("trace gen default -o " + small + " --set output.width=160 --set output.height=120");
+  ASSERT_EQ(s.code, 0) << s.out;
+  const Result c = sh("trace info " + small);
+  EXPECT_NE(records(c.out), records(b.out)) << c.out;
+  const Result bad = sh("trace gen default -o " + path("bad.trc") + " --set output.width=-5");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("width"), std::string::npos) << bad.out;
+  EXPECT_FALSE(fs::exists(path("bad.trc")));
 }
 
 // Streams and special files are written in place: "-" is standard output, and a FIFO or a
