@@ -18,6 +18,7 @@
 #include "pipeline/app/results_ledger.h"
 #include "pipeline/app/run.h"
 #include "pipeline/kernel/parallel_range.h"
+#include "pipeline/report/plot.h"
 #include "pipeline/report/provenance.h"
 
 namespace texsim {
@@ -265,6 +266,33 @@ std::string cell(const MergedRow& r, const Column& c) {
   return v.dump();
 }
 
+// merged.png: PSNR against cycles per fragment, a point per job labelled with its number, a
+// series per input (scene or trace) in order of first appearance.
+void write_merged_plot(const std::vector<MergedRow>& rows, const std::string& path) {
+  PlotSpec spec;
+  spec.title = "Sweep: image error against cost, one point per job";
+  spec.xlabel = "cycles per fragment";
+  spec.ylabel = "PSNR (dB)";
+  for (const MergedRow& r : rows) {
+    const Json::json_pointer cpf("/cycles_per_fragment"), psnr("/accuracy/psnr_db");
+    if (!r.report.contains(cpf) || !r.report.contains(psnr) || !r.report.at(psnr).is_number())
+      continue;
+    const std::string input =
+        cell(r, kColumns[2]).empty() ? cell(r, kColumns[1]) : cell(r, kColumns[2]);
+    const std::string name = fs::path(input).filename().string();
+    auto it = std::find_if(spec.series.begin(), spec.series.end(),
+                           [&](const PlotSeries& s) { return s.label == name; });
+    if (it == spec.series.end()) {
+      spec.series.push_back({name, {}, {}, false, {}});
+      it = spec.series.end() - 1;
+    }
+    it->x.push_back(r.report.at(cpf).get<double>());
+    it->y.push_back(r.report.at(psnr).get<double>());
+    it->point_labels.push_back("job " + cell(r, kColumns[0]));
+  }
+  write_plot_png(path, spec);
+}
+
 }  // namespace
 
 int merge_sweeps(const std::vector<std::string>& dirs, const std::string& out, std::ostream& log) {
@@ -310,12 +338,13 @@ int merge_sweeps(const std::vector<std::string>& dirs, const std::string& out, s
   ensure_dir(out);
   write_file_atomic(out + "/merged.csv", csv.str());
   write_file_atomic(out + "/merged.md", md.str());
+  write_merged_plot(rows, out + "/merged.png");
   ResultsLedger ledger(out + "/ledger.sqlite");
   int added = 0;
   for (const MergedRow& r : rows) added += ledger.add(r.job, r.report, r.report_sha1) ? 1 : 0;
   log << "texsim merge: " << rows.size() << " jobs -> " << out << "/merged.csv, " << out
-      << "/merged.md; ledger " << out << "/ledger.sqlite: " << added << " new, " << ledger.rows()
-      << " in all\n";
+      << "/merged.md, " << out << "/merged.png; ledger " << out << "/ledger.sqlite: " << added
+      << " new, " << ledger.rows() << " in all\n";
   return static_cast<int>(rows.size());
 }
 

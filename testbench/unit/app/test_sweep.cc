@@ -92,6 +92,8 @@ TEST(Sweep, ShardsRunEveryJobOnceAndMergeMatchesOneRun) {
   ASSERT_EQ(shell(bin + " merge " + d.file("sh") + " --out " + d.file("sh")).code, 0);
   const std::string all = slurp(d.file("all/merged.csv"));
   EXPECT_EQ(all, slurp(d.file("sh/merged.csv")));
+  // The plot of error against cost: a PNG.
+  EXPECT_EQ(slurp(d.file("sh/merged.png")).substr(1, 3), "PNG");
   std::istringstream rows(all);
   std::string line;
   std::set<std::string> cycles;
@@ -141,6 +143,36 @@ TEST(Sweep, SlurmScriptIsAJobArrayOverTheJobs) {
   EXPECT_TRUE(std::filesystem::exists(d.file("o/job-00004/report.json")));
   EXPECT_FALSE(std::filesystem::exists(d.file("o/job-00003")));
   EXPECT_EQ(shell(bin + " sweep " + d.file("s.toml") + " --job 6").code, 2);
+}
+
+// A real single-node Slurm started for the test (scripts/slurm-local.sh: munged, slurmctld and
+// slurmd with everything in a temporary directory): the job array of `sweep --slurm` runs every
+// job and the merged table equals the local run's. Skipped, with the reason, where Slurm cannot
+// start (not installed, not root, a daemon that does not come up).
+TEST(Sweep, SlurmJobArrayOnALocalClusterGivesTheSameTable) {
+  TempDir d("slurm");
+  const std::string slurm = "bash " + std::string(TEXSIM_SOURCE_DIR) + "/scripts/slurm-local.sh ";
+  const std::string cluster = d.file("cluster");
+  const Result up = shell(slurm + "start " + cluster);
+  if (up.code == 77) GTEST_SKIP() << "Slurm cannot run here: " << up.out;
+  ASSERT_EQ(up.code, 0) << up.out;
+  struct Stop {
+    std::string command;
+    ~Stop() { (void)shell(command); }
+  } stop{slurm + "stop " + cluster};
+  std::ofstream(d.file("s.toml")) << kSweep;
+  const std::string bin = TEXSIM_BINARY, s = d.file("s.toml");
+  ASSERT_EQ(shell(bin + " sweep " + s + " --out " + d.file("one") + " && " + bin + " merge " +
+                  d.file("one") + " --out " + d.file("one"))
+                .code,
+            0);
+  const std::string env = "SLURM_CONF=" + cluster + "/slurm.conf ";
+  ASSERT_EQ(shell(bin + " sweep " + s + " --slurm --out " + d.file("sl")).code, 0);
+  const Result run = shell(env + "timeout 300 sbatch --wait " + d.file("sl/sweep.sbatch") + " && " +
+                           bin + " merge " + d.file("sl") + " --out " + d.file("sl"));
+  ASSERT_EQ(run.code, 0) << run.out;
+  EXPECT_EQ(slurp(d.file("one/merged.csv")), slurp(d.file("sl/merged.csv")));
+  EXPECT_TRUE(std::filesystem::exists(d.file("sl/job-00005/report.json")));
 }
 
 }  // namespace
