@@ -211,7 +211,12 @@ class Search {
       const auto m = std::find(c.material_names.begin(), c.material_names.end(), tm.name);
       const AccuracyMetrics& a = c.materials[static_cast<size_t>(m - c.material_names.begin())];
       TunePoint p;
-      for (const auto& [k, v] : set) p.label += (p.label.empty() ? "" : " ") + k + "=" + v;
+      for (const auto& [k, v] : set) {
+        if (!p.label.empty()) p.label += ' ';
+        p.label += k;
+        p.label += '=';
+        p.label += v;
+      }
       if (p.label.empty()) p.label = "as configured";
       p.override = ov;
       p.cycles = static_cast<double>(c.cycles);
@@ -342,9 +347,7 @@ void write_summary(const TuneOptions& opt, const TuneResult& res, const StudyFil
      << " runs (greedy coordinate descent over each material's knobs, the other materials as "
         "configured; docs/tune.md).\n\n";
   StudyTable t({"material", "choice", "budget met", "PSNR (dB)", "NMSE", "cost",
-                "as configured: "
-                "PSNR (dB)",
-                "cost", "saving", "points"},
+                "as configured: PSNR (dB)", "cost", "saving", "points"},
                "llrrrrrrrr");
   for (const TuneMaterial& m : res.materials) {
     const TunePoint& c = m.points[static_cast<size_t>(m.chosen)];
