@@ -17,6 +17,7 @@
 #include "pipeline/app/cosim.h"
 #include "pipeline/app/run.h"
 #include "pipeline/app/sweep.h"
+#include "pipeline/app/tuner.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/report/provenance.h"
 #include "pipeline/studies/study_coords.h"
@@ -167,6 +168,11 @@ void add_run_command(CLI::App& app, RunCli& r) {
                    "Fragments recorded in the --timeline VCD (the first ones)")
       ->check(CLI::Range(uint64_t{1}, uint64_t{100000000}))
       ->capture_default_str();
+  run_cmd->add_flag("--ledger", run.ledger,
+                    "Per-block error ledger in the report: each block made exact in turn, its "
+                    "share of the error next to its cost (docs/ledger.md; repeats the run)");
+  run_cmd->add_flag("--ledger-maps", run.ledger_maps,
+                    "With --ledger: ledger_<block>.png, the pixels each exact block changes");
 }
 
 // `sweep` and `merge` and their options.
@@ -211,6 +217,28 @@ int run_sweep_command(SweepCli& s, const char* argv0) {
   }
   s.opt.command = std::filesystem::absolute(argv0).string();
   return texsim::run_sweep(s.file, s.opt, std::cout);
+}
+
+// `tune` and its options.
+CLI::App* add_tune_command(CLI::App& app, texsim::TuneOptions& t) {
+  CLI::App* cmd = app.add_subcommand(
+      "tune",
+      "Cheapest configuration per material that meets an error budget; Pareto front "
+      "(docs/tune.md)");
+  cmd->add_option("scene", t.scene, "Scene file (TOML)")->required();
+  cmd->add_option("--budget", t.budget,
+                  "psnr=<dB> (at least) or nmse=<value> (at most), per "
+                  "material")
+      ->capture_default_str();
+  cmd->add_option("--cost", t.cost, "What to minimise: cycles or area")->capture_default_str();
+  cmd->add_option("--out", t.out, "Output directory")->capture_default_str();
+  cmd->add_option("--set", t.overrides, "KEY=VALUE: change one scene key first (repeatable)");
+  cmd->add_option("--threads", t.threads,
+                  "Threads for the ground truth (0: one per hardware "
+                  "thread)")
+      ->check(CLI::Range(0, 1024));
+  cmd->add_flag("!--no-ledger", t.ledger, "Do not run the chosen scene with the error ledger");
+  return cmd;
 }
 
 // Parses the command line and runs the subcommand; returns the exit status (docs/cli.md).
@@ -287,6 +315,9 @@ int run_cli(int argc, char** argv) {
   CosimOptions cosim;
   CLI::App* cosim_cmd = add_cosim_command(app, cosim);
 
+  TuneOptions tune;
+  CLI::App* tune_cmd = add_tune_command(app, tune);
+
   if (const int status = parse_command_line(app, argc, argv); status >= 0) return status;
   try {
     if (*run.cmd) {
@@ -294,6 +325,7 @@ int run_cli(int argc, char** argv) {
       run.opt.command = command_line(argc, argv);
       run.opt.max_memory = parse_byte_size(run.max_memory, "--max-memory");
       run.opt.error_scale = parse_error_scale(run.error_scale);
+      run.opt.ledger = run.opt.ledger || run.opt.ledger_maps;
       run_simulation(run.opt, std::cout);
     } else if (*gen) {
       const uint64_t n =
@@ -312,6 +344,8 @@ int run_cli(int argc, char** argv) {
       if (*coords) return run_study_coords(study_out, std::cout, study_threads);
       if (*raster) return run_study_raster(study_out, std::cout);
       return run_study_filters(study_out, std::cout);
+    } else if (*tune_cmd) {
+      run_tune(tune, std::cout);
     } else if (*cosim_cmd) {
       return run_cosim(cosim, std::cout, std::cerr);
     } else if (*sweep.cmd) {

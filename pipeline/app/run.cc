@@ -15,6 +15,7 @@
 #include "blocks/base/input_error.h"
 #include "blocks/base/output_set.h"
 #include "blocks/base/version.h"
+#include "pipeline/app/error_ledger.h"
 #include "pipeline/app/run_images.h"
 #include "pipeline/geometry/geometry_unit.h"
 #include "pipeline/geometry/plane_projection.h"
@@ -345,13 +346,16 @@ class TruthBatch {
 
 // Writes the images and reports to opt.out and a summary to log.
 void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImages& images,
-                       const TextureUnit& unit, const RunSummary& sum, std::ostream& log) {
+                       const TextureUnit& unit, const RunSummary& sum, const LedgerRun& ledger,
+                       std::ostream& log) {
   // All five files are moved into opt.out together, once every one was written.
   OutputSet outputs(opt.out);
   write_image(outputs.path("image.png"), images.image());
   write_image(outputs.path("reference.png"), images.reference());
   write_error_heatmap(outputs.path("error.png"), images.image(), images.reference(),
                       info.error_scale);
+  for (const auto& [file, exact] : ledger.maps)
+    write_error_heatmap(outputs.path(file), exact, images.image(), info.error_scale);
   write_run_reports(outputs.staging(), info, unit, sum.accuracy);
   outputs.commit();
   log << "texsim run: " << sum.fragments << " fragments, " << sum.cycles << " cycles, PSNR "
@@ -362,6 +366,24 @@ void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImag
   log << "\n  report: " << opt.out << "/report.json, " << opt.out << "/report.md\n";
   log << "  images: " << opt.out << "/image.png, " << opt.out << "/reference.png, " << opt.out
       << "/error.png\n";
+  if (!ledger.maps.empty())
+    log << "  ledger maps: " << opt.out << "/ledger_<block>.png (" << ledger.maps.size() << ")\n";
+}
+
+// The run's images and figures for a caller that compares runs.
+RunCapture capture_run(const RunImages& images, const TextureUnit& unit, const RunSummary& sum) {
+  RunCapture c;
+  c.image = std::make_unique<ImageRgb>(images.image());
+  c.reference = std::make_unique<ImageRgb>(images.reference());
+  c.total = sum.accuracy;
+  for (int m = 0; m < unit.material_count(); ++m) {
+    c.materials.push_back(images.material(m));
+    c.material_names.push_back(unit.material(m).name);
+  }
+  c.cycles = sum.cycles;
+  c.blocks = unit.blocks();
+  for (const BlockUse& b : c.blocks) c.area += b.timing.area;
+  return c;
 }
 
 // First pass over a trace: its records are checked, its pixel extent and frames found.
@@ -587,8 +609,19 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   info.reference_pixel = to_string(scene.reference_pixel);
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
   info.provenance = run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech);
+  if (opt.capture) {
+    const bool write = opt.capture->write_outputs;
+    *opt.capture = capture_run(images, unit, sum);
+    opt.capture->write_outputs = write;
+    if (!write) return sum;
+  }
+  LedgerRun ledger;
+  if (opt.ledger) {
+    ledger = run_error_ledger(opt, capture_run(images, unit, sum), log);
+    info.ledger = ledger.ledger;
+  }
   if (timeline) timeline->write_vcd(opt.timeline);  // first: a bad path leaves no report
-  write_run_outputs(opt, info, images, unit, sum, log);
+  write_run_outputs(opt, info, images, unit, sum, ledger, log);
   if (timeline) log << "  timeline: " << opt.timeline << timeline->summary() << "\n";
   return sum;
 }

@@ -3,12 +3,26 @@
 // write the report, images and accuracy.
 #include <cstdint>
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "pipeline/report/image_metrics.h"
+#include "pipeline/texture/texture_unit.h"
 
 namespace texsim {
+
+// What a run hands back to a caller that compares runs (the error ledger, the tuner).
+struct RunCapture {
+  bool write_outputs = false;                  // false: the run writes no files
+  std::unique_ptr<ImageRgb> image, reference;  // the imaged frame
+  AccuracyMetrics total;
+  std::vector<AccuracyMetrics> materials;  // per material of the unit
+  std::vector<std::string> material_names;
+  uint64_t cycles = 0;
+  double area = 0;               // sum of the unit's blocks' areas
+  std::vector<BlockUse> blocks;  // the unit's blocks
+};
 
 struct RunOptions {
   std::string scene;        // scene file; "" = built-in default scene (or none with a trace)
@@ -24,6 +38,9 @@ struct RunOptions {
   uint64_t max_memory = uint64_t{4} << 30;  // refuse runs estimated to need more (bytes)
   std::string timeline;                     // VCD of the pipeline's stage activity; "" = none
   uint64_t timeline_limit = 10000;          // fragments recorded in the timeline (the first ones)
+  bool ledger = false;                      // per-block error ledger in the report (docs/ledger.md)
+  bool ledger_maps = false;                 // with the ledger: one error map per block
+  RunCapture* capture = nullptr;            // set: filled with the run's images and figures
 };
 
 struct RunSummary {

@@ -203,6 +203,10 @@ Json report_json(const RunInfo& info, const TextureUnit& unit, const AccuracyMet
   }
   add_subsystems_json(j, info.subsystems);
   add_physical_json(j, info, unit);
+  if (!info.ledger.empty()) {
+    j["ledger"] = ledger_json(info.ledger);
+    j["ledger_setup"] = ledger_setup_json(info.ledger);
+  }
   j["error_map"] = {{"scale", info.error_scale},
                     {"auto", info.error_scale_auto},
                     {"bar_rows", info.error_bar_rows},
@@ -327,6 +331,7 @@ std::string report_markdown(const RunInfo& info, const TextureUnit& unit,
   md_blocks(md, unit);
   if (const ClockedPipeline* p = unit.pipeline()) md_stages(md, *p);
   md_memory(md, unit);
+  if (!info.ledger.empty()) ledger_markdown(md, info.ledger);
   md << "\n## Images\n\n`image.png` (filtered result), `reference.png` (ground truth), `error.png` "
         "(max-channel absolute error, black 0 through red and yellow to white "
      << fmt(info.error_scale)

@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/report/error_ledger_report.h"
 #include "pipeline/report/image_metrics.h"
 #include "pipeline/report/provenance.h"
 #include "pipeline/report/subsystems_report.h"
@@ -29,6 +30,7 @@ struct RunInfo {
   bool error_scale_auto = true;                    // scale = the largest error of the imaged frame
   int error_bar_rows = 0;                          // colour bar rows below error.png's image
   SubsystemsInfo subsystems;                       // geometry and rasterisation of a scene run
+  ErrorLedger ledger;  // per-block error ledger (texsim run --ledger); empty: not reported
   Provenance provenance;
 };
 

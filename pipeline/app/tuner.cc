@@ -1,0 +1,414 @@
+#include "pipeline/app/tuner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <ostream>
+#include <sstream>
+
+#include "blocks/base/atomic_file.h"
+#include "blocks/base/input_error.h"
+#include "pipeline/app/material_override.h"
+#include "pipeline/app/run.h"
+#include "pipeline/scene/scene.h"
+#include "pipeline/scene/scene_overrides.h"
+#include "pipeline/studies/study_table.h"
+
+namespace texsim {
+
+namespace {
+
+struct Budget {
+  bool psnr = true;
+  double value = 40;
+  bool meets(double psnr_db, double nmse) const { return psnr ? psnr_db >= value : nmse <= value; }
+};
+
+Budget parse_budget(const std::string& text) {
+  const size_t eq = text.find('=');
+  Budget b;
+  const std::string kind = text.substr(0, eq);
+  size_t used = 0;
+  try {
+    b.value = std::stod(text.substr(eq + 1), &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (eq == std::string::npos || (kind != "psnr" && kind != "nmse") || used == 0 ||
+      used != text.size() - eq - 1 || !std::isfinite(b.value) || (kind == "nmse" && b.value <= 0))
+    throw InputError("--budget " + text, "expected psnr=<dB> or nmse=<positive value>");
+  b.psnr = kind == "psnr";
+  return b;
+}
+
+// One knob of a material: a key of its table (dotted path) and the values tried, as TOML, in
+// the order they are tried.
+struct Knob {
+  std::string path;
+  std::vector<std::string> values;
+};
+
+constexpr const char* kVdKnobs[][2] = {{"evaluator", R"("p1" "p2" "p3" "exact")"},
+                                       {"format", R"("fx8" "fx12" "fx16" "float")"}};
+
+std::vector<std::string> words(const std::string& s) {
+  std::vector<std::string> w;
+  std::istringstream in(s);
+  for (std::string x; in >> x;) w.push_back(x);
+  return w;
+}
+
+// The knobs the material's blocks have, in search order (front to back of the unit).
+std::vector<Knob> knobs_for(const toml::table& t) {
+  std::vector<Knob> k;
+  if (t.contains("coords")) {
+    k.push_back({"coords.method",
+                 words(R"("heckbert" "incremental" "constant-depth" "quadratic-32" "affine-16")")});
+    k.push_back({"coords.format", words(R"("float" "s16.16" "s20.28" "double")")});
+    if (t.at_path("coords.derivs").value_or<std::string>("analytic") != "none") {
+      k.push_back({"coords.derivs", words(R"("analytic" "quad" "accelerated-fd" "iterative")")});
+    }
+  }
+  const bool vd_ewa = t.at_path("ewa.edge").value_or<std::string>("none") == "vd";
+  const bool vd_spaf = t.at_path("spaf.coverage").value_or<std::string>("mask") == "vd";
+  if (t.contains("ewa")) {
+    k.push_back({"ewa.max_aniso", words("4 8 16")});
+    k.push_back({"ewa.lut_bits", words("8 12 16")});
+    k.push_back({"ewa.mip", words(R"("nearest" "linear")")});
+    k.push_back({"ewa.arith", words(R"("fixed" "float")")});
+  } else if (t.contains("spaf")) {
+    k.push_back({"spaf.arith", words(R"("fixed" "float")")});
+  } else if (t.contains("feline")) {
+    k.push_back({"feline.max_probes", words("2 4 8 16")});
+    k.push_back({"feline.arith", words(R"("fixed" "float")")});
+  } else if (t.contains("multi_probe")) {
+    k.push_back({"multi_probe.max_probes", words("2 4 8 16")});
+  } else {
+    k.push_back({"filter.mode", words(R"("nearest" "bilinear" "trilinear")")});
+    k.push_back({"lod.aniso", words(R"("isotropic" "vulkan")")});
+    k.push_back({"lod.max_aniso", words("2 4 8 16")});
+    k.push_back({"filter.sub_texel_bits", words("2 4 6 8")});
+    k.push_back({"filter.mipmap_bits", words("1 2 4 8")});
+  }
+  for (const auto& kv : kVdKnobs) {
+    if (vd_ewa) k.push_back({std::string("ewa.vd.") + kv[0], words(kv[1])});
+    if (vd_spaf) k.push_back({std::string("spaf.vd.") + kv[0], words(kv[1])});
+  }
+  return k;
+}
+
+// `t` with knob `path` set to `value` (TOML text). A new coordinate method keeps only the
+// unit's own keys: the old method's block keys do not belong to it.
+toml::table with_knob(const toml::table& t, const std::string& path, const std::string& value) {
+  toml::table c = copy_table(t);
+  toml::table doc = toml::parse("v = " + value);
+  std::vector<std::string> parts;
+  for (size_t b = 0, e = 0; e != std::string::npos; b = e + 1) {
+    e = path.find('.', b);
+    parts.push_back(path.substr(b, e == std::string::npos ? e : e - b));
+  }
+  if (path == "coords.method") {
+    toml::table& co = sub_table(c, "coords");
+    toml::table n;
+    for (const char* key : {"derivs", "format", "datapath"}) {
+      if (co.contains(key)) n.insert(key, *co.get(key));
+    }
+    co = std::move(n);
+  }
+  toml::table* at = &c;
+  for (size_t i = 0; i + 1 < parts.size(); ++i) at = &sub_table(*at, parts[i]);
+  at->insert_or_assign(parts.back(), *doc.get("v"));
+  return c;
+}
+
+std::string unquoted(std::string s) {
+  s.erase(std::remove(s.begin(), s.end(), '"'), s.end());
+  return s;
+}
+
+class Search {
+ public:
+  Search(const TuneOptions& opt, const Budget& budget, TuneResult& res, std::ostream& log)
+      : opt_(opt), budget_(budget), res_(res), log_(log) {}
+
+  RunCapture run(const std::vector<std::string>& extra, const std::string& out = "",
+                 bool ledger = false) {
+    RunOptions o;
+    o.scene = opt_.scene;
+    o.overrides = opt_.overrides;
+    o.overrides.insert(o.overrides.end(), extra.begin(), extra.end());
+    o.threads = opt_.threads;
+    o.out = out.empty() ? opt_.out : out;
+    o.ledger = ledger;
+    o.command = "texsim run " + opt_.scene;
+    for (const auto& s : o.overrides) o.command += " --set '" + s + "'";
+    if (ledger) o.command += " --ledger";
+    RunCapture c;
+    c.write_outputs = !out.empty();
+    o.capture = &c;
+    std::ostringstream quiet;
+    run_simulation(o, quiet);
+    ++res_.runs;
+    return c;
+  }
+
+  TuneMaterial material(const SceneMaterial& sm) {
+    TuneMaterial tm;
+    tm.name = sm.name;
+    seen_.clear();
+    toml::table cur = copy_table(*sm.effects);
+    std::map<std::string, std::string> cur_set;
+    int best = eval(tm, cur, cur_set);
+    if (best < 0) throw InputError(opt_.scene, "material '" + sm.name + "' does not run");
+    const std::vector<Knob> knobs = knobs_for(cur);
+    // Greedy coordinate descent: each knob in turn takes its best value with the others
+    // fixed; at most two passes (a second pass only if the first moved).
+    for (int pass = 0; pass < 2; ++pass) {
+      bool moved = false;
+      for (const Knob& k : knobs) {
+        toml::table best_t = copy_table(cur);
+        std::map<std::string, std::string> best_set = cur_set;
+        for (const std::string& v : k.values) {
+          std::map<std::string, std::string> s = cur_set;
+          s[k.path] = unquoted(v);
+          toml::table t = with_knob(cur, k.path, v);
+          const int i = eval(tm, t, s);
+          if (i >= 0 &&
+              better(tm.points[static_cast<size_t>(i)], tm.points[static_cast<size_t>(best)])) {
+            best = i;
+            best_t = std::move(t);
+            best_set = std::move(s);
+          }
+        }
+        if (inline_toml(best_t) != inline_toml(cur)) moved = true;
+        cur = std::move(best_t);
+        cur_set = std::move(best_set);
+      }
+      if (!moved) break;
+    }
+    choose(tm);
+    return tm;
+  }
+
+ private:
+  // a before b: meeting the budget first, then cheaper, then more accurate.
+  bool better(const TunePoint& a, const TunePoint& b) const {
+    if (a.meets != b.meets) return a.meets;
+    const double ca = tune_cost(opt_, a), cb = tune_cost(opt_, b);
+    if (!a.meets) return a.nmse < b.nmse || (a.nmse == b.nmse && ca < cb);
+    return ca < cb || (ca == cb && a.nmse < b.nmse);
+  }
+
+  // Evaluates a configuration once; returns its point's index, -1 if it does not run.
+  int eval(TuneMaterial& tm, const toml::table& t, const std::map<std::string, std::string>& set) {
+    const std::string ov = material_override(tm.name, t);
+    if (const auto it = seen_.find(ov); it != seen_.end()) return it->second;
+    int index = -1;
+    try {
+      const RunCapture c = run({ov});
+      const auto m = std::find(c.material_names.begin(), c.material_names.end(), tm.name);
+      const AccuracyMetrics& a = c.materials[static_cast<size_t>(m - c.material_names.begin())];
+      TunePoint p;
+      for (const auto& [k, v] : set) {
+        if (!p.label.empty()) p.label += ' ';
+        p.label += k;
+        p.label += '=';
+        p.label += v;
+      }
+      if (p.label.empty()) p.label = "as configured";
+      p.override = ov;
+      p.cycles = static_cast<double>(c.cycles);
+      p.area = c.area;
+      p.psnr_db = a.psnr_db;
+      p.nmse = a.nmse;
+      p.meets = budget_.meets(a.psnr_db, a.nmse);
+      tm.points.push_back(p);
+      index = static_cast<int>(tm.points.size()) - 1;
+    } catch (const InputError& e) {
+      log_ << "texsim tune: " << tm.name << ": skipped (" << e.what() << ")\n";
+    }
+    seen_[ov] = index;
+    return index;
+  }
+
+  // The cheapest evaluated point that meets the budget (else the most accurate), and the
+  // Pareto front of cost against NMSE.
+  void choose(TuneMaterial& tm) const {
+    int c = 0;
+    for (size_t i = 1; i < tm.points.size(); ++i) {
+      if (better(tm.points[i], tm.points[static_cast<size_t>(c)])) c = static_cast<int>(i);
+    }
+    tm.chosen = c;
+    tm.budget_met = tm.points[static_cast<size_t>(c)].meets;
+    // On the front: no point is at least as good in both and better in one, and no earlier
+    // point has the same cost and error (configurations that differ only in unused knobs).
+    for (size_t i = 0; i < tm.points.size(); ++i) {
+      TunePoint& p = tm.points[i];
+      const double cp = tune_cost(opt_, p);
+      p.pareto = true;
+      for (size_t j = 0; j < tm.points.size() && p.pareto; ++j) {
+        const TunePoint& q = tm.points[j];
+        const double cq = tune_cost(opt_, q);
+        const bool same = cq == cp && q.nmse == p.nmse;
+        if ((same && j < i) || (!same && cq <= cp && q.nmse <= p.nmse)) p.pareto = false;
+      }
+    }
+  }
+
+  const TuneOptions& opt_;
+  Budget budget_;
+  TuneResult& res_;
+  std::ostream& log_;
+  std::map<std::string, int> seen_;
+};
+
+std::string num(double v, int prec = 6) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+  return buf;
+}
+
+// The scene file with the chosen material tables; relative texture and mesh paths made
+// absolute so the file works from the output directory.
+std::string tuned_scene(const TuneOptions& opt, const TuneResult& res) {
+  toml::table root = toml::parse_file(opt.scene);
+  std::vector<std::string> sets = opt.overrides;
+  for (const TuneMaterial& m : res.materials)
+    sets.push_back(m.points[static_cast<size_t>(m.chosen)].override);
+  apply_overrides(root, sets);
+  const std::filesystem::path base = std::filesystem::path(opt.scene).parent_path();
+  auto absolutize = [&](toml::table& t) {
+    auto* src = t.get_as<std::string>("source");
+    if (src == nullptr || src->get().rfind("procedural:", 0) == 0) return;
+    const std::filesystem::path p(src->get());
+    if (p.is_relative() && std::filesystem::exists(base / p))
+      *src = std::filesystem::absolute(base / p).lexically_normal().string();
+  };
+  if (auto* tex = root.get_as<toml::table>("textures")) {
+    for (auto& [k, v] : *tex) {
+      if (auto* t = v.as_table()) absolutize(*t);
+    }
+  }
+  if (auto* meshes = root.get_as<toml::array>("meshes")) {
+    for (auto& v : *meshes) {
+      if (auto* t = v.as_table()) absolutize(*t);
+    }
+  }
+  std::ostringstream s;
+  s << "# texsim tune " << opt.scene << " --budget " << opt.budget << " --cost " << opt.cost
+    << ": the cheapest configuration per material that meets the budget (docs/tune.md).\n"
+    << toml::toml_formatter(root) << "\n";
+  return s.str();
+}
+
+void write_tables(const TuneOptions& opt, const TuneResult& res, const StudyFiles& files) {
+  StudyTable all(
+      {"material", "config", "cycles", "area", "psnr_db", "nmse", "meets", "pareto", "chosen"});
+  StudyTable front({"material", "config", "cycles", "area", "psnr_db", "nmse", "meets", "chosen"});
+  PlotSpec plot;
+  plot.title = "texsim tune " + std::filesystem::path(opt.scene).filename().string() +
+               ": Pareto front per material (budget " + opt.budget + ")";
+  plot.xlabel = opt.cost == "area" ? "area of the unit (adder-equivalents)" : "cycles of the run";
+  plot.ylabel = "material PSNR (dB)";
+  std::vector<LabelledPoint> chosen;
+  for (const TuneMaterial& m : res.materials) {
+    std::vector<LabelledPoint> pts;
+    for (size_t i = 0; i < m.points.size(); ++i) {
+      const TunePoint& p = m.points[i];
+      const bool ch = static_cast<int>(i) == m.chosen;
+      std::vector<std::string> row = {
+          m.name,         "\"" + p.label + "\"", num(p.cycles, 10),  num(p.area, 8),
+          num(p.psnr_db), num(p.nmse),           p.meets ? "1" : "0"};
+      std::vector<std::string> r_all = row;
+      r_all.push_back(p.pareto ? "1" : "0");
+      r_all.push_back(ch ? "1" : "0");
+      all.add(r_all);
+      if (!p.pareto) continue;
+      row.push_back(ch ? "1" : "0");
+      front.add(row);
+      pts.push_back({tune_cost(opt, p), p.psnr_db, p.label});
+    }
+    plot.series.push_back(labelled_series(m.name, pts));
+    const TunePoint& c = m.points[static_cast<size_t>(m.chosen)];
+    chosen.push_back({tune_cost(opt, c), c.psnr_db, m.name + " chosen"});
+  }
+  plot.series.push_back(labelled_series("chosen", chosen));
+  files.csv("points.csv", all);
+  files.csv("pareto.csv", front);
+  files.plot("pareto.png", plot);
+}
+
+void write_summary(const TuneOptions& opt, const TuneResult& res, const StudyFiles& files) {
+  std::ostringstream md;
+  md << "# texsim tune\n\nScene `" << opt.scene << "`, budget " << opt.budget
+     << " per material, cost: " << opt.cost << ". " << res.runs
+     << " runs (greedy coordinate descent over each material's knobs, the other materials as "
+        "configured; docs/tune.md).\n\n";
+  StudyTable t({"material", "choice", "budget met", "PSNR (dB)", "NMSE", "cost",
+                "as configured: PSNR (dB)", "cost", "saving", "points"},
+               "llrrrrrrrr");
+  for (const TuneMaterial& m : res.materials) {
+    const TunePoint& c = m.points[static_cast<size_t>(m.chosen)];
+    const TunePoint& d = m.points[0];
+    const double cc = tune_cost(opt, c), cd = tune_cost(opt, d);
+    t.add({m.name, c.label, m.budget_met ? "yes" : "no (most accurate point)", num(c.psnr_db, 4),
+           num(c.nmse, 4), num(cc, 8), num(d.psnr_db, 4), num(cd, 8),
+           num(cd > 0 ? 100.0 * (cd - cc) / cd : 0, 3) + " %", std::to_string(m.points.size())});
+  }
+  md << t.markdown() << "\nThe chosen scene (`tuned.toml`) against the scene as configured: "
+     << num(res.tuned_cycles, 10) << " cycles vs " << num(res.default_cycles, 10) << " ("
+     << num(100.0 * (res.default_cycles - res.tuned_cycles) / std::max(1.0, res.default_cycles), 3)
+     << " % saved), area " << num(res.tuned_area, 8) << " vs " << num(res.default_area, 8)
+     << ", image PSNR " << num(res.tuned_psnr_db, 4) << " dB vs " << num(res.default_psnr_db, 4)
+     << " dB.\n\nFiles: `tuned.toml`, `points.csv` (every evaluated point), `pareto.csv`, "
+        "`pareto.png`"
+     << (opt.ledger ? ", `tuned/report.md` (the chosen scene's run with its error ledger)" : "")
+     << ".\n";
+  files.text("tune.md", md.str());
+}
+
+}  // namespace
+
+double tune_cost(const TuneOptions& opt, const TunePoint& p) {
+  return opt.cost == "area" ? p.area : p.cycles;
+}
+
+TuneResult run_tune(const TuneOptions& opt, std::ostream& log) {
+  const Budget budget = parse_budget(opt.budget);
+  if (opt.cost != "cycles" && opt.cost != "area")
+    throw InputError("--cost " + opt.cost, "expected cycles or area");
+  const Scene scene = load_scene(opt.scene, opt.overrides);
+  const StudyFiles files(opt.out);
+  TuneResult res;
+  Search search(opt, budget, res, log);
+  const RunCapture def = search.run({});
+  res.default_cycles = static_cast<double>(def.cycles);
+  res.default_area = def.area;
+  res.default_psnr_db = def.total.psnr_db;
+  for (const SceneMaterial& m : scene.materials) {
+    res.materials.push_back(search.material(m));
+    const TuneMaterial& tm = res.materials.back();
+    log << "texsim tune: " << tm.name << ": " << tm.points[static_cast<size_t>(tm.chosen)].label
+        << (tm.budget_met ? "" : " (budget not met: the most accurate point)") << ", "
+        << tm.points.size() << " points\n";
+  }
+  std::vector<std::string> chosen;
+  for (const TuneMaterial& m : res.materials)
+    chosen.push_back(m.points[static_cast<size_t>(m.chosen)].override);
+  const RunCapture tuned = search.run(chosen, opt.out + "/tuned", opt.ledger);
+  res.tuned_cycles = static_cast<double>(tuned.cycles);
+  res.tuned_area = tuned.area;
+  res.tuned_psnr_db = tuned.total.psnr_db;
+  files.text("tuned.toml", tuned_scene(opt, res));
+  write_tables(opt, res, files);
+  write_summary(opt, res, files);
+  log << "texsim tune: " << res.runs << " runs; tuned " << num(res.tuned_cycles, 10)
+      << " cycles vs " << num(res.default_cycles, 10) << " as configured, PSNR "
+      << num(res.tuned_psnr_db, 4) << " dB vs " << num(res.default_psnr_db, 4) << " dB\n  "
+      << opt.out << "/tune.md, tuned.toml, points.csv, pareto.csv, pareto.png\n";
+  return res;
+}
+
+}  // namespace texsim

@@ -1,0 +1,54 @@
+#pragma once
+// `texsim tune SCENE --budget psnr=40` (docs/tune.md): for each material, the cheapest
+// configuration of its existing knobs (coordinate method and format, derivative method,
+// filter and its parameters, sub-texel and mipmap bits, V(d) evaluator and format) whose
+// accuracy meets the budget. Each point is a `texsim run` of the scene with the material's
+// table replaced through a `--set` override (the other materials as configured), so the
+// search is the run machinery's and deterministic: fixed knob order, fixed value order.
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace texsim {
+
+struct TuneOptions {
+  std::string scene;
+  std::string out = "out/tune";
+  std::string budget = "psnr=40";      // psnr=<dB> (at least) or nmse=<value> (at most)
+  std::string cost = "cycles";         // cycles or area
+  std::vector<std::string> overrides;  // --set, applied to the scene first
+  int threads = 0;
+  bool ledger = true;  // run the chosen scene with the error ledger
+};
+
+// One evaluated configuration of one material.
+struct TunePoint {
+  std::string label;     // the knobs changed from the material's own table ("as configured")
+  std::string override;  // the --set that selects it
+  double cycles = 0, area = 0, psnr_db = 0, nmse = 0;
+  bool meets = false;
+  bool pareto = false;
+};
+
+struct TuneMaterial {
+  std::string name;
+  std::vector<TunePoint> points;  // in evaluation order; points[0] is the material as configured
+  int chosen = 0;                 // index into points
+  bool budget_met = false;        // false: no point met the budget; chosen is the most accurate
+};
+
+struct TuneResult {
+  std::vector<TuneMaterial> materials;
+  double default_cycles = 0, default_area = 0, default_psnr_db = 0;
+  double tuned_cycles = 0, tuned_area = 0, tuned_psnr_db = 0;
+  int runs = 0;
+};
+
+// The cost of a point under opt.cost.
+double tune_cost(const TuneOptions& opt, const TunePoint& p);
+
+// Searches and writes opt.out: tuned.toml, points.csv, pareto.csv, pareto.png, tune.md and
+// (with opt.ledger) tuned/ (the chosen scene's run with its ledger). Throws InputError.
+TuneResult run_tune(const TuneOptions& opt, std::ostream& log);
+
+}  // namespace texsim
