@@ -192,7 +192,11 @@ std::string overfull_cells(const fs::path& log) {
     if (at != std::string::npos && pct != std::string::npos && pct > at) {
       const size_t start = line.find_last_of(' ', pct);
       if (start != std::string::npos && std::atoi(line.c_str() + start + 1) > 100) {
-        return line.substr(at);
+        std::string fit;  // with runs of blanks collapsed
+        for (const char c : line.substr(at)) {
+          if (c != ' ' || (!fit.empty() && fit.back() != ' ')) fit += c;
+        }
+        return fit;
       }
     }
   }
