@@ -19,7 +19,7 @@ TechTable TechTable::defaults() {
 TechTable TechTable::from_toml(const toml::table& table, const std::string& source) {
   TechTable t = defaults();
   ConfigReader r(table, source, "tech");
-  r.reject_unknown({"latency", "area", "clock_mhz"});
+  r.reject_unknown({"latency", "area", "clock_mhz", "block_area"});
   t.clock_mhz = r.get_double("clock_mhz", t.clock_mhz);
   if (!(t.clock_mhz > 0 && t.clock_mhz <= kMaxClockMhz))
     r.fail("clock_mhz", "must be in (0, " + std::to_string(static_cast<int>(kMaxClockMhz)) + "]");
@@ -35,7 +35,22 @@ TechTable TechTable::from_toml(const toml::table& table, const std::string& sour
         g.fail(kOpKindNames[k], "must be in [0, " + std::to_string(static_cast<int>(hi)) + "]");
     }
   }
+  if (const toml::table* blocks = r.subtable("block_area")) {
+    const ConfigReader b = r.sub("block_area");
+    for (const auto& [key, node] : *blocks) {
+      const std::string name(key.str());
+      const double a = b.get_double(name, -1);
+      if (!(a >= 0 && a <= kMaxBlockArea))
+        b.fail(name, "must be in [0, " + std::to_string(static_cast<int>(kMaxBlockArea)) + "]");
+      t.block_area[name] = a;
+    }
+  }
   return t;
+}
+
+double TechTable::block_area_or(const std::string& block, double derived) const {
+  const auto it = block_area.find(block);
+  return it == block_area.end() ? derived : it->second;
 }
 
 double TechTable::path_latency(const OpCounts& path) const {

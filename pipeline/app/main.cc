@@ -308,6 +308,9 @@ int run_cli(int argc, char** argv) {
   rtl->add_option("--seeds", rtl_opt.seeds, "Placer seeds per build")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
+  rtl->add_option("--block", rtl_opt.blocks, "Only this block (module name; repeatable)");
+  rtl->add_flag("--with-counters", rtl_opt.with_counters,
+                "Synthesise the blocks' op counters too (default: a stub replaces them)");
 
   SweepCli sweep;
   add_sweep_commands(app, sweep);

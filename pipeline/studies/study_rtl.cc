@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "blocks/base/input_error.h"
+#include "pipeline/studies/study_rtl_params.h"
 #include "pipeline/studies/study_table.h"
-#include "pipeline/studies/study_vd.h"
 #include "rtl_model/synth/synth_flow.h"
 
 namespace texsim {
@@ -18,13 +18,17 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using Params = std::vector<std::pair<std::string, int>>;
+using Sweep = std::vector<std::pair<std::string, int>>;
 
 std::string fmt(double v, const char* f = "%.1f") {
   char b[32];
   std::snprintf(b, sizeof b, f, v);
   return b;
 }
+
+// Shared helper modules (texsim_pipe, texsim_round_sat, ...) are named texsim_*: they are
+// read with every block but are not blocks of their own.
+bool is_helper(const fs::path& file) { return file.stem().string().rfind("texsim_", 0) == 0; }
 
 std::vector<fs::path> verilog_files(const std::string& dir) {
   std::vector<fs::path> files;
@@ -44,14 +48,14 @@ bool declares_parameter(const std::string& source, const std::string& name) {
 }
 
 // Every combination of the swept parameters the file declares.
-std::vector<Params> combinations(const std::string& source, const StudyRtlOptions& opt) {
-  std::vector<Params> out = {{}};
+std::vector<Sweep> combinations(const std::string& source, const StudyRtlOptions& opt) {
+  std::vector<Sweep> out = {{}};
   for (const auto& [name, values] : opt.params) {
     if (!declares_parameter(source, name)) continue;
-    std::vector<Params> next;
-    for (const Params& p : out) {
+    std::vector<Sweep> next;
+    for (const Sweep& p : out) {
       for (const int v : values) {
-        Params q = p;
+        Sweep q = p;
         q.emplace_back(name, v);
         next.push_back(q);
       }
@@ -61,31 +65,41 @@ std::vector<Params> combinations(const std::string& source, const StudyRtlOption
   return out;
 }
 
-std::string params_text(const Params& p) {
+std::string params_text(const Sweep& p) {
   std::string s;
   for (const auto& [n, v] : p) s += (s.empty() ? "" : " ") + n + "=" + std::to_string(v);
   return s.empty() ? "defaults" : s;
 }
 
-// The exhaustive C++ error of a V(d) evaluator block (top vd_p2*/vd_p1*) whose width parameter
-// is one of the fixed formats' input widths; "" for any other block.
-std::string vd_max_error(const std::string& top, const Params& p) {
-  VdEvaluatorKind kind;
-  if (top.rfind("vd_p2", 0) == 0) {
-    kind = VdEvaluatorKind::P2;
-  } else if (top.rfind("vd_p1", 0) == 0) {
-    kind = VdEvaluatorKind::P1;
-  } else {
-    return "";
+// Stands in for texsim_op_counters when the counters are left out: same ports, outputs 0.
+constexpr const char* kCounterStub =
+    "// texsim study rtl: texsim_op_counters left out (docs/rtl/study.md); outputs are 0.\n"
+    "module texsim_op_counters (\n"
+    "    input logic clk, input logic rst, input logic retire,\n"
+    "    input logic [15:0] add_n, input logic [15:0] mul_n, input logic [15:0] div_n,\n"
+    "    input logic [15:0] cmp_n,\n"
+    "    output logic [63:0] ops_add, output logic [63:0] ops_mul, output logic [63:0] ops_div,\n"
+    "    output logic [63:0] ops_cmp, output logic [63:0] items);\n"
+    "  assign {ops_add, ops_mul, ops_div, ops_cmp, items} = '0;\n"
+    "endmodule\n";
+
+// The shared helpers every block is read with (absolute paths), the counter stub in place of
+// texsim_op_counters unless the counters are asked for.
+std::vector<std::string> helper_files(const std::vector<fs::path>& files,
+                                      const std::string& out_dir, const StudyRtlOptions& opt) {
+  std::vector<std::string> helpers;
+  for (const fs::path& file : files) {
+    if (!is_helper(file)) continue;
+    if (file.stem() == "texsim_op_counters" && !opt.with_counters) {
+      const fs::path stub = fs::absolute(out_dir) / "rtl_work" / "texsim_op_counters_stub.v";
+      fs::create_directories(stub.parent_path());
+      std::ofstream(stub) << kCounterStub;
+      helpers.push_back(stub.string());
+    } else {
+      helpers.push_back(fs::absolute(file).string());
+    }
   }
-  for (const auto& [name, v] : p) {
-    const NumberFormat f = v == 16   ? NumberFormat::Fx16
-                           : v == 12 ? NumberFormat::Fx12
-                           : v == 8  ? NumberFormat::Fx8
-                                     : NumberFormat::Double;
-    if (f != NumberFormat::Double) return fmt(measure_vd_error(kind, f).max_abs, "%.2e");
-  }
-  return "";
+  return helpers;
 }
 
 std::string slurp(const fs::path& p) {
@@ -96,24 +110,32 @@ std::string slurp(const fs::path& p) {
 }
 
 struct Row {
-  std::string block, params, error;
+  std::string block, params;
+  RtlStudyPoint point;
   synth::SynthResult r;
 };
 
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const std::string& x : v) s += (s.empty() ? "" : " ") + x;
+  return s.empty() ? "-" : s;
+}
+
 std::vector<std::string> cells_of(const Row& row) {
   const synth::SynthResult& r = row.r;
-  const std::string fallback = r.multipliers > r.mac16
-                                   ? std::to_string(r.multipliers - r.mac16) + " of " +
-                                         std::to_string(r.multipliers) + " in LUTs"
-                                   : "no";
-  std::vector<std::string> c = {row.block, row.params, row.error.empty() ? "-" : row.error};
+  std::string fallback =
+      r.lut_multipliers ? std::to_string(r.lut_multipliers) + " $mul in LUTs" : "no";
+  if (r.pnr_without_dsp) fallback += "; placed without DSPs (> 8 SB_MAC16)";
+  const RtlStudyPoint& pt = row.point;
+  std::vector<std::string> c = {row.block, row.params, pt.max_error.empty() ? "-" : pt.max_error,
+                                pt.latency.empty() ? "-" : pt.latency};
   if (!r.error.empty()) {
     c.insert(c.end(), {"-", "-", "-", "-", "-", "-", "-", "-", "-", "-", "0", r.error});
     return c;
   }
-  for (const int v : {r.generic_cells, r.multipliers, r.lut4, r.dff, r.carry, r.mac16}) {
-    c.push_back(std::to_string(v));
-  }
+  c.push_back(std::to_string(r.generic_cells));
+  c.push_back(joined(r.multipliers));
+  for (const int v : {r.lut4, r.dff, r.carry, r.mac16}) c.push_back(std::to_string(v));
   c.push_back(fallback);
   if (r.fmax_mhz.empty()) {
     c.insert(c.end(), {"-", "-", "-"});
@@ -126,12 +148,35 @@ std::vector<std::string> cells_of(const Row& row) {
   return c;
 }
 
+// The measured area fed back to the C++ timing model: a [tech.block_area] table (SB_LUT4 of
+// every block built at its generated parameters) for a scene's [tech]; blocks with no report
+// block of their own are listed under their module name, which matches no report block.
+std::string tech_toml(const std::vector<Row>& rows, bool with_counters) {
+  std::string s =
+      "# generated by texsim study rtl (docs/rtl/study.md): SB_LUT4 of each RTL block on the\n"
+      "# iCE40 UP5K at its generated parameters (rtl_model/params/rtl_params.h), op counters " +
+      std::string(with_counters ? "included" : "left out") +
+      ".\n"
+      "# Copy the table into a scene's [tech]: a report block of that name then shows these LUTs\n"
+      "# as its area (in LUT4, not adder-equivalents). Module-name keys match no report block.\n"
+      "[tech.block_area]\n";
+  for (const Row& row : rows) {
+    const synth::SynthResult& r = row.r;
+    if (!r.error.empty() || !rtl_study_is_generated(row.block, row.point.params)) continue;
+    const std::string name = rtl_report_block(row.block);
+    s += "\"" + (name.empty() ? row.block : name) + "\" = " + std::to_string(r.lut4) + "  # " +
+         row.block + ": " + std::to_string(r.dff) + " DFF, " + std::to_string(r.carry) +
+         " SB_CARRY, " + std::to_string(r.mac16) + " SB_MAC16\n";
+  }
+  return s;
+}
+
 void write_outputs(const std::string& out_dir, const std::vector<Row>& rows,
                    const StudyRtlOptions& opt, const std::string& note) {
-  StudyTable t({"block", "parameters", "max error (C++)", "generic cells", "multipliers", "LUT4",
-                "DFF", "carry", "SB_MAC16", "DSP fallback", "Fmax median MHz", "Fmax min",
+  StudyTable t({"block", "parameters", "max error (C++)", "latency", "generic cells", "multipliers",
+                "LUT4", "DFF", "carry", "SB_MAC16", "DSP fallback", "Fmax median MHz", "Fmax min",
                 "Fmax max", "seeds routed", "notes"},
-               "llrrrrrrrlrrrrl");
+               "llrrrlrrrrlrrrrl");
   // One plot series per block, a point per parameter set.
   std::vector<std::pair<std::string, std::vector<LabelledPoint>>> series;
   for (const Row& row : rows) {
@@ -143,13 +188,17 @@ void write_outputs(const std::string& out_dir, const std::vector<Row>& rows,
   }
   const StudyFiles files(out_dir);
   files.csv("rtl.csv", t);
-  files.text("rtl.md",
-             "# RTL blocks on the iCE40 UP5K\n\nyosys synth / synth_ice40 -dsp, "
-             "nextpnr-ice40 --up5k at seeds 1.." +
-                 std::to_string(opt.seeds) +
-                 " (blocks wrapped in shift registers for "
-                 "place and route; resource counts are the block's alone). " +
-                 note + "\n\n" + t.markdown());
+  files.text("rtl_tech.toml", tech_toml(rows, opt.with_counters));
+  files.text(
+      "rtl.md",
+      "# RTL blocks on the iCE40 UP5K\n\nyosys synth / synth_ice40 -dsp, "
+      "nextpnr-ice40 --up5k at seeds 1.." +
+          std::to_string(opt.seeds) +
+          " (blocks wrapped in shift registers for "
+          "place and route; resource counts are the block's alone). " +
+          (opt.with_counters ? "Op counters included. "
+                             : "Op counters left out (a stub; --with-counters keeps them). ") +
+          note + "\n\n" + t.markdown());
   if (series.empty()) return;
   PlotSpec spec;
   spec.title = "RTL blocks on iCE40 UP5K: LUT4 vs median Fmax over " + std::to_string(opt.seeds) +
@@ -200,24 +249,43 @@ int run_study_rtl(const std::string& out_dir, const StudyRtlOptions& opt, std::o
     note = "nextpnr-ice40 not found: no Fmax.";
     log << "study rtl: " << tools.missing() << ": synthesis only, no Fmax\n";
   }
+  for (const std::string& b : opt.blocks) {
+    const bool found = std::any_of(files.begin(), files.end(), [&](const fs::path& f) {
+      return f.stem() == b && !is_helper(f);
+    });
+    if (!found) throw InputError("--block " + b, "no block " + b + ".v or .sv in " + opt.rtl_dir);
+  }
   std::vector<int> seeds;
   for (int s = 1; s <= opt.seeds; ++s) seeds.push_back(s);
+  const std::vector<std::string> helpers = helper_files(files, out_dir, opt);
+  std::vector<std::string> includes = {opt.rtl_dir};
+  if (!synth::generated_include_dir().empty()) includes.push_back(synth::generated_include_dir());
   std::vector<Row> rows;
   for (const fs::path& file : files) {
     const std::string top = file.stem().string();
-    for (const Params& p : combinations(slurp(file), opt)) {
+    if (is_helper(file) || (!opt.blocks.empty() && std::find(opt.blocks.begin(), opt.blocks.end(),
+                                                             top) == opt.blocks.end())) {
+      continue;
+    }
+    for (const Sweep& p : combinations(slurp(file), opt)) {
       fs::path work = fs::absolute(out_dir) / "rtl_work" / top;
       for (const auto& [n, v] : p) work += "_" + n + std::to_string(v);
-      const synth::SynthJob job{fs::absolute(file).string(), top, p, work.string(), seeds};
-      log << "study rtl: " << top << " " << params_text(p) << " ..." << std::flush;
-      Row row{top, params_text(p), vd_max_error(top, p), synth::run_synth(job, tools)};
+      Row row{top, params_text(p), rtl_study_point(top, p), {}};
+      log << "study rtl: " << top << " " << row.params << " ..." << std::flush;
+      if (!row.point.problem.empty()) {
+        row.r.error = row.point.problem;
+      } else {
+        synth::SynthJob job{
+            {fs::absolute(file).string()}, includes, top, row.point.params, work.string(), seeds};
+        job.files.insert(job.files.end(), helpers.begin(), helpers.end());
+        row.r = synth::run_synth(job, tools);
+      }
       log << (row.r.error.empty() ? " " + std::to_string(row.r.lut4) + " LUT4" : " failed") << "\n";
       rows.push_back(std::move(row));
     }
   }
   write_outputs(out_dir, rows, opt, note);
-  log << "study rtl: wrote " << out_dir << "/rtl.csv, rtl.md"
-      << "\n";
+  log << "study rtl: wrote " << out_dir << "/rtl.csv, rtl.md, rtl_tech.toml\n";
   return 0;
 }
 

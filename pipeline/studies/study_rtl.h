@@ -2,6 +2,7 @@
 // `texsim study rtl`: what each RTL block costs on an FPGA (docs/rtl/study.md). Every Verilog
 // file of a folder (default rtl_model/rtl) is synthesised with yosys (generic cells, and LUT4 /
 // flip-flops / carries / SB_MAC16 for the iCE40 UP5K), at each value of the swept parameters,
+// with the shared helpers (texsim_*.v, not blocks themselves) read alongside,
 // and placed and routed with nextpnr-ice40 at several seeds (median, min and max Fmax). Writes
 // rtl.csv, rtl.md and rtl.png; missing tools or no Verilog files: says so and writes nothing.
 #include <ostream>
@@ -16,6 +17,11 @@ struct StudyRtlOptions {
   // NAME -> values: each block that declares parameter NAME is built at every value.
   std::vector<std::pair<std::string, std::vector<int>>> params;
   int seeds = 5;  // placer seeds 1..seeds
+  // The blocks' op counters (texsim_op_counters: five 64-bit accumulators that check the RTL
+  // against the C++ OpCounts) are a verification aid: by default a stub with zero outputs
+  // replaces them, so the table measures the datapath. true: synthesise them too.
+  bool with_counters = false;
+  std::vector<std::string> blocks;  // only these modules; empty: every block of the folder
 };
 
 // Parses "NAME=v1,v2,..." (the --param option); throws InputError.

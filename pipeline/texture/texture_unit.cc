@@ -609,6 +609,8 @@ std::vector<BlockUse> TextureUnit::blocks() const {
   c.texels = texels;
   for (const auto& m : mats_) c.materials.push_back(m.name);
   out.push_back(c);
+  // Measured areas (e.g. LUTs of the real RTL) replace derived ones, by the reported name.
+  for (BlockUse& b : out) b.timing.area = tech_.block_area_or(b.name, b.timing.area);
   return out;
 }
 

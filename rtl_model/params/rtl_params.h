@@ -44,10 +44,12 @@ inline constexpr int kVdFc = VdFormat::Coef::kFracBits;
 // A named integer parameter of one Verilog module.
 using Param = std::pair<std::string, int64_t>;
 
-inline std::vector<Param> vd_p2_params() {
-  const auto& c = VdCoefficientsIn<VdFormat>::get();
-  return {{"FIN", kVdFin},
-          {"FC", kVdFc},
+// Fmt: any VdFixedFormat (texsim study rtl builds the blocks at other widths too).
+template <class Fmt = VdFormat>
+std::vector<Param> vd_p2_params() {
+  const auto& c = VdCoefficientsIn<Fmt>::get();
+  return {{"FIN", Fmt::In::kFracBits},
+          {"FC", Fmt::Coef::kFracBits},
           {"MUL_LAT", op_latency(OpKind::Mul)},
           {"ADD_LAT", op_latency(OpKind::Add)},
           {"C0", c.p2[0].raw()},
@@ -55,10 +57,11 @@ inline std::vector<Param> vd_p2_params() {
           {"C2", c.p2[2].raw()}};
 }
 
-inline std::vector<Param> vd_p1_params() {
-  const auto& c = VdCoefficientsIn<VdFormat>::get();
-  return {{"FIN", kVdFin},
-          {"FC", kVdFc},
+template <class Fmt = VdFormat>
+std::vector<Param> vd_p1_params() {
+  const auto& c = VdCoefficientsIn<Fmt>::get();
+  return {{"FIN", Fmt::In::kFracBits},
+          {"FC", Fmt::Coef::kFracBits},
           {"MUL_LAT", op_latency(OpKind::Mul)},
           {"ADD_LAT", op_latency(OpKind::Add)},
           {"CMP_LAT", op_latency(OpKind::Cmp)},
@@ -128,8 +131,8 @@ struct RtlBlock {
 
 inline std::vector<RtlBlock> rtl_blocks() {
   return {
-      {"vd_p2", vd_p2_params(), VdEvaluatorP2().timing(tech()).latency},
-      {"vd_p1", vd_p1_params(), VdEvaluatorP1().timing(tech()).latency},
+      {"vd_p2", vd_p2_params<>(), VdEvaluatorP2().timing(tech()).latency},
+      {"vd_p1", vd_p1_params<>(), VdEvaluatorP1().timing(tech()).latency},
       {"bilinear_lerp", bilinear_lerp_params(), BilinearLerp(kLerp).timing(tech()).latency},
       {"uv_incremental", uv_incremental_params(),
        UvIncrementalAdder(uv_config()).timing(tech()).latency},

@@ -58,17 +58,17 @@ module uv_incremental #(
   localparam int SETUP_ADD = 6 + 3 * (K - 1);
 
   function automatic logic signed [W-1:0] sat(input logic signed [PW-1:0] v);
-    return v > MAXV ? MAXV[W-1:0] : (v < MINV ? MINV[W-1:0] : v[W-1:0]);
+    sat = v > MAXV ? MAXV[W-1:0] : (v < MINV ? MINV[W-1:0] : v[W-1:0]);
   endfunction
   function automatic logic signed [W-1:0] sadd(input logic signed [W-1:0] a, input logic signed [W-1:0] b);
-    return sat(PW'(a) + PW'(b));
+    sadd = sat(PW'(a) + PW'(b));
   endfunction
   function automatic logic signed [W-1:0] smul(input logic signed [W-1:0] a, input logic signed [XW-1:0] x);
-    return sat(PW'(a) * PW'(x));
+    smul = sat(PW'(a) * PW'(x));
   endfunction
   function automatic logic signed [W-1:0] form(input logic signed [W-1:0] a, input logic signed [W-1:0] b,
                                               input logic signed [W-1:0] c);
-    return sadd(sadd(smul(a, $signed(x0)), smul(b, $signed(y))), c);
+    form = sadd(sadd(smul(a, $signed(x0)), smul(b, $signed(y))), c);
   endfunction
 
   // ---- Row set-up: combinational arithmetic, then SETUP_LAT - 1 registers, then the lanes

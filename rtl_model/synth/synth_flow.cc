@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -67,22 +69,72 @@ int count_prefix(const json& cells, const std::string& prefix) {
   return n;
 }
 
-// read_verilog (the source by its absolute path, includes also from its folder) and hierarchy
-// with the job's parameters. yosys takes double-quoted file names in read_verilog.
+// A parameter value as yosys' chparam reads it: a decimal, or a negative one as its 32-bit
+// two's complement in hex (chparam takes no minus sign); parameters are 32-bit ints.
+std::string param_literal(int64_t v) {
+  if (v >= 0) return std::to_string(v);
+  char b[16];
+  std::snprintf(b, sizeof b, "32'h%08X", static_cast<uint32_t>(v));
+  return b;
+}
+
+// Reads every source (double-quoted absolute paths; the include folders with -I), sets the
+// job's parameters on the top, elaborates it and renames the result `study_top`, so that the
+// scripts below and the place-and-route wrapper name one module whatever the parameters.
 std::string read_design(const SynthJob& job) {
-  const fs::path src = fs::absolute(job.file);
-  std::string s = "read_verilog -sv -I \"" + src.parent_path().string() + "\" \"" + src.string() +
-                  "\"\nhierarchy -top " + job.top;
-  for (const auto& [name, value] : job.params) {
-    s += " -chparam " + name + " " + std::to_string(value);
+  std::string s = "read_verilog -sv";
+  for (const std::string& dir : job.includes) s += " -I \"" + fs::absolute(dir).string() + "\"";
+  for (const std::string& f : job.files) s += " \"" + fs::absolute(f).string() + "\"";
+  s += "\n";
+  if (!job.params.empty()) {
+    s += "chparam";
+    for (const auto& [name, value] : job.params) s += " -set " + name + " " + param_literal(value);
+    s += " " + job.top + "\n";
   }
-  return s + "\n";
+  return s + "hierarchy -top " + job.top + "\nrename -top study_top\n";
+}
+
+// The generic script: $mul cells after flatten/opt/wreduce (pre_net.json), then yosys'
+// multiplier-to-DSP split with synth_ice40 -dsp's settings (what stays in LUTs:
+// $__soft_mul), then plain `synth` on the saved design for the generic cell count.
+std::string generic_script(const SynthJob& job) {
+  return read_design(job) +
+         "proc\nflatten\nopt\nwreduce\nopt_clean\nwrite_json pre_net.json\n"
+         "design -save pre\n"
+         "techmap -map +/mul2dsp.v -map +/ice40/dsp_map.v -D DSP_A_MAXWIDTH=16 "
+         "-D DSP_B_MAXWIDTH=16 -D DSP_A_MINWIDTH=2 -D DSP_B_MINWIDTH=2 -D DSP_Y_MINWIDTH=11 "
+         "-D DSP_NAME=$__MUL16X16\n"
+         "tee -q -o dsp_split.json stat -json\n"
+         "design -load pre\nsynth -top study_top\ntee -q -o generic.json stat -json\n";
+}
+
+long long json_int(const json& v) {
+  if (v.is_number_integer()) return v.get<long long>();
+  if (v.is_string()) return std::stoll(v.get<std::string>(), nullptr, 2);
+  return 0;
+}
+
+// "AxB" (with "s" when signed) of every $mul cell of the flattened top.
+std::vector<std::string> multiplier_shapes(const fs::path& netlist) {
+  std::vector<std::string> out;
+  const json j = read_json(netlist);
+  if (!j.is_object() || !j.contains("modules") || !j["modules"].contains("study_top")) return out;
+  const json& cells = j["modules"]["study_top"]["cells"];
+  if (!cells.is_object()) return out;
+  for (const auto& [name, cell] : cells.items()) {
+    if (cell.value("type", "") != "$mul") continue;
+    const json& p = cell["parameters"];
+    out.push_back(std::to_string(json_int(p["A_WIDTH"])) + "x" +
+                  std::to_string(json_int(p["B_WIDTH"])) + (json_int(p["A_SIGNED"]) ? "s" : ""));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 // A top module around the block: inputs from a serial shift register, outputs folded into a
 // register ring, one clock. Ports come from the block's netlist; a clock input named clk or
-// clock is driven by the clock.
-std::string wrapper(const SynthJob& job, const json& ports) {
+// clock is driven by the clock. The block is `study_top`, already built with its parameters.
+std::string wrapper(const json& ports) {
   std::string inst, regs;
   int in_bits = 0, out_bits = 0;
   std::string conns;
@@ -103,19 +155,13 @@ std::string wrapper(const SynthJob& job, const json& ports) {
   }
   in_bits = std::max(in_bits, 2);
   out_bits = std::max(out_bits, 2);
-  std::string params;
-  for (const auto& [name, value] : job.params) {
-    params +=
-        std::string(params.empty() ? "" : ", ") + "." + name + "(" + std::to_string(value) + ")";
-  }
   const std::string ni = std::to_string(in_bits), no = std::to_string(out_bits);
   std::ostringstream v;
   v << "module study_wrap(input clk, input sin, output sout);\n"
     << "  reg [" << ni << "-1:0] in_sr;\n"
     << "  always @(posedge clk) in_sr <= {in_sr[" << ni << "-2:0], sin};\n"
     << "  wire [" << no << "-1:0] out_w;\n"
-    << "  " << job.top << (params.empty() ? "" : " #(" + params + ")") << " dut("
-    << (conns.empty() ? "" : conns.substr(2)) << ");\n"
+    << "  study_top dut(" << (conns.empty() ? "" : conns.substr(2)) << ");\n"
     << "  reg [" << no << "-1:0] out_r;\n"
     << "  always @(posedge clk) out_r <= out_w ^ {out_r[" << no << "-2:0], out_r[" << no
     << "-1]};\n"
@@ -136,12 +182,35 @@ double report_fmax(const fs::path& report) {
   return f;
 }
 
+// The first over-100% utilisation line ("ICESTORM_LC: 8533/ 5280 161%") of a nextpnr log, or
+// "" when the design fits.
+std::string overfull_cells(const fs::path& log) {
+  std::ifstream f(log);
+  for (std::string line; std::getline(f, line);) {
+    const size_t at = line.find("ICESTORM_");
+    const size_t pct = line.rfind('%');
+    if (at != std::string::npos && pct != std::string::npos && pct > at) {
+      const size_t start = line.find_last_of(' ', pct);
+      if (start != std::string::npos && std::atoi(line.c_str() + start + 1) > 100) {
+        std::string fit;  // with runs of blanks collapsed
+        for (const char c : line.substr(at)) {
+          if (c != ' ' || (!fit.empty() && fit.back() != ' ')) fit += c;
+        }
+        return fit;
+      }
+    }
+  }
+  return "";
+}
+
 void place_and_route(const SynthJob& job, const Tools& tools, const json& ports, SynthResult& r) {
   const fs::path dir = job.work_dir;
-  write_text(dir / "wrap.v", wrapper(job, ports));
-  write_text(dir / "wrap.ys", read_design(job) +
-                                  "read_verilog -sv wrap.v\nsynth_ice40 -top study_wrap -dsp "
-                                  "-json wrap.json\n");
+  write_text(dir / "wrap.v", wrapper(ports));
+  // More multipliers than the UP5K has DSPs: place the block with LUT multipliers instead.
+  r.pnr_without_dsp = r.mac16 > kUp5kDsps;
+  write_text(dir / "wrap.ys", read_design(job) + "read_verilog -sv wrap.v\nsynth_ice40 -top " +
+                                  "study_wrap" + (r.pnr_without_dsp ? "" : " -dsp") +
+                                  " -json wrap.json\n");
   if (!run(dir, quote(tools.yosys) + " -q -s wrap.ys", "wrap.log")) {
     r.pnr_error = "yosys could not synthesise the place-and-route wrapper (" +
                   (dir / "wrap.log").string() + ")";
@@ -157,6 +226,10 @@ void place_and_route(const SynthJob& job, const Tools& tools, const json& ports,
     const double f = ok ? report_fmax(dir / report) : -1;
     if (f > 0) {
       r.fmax_mhz.push_back(f);
+    } else if (const std::string lc = overfull_cells(dir / ("pnr_seed" + s + ".log"));
+               !lc.empty()) {
+      r.pnr_error = "does not fit the UP5K: " + lc;
+      return;  // the same for every seed
     } else {
       r.pnr_error = "nextpnr-ice40 failed for seed " + s + " (" +
                     (dir / ("pnr_seed" + s + ".log")).string() + ")";
@@ -175,27 +248,41 @@ std::string Tools::missing() const {
 
 Tools find_tools() { return {on_path("yosys"), on_path("nextpnr-ice40")}; }
 
+std::string generated_include_dir() {
+  std::error_code ec;
+  const std::string dir = TEXSIM_RTL_PARAMS_DIR;
+  return fs::is_directory(dir, ec) ? dir : "";
+}
+
 SynthResult run_synth(const SynthJob& job, const Tools& tools) {
   SynthResult r;
   const fs::path dir = job.work_dir;
   fs::create_directories(dir);
-  if (fs::absolute(job.file).string().find('"') != std::string::npos) {
-    r.error = "cannot pass a file name with a double quote to yosys: " + job.file;
-    return r;
+  for (const std::string& f : job.files) {
+    if (fs::absolute(f).string().find('"') != std::string::npos) {
+      r.error = "cannot pass a file name with a double quote to yosys: " + f;
+      return r;
+    }
   }
-  // Generic: $mul count after proc/opt, then cells after `synth`.
-  write_text(dir / "generic.ys", read_design(job) +
-                                     "proc\nopt\ntee -q -o pre.json stat -json\nsynth -top " +
-                                     job.top + "\ntee -q -o generic.json stat -json\n");
-  write_text(dir / "ice40.ys", read_design(job) + "synth_ice40 -top " + job.top +
-                                   " -dsp -json ice40_net.json\ntee -q -o ice40.json stat -json\n");
+  for (const auto& [name, value] : job.params) {
+    if (value < INT32_MIN || value > INT32_MAX) {
+      r.error = "parameter " + name + " = " + std::to_string(value) + " does not fit 32 bits";
+      return r;
+    }
+  }
+  write_text(dir / "generic.ys", generic_script(job));
+  write_text(dir / "ice40.ys", read_design(job) +
+                                   "synth_ice40 -top study_top -dsp -json ice40_net.json\n"
+                                   "tee -q -o ice40.json stat -json\n");
   for (const std::string step : {"generic", "ice40"}) {
     if (!run(dir, quote(tools.yosys) + " -q -s " + step + ".ys", step + ".log")) {
       r.error = "yosys " + step + " synthesis failed (" + (dir / (step + ".log")).string() + ")";
       return r;
     }
   }
-  r.multipliers = count_prefix(cell_types(dir / "pre.json"), "$mul");
+  r.multipliers = multiplier_shapes(dir / "pre_net.json");
+  const json split = cell_types(dir / "dsp_split.json");
+  r.lut_multipliers = count_prefix(split, "$__soft_mul") + count_prefix(split, "$mul");
   const json generic = read_json(dir / "generic.json");
   if (generic.is_object() && generic.contains("design")) {
     r.generic_cells = generic["design"].value("num_cells", 0);
@@ -207,13 +294,17 @@ SynthResult run_synth(const SynthJob& job, const Tools& tools) {
   r.mac16 = count_prefix(ice, "SB_MAC16");
   r.ram = count_prefix(ice, "SB_RAM") + count_prefix(ice, "SB_SPRAM");
   if (tools.nextpnr.empty()) return r;
-  const json net = read_json(dir / "ice40_net.json");
-  const std::string key = job.top;
-  if (!net.is_object() || !net["modules"].contains(key)) {
-    r.pnr_error = "no module " + key + " in the iCE40 netlist";
+  if (r.lut4 > kUp5kLogicCells) {
+    r.pnr_error = "not placed: " + std::to_string(r.lut4) + " SB_LUT4 > the UP5K's " +
+                  std::to_string(kUp5kLogicCells) + " logic cells";
     return r;
   }
-  place_and_route(job, tools, net["modules"][key].value("ports", json::object()), r);
+  const json net = read_json(dir / "ice40_net.json");
+  if (!net.is_object() || !net["modules"].contains("study_top")) {
+    r.pnr_error = "no module study_top in the iCE40 netlist";
+    return r;
+  }
+  place_and_route(job, tools, net["modules"]["study_top"].value("ports", json::object()), r);
   return r;
 }
 

@@ -4,6 +4,7 @@
 // nextpnr-ice40 place and route with several placer seeds (Fmax per seed). Place and route
 // wraps the block in shift registers so that any number of ports fits the package's pins and
 // every path starts and ends at a flip-flop; the resource counts are the block's alone.
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,21 +18,35 @@ struct Tools {
 };
 Tools find_tools();
 
+// The build's generated RTL parameter folder (texsim_params.vh; docs/rtl/blocks.md), or "" when
+// this build has none (no Verilator).
+std::string generated_include_dir();
+
 struct SynthJob {
-  std::string file;                                 // Verilog/SystemVerilog source
-  std::string top;                                  // module name
-  std::vector<std::pair<std::string, int>> params;  // parameter overrides
-  std::string work_dir;                             // scripts, netlists and logs go here
+  std::vector<std::string> files;     // Verilog/SystemVerilog sources: the top's and its helpers
+  std::vector<std::string> includes;  // `include search folders (yosys -I)
+  std::string top;                    // module name
+  std::vector<std::pair<std::string, int64_t>> params;  // overrides; each must fit 32 bits
+  std::string work_dir;                                 // scripts, netlists and logs go here
   std::vector<int> seeds = {1, 2, 3, 4, 5};
 };
+
+// iCE40 UP5K (the place-and-route target): logic cells and SB_MAC16 DSPs.
+inline constexpr int kUp5kLogicCells = 5280;
+inline constexpr int kUp5kDsps = 8;
 
 struct SynthResult {
   std::string error;      // empty on success; else what failed and which log says why
   int generic_cells = 0;  // yosys `synth` cells
-  int multipliers = 0;    // $mul cells before technology mapping
+  // $mul cells before technology mapping (after flatten, opt, wreduce), as "AxB" with an "s"
+  // for a signed operand pair, e.g. "18x17s".
+  std::vector<std::string> multipliers;
+  // $mul cells (or pieces of split ones) yosys left for LUTs after the iCE40 DSP mapping.
+  int lut_multipliers = 0;
   int lut4 = 0, dff = 0, carry = 0, mac16 = 0, ram = 0;
   std::vector<double> fmax_mhz;  // one per seed that routed (the slowest clock of each)
-  std::string pnr_error;         // place and route failed for some seed: why
+  bool pnr_without_dsp = false;  // more SB_MAC16 than the UP5K has: placed with LUT multipliers
+  std::string pnr_error;         // place and route skipped or failed for some seed: why
 };
 
 // Runs the flow (yosys needed; without nextpnr, fmax_mhz stays empty).

@@ -1,9 +1,14 @@
-// `texsim study rtl`: its option parsing, a clean message with no Verilog or no tools, and (when
-// yosys and nextpnr-ice40 are installed) one example block through the whole flow.
+// `texsim study rtl`: its option parsing, the parameters and error figures it builds blocks
+// with, the measured-area table the C++ side reads back, a clean message with no Verilog or no
+// tools, and (when yosys and nextpnr-ice40 are installed) the example block and one real block
+// of rtl_model/rtl at a small width through the whole flow.
 #include <gtest/gtest.h>
 
+#include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
+#include "blocks/base/tech_table.h"
 #include "pipeline/studies/study_rtl.h"
+#include "pipeline/studies/study_rtl_params.h"
 #include "rtl_model/synth/synth_flow.h"
 #include "testbench/lib/cli_harness.h"
 
@@ -22,6 +27,64 @@ TEST(RtlStudy, ParamsAndMedian) {
   EXPECT_THROW(texsim::parse_rtl_param("8=W"), texsim::InputError);
   EXPECT_DOUBLE_EQ(texsim::median_of({3, 1, 2}), 2);
   EXPECT_DOUBLE_EQ(texsim::median_of({4, 1, 3, 2}), 2.5);
+}
+
+int64_t param(const texsim::RtlStudyPoint& p, const std::string& name) {
+  for (const auto& [n, v] : p.params) {
+    if (n == name) return v;
+  }
+  ADD_FAILURE() << "no parameter " << name;
+  return -1;
+}
+
+TEST(RtlStudy, PointsFollowTheCppFormats) {
+  // Default: the generated parameters, with the C++ error and latency.
+  const auto p16 = texsim::rtl_study_point("vd_p2", {});
+  EXPECT_TRUE(texsim::rtl_study_is_generated("vd_p2", p16.params));
+  EXPECT_EQ(param(p16, "FIN"), 16);
+  EXPECT_EQ(p16.latency, "8");
+  EXPECT_FALSE(p16.max_error.empty());
+  // A narrower V(d) width brings its own format's coefficients.
+  const auto p12 = texsim::rtl_study_point("vd_p2", {{"FIN", 12}});
+  EXPECT_EQ(param(p12, "FC"), 11);
+  EXPECT_NE(param(p12, "C1"), param(p16, "C1"));
+  EXPECT_FALSE(texsim::rtl_study_is_generated("vd_p2", p12.params));
+  EXPECT_NE(texsim::rtl_study_point("vd_p1", {{"FIN", 10}}).problem, "");
+  // u/v: W alone gives Fixed<W/2, W/2> and its minimum denominator (1/4096).
+  const auto uv = texsim::rtl_study_point("uv_incremental", {{"W", 24}});
+  EXPECT_EQ(param(uv, "F"), 12);
+  EXPECT_EQ(param(uv, "MIN_DEN"), 1);
+  EXPECT_EQ(texsim::rtl_report_block("uv_incremental"), "coords.incremental[s16.16]");
+  // A module the C++ side does not know gets exactly the sweep.
+  const auto other = texsim::rtl_study_point("horner2", {{"W", 8}});
+  ASSERT_EQ(other.params.size(), 1U);
+  EXPECT_EQ(other.latency, "");
+}
+
+TEST(RtlStudy, BilinearWeightError) {
+  // Rounding the position to S bits moves each weight by up to 2^-(S+1): with full-scale
+  // texels that is about 255·2^-S LSB, plus the datapath's half LSB.
+  const double e8 = texsim::bilinear_weight_error_lsb(8, 8);
+  const double e4 = texsim::bilinear_weight_error_lsb(8, 4);
+  EXPECT_GT(e8, 0.5);
+  EXPECT_LE(e8, 255.0 / 256 + 0.5);
+  EXPECT_GT(e4, 8 * e8);
+  EXPECT_LE(e4, 255.0 / 16 + 0.5);
+}
+
+TEST(RtlStudy, TechTableReadsMeasuredBlockAreas) {
+  const auto t = texsim::TechTable::from_toml(
+      texsim::parse_toml("[block_area]\n\"coords.incremental[s16.16]\" = 4417\n", "t.toml"),
+      "t.toml");
+  EXPECT_DOUBLE_EQ(t.block_area_or("coords.incremental[s16.16]", 105.5), 4417);
+  EXPECT_DOUBLE_EQ(t.block_area_or("blend", 288), 288);
+  EXPECT_TRUE(texsim::TechTable::defaults().block_area.empty());
+  EXPECT_THROW(texsim::TechTable::from_toml(
+                   texsim::parse_toml("[block_area]\nblend = -1\n", "t.toml"), "t.toml"),
+               texsim::InputError);
+  EXPECT_THROW(texsim::TechTable::from_toml(
+                   texsim::parse_toml("[block_area]\nblend = \"x\"\n", "t.toml"), "t.toml"),
+               texsim::InputError);
 }
 
 class RtlStudyCli : public Cli {};
@@ -58,6 +121,37 @@ TEST_F(RtlStudyCli, ExampleBlockThroughTheFlow) {
   EXPECT_NE(csv.find(",2,\n"), std::string::npos) << csv;  // two seeds routed
   EXPECT_TRUE(fs::exists(path("out/rtl.md")));
   EXPECT_TRUE(fs::exists(path("out/rtl.png")));
+}
+
+TEST_F(RtlStudyCli, UnknownBlockIsAnError) {
+  if (texsim::synth::find_tools().yosys.empty()) GTEST_SKIP() << "yosys not installed";
+  const auto r =
+      sh("study rtl --rtl " TEXSIM_SOURCE_DIR "/rtl_model/rtl --block texsim_pipe --out " +
+         path("out"));
+  EXPECT_NE(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("no block texsim_pipe"), std::string::npos) << r.out;
+}
+
+// A real block: read with the shared helpers, built with the C++ format's coefficients, placed
+// and routed; about 10 s.
+TEST_F(RtlStudyCli, RealBlockThroughTheFlow) {
+  const texsim::synth::Tools t = texsim::synth::find_tools();
+  if (!t.missing().empty()) GTEST_SKIP() << t.missing();
+  const auto r = sh("study rtl --rtl " TEXSIM_SOURCE_DIR
+                    "/rtl_model/rtl --block vd_p1 --param FIN=8 --seeds 2 --out " +
+                    path("out"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string csv = slurp(path("out/rtl.csv"));
+  // block, parameters, error (u0.8 exhaustive), latency, generic cells, then one 10x9 signed
+  // multiplier (s3.7 slope by u0.8 d) in one SB_MAC16, nothing in LUTs, both seeds routed.
+  EXPECT_NE(csv.find("\nvd_p1,FIN=8,1.22e-02,6,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",10x9s,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",1,no,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",2,\n"), std::string::npos) << csv;
+  // FIN = 8 is not the generated build: nothing to feed back.
+  const std::string toml = slurp(path("out/rtl_tech.toml"));
+  EXPECT_NE(toml.find("[tech.block_area]\n"), std::string::npos) << toml;
+  EXPECT_EQ(toml.find("vd_p1"), std::string::npos) << toml;
 }
 
 }  // namespace
