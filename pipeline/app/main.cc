@@ -24,6 +24,7 @@
 #include "pipeline/studies/study_filters.h"
 #include "pipeline/studies/study_raster.h"
 #include "pipeline/studies/study_rtl.h"
+#include "pipeline/studies/study_thesis.h"
 #include "pipeline/studies/study_vd.h"
 #include "traces/trace_tools.h"
 
@@ -289,7 +290,13 @@ int run_cli(int argc, char** argv) {
       "Rectangle-scan digital rows vs edge rasteriser + Heckbert: coordinate error vs divisions");
   auto* rtl = study_cmd->add_subcommand(
       "rtl", "RTL blocks on an iCE40 FPGA: yosys cells, LUTs, DSPs and nextpnr Fmax over seeds");
-  for (auto* s : {vd, coords, filters, raster, rtl})
+  auto* thesis = study_cmd->add_subcommand(
+      "thesis",
+      "The thesis configuration (seed transform, theta/L/d weights) vs texsim's on scenes");
+  StudyThesisOptions thesis_opt;
+  thesis->add_option("--scene", thesis_opt.scenes, "Scene files (repeatable)")
+      ->capture_default_str();
+  for (auto* s : {vd, coords, filters, raster, rtl, thesis})
     s->add_option("--out", study_out, "Output directory")->capture_default_str();
   int study_threads = 0;
   for (auto* s : {vd, coords}) {
@@ -341,6 +348,9 @@ int run_cli(int argc, char** argv) {
     } else if (*rtl) {
       for (const std::string& p : rtl_params) rtl_opt.params.push_back(parse_rtl_param(p));
       return run_study_rtl(study_out, rtl_opt, std::cout);
+    } else if (*thesis) {
+      ensure_dir(study_out);
+      return run_study_thesis(study_out, std::cout, thesis_opt);
     } else if (*vd || *coords || *filters || *raster) {
       ensure_dir(study_out);
       if (*vd) return run_study_vd(study_out, std::cout, study_threads);

@@ -23,7 +23,7 @@ void TalliedFootprint::count(const OpCounts& ops, const FilterStats& s) const {
   const uint32_t map_reads = entries_per_map_read_ ? s.map_reads / entries_per_map_read_ : 0;
   const double alu = static_cast<double>(ops.arithmetic()) - tmu_ops_per_map_read_ * map_reads;
   const double tex = static_cast<double>(s.texels + map_reads);
-  tally_.shader_cycles += std::max(alu / kAluOpsPerCycle, tex / kTexFetchesPerCycle);
+  tally_.shader_cycles += std::max(alu / issue_.alu_per_cycle, tex / issue_.tex_per_cycle);
 }
 
 namespace {
@@ -315,6 +315,63 @@ StudyFilterMethod oiio_method() {
 
 }  // namespace
 
+std::vector<StudyFilterMethod> thesis_filter_methods() {
+  std::vector<StudyFilterMethod> out;
+  EwaFilter::Config p8;  // texsim's configuration: reconstruction 1, anisotropy clamp 16
+  p8.weight = EwaFilter::Weight::Pow8;
+  EwaFilter::Config th = p8;  // the thesis configuration: no reconstruction term
+  th.reconstruction = 0;
+  EwaFilter::Config thw = th;
+  thw.weight = EwaFilter::Weight::Thesis;
+  const auto group = [&](const std::string& tag, const EwaFilter::Config& computed,
+                         WeightMap::Transform tr) {
+    out.push_back(ewa_method(tag + " computed", "weights", computed));
+    WeightMap::Config mc;
+    mc.kind = WeightMap::Kind::Quarter;
+    mc.element = WeightMap::Element::U16;
+    mc.size = 32;
+    mc.function = WeightMap::Function::Pow8;
+    mc.alpha = computed.alpha;
+    mc.transform = tr;
+    EwaFilter::Config m = computed;
+    m.weight = EwaFilter::Weight::Map;
+    out.push_back(ewa_method(tag + " map", "weight map", m, std::make_shared<const WeightMap>(mc)));
+    out.back().compare_to = tag + " computed";
+    EwaFilter::Config u = computed;
+    u.weight = EwaFilter::Weight::Uniform;
+    out.push_back(ewa_method(tag + " uniform", "weights", u));
+    EwaFilter::Config e = computed;  // the V(d) sub-texel weights at the edge
+    e.edge = EwaFilter::Edge::Vd;
+    e.vd.evaluator = VdEvaluatorKind::P2;
+    e.vd.format = NumberFormat::Fx16;
+    out.push_back(ewa_method(tag + " computed + edge V(d) P2 fx16", "ewa", e));
+  };
+  group("texsim", p8, WeightMap::Transform::Cholesky);
+  group("thesis", thw, WeightMap::Transform::Seed);
+  // The thesis configuration's exact counterpart: exact weights without the reconstruction
+  // term, computed and read through J⁻¹ (this project's reading of the map transform); the
+  // seed's formula (5) reading is "thesis map" (the map's weights do not depend on the rule).
+  out.push_back(ewa_method("exact, no reconstruction, computed", "weights", th));
+  WeightMap::Config jc;
+  jc.kind = WeightMap::Kind::Quarter;
+  jc.size = 32;
+  jc.function = WeightMap::Function::Pow8;
+  jc.alpha = th.alpha;
+  jc.transform = WeightMap::Transform::Jacobian;
+  EwaFilter::Config jm = th;
+  jm.weight = EwaFilter::Weight::Map;
+  out.push_back(ewa_method("exact, no reconstruction, map jacobian", "weight map", jm,
+                           std::make_shared<const WeightMap>(jc)));
+  out.back().compare_to = "exact, no reconstruction, computed";
+  SpafFilter::Config sv;  // SPAF with V(d) coverage: the other V(d) weighting (§9)
+  sv.coverage = SpafFilter::Coverage::Vd;
+  sv.vd.evaluator = VdEvaluatorKind::P2;
+  sv.vd.format = NumberFormat::Fx16;
+  out.push_back(
+      footprint_method("spaf V(d) P2 fx16, budget 64", "spaf", SpafFilter(sv), "filter.spaf", ""));
+  return out;
+}
+
 std::vector<StudyFilterMethod> study_filter_methods(const StudyFiltersOptions& opt) {
   std::vector<StudyFilterMethod> methods;
   methods.push_back(baseline("trilinear (isotropic)", AnisoMode::Isotropic));
@@ -330,14 +387,14 @@ std::vector<StudyFilterMethod> study_filter_methods(const StudyFiltersOptions& o
 
 StudyFilterRun run_study_filter_method(const StudyFilterMethod& m, TextureSet& textures,
                                        const std::vector<Fragment>& fragments,
-                                       const TechTable& tech) {
+                                       const TechTable& tech, const ShaderIssue& issue) {
   StudyFilterRun r;
   r.colours.reserve(fragments.size());
   if (!m.hardware()) {
     for (const Fragment& f : fragments) r.colours.push_back(m.peer(textures[0], f));
     return r;
   }
-  if (m.tallied) m.tallied->reset_tally();
+  if (m.tallied) m.tallied->reset_tally(issue);
   MaterialSetup mat = m.material;
   mat.texture = 0;
   TextureUnit unit(textures, {mat}, PipelineSetup{}, tech, true);
@@ -360,7 +417,7 @@ StudyFilterRun run_study_filter_method(const StudyFilterMethod& m, TextureSet& t
       r.tally.texels = b.texels;
       r.tally.visited =
           b.texels / static_cast<uint64_t>(TexelAddressGen(m.material.filter).taps_per_probe());
-      r.tally.shader_cycles = static_cast<double>(b.texels) / (4.0 * kTexFetchesPerCycle);
+      r.tally.shader_cycles = static_cast<double>(b.texels) / (4.0 * issue.tex_per_cycle);
     }
   }
   return r;

@@ -32,6 +32,16 @@ struct FilterTally {
 constexpr double kAluOpsPerCycle = 16.0;
 constexpr double kTexFetchesPerCycle = 4.0;
 
+// The issue model's rates as a parameter: the default is the study's 16 : 4 (4 : 1); the
+// thesis's platform, a Radeon RX 460 (896 ALU lanes, 56 texture units), is 16 : 1
+// (ShaderIssue::rx460(): the same texture rate, four times the ALU rate).
+struct ShaderIssue {
+  double alu_per_cycle = kAluOpsPerCycle;
+  double tex_per_cycle = kTexFetchesPerCycle;
+  double ratio() const { return alu_per_cycle / tex_per_cycle; }
+  static ShaderIssue rx460() { return {896.0 / 56.0 * kTexFetchesPerCycle, kTexFetchesPerCycle}; }
+};
+
 // A footprint block as the texture unit's FootprintFilter that also tallies what each call
 // reports (the unit calls filter() once per fragment, in order).
 class TalliedFootprint : public FootprintFilter {
@@ -43,7 +53,11 @@ class TalliedFootprint : public FootprintFilter {
     tmu_ops_per_map_read_ = tmu_ops;
   }
   const FilterTally& tally() const { return tally_; }
-  void reset_tally() const { tally_ = {}; }
+  // Clears the tally; the shader-like model of the calls that follow uses `issue`.
+  void reset_tally(const ShaderIssue& issue = {}) const {
+    tally_ = {};
+    issue_ = issue;
+  }
 
  protected:
   void count(const OpCounts& ops, const FilterStats& s) const;
@@ -54,6 +68,7 @@ class TalliedFootprint : public FootprintFilter {
   // Mutable: the unit holds its filter const; the tally is an observer's record, not state
   // the filter's result depends on.
   mutable FilterTally tally_;
+  mutable ShaderIssue issue_;
 };
 
 struct StudyFilterMethod {
@@ -72,6 +87,13 @@ struct StudyFilterMethod {
 // Every method of the study, in table order; `opt.oiio` adds the OpenImageIO peer.
 std::vector<StudyFilterMethod> study_filter_methods(const StudyFiltersOptions& opt);
 
+// The methods `texsim study thesis` compares (docs/studies/thesis-configuration.md): texsim's
+// configuration (reconstruction term 1, Cholesky map transform, exact weights) and the thesis
+// configuration (no reconstruction term, the seed's formula (5) map transform and θ/L/d weight
+// rule), each with computed, mapped, uniform and V(d)-edge weights. Names are stable: the study
+// looks them up (kThesis* below).
+std::vector<StudyFilterMethod> thesis_filter_methods();
+
 // One method over one view's fragments: colours in fragment order and what it cost.
 struct StudyFilterRun {
   std::vector<Rgba> colours;
@@ -85,8 +107,9 @@ struct StudyFilterRun {
 // Runs `m` over `fragments` (in order) on texture 0 of `textures`: a hardware method through a
 // fresh TextureUnit with the default [pipeline] (PipelineSetup{}) and its material, timing on;
 // a software peer functionally.
+// `issue`: the shader-like model's rates.
 StudyFilterRun run_study_filter_method(const StudyFilterMethod& m, TextureSet& textures,
                                        const std::vector<Fragment>& fragments,
-                                       const TechTable& tech);
+                                       const TechTable& tech, const ShaderIssue& issue = {});
 
 }  // namespace texsim

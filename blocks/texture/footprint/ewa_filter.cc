@@ -26,6 +26,8 @@ const char* to_string(EwaFilter::Weight w) {
       return "map";
     case EwaFilter::Weight::Uniform:
       return "uniform";
+    case EwaFilter::Weight::Thesis:
+      return "thesis";
   }
   return "?";
 }
@@ -35,8 +37,8 @@ EwaFilter::Config EwaFilter::Config::from_toml(const ConfigReader& r) {
                     "texel_budget", "reconstruction", "minor_texels", "mip", "scan", "arith",
                     "address_u", "address_v", "lanes", "weight_map", "edge", "vd"});
   Config c;
-  c.weight = static_cast<Weight>(
-      r.get_choice("weight", static_cast<int>(c.weight), {"lut", "exp", "pow8", "map", "uniform"}));
+  c.weight = static_cast<Weight>(r.get_choice("weight", static_cast<int>(c.weight),
+                                              {"lut", "exp", "pow8", "map", "uniform", "thesis"}));
   c.lut_size = static_cast<int>(r.get_int("lut_size", c.lut_size, 2, 1 << 16));
   c.lut_bits = static_cast<int>(r.get_int("lut_bits", c.lut_bits, 0, 30));
   c.alpha = r.get_double("alpha", c.alpha);
@@ -132,8 +134,18 @@ double EwaFilter::weight_of(double q) const {
       return map_ ? map_->function(q) : 0.0;
     case Weight::Uniform:
       return 1.0;
+    case Weight::Thesis:
+      return 0.0;
   }
   return 0.0;
+}
+
+double EwaFilter::thesis_weight(double alpha, double ux, double vx, double uy, double vy, double U,
+                                double V) {
+  const EllipseQuadratic<double> e =
+      GaussianWeight::setup<double>(GaussianAxes::SeedLiteral, ux, vx, uy, vy);
+  return GaussianWeight::weight_pow8<GaussianWeightFormat<double>>(2.0 * alpha *
+                                                                   GaussianWeight::q_of(e, U, V));
 }
 
 namespace {
@@ -203,6 +215,14 @@ OpCounts weight_ops(EwaFilter::Weight w) {
       o.add = 1;
       o.mul = 1 + 3;
       break;
+    case EwaFilter::Weight::Thesis: {
+      // q′ = (aU + bV)U + cV² from the set-up's a, b, c, then × 2α and the power 8.
+      GaussianWeight::Config g;
+      g.axes = GaussianAxes::SeedLiteral;
+      o = GaussianWeight(g).ops_per_item();
+      o.mul += 1;
+      break;
+    }
     case EwaFilter::Weight::Map:  // WeightMap::ops_per_item, added where used
     case EwaFilter::Weight::Uniform:
       break;
@@ -244,8 +264,13 @@ struct LevelScan {
     T a{}, b{}, cc{}, qband{}, gy_step{};
   };
   // Weight-map transform (x, y) = M·(U, V), per-footprint constants.
+  // With the seed's formula (5) the transform is of absolute texel coordinates (u, v) = (i, j)
+  // plus the constants (kx, ky) = (Kx·S, Ky·S) (`absolute`). With weight = Thesis, `thesis`
+  // holds the seed's θ/L/d quadratic form.
   struct MapTransform {
-    S xu = 0, xv = 0, yu = 0, yv = 0;
+    S xu = 0, xv = 0, yu = 0, yv = 0, kx = 0, ky = 0;
+    bool absolute = false;
+    EllipseQuadratic<S> thesis;
   };
   // Per-kind step counts of one scan (operations are multiplied out once at the end: they
   // depend only on how many rows, box texels, inside texels and edge texels there were).
@@ -307,10 +332,13 @@ struct LevelScan {
     if (c.weight == EwaFilter::Weight::Map) {
       // Row start of the transform (x, y) = M·(U0, V).
       OpCounts m;
-      const bool jac = filt.weight_map() &&
-                       filt.weight_map()->config().transform == WeightMap::Transform::Jacobian;
-      m.mul = jac ? 4 : 3;
-      m.add = jac ? 2 : 1;
+      // With the seed's formula: (Kx·S) + (−Vy·S)·u + (Vx·S)·v and likewise y.
+      const WeightMap::Transform tr = filt.weight_map() ? filt.weight_map()->config().transform
+                                                        : WeightMap::Transform::Cholesky;
+      const bool jac = tr == WeightMap::Transform::Jacobian;
+      const bool seed = tr == WeightMap::Transform::Seed;
+      m.mul = jac || seed ? 4 : 3;
+      m.add = seed ? 4 : (jac ? 2 : 1);
       per_row += m;
     }
     return per_row;
@@ -320,21 +348,40 @@ struct LevelScan {
     const EwaFilter::Config& c = filt.config();
     const WeightMap* map = filt.weight_map();
     MapTransform m;
+    // The fragment's own J at this level, scaled by R (the thesis's derivatives).
+    const S R = static_cast<S>(c.radius_px);
+    const S jux = static_cast<S>(f.dudx) * static_cast<S>(e.wl) * R;
+    const S juy = static_cast<S>(f.dudy) * static_cast<S>(e.wl) * R;
+    const S jvx = static_cast<S>(f.dvdx) * static_cast<S>(e.hl) * R;
+    const S jvy = static_cast<S>(f.dvdy) * static_cast<S>(e.hl) * R;
+    if (c.weight == EwaFilter::Weight::Thesis) {
+      GaussianWeight::Config g;
+      g.axes = GaussianAxes::SeedLiteral;
+      ops += GaussianWeight(g).setup_ops();
+      m.thesis = GaussianWeight::setup<S>(GaussianAxes::SeedLiteral, jux, jvx, juy, jvy);
+      return m;
+    }
     if (c.weight != EwaFilter::Weight::Map || !map) return m;
     ops += map->setup_ops();
-    if (map->config().transform == WeightMap::Transform::Cholesky) {
+    if (map->config().transform == WeightMap::Transform::Seed) {
+      const SeedTransform t = SeedTransform::from(
+          static_cast<double>(jux), static_cast<double>(jvx), static_cast<double>(juy),
+          static_cast<double>(jvy), static_cast<double>(e.uc), static_cast<double>(e.vc));
+      m.absolute = true;
+      m.kx = static_cast<S>(t.kxs);
+      m.ky = static_cast<S>(t.kys);
+      m.xu = static_cast<S>(t.xu);
+      m.xv = static_cast<S>(t.xv);
+      m.yu = static_cast<S>(t.yu);
+      m.yv = static_cast<S>(t.yv);
+    } else if (map->config().transform == WeightMap::Transform::Cholesky) {
       const S ra = std::sqrt(e.as);
       m.xu = ra;
       m.xv = e.bs / (S(2) * ra);
       m.yu = 0;
       m.yv = std::sqrt(std::max(e.cs - m.xv * m.xv, S(0)));
     } else {
-      // The fragment's own J at this level, scaled by R: (x, y) = J⁻¹(U, V).
-      const S R = static_cast<S>(c.radius_px);
-      const S jux = static_cast<S>(f.dudx) * static_cast<S>(e.wl) * R;
-      const S juy = static_cast<S>(f.dudy) * static_cast<S>(e.wl) * R;
-      const S jvx = static_cast<S>(f.dvdx) * static_cast<S>(e.hl) * R;
-      const S jvy = static_cast<S>(f.dvdy) * static_cast<S>(e.hl) * R;
+      // (x, y) = J⁻¹(U, V).
       const S jdet = jux * jvy - juy * jvx;
       const S rj = jdet != S(0) && std::isfinite(jdet) ? S(1) / jdet : S(0);
       m.xu = jvy * rj;
@@ -359,6 +406,12 @@ struct LevelScan {
     T q = (e.a * U0 + e.b * V) * U0 + e.cc * V * V;
     T dq = e.a * (U0 + U0 + one) + e.b * V;
     S mx = mt.xu * U0s + mt.xv * Vs, my = mt.yu * U0s + mt.yv * Vs;
+    if (mt.absolute) {  // the seed's formula (5) in absolute texel coordinates (u, v) = (i, j)
+      const S ui = static_cast<S>(ia), vj = static_cast<S>(j);
+      mx = mt.kx + mt.xu * ui + mt.xv * vj;
+      my = mt.ky + mt.yu * ui + mt.yv * vj;
+    }
+    S Us = U0s;                                           // the texel's U for the Thesis weight
     T gy = cutoff ? e.b * U0 + (e.cc + e.cc) * V : zero;  // ∂Q/∂V, stepped by b along the row
     n.visits += static_cast<uint64_t>(ib - ia + 1);
     for (int64_t i = ia; i <= ib; ++i) {
@@ -368,6 +421,9 @@ struct LevelScan {
         float w = 0;
         if (c.weight == EwaFilter::Weight::Map && map) {
           w = map->read(static_cast<float>(mx), static_cast<float>(my), st.map_reads);
+        } else if (c.weight == EwaFilter::Weight::Thesis) {
+          const S qt = S(2) * static_cast<S>(c.alpha) * GaussianWeight::q_of(mt.thesis, Us, Vs);
+          w = static_cast<float>(GaussianWeight::weight_pow8<GaussianWeightFormat<S>>(qt));
         } else {
           w = static_cast<float>(filt.weight_of(to_double(qq)));
         }
@@ -395,6 +451,7 @@ struct LevelScan {
       if (cutoff) gy = gy + e.gy_step;
       mx += mt.xu;
       my += mt.yu;
+      Us += S(1);
     }
   }
 
@@ -650,6 +707,11 @@ TimingSpec EwaFilter::timing(const TechTable& tech) const {
       break;
     case Weight::Uniform:
       break;
+    case Weight::Thesis:  // q′: aU, +bV, ·U (2 mul, 1 add), ·2α, power 8
+      texel.mul += 2 + 1 + 4;
+      texel.add += 1 + 1;
+      texel.cmp += 1;
+      break;
   }
   if (cfg_.edge == Edge::Vd) {
     // ∂Q/∂U → |∇Q|² → 1/|∇Q| → d → cut-off → × 1/W(−½), select → w × fraction.
@@ -709,6 +771,9 @@ std::string EwaFilter::arithmetic() const {
       break;
     case Weight::Uniform:
       q += "; uniform weights";
+      break;
+    case Weight::Thesis:
+      q += "; weights (1 - q'/16)^8 computed with the seed's theta/L/d rule";
       break;
   }
   if (cfg_.edge == Edge::Vd) {

@@ -36,7 +36,12 @@ using EwaQFixed = number_format_t<NumberFormat::S18_30>;
 
 class EwaFilter {
  public:
-  enum class Weight : int { Lut, Exp, Pow8, Map, Uniform };
+  // Thesis: the thesis configuration's weight, (1 − q′/16)^8 at q′ = 2α·(x′²/L² + y′²/d²) with
+  // the seed's θ/L/d rule as printed (cos θ = Ux/L, sin θ = Vy/d, L² = C, d² = A: GaussianAxes::
+  // SeedLiteral) from the fragment's J scaled by R at the level read; wrong even for axis-aligned
+  // footprints (weight error 0.25 on a circle), kept so its error can be measured
+  // (docs/studies/thesis-configuration.md). The inside test stays the filter's Q < 1.
+  enum class Weight : int { Lut, Exp, Pow8, Map, Uniform, Thesis };
   enum class Mip : int { Nearest, Linear };
   enum class Scan : int { Box, RowSpan };
   // arith: "float", "double" or "fixed" (Q in EwaQFixed).
@@ -66,10 +71,10 @@ class EwaFilter {
     // texels (d < 0 inside). vd.lanes = cut-off units per texel lane.
     Edge edge = Edge::None;
     SubtexelCutoff::Config vd;
-    // Keys: weight (lut|exp|pow8|map|uniform), lut_size, lut_bits, alpha, radius_px, max_aniso,
-    // texel_budget, reconstruction, minor_texels, mip (nearest|linear), scan (box|row_span),
-    // arith (float|double|fixed), address_u, address_v (wrap|clamp|mirror), lanes, the
-    // subtable weight_map (WeightMap::Config) for weight = "map", edge (none|vd) and the
+    // Keys: weight (lut|exp|pow8|map|uniform|thesis), lut_size, lut_bits, alpha, radius_px,
+    // max_aniso, texel_budget, reconstruction, minor_texels, mip (nearest|linear), scan
+    // (box|row_span), arith (float|double|fixed), address_u, address_v (wrap|clamp|mirror), lanes,
+    // the subtable weight_map (WeightMap::Config) for weight = "map", edge (none|vd) and the
     // subtable vd (SubtexelCutoff::Config: evaluator, format, lanes) for edge = "vd".
     static Config from_toml(const ConfigReader& r);
   };
@@ -108,8 +113,13 @@ class EwaFilter {
     return S(2) * (q - std::sqrt(q)) / std::sqrt(g2);
   }
 
-  // Weight of a texel at normalised distance Q (the configured source; Map excluded).
+  // Weight of a texel at normalised distance Q (the configured source; Map and Thesis
+  // excluded: they depend on the texel's offset, not on Q alone).
   double weight_of(double q) const;
+  // The Thesis weight of the texel at offset (U, V) texels from the centre of a footprint whose
+  // derivatives (texels per pixel, R included) are ux = ∂u/∂x, vx, uy, vy: (1 − 2α·q′/16)^8.
+  static double thesis_weight(double alpha, double ux, double vx, double uy, double vy, double U,
+                              double V);
 
   // Scan cycles one fragment occupies: ⌈visited / lanes⌉, at least 1.
   uint32_t issue_cycles(const FilterStats& s) const;

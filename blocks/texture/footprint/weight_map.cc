@@ -48,7 +48,7 @@ WeightMap::Config WeightMap::Config::from_toml(const ConfigReader& r) {
   c.alpha = r.get_double("alpha", c.alpha);
   if (!(c.alpha > 0) || !(c.alpha <= 64)) r.fail("alpha", "must be in (0, 64]");
   c.transform = static_cast<Transform>(
-      r.get_choice("transform", static_cast<int>(c.transform), {"jacobian", "cholesky"}));
+      r.get_choice("transform", static_cast<int>(c.transform), {"jacobian", "cholesky", "seed"}));
   return c;
 }
 
@@ -221,6 +221,8 @@ OpCounts WeightMap::setup_ops() const {
     o.mul = 2 + 4;
     o.add = 1;
     o.rcp = 1;
+  } else if (cfg_.transform == Transform::Seed) {
+    o = SeedTransform::setup_ops();
   } else {
     // √a, 1/√a, b/2·(1/√a), c − (b/(2√a))², √(…): 2 sqrt, 1 rcp, 2 mul, 1 add.
     o.sqrt = 2;
@@ -233,7 +235,35 @@ OpCounts WeightMap::setup_ops() const {
 
 OpCounts WeightMap::ops_per_step() const {
   OpCounts o;
-  o.add = cfg_.transform == Transform::Jacobian ? 2 : 1;
+  o.add = cfg_.transform == Transform::Cholesky ? 1 : 2;
+  return o;
+}
+
+SeedTransform SeedTransform::from(double ux, double vx, double uy, double vy, double u0,
+                                  double v0) {
+  SeedTransform t;
+  const double A = vx * vx + vy * vy;
+  const double C = ux * ux + uy * uy;
+  const double ac = A * C;
+  if (!(ac > 0) || !std::isfinite(ac)) return t;
+  t.s = 1.0 / std::sqrt(ac);
+  t.kx = u0 * vy - v0 * vx;
+  t.ky = u0 * uy - v0 * ux;
+  t.kxs = t.kx * t.s;
+  t.kys = t.ky * t.s;
+  t.xu = -vy * t.s;
+  t.xv = vx * t.s;
+  t.yu = -uy * t.s;
+  t.yv = ux * t.s;
+  return t;
+}
+
+OpCounts SeedTransform::setup_ops() {
+  OpCounts o;
+  o.mul = 4 + 1 + 4 + 6;
+  o.add = 2 + 2;
+  o.sqrt = 1;
+  o.rcp = 1;
   return o;
 }
 

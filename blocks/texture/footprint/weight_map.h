@@ -28,8 +28,10 @@ class WeightMap {
   // Transform of a texel offset (U, V) to map coordinates (x, y): Jacobian = the thesis's
   // (x, y) = J⁻¹(U, V) with J the fragment's derivatives (ignores the filter's reconstruction
   // term and anisotropy clamp); Cholesky = the triangular square root of the filter's actual
-  // quadratic form (x² + y² = Q exactly; y is constant along a row).
-  enum class Transform : int { Jacobian, Cholesky };
+  // quadratic form (x² + y² = Q exactly; y is constant along a row); Seed = the thesis's own
+  // formula (5), literally (SeedTransform below: the thesis configuration, exact only for
+  // axis-aligned footprints, docs/studies/thesis-configuration.md).
+  enum class Transform : int { Jacobian, Cholesky, Seed };
 
   struct Config {
     Kind kind = Kind::Quarter;
@@ -39,7 +41,7 @@ class WeightMap {
     double alpha = 2.0;
     Transform transform = Transform::Cholesky;
     // Keys: kind (full2d|quarter|radial_r|radial_r2), element (u8|u16|float), size,
-    // function (exp|pow8), alpha, transform (jacobian|cholesky).
+    // function (exp|pow8), alpha, transform (jacobian|cholesky|seed).
     static Config from_toml(const ConfigReader& r);
   };
 
@@ -70,7 +72,8 @@ class WeightMap {
   OpCounts read_critical_path() const;
   // Per-footprint constants of the transform and per-step increments.
   OpCounts setup_ops() const;
-  // Per scanned texel: the incremental transform (2 adds with the Jacobian, 1 with Cholesky).
+  // Per scanned texel: the incremental transform (2 adds with the Jacobian and the seed's
+  // formula, 1 with Cholesky).
   OpCounts ops_per_step() const;
   // One read per cycle per lane, fully pipelined.
   TimingSpec timing(const TechTable& tech) const;
@@ -81,6 +84,30 @@ class WeightMap {
   Config cfg_;
   int w_ = 0, h_ = 0;
   std::vector<float> data_;
+};
+
+// The thesis's formula (5), literally: with the derivatives Ux = ∂u/∂x, Vx = ∂v/∂x,
+// Uy = ∂u/∂y, Vy = ∂v/∂y (texels per pixel), A = Vx² + Vy², C = Ux² + Uy² and the footprint
+// centre (u0, v0) in texels,
+//   x = (Kx − Vy·u + Vx·v)·S,  y = (Ky − Uy·u + Ux·v)·S,
+//   S = 1/√(AC),  Kx = u0·Vy − v0·Vx,  Ky = u0·Uy − v0·Ux,
+// for a texel at absolute texel coordinates (u, v). Kx, Ky, S are per-footprint constants; the
+// per-texel work is one add per coordinate (x += −Vy·S along a row). It pairs x with the V row of
+// J and scales by 1/√(AC) instead of 1/det, so it equals J⁻¹(U, V) up to the signs of x and y
+// only when Uy = Vx = 0 (an axis-aligned footprint); skewed or rotated footprints get a wrong
+// radius (testbench/unit/texture/test_weight_map_seed.cc measures it).
+struct SeedTransform {
+  double kxs = 0, kys = 0;       // Kx·S, Ky·S
+  double xu = 0, xv = 0;         // −Vy·S, Vx·S: ∂x/∂u, ∂x/∂v
+  double yu = 0, yv = 0;         // −Uy·S, Ux·S: ∂y/∂u, ∂y/∂v
+  double s = 0, kx = 0, ky = 0;  // S, Kx, Ky as the thesis names them
+  // S = 0 (A·C = 0 or not finite) maps every texel to (0, 0).
+  static SeedTransform from(double ux, double vx, double uy, double vy, double u0, double v0);
+  double x(double u, double v) const { return kxs + xu * u + xv * v; }
+  double y(double u, double v) const { return kys + yu * u + yv * v; }
+  // Per footprint: A, C (4 mul, 2 add), A·C (1 mul), 1/√ (1 sqrt, 1 rcp), Kx, Ky (4 mul,
+  // 2 add), the six constants × S (6 mul).
+  static OpCounts setup_ops();
 };
 
 const char* to_string(WeightMap::Kind k);
