@@ -21,6 +21,7 @@
 #include "pipeline/report/provenance.h"
 #include "pipeline/studies/study_coords.h"
 #include "pipeline/studies/study_filters.h"
+#include "pipeline/studies/study_objspace.h"
 #include "pipeline/studies/study_raster.h"
 #include "pipeline/studies/study_rtl.h"
 #include "pipeline/studies/study_vd.h"
@@ -255,9 +256,12 @@ int run_cli(int argc, char** argv) {
   auto* raster = study_cmd->add_subcommand(
       "raster",
       "Rectangle-scan digital rows vs edge rasteriser + Heckbert: coordinate error vs divisions");
+  auto* objspace = study_cmd->add_subcommand(
+      "objspace",
+      "Object-space texturing vs screen space + trilinear/anisotropic: cycles, ops, error");
   auto* rtl = study_cmd->add_subcommand(
       "rtl", "RTL blocks on an iCE40 FPGA: yosys cells, LUTs, DSPs and nextpnr Fmax over seeds");
-  for (auto* s : {vd, coords, filters, raster, rtl})
+  for (auto* s : {vd, coords, filters, raster, objspace, rtl})
     s->add_option("--out", study_out, "Output directory")->capture_default_str();
   StudyRtlOptions rtl_opt;
   std::vector<std::string> rtl_params;
@@ -294,8 +298,9 @@ int run_cli(int argc, char** argv) {
     } else if (*rtl) {
       for (const std::string& p : rtl_params) rtl_opt.params.push_back(parse_rtl_param(p));
       return run_study_rtl(study_out, rtl_opt, std::cout);
-    } else if (*vd || *coords || *filters || *raster) {
+    } else if (*vd || *coords || *filters || *raster || *objspace) {
       ensure_dir(study_out);
+      if (*objspace) return run_study_objspace(study_out, std::cout);
       if (*vd) return run_study_vd(study_out, std::cout);
       if (*coords) return run_study_coords(study_out, std::cout);
       if (*raster) return run_study_raster(study_out, std::cout);

@@ -296,7 +296,8 @@ ObjectSpaceResult Renderer::run() {
   r_.raster_cycles = stage(raster_.timing(t), r_.samples) + r_.raster.rows;
   r_.projection_cycles = stage(projection_.timing(t), r_.samples);
   r_.splat_cycles = stage(splat_.timing(t), r_.samples);
-  r_.resolve_cycles = stage(splat_.timing(t), buffer_.weight.size());
+  // The resolve reads one pixel of each of the buffer's four banks per cycle and lane.
+  r_.resolve_cycles = stage(splat_.timing(t), buffer_.weight.size()) / 4;
   r_.cycles =
       std::max({r_.texture_cycles, r_.raster_cycles, r_.projection_cycles, r_.splat_cycles}) +
       r_.setup_cycles + r_.resolve_cycles;

@@ -14,7 +14,8 @@
 // Cycles: the stages run as one pipeline, so a frame takes the slowest stage's cycles (the
 // texture unit's clocked pipeline, or samples ÷ lanes of the rasteriser, projection and splat)
 // plus per polygon the set-up latencies of rotation and projection (not overlapped: the
-// polygon-count cost) plus the resolve (one pixel per cycle per lane). Perspective cameras only.
+// polygon-count cost) plus the resolve of the whole frame (four pixels per cycle per lane: one
+// from each bank of the accumulation buffer). Perspective cameras only.
 #include <cstdint>
 #include <vector>
 
