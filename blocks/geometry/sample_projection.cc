@@ -72,8 +72,8 @@ OpCounts SampleProjection::ops_per_item() const {
 
 OpCounts SampleProjection::polygon_ops() const {
   OpCounts o;
-  o.mul = 3 * 8 + 3;
-  o.add = 3 * 4;
+  o.mul = 27;  // three inverse rotations (8 each) and the three P multiplies
+  o.add = 12;  // three inverse rotations (4 each)
   o.rcp = 1;
   return o;
 }

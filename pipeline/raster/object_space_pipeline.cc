@@ -181,6 +181,7 @@ void Renderer::primitive(uint32_t index) {
                                  tri ? p.origin + p.edge_v : p.origin + p.edge_u + p.edge_v,
                                  p.origin + p.edge_v};
   std::vector<glm::dvec3> view;
+  view.reserve(4);
   for (int i = 0; i < (tri ? 3 : 4); ++i) view.push_back(vf_.to_view(corners[i]));
   r_.rotation_ops.mul += 9 * view.size();  // the view transform of the corners
   r_.rotation_ops.add += 9 * view.size();
@@ -211,6 +212,7 @@ void Renderer::primitive(uint32_t index) {
   }
   ++r_.primitives;
   std::vector<glm::dvec2> sp;
+  sp.reserve(clipped.size());
   for (const glm::dvec3& v : clipped) sp.push_back(vf_.to_screen(v));
   mark_covered(sp, r_.width, r_.height, r_.covered);
   // The affine texture map from three unclipped corners (texture coordinates of a, b = 0/1).
