@@ -23,18 +23,22 @@ struct ObjspaceStudyOptions {
   int tilt_size = 256;                           // image of the tilt, count and area sweeps
   std::vector<int> grid_cells = {1, 4, 16, 64};  // count sweep: 2·n² triangles
   std::vector<double> areas = {0.5, 1, 2, 4};    // area sweep: the square's area (units²)
-  bool cube = true, mesh = true;                 // scenes/cube.toml, scenes/bunny.toml
+  // Density sweep (floor, 320 × 240): object space with a coarser grid step than the hole-free
+  // 3/4 pixel, to show what the sample density costs and what leaving holes would save.
+  std::vector<double> steps = {1.0, 1.5, 2.0, 3.0};
+  bool cube = true, mesh = true;  // scenes/cube.toml, scenes/bunny.toml
   std::string scenes_dir = "scenes";
   int reference_supersamples = 4;  // per axis, per pixel
   bool images = true;              // side-by-side images of the scenes
 };
 
 struct ObjspaceRow {
-  std::string sweep;   // "resolution", "tilt", "count", "area"
+  std::string sweep;   // "resolution", "tilt", "count", "area", "density"
   std::string scene;   // "floor", "cube", "bunny", "square"
   std::string method;  // "object-space", "trilinear", "vulkan", "ewa", "feline"
   int width = 0, height = 0;
   double tilt_deg = -1, area = 0;  // -1: not a tilt sweep
+  double step_px = 0.75;           // object space's grid step on the screen at most
   uint64_t primitives = 0;
   uint64_t pixels = 0;  // covered pixels (screen-space coverage)
   uint64_t items = 0;   // fragments (screen space) or samples (object space)
