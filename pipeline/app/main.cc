@@ -22,6 +22,7 @@
 #include "pipeline/report/provenance.h"
 #include "pipeline/studies/study_coords.h"
 #include "pipeline/studies/study_filters.h"
+#include "pipeline/studies/study_objspace.h"
 #include "pipeline/studies/study_raster.h"
 #include "pipeline/studies/study_rtl.h"
 #include "pipeline/studies/study_thesis.h"
@@ -288,6 +289,9 @@ int run_cli(int argc, char** argv) {
   auto* raster = study_cmd->add_subcommand(
       "raster",
       "Rectangle-scan digital rows vs edge rasteriser + Heckbert: coordinate error vs divisions");
+  auto* objspace = study_cmd->add_subcommand(
+      "objspace",
+      "Object-space texturing vs screen space + trilinear/anisotropic: cycles, ops, error");
   auto* rtl = study_cmd->add_subcommand(
       "rtl", "RTL blocks on an iCE40 FPGA: yosys cells, LUTs, DSPs and nextpnr Fmax over seeds");
   auto* thesis = study_cmd->add_subcommand(
@@ -296,7 +300,7 @@ int run_cli(int argc, char** argv) {
   StudyThesisOptions thesis_opt;
   thesis->add_option("--scene", thesis_opt.scenes, "Scene files (repeatable)")
       ->capture_default_str();
-  for (auto* s : {vd, coords, filters, raster, rtl, thesis})
+  for (auto* s : {vd, coords, filters, raster, objspace, rtl, thesis})
     s->add_option("--out", study_out, "Output directory")->capture_default_str();
   int study_threads = 0;
   for (auto* s : {vd, coords}) {
@@ -351,8 +355,9 @@ int run_cli(int argc, char** argv) {
     } else if (*thesis) {
       ensure_dir(study_out);
       return run_study_thesis(study_out, std::cout, thesis_opt);
-    } else if (*vd || *coords || *filters || *raster) {
+    } else if (*vd || *coords || *filters || *raster || *objspace) {
       ensure_dir(study_out);
+      if (*objspace) return run_study_objspace(study_out, std::cout);
       if (*vd) return run_study_vd(study_out, std::cout, study_threads);
       if (*coords) return run_study_coords(study_out, std::cout, study_threads);
       if (*raster) return run_study_raster(study_out, std::cout);

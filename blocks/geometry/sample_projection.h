@@ -1,0 +1,62 @@
+#pragma once
+// SampleProjection: inverse rotation and projection of object-space samples
+// (docs/derivations/object-space.md §3): [M'] = [M][R_xy]⁻¹[P] with R_xy⁻¹ = R_y⁻¹ R_x⁻¹ and
+// the perspective matrix P of r = −1/z_c (z_c: eye-to-projection-plane distance, here the
+// focal length in pixels, so one unit of the projection plane is one pixel). The samples of a
+// rotated polygon share z' (the plane is parallel to the screen), so per polygon the set-up
+// folds R⁻¹, the eye shift and P into a 3 × 3 map of (x', y', 1); per sample it is three dot
+// products and one reciprocal: xs = cx + X/w, ys = cy + Y/w, w = 1 + r (z_c − Z) = Z / z_c.
+// Screen coordinates are continuous (pixel centres at +0.5, the Camera's convention). Arithmetic:
+// double.
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <string>
+
+#include "blocks/base/op_counts.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/base/timing_spec.h"
+#include "blocks/geometry/polygon_rotation.h"
+
+namespace texsim {
+
+class ConfigReader;
+
+struct ProjectedSample {
+  double x = 0, y = 0;  // continuous screen coordinates
+  double depth = 0;     // view-space Z
+  bool valid = false;   // in front of the eye (w > 0) and finite
+};
+
+class SampleProjection {
+ public:
+  struct Config {
+    int lanes = 1;  // samples projected in parallel
+    static Config from_toml(const ConfigReader& r);
+  };
+  // M' of one polygon: rows give X, Y and w as affine functions of (x', y').
+  struct Setup {
+    double m[3][3] = {};
+    double cx = 0, cy = 0, z_c = 1;
+  };
+
+  SampleProjection() = default;
+  explicit SampleProjection(const Config& c) : cfg_(c) {}
+
+  // Per polygon: the columns of R⁻¹ applied to (1,0,0), (0,1,0), (0,0,z'), then P with
+  // r = −1/z_c: 3 × inverse rotation (24 mul 12 add), 1 rcp, 3 mul.
+  static Setup setup(const Rotation& r, double z_rot, double focal_px, double cx, double cy,
+                     OpCounts& ops);
+  // One sample: 6 mul 6 add (M'), 1 rcp, 3 mul 2 add (divide by w, centre; depth), 1 cmp.
+  static ProjectedSample project(const Setup& s, double xr, double yr, OpCounts& ops);
+
+  OpCounts ops_per_item() const;  // item: one sample
+  OpCounts polygon_ops() const;
+  TimingSpec timing(const TechTable& t) const;
+  std::string name() const { return "geometry.sample_projection"; }
+  std::string arithmetic() const { return "double"; }
+
+ private:
+  Config cfg_{};
+};
+
+}  // namespace texsim
