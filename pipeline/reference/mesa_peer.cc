@@ -41,6 +41,8 @@ MesaView mesa_view(const Scene& scene, const TextureSet& textures,
     if (PlaneProjection(scene, p).culled()) continue;
     MesaPrimitive m;
     const SceneMaterial& mat = scene.materials[static_cast<size_t>(p.material)];
+    if (mat.texture < 0 || mat.texture >= textures.size())
+      throw InputError("Mesa peer", "material " + mat.name + " has no texture in the set");
     m.texture = &textures[mat.texture];
     m.address = address[static_cast<size_t>(p.material)];
     const bool tri = p.shape == ScenePrimitive::Shape::Triangle;
@@ -119,9 +121,9 @@ std::string egl_error(const char* what) {
 }
 
 std::string Session::start(MesaDriver d) {
+  if (std::getenv("TEXSIM_NO_MESA")) return "TEXSIM_NO_MESA is set";
   if (driver == d) return "";
   stop();
-  if (std::getenv("TEXSIM_NO_MESA")) return "TEXSIM_NO_MESA is set";
   const char* ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (!ext || std::string(ext).find("EGL_MESA_platform_surfaceless") == std::string::npos)
     return "EGL has no EGL_MESA_platform_surfaceless (libegl-mesa0 not installed?)";
@@ -190,6 +192,15 @@ GLuint compile(GLenum kind, const char* src) {
   return s;
 }
 
+// Throws with the step that OpenGL refused.
+void check(const std::string& step) {
+  const GLenum err = glGetError();
+  if (err == GL_NO_ERROR) return;
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "OpenGL error 0x%04x", static_cast<unsigned>(err));
+  throw InputError("Mesa peer", std::string(buf) + " in " + step);
+}
+
 GLint gl_wrap(AddressMode m) {
   switch (m) {
     case AddressMode::Wrap:
@@ -214,6 +225,8 @@ GLuint upload(const Texture& tex, AddressMode address, const MesaView& view) {
     glTexImage2D(GL_TEXTURE_2D, l, u8 ? GL_RGBA8 : GL_RGBA32F, lv.width, lv.height, 0, GL_RGBA,
                  u8 ? GL_UNSIGNED_BYTE : GL_FLOAT,
                  u8 ? static_cast<const void*>(lv.rgba8.data()) : lv.rgba32f.data());
+    check("glTexImage2D of " + tex.name() + " level " + std::to_string(l) + " (" +
+          std::to_string(lv.width) + "x" + std::to_string(lv.height) + ")");
   }
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, tex.levels() - 1);
@@ -297,6 +310,7 @@ void make_target(GlObjects& g, int w, int h) {
   glBindRenderbuffer(GL_RENDERBUFFER, g.depth);
   glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g.depth);
+  check("the " + std::to_string(w) + "x" + std::to_string(h) + " framebuffer object");
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw InputError("Mesa peer", "the RGBA8 + depth framebuffer object is incomplete");
 }
@@ -342,6 +356,7 @@ void draw(GlObjects& g, const MesaView& view) {
     }
     glBindTexture(GL_TEXTURE_2D, t);
     glDrawArrays(GL_TRIANGLES, vx.ranges[i].first, vx.ranges[i].second);
+    check("drawing primitive " + std::to_string(i));
   }
 }
 
@@ -369,6 +384,8 @@ MesaImage MesaPeer::render(const MesaView& view) const {
   const int w = view.camera.width, h = view.camera.height;
   MesaImage img{w, h, std::vector<uint8_t>(static_cast<size_t>(w) * static_cast<size_t>(h) * 4)};
   {
+    while (glGetError() != GL_NO_ERROR) {
+    }
     GlObjects g;
     make_target(g, w, h);
     make_program(g);
@@ -383,6 +400,7 @@ MesaImage MesaPeer::render(const MesaView& view) const {
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     std::vector<uint8_t> rows(img.rgba.size());
     glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+    check("reading the image back");
     // OpenGL's row 0 is the bottom one.
     const size_t stride = static_cast<size_t>(w) * 4;
     for (int y = 0; y < h; ++y) {
@@ -390,12 +408,6 @@ MesaImage MesaPeer::render(const MesaView& view) const {
           rows.begin() + static_cast<std::ptrdiff_t>(stride * static_cast<size_t>(h - 1 - y)),
           stride, img.rgba.begin() + static_cast<std::ptrdiff_t>(stride * static_cast<size_t>(y)));
     }
-  }
-  const GLenum err = glGetError();
-  if (err != GL_NO_ERROR) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "OpenGL error 0x%04x", static_cast<unsigned>(err));
-    throw InputError("Mesa peer (" + renderer_ + ")", buf);
   }
   return img;
 }
