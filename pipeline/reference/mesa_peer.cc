@@ -1,6 +1,7 @@
 #include "pipeline/reference/mesa_peer.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -230,12 +231,14 @@ GLuint upload(const Texture& tex, AddressMode address, const MesaView& view) {
   }
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, tex.levels() - 1);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTexParameteri(
+      GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
+      view.filter == MesaFilter::Bilinear ? GL_LINEAR_MIPMAP_NEAREST : GL_LINEAR_MIPMAP_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, gl_wrap(address));
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, gl_wrap(address));
   glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY,
-                  view.anisotropic ? view.max_aniso : 1.0f);
+                  view.filter == MesaFilter::Anisotropic ? view.max_aniso : 1.0f);
   return name;
 }
 
@@ -329,14 +332,20 @@ void make_program(GlObjects& g) {
   if (!ok) throw InputError("Mesa peer", "the shader program does not link");
 }
 
-void draw(GlObjects& g, const MesaView& view) {
-  const Vertices vx = clip_vertices(view);
+// Vertices and textures of the view in GL objects: one texture per (texture, address mode).
+struct Prepared {
+  Vertices vx;
+  std::vector<GLuint> texture_of;  // per primitive
+};
+
+Prepared prepare(GlObjects& g, const MesaView& view) {
+  Prepared pr{clip_vertices(view), {}};
   glGenVertexArrays(1, &g.vao);
   glBindVertexArray(g.vao);
   glGenBuffers(1, &g.vbo);
   glBindBuffer(GL_ARRAY_BUFFER, g.vbo);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vx.data.size() * sizeof(float)),
-               vx.data.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(pr.vx.data.size() * sizeof(float)),
+               pr.vx.data.data(), GL_STATIC_DRAW);
   glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
   glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
                         // NOLINTNEXTLINE(performance-no-int-to-ptr): OpenGL's buffer offset
@@ -347,17 +356,43 @@ void draw(GlObjects& g, const MesaView& view) {
   glUniform1i(glGetUniformLocation(g.program, "tex"), 0);
   glActiveTexture(GL_TEXTURE0);
   std::map<std::pair<const Texture*, AddressMode>, GLuint> uploaded;
-  for (size_t i = 0; i < view.primitives.size(); ++i) {
-    const MesaPrimitive& p = view.primitives[i];
+  for (const MesaPrimitive& p : view.primitives) {
     GLuint& t = uploaded[{p.texture, p.address}];
     if (!t) {
       t = upload(*p.texture, p.address, view);
       g.textures.push_back(t);
     }
-    glBindTexture(GL_TEXTURE_2D, t);
-    glDrawArrays(GL_TRIANGLES, vx.ranges[i].first, vx.ranges[i].second);
+    pr.texture_of.push_back(t);
+  }
+  return pr;
+}
+
+void draw(const Prepared& pr) {
+  for (size_t i = 0; i < pr.texture_of.size(); ++i) {
+    glBindTexture(GL_TEXTURE_2D, pr.texture_of[i]);
+    glDrawArrays(GL_TRIANGLES, pr.vx.ranges[i].first, pr.vx.ranges[i].second);
     check("drawing primitive " + std::to_string(i));
   }
+}
+
+// The framebuffer, program and state of one render, cleared to the background.
+void begin(GlObjects& g, const MesaView& view, bool depth_test) {
+  while (glGetError() != GL_NO_ERROR) {
+  }
+  const int w = view.camera.width, h = view.camera.height;
+  make_target(g, w, h);
+  make_program(g);
+  glViewport(0, 0, w, h);
+  glDisable(GL_BLEND);
+  if (depth_test) {
+    glEnable(GL_DEPTH_TEST);
+  } else {
+    glDisable(GL_DEPTH_TEST);
+  }
+  glDepthFunc(GL_LESS);
+  glClearColor(static_cast<float>(view.background.x), static_cast<float>(view.background.y),
+               static_cast<float>(view.background.z), 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 }
 
 }  // namespace
@@ -384,19 +419,9 @@ MesaImage MesaPeer::render(const MesaView& view) const {
   const int w = view.camera.width, h = view.camera.height;
   MesaImage img{w, h, std::vector<uint8_t>(static_cast<size_t>(w) * static_cast<size_t>(h) * 4)};
   {
-    while (glGetError() != GL_NO_ERROR) {
-    }
     GlObjects g;
-    make_target(g, w, h);
-    make_program(g);
-    glViewport(0, 0, w, h);
-    glDisable(GL_BLEND);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glClearColor(static_cast<float>(view.background.x), static_cast<float>(view.background.y),
-                 static_cast<float>(view.background.z), 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    draw(g, view);
+    begin(g, view, true);
+    draw(prepare(g, view));
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     std::vector<uint8_t> rows(img.rgba.size());
     glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
@@ -412,6 +437,24 @@ MesaImage MesaPeer::render(const MesaView& view) const {
   return img;
 }
 
+double MesaPeer::time_draws(const MesaView& view, int draws) const {
+  if (!available()) throw InputError("Mesa peer", why_not_);
+  Session& s = session();
+  const std::lock_guard<std::mutex> hold(s.lock);
+  const std::string e = s.start(driver_);
+  if (!e.empty()) throw InputError("Mesa peer", "Mesa not available: " + e);
+  eglMakeCurrent(s.display, EGL_NO_SURFACE, EGL_NO_SURFACE, s.context);
+  GlObjects g;
+  begin(g, view, false);
+  const Prepared pr = prepare(g, view);
+  draw(pr);
+  glFinish();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < draws; ++i) draw(pr);
+  glFinish();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 #else  // built without EGL/OpenGL
 
 MesaPeer::MesaPeer(MesaDriver driver)
@@ -421,6 +464,8 @@ MesaPeer::MesaPeer(MesaDriver driver)
           "libgl-dev)") {}
 
 MesaImage MesaPeer::render(const MesaView&) const { throw InputError("Mesa peer", why_not_); }
+
+double MesaPeer::time_draws(const MesaView&, int) const { throw InputError("Mesa peer", why_not_); }
 
 #endif
 

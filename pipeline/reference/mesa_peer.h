@@ -3,7 +3,7 @@
 // Heckbert's EWA) or llvmpipe drawing the same textured primitives through OpenGL 3.3 on EGL's
 // surfaceless platform (no display), into an RGBA8 framebuffer object. The texture's own mip
 // pyramid is uploaded level by level, so both sides filter the same texels; sampling is
-// trilinear or anisotropic (GL_TEXTURE_MAX_ANISOTROPY). Not a hardware block.
+// bilinear, trilinear or anisotropic (GL_TEXTURE_MAX_ANISOTROPY). Not a hardware block.
 //
 // The driver is chosen with GALLIUM_DRIVER and LIBGL_ALWAYS_SOFTWARE, set only around EGL's
 // initialisation; Mesa's surfaceless display is one per process, so a peer of the other driver
@@ -19,6 +19,9 @@
 namespace texsim {
 
 enum class MesaDriver { Softpipe, Llvmpipe };
+// Bilinear: GL_LINEAR_MIPMAP_NEAREST (texsim's FilterMode::Bilinear); Trilinear:
+// GL_LINEAR_MIPMAP_LINEAR; Anisotropic: that with GL_TEXTURE_MAX_ANISOTROPY = max_aniso.
+enum class MesaFilter { Bilinear, Trilinear, Anisotropic };
 const char* to_string(MesaDriver d);  // "softpipe", "llvmpipe" (GALLIUM_DRIVER's values)
 
 // One textured primitive: a parallelogram (4 corners in order) or a triangle (3), world space,
@@ -34,7 +37,7 @@ struct MesaView {
   Camera camera;  // its width × height is the image
   glm::dvec3 background{0, 0, 0};
   std::vector<MesaPrimitive> primitives;  // depth-tested, so order does not matter
-  bool anisotropic = true;                // else trilinear (GL_LINEAR_MIPMAP_LINEAR)
+  MesaFilter filter = MesaFilter::Anisotropic;
   float max_aniso = 16;
 };
 
@@ -63,6 +66,10 @@ class MesaPeer {
   MesaDriver driver() const { return driver_; }
   // Draws the view. Throws InputError if Mesa is not available or OpenGL reports an error.
   MesaImage render(const MesaView& view) const;
+  // Seconds `draws` draws of the view take once its textures are uploaded and one draw has
+  // warmed the driver up (glFinish on both sides; depth test off so every draw shades every
+  // pixel): the filtering rate, without set-up or read-back. Throws as render().
+  double time_draws(const MesaView& view, int draws) const;
 
  private:
   MesaDriver driver_;

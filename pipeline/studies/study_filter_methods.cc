@@ -336,7 +336,7 @@ StudyFilterMethod mesa_method(const std::shared_ptr<const MesaPeer>& peer, bool 
     MesaView mv;
     mv.camera = view.camera;
     mv.background = view.background;
-    mv.anisotropic = aniso;
+    mv.filter = aniso ? MesaFilter::Anisotropic : MesaFilter::Trilinear;
     for (const ScenePrimitive& p : view.primitives) {
       mv.primitives.push_back(
           {&tex,

@@ -67,7 +67,7 @@ struct Floor {
     only.primitives.resize(1);
     MesaView v =
         mesa_view(only, set, std::vector<AddressMode>(scene.materials.size(), AddressMode::Wrap));
-    v.anisotropic = aniso;
+    v.filter = aniso ? MesaFilter::Anisotropic : MesaFilter::Trilinear;
     return v;
   }
   // texsim's functional texture unit with one material given by its effect tables' TOML.
