@@ -11,6 +11,17 @@ find_package(tinyobjloader REQUIRED)
 pkg_check_modules(HIDAPI REQUIRED IMPORTED_TARGET hidapi-hidraw)
 pkg_check_modules(MPFR REQUIRED IMPORTED_TARGET mpfr)
 find_package(SQLite3 REQUIRED)
+# Optional: Mesa as a peer renderer (pipeline/reference/mesa_peer.h) needs EGL and OpenGL
+# (libegl-dev, libgl-dev); without them texsim builds and the Mesa rows are skipped.
+find_package(OpenGL COMPONENTS EGL OpenGL)
+if(OpenGL_EGL_FOUND AND OpenGL_OpenGL_FOUND)
+  set(TEXSIM_HAVE_MESA ON)
+  message(STATUS "Mesa peer: EGL and OpenGL found (study filters and bench-peers can use Mesa)")
+else()
+  set(TEXSIM_HAVE_MESA OFF)
+  message(STATUS "Mesa peer: EGL or OpenGL not found (libegl-dev, libgl-dev): building without "
+    "it; study filters skips the Mesa rows")
+endif()
 
 add_library(texsim_deps INTERFACE)
 add_library(texsim::deps ALIAS texsim_deps)

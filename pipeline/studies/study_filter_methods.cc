@@ -5,11 +5,13 @@
 #include <tuple>
 #include <utility>
 
+#include "blocks/base/input_error.h"
 #include "blocks/texture/footprint/ewa_filter.h"
 #include "blocks/texture/footprint/feline_filter.h"
 #include "blocks/texture/footprint/multi_probe_filter.h"
 #include "blocks/texture/footprint/spaf_filter.h"
 #include "blocks/texture/footprint/weight_map.h"
+#include "pipeline/reference/mesa_peer.h"
 #include "pipeline/reference/oiio_peer.h"
 
 namespace texsim {
@@ -313,6 +315,61 @@ StudyFilterMethod oiio_method() {
   return m;
 }
 
+// Mesa drawing the view's plane through OpenGL (mesa_peer.h): the same camera, plane and mip
+// pyramid, wrap addressing, trilinear or anisotropic (16) sampling, an RGBA8 image. Its
+// derivatives are OpenGL's (differences over 2x2 pixel quads), not the fragments' analytic
+// ones. `compare_to`: the texsim method it is closest to.
+StudyFilterMethod mesa_method(const std::shared_ptr<const MesaPeer>& peer, bool aniso,
+                              const std::string& compare_to) {
+  const std::string drv = to_string(peer->driver());
+  StudyFilterMethod m;
+  m.name = "Mesa " + drv + (aniso ? " aniso 16" : " trilinear");
+  if (aniso && peer->driver() == MesaDriver::Softpipe) m.name += " (EWA)";
+  m.family = "mesa";
+  m.arithmetic = "OpenGL on EGL surfaceless (" + peer->renderer() +
+                 "): rasterised plane, derivatives over 2x2 quads, " +
+                 (aniso ? "GL_TEXTURE_MAX_ANISOTROPY 16" : "GL_LINEAR_MIPMAP_LINEAR") +
+                 ", RGBA8 framebuffer";
+  m.compare_to = compare_to;
+  m.render = [peer, aniso](const Texture& tex, const Scene& view,
+                           const std::vector<Fragment>& fragments) {
+    MesaView mv;
+    mv.camera = view.camera;
+    mv.background = view.background;
+    mv.filter = aniso ? MesaFilter::Anisotropic : MesaFilter::Trilinear;
+    for (const ScenePrimitive& p : view.primitives) {
+      mv.primitives.push_back(
+          {&tex,
+           AddressMode::Wrap,
+           {p.origin, p.origin + p.edge_u, p.origin + p.edge_u + p.edge_v, p.origin + p.edge_v},
+           {p.uv_origin, p.uv_origin + p.uv_edge_u, p.uv_origin + p.uv_edge_u + p.uv_edge_v,
+            p.uv_origin + p.uv_edge_v}});
+    }
+    const MesaImage img = peer->render(mv);
+    std::vector<Rgba> out;
+    out.reserve(fragments.size());
+    for (const Fragment& f : fragments)
+      out.push_back(img.at(static_cast<int>(f.x), static_cast<int>(f.y)));
+    return out;
+  };
+  return m;
+}
+
+// The Mesa rows of every driver that starts; the others are named in `log`.
+void add_mesa_methods(std::vector<StudyFilterMethod>& out, std::ostream* log) {
+  for (MesaDriver d : {MesaDriver::Softpipe, MesaDriver::Llvmpipe}) {
+    auto peer = std::make_shared<const MesaPeer>(d);
+    if (!peer->available()) {
+      if (log)
+        *log << "study filters: Mesa " << to_string(d) << " rows skipped: " << peer->why_not()
+             << "\n";
+      continue;
+    }
+    out.push_back(mesa_method(peer, false, "trilinear (isotropic)"));
+    out.push_back(mesa_method(peer, true, "ewa lut256"));
+  }
+}
+
 }  // namespace
 
 std::vector<StudyFilterMethod> thesis_filter_methods() {
@@ -372,7 +429,8 @@ std::vector<StudyFilterMethod> thesis_filter_methods() {
   return out;
 }
 
-std::vector<StudyFilterMethod> study_filter_methods(const StudyFiltersOptions& opt) {
+std::vector<StudyFilterMethod> study_filter_methods(const StudyFiltersOptions& opt,
+                                                    std::ostream* log) {
   std::vector<StudyFilterMethod> methods;
   methods.push_back(baseline("trilinear (isotropic)", AnisoMode::Isotropic));
   methods.push_back(baseline("trilinear aniso 16 (Vulkan probes)", AnisoMode::Vulkan));
@@ -382,13 +440,20 @@ std::vector<StudyFilterMethod> study_filter_methods(const StudyFiltersOptions& o
   add_probe_methods(methods);
   add_spaf_methods(methods);
   if (opt.oiio) methods.push_back(oiio_method());
+  if (opt.mesa) add_mesa_methods(methods, log);
   return methods;
 }
 
 StudyFilterRun run_study_filter_method(const StudyFilterMethod& m, TextureSet& textures,
                                        const std::vector<Fragment>& fragments,
-                                       const TechTable& tech, const ShaderIssue& issue) {
+                                       const TechTable& tech, const Scene* view,
+                                       const ShaderIssue& issue) {
   StudyFilterRun r;
+  if (m.render) {
+    if (!view) throw InputError(m.name, "a renderer needs the view's scene");
+    r.colours = m.render(textures[0], *view, fragments);
+    return r;
+  }
   r.colours.reserve(fragments.size());
   if (!m.hardware()) {
     for (const Fragment& f : fragments) r.colours.push_back(m.peer(textures[0], f));

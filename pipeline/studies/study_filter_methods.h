@@ -3,15 +3,17 @@
 // material: the trilinear baselines are LOD + trilinear address configurations, the footprint
 // filters (EWA, weight maps, multi-ellipse probes, Feline, SPAF) are MaterialSetup::footprint
 // blocks, so the study's cycles are the cycles `texsim run` simulates. Software peers
-// (OpenImageIO) are functional only.
+// (OpenImageIO's lookups, Mesa's rendered views) are functional only.
 #include <functional>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
 #include "blocks/base/fragment.h"
 #include "blocks/base/op_counts.h"
 #include "blocks/texture/memory/texture_memory.h"
+#include "pipeline/scene/scene.h"
 #include "pipeline/studies/study_filters.h"
 #include "pipeline/texture/texture_unit.h"
 
@@ -73,19 +75,26 @@ class TalliedFootprint : public FootprintFilter {
 
 struct StudyFilterMethod {
   std::string name;
-  std::string family;  // baseline, ewa, weights, weight map, probes, spaf, oiio
+  std::string family;  // baseline, ewa, weights, weight map, probes, spaf, oiio, mesa
   std::string arithmetic;
   MaterialSetup material;                           // hardware: the texture unit's material
   std::shared_ptr<const TalliedFootprint> tallied;  // its footprint block (null: baseline)
   // Software peer: a functional lookup without cycles or cache (empty for hardware methods).
   std::function<Rgba(const Texture&, const Fragment&)> peer;
+  // Software renderer: draws the whole view (the study's scene of one plane) and returns the
+  // colours of `fragments`' pixels, in their order (empty for other methods).
+  std::function<std::vector<Rgba>(const Texture&, const Scene& view,
+                                  const std::vector<Fragment>& fragments)>
+      render;
   std::string compare_to;  // also report the NMSE of this method's image against that method's
   uint64_t map_bytes = 0;  // weight-map memory
-  bool hardware() const { return !peer; }
+  bool hardware() const { return !peer && !render; }
 };
 
-// Every method of the study, in table order; `opt.oiio` adds the OpenImageIO peer.
-std::vector<StudyFilterMethod> study_filter_methods(const StudyFiltersOptions& opt);
+// Every method of the study, in table order; `opt.oiio` adds the OpenImageIO peer, `opt.mesa`
+// the Mesa rows whose driver starts (a driver that cannot start is named in `log`, if given).
+std::vector<StudyFilterMethod> study_filter_methods(const StudyFiltersOptions& opt,
+                                                    std::ostream* log = nullptr);
 
 // The methods `texsim study thesis` compares (docs/studies/thesis-configuration.md): texsim's
 // configuration (reconstruction term 1, Cholesky map transform, exact weights) and the thesis
@@ -106,10 +115,11 @@ struct StudyFilterRun {
 
 // Runs `m` over `fragments` (in order) on texture 0 of `textures`: a hardware method through a
 // fresh TextureUnit with the default [pipeline] (PipelineSetup{}) and its material, timing on;
-// a software peer functionally.
-// `issue`: the shader-like model's rates.
+// a software peer functionally; a renderer draws `view` (required for it). `issue`: the
+// shader-like model's rates.
 StudyFilterRun run_study_filter_method(const StudyFilterMethod& m, TextureSet& textures,
                                        const std::vector<Fragment>& fragments,
-                                       const TechTable& tech, const ShaderIssue& issue = {});
+                                       const TechTable& tech, const Scene* view = nullptr,
+                                       const ShaderIssue& issue = {});
 
 }  // namespace texsim

@@ -119,6 +119,7 @@ void sums_vs(const ImageRgb& img, const ImageRgb& ref, double& se, double& sref)
 // One view of one texture: its fragments, the ground truth and the anisotropy spread.
 struct View {
   double nominal = 0;
+  Scene scene;  // the view's plane and camera (what a renderer peer draws)
   std::vector<Fragment> frags;
   ImageRgb ref;
   double p50 = 0, p90 = 0;
@@ -132,8 +133,12 @@ View make_view(const StudyTexture& st, double nominal, const StudyFiltersOptions
       parse_scene(view_scene_text(nominal, opt.size, opt.texels_per_pixel, tex.width(0)),
                   "study filters view", "");
   const PlaneProjection proj(scene, scene.primitives[0]);
-  View v{nominal, plane_fragments(proj, opt.size), ImageRgb(opt.size, opt.size, scene.background),
-         0, 0};
+  View v{nominal,
+         scene,
+         plane_fragments(proj, opt.size),
+         ImageRgb(opt.size, opt.size, scene.background),
+         0,
+         0};
   FootprintReferenceConfig rc;
   rc.address_u = rc.address_v = AddressMode::Wrap;
   std::vector<double> anisos;
@@ -168,7 +173,7 @@ void measure_view(StudyTexture& st, const View& v, const std::vector<StudyFilter
     r.aniso_p90 = v.p90;
     r.method = &m;
     const auto t0 = std::chrono::steady_clock::now();
-    r.run = run_study_filter_method(m, st.set, v.frags, tech);
+    r.run = run_study_filter_method(m, st.set, v.frags, tech, &v.scene);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ImageRgb img(v.ref.width, v.ref.height, glm::dvec3(0));
     for (size_t i = 0; i < v.frags.size(); ++i)
@@ -211,7 +216,7 @@ int run_study_filters(const std::string& out_dir, std::ostream& log,
   const auto t0 = std::chrono::steady_clock::now();
   const StudyFiles files(out_dir);
   std::vector<StudyTexture> textures = study_textures();
-  const std::vector<StudyFilterMethod> methods = study_filter_methods(opt);
+  const std::vector<StudyFilterMethod> methods = study_filter_methods(opt, &log);
   std::vector<FilterRow> rows;
   for (StudyTexture& st : textures) {
     for (double nominal : opt.anisotropies)

@@ -1,6 +1,7 @@
 #pragma once
 // `texsim study filters`: every anisotropic filter method and variant (EWA, weight maps,
-// multi-ellipse probes, Feline, SPAF, the trilinear baselines and OpenImageIO's TextureSystem)
+// multi-ellipse probes, Feline, SPAF, the trilinear baselines, OpenImageIO's TextureSystem and
+// Mesa's softpipe and llvmpipe)
 // on the same planes at anisotropy 1:1 … 64:1, against the Gaussian-footprint ground truth:
 // PSNR, NMSE, max error, ops per fragment by kind, texels fetched, cache misses and cycles per
 // fragment (docs/studies/study-filters.md explains the set-up and the results).
@@ -18,7 +19,8 @@ struct StudyFiltersOptions {
   std::vector<double> anisotropies = {1, 2, 4, 8, 16, 32, 64};  // nominal, at the image centre
   double texels_per_pixel = 1.5;  // minor axis at the centre (level-0 texels)
   bool oiio = true;               // include OpenImageIO's TextureSystem
-  bool write_images = false;      // also write each view's images (PNG)
+  bool mesa = true;  // include Mesa's softpipe and llvmpipe where they start (else skipped)
+  bool write_images = false;  // also write each view's images (PNG)
 };
 
 // Writes filters.csv, filters.md, filters.png (NMSE against cycles per fragment) and

@@ -64,7 +64,7 @@ void measure_into(TextureSet& textures, const std::vector<Fragment>& fragments, 
   for (const StudyFilterMethod& m : thesis_filter_methods()) {
     const StudyFilterRun r4 = run_study_filter_method(m, textures, fragments, tech);
     const StudyFilterRun r16 =
-        run_study_filter_method(m, textures, fragments, tech, ShaderIssue::rx460());
+        run_study_filter_method(m, textures, fragments, tech, nullptr, ShaderIssue::rx460());
     ThesisMethodFigures& f = acc.methods[m.name];
     f.method = m.name;
     f.fragments += fragments.size();

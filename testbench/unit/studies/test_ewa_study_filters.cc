@@ -42,6 +42,7 @@ TEST(StudyFilters, SmallRunWritesConsistentTables) {
   opt.size = 32;
   opt.anisotropies = {1, 16};
   opt.oiio = false;
+  opt.mesa = false;
   std::ostringstream log;
   const auto t0 = std::chrono::steady_clock::now();
   ASSERT_EQ(run_study_filters(dir, log, opt), 0) << log.str();

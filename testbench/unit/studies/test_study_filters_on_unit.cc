@@ -67,6 +67,7 @@ void expect_study_matches_run(const std::string& method, const std::string& effe
 
   StudyFiltersOptions opt;
   opt.oiio = false;
+  opt.mesa = false;
   const std::vector<StudyFilterMethod> methods = study_filter_methods(opt);
   const StudyFilterRun study =
       run_study_filter_method(method_named(methods, method), set, frags, TechTable::defaults());
@@ -95,6 +96,7 @@ TEST(StudyFiltersOnUnit, EveryMethodsCyclesAreTheUnits) {
   StudyFiltersOptions opt;
   opt.size = 24;
   opt.oiio = false;
+  opt.mesa = false;
   TextureSet set;
   set.add(load_texture("procedural:noise?size=64&cells=8", ""));
   const std::vector<Fragment> frags = study_filter_fragments(8, opt, 64);

@@ -89,7 +89,7 @@ TEST(ThesisStudy, IssueRatioIsAParameterWithTheStudysDefault) {
   const TechTable tech = TechTable::defaults();
   for (const StudyFilterMethod& m : thesis_filter_methods()) {
     const StudyFilterRun a = run_study_filter_method(m, set, frags, tech);
-    const StudyFilterRun b = run_study_filter_method(m, set, frags, tech, ShaderIssue{});
+    const StudyFilterRun b = run_study_filter_method(m, set, frags, tech, nullptr, ShaderIssue{});
     EXPECT_EQ(a.tally.shader_cycles, b.tally.shader_cycles) << m.name;
     EXPECT_EQ(a.cycles, b.cycles) << m.name;
   }
