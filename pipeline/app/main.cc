@@ -22,7 +22,9 @@
 #include "pipeline/studies/study_coords.h"
 #include "pipeline/studies/study_filters.h"
 #include "pipeline/studies/study_raster.h"
+#include "pipeline/studies/study_relief.h"
 #include "pipeline/studies/study_rtl.h"
+#include "pipeline/studies/study_terrain.h"
 #include "pipeline/studies/study_vd.h"
 #include "traces/trace_tools.h"
 
@@ -257,7 +259,14 @@ int run_cli(int argc, char** argv) {
       "Rectangle-scan digital rows vs edge rasteriser + Heckbert: coordinate error vs divisions");
   auto* rtl = study_cmd->add_subcommand(
       "rtl", "RTL blocks on an iCE40 FPGA: yosys cells, LUTs, DSPs and nextpnr Fmax over seeds");
-  for (auto* s : {vd, coords, filters, raster, rtl})
+  auto* relief = study_cmd->add_subcommand(
+      "relief",
+      "Relief methods (parallax, steep/relief, sphere tracing): iterations, fetches, cycles vs "
+      "image error");
+  auto* terrain = study_cmd->add_subcommand(
+      "terrain",
+      "Finite-function terrain: evaluator costs, slope jumps, flat ripple, terrace measure");
+  for (auto* s : {vd, coords, filters, raster, rtl, relief, terrain})
     s->add_option("--out", study_out, "Output directory")->capture_default_str();
   StudyRtlOptions rtl_opt;
   std::vector<std::string> rtl_params;
@@ -294,8 +303,10 @@ int run_cli(int argc, char** argv) {
     } else if (*rtl) {
       for (const std::string& p : rtl_params) rtl_opt.params.push_back(parse_rtl_param(p));
       return run_study_rtl(study_out, rtl_opt, std::cout);
-    } else if (*vd || *coords || *filters || *raster) {
+    } else if (*vd || *coords || *filters || *raster || *relief || *terrain) {
       ensure_dir(study_out);
+      if (*relief) return run_study_relief(study_out, std::cout);
+      if (*terrain) return run_study_terrain(study_out, std::cout);
       if (*vd) return run_study_vd(study_out, std::cout);
       if (*coords) return run_study_coords(study_out, std::cout);
       if (*raster) return run_study_raster(study_out, std::cout);
