@@ -215,6 +215,23 @@ int run_sweep_command(SweepCli& s, const char* argv0) {
   return texsim::run_sweep(s.file, s.opt, std::cout);
 }
 
+// `texsim study rtl` and its options (--out first, as the other studies).
+CLI::App* add_study_rtl_command(CLI::App& study_cmd, std::string& out, texsim::StudyRtlOptions& opt,
+                                std::vector<std::string>& params) {
+  auto* rtl = study_cmd.add_subcommand(
+      "rtl", "RTL blocks on an iCE40 FPGA: yosys cells, LUTs, DSPs and nextpnr Fmax over seeds");
+  rtl->add_option("--out", out, "Output directory")->capture_default_str();
+  rtl->add_option("--rtl", opt.rtl_dir, "Folder of Verilog blocks (one module per file)")
+      ->capture_default_str();
+  rtl->add_option("--param", params,
+                  "NAME=v1,v2,...: build each block that has parameter "
+                  "NAME at these values (repeatable)");
+  rtl->add_option("--seeds", opt.seeds, "Placer seeds per build")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  return rtl;
+}
+
 // Parses the command line and runs the subcommand; returns the exit status (docs/cli.md).
 int run_cli(int argc, char** argv) {
   using namespace texsim;
@@ -257,8 +274,9 @@ int run_cli(int argc, char** argv) {
   auto* raster = study_cmd->add_subcommand(
       "raster",
       "Rectangle-scan digital rows vs edge rasteriser + Heckbert: coordinate error vs divisions");
-  auto* rtl = study_cmd->add_subcommand(
-      "rtl", "RTL blocks on an iCE40 FPGA: yosys cells, LUTs, DSPs and nextpnr Fmax over seeds");
+  StudyRtlOptions rtl_opt;
+  std::vector<std::string> rtl_params;
+  auto* rtl = add_study_rtl_command(*study_cmd, study_out, rtl_opt, rtl_params);
   auto* relief = study_cmd->add_subcommand(
       "relief",
       "Relief methods (parallax, steep/relief, sphere tracing): iterations, fetches, cycles vs "
@@ -266,18 +284,8 @@ int run_cli(int argc, char** argv) {
   auto* terrain = study_cmd->add_subcommand(
       "terrain",
       "Finite-function terrain: evaluator costs, slope jumps, flat ripple, terrace measure");
-  for (auto* s : {vd, coords, filters, raster, rtl, relief, terrain})
+  for (auto* s : {vd, coords, filters, raster, relief, terrain})
     s->add_option("--out", study_out, "Output directory")->capture_default_str();
-  StudyRtlOptions rtl_opt;
-  std::vector<std::string> rtl_params;
-  rtl->add_option("--rtl", rtl_opt.rtl_dir, "Folder of Verilog blocks (one module per file)")
-      ->capture_default_str();
-  rtl->add_option("--param", rtl_params,
-                  "NAME=v1,v2,...: build each block that has parameter "
-                  "NAME at these values (repeatable)");
-  rtl->add_option("--seeds", rtl_opt.seeds, "Placer seeds per build")
-      ->check(CLI::Range(1, 100))
-      ->capture_default_str();
 
   SweepCli sweep;
   add_sweep_commands(app, sweep);
