@@ -11,4 +11,4 @@ $SUDO apt-get install -y --no-install-recommends \
   libcli11-dev libtomlplusplus-dev libtinyobjloader-dev libsqlite3-dev libmpfr-dev zlib1g-dev nlohmann-json3-dev \
   libgtest-dev libgmock-dev googletest libbenchmark-dev \
   clang clang-format clang-tidy libclang-rt-14-dev verilator yosys nextpnr-ice40 fpga-icestorm gnuplot-nox parallel sqlite3 bc \
-  glmark2-data
+  glmark2-data python-matplotlib-data
