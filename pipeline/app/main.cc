@@ -24,7 +24,9 @@
 #include "pipeline/studies/study_filters.h"
 #include "pipeline/studies/study_objspace.h"
 #include "pipeline/studies/study_raster.h"
+#include "pipeline/studies/study_relief.h"
 #include "pipeline/studies/study_rtl.h"
+#include "pipeline/studies/study_terrain.h"
 #include "pipeline/studies/study_thesis.h"
 #include "pipeline/studies/study_vd.h"
 #include "traces/trace_tools.h"
@@ -243,6 +245,90 @@ CLI::App* add_tune_command(CLI::App& app, texsim::TuneOptions& t) {
   return cmd;
 }
 
+// `texsim study …`: every study subcommand and its options.
+struct StudyCli {
+  CLI::App *cmd = nullptr, *vd = nullptr, *coords = nullptr, *filters = nullptr, *raster = nullptr,
+           *objspace = nullptr, *rtl = nullptr, *thesis = nullptr, *relief = nullptr,
+           *terrain = nullptr;
+  std::string out = "out/study";
+  int threads = 0;
+  texsim::StudyRtlOptions rtl_opt;
+  std::vector<std::string> rtl_params;
+  texsim::StudyThesisOptions thesis_opt;
+};
+
+void add_study_commands(CLI::App& app, StudyCli& s) {
+  s.cmd = app.add_subcommand("study",
+                             "Accuracy-vs-cost studies: tables (CSV, Markdown) and plots (PNG)");
+  s.cmd->require_subcommand(1);
+  CLI::App& c = *s.cmd;
+  s.vd = c.add_subcommand(
+      "vd", "V(d) evaluators (exact, P3, P2, P1): error over d in each number format");
+  s.coords = c.add_subcommand(
+      "coords",
+      "Texture-coordinate and derivative blocks: error in texels vs ops and cycles per pixel");
+  s.filters = c.add_subcommand(
+      "filters",
+      "Anisotropic filters vs ground truth and OpenImageIO: error vs cycles and texels fetched");
+  s.raster = c.add_subcommand(
+      "raster",
+      "Rectangle-scan digital rows vs edge rasteriser + Heckbert: coordinate error vs divisions");
+  s.objspace = c.add_subcommand(
+      "objspace",
+      "Object-space texturing vs screen space + trilinear/anisotropic: cycles, ops, error");
+  s.rtl = c.add_subcommand(
+      "rtl", "RTL blocks on an iCE40 FPGA: yosys cells, LUTs, DSPs and nextpnr Fmax over seeds");
+  s.thesis = c.add_subcommand(
+      "thesis",
+      "The thesis configuration (seed transform, theta/L/d weights) vs texsim's on scenes");
+  s.relief = c.add_subcommand(
+      "relief",
+      "Relief methods (parallax, steep/relief, sphere tracing): iterations, fetches, cycles vs "
+      "image error");
+  s.terrain = c.add_subcommand(
+      "terrain",
+      "Finite-function terrain: evaluator costs, slope jumps, flat ripple, terrace measure");
+  for (auto* sub :
+       {s.vd, s.coords, s.filters, s.raster, s.objspace, s.rtl, s.thesis, s.relief, s.terrain})
+    sub->add_option("--out", s.out, "Output directory")->capture_default_str();
+  for (auto* sub : {s.vd, s.coords}) {
+    sub->add_option("--threads", s.threads,
+                    "Worker threads (0: one per core); the outputs do not depend on it")
+        ->check(CLI::Range(0, 1024))
+        ->capture_default_str();
+  }
+  s.thesis->add_option("--scene", s.thesis_opt.scenes, "Scene files (repeatable)")
+      ->capture_default_str();
+  s.rtl->add_option("--rtl", s.rtl_opt.rtl_dir, "Folder of Verilog blocks (one module per file)")
+      ->capture_default_str();
+  s.rtl->add_option("--param", s.rtl_params,
+                    "NAME=v1,v2,...: build each block that has parameter "
+                    "NAME at these values (repeatable)");
+  s.rtl->add_option("--seeds", s.rtl_opt.seeds, "Placer seeds per build")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  s.rtl->add_option("--block", s.rtl_opt.blocks, "Only this block (module name; repeatable)");
+  s.rtl->add_flag("--with-counters", s.rtl_opt.with_counters,
+                  "Synthesise the blocks' op counters too (default: a stub replaces them)");
+}
+
+int run_study_command(StudyCli& s) {
+  using namespace texsim;  // NOLINT(google-build-using-namespace)
+  if (*s.rtl) {
+    for (const std::string& p : s.rtl_params) s.rtl_opt.params.push_back(parse_rtl_param(p));
+    return run_study_rtl(s.out, s.rtl_opt, std::cout);
+  }
+  ensure_dir(s.out);
+  if (*s.thesis) return run_study_thesis(s.out, std::cout, s.thesis_opt);
+  if (*s.objspace) return run_study_objspace(s.out, std::cout);
+  if (*s.relief) return run_study_relief(s.out, std::cout);
+  if (*s.terrain) return run_study_terrain(s.out, std::cout);
+  if (*s.vd) return run_study_vd(s.out, std::cout, s.threads);
+  if (*s.coords) return run_study_coords(s.out, std::cout, s.threads);
+  if (*s.raster) return run_study_raster(s.out, std::cout);
+  return run_study_filters(s.out, std::cout);
+}
+
 // Parses the command line and runs the subcommand; returns the exit status (docs/cli.md).
 int run_cli(int argc, char** argv) {
   using namespace texsim;
@@ -274,54 +360,8 @@ int run_cli(int argc, char** argv) {
   conv->add_option("input", conv_in, "Input trace")->required();
   conv->add_option("output", conv_out, "Output trace")->required();
 
-  auto* study_cmd = app.add_subcommand(
-      "study", "Accuracy-vs-cost studies: tables (CSV, Markdown) and plots (PNG)");
-  study_cmd->require_subcommand(1);
-  std::string study_out = "out/study";
-  auto* vd = study_cmd->add_subcommand(
-      "vd", "V(d) evaluators (exact, P3, P2, P1): error over d in each number format");
-  auto* coords = study_cmd->add_subcommand(
-      "coords",
-      "Texture-coordinate and derivative blocks: error in texels vs ops and cycles per pixel");
-  auto* filters = study_cmd->add_subcommand(
-      "filters",
-      "Anisotropic filters vs ground truth and OpenImageIO: error vs cycles and texels fetched");
-  auto* raster = study_cmd->add_subcommand(
-      "raster",
-      "Rectangle-scan digital rows vs edge rasteriser + Heckbert: coordinate error vs divisions");
-  auto* objspace = study_cmd->add_subcommand(
-      "objspace",
-      "Object-space texturing vs screen space + trilinear/anisotropic: cycles, ops, error");
-  auto* rtl = study_cmd->add_subcommand(
-      "rtl", "RTL blocks on an iCE40 FPGA: yosys cells, LUTs, DSPs and nextpnr Fmax over seeds");
-  auto* thesis = study_cmd->add_subcommand(
-      "thesis",
-      "The thesis configuration (seed transform, theta/L/d weights) vs texsim's on scenes");
-  StudyThesisOptions thesis_opt;
-  thesis->add_option("--scene", thesis_opt.scenes, "Scene files (repeatable)")
-      ->capture_default_str();
-  for (auto* s : {vd, coords, filters, raster, objspace, rtl, thesis})
-    s->add_option("--out", study_out, "Output directory")->capture_default_str();
-  int study_threads = 0;
-  for (auto* s : {vd, coords}) {
-    s->add_option("--threads", study_threads,
-                  "Worker threads (0: one per core); the outputs do not depend on it")
-        ->check(CLI::Range(0, 1024))
-        ->capture_default_str();
-  }
-  StudyRtlOptions rtl_opt;
-  std::vector<std::string> rtl_params;
-  rtl->add_option("--rtl", rtl_opt.rtl_dir, "Folder of Verilog blocks (one module per file)")
-      ->capture_default_str();
-  rtl->add_option("--param", rtl_params,
-                  "NAME=v1,v2,...: build each block that has parameter "
-                  "NAME at these values (repeatable)");
-  rtl->add_option("--seeds", rtl_opt.seeds, "Placer seeds per build")
-      ->check(CLI::Range(1, 100))
-      ->capture_default_str();
-  rtl->add_option("--block", rtl_opt.blocks, "Only this block (module name; repeatable)");
-  rtl->add_flag("--with-counters", rtl_opt.with_counters,
-                "Synthesise the blocks' op counters too (default: a stub replaces them)");
+  StudyCli study;
+  add_study_commands(app, study);
 
   SweepCli sweep;
   add_sweep_commands(app, sweep);
@@ -349,19 +389,8 @@ int run_cli(int argc, char** argv) {
           << "texsim trace gen: wrote " << n << " fragments to " << gen_out << "\n";
     } else if (*info) {
       return trace_info(info_in, std::cout);
-    } else if (*rtl) {
-      for (const std::string& p : rtl_params) rtl_opt.params.push_back(parse_rtl_param(p));
-      return run_study_rtl(study_out, rtl_opt, std::cout);
-    } else if (*thesis) {
-      ensure_dir(study_out);
-      return run_study_thesis(study_out, std::cout, thesis_opt);
-    } else if (*vd || *coords || *filters || *raster || *objspace) {
-      ensure_dir(study_out);
-      if (*objspace) return run_study_objspace(study_out, std::cout);
-      if (*vd) return run_study_vd(study_out, std::cout, study_threads);
-      if (*coords) return run_study_coords(study_out, std::cout, study_threads);
-      if (*raster) return run_study_raster(study_out, std::cout);
-      return run_study_filters(study_out, std::cout);
+    } else if (*study.cmd) {
+      return run_study_command(study);
     } else if (*tune_cmd) {
       run_tune(tune, std::cout);
     } else if (*cosim_cmd) {

@@ -437,8 +437,8 @@ ImageLayout run_layout(const RunOptions& opt, const Scene& scene, bool use_scene
   return l;
 }
 
-std::string reference_text(const GroundTruth& truth, TruthPixel pixel, size_t frames,
-                           bool surface) {
+std::string reference_text(const GroundTruth& truth, TruthPixel pixel, size_t frames, bool surface,
+                           const std::vector<MaterialSetup>& mats) {
   std::string s = "Ground truth: level-0 texture, bilinear reconstruction in double, " +
                   truth.pixel.describe(pixel, truth.supersamples) + " " +
                   (truth.exact() ? "mapped exactly through each plane's projective map."
@@ -448,6 +448,12 @@ std::string reference_text(const GroundTruth& truth, TruthPixel pixel, size_t fr
          "centre's view ray meeting the height field (1024-layer search, 24 halvings, double). "
          "Materials with lighting: every sample is lit (Blinn-Phong in double) with the normal "
          "at its own coordinates and the pixel's view vector, then averaged.";
+  }
+  if (std::any_of(mats.begin(), mats.end(), [](const MaterialSetup& m) {
+        return m.relief && m.relief->method == ReliefSetup::Method::Terrain;
+      })) {
+    s += " Relief method terrain: the ray is marched in steps of 1/16 texel over the "
+         "finite-function surface (direct sum), then 40 halvings.";
   }
   if (frames > 1) {
     s += " Each of the " + std::to_string(frames) +
@@ -605,7 +611,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   sum.accuracy = images.total();
   RunInfo info = images_info(opt, layout, textures, unit, images);
   info.scene = use_scene ? scene.path : "(none: trace only)";
-  info.reference = reference_text(truth, scene.reference_pixel, info.frames.size(), surf.active());
+  info.reference =
+      reference_text(truth, scene.reference_pixel, info.frames.size(), surf.active(), mats);
   info.reference_pixel = to_string(scene.reference_pixel);
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
   info.provenance = run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech);

@@ -11,6 +11,27 @@ namespace texsim {
 namespace {
 
 constexpr int kLayers = 1024, kHalvings = 24;
+// Terrain: march steps per texel along the ray, and the longest ray in texels.
+constexpr double kTerrainStepsPerTexel = 16, kTerrainMaxTexels = 4096;
+
+// The finite-function surface at grid (x, z) as the direct sum Σ h_ij f(x - i) f(z - j) over
+// the nodes within the basis's support (heights h·scale; reads clamp to the edge).
+double terrain_height(const ReliefHeightMap& hm, const FiniteBasis& f, double scale, double x,
+                      double z) {
+  const int r = static_cast<int>(std::ceil(f.radius()));
+  const double fx = std::floor(x), fz = std::floor(z);
+  if (!std::isfinite(fx) || !std::isfinite(fz) || std::fabs(fx) > 1e9 || std::fabs(fz) > 1e9)
+    return 0;
+  const auto i0 = static_cast<int32_t>(fx), j0 = static_cast<int32_t>(fz);
+  double y = 0;
+  for (int32_t j = j0 - r + 1; j <= j0 + r; ++j) {
+    const double wz = f.value(z - j);
+    if (wz == 0) continue;
+    for (int32_t i = i0 - r + 1; i <= i0 + r; ++i)
+      y += hm.texel(i, j) * scale * f.value(x - i) * wz;
+  }
+  return y;
+}
 
 // Blinn-Phong in double (docs/derivations/lighting.md §1), each channel clamped to [0, 1].
 glm::dvec3 blinn_phong(const glm::dvec3& base, const glm::dvec3& n, const glm::dvec3& l,
@@ -39,6 +60,31 @@ SurfaceReference::SurfaceReference(const MaterialSetup& m, const TextureSet& tex
   }
 }
 
+glm::dvec2 SurfaceReference::terrain_xy(double x, double y, const glm::dvec3& d) const {
+  // A march in steps of 1/16 texel from the polygon (height `scale`) down the ray, then 40
+  // halvings of the last step; no hit within kTerrainMaxTexels: (x, y) unshifted.
+  const ReliefHeightMap& hm = relief_hm_;
+  const FiniteBasis& f = relief_->terrain.evaluator.basis;
+  const double scale = relief_->scale, dt = 1 / kTerrainStepsPerTexel;
+  auto below = [&](double t) {
+    return scale + t * d.y < terrain_height(hm, f, scale, x + t * d.x, y + t * d.z);
+  };
+  double t_prev = 0;
+  for (double t = dt; t <= kTerrainMaxTexels; t += dt) {
+    if (scale + t * d.y < -scale) break;  // far below every height (widened weights > 1)
+    if (below(t)) {
+      double lo = t_prev, hi = t;
+      for (int k = 0; k < 40; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (below(mid) ? hi : lo) = mid;
+      }
+      return {x + hi * d.x, y + hi * d.z};
+    }
+    t_prev = t;
+  }
+  return {x, y};
+}
+
 glm::dvec2 SurfaceReference::relief_uv(double u, double v, const glm::dvec3& view_ts, double u_len,
                                        double v_len) const {
   const ReliefHeightMap& hm = relief_hm_;
@@ -48,6 +94,10 @@ glm::dvec2 SurfaceReference::relief_uv(double u, double v, const glm::dvec3& vie
   const glm::dvec3 vt = view_in_texels(view_ts, u_len, v_len, hm.width, hm.height);
   const double len = glm::length(vt);
   if (!(len > 0) || !std::isfinite(len)) return {u, v};
+  if (relief_->method == ReliefSetup::Method::Terrain) {
+    const glm::dvec2 p = terrain_xy(x, y, glm::dvec3(-vt.x, -vt.z, -vt.y) / len);
+    return {tu + (p.x + 0.5) / hm.width, tv + (p.y + 0.5) / hm.height};
+  }
   // Texel shift per unit of depth (0 at the polygon, 1 at height 0); V.z clamped as the
   // blocks' grazing limit is not a property of the surface: 1e-3 only avoids a division by 0.
   const double vz = std::max(vt.z / len, 1e-3);

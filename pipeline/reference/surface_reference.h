@@ -3,7 +3,9 @@
 // written apart from the blocks it checks:
 //  - relief: the view ray through the pixel's centre is intersected with the height field by a
 //    1024-layer linear search and 24 halvings over bilinear heights, in double; every sample
-//    of the pixel's box filter is shifted by the (u, v) offset found there;
+//    of the pixel's box filter is shifted by the (u, v) offset found there; for the terrain
+//    method the ray is marched in steps of 1/16 texel against the finite-function direct sum
+//    (40 halvings of the last step);
 //  - lighting: each sample's bilinear colour is lit in double by the same Blinn-Phong model
 //    with the normal at the sample's (shifted) coordinates (bilinear normal map, or central
 //    differences of the bilinear height map) and the pixel's view vector, then averaged.
@@ -30,6 +32,9 @@ class SurfaceReference {
 
  private:
   glm::dvec3 normal_at(double u, double v) const;
+  // Terrain: where the unit ray d (grid axes: x along u, y up, z along v) from texel (x, y)
+  // on the polygon meets the surface, in texels.
+  glm::dvec2 terrain_xy(double x, double y, const glm::dvec3& d) const;
   AddressMode au_, av_;
   std::optional<ReliefSetup> relief_;
   std::optional<LightingSetup> lighting_;

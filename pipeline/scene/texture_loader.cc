@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "blocks/base/input_error.h"
+#include "pipeline/scene/npz_height_field.h"
 #include "pipeline/scene/procedural_texture.h"
 
 namespace texsim {
@@ -46,6 +47,7 @@ Texture load_texture(const std::string& source, const std::string& base_dir,
                      TexelFormatChoice format) {
   if (is_procedural_source(source)) return make_procedural_texture(source, source);
   const std::string path = resolve_texture_path(source, base_dir);
+  if (is_npz_source(path)) return npz_height_texture(path);  // a DEM height field
   // Only regular files: a device or FIFO (e.g. /dev/zero) would never end.
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);

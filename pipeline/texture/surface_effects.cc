@@ -53,10 +53,11 @@ LightingSetup LightingSetup::from_toml(const ConfigReader& r) {
 }
 
 ReliefSetup ReliefSetup::from_toml(const ConfigReader& r) {
-  r.reject_unknown(
-      {"method", "height_texture", "scale", "parallax", "tracer", "distance_map", "refined"});
+  r.reject_unknown({"method", "height_texture", "scale", "parallax", "tracer", "distance_map",
+                    "refined", "terrain"});
   ReliefSetup s;
-  s.method = static_cast<Method>(r.get_choice("method", 1, {"parallax", "steep", "distance_map"}));
+  s.method = static_cast<Method>(
+      r.get_choice("method", 1, {"parallax", "steep", "distance_map", "terrain"}));
   s.height_texture = r.get_string("height_texture", "");
   if (s.height_texture.empty()) r.fail("height_texture", "is required: the height map's texture");
   s.scale = r.get_double("scale", s.scale);
@@ -71,6 +72,7 @@ ReliefSetup ReliefSetup::from_toml(const ConfigReader& r) {
   s.parallax.depth_texels = s.scale;
   s.tracer = SphereTracer::Config::from_toml(r.sub("tracer"));
   s.distance_map = DistanceMapBuilder::Config::from_toml(r.sub("distance_map"));
+  s.terrain = TerrainRayMarcher::Config::from_toml(r.sub("terrain"));
   return s;
 }
 
@@ -82,6 +84,8 @@ std::string ReliefSetup::block_name() const {
       return "relief.parallax_iterative";
     case Method::DistanceMap:
       return refined ? "relief.sphere_tracer[refined]" : "relief.sphere_tracer";
+    case Method::Terrain:
+      return "relief.terrain_ray_marcher";
   }
   return "relief";
 }
@@ -102,20 +106,56 @@ glm::dvec3 view_in_texels(const glm::dvec3& view_ts, double u_len, double v_len,
 }
 
 ReliefEffect::ReliefEffect(const ReliefSetup& s, const Texture& height)
-    : setup_(s), hm_(height_map_of(height)), mapper_(s.parallax), tracer_(s.tracer) {
+    : setup_(s),
+      hm_(height_map_of(height)),
+      mapper_(s.parallax),
+      tracer_(s.tracer),
+      marcher_(s.terrain) {
   if (s.method == ReliefSetup::Method::DistanceMap) {
     const DistanceMapBuilder b(s.distance_map);
     dmap_ = s.refined ? b.refined(hm_) : b.classic(hm_);
   }
+  if (s.method == ReliefSetup::Method::Terrain) {
+    grid_ = TerrainGrid(hm_.width, hm_.height);
+    for (size_t i = 0; i < grid_.h.size(); ++i) grid_.h[i] = static_cast<float>(hm_.h[i] * s.scale);
+    top_ = std::min(marcher_.top_bound(grid_), s.scale);
+  }
 }
 
 std::string ReliefEffect::arithmetic() const {
-  return setup_.method == ReliefSetup::Method::DistanceMap ? tracer_.arithmetic()
-                                                           : mapper_.arithmetic();
+  switch (setup_.method) {
+    case ReliefSetup::Method::DistanceMap:
+      return tracer_.arithmetic();
+    case ReliefSetup::Method::Terrain:
+      return marcher_.arithmetic();
+    default:
+      return mapper_.arithmetic();
+  }
 }
 
 TimingSpec ReliefEffect::timing(const TechTable& t) const {
-  return setup_.method == ReliefSetup::Method::DistanceMap ? tracer_.timing(t) : mapper_.timing(t);
+  switch (setup_.method) {
+    case ReliefSetup::Method::DistanceMap:
+      return tracer_.timing(t);
+    case ReliefSetup::Method::Terrain:
+      return marcher_.timing(t);
+    default:
+      return mapper_.timing(t);
+  }
+}
+
+ReliefEffect::Shift ReliefEffect::march_terrain(double x, double y, const glm::dvec3& vt,
+                                                OpCounts& ops) const {
+  // Grid coordinates: x along u, z along v, y up; the ray enters at the polygon (height
+  // `scale`) and runs against the view vector.
+  const TerrainRayMarcher::Result r =
+      marcher_.march_ray(grid_, top_, {x, setup_.scale, y}, {-vt.x, -vt.z, -vt.y}, ops);
+  Shift s{x, y, r.steps + r.refinements, r.fetches};
+  if (r.hit) {  // no hit (capped, or invalid input): the fragment keeps its (u, v)
+    s.u = r.point.x;
+    s.v = r.point.z;
+  }
+  return s;
 }
 
 ReliefEffect::Shift ReliefEffect::shift(double u, double v, const glm::dvec3& view_ts, double u_len,
@@ -126,7 +166,13 @@ ReliefEffect::Shift ReliefEffect::shift(double u, double v, const glm::dvec3& vi
   const double x = (u - tu) * hm_.width - 0.5, y = (v - tv) * hm_.height - 0.5;
   const glm::dvec3 vt = view_in_texels(view_ts, u_len, v_len, hm_.width, hm_.height);
   double sx = x, sy = y;
-  if (setup_.method == ReliefSetup::Method::DistanceMap) {
+  if (setup_.method == ReliefSetup::Method::Terrain) {
+    const Shift m = march_terrain(x, y, vt, ops);
+    s.steps = m.steps;
+    s.fetches = m.fetches;
+    sx = m.u;
+    sy = m.v;
+  } else if (setup_.method == ReliefSetup::Method::DistanceMap) {
     const double layers_per_texel = dmap_.depth / setup_.scale;
     const glm::dvec3 dir(-vt.x, -vt.y, -vt.z * layers_per_texel);
     const SphereTracer::Result r =

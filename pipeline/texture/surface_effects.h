@@ -2,7 +2,8 @@
 // The relief and lighting effects of a material (docs/scenes.md#relief-and-lighting):
 //  - relief (a stage in front of LOD): shifts a fragment's (u, v) along the tangent-space view
 //    vector over a height map, by offset parallax, steep/relief parallax (ParallaxMapper) or
-//    sphere tracing a distance map (DistanceMapBuilder + SphereTracer);
+//    sphere tracing a distance map (DistanceMapBuilder + SphereTracer), or marching the view ray
+//    through the finite-function terrain of the height map (TerrainRayMarcher, method terrain);
 //  - lighting (ПРО, a stage after the blend): the filtered colour lit per fragment by one
 //    directional light (BlinnPhongShader) with a normal that is the plane's, a normal map's or
 //    a height map's (NormalUnit).
@@ -25,6 +26,7 @@
 #include "blocks/texture/relief/distance_map_builder.h"
 #include "blocks/texture/relief/parallax_mapper.h"
 #include "blocks/texture/relief/sphere_tracer.h"
+#include "blocks/texture/relief/terrain_ray_marcher.h"
 
 namespace texsim {
 
@@ -40,7 +42,7 @@ struct LightingSetup {
 };
 
 struct ReliefSetup {
-  enum class Method : uint8_t { Parallax, Steep, DistanceMap };
+  enum class Method : uint8_t { Parallax, Steep, DistanceMap, Terrain };
   Method method = Method::Steep;
   std::string height_texture;
   int height_tex = -1;
@@ -48,6 +50,7 @@ struct ReliefSetup {
   ParallaxMapper::Config parallax;
   SphereTracer::Config tracer;
   DistanceMapBuilder::Config distance_map;
+  TerrainRayMarcher::Config terrain;  // method terrain: function, deformation, step, caps
   bool refined = false;  // distance_map: the refined map instead of Donnelly's classic one
   static ReliefSetup from_toml(const ConfigReader& r);
   std::string block_name() const;
@@ -86,6 +89,12 @@ class ReliefEffect {
   ParallaxMapper mapper_;
   SphereTracer tracer_;
   DistanceMap dmap_;
+  // Method terrain: the height map as a grid of heights h·scale (texel units) under the
+  // polygon at height `scale`, and the marcher with its top bound.
+  TerrainRayMarcher marcher_;
+  TerrainGrid grid_;
+  double top_ = 0;
+  Shift march_terrain(double x, double y, const glm::dvec3& vt, OpCounts& ops) const;
 };
 
 // The lighting stage of one material.

@@ -34,11 +34,20 @@ TerrainRayMarcher::Config TerrainRayMarcher::Config::from_toml(const ConfigReade
 TerrainRayMarcher::Result TerrainRayMarcher::march(const AviationCamera& cam, const TerrainGrid& g,
                                                    double top, double xs, double ys,
                                                    OpCounts& ops) const {
+  const auto& cc = cam.config();
+  Result r = march_ray(g, top, glm::dvec3(cc.x, cc.y, cc.z), cam.view_vector(xs, ys), ops);
+  if (r.hit) {
+    r.normal = normal_at(g, r.point.x, r.point.z, r, ops);
+    r.fetches = r.evaluations * static_cast<uint32_t>(eval_.fetches_per_item());
+  }
+  return r;
+}
+
+TerrainRayMarcher::Result TerrainRayMarcher::march_ray(const TerrainGrid& g, double top,
+                                                       const glm::dvec3& eye, const glm::dvec3& v,
+                                                       OpCounts& ops) const {
   Result r;
   ops += ray_setup_ops();
-  const auto& cc = cam.config();
-  const glm::dvec3 eye(cc.x, cc.y, cc.z);
-  const glm::dvec3 v = cam.view_vector(xs, ys);
   const double len = glm::length(v);
   const bool eye_ok = std::isfinite(eye.x) && std::isfinite(eye.y) && std::isfinite(eye.z);
   if (!eye_ok || !std::isfinite(len) || !(len > 0) || !std::isfinite(top) || g.nx <= 0 ||
@@ -87,7 +96,6 @@ TerrainRayMarcher::Result TerrainRayMarcher::march(const AviationCamera& cam, co
     }
     r.t = hi;
     r.point = eye + hi * d;
-    r.normal = normal_at(g, r.point.x, r.point.z, r, ops);
   }
   r.fetches = r.evaluations * static_cast<uint32_t>(eval_.fetches_per_item());
   return r;

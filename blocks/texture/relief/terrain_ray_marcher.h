@@ -54,6 +54,11 @@ class TerrainRayMarcher {
   // the march starts where the ray comes down to it, and a ray above it going up misses.
   Result march(const AviationCamera& cam, const TerrainGrid& g, double top, double xs, double ys,
                OpCounts& ops) const;
+  // The same march for any ray from `eye` along `dir` (any length; grid units, y up), without
+  // the normal (`normal` stays up): the terrain relief effect feeds it the view rays of the
+  // scene camera's fragments (pipeline/texture/surface_effects.h).
+  Result march_ray(const TerrainGrid& g, double top, const glm::dvec3& eye, const glm::dvec3& dir,
+                   OpCounts& ops) const;
 
   // Item: one march step (position update, one height evaluation, the compare).
   OpCounts ops_per_item() const;

@@ -12,6 +12,7 @@
 #include "blocks/base/input_error.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/geometry/terrain/terrain_height_evaluator.h"
+#include "blocks/geometry/terrain/terrain_measures.h"
 
 namespace texsim {
 namespace {
@@ -136,29 +137,8 @@ TEST(TerrainHeight, GradientMatchesCentralDifferences) {
   }
 }
 
-// Largest |y - 1| on a flat grid of ones over one cell, sampled at 1/256.
-double flat_ripple(const TerrainHeightEvaluator& e) {
-  const TerrainGrid g(8, 8, 1.0F);
-  double r = 0;
-  OpCounts ops;
-  for (int a = 0; a <= 256; ++a) {
-    for (int b = 0; b <= 256; ++b) {
-      r = std::max(r, std::fabs(e.height(g, 3 + a / 256.0, 3 + b / 256.0, ops) - 1));
-    }
-  }
-  return r;
-}
-
-// Largest |S(x) - 1| of the three-term sum S(x) = f¹(x - 1) + f¹(x) + f¹(x + 1), x ∈ [-1/2, 1/2].
-double ripple_1d(const FiniteBasis& f) {
-  double r = 0;
-  for (int a = 0; a <= 4096; ++a) {
-    const double x = -0.5 + a / 4096.0;
-    r = std::max(r, std::fabs(f.value(x - 1) + f.value(x) + f.value(x + 1) - 1));
-  }
-  return r;
-}
-
+// flat_ripple, ripple_1d, slope_jump_ratio and terrace_measure are the shared measures of
+// blocks/geometry/terrain/terrain_measures.h (texsim study terrain reports them too).
 TEST(TerrainHeight, PartitionOfUnityRippleOnFlatTerrain) {
   // Measured: variant 1 keeps the three-term partition of unity only for the cosine function.
   // In 1-D the quadratic and 2^(-x²) functions leave 1/27 = 3.70 % (at the nodes:
@@ -190,29 +170,6 @@ TEST(TerrainHeight, PartitionOfUnityRippleOnFlatTerrain) {
   }
 }
 
-// Largest |y'(i+) - y'(i-)| / |Δ²y_i| over the nodes of random data that varies along x only.
-double slope_jump_ratio(const TerrainHeightEvaluator& e, double& lo) {
-  std::mt19937_64 rng(17);
-  std::uniform_real_distribution<float> u(0.0F, 10.0F);
-  TerrainGrid g(16, 4);
-  for (int32_t i = 0; i < g.nx; ++i) {
-    const float v = u(rng);
-    for (int32_t j = 0; j < g.nz; ++j) g.at(i, j) = v;
-  }
-  double hi = 0;
-  lo = 1e9;
-  OpCounts ops;
-  for (int32_t i = 3; i < 13; ++i) {
-    const double d2 = g.node(i + 1, 0) - 2 * g.node(i, 0) + g.node(i - 1, 0);
-    const double right = e.sample(g, i, 1.5, ops).dydx;
-    const double left = e.sample(g, std::nextafter(i, 0.0), 1.5, ops).dydx;
-    const double ratio = std::fabs(right - left) / std::fabs(d2);
-    hi = std::max(hi, ratio);
-    lo = std::min(lo, ratio);
-  }
-  return hi;
-}
-
 TEST(TerrainHeight, SlopeJumpsAtNodes) {
   for (const FiniteKind k : kBase) {
     double lo = 0;
@@ -231,25 +188,11 @@ TEST(TerrainHeight, SlopeJumpsAtNodes) {
 }
 
 TEST(TerrainHeight, TerracesOnALongMonotoneSlope) {
-  // Heights h_i = i (slope 1) along x. Terrace measure: 1 - (smallest slope / largest slope)
-  // over a cell (1: flat steps at the nodes; 0: a straight ramp); and the largest deviation
+  // Heights h_i = i (slope 1) along x; terrace measure 1 - (smallest slope / largest slope)
+  // over a cell (1: flat steps at the nodes; 0: a straight ramp); "dev" the largest deviation
   // from the line.
-  TerrainGrid g(16, 4);
-  for (int32_t i = 0; i < g.nx; ++i) {
-    for (int32_t j = 0; j < g.nz; ++j) g.at(i, j) = static_cast<float>(i);
-  }
-  auto measure = [&](const TerrainHeightEvaluator& e, double& dev) {
-    double smin = 1e9, smax = -1e9;
-    dev = 0;
-    OpCounts ops;
-    for (int a = 0; a <= 512; ++a) {
-      const double x = 7 + a / 512.0;
-      const auto s = e.sample(g, x, 1.5, ops);
-      smin = std::min(smin, s.dydx);
-      smax = std::max(smax, s.dydx);
-      dev = std::max(dev, std::fabs(s.y - x));
-    }
-    return 1 - smin / smax;
+  const auto measure = [](const TerrainHeightEvaluator& e, double& dev) {
+    return terrace_measure(e, dev);
   };
   for (const FiniteKind k : kBase) {
     double d0 = 0, d1 = 0, d2 = 0;
