@@ -508,6 +508,24 @@ RunInfo images_info(const RunOptions& opt, const ImageLayout& layout, const RunT
   return info;
 }
 
+// The run's ground truth: the scene's pixel model; relief and lighting have only the box.
+GroundTruth ground_truth(const Scene& scene, const TextureSet& set,
+                         const std::vector<MaterialSetup>& mats,
+                         const std::vector<PlaneProjection>& maps, const SurfaceSetup& surf) {
+  if (surf.active() && scene.reference_pixel != TruthPixel::Box) {
+    throw InputError(scene.path,
+                     "[reference] pixel = \"gaussian\" is not available for materials with relief "
+                     "or lighting (their reference is box-filtered)");
+  }
+  return {set,
+          mats,
+          maps,
+          scene.reference_supersamples,
+          surf.active() ? &surf.refs : nullptr,
+          &surf.frames,
+          PixelSamples::make(scene.reference_pixel, scene.reference_supersamples)};
+}
+
 }  // namespace
 
 RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
@@ -540,18 +558,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   TextureUnit unit(textures.set, mats, setup, scene.tech, !opt.functional);
   const SurfaceSetup surf = surface_setup(scene, mats, textures.set);
   if (surf.active()) unit.set_surfaces(surf.frames);
-  if (surf.active() && scene.reference_pixel != TruthPixel::Box) {
-    throw InputError(scene.path,
-                     "[reference] pixel = \"gaussian\" is not available for materials with relief "
-                     "or lighting (their reference is box-filtered)");
-  }
-  const GroundTruth truth{textures.set,
-                          mats,
-                          maps,
-                          scene.reference_supersamples,
-                          surf.active() ? &surf.refs : nullptr,
-                          &surf.frames,
-                          PixelSamples::make(scene.reference_pixel, scene.reference_supersamples)};
+  const GroundTruth truth = ground_truth(scene, textures.set, mats, maps, surf);
   RunImages images(layout.extent, layout.canvas_w, layout.canvas_h, scene.background,
                    unit.material_count(), opt.frame);
   Progress progress(opt.progress);
