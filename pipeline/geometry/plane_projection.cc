@@ -166,4 +166,25 @@ UvSample PlaneProjection::at(double xd, double yd) const {
   return s;
 }
 
+std::vector<Fragment> pixel_fragments(const PlaneProjection& proj, int width, int height) {
+  std::vector<Fragment> frags;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const UvSample s = proj.at(x + 0.5, y + 0.5);
+      if (!s.inside) continue;
+      Fragment f;
+      f.x = static_cast<uint32_t>(x);
+      f.y = static_cast<uint32_t>(y);
+      f.u = s.u;
+      f.v = s.v;
+      f.dudx = s.dudx;
+      f.dvdx = s.dvdx;
+      f.dudy = s.dudy;
+      f.dvdy = s.dvdy;
+      frags.push_back(f);
+    }
+  }
+  return frags;
+}
+
 }  // namespace texsim

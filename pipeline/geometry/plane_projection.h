@@ -69,4 +69,8 @@ class PlaneProjection : public ProjectiveMap {
   long double corner_[4][3];  // a triangle uses the first three
 };
 
+// The primitive's exact fragments over the pixels [0, width) × [0, height), row by row: every
+// pixel whose centre it covers, with (u, v) and the analytic derivatives there (no depth test).
+std::vector<Fragment> pixel_fragments(const PlaneProjection& proj, int width, int height);
+
 }  // namespace texsim

@@ -75,27 +75,6 @@ std::vector<StudyTexture> study_textures() {
   return textures;
 }
 
-std::vector<Fragment> plane_fragments(const PlaneProjection& proj, int size) {
-  std::vector<Fragment> frags;
-  for (int y = 0; y < size; ++y) {
-    for (int x = 0; x < size; ++x) {
-      const UvSample s = proj.at(x + 0.5, y + 0.5);
-      if (!s.inside) continue;
-      Fragment f;
-      f.x = static_cast<uint32_t>(x);
-      f.y = static_cast<uint32_t>(y);
-      f.u = s.u;
-      f.v = s.v;
-      f.dudx = s.dudx;
-      f.dvdx = s.dvdx;
-      f.dudy = s.dudy;
-      f.dvdy = s.dvdy;
-      frags.push_back(f);
-    }
-  }
-  return frags;
-}
-
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
@@ -135,7 +114,7 @@ View make_view(const StudyTexture& st, double nominal, const StudyFiltersOptions
   const PlaneProjection proj(scene, scene.primitives[0]);
   View v{nominal,
          scene,
-         plane_fragments(proj, opt.size),
+         pixel_fragments(proj, opt.size, opt.size),
          ImageRgb(opt.size, opt.size, scene.background),
          0,
          0};
@@ -204,7 +183,7 @@ std::vector<Fragment> study_filter_fragments(double aniso, const StudyFiltersOpt
                                              int texture_size) {
   const Scene scene = parse_scene(
       view_scene_text(aniso, opt.size, opt.texels_per_pixel, texture_size), "study view", "");
-  return plane_fragments(PlaneProjection(scene, scene.primitives[0]), opt.size);
+  return pixel_fragments(PlaneProjection(scene, scene.primitives[0]), opt.size, opt.size);
 }
 
 int run_study_filters(const std::string& out_dir, std::ostream& log) {

@@ -15,6 +15,9 @@
 #include "blocks/base/op_counts.h"
 #include "pipeline/report/image_metrics.h"
 
+#ifndef TEXSIM_SCENES_DIR  // set by the build: the source tree's scenes/
+#define TEXSIM_SCENES_DIR "scenes"
+#endif
 namespace texsim {
 
 struct ObjspaceStudyOptions {
@@ -27,7 +30,7 @@ struct ObjspaceStudyOptions {
   // 3/4 pixel, to show what the sample density costs and what leaving holes would save.
   std::vector<double> steps = {1.0, 1.5, 2.0, 3.0};
   bool cube = true, mesh = true;  // scenes/cube.toml, scenes/bunny.toml
-  std::string scenes_dir = "scenes";
+  std::string scenes_dir = TEXSIM_SCENES_DIR;
   int reference_supersamples = 4;  // per axis, per pixel
   bool images = true;              // side-by-side images of the scenes
 };

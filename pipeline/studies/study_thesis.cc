@@ -103,22 +103,8 @@ Accum measure_scene(const std::string& path, std::ostream& log) {
     if (proj.culled()) continue;
     std::vector<Fragment>& frags =
         by_texture[scene.materials[static_cast<size_t>(prim.material)].texture];
-    for (int y = 0; y < scene.height; ++y) {
-      for (int x = 0; x < scene.width; ++x) {
-        const UvSample s = proj.at(x + 0.5, y + 0.5);
-        if (!s.inside) continue;
-        Fragment f;
-        f.x = static_cast<uint32_t>(x);
-        f.y = static_cast<uint32_t>(y);
-        f.u = s.u;
-        f.v = s.v;
-        f.dudx = s.dudx;
-        f.dvdx = s.dvdx;
-        f.dudy = s.dudy;
-        f.dvdy = s.dvdy;
-        frags.push_back(f);
-      }
-    }
+    const std::vector<Fragment> more = pixel_fragments(proj, scene.width, scene.height);
+    frags.insert(frags.end(), more.begin(), more.end());
   }
   Accum acc;
   for (auto& [tex, frags] : by_texture) {

@@ -13,10 +13,14 @@
 #include "blocks/base/fragment.h"
 #include "blocks/texture/memory/texture_memory.h"
 
+#ifndef TEXSIM_SCENES_DIR  // set by the build: the source tree's scenes/
+#define TEXSIM_SCENES_DIR "scenes"
+#endif
 namespace texsim {
 
 struct StudyThesisOptions {
-  std::vector<std::string> scenes = {"scenes/footprint_filters.toml", "scenes/photo.toml"};
+  std::vector<std::string> scenes = {TEXSIM_SCENES_DIR "/footprint_filters.toml",
+                                     TEXSIM_SCENES_DIR "/photo.toml"};
 };
 
 // One method over one source (a scene, or a view in tests): totals.

@@ -11,47 +11,15 @@
 #include <map>
 #include <memory>
 
-#include "pipeline/raster/fragment_generator.h"
 #include "pipeline/reference/mesa_peer.h"
-#include "pipeline/scene/scene.h"
-#include "pipeline/scene/texture_loader.h"
 #include "pipeline/texture/texture_unit.h"
+#include "testbench/lib/bench_floor.h"
 
 namespace texsim {
 namespace {
 
-// bench_texture_unit's floor.
-const char* kScene = R"(
-[output]
-width = 640
-height = 480
-[camera]
-position = [0.0, 1.0, 0.0]
-look_at = [0.0, 0.3, -10.0]
-[textures.checker]
-source = "procedural:checker?size=1024&cells=32"
-[materials.floor]
-texture = "checker"
-[[planes]]
-material = "floor"
-origin = [-100.0, 0.0, -0.5]
-edge_u = [200.0, 0.0, 0.0]
-edge_v = [0.0, 0.0, -200.0]
-uv_scale = [40.0, 40.0]
-)";
-
-struct Fixture {
-  Scene scene = parse_scene(kScene, "bench", "");
-  TextureSet textures;
-  std::vector<Fragment> frags;
-  Fixture() {
-    textures.add(load_texture(scene.textures[0].source, ""));
-    frags = generate_fragments(scene);
-  }
-};
-
-Fixture& fixture() {
-  static Fixture f;
+BenchFloor& fixture() {
+  static BenchFloor f = make_bench_floor(640, 480);
   return f;
 }
 
@@ -62,7 +30,7 @@ void set_counters(benchmark::State& state, size_t fragments) {
 }
 
 void texsim_run(benchmark::State& state, FilterMode mode) {
-  Fixture& fx = fixture();
+  BenchFloor& fx = fixture();
   MaterialSetup m;
   m.name = "floor";
   m.filter.filter = mode;
@@ -89,7 +57,7 @@ void mesa_run(benchmark::State& state, MesaDriver d, MesaFilter filter) {
     state.SkipWithError(p.why_not().c_str());
     return;
   }
-  Fixture& fx = fixture();
+  BenchFloor& fx = fixture();
   MesaView view = mesa_view(fx.scene, fx.textures, {AddressMode::Wrap});
   view.filter = filter;
   for (auto _ : state) state.SetIterationTime(p.time_draws(view, 1));

@@ -6,52 +6,20 @@
 // The ratio of the two medians is the builder's overhead (expected ≈ 1.0).
 #include <benchmark/benchmark.h>
 
-#include "pipeline/raster/fragment_generator.h"
-#include "pipeline/scene/scene.h"
-#include "pipeline/scene/texture_loader.h"
 #include "pipeline/texture/effect_registry.h"
 #include "pipeline/texture/texture_unit.h"
+#include "testbench/lib/bench_floor.h"
 
 namespace texsim {
 namespace {
 
-const char* kScene = R"(
-[output]
-width = 480
-height = 360
-[camera]
-position = [0.0, 1.0, 0.0]
-look_at = [0.0, 0.3, -10.0]
-[textures.checker]
-source = "procedural:checker?size=1024&cells=32"
-[materials.floor]
-texture = "checker"
-filter = { mode = "bilinear" }
-[[planes]]
-material = "floor"
-origin = [-100.0, 0.0, -0.5]
-edge_u = [200.0, 0.0, 0.0]
-edge_v = [0.0, 0.0, -200.0]
-uv_scale = [40.0, 40.0]
-)";
-
-struct Fixture {
-  Scene scene = parse_scene(kScene, "bench", "");
-  TextureSet textures;
-  std::vector<Fragment> frags;
-  Fixture() {
-    textures.add(load_texture(scene.textures[0].source, ""));
-    frags = generate_fragments(scene);
-  }
-};
-
-Fixture& fixture() {
-  static Fixture f;
+BenchFloor& fixture() {
+  static BenchFloor f = make_bench_floor(480, 360, "filter = { mode = \"bilinear\" }\n");
   return f;
 }
 
 void run(benchmark::State& state, const std::vector<MaterialSetup>& mats) {
-  Fixture& fx = fixture();
+  BenchFloor& fx = fixture();
   float sink = 0;
   uint64_t cycles = 0;
   for (auto _ : state) {

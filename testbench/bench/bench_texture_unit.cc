@@ -12,50 +12,19 @@
 // switches collection off when they return. docs/performance.md has the figures.
 #include <benchmark/benchmark.h>
 
-#include "pipeline/raster/fragment_generator.h"
-#include "pipeline/scene/scene.h"
-#include "pipeline/scene/texture_loader.h"
 #include "pipeline/texture/texture_unit.h"
+#include "testbench/lib/bench_floor.h"
 
 namespace texsim {
 namespace {
 
-const char* kScene = R"(
-[output]
-width = 640
-height = 480
-[camera]
-position = [0.0, 1.0, 0.0]
-look_at = [0.0, 0.3, -10.0]
-[textures.checker]
-source = "procedural:checker?size=1024&cells=32"
-[materials.floor]
-texture = "checker"
-[[planes]]
-material = "floor"
-origin = [-100.0, 0.0, -0.5]
-edge_u = [200.0, 0.0, 0.0]
-edge_v = [0.0, 0.0, -200.0]
-uv_scale = [40.0, 40.0]
-)";
-
-struct Fixture {
-  Scene scene = parse_scene(kScene, "bench", "");
-  TextureSet textures;
-  std::vector<Fragment> frags;
-  Fixture() {
-    textures.add(load_texture(scene.textures[0].source, ""));
-    frags = generate_fragments(scene);
-  }
-};
-
-Fixture& fixture() {
-  static Fixture f;
+BenchFloor& fixture() {
+  static BenchFloor f = make_bench_floor(640, 480);
   return f;
 }
 
 void run(benchmark::State& state, FilterMode mode, bool timing) {
-  Fixture& fx = fixture();
+  BenchFloor& fx = fixture();
   MaterialSetup m;
   m.name = "floor";
   m.filter.filter = mode;
