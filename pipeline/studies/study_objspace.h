@@ -15,9 +15,6 @@
 #include "blocks/base/op_counts.h"
 #include "pipeline/report/image_metrics.h"
 
-#ifndef TEXSIM_SCENES_DIR  // set by the build: the source tree's scenes/
-#define TEXSIM_SCENES_DIR "scenes"
-#endif
 namespace texsim {
 
 struct ObjspaceStudyOptions {
@@ -29,10 +26,10 @@ struct ObjspaceStudyOptions {
   // Density sweep (floor, 320 × 240): object space with a coarser grid step than the hole-free
   // 3/4 pixel, to show what the sample density costs and what leaving holes would save.
   std::vector<double> steps = {1.0, 1.5, 2.0, 3.0};
-  bool cube = true, mesh = true;  // scenes/cube.toml, scenes/bunny.toml
-  std::string scenes_dir = TEXSIM_SCENES_DIR;
-  int reference_supersamples = 4;  // per axis, per pixel
-  bool images = true;              // side-by-side images of the scenes
+  bool cube = true, mesh = true;               // scenes/cube.toml, scenes/bunny.toml
+  std::string scenes_dir = TEXSIM_SCENES_DIR;  // the source tree's scenes/ (set by the build)
+  int reference_supersamples = 4;              // per axis, per pixel
+  bool images = true;                          // side-by-side images of the scenes
 };
 
 struct ObjspaceRow {

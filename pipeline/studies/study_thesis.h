@@ -13,9 +13,6 @@
 #include "blocks/base/fragment.h"
 #include "blocks/texture/memory/texture_memory.h"
 
-#ifndef TEXSIM_SCENES_DIR  // set by the build: the source tree's scenes/
-#define TEXSIM_SCENES_DIR "scenes"
-#endif
 namespace texsim {
 
 struct StudyThesisOptions {
