@@ -43,7 +43,42 @@ SampleProjection::Setup SampleProjection::setup(const Rotation& rot, double z_ro
   return s;
 }
 
+SampleProjection::Setup SampleProjection::setup_orthographic(const Rotation& rot, double z_rot,
+                                                             double px_per_unit, double cx,
+                                                             double cy, OpCounts& ops) {
+  Setup s;
+  s.cx = cx;
+  s.cy = cy;
+  s.z_c = px_per_unit;
+  s.orthographic = true;
+  const glm::dvec3 c0 = PolygonRotation::inverse(rot, {1, 0, 0}, ops);
+  const glm::dvec3 c1 = PolygonRotation::inverse(rot, {0, 1, 0}, ops);
+  const glm::dvec3 c2 = PolygonRotation::inverse(rot, {0, 0, z_rot}, ops);
+  ops.mul += 6;
+  s.m[0][0] = px_per_unit * c0.x;
+  s.m[0][1] = px_per_unit * c1.x;
+  s.m[0][2] = px_per_unit * c2.x;
+  s.m[1][0] = px_per_unit * c0.y;
+  s.m[1][1] = px_per_unit * c1.y;
+  s.m[1][2] = px_per_unit * c2.y;
+  s.m[2][0] = c0.z;
+  s.m[2][1] = c1.z;
+  s.m[2][2] = c2.z;
+  return s;
+}
+
 ProjectedSample SampleProjection::project(const Setup& s, double xr, double yr, OpCounts& ops) {
+  if (s.orthographic) {
+    ops.mul += 6;
+    ops.add += 6 + 2;
+    ops.cmp += 1;
+    ProjectedSample p;
+    p.x = s.cx + s.m[0][0] * xr + s.m[0][1] * yr + s.m[0][2];
+    p.y = s.cy + s.m[1][0] * xr + s.m[1][1] * yr + s.m[1][2];
+    p.depth = s.m[2][0] * xr + s.m[2][1] * yr + s.m[2][2];
+    p.valid = std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.depth);
+    return p;
+  }
   ops.mul += 6 + 3;
   ops.add += 6 + 2;
   ops.rcp += 1;

@@ -6,8 +6,10 @@
 // rotated polygon share z' (the plane is parallel to the screen), so per polygon the set-up
 // folds R⁻¹, the eye shift and P into a 3 × 3 map of (x', y', 1); per sample it is three dot
 // products and one reciprocal: xs = cx + X/w, ys = cy + Y/w, w = 1 + r (z_c − Z) = Z / z_c.
-// Screen coordinates are continuous (pixel centres at +0.5, the Camera's convention). Arithmetic:
-// double.
+// Screen coordinates are continuous (pixel centres at +0.5, the Camera's convention).
+// Orthographic cameras (parallel rays, f pixels per world unit): P is the identity with the
+// scale f, so M' maps (x', y', 1) to screen X, Y and view depth Z directly: no w, no division
+// (xs = cx + X, ys = cy + Y, depth = Z). Arithmetic: double.
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <string>
@@ -37,6 +39,7 @@ class SampleProjection {
   struct Setup {
     double m[3][3] = {};
     double cx = 0, cy = 0, z_c = 1;
+    bool orthographic = false;  // rows X, Y (in pixels) and the depth Z; no division
   };
 
   SampleProjection() = default;
@@ -46,7 +49,12 @@ class SampleProjection {
   // r = −1/z_c: 3 × inverse rotation (24 mul 12 add), 1 rcp, 3 mul.
   static Setup setup(const Rotation& r, double z_rot, double focal_px, double cx, double cy,
                      OpCounts& ops);
+  // Per polygon, orthographic (f pixels per world unit): 3 × inverse rotation (24 mul 12 add),
+  // 6 mul (the X and Y rows scaled by f).
+  static Setup setup_orthographic(const Rotation& r, double z_rot, double px_per_unit, double cx,
+                                  double cy, OpCounts& ops);
   // One sample: 6 mul 6 add (M'), 1 rcp, 3 mul 2 add (divide by w, centre; depth), 1 cmp.
+  // Orthographic: 6 mul 6 add (M'), 2 add (centre), 1 cmp (finite).
   static ProjectedSample project(const Setup& s, double xr, double yr, OpCounts& ops);
 
   OpCounts ops_per_item() const;  // item: one sample

@@ -17,6 +17,7 @@
 #include "blocks/base/version.h"
 #include "pipeline/app/error_ledger.h"
 #include "pipeline/app/run_images.h"
+#include "pipeline/app/run_object_space.h"
 #include "pipeline/geometry/geometry_unit.h"
 #include "pipeline/geometry/plane_projection.h"
 #include "pipeline/kernel/parallel_range.h"
@@ -556,6 +557,9 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   }
   const ImageLayout layout = run_layout(opt, scene, use_scene, trace_sum.get(), maps, textures.set);
   TextureUnit unit(textures.set, mats, setup, scene.tech, !opt.functional);
+  // Materials with `object_space`: drawn first, their pixels then take the resolved colours.
+  ObjectSpaceFrame os =
+      object_space_frame(scene, use_scene && !reader, textures.set, mats, setup, log);
   const SurfaceSetup surf = surface_setup(scene, mats, textures.set);
   if (surf.active()) unit.set_surfaces(surf.frames);
   const GroundTruth truth = ground_truth(scene, textures.set, mats, maps, surf);
@@ -583,7 +587,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
       }
       material = scene.primitives[f.prim].material;
     }
-    const Rgba c = unit.process(g, material);
+    const Rgba c = os.drawn_by(material) ? os.shade(material, f.x, f.y) : unit.process(g, material);
     record(f, g, material, &c, index);
   };
   uint64_t index = 0;
@@ -622,6 +626,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
       reference_text(truth, scene.reference_pixel, info.frames.size(), surf.active(), mats);
   info.reference_pixel = to_string(scene.reference_pixel);
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
+  finish_object_space(os, unit.cycles(), raster, sum, info);
   info.provenance = run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech);
   if (opt.capture) {
     const bool write = opt.capture->write_outputs;

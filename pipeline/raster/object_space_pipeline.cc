@@ -15,7 +15,9 @@ namespace {
 struct ViewFrame {
   glm::dvec3 eye, right, down, fwd;
   double f = 1, cx = 0, cy = 0, near = 0.01;
-  double tx = 1, ty = 1;  // half extents of the clip frustum (X/Z, Y/Z), one pixel of guard
+  // Half extents of the clip frustum (X/Z, Y/Z; orthographic: X, Y), one pixel of guard.
+  double tx = 1, ty = 1;
+  bool ortho = false;  // parallel projection: f pixels per world unit
 
   explicit ViewFrame(const Camera& c) {
     eye = c.position;
@@ -26,6 +28,7 @@ struct ViewFrame {
     cx = static_cast<double>(c.cx());
     cy = static_cast<double>(c.cy());
     near = c.near;
+    ortho = c.orthographic;
     tx = (cx + 1) / f;
     ty = (cy + 1) / f;
   }
@@ -34,6 +37,7 @@ struct ViewFrame {
     return {glm::dot(d, right), glm::dot(d, down), glm::dot(d, fwd)};
   }
   glm::dvec2 to_screen(const glm::dvec3& v) const {
+    if (ortho) return {cx + f * v.x, cy + f * v.y};
     return {cx + f * v.x / v.z, cy + f * v.y / v.z};
   }
 };
@@ -65,6 +69,12 @@ std::vector<glm::dvec3> clip_half(const std::vector<glm::dvec3>& poly, const glm
 std::vector<glm::dvec3> clip_frustum(std::vector<glm::dvec3> poly, const ViewFrame& vf,
                                      OpCounts& ops) {
   poly = clip_half(poly, {0, 0, 1}, vf.near, ops);
+  if (vf.ortho) {  // the box |X| <= tx, |Y| <= ty
+    poly = clip_half(poly, {-1, 0, 0}, -vf.tx, ops);
+    poly = clip_half(poly, {1, 0, 0}, -vf.tx, ops);
+    poly = clip_half(poly, {0, -1, 0}, -vf.ty, ops);
+    return clip_half(poly, {0, 1, 0}, -vf.ty, ops);
+  }
   poly = clip_half(poly, {-1, 0, vf.tx}, 0, ops);
   poly = clip_half(poly, {1, 0, vf.tx}, 0, ops);
   poly = clip_half(poly, {0, -1, vf.ty}, 0, ops);
@@ -127,14 +137,18 @@ struct PrimitiveWork {
   int tw = 1, th = 1;
   Rotation rot;
   PlaneUvMap uv;
-  double inv_k = 0;  // 1/(n·V0): 1/Z = (nx (xs − cx) + ny (ys − cy)) / (f k) + nz / k
+  // Depth change per pixel of screen travel: perspective, divided by Z² (1/Z = (nx (xs − cx) +
+  // ny (ys − cy)) / (f k) + nz / k, k = n·V0: slope (|nx| + |ny|) / (f |k|)); orthographic,
+  // exact (Z = (k − nx X − ny Y) / nz: slope (|nx| + |ny|) / (f nz)).
+  double depth_slope = 0;
 };
 
 class Renderer {
  public:
   Renderer(const Scene& scene, TextureSet& textures, const std::vector<MaterialSetup>& mats,
-           const PipelineSetup& setup, const ObjectSpaceConfig& cfg)
+           const PipelineSetup& setup, const ObjectSpaceConfig& cfg, int material)
       : scene_(scene),
+        material_(material),
         vf_(scene.camera),
         cfg_(cfg),
         raster_(cfg.raster),
@@ -154,6 +168,7 @@ class Renderer {
   void band(const PrimitiveWork& w, const std::vector<glm::dvec3>& poly);
 
   const Scene& scene_;
+  int material_;  // -1: every primitive
   ViewFrame vf_;
   ObjectSpaceConfig cfg_;
   ObjectSpaceRaster raster_;
@@ -198,13 +213,16 @@ void Renderer::primitive(uint32_t index) {
     ++r_.degenerate;
     return;
   }
-  // Edge-on: the plane passes through the eye (its projection has no area): nothing to draw.
-  const double k = glm::dot(w.rot.normal, view[0]);
-  if (std::fabs(k) <= 1e-12 * glm::length(view[0])) {
+  // Edge-on: the plane passes through the eye (orthographic: contains the view direction), so
+  // its projection has no area: nothing to draw.
+  const glm::dvec3& n1 = w.rot.normal;
+  const double k = glm::dot(n1, view[0]);
+  if (vf_.ortho ? n1.z <= 1e-12 : std::fabs(k) <= 1e-12 * glm::length(view[0])) {
     ++r_.edge_on;
     return;
   }
-  w.inv_k = 1.0 / k;
+  w.depth_slope = vf_.ortho ? (std::fabs(n1.x) + std::fabs(n1.y)) / (vf_.f * n1.z)
+                            : (std::fabs(n1.x) + std::fabs(n1.y)) * std::fabs(1.0 / k) / vf_.f;
   const std::vector<glm::dvec3> clipped = clip_frustum(view, vf_, r_.rotation_ops);
   if (clipped.size() < 3) {
     ++r_.clipped_away;
@@ -223,13 +241,17 @@ void Renderer::primitive(uint32_t index) {
                             PolygonRotation::rotate_xy(w.rot, view[1], r_.rotation_ops),
                             PolygonRotation::rotate_xy(w.rot, view[2], r_.rotation_ops)};
   w.uv = ObjectSpaceRaster::uv_map(xy, uv, r_.raster_ops);
-  for (const auto& b : depth_bands(clipped, cfg_.band_ratio, r_.rotation_ops)) band(w, b);
+  // Orthographic: the screen scale is the same everywhere, so one band is enough.
+  for (const auto& b : depth_bands(clipped, vf_.ortho ? 0.0 : cfg_.band_ratio, r_.rotation_ops))
+    band(w, b);
 }
 
 void Renderer::band(const PrimitiveWork& w, const std::vector<glm::dvec3>& poly) {
   ++r_.bands;
   const RotatedPolygon rp = PolygonRotation::rotate_polygon(w.rot, poly, r_.rotation_ops);
-  const double jmax = ObjectSpaceRaster::max_screen_scale(poly, vf_.f, r_.raster_ops);
+  // Orthographic: a unit step in the plane spans at most f pixels (the projection drops Z).
+  const double jmax =
+      vf_.ortho ? vf_.f : ObjectSpaceRaster::max_screen_scale(poly, vf_.f, r_.raster_ops);
   const double h = raster_.step(jmax, r_.raster_ops);
   if (!(h > 0)) return;
   const double bound = ObjectSpaceRaster::sample_bound(rp, h);
@@ -241,14 +263,17 @@ void Renderer::band(const PrimitiveWork& w, const std::vector<glm::dvec3>& poly)
   const double lod = ObjectSpaceRaster::lod(w.uv, h, w.tw, w.th, r_.raster_ops);
   r_.lod_sum += lod;
   const SampleProjection::Setup ps =
-      SampleProjection::setup(w.rot, rp.z, vf_.f, vf_.cx, vf_.cy, r_.projection_ops);
+      vf_.ortho ? SampleProjection::setup_orthographic(w.rot, rp.z, vf_.f, vf_.cx, vf_.cy,
+                                                       r_.projection_ops)
+                : SampleProjection::setup(w.rot, rp.z, vf_.f, vf_.cx, vf_.cy, r_.projection_ops);
   r_.setup_cycles +=
       rotation_.timing(scene_.tech).latency + projection_.timing(scene_.tech).latency;
   // Depth tolerance: 1/Z is affine on the screen with slopes a = nx/(f k), b = ny/(f k), so a
-  // step of δ pixels changes Z by about Z² (|a| + |b|) δ; a sample and the pixel it lands on
-  // are within one pixel, two samples of the same pixel within two.
-  const double slope =
-      (std::fabs(w.rot.normal.x) + std::fabs(w.rot.normal.y)) * std::fabs(w.inv_k) / vf_.f;
+  // step of δ pixels changes Z by about Z² (|a| + |b|) δ (orthographic: Z is affine, exactly
+  // (|a| + |b|) δ); a sample and the pixel it lands on are within one pixel, two samples of the
+  // same pixel within two.
+  const bool ortho = vf_.ortho;
+  const double slope = w.depth_slope;
   Fragment f;
   f.prim = w.prim;
   f.tex = w.tex;
@@ -267,7 +292,8 @@ void Renderer::band(const PrimitiveWork& w, const std::vector<glm::dvec3>& poly)
         f.u = s.u;
         f.v = s.v;
         const Rgba c = unit_.process(f, w.material);
-        const double tol = 2 * q.depth * q.depth * slope + 1e-9 * q.depth;
+        const double tol = ortho ? 2 * slope + 1e-9 * std::fabs(q.depth)
+                                 : 2 * q.depth * q.depth * slope + 1e-9 * q.depth;
         r_.splat_ops.mul += 3;
         r_.splat_ops.add += 1;
         splat_.splat(buffer_, q.x, q.y, q.depth, tol, c, r_.splat, r_.splat_ops);
@@ -276,15 +302,23 @@ void Renderer::band(const PrimitiveWork& w, const std::vector<glm::dvec3>& poly)
 }
 
 ObjectSpaceResult Renderer::run() {
-  for (uint32_t i = 0; i < scene_.primitives.size(); ++i) primitive(i);
+  for (uint32_t i = 0; i < scene_.primitives.size(); ++i) {
+    if (material_ < 0 || scene_.primitives[i].material == material_) primitive(i);
+  }
   const glm::dvec3& bg = scene_.background;
   r_.resolve = splat_.resolve(
       buffer_, r_.covered,
       Rgba(static_cast<float>(bg.x), static_cast<float>(bg.y), static_cast<float>(bg.z), 1.0f),
       r_.image, r_.splat_ops);
+  r_.drawn.resize(buffer_.weight.size());
+  for (size_t i = 0; i < buffer_.weight.size(); ++i) r_.drawn[i] = buffer_.weight[i] > 0;
   unit_.check_timing_invariants();
+  if (material_ >= 0) {
+    for (const BlockUse& b : unit_.material_blocks(material_)) r_.texture_blocks.push_back(b.name);
+  }
   for (const BlockUse& b : unit_.blocks()) {
     if (b.name == "cache") continue;
+    if (material_ < 0) r_.texture_blocks.push_back(b.name);
     r_.texture_ops += b.ops;
     r_.texels += b.texels;
   }
@@ -324,11 +358,9 @@ std::vector<MaterialSetup> object_space_materials(const std::vector<MaterialSetu
 
 ObjectSpaceResult render_object_space(const Scene& scene, TextureSet& textures,
                                       const std::vector<MaterialSetup>& mats,
-                                      const PipelineSetup& setup, const ObjectSpaceConfig& cfg) {
-  if (scene.camera.orthographic) {
-    throw InputError(scene.path, "object space: perspective cameras only");
-  }
-  Renderer r(scene, textures, mats, setup, cfg);
+                                      const PipelineSetup& setup, const ObjectSpaceConfig& cfg,
+                                      int material) {
+  Renderer r(scene, textures, mats, setup, cfg, material);
   return r.run();
 }
 

@@ -15,8 +15,10 @@
 // texture unit's clocked pipeline, or samples ÷ lanes of the rasteriser, projection and splat)
 // plus per polygon the set-up latencies of rotation and projection (not overlapped: the
 // polygon-count cost) plus the resolve of the whole frame (four pixels per cycle per lane: one
-// from each bank of the accumulation buffer). Perspective cameras only.
+// from each bank of the accumulation buffer). Orthographic cameras: the projection has no
+// division, the step is s / f everywhere (f pixels per world unit) and no depth bands are cut.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "blocks/base/op_counts.h"
@@ -24,24 +26,17 @@
 #include "blocks/geometry/sample_projection.h"
 #include "blocks/raster/object_space_raster.h"
 #include "blocks/raster/splat_resolve.h"
+#include "pipeline/scene/object_space_config.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/texture/texture_unit.h"
 
 namespace texsim {
 
-struct ObjectSpaceConfig {
-  ObjectSpaceRaster::Config raster;
-  SplatResolve::Config splat;
-  PolygonRotation::Config rotation;
-  SampleProjection::Config projection;
-  double band_ratio = 2.0;   // far/near depth ratio of a band at most (0: never split)
-  double max_samples = 4e8;  // per frame: more is an InputError (a polygon too dense to walk)
-};
-
 struct ObjectSpaceResult {
   int width = 0, height = 0;
   std::vector<Rgba> image;       // width × height, background where nothing landed
   std::vector<uint8_t> covered;  // pixel centres inside some drawn polygon (for holes)
+  std::vector<uint8_t> drawn;    // pixels with Σ S > 0 after the splats
   uint64_t primitives = 0;       // drawn (after culling, clipping and the edge-on test)
   uint64_t culled = 0, clipped_away = 0, edge_on = 0, degenerate = 0;
   uint64_t bands = 0;  // polygons walked (a primitive may give several bands)
@@ -58,7 +53,8 @@ struct ObjectSpaceResult {
   OpCounts total_ops() const {
     return rotation_ops + raster_ops + projection_ops + splat_ops + texture_ops;
   }
-  uint64_t texels = 0;  // texels the filter read (through the cache)
+  std::vector<std::string> texture_blocks;  // the texture unit's blocks (cache excluded)
+  uint64_t texels = 0;                      // texels the filter read (through the cache)
   TextureCache::Stats cache;
   uint64_t dram_bytes = 0;
   // Bytes of accumulation-buffer traffic (splat read-modify-writes and the resolve).
@@ -73,8 +69,10 @@ struct ObjectSpaceResult {
 std::vector<MaterialSetup> object_space_materials(const std::vector<MaterialSetup>& mats);
 
 // Renders frame 0 of `scene` object-space. `textures` holds the scene's textures in its order.
+// `material` >= 0: only the primitives of that material are drawn (-1: every primitive).
 ObjectSpaceResult render_object_space(const Scene& scene, TextureSet& textures,
                                       const std::vector<MaterialSetup>& mats,
-                                      const PipelineSetup& setup, const ObjectSpaceConfig& cfg);
+                                      const PipelineSetup& setup, const ObjectSpaceConfig& cfg,
+                                      int material = -1);
 
 }  // namespace texsim

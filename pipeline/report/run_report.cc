@@ -45,6 +45,13 @@ std::vector<MaterialRow> material_rows(const RunInfo& info, const TextureUnit& u
     r.relief = unit.material_has_relief(m);
     r.relief_steps = unit.material_relief_steps(m);
     r.relief_fetches = unit.material_relief_fetches(m);
+    if (const ObjectSpaceMaterialInfo* os = info.object_space.find(r.name)) {
+      // Drawn by the object-space pipeline: its blocks, its pixels, its operations and texels.
+      r.fragments = os->pixels_shown;
+      r.blocks = os->blocks();
+      r.ops = os->result.total_ops();
+      r.texels = os->result.texels;
+    }
     if (static_cast<size_t>(m) < info.material_accuracy.size())
       r.acc = info.material_accuracy[static_cast<size_t>(m)];
     rows.push_back(r);
@@ -202,6 +209,7 @@ Json report_json(const RunInfo& info, const TextureUnit& unit, const AccuracyMet
         {"generated", fe.generated}, {"occluded", fe.occluded}, {"rejected", fe.rejected}};
   }
   add_subsystems_json(j, info.subsystems);
+  add_object_space_json(j, info.object_space);
   add_physical_json(j, info, unit);
   if (!info.ledger.empty()) {
     j["ledger"] = ledger_json(info.ledger);
@@ -328,6 +336,7 @@ std::string report_markdown(const RunInfo& info, const TextureUnit& unit,
   md_summary(md, info, unit, acc);
   md_materials(md, unit, rows);
   subsystems_markdown(md, info.subsystems);
+  object_space_markdown(md, info.object_space);
   md_blocks(md, unit);
   if (const ClockedPipeline* p = unit.pipeline()) md_stages(md, *p);
   md_memory(md, unit);

@@ -5,6 +5,7 @@
 
 #include "pipeline/report/error_ledger_report.h"
 #include "pipeline/report/image_metrics.h"
+#include "pipeline/report/object_space_report.h"
 #include "pipeline/report/provenance.h"
 #include "pipeline/report/subsystems_report.h"
 #include "pipeline/texture/texture_unit.h"
@@ -31,6 +32,7 @@ struct RunInfo {
   int error_bar_rows = 0;                          // colour bar rows below error.png's image
   SubsystemsInfo subsystems;                       // geometry and rasterisation of a scene run
   ErrorLedger ledger;  // per-block error ledger (texsim run --ledger); empty: not reported
+  ObjectSpaceInfo object_space;  // materials drawn object-space; empty: none
   Provenance provenance;
 };
 

@@ -101,7 +101,8 @@ int texture_index(const Scene& s, const std::string& name, const toml::node& whe
 }
 
 // Materials: [materials.NAME] texture = "...", and one table per effect. The effect tables are
-// the texture unit's to check (its effect registry).
+// the texture unit's to check (its effect registry), but for `object_space`, which selects the
+// object-space pipeline for the material and is read here.
 void parse_materials(const ConfigReader& top, Scene& s) {
   const toml::table* t = top.subtable("materials");
   if (!t) return;
@@ -119,6 +120,8 @@ void parse_materials(const ConfigReader& top, Scene& s) {
     if (!tn->is_string()) mr.fail("texture", "expected a texture name");
     m.texture = texture_index(s, *tn->value<std::string>(), *tn);
     m.effects = &mt;
+    if (mt.contains("object_space"))
+      m.object_space = ObjectSpaceConfig::from_toml(mr.sub("object_space"));
     s.materials.push_back(std::move(m));
   }
 }

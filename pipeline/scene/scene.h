@@ -7,11 +7,13 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "blocks/base/tech_table.h"
 #include "blocks/geometry/camera.h"
+#include "pipeline/scene/object_space_config.h"
 
 namespace texsim {
 
@@ -30,6 +32,8 @@ struct SceneMaterial {
   // points into Scene::root so messages keep their line:column.
   const toml::table* effects = nullptr;
   int line = 0, column = 0;  // where it is declared, for messages
+  // Effect `object_space`: the material's polygons are drawn by the object-space pipeline.
+  std::optional<ObjectSpaceConfig> object_space;
 };
 
 // A textured planar primitive: the points origin + a·edge_u + b·edge_v with a, b >= 0 and

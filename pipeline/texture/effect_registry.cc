@@ -53,6 +53,11 @@ int bind_texture(const ConfigReader& r, std::string_view key, std::string_view f
                              "' (textures: " + (have.empty() ? std::string("none") : have) + ")");
 }
 
+// `object_space` selects a pipeline variant, not a block of the texture unit: the scene reads
+// its table (pipeline/scene/object_space_config.h).
+void build_object_space(const ConfigReader& /*r*/, std::string_view /*key*/, MaterialSetup& /*m*/) {
+}
+
 void build_raster(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
   m.raster = RasterSetup::from_toml(r.sub(key));
 }
@@ -79,6 +84,7 @@ const std::vector<Effect>& effect_registry() {
       {"raster", "", build_raster},
       {"relief", "", build_relief},
       {"lighting", "", build_lighting},
+      {"object_space", "", build_object_space},
       {"ewa", kFootprint, build_ewa},
       {"multi_probe", kFootprint, build_footprint<MultiProbeFilter>},
       {"feline", kFootprint, build_footprint<FelineFilter>},

@@ -33,12 +33,17 @@ std::string vec(const glm::dvec3& v) {
   return s.str();
 }
 
-// A camera at the origin looking down −Z (world Y up), fov 60°, and one plane.
-Scene plane_scene(int w, int h, const glm::dvec3& o, const glm::dvec3& eu, const glm::dvec3& ev) {
+constexpr const char* kPerspective = "fov_y = 60.0";
+constexpr const char* kOrthographic = "projection = \"orthographic\"\nheight = 3.0";
+
+// A camera at the origin looking down −Z (world Y up), fov 60° (or orthographic, 3 units tall),
+// and one plane.
+Scene plane_scene(int w, int h, const glm::dvec3& o, const glm::dvec3& eu, const glm::dvec3& ev,
+                  const std::string& lens = kPerspective) {
   const std::string text =
       "[output]\nwidth = " + std::to_string(w) + "\nheight = " + std::to_string(h) +
-      "\n[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\n"
-      "fov_y = 60.0\nnear = 0.05\n"
+      "\n[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\n" + lens +
+      "\nnear = 0.05\n"
       "[textures.t]\nsource = \"procedural:checker?size=64&cells=4\"\n"
       "[materials.m]\ntexture = \"t\"\nfilter = { mode = \"trilinear\" }\n"
       "[[planes]]\nmaterial = \"m\"\norigin = " +
@@ -48,13 +53,14 @@ Scene plane_scene(int w, int h, const glm::dvec3& o, const glm::dvec3& eu, const
 
 // A square of side 2·s centred on the view axis at depth D, tilted by `tilt` about the screen's
 // x axis and turned by `azimuth` about the view axis.
-Scene tilted_scene(int size, double tilt_deg, double azimuth_deg, double D, double s) {
+Scene tilted_scene(int size, double tilt_deg, double azimuth_deg, double D, double s,
+                   const std::string& lens = kPerspective) {
   const double t = tilt_deg * kPi / 180, a = azimuth_deg * kPi / 180;
   const glm::dvec3 ux{std::cos(a), std::sin(a), 0}, uy{-std::sin(a), std::cos(a), 0};
   const glm::dvec3 eu = ux * (2 * s);
   const glm::dvec3 ev = (uy * std::cos(t) + glm::dvec3(0, 0, -1) * std::sin(t)) * (2 * s);
   const glm::dvec3 o = glm::dvec3(0, 0, -D) - eu * 0.5 - ev * 0.5;
-  return plane_scene(size, size, o, eu, ev);
+  return plane_scene(size, size, o, eu, ev, lens);
 }
 
 ObjectSpaceResult render(const Scene& scene, double step_px = 0.75) {
@@ -266,6 +272,78 @@ TEST(ObjectSpaceHard, ProjectedSamplesCarryTheExactTextureCoordinates) {
         st, ops);
     EXPECT_GT(n, 20u);
   }
+}
+
+// Orthographic cameras: the hole-free rule with the constant screen scale f (one band per
+// polygon), no division in the projection, and the exact texture coordinates at each sample.
+TEST(ObjectSpaceHard, OrthographicNoHolesOverTiltsAndResolutions) {
+  for (const int size : {24, 64, 160}) {
+    for (double tilt = 0; tilt <= 85; tilt += 5) {
+      for (const double az : {0.0, 33.0}) {
+        const ObjectSpaceResult r = render(tilted_scene(size, tilt, az, 2.5, 1, kOrthographic));
+        ASSERT_GT(r.resolve.expected, 0u);
+        EXPECT_EQ(r.resolve.holes, 0u) << size << " px, tilt " << tilt << ", azimuth " << az;
+        EXPECT_EQ(r.bands, 1u);
+        expect_finite(r);
+      }
+    }
+  }
+}
+
+TEST(ObjectSpaceHard, OrthographicProjectionIsExactWithoutDivision) {
+  for (const double tilt : {0.0, 45.0, 80.0}) {
+    const Scene scene = tilted_scene(64, tilt, 25, 3, 1, kOrthographic);
+    const PlaneProjection map(scene, scene.primitives[0]);
+    const Camera& c = scene.camera;
+    const ScenePrimitive& p = scene.primitives[0];
+    auto view = [](const glm::dvec3& w) { return glm::dvec3(w.x, -w.y, -w.z); };
+    const glm::dvec3 v0 = view(p.origin), v1 = view(p.origin + p.edge_u),
+                     v2 = view(p.origin + p.edge_u + p.edge_v);
+    OpCounts ops;
+    const Rotation r = PolygonRotation::setup(PolygonRotation::unit_normal(v0, v1, v2, ops), ops);
+    const RotatedPolygon rp =
+        PolygonRotation::rotate_polygon(r, {v0, v1, v2, view(p.origin + p.edge_v)}, ops);
+    const glm::dvec2 xy[3] = {rp.xy[0], rp.xy[1], rp.xy[2]};
+    const glm::dvec2 uv[3] = {p.uv_origin, p.uv_origin + p.uv_edge_u,
+                              p.uv_origin + p.uv_edge_u + p.uv_edge_v};
+    const PlaneUvMap m = ObjectSpaceRaster::uv_map(xy, uv, ops);
+    const auto f = static_cast<double>(c.focal_px());
+    const auto cx = static_cast<double>(c.cx()), cy = static_cast<double>(c.cy());
+    const SampleProjection::Setup ps =
+        SampleProjection::setup_orthographic(r, rp.z, f, cx, cy, ops);
+    // The camera's formula for a vertex: xs = cx + f X, ys = cy + f Y, depth Z.
+    OpCounts per;
+    const ProjectedSample q0 = SampleProjection::project(ps, rp.xy[1].x, rp.xy[1].y, per);
+    EXPECT_NEAR(q0.x, cx + f * v1.x, 1e-9);
+    EXPECT_NEAR(q0.y, cy + f * v1.y, 1e-9);
+    EXPECT_NEAR(q0.depth, v1.z, 1e-9);
+    EXPECT_EQ(per.rcp + per.div, 0u);
+    const ObjectSpaceRaster raster;
+    ObjectSpaceRasterStats st;
+    uint64_t n = 0;
+    raster.rasterize(
+        rp, 8 * raster.step(f, ops), m,
+        [&](const PlaneSample& s) {
+          const ProjectedSample q = SampleProjection::project(ps, s.x, s.y, ops);
+          ASSERT_TRUE(q.valid);
+          const UvSample e = map.at(q.x, q.y);
+          EXPECT_NEAR(e.u, s.u, 1e-9);
+          EXPECT_NEAR(e.v, s.v, 1e-9);
+          ++n;
+        },
+        st, ops);
+    EXPECT_GT(n, 20u);
+  }
+}
+
+TEST(ObjectSpaceHard, OrthographicEdgeOnPlaneDrawsNothing) {
+  // A horizontal plane below the view axis contains the (parallel) view direction.
+  const ObjectSpaceResult r =
+      render(plane_scene(32, 32, {-1, -0.5, -1}, {2, 0, 0}, {0, 0, -2}, kOrthographic));
+  EXPECT_EQ(r.edge_on, 1u);
+  EXPECT_EQ(r.primitives, 0u);
+  EXPECT_EQ(r.samples, 0u);
+  expect_finite(r);
 }
 
 }  // namespace

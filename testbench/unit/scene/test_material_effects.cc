@@ -114,7 +114,7 @@ TEST(MaterialEffects, UnknownOrMisplacedEffectsNameFileLineAndColumn) {
       error_of(std::string(kTexture) + "[materials.m]\ntexture = \"t\"\nfiltre = {}\n");
   EXPECT_NE(unknown.find("s.toml:5:1"), std::string::npos) << unknown;
   EXPECT_NE(unknown.find("materials.m: unknown key 'filtre' (known: texture, filter, lod, coords, "
-                         "raster, relief, lighting, ewa, multi_probe, feline, "
+                         "raster, relief, lighting, object_space, ewa, multi_probe, feline, "
                          "spaf)"),
             std::string::npos)
       << unknown;
