@@ -42,7 +42,12 @@ void expect_no_null(const Json& j, const std::string& path = "") {
     EXPECT_TRUE(std::isfinite(j.get<double>())) << path;
   }
   if (j.is_object() || j.is_array()) {
-    for (const auto& [k, v] : j.items()) expect_no_null(v, path + "." + k);
+    for (const auto& [k, v] : j.items()) {
+      std::string sub = path;
+      sub += ".";
+      sub += k;
+      expect_no_null(v, sub);
+    }
   }
 }
 
@@ -119,7 +124,7 @@ TEST_F(ObjectSpaceRun, SameVisibilityAndCloseImageToScreenSpace) {
   const std::vector<uint8_t> b = read_rgb(path("screen") + "/image.png");
   ASSERT_EQ(a.size(), b.size());
   ASSERT_FALSE(a.empty());
-  EXPECT_GT(psnr(a, b), 22.0);  // the splat's tent blurs the checker edges a little
+  EXPECT_GT(psnr(a, b), 28.0);  // 30.7 dB (the splat's tent blurs the checker edges)
 }
 
 TEST_F(ObjectSpaceRun, OrthographicCamera) {

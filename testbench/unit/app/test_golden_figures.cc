@@ -73,7 +73,10 @@ std::string figures(const Json& r) {
     flatten(at(m, "fragments"), "materials." + name + ".fragments", out);
     flatten(at(m, "ops"), "materials." + name + ".ops", out);
     flatten(at(at(m, "accuracy"), "psnr_db"), "materials." + name + ".psnr", out);
+    // Materials drawn by the object-space pipeline (effect `object_space`).
+    flatten(at(m, "object_space"), "materials." + name + ".object_space", out);
   }
+  flatten(at(r, "object_space"), "object_space", out);
   return out.str();
 }
 
@@ -495,6 +498,58 @@ materials.floor.psnr 23.320616543745114
 materials.wall.fragments 24932
 materials.wall.ops add=11130844 cmp=1869721 div=24932 lut=124660 mem=2977444 mul=8702019 rcp=99728 sqrt=99728
 materials.wall.psnr 35.048862333608625
+)");
+}
+TEST_F(GoldenFigures, ObjectSpace) {
+  check(scene("object_space"), R"(
+fragments 6671
+cycles 36004
+blocks.blend.ops add=574080 cmp=0 div=0 lut=0 mem=143520 mul=574080 rcp=0 sqrt=0
+blocks.blend.texels 0
+blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=143520 mul=0 rcp=0 sqrt=0
+blocks.cache.texels 143520
+blocks.filter.trilinear.ops add=360873 cmp=333737 div=0 lut=6671 mem=0 mul=408022 rcp=0 sqrt=0
+blocks.filter.trilinear.texels 143520
+blocks.lod.ops add=46697 cmp=53368 div=6671 lut=20013 mem=0 mul=66710 rcp=0 sqrt=6671
+blocks.lod.texels 0
+stages.address.busy 17940
+stages.address.stalls blocked=17850 latency_full=0 multi_cycle=11269 starved=37
+stages.blend.busy 17940
+stages.blend.stalls blocked=0 latency_full=0 multi_cycle=11269 starved=18057
+stages.cache.busy 35880
+stages.cache.stalls blocked=0 latency_full=0 multi_cycle=29209 starved=61
+stages.lod.busy 6671
+stages.lod.stalls blocked=28991 latency_full=0 multi_cycle=0 starved=0
+hits 26358
+misses 2905
+texel_reads 143520
+dram busy_cycles=11620 bytes=185920 requests=2905
+psnr_db 25.872692271755721
+max_abs 0.61447843909263611
+materials.crate_os.fragments 0
+materials.crate_os.ops add=0 cmp=0 div=0 lut=0 mem=0 mul=0 rcp=0 sqrt=0
+materials.crate_os.psnr 0
+materials.crate_ss.fragments 6671
+materials.crate_ss.ops add=981650 cmp=387105 div=6671 lut=26684 mem=143520 mul=1048812 rcp=0 sqrt=6671
+materials.crate_ss.psnr 25.836907050101559
+materials.floor_os.fragments 41349
+materials.floor_os.ops add=76268944 cmp=23651682 div=1968 lut=693265 mem=8365944 mul=75069767 rcp=740085 sqrt=22
+materials.floor_os.psnr 25.878493369106739
+materials.floor_os.object_space band_ratio=2 bands=3 clipped_away=0 culled=0 degenerate=0 dram_bytes=1370624 edge_on=0 edge_samples=5704 grid_samples=687558 lanes=1 lod_mean=0.50036676981017092 max_step_px=0.75 pixels_shown=41349 primitives=1 samples=693262 samples_per_pixel=16.766112844325136 texels=5546096
+materials.floor_os.object_space.cache accesses=2168694 fill_bytes=1370624 hits=2147278 misses=21416
+materials.floor_os.object_space.cycles projection=693262 raster=694232 resolve=19200 setup=69 splat=693262 texture=1486767 total=1506036
+materials.floor_os.object_space.holes covered=46428 holes=0 shown=0
+materials.floor_os.object_space.ops
+materials.floor_os.object_space.ops.geometry.polygon_rotation add=338 cmp=63 div=14 lut=0 mem=0 mul=382 rcp=2 sqrt=2
+materials.floor_os.object_space.ops.geometry.sample_projection add=5546132 cmp=693262 div=0 lut=0 mem=0 mul=6239439 rcp=693265 sqrt=0
+materials.floor_os.object_space.ops.raster.object_space add=2089536 cmp=697173 div=1954 lut=3 mem=0 mul=9808 rcp=18 sqrt=20
+materials.floor_os.object_space.ops.raster.splat_resolve add=24264170 cmp=9782468 div=0 lut=0 mem=2819848 mul=16132226 rcp=46800 sqrt=0
+materials.floor_os.object_space.ops.texture add=44368768 cmp=12478716 div=0 lut=693262 mem=5546096 mul=52687912 rcp=0 sqrt=0
+materials.floor_os.object_space.splat_buffer bytes=134029824 depth_dropped=0 depth_resets=0 offscreen=25560 resolve_read_bytes=1843200 resolve_written_bytes=307200 splat_read_bytes=65939712 splat_written_bytes=65939712 targets=2747488
+materials.floor_ss.fragments 0
+materials.floor_ss.ops add=0 cmp=0 div=0 lut=0 mem=0 mul=0 rcp=0 sqrt=0
+materials.floor_ss.psnr 0
+object_space cycles=1506036 frame_cycles=1542040 screen_space_cycles=36004
 )");
 }
 TEST_F(GoldenFigures, SampleTrace) {
