@@ -177,4 +177,30 @@ TEST_F(ObjectSpaceRun, BadValuesAndCombinationsAreErrors) {
   EXPECT_NE(r.out.find("object_space"), std::string::npos) << r.out;
 }
 
+// The coordinate front end draws every plane itself: object space beside it is refused.
+TEST_F(ObjectSpaceRun, NotBesideTheCoordinateFrontEnd) {
+  const std::string scene =
+      variant("coords.toml", "lod = { aniso = \"vulkan\", max_aniso = 16 }\n\n[materials.crate_os]",
+              "coords = { method = \"heckbert\", derivs = \"analytic\", format = \"float\" }\n\n"
+              "[materials.crate_os]");
+  const Result r = sh("run " + scene + " --no-progress --out " + path("out"));
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.out.find("coords.toml:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("object_space"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("'crate_ss' uses `coords`"), std::string::npos) << r.out;
+}
+
+// A trace's fragments carry their own coordinates: drawn screen-space, with a note.
+TEST_F(ObjectSpaceRun, TraceRunsDrawScreenSpace) {
+  const std::string trc = path("os.trc");
+  ASSERT_EQ(sh("trace gen " + kScene + " -o " + trc).code, 0);
+  const Result r = sh("run " + kScene + " --trace " + trc +
+                      " --set reference.supersamples=2 --no-progress --out " + path("t"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("material 'floor_os': object_space ignored"), std::string::npos) << r.out;
+  const Json j = load_json(path("t") + "/report.json");
+  EXPECT_FALSE(j.contains("object_space"));
+  EXPECT_GT(num(j, "materials.floor_os.fragments"), 10000);
+}
+
 }  // namespace
