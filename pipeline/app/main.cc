@@ -291,7 +291,7 @@ void add_study_commands(CLI::App& app, StudyCli& s) {
   for (auto* sub :
        {s.vd, s.coords, s.filters, s.raster, s.objspace, s.rtl, s.thesis, s.relief, s.terrain})
     sub->add_option("--out", s.out, "Output directory")->capture_default_str();
-  for (auto* sub : {s.vd, s.coords}) {
+  for (auto* sub : {s.vd, s.coords, s.filters}) {
     sub->add_option("--threads", s.threads,
                     "Worker threads (0: one per core); the outputs do not depend on it")
         ->check(CLI::Range(0, 1024))
@@ -326,7 +326,9 @@ int run_study_command(StudyCli& s) {
   if (*s.vd) return run_study_vd(s.out, std::cout, s.threads);
   if (*s.coords) return run_study_coords(s.out, std::cout, s.threads);
   if (*s.raster) return run_study_raster(s.out, std::cout);
-  return run_study_filters(s.out, std::cout);
+  StudyFiltersOptions fo;
+  fo.threads = s.threads;
+  return run_study_filters(s.out, std::cout, fo);
 }
 
 // Parses the command line and runs the subcommand; returns the exit status (docs/cli.md).
