@@ -242,6 +242,16 @@ CLI::App* add_tune_command(CLI::App& app, texsim::TuneOptions& t) {
                   "thread)")
       ->check(CLI::Range(0, 1024));
   cmd->add_flag("!--no-ledger", t.ledger, "Do not run the chosen scene with the error ledger");
+  cmd->add_option("--jobs", t.jobs,
+                  "Candidate runs at a time (0: one per hardware thread); the outputs do not "
+                  "depend on it")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  cmd->add_option_function<std::string>(
+      "--shard", [&t](const std::string& v) { texsim::parse_tune_shard(v, t); },
+      "K/N: search only materials with index % N == K-1; writes tune_shard.json (GNU parallel)");
+  cmd->add_option("--merge", t.merge,
+                  "Shard output directories: assemble their points into the outputs of one run");
   return cmd;
 }
 
