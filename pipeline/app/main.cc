@@ -250,6 +250,9 @@ CLI::App* add_tune_command(CLI::App& app, texsim::TuneOptions& t) {
   cmd->add_option_function<std::string>(
       "--shard", [&t](const std::string& v) { texsim::parse_tune_shard(v, t); },
       "K/N: search only materials with index % N == K-1; writes tune_shard.json (GNU parallel)");
+  cmd->add_flag("--families", t.families,
+                "Also switch each material's filter family (classic, ewa, spaf, feline, "
+                "multi_probe)");
   cmd->add_option("--merge", t.merge,
                   "Shard output directories: assemble their points into the outputs of one run");
   return cmd;

@@ -112,6 +112,35 @@ std::vector<Knob> knobs_for(const toml::table& t) {
   return k;
 }
 
+// The footprint filters a material can take instead of the classic LOD + filter path.
+constexpr const char* kFootprints[] = {"ewa", "spaf", "feline", "multi_probe"};
+
+std::string family_of(const toml::table& t) {
+  for (const char* f : kFootprints) {
+    if (t.contains(f)) return f;
+  }
+  return "classic";
+}
+
+// `t` switched to filter family `family`: its own table if it is that family already; else the
+// footprint table dropped and, for a footprint filter, that filter with its defaults (the lod
+// and filter tables stay: checked but unused under a footprint filter).
+toml::table with_family(const toml::table& t, const std::string& family) {
+  toml::table c = copy_table(t);
+  if (family_of(t) == family) return c;
+  for (const char* f : kFootprints) c.erase(f);
+  if (family != "classic") c.insert(family, toml::table{});
+  return c;
+}
+
+// The knobs in search order: the filter family first when it is searched.
+std::vector<Knob> all_knobs(const toml::table& t, bool families) {
+  std::vector<Knob> k;
+  if (families) k.push_back({"family", words("classic ewa spaf feline multi_probe")});
+  for (Knob& x : knobs_for(t)) k.push_back(std::move(x));
+  return k;
+}
+
 // `t` with knob `path` set to `value` (TOML text). A new coordinate method keeps only the
 // unit's own keys: the old method's block keys do not belong to it.
 toml::table with_knob(const toml::table& t, const std::string& path, const std::string& value) {
@@ -193,15 +222,18 @@ class Search {
     first.push_back({copy_table(cur), cur_set, material_override(tm.name, cur)});
     int best = eval(tm, first)[0];
     if (best < 0) throw InputError(opt_.scene, "material '" + sm.name + "' does not run");
-    const std::vector<Knob> knobs = knobs_for(cur);
     // Greedy coordinate descent: each knob in turn takes its best value with the others
-    // fixed; at most two passes (a second pass only if the first moved).
+    // fixed; at most two passes (a second pass only if the first moved). A new filter family
+    // brings its own knobs.
     for (int pass = 0; pass < 2; ++pass) {
       bool moved = false;
-      for (const Knob& k : knobs) {
+      std::vector<Knob> knobs = all_knobs(cur, opt_.families);
+      for (size_t ki = 0; ki < knobs.size(); ++ki) {
+        const Knob k = knobs[ki];
         std::vector<Candidate> cands;
         for (const std::string& v : k.values) {
-          Candidate c{with_knob(cur, k.path, v), cur_set, ""};
+          Candidate c{k.path == "family" ? with_family(cur, v) : with_knob(cur, k.path, v), cur_set,
+                      ""};
           c.set[k.path] = unquoted(v);
           c.override = material_override(tm.name, c.table);
           cands.push_back(std::move(c));
@@ -219,8 +251,10 @@ class Search {
         if (pick < 0) continue;
         Candidate& c = cands[static_cast<size_t>(pick)];
         if (inline_toml(c.table) != inline_toml(cur)) moved = true;
+        const bool new_family = family_of(c.table) != family_of(cur);
         cur = std::move(c.table);
         cur_set = std::move(c.set);
+        if (new_family) knobs = all_knobs(cur, opt_.families);
       }
       if (!moved) break;
     }
@@ -364,6 +398,7 @@ std::string tuned_scene(const TuneOptions& opt, const TuneResult& res) {
   }
   std::ostringstream s;
   s << "# texsim tune " << opt.scene << " --budget " << opt.budget << " --cost " << opt.cost
+    << (opt.families ? " --families" : "")
     << ": the cheapest configuration per material that meets the budget (docs/tune.md).\n"
     << toml::toml_formatter(root) << "\n";
   return s.str();
@@ -411,8 +446,9 @@ void write_summary(const TuneOptions& opt, const TuneResult& res, const StudyFil
   md << "# texsim tune\n\nScene `" << opt.scene << "`, budget " << opt.budget
      << " per material (a material's own `budget` in the scene instead where it has one), cost: "
      << opt.cost << ". " << res.runs
-     << " runs (greedy coordinate descent over each material's knobs, the other materials as "
-        "configured; docs/tune.md).\n\n";
+     << " runs (greedy coordinate descent over each material's knobs"
+     << (opt.families ? ", the filter family first" : "")
+     << ", the other materials as configured; docs/tune.md).\n\n";
   StudyTable t({"material", "budget", "choice", "budget met", "PSNR (dB)", "NMSE", "cost",
                 "as configured: PSNR (dB)", "cost", "saving", "points"},
                "lllrrrrrrrr");
@@ -470,6 +506,7 @@ nlohmann::ordered_json shard_json(const TuneOptions& opt, const TuneResult& res,
   j["budget"] = opt.budget;
   j["cost"] = opt.cost;
   j["overrides"] = opt.overrides;
+  j["families"] = opt.families;
   j["shard"] = opt.shard;
   j["shards"] = opt.shards;
   j["runs"] = res.runs;
@@ -518,6 +555,8 @@ void read_shards(const TuneOptions& opt, size_t materials, TuneResult& res) {
       }
       if (j.at("overrides").get<std::vector<std::string>>() != opt.overrides)
         throw InputError(path, "the --set overrides differ from this merge's");
+      if (j.at("families").get<bool>() != opt.families)
+        throw InputError(path, "--families differs from this merge's");
       res.runs += j.at("runs").get<int>();
       for (const auto& jm : j.at("materials")) {
         const auto i = jm.at("index").get<size_t>();

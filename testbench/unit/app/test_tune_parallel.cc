@@ -3,6 +3,7 @@
 // in the scene replaces --budget for that material, and a wrong budget key is named.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -108,6 +109,41 @@ TEST(TunerPool, RejectsBadShards) {
   parse_tune_shard("2/3", opt);
   EXPECT_EQ(opt.shard, 2);
   EXPECT_EQ(opt.shards, 3);
+}
+
+TEST(TunerFamilies, TheFamilyIsOneMoreKnob) {
+  TempDir d("tune_families");
+  std::ofstream(d.file("s.toml")) << scene_text();
+  TuneOptions opt;
+  opt.scene = d.file("s.toml");
+  opt.out = d.file("out");
+  opt.budget = "psnr=24";
+  opt.ledger = false;
+  opt.jobs = 2;
+  opt.families = true;
+  std::ostringstream log;
+  const TuneResult r = run_tune(opt, log);
+  for (const TuneMaterial& m : r.materials) {
+    SCOPED_TRACE(m.name);
+    for (const char* f : {"family=ewa", "family=spaf", "family=feline", "family=multi_probe"}) {
+      EXPECT_TRUE(std::any_of(m.points.begin(), m.points.end(), [&](const TunePoint& p) {
+        return p.label.find(f) != std::string::npos;
+      })) << f;
+    }
+    const TunePoint& c = m.points[static_cast<size_t>(m.chosen)];
+    ASSERT_TRUE(m.budget_met) << log.str();
+    for (const TunePoint& p : m.points) {
+      if (p.meets) {
+        EXPECT_GE(p.cycles, c.cycles) << p.label;
+      }
+    }
+  }
+  // Without the option no family is switched.
+  opt.families = false;
+  opt.out = d.file("plain");
+  for (const TuneMaterial& m : run_tune(opt, log).materials) {
+    for (const TunePoint& p : m.points) EXPECT_EQ(p.label.find("family="), std::string::npos);
+  }
 }
 
 TEST(TunerBudget, MaterialBudgetReplacesTheCommandLine) {
