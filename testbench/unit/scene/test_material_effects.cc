@@ -113,8 +113,8 @@ TEST(MaterialEffects, UnknownOrMisplacedEffectsNameFileLineAndColumn) {
   const std::string unknown =
       error_of(std::string(kTexture) + "[materials.m]\ntexture = \"t\"\nfiltre = {}\n");
   EXPECT_NE(unknown.find("s.toml:5:1"), std::string::npos) << unknown;
-  EXPECT_NE(unknown.find("materials.m: unknown key 'filtre' (known: texture, filter, lod, coords, "
-                         "raster, relief, lighting, ewa, multi_probe, feline, "
+  EXPECT_NE(unknown.find("materials.m: unknown key 'filtre' (known: texture, budget, filter, lod, "
+                         "coords, raster, relief, lighting, ewa, multi_probe, feline, "
                          "spaf)"),
             std::string::npos)
       << unknown;
