@@ -133,13 +133,8 @@ toml::table with_family(const toml::table& t, const std::string& family) {
   return c;
 }
 
-// The knobs in search order: the filter family first when it is searched.
-std::vector<Knob> all_knobs(const toml::table& t, bool families) {
-  std::vector<Knob> k;
-  if (families) k.push_back({"family", words("classic ewa spaf feline multi_probe")});
-  for (Knob& x : knobs_for(t)) k.push_back(std::move(x));
-  return k;
-}
+// The filter families --families tries, in this order.
+constexpr const char* kFamilies[] = {"classic", "ewa", "spaf", "feline", "multi_probe"};
 
 // `t` with knob `path` set to `value` (TOML text). A new coordinate method keeps only the
 // unit's own keys: the old method's block keys do not belong to it.
@@ -216,24 +211,41 @@ class Search {
     tm.budget = budget_text(sm, opt_.budget);
     budget_ = parse_budget(tm.budget);
     seen_.clear();
-    toml::table cur = copy_table(*sm.effects);
-    std::map<std::string, std::string> cur_set;
+    const toml::table start = copy_table(*sm.effects);
+    if (!descend(tm, start, {}))
+      throw InputError(opt_.scene, "material '" + sm.name + "' does not run");
+    // Every other filter family: one more descent from that family's defaults, so the points
+    // are a superset of the search without families and the choice is never costlier.
+    if (opt_.families) {
+      for (const char* f : kFamilies) {
+        if (f == family_of(start)) continue;
+        if (!descend(tm, with_family(start, f), {{"family", f}}))
+          log_ << "texsim tune: " << tm.name << ": family " << f << " does not run\n";
+      }
+    }
+    choose(tm);
+    return tm;
+  }
+
+ private:
+  // Greedy coordinate descent from `from` (the knobs changed so far: `from_set`): each knob in
+  // turn takes its best value with the others fixed; at most two passes (a second pass only
+  // if the first moved). False if the starting point does not run.
+  bool descend(TuneMaterial& tm, const toml::table& from,
+               const std::map<std::string, std::string>& from_set) {
+    toml::table cur = copy_table(from);
+    std::map<std::string, std::string> cur_set = from_set;
     std::vector<Candidate> first;
     first.push_back({copy_table(cur), cur_set, material_override(tm.name, cur)});
     int best = eval(tm, first)[0];
-    if (best < 0) throw InputError(opt_.scene, "material '" + sm.name + "' does not run");
-    // Greedy coordinate descent: each knob in turn takes its best value with the others
-    // fixed; at most two passes (a second pass only if the first moved). A new filter family
-    // brings its own knobs.
+    if (best < 0) return false;
+    const std::vector<Knob> knobs = knobs_for(cur);
     for (int pass = 0; pass < 2; ++pass) {
       bool moved = false;
-      std::vector<Knob> knobs = all_knobs(cur, opt_.families);
-      for (size_t ki = 0; ki < knobs.size(); ++ki) {
-        const Knob k = knobs[ki];
+      for (const Knob& k : knobs) {
         std::vector<Candidate> cands;
         for (const std::string& v : k.values) {
-          Candidate c{k.path == "family" ? with_family(cur, v) : with_knob(cur, k.path, v), cur_set,
-                      ""};
+          Candidate c{with_knob(cur, k.path, v), cur_set, ""};
           c.set[k.path] = unquoted(v);
           c.override = material_override(tm.name, c.table);
           cands.push_back(std::move(c));
@@ -251,18 +263,14 @@ class Search {
         if (pick < 0) continue;
         Candidate& c = cands[static_cast<size_t>(pick)];
         if (inline_toml(c.table) != inline_toml(cur)) moved = true;
-        const bool new_family = family_of(c.table) != family_of(cur);
         cur = std::move(c.table);
         cur_set = std::move(c.set);
-        if (new_family) knobs = all_knobs(cur, opt_.families);
       }
       if (!moved) break;
     }
-    choose(tm);
-    return tm;
+    return true;
   }
 
- private:
   // a before b: meeting the budget first, then cheaper, then more accurate.
   bool better(const TunePoint& a, const TunePoint& b) const {
     if (a.meets != b.meets) return a.meets;
@@ -447,7 +455,7 @@ void write_summary(const TuneOptions& opt, const TuneResult& res, const StudyFil
      << " per material (a material's own `budget` in the scene instead where it has one), cost: "
      << opt.cost << ". " << res.runs
      << " runs (greedy coordinate descent over each material's knobs"
-     << (opt.families ? ", the filter family first" : "")
+     << (opt.families ? ", then again from each other filter family's defaults" : "")
      << ", the other materials as configured; docs/tune.md).\n\n";
   StudyTable t({"material", "budget", "choice", "budget met", "PSNR (dB)", "NMSE", "cost",
                 "as configured: PSNR (dB)", "cost", "saving", "points"},

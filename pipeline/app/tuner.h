@@ -25,8 +25,9 @@ struct TuneOptions {
   // Shard `shard` of `shards` (1-based; 0: all): only materials i with i % shards ==
   // shard - 1 are searched, and opt.out gets their points (tune_shard.json) for --merge.
   int shard = 0, shards = 0;
-  // Also search the filter family (classic LOD + filter path, ewa, spaf, feline, multi_probe,
-  // each footprint filter with its defaults) as the first knob.
+  // Also search the filter family: after the descent from the material as configured, one
+  // descent from each other family (classic LOD + filter path, ewa, spaf, feline,
+  // multi_probe, each footprint filter with its defaults); the choice is the best of all.
   bool families = false;
   // Shard directories to assemble (instead of searching): the outputs of one unsharded run.
   std::vector<std::string> merge;
