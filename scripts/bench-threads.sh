@@ -4,7 +4,8 @@
 # thread counts wrote byte-identical outputs.
 #   run:    `texsim run` on a 1024 x 768 floor (the built-in scene via --set, ~460 k fragments)
 #   coords: `texsim study coords` (tasks: tilts x coordinate and derivative methods)
-# Usage: scripts/bench-threads.sh [run|coords] [BUILD_DIR] [REPEAT]
+#   filters: `texsim study filters` (tasks: the views' two ground truths, then groups of methods)
+# Usage: scripts/bench-threads.sh [run|coords|filters] [BUILD_DIR] [REPEAT]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 what=${1:-run}
@@ -16,7 +17,8 @@ case "$what" in
   run) args=(run --no-progress --set output.width=1024 --set output.height=768)
        compare=(image.png reference.png) ;;
   coords) args=(study coords); compare=(coords.csv coords.md) ;;
-  *) echo "usage: $0 [run|coords] [BUILD_DIR] [REPEAT]" >&2; exit 2 ;;
+  filters) args=(study filters); compare=(filters.csv filters.md filters_truths.csv) ;;
+  *) echo "usage: $0 [run|coords|filters] [BUILD_DIR] [REPEAT]" >&2; exit 2 ;;
 esac
 declare -a one all
 for ((i = 0; i < repeat; ++i)); do

@@ -242,6 +242,19 @@ CLI::App* add_tune_command(CLI::App& app, texsim::TuneOptions& t) {
                   "thread)")
       ->check(CLI::Range(0, 1024));
   cmd->add_flag("!--no-ledger", t.ledger, "Do not run the chosen scene with the error ledger");
+  cmd->add_option("--jobs", t.jobs,
+                  "Candidate runs at a time (0: one per hardware thread); the outputs do not "
+                  "depend on it")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  cmd->add_option_function<std::string>(
+      "--shard", [&t](const std::string& v) { texsim::parse_tune_shard(v, t); },
+      "K/N: search only materials with index % N == K-1; writes tune_shard.json (GNU parallel)");
+  cmd->add_flag("--families", t.families,
+                "Also switch each material's filter family (classic, ewa, spaf, feline, "
+                "multi_probe)");
+  cmd->add_option("--merge", t.merge,
+                  "Shard output directories: assemble their points into the outputs of one run");
   return cmd;
 }
 
@@ -291,7 +304,7 @@ void add_study_commands(CLI::App& app, StudyCli& s) {
   for (auto* sub :
        {s.vd, s.coords, s.filters, s.raster, s.objspace, s.rtl, s.thesis, s.relief, s.terrain})
     sub->add_option("--out", s.out, "Output directory")->capture_default_str();
-  for (auto* sub : {s.vd, s.coords}) {
+  for (auto* sub : {s.vd, s.coords, s.filters}) {
     sub->add_option("--threads", s.threads,
                     "Worker threads (0: one per core); the outputs do not depend on it")
         ->check(CLI::Range(0, 1024))
@@ -326,7 +339,9 @@ int run_study_command(StudyCli& s) {
   if (*s.vd) return run_study_vd(s.out, std::cout, s.threads);
   if (*s.coords) return run_study_coords(s.out, std::cout, s.threads);
   if (*s.raster) return run_study_raster(s.out, std::cout);
-  return run_study_filters(s.out, std::cout);
+  StudyFiltersOptions fo;
+  fo.threads = s.threads;
+  return run_study_filters(s.out, std::cout, fo);
 }
 
 // Parses the command line and runs the subcommand; returns the exit status (docs/cli.md).

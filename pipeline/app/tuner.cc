@@ -4,14 +4,19 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <ostream>
 #include <sstream>
+#include <stdexcept>
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
 #include "pipeline/app/material_override.h"
 #include "pipeline/app/run.h"
+#include "pipeline/kernel/parallel_range.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/scene/scene_overrides.h"
 #include "pipeline/studies/study_table.h"
@@ -41,6 +46,14 @@ Budget parse_budget(const std::string& text) {
     throw InputError("--budget " + text, "expected psnr=<dB> or nmse=<positive value>");
   b.psnr = kind == "psnr";
   return b;
+}
+
+// The budget of one material: its own `budget = { ... }`, else the command line's.
+std::string budget_text(const SceneMaterial& m, const std::string& command_line) {
+  if (m.budget.kind.empty()) return command_line;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", m.budget.value);
+  return m.budget.kind + "=" + buf;
 }
 
 // One knob of a material: a key of its table (dotted path) and the values tried, as TOML, in
@@ -99,6 +112,30 @@ std::vector<Knob> knobs_for(const toml::table& t) {
   return k;
 }
 
+// The footprint filters a material can take instead of the classic LOD + filter path.
+constexpr const char* kFootprints[] = {"ewa", "spaf", "feline", "multi_probe"};
+
+std::string family_of(const toml::table& t) {
+  for (const char* f : kFootprints) {
+    if (t.contains(f)) return f;
+  }
+  return "classic";
+}
+
+// `t` switched to filter family `family`: its own table if it is that family already; else the
+// footprint table dropped and, for a footprint filter, that filter with its defaults (the lod
+// and filter tables stay: checked but unused under a footprint filter).
+toml::table with_family(const toml::table& t, const std::string& family) {
+  toml::table c = copy_table(t);
+  if (family_of(t) == family) return c;
+  for (const char* f : kFootprints) c.erase(f);
+  if (family != "classic") c.insert(family, toml::table{});
+  return c;
+}
+
+// The filter families --families tries, in this order.
+constexpr const char* kFamilies[] = {"classic", "ewa", "spaf", "feline", "multi_probe"};
+
 // `t` with knob `path` set to `value` (TOML text). A new coordinate method keeps only the
 // unit's own keys: the old method's block keys do not belong to it.
 toml::table with_knob(const toml::table& t, const std::string& path, const std::string& value) {
@@ -128,13 +165,28 @@ std::string unquoted(std::string s) {
   return s;
 }
 
+// One candidate configuration of a material: its table, the knobs changed and its --set.
+struct Candidate {
+  toml::table table;
+  std::map<std::string, std::string> set;
+  std::string override;
+};
+
+// What one run of a candidate gave (or why it did not run).
+struct Outcome {
+  bool ran = false, fatal = false;
+  std::string why_not;
+  double cycles = 0, area = 0, psnr_db = 0, nmse = 0;
+};
+
 class Search {
  public:
-  Search(const TuneOptions& opt, const Budget& budget, TuneResult& res, std::ostream& log)
-      : opt_(opt), budget_(budget), res_(res), log_(log) {}
+  Search(const TuneOptions& opt, TuneResult& res, std::ostream& log)
+      : opt_(opt), res_(res), log_(log) {}
 
+  // One run of the scene with `extra` overrides (thread-safe: nothing shared is written).
   RunCapture run(const std::vector<std::string>& extra, const std::string& out = "",
-                 bool ledger = false) {
+                 bool ledger = false) const {
     RunOptions o;
     o.scene = opt_.scene;
     o.overrides = opt_.overrides;
@@ -150,49 +202,75 @@ class Search {
     o.capture = &c;
     std::ostringstream quiet;
     run_simulation(o, quiet);
-    ++res_.runs;
     return c;
   }
 
   TuneMaterial material(const SceneMaterial& sm) {
     TuneMaterial tm;
     tm.name = sm.name;
+    tm.budget = budget_text(sm, opt_.budget);
+    budget_ = parse_budget(tm.budget);
     seen_.clear();
-    toml::table cur = copy_table(*sm.effects);
-    std::map<std::string, std::string> cur_set;
-    int best = eval(tm, cur, cur_set);
-    if (best < 0) throw InputError(opt_.scene, "material '" + sm.name + "' does not run");
-    const std::vector<Knob> knobs = knobs_for(cur);
-    // Greedy coordinate descent: each knob in turn takes its best value with the others
-    // fixed; at most two passes (a second pass only if the first moved).
-    for (int pass = 0; pass < 2; ++pass) {
-      bool moved = false;
-      for (const Knob& k : knobs) {
-        toml::table best_t = copy_table(cur);
-        std::map<std::string, std::string> best_set = cur_set;
-        for (const std::string& v : k.values) {
-          std::map<std::string, std::string> s = cur_set;
-          s[k.path] = unquoted(v);
-          toml::table t = with_knob(cur, k.path, v);
-          const int i = eval(tm, t, s);
-          if (i >= 0 &&
-              better(tm.points[static_cast<size_t>(i)], tm.points[static_cast<size_t>(best)])) {
-            best = i;
-            best_t = std::move(t);
-            best_set = std::move(s);
-          }
-        }
-        if (inline_toml(best_t) != inline_toml(cur)) moved = true;
-        cur = std::move(best_t);
-        cur_set = std::move(best_set);
+    const toml::table start = copy_table(*sm.effects);
+    if (!descend(tm, start, {}))
+      throw InputError(opt_.scene, "material '" + sm.name + "' does not run");
+    // Every other filter family: one more descent from that family's defaults, so the points
+    // are a superset of the search without families and the choice is never costlier.
+    if (opt_.families) {
+      for (const char* f : kFamilies) {
+        if (f == family_of(start)) continue;
+        if (!descend(tm, with_family(start, f), {{"family", f}}))
+          log_ << "texsim tune: " << tm.name << ": family " << f << " does not run\n";
       }
-      if (!moved) break;
     }
     choose(tm);
     return tm;
   }
 
  private:
+  // Greedy coordinate descent from `from` (the knobs changed so far: `from_set`): each knob in
+  // turn takes its best value with the others fixed; at most two passes (a second pass only
+  // if the first moved). False if the starting point does not run.
+  bool descend(TuneMaterial& tm, const toml::table& from,
+               const std::map<std::string, std::string>& from_set) {
+    toml::table cur = copy_table(from);
+    std::map<std::string, std::string> cur_set = from_set;
+    std::vector<Candidate> first;
+    first.push_back({copy_table(cur), cur_set, material_override(tm.name, cur)});
+    int best = eval(tm, first)[0];
+    if (best < 0) return false;
+    const std::vector<Knob> knobs = knobs_for(cur);
+    for (int pass = 0; pass < 2; ++pass) {
+      bool moved = false;
+      for (const Knob& k : knobs) {
+        std::vector<Candidate> cands;
+        for (const std::string& v : k.values) {
+          Candidate c{with_knob(cur, k.path, v), cur_set, ""};
+          c.set[k.path] = unquoted(v);
+          c.override = material_override(tm.name, c.table);
+          cands.push_back(std::move(c));
+        }
+        const std::vector<int> idx = eval(tm, cands);
+        int pick = -1;
+        for (size_t j = 0; j < cands.size(); ++j) {
+          const int i = idx[j];
+          if (i >= 0 &&
+              better(tm.points[static_cast<size_t>(i)], tm.points[static_cast<size_t>(best)])) {
+            best = i;
+            pick = static_cast<int>(j);
+          }
+        }
+        if (pick < 0) continue;
+        Candidate& c = cands[static_cast<size_t>(pick)];
+        if (inline_toml(c.table) != inline_toml(cur)) moved = true;
+        cur = std::move(c.table);
+        cur_set = std::move(c.set);
+      }
+      if (!moved) break;
+    }
+    return true;
+  }
+
   // a before b: meeting the budget first, then cheaper, then more accurate.
   bool better(const TunePoint& a, const TunePoint& b) const {
     if (a.meets != b.meets) return a.meets;
@@ -201,36 +279,66 @@ class Search {
     return ca < cb || (ca == cb && a.nmse < b.nmse);
   }
 
-  // Evaluates a configuration once; returns its point's index, -1 if it does not run.
-  int eval(TuneMaterial& tm, const toml::table& t, const std::map<std::string, std::string>& set) {
-    const std::string ov = material_override(tm.name, t);
-    if (const auto it = seen_.find(ov); it != seen_.end()) return it->second;
-    int index = -1;
+  Outcome measure(const std::string& material, const std::string& override) const {
+    Outcome o;
     try {
-      const RunCapture c = run({ov});
-      const auto m = std::find(c.material_names.begin(), c.material_names.end(), tm.name);
+      const RunCapture c = run({override});
+      const auto m = std::find(c.material_names.begin(), c.material_names.end(), material);
       const AccuracyMetrics& a = c.materials[static_cast<size_t>(m - c.material_names.begin())];
-      TunePoint p;
-      for (const auto& [k, v] : set) {
-        if (!p.label.empty()) p.label += ' ';
-        p.label += k;
-        p.label += '=';
-        p.label += v;
-      }
-      if (p.label.empty()) p.label = "as configured";
-      p.override = ov;
-      p.cycles = static_cast<double>(c.cycles);
-      p.area = c.area;
-      p.psnr_db = a.psnr_db;
-      p.nmse = a.nmse;
-      p.meets = budget_.meets(a.psnr_db, a.nmse);
-      tm.points.push_back(p);
-      index = static_cast<int>(tm.points.size()) - 1;
+      o = {true, false, "", static_cast<double>(c.cycles), c.area, a.psnr_db, a.nmse};
     } catch (const InputError& e) {
-      log_ << "texsim tune: " << tm.name << ": skipped (" << e.what() << ")\n";
+      o.why_not = e.what();
+    } catch (const std::exception& e) {  // not a refused configuration: stops the search
+      o.fatal = true;
+      o.why_not = e.what();
     }
-    seen_[ov] = index;
-    return index;
+    return o;
+  }
+
+  // Evaluates each candidate once (a configuration seen before is not run again); returns
+  // each candidate's point index, -1 where it does not run. The new ones run as tasks on
+  // opt.jobs threads; their points are appended in candidate order, as one after the other.
+  std::vector<int> eval(TuneMaterial& tm, const std::vector<Candidate>& cands) {
+    std::vector<size_t> todo;
+    std::map<std::string, size_t> batch;
+    for (size_t j = 0; j < cands.size(); ++j) {
+      if (!seen_.contains(cands[j].override) && batch.emplace(cands[j].override, j).second)
+        todo.push_back(j);
+    }
+    std::vector<Outcome> out(todo.size());
+    parallel_tasks(todo.size(), opt_.jobs,
+                   [&](size_t t) { out[t] = measure(tm.name, cands[todo[t]].override); });
+    for (size_t t = 0; t < todo.size(); ++t) {
+      const Candidate& c = cands[todo[t]];
+      const Outcome& o = out[t];
+      if (o.fatal) throw std::runtime_error(o.why_not);
+      int index = -1;
+      if (o.ran) {
+        ++res_.runs;
+        TunePoint p;
+        for (const auto& [k, v] : c.set) {
+          if (!p.label.empty()) p.label += ' ';
+          p.label += k;
+          p.label += '=';
+          p.label += v;
+        }
+        if (p.label.empty()) p.label = "as configured";
+        p.override = c.override;
+        p.cycles = o.cycles;
+        p.area = o.area;
+        p.psnr_db = o.psnr_db;
+        p.nmse = o.nmse;
+        p.meets = budget_.meets(o.psnr_db, o.nmse);
+        tm.points.push_back(p);
+        index = static_cast<int>(tm.points.size()) - 1;
+      } else {
+        log_ << "texsim tune: " << tm.name << ": skipped (" << o.why_not << ")\n";
+      }
+      seen_[c.override] = index;
+    }
+    std::vector<int> idx(cands.size());
+    for (size_t j = 0; j < cands.size(); ++j) idx[j] = seen_.at(cands[j].override);
+    return idx;
   }
 
   // The cheapest evaluated point that meets the budget (else the most accurate), and the
@@ -298,6 +406,7 @@ std::string tuned_scene(const TuneOptions& opt, const TuneResult& res) {
   }
   std::ostringstream s;
   s << "# texsim tune " << opt.scene << " --budget " << opt.budget << " --cost " << opt.cost
+    << (opt.families ? " --families" : "")
     << ": the cheapest configuration per material that meets the budget (docs/tune.md).\n"
     << toml::toml_formatter(root) << "\n";
   return s.str();
@@ -343,18 +452,20 @@ void write_tables(const TuneOptions& opt, const TuneResult& res, const StudyFile
 void write_summary(const TuneOptions& opt, const TuneResult& res, const StudyFiles& files) {
   std::ostringstream md;
   md << "# texsim tune\n\nScene `" << opt.scene << "`, budget " << opt.budget
-     << " per material, cost: " << opt.cost << ". " << res.runs
-     << " runs (greedy coordinate descent over each material's knobs, the other materials as "
-        "configured; docs/tune.md).\n\n";
-  StudyTable t({"material", "choice", "budget met", "PSNR (dB)", "NMSE", "cost",
+     << " per material (a material's own `budget` in the scene instead where it has one), cost: "
+     << opt.cost << ". " << res.runs
+     << " runs (greedy coordinate descent over each material's knobs"
+     << (opt.families ? ", then again from each other filter family's defaults" : "")
+     << ", the other materials as configured; docs/tune.md).\n\n";
+  StudyTable t({"material", "budget", "choice", "budget met", "PSNR (dB)", "NMSE", "cost",
                 "as configured: PSNR (dB)", "cost", "saving", "points"},
-               "llrrrrrrrr");
+               "lllrrrrrrrr");
   for (const TuneMaterial& m : res.materials) {
     const TunePoint& c = m.points[static_cast<size_t>(m.chosen)];
     const TunePoint& d = m.points[0];
     const double cc = tune_cost(opt, c), cd = tune_cost(opt, d);
-    t.add({m.name, c.label, m.budget_met ? "yes" : "no (most accurate point)", num(c.psnr_db, 4),
-           num(c.nmse, 4), num(cc, 8), num(d.psnr_db, 4), num(cd, 8),
+    t.add({m.name, m.budget, c.label, m.budget_met ? "yes" : "no (most accurate point)",
+           num(c.psnr_db, 4), num(c.nmse, 4), num(cc, 8), num(d.psnr_db, 4), num(cd, 8),
            num(cd > 0 ? 100.0 * (cd - cc) / cd : 0, 3) + " %", std::to_string(m.points.size())});
   }
   md << t.markdown() << "\nThe chosen scene (`tuned.toml`) against the scene as configured: "
@@ -371,33 +482,168 @@ void write_summary(const TuneOptions& opt, const TuneResult& res, const StudyFil
 
 }  // namespace
 
+void parse_tune_shard(const std::string& text, TuneOptions& opt) {
+  const size_t slash = text.find('/');
+  int k = 0, n = 0;
+  try {
+    size_t used_k = 0, used_n = 0;
+    k = std::stoi(text.substr(0, slash), &used_k);
+    n = slash == std::string::npos ? 0 : std::stoi(text.substr(slash + 1), &used_n);
+    if (used_k != slash || used_n != text.size() - slash - 1) n = 0;
+  } catch (const std::exception&) {
+    n = 0;
+  }
+  if (n < 1 || k < 1 || k > n) throw InputError("--shard " + text, "expected K/N with 1 <= K <= N");
+  opt.shard = k;
+  opt.shards = n;
+}
+
 double tune_cost(const TuneOptions& opt, const TunePoint& p) {
   return opt.cost == "area" ? p.area : p.cycles;
 }
 
+namespace {
+
+// The shard's file: every field of its materials' points, doubles to the last bit.
+constexpr const char* kShardFile = "tune_shard.json";
+
+nlohmann::ordered_json shard_json(const TuneOptions& opt, const TuneResult& res,
+                                  const std::vector<size_t>& indices) {
+  nlohmann::ordered_json j;
+  j["scene"] = opt.scene;
+  j["budget"] = opt.budget;
+  j["cost"] = opt.cost;
+  j["overrides"] = opt.overrides;
+  j["families"] = opt.families;
+  j["shard"] = opt.shard;
+  j["shards"] = opt.shards;
+  j["runs"] = res.runs;
+  j["materials"] = nlohmann::ordered_json::array();
+  for (size_t k = 0; k < res.materials.size(); ++k) {
+    const TuneMaterial& m = res.materials[k];
+    nlohmann::ordered_json jm = {{"index", indices[k]},
+                                 {"name", m.name},
+                                 {"budget", m.budget},
+                                 {"chosen", m.chosen},
+                                 {"budget_met", m.budget_met}};
+    jm["points"] = nlohmann::ordered_json::array();
+    for (const TunePoint& p : m.points) {
+      jm["points"].push_back({{"label", p.label},
+                              {"override", p.override},
+                              {"cycles", p.cycles},
+                              {"area", p.area},
+                              {"psnr_db", p.psnr_db},
+                              {"nmse", p.nmse},
+                              {"meets", p.meets},
+                              {"pareto", p.pareto}});
+    }
+    j["materials"].push_back(std::move(jm));
+  }
+  return j;
+}
+
+// The shards' materials in scene order; each material exactly once; the shards must be of
+// this scene, budget, cost and overrides.
+void read_shards(const TuneOptions& opt, size_t materials, TuneResult& res) {
+  std::vector<std::optional<TuneMaterial>> slots(materials);
+  for (const std::string& dir : opt.merge) {
+    const std::string path = (std::filesystem::path(dir) / kShardFile).string();
+    std::ifstream in(path);
+    if (!in) throw InputError(path, "no tune shard here (run `texsim tune … --shard k/n` first)");
+    nlohmann::ordered_json j;
+    try {
+      j = nlohmann::ordered_json::parse(in);
+      for (const char* key : {"scene", "budget", "cost"}) {
+        const std::string want = key == std::string("scene")    ? opt.scene
+                                 : key == std::string("budget") ? opt.budget
+                                                                : opt.cost;
+        if (j.at(key).get<std::string>() != want)
+          throw InputError(path, std::string(key) + " differs: '" + j.at(key).get<std::string>() +
+                                     "', this merge has '" + want + "'");
+      }
+      if (j.at("overrides").get<std::vector<std::string>>() != opt.overrides)
+        throw InputError(path, "the --set overrides differ from this merge's");
+      if (j.at("families").get<bool>() != opt.families)
+        throw InputError(path, "--families differs from this merge's");
+      res.runs += j.at("runs").get<int>();
+      for (const auto& jm : j.at("materials")) {
+        const auto i = jm.at("index").get<size_t>();
+        if (i >= materials || slots[i])
+          throw InputError(path, "material " + std::to_string(i) + " out of range or twice");
+        TuneMaterial m;
+        m.name = jm.at("name").get<std::string>();
+        m.budget = jm.at("budget").get<std::string>();
+        m.chosen = jm.at("chosen").get<int>();
+        m.budget_met = jm.at("budget_met").get<bool>();
+        for (const auto& jp : jm.at("points")) {
+          m.points.push_back({jp.at("label").get<std::string>(),
+                              jp.at("override").get<std::string>(), jp.at("cycles").get<double>(),
+                              jp.at("area").get<double>(), jp.at("psnr_db").get<double>(),
+                              jp.at("nmse").get<double>(), jp.at("meets").get<bool>(),
+                              jp.at("pareto").get<bool>()});
+        }
+        slots[i] = std::move(m);
+      }
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(path, std::string("not a tune shard: ") + e.what());
+    }
+  }
+  for (size_t i = 0; i < materials; ++i) {
+    if (!slots[i])
+      throw InputError("texsim tune --merge", "no shard has material " + std::to_string(i));
+    res.materials.push_back(std::move(*slots[i]));
+  }
+}
+
+void log_material(const TuneMaterial& tm, std::ostream& log) {
+  log << "texsim tune: " << tm.name << ": " << tm.points[static_cast<size_t>(tm.chosen)].label
+      << (tm.budget_met ? "" : " (budget not met: the most accurate point)") << ", "
+      << tm.points.size() << " points\n";
+}
+
+}  // namespace
+
 TuneResult run_tune(const TuneOptions& opt, std::ostream& log) {
-  const Budget budget = parse_budget(opt.budget);
+  parse_budget(opt.budget);
   if (opt.cost != "cycles" && opt.cost != "area")
     throw InputError("--cost " + opt.cost, "expected cycles or area");
+  if (opt.shards < 0 || opt.shard < 0 || (opt.shards > 0 && opt.shard > opt.shards) ||
+      (opt.shard > 0) != (opt.shards > 0))
+    throw InputError("--shard", "expected k/n with 1 <= k <= n");
+  if (opt.shards > 0 && !opt.merge.empty())
+    throw InputError("--merge", "merges shards; it does not take --shard");
   const Scene scene = load_scene(opt.scene, opt.overrides);
   const StudyFiles files(opt.out);
   TuneResult res;
-  Search search(opt, budget, res, log);
+  Search search(opt, res, log);
+  if (!opt.merge.empty()) {
+    read_shards(opt, scene.materials.size(), res);
+    for (const TuneMaterial& tm : res.materials) log_material(tm, log);
+  } else {
+    std::vector<size_t> mine;
+    for (size_t i = 0; i < scene.materials.size(); ++i) {
+      if (opt.shards > 0 && static_cast<int>(i % static_cast<size_t>(opt.shards)) != opt.shard - 1)
+        continue;
+      mine.push_back(i);
+      res.materials.push_back(search.material(scene.materials[i]));
+      log_material(res.materials.back(), log);
+    }
+    if (opt.shards > 0) {
+      files.text(kShardFile, shard_json(opt, res, mine).dump(1) + "\n");
+      log << "texsim tune: shard " << opt.shard << "/" << opt.shards << ": " << res.runs
+          << " runs; " << opt.out << "/" << kShardFile << " (assemble with --merge)\n";
+      return res;
+    }
+  }
   const RunCapture def = search.run({});
   res.default_cycles = static_cast<double>(def.cycles);
   res.default_area = def.area;
   res.default_psnr_db = def.total.psnr_db;
-  for (const SceneMaterial& m : scene.materials) {
-    res.materials.push_back(search.material(m));
-    const TuneMaterial& tm = res.materials.back();
-    log << "texsim tune: " << tm.name << ": " << tm.points[static_cast<size_t>(tm.chosen)].label
-        << (tm.budget_met ? "" : " (budget not met: the most accurate point)") << ", "
-        << tm.points.size() << " points\n";
-  }
   std::vector<std::string> chosen;
   for (const TuneMaterial& m : res.materials)
     chosen.push_back(m.points[static_cast<size_t>(m.chosen)].override);
   const RunCapture tuned = search.run(chosen, opt.out + "/tuned", opt.ledger);
+  res.runs += 2;
   res.tuned_cycles = static_cast<double>(tuned.cycles);
   res.tuned_area = tuned.area;
   res.tuned_psnr_db = tuned.total.psnr_db;

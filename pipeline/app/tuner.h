@@ -19,6 +19,18 @@ struct TuneOptions {
   std::vector<std::string> overrides;  // --set, applied to the scene first
   int threads = 0;
   bool ledger = true;  // run the chosen scene with the error ledger
+  // Runs evaluated at once: a knob's candidate values run as tasks on a pool of `jobs`
+  // threads (0: one per core); the points, their order and the choice do not depend on it.
+  int jobs = 1;
+  // Shard `shard` of `shards` (1-based; 0: all): only materials i with i % shards ==
+  // shard - 1 are searched, and opt.out gets their points (tune_shard.json) for --merge.
+  int shard = 0, shards = 0;
+  // Also search the filter family: after the descent from the material as configured, one
+  // descent from each other family (classic LOD + filter path, ewa, spaf, feline,
+  // multi_probe, each footprint filter with its defaults); the choice is the best of all.
+  bool families = false;
+  // Shard directories to assemble (instead of searching): the outputs of one unsharded run.
+  std::vector<std::string> merge;
 };
 
 // One evaluated configuration of one material.
@@ -32,6 +44,7 @@ struct TunePoint {
 
 struct TuneMaterial {
   std::string name;
+  std::string budget;             // the budget applied: the material's own, else --budget
   std::vector<TunePoint> points;  // in evaluation order; points[0] is the material as configured
   int chosen = 0;                 // index into points
   bool budget_met = false;        // false: no point met the budget; chosen is the most accurate
@@ -44,11 +57,16 @@ struct TuneResult {
   int runs = 0;
 };
 
+// Sets opt.shard and opt.shards from "K/N"; throws InputError unless 1 <= K <= N.
+void parse_tune_shard(const std::string& text, TuneOptions& opt);
+
 // The cost of a point under opt.cost.
 double tune_cost(const TuneOptions& opt, const TunePoint& p);
 
 // Searches and writes opt.out: tuned.toml, points.csv, pareto.csv, pareto.png, tune.md and
-// (with opt.ledger) tuned/ (the chosen scene's run with its ledger). Throws InputError.
+// (with opt.ledger) tuned/ (the chosen scene's run with its ledger); a shard writes only
+// tune_shard.json; with opt.merge, the shards' points are read instead of searched and the
+// outputs are those of the unsharded run. Throws InputError.
 TuneResult run_tune(const TuneOptions& opt, std::ostream& log);
 
 }  // namespace texsim

@@ -100,6 +100,22 @@ int texture_index(const Scene& s, const std::string& name, const toml::node& whe
   throw InputError(at(s.path, where), "unknown texture '" + name + "'");
 }
 
+// A material's `budget = { psnr = <dB> }` or `{ nmse = <positive> }`: one of the two.
+MaterialBudget parse_material_budget(const ConfigReader& mr) {
+  MaterialBudget b;
+  if (!mr.table().contains("budget")) return b;
+  if (!mr.subtable("budget"))
+    mr.fail("budget", "expected a table: { psnr = <dB> } or { nmse = <x> }");
+  const ConfigReader br = mr.sub("budget");
+  br.reject_unknown({"psnr", "nmse"});
+  if (br.table().size() != 1) br.fail("psnr", "expected one of psnr = <dB> or nmse = <x>");
+  b.kind = br.table().contains("psnr") ? "psnr" : "nmse";
+  b.value = br.get_double(b.kind, 0);
+  if (!std::isfinite(b.value) || (b.kind == "nmse" && b.value <= 0))
+    br.fail(b.kind, b.kind == "nmse" ? "expected a positive value" : "expected a finite value");
+  return b;
+}
+
 // Materials: [materials.NAME] texture = "...", and one table per effect. The effect tables are
 // the texture unit's to check (its effect registry), but for `object_space`, which selects the
 // object-space pipeline for the material and is read here.
@@ -119,6 +135,7 @@ void parse_materials(const ConfigReader& top, Scene& s) {
     if (!tn) throw InputError(at(s.path, v), "materials." + name + ": missing 'texture'");
     if (!tn->is_string()) mr.fail("texture", "expected a texture name");
     m.texture = texture_index(s, *tn->value<std::string>(), *tn);
+    m.budget = parse_material_budget(mr);
     m.effects = &mt;
     if (mt.contains("object_space"))
       m.object_space = ObjectSpaceConfig::from_toml(mr.sub("object_space"));

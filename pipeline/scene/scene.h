@@ -25,8 +25,16 @@ struct SceneTexture {
   std::string where;
 };
 
+// A material's own error budget for `texsim tune` (docs/tune.md): `budget = { psnr = 35 }`
+// (PSNR at least, dB) or `budget = { nmse = 0.002 }` (NMSE at most). `texsim run` ignores it.
+struct MaterialBudget {
+  std::string kind;  // "psnr" or "nmse"; empty: none (the tuner's --budget applies)
+  double value = 0;
+};
+
 struct SceneMaterial {
   std::string name;
+  MaterialBudget budget;
   int texture = 0;  // index into Scene::textures
   // The material's table in the parsed document (effect tables filter, lod, coords, ...);
   // points into Scene::root so messages keep their line:column.

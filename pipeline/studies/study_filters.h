@@ -2,7 +2,8 @@
 // `texsim study filters`: every anisotropic filter method and variant (EWA, weight maps,
 // multi-ellipse probes, Feline, SPAF, the trilinear baselines, OpenImageIO's TextureSystem and
 // Mesa's softpipe and llvmpipe)
-// on the same planes at anisotropy 1:1 … 64:1, against the Gaussian-footprint ground truth:
+// on the same planes at anisotropy 1:1 … 64:1, against two ground truths (a Gaussian pixel and
+// a box pixel; the ranking of the filters depends on which):
 // PSNR, NMSE, max error, ops per fragment by kind, texels fetched, cache misses and cycles per
 // fragment (docs/studies/study-filters.md explains the set-up and the results).
 #include <cstdint>
@@ -21,11 +22,12 @@ struct StudyFiltersOptions {
   bool oiio = true;               // include OpenImageIO's TextureSystem
   bool mesa = true;  // include Mesa's softpipe and llvmpipe where they start (else skipped)
   bool write_images = false;  // also write each view's images (PNG)
+  int threads = 0;            // worker threads (0: one per core); the outputs do not depend on it
 };
 
-// Writes filters.csv, filters.md, filters.png (NMSE against cycles per fragment) and
-// filters_texels.png (NMSE against texels fetched per fragment) into out_dir; returns 0.
-// Progress and a summary go to `log`.
+// Writes filters.csv, filters_truths.csv, filters.md, filters.png (NMSE against cycles per
+// fragment) and filters_texels.png (NMSE against texels fetched per fragment) into out_dir; returns
+// 0. Progress and a summary go to `log`.
 int run_study_filters(const std::string& out_dir, std::ostream& log);
 int run_study_filters(const std::string& out_dir, std::ostream& log,
                       const StudyFiltersOptions& opt);

@@ -97,11 +97,11 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
                                  const std::string& source,
                                  const std::map<std::string, int>* textures) {
   const ConfigReader r(effects, source, "materials." + name);
-  std::vector<std::string_view> keys = {"texture"};
+  std::vector<std::string_view> keys = {"texture", "budget"};  // budget: the tuner's
   for (const Effect& e : effect_registry()) keys.push_back(e.key);
   r.reject_unknown(keys);
   for (const auto& [k, v] : effects) {
-    if (k.str() != "texture" && !v.is_table())
+    if (k.str() != "texture" && k.str() != "budget" && !v.is_table())
       r.fail(k.str(), "expected a table of effect settings");
   }
   MaterialSetup m;

@@ -43,6 +43,7 @@ TEST(StudyFilters, SmallRunWritesConsistentTables) {
   opt.anisotropies = {1, 16};
   opt.oiio = false;
   opt.mesa = false;
+  opt.threads = 1;
   std::ostringstream log;
   const auto t0 = std::chrono::steady_clock::now();
   ASSERT_EQ(run_study_filters(dir, log, opt), 0) << log.str();
@@ -61,7 +62,7 @@ TEST(StudyFilters, SmallRunWritesConsistentTables) {
   for (size_t i = 0; i < head.size(); ++i) col[head[i]] = i;
   for (const char* c :
        {"texture", "aniso_nominal", "method", "psnr_db", "nmse", "max_abs", "mul_per_frag",
-        "texels_per_frag", "cache_misses_per_frag", "cycles_per_frag"}) {
+        "texels_per_frag", "cache_misses_per_frag", "cycles_per_frag", "psnr_box_db", "nmse_box"}) {
     ASSERT_TRUE(col.count(c)) << c;
   }
   std::map<std::string, std::vector<std::vector<std::string>>> by_method;
@@ -83,6 +84,9 @@ TEST(StudyFilters, SmallRunWritesConsistentTables) {
   EXPECT_GT(mean_of("ewa lut256", "psnr_db"), mean_of("trilinear (isotropic)", "psnr_db") + 5.0);
   EXPECT_GT(mean_of("ewa lut256", "psnr_db"),
             mean_of("trilinear aniso 16 (Vulkan probes)", "psnr_db") + 5.0);
+  // The ranking flips with the pixel model: against the box pixel the Vulkan probes beat EWA.
+  EXPECT_GT(mean_of("trilinear aniso 16 (Vulkan probes)", "psnr_box_db"),
+            mean_of("ewa lut256", "psnr_box_db"));
   // Weight maps reproduce the computed power-8 weights closely.
   for (const auto& [m, rows] : by_method) {
     if (m.rfind("ewa map ", 0) != 0 || m.find("jacobian") != std::string::npos) continue;
@@ -104,9 +108,22 @@ TEST(StudyFilters, SmallRunWritesConsistentTables) {
   ss << md.rdbuf();
   EXPECT_NE(ss.str().find("0.000708"), std::string::npos);
   EXPECT_NE(ss.str().find("Computing Gaussian weights"), std::string::npos);
-  // filters.csv is the same on every run: wall-clock times go to filters_timing.csv.
+  EXPECT_NE(ss.str().find("Ranking against the Gaussian-pixel truth"), std::string::npos);
+  EXPECT_NE(ss.str().find("Ranking against the box-pixel truth"), std::string::npos);
+  // The two truths differ (and filters_truths.csv says by how much): a row per view.
+  std::ifstream truths(dir + "/filters_truths.csv");
+  size_t truth_rows = 0;
+  for (std::getline(truths, line); std::getline(truths, line); ++truth_rows) {
+    const double db = std::stod(split_csv(line)[2]);
+    EXPECT_GT(db, 10.0) << line;
+    EXPECT_LT(db, 90.0) << line;
+  }
+  EXPECT_EQ(truth_rows, 3u * 2u);
+  // filters.csv is the same on every run and for every thread count: wall-clock times go to
+  // filters_timing.csv.
   const std::string again = dir + "_again";
   std::filesystem::remove_all(again);
+  opt.threads = 2;
   ASSERT_EQ(run_study_filters(again, log, opt), 0) << log.str();
   auto slurp = [](const std::string& p) {
     std::ifstream f(p, std::ios::binary);
@@ -114,7 +131,8 @@ TEST(StudyFilters, SmallRunWritesConsistentTables) {
     s << f.rdbuf();
     return s.str();
   };
-  EXPECT_EQ(slurp(dir + "/filters.csv"), slurp(again + "/filters.csv"));
+  for (const char* f : {"filters.csv", "filters.md", "filters_truths.csv"})
+    EXPECT_EQ(slurp(dir + "/" + f), slurp(again + "/" + f)) << f;
   EXPECT_EQ(slurp(dir + "/filters.csv").find("functional_ns"), std::string::npos);
   EXPECT_NE(slurp(dir + "/filters_timing.csv").find("functional_ns_per_lookup"), std::string::npos);
   std::filesystem::remove_all(dir);
