@@ -153,9 +153,9 @@ std::string TruthSampling::describe(TruthPixel p) const {
                          ? "box-filtered over each pixel"
                          : "weighted over each pixel by the Gaussian pixel model (sigma 0.5 px, "
                            "truncated at 1 px, EWA's pixel model)") +
-         " with adaptive samples (nested trapezoid grids of 2x2 to 65x65 points, refined until "
-         "two levels agree within 1/1020 per channel, at least one point per level-0 texel up "
-         "to 9x9)";
+         " with adaptive samples (nested trapezoid grids shaped by the pixel's footprint, refined "
+         "until two levels agree within 1/1020 per channel, with a point at least every 2 "
+         "level-0 texels or 81 points, then one Richardson step; at most 64x64 intervals)";
 }
 
 PixelIntegrator::PixelIntegrator(TruthPixel pixel, TruthSampling sampling)

@@ -31,14 +31,20 @@ struct PixelSamples {
 // How the truth samples each pixel ([reference] samples).
 //  - fixed n ≥ 1: the n×n stratified grid of PixelSamples (the reference before adaptive
 //    sampling; samples = 8 reproduces its figures);
-//  - adaptive (fixed = 0): nested trapezoid grids of (k+1)² points over the pixel model's
-//    square, k = 1, 2, 4, … kMaxGrid, each level reusing every point of the one before; it
-//    stops at the first level k ≥ the footprint's minimum whose estimate differs from the
-//    previous level's by less than kTolerance in every channel. If the integrand is smooth at
-//    the grid's scale the trapezoid error falls 4× per level, so the error left is about a
-//    third of the last change (< 1/3060); that is an assumption, not a guarantee: detail finer
-//    than the grid spacing can make two levels agree by chance (the minimum grid, one point per
-//    level-0 texel of the footprint up to kMinGridCap, guards against the common case).
+//  - adaptive (fixed = 0): nested trapezoid grids of (kx+1)(ky+1) points over the pixel
+//    model's square, kx : ky the footprint's aspect (a power of two up to 64:1, so a
+//    grazing pixel gets its points along its long axis), both doubled per level and each level
+//    reusing every point of the one before. It stops at the first level that is dense enough
+//    (a point every kTexelsPerPoint level-0 texels of the footprint along both axes, or
+//    kMinPointsCap points) and whose estimate T differs from the previous level's T' by less
+//    than kTolerance in every channel, and returns T + (T − T')/3 (one Richardson step; it
+//    moves the estimate by less than kTolerance/3). Bound, and what it assumes: if the
+//    integrand is smooth at the grid's scale the trapezoid error falls 4× per level, so T's
+//    error is about (T − T')/3 < 1/3060 and the extrapolated estimate's is far smaller. That
+//    is a heuristic, not a guarantee: detail finer than the grid (or the kinks of bilinear
+//    reconstruction) can make two levels agree by chance; the density minimum guards against
+//    the common case. Pixels that have not settled at kx·ky ≥ kMaxGrid² (footprints of
+//    thousands of texels) return the finest level's T, whose error is not bounded.
 struct TruthSampling {
   int fixed = 0;
   static constexpr double kTolerance = 1.0 / 1020;  // ¼ LSB of 8-bit, per channel
@@ -172,7 +178,10 @@ glm::dvec4 PixelIntegrator::operator()(F&& f, glm::dvec2 texels, int* samples) c
         (kx >= g.min_kx && ky >= g.min_ky) || (kx + 1) * (ky + 1) >= TruthSampling::kMinPointsCap;
     if (have_prev && dense) {
       const glm::dvec4 d = glm::abs(est - prev);
-      if (std::max(std::max(d.r, d.g), std::max(d.b, d.a)) < TruthSampling::kTolerance) break;
+      if (std::max(std::max(d.r, d.g), std::max(d.b, d.a)) < TruthSampling::kTolerance) {
+        est += (est - prev) / 3.0;  // one Richardson step: the trapezoid's h² error removed
+        break;
+      }
     }
     prev = est;
     have_prev = wsum > 0;
