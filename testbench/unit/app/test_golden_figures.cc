@@ -85,8 +85,7 @@ class GoldenFigures : public Cli {
   // compares its figures with `expected`.
   void check(const std::string& input, const std::string& expected) {
     const std::string out = path("out");
-    const Result r =
-        sh("run " + input + " --set reference.samples=2 --no-progress --out " + out);
+    const Result r = sh("run " + input + " --set reference.samples=2 --no-progress --out " + out);
     ASSERT_EQ(r.code, 0) << r.out;
     const std::string got = figures(load_json(out + "/report.json"));
     // The table starts on the line after R"( for readability.
