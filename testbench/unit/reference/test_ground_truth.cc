@@ -107,7 +107,8 @@ TEST(GroundTruth, DoubleMapMatchesLongDoubleMap) {
           if (!map.at(px + 0.5, py + 0.5).inside) continue;
           const PixelMap pm(map, px, py);
           for (int k = 0; k < 16; ++k) {
-            const double dx = (k % 4 + 0.5) / 4, dy = (k / 4 + 0.5) / 4;
+            const int col = k % 4, row = k / 4;  // a 4×4 grid of offsets
+            const double dx = (col + 0.5) / 4, dy = (row + 0.5) / 4;
             const UvSample e = map.at(px + dx, py + dy);
             double u = 0, v = 0;
             pm.uv(dx, dy, u, v);
