@@ -153,6 +153,12 @@ void add_run_command(CLI::App& app, RunCli& r) {
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();
   run_cmd
+      ->add_option("--reference", run.reference,
+                   "'scene' (the ground truth as the scene's [reference] says) or 'none' (no "
+                   "ground truth: faster, and the report has no meaningful accuracy figures)")
+      ->check(CLI::IsMember({"scene", "none"}))
+      ->capture_default_str();
+  run_cmd
       ->add_option("--max-memory", r.max_memory,
                    "Refuse a run estimated to need more memory (bytes, or with K/M/G suffix)")
       ->capture_default_str();

@@ -33,6 +33,7 @@ struct RunOptions {
   std::vector<std::string> overrides;  // --set KEY=VALUE, applied to the scene
   std::string command;                 // the command line, for the report's provenance
   int threads = 0;                     // threads for the ground truth; 0: one per hardware thread
+  std::string reference = "scene";     // --reference: "scene" ([reference]) or "none" (no truth)
   double error_scale = 0;  // error.png: the error drawn white; 0: the imaged frame's largest
   int64_t frame = -1;      // the frame whose images are written; -1: the first frame
   uint64_t max_memory = uint64_t{4} << 30;  // refuse runs estimated to need more (bytes)

@@ -4,8 +4,6 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
-#include "pipeline/reference/ground_truth.h"
-
 namespace texsim {
 
 namespace {
@@ -142,7 +140,8 @@ glm::dvec3 SurfaceReference::normal_at(double u, double v) const {
 }
 
 glm::dvec4 SurfaceReference::operator()(const Texture& tex, const PlaneProjection& map,
-                                        const SurfaceFrame& sf, int px, int py, int n) const {
+                                        const SurfaceFrame& sf, int px, int py,
+                                        const PixelIntegrator& integrate, int* samples) const {
   const glm::dvec3 view_ts = sf.to_tangent(sf.view(px + 0.5, py + 0.5));
   glm::dvec2 shift(0);
   if (relief_) {
@@ -150,21 +149,22 @@ glm::dvec4 SurfaceReference::operator()(const Texture& tex, const PlaneProjectio
     shift = relief_uv(c.u, c.v, view_ts, sf.u_length(), sf.v_length()) - glm::dvec2(c.u, c.v);
   }
   const glm::dvec3 light_ts = lighting_ ? sf.to_tangent(lighting_->light_dir) : glm::dvec3(0, 0, 1);
-  glm::dvec4 sum(0);
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      const UvSample s = map.at(px + (i + 0.5) / n, py + (j + 0.5) / n);
-      const double u = s.u + shift.x, v = s.v + shift.y;
-      glm::dvec4 c = reference_bilinear(tex, au_, av_, u, v);
-      if (lighting_) {
-        const glm::dvec3 lit = blinn_phong(glm::clamp(glm::dvec3(c), 0.0, 1.0), normal_at(u, v),
-                                           light_ts, view_ts, lighting_->shader);
-        c = glm::dvec4(lit, c.a);
-      }
-      sum += c;
-    }
-  }
-  return sum / static_cast<double>(n * n);
+  const PixelMap pm(map, px, py);
+  return integrate(
+      [&](double dx, double dy) {
+        double u = 0, v = 0;
+        pm.uv(dx, dy, u, v);
+        u += shift.x;
+        v += shift.y;
+        glm::dvec4 c = reference_bilinear(tex, au_, av_, u, v);
+        if (lighting_) {
+          const glm::dvec3 lit = blinn_phong(glm::clamp(glm::dvec3(c), 0.0, 1.0), normal_at(u, v),
+                                             light_ts, view_ts, lighting_->shader);
+          c = glm::dvec4(lit, c.a);
+        }
+        return c;
+      },
+      pm.texels_across(tex.width(0), tex.height(0)), samples);
 }
 
 }  // namespace texsim

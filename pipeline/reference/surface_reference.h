@@ -3,9 +3,9 @@
 // written apart from the blocks it checks:
 //  - relief: the view ray through the pixel's centre is intersected with the height field by a
 //    1024-layer linear search and 24 halvings over bilinear heights, in double; every sample
-//    of the pixel's box filter is shifted by the (u, v) offset found there; for the terrain
-//    method the ray is marched in steps of 1/16 texel against the finite-function direct sum
-//    (40 halvings of the last step);
+//    of the pixel's box filter (fixed or adaptive, as PixelIntegrator says) is shifted by the (u,
+//    v) offset found there; for the terrain method the ray is marched in steps of 1/16 texel
+//    against the finite-function direct sum (40 halvings of the last step);
 //  - lighting: each sample's bilinear colour is lit in double by the same Blinn-Phong model
 //    with the normal at the sample's (shifted) coordinates (bilinear normal map, or central
 //    differences of the bilinear height map) and the pixel's view vector, then averaged.
@@ -16,6 +16,7 @@
 #include "blocks/texture/relief/relief_types.h"
 #include "pipeline/geometry/plane_projection.h"
 #include "pipeline/geometry/surface_frame.h"
+#include "pipeline/reference/ground_truth.h"
 #include "pipeline/texture/effect_registry.h"
 
 namespace texsim {
@@ -24,8 +25,10 @@ class SurfaceReference {
  public:
   SurfaceReference(const MaterialSetup& m, const TextureSet& textures);
   bool active() const { return relief_.has_value() || lighting_.has_value(); }
+  // The box pixel (integrate's pixel must be the box), sampled as `integrate` says.
   glm::dvec4 operator()(const Texture& tex, const PlaneProjection& map, const SurfaceFrame& sf,
-                        int px, int py, int n) const;
+                        int px, int py, const PixelIntegrator& integrate,
+                        int* samples = nullptr) const;
   // The reference relief's (u, v) for normalised (u, v) and a unit tangent-space view vector.
   glm::dvec2 relief_uv(double u, double v, const glm::dvec3& view_ts, double u_len,
                        double v_len) const;

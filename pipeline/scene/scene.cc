@@ -182,6 +182,22 @@ void parse_planes(const toml::table& root, Scene& s) {
   for (const toml::node& e : *arr) s.primitives.push_back(parse_plane(e, s));
 }
 
+// [reference] samples = "auto" | N (N×N fixed); supersamples = N is its older spelling.
+void parse_reference_samples(const ConfigReader& ref, Scene& s) {
+  const toml::node* n = ref.table().get("samples");
+  if (n && ref.table().get("supersamples")) {
+    ref.fail("samples", "give either samples or supersamples (its older name), not both");
+  }
+  if (n && n->is_string()) {
+    (void)ref.get_choice("samples", 0, {"auto"});
+    s.reference_samples = 0;
+  } else if (n) {
+    s.reference_samples = static_cast<int>(ref.get_int("samples", 8, 1, 64));
+  } else if (ref.table().get("supersamples")) {
+    s.reference_samples = static_cast<int>(ref.get_int("supersamples", 8, 1, 64));
+  }
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& source_name,
@@ -202,9 +218,8 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   parse_planes(root, s);
   parse_meshes(root, s);
   const ConfigReader ref = top.sub("reference");
-  ref.reject_unknown({"supersamples", "pixel"});
-  s.reference_supersamples =
-      static_cast<int>(ref.get_int("supersamples", s.reference_supersamples, 1, 64));
+  ref.reject_unknown({"samples", "supersamples", "pixel"});
+  parse_reference_samples(ref, s);
   s.reference_pixel = static_cast<TruthPixel>(ref.get_choice("pixel", 0, {"box", "gaussian"}));
   s.pipeline = top.subtable("pipeline");
   if (const toml::table* t = top.subtable("tech")) s.tech = TechTable::from_toml(*t, source_name);
@@ -272,8 +287,7 @@ origin = [1.0, 0.3, -4.0]
 edge_u = [1.6, 0.0, -1.2]
 edge_v = [0.0, 1.4, 0.0]
 
-[reference]
-supersamples = 8
+# The ground truth takes the defaults: [reference] samples = "auto", pixel = "box".
 )";
 }
 

@@ -85,7 +85,8 @@ struct Scene {
   // [[planes]] first, in order, then every mesh's faces: a fragment's `prim` indexes this.
   std::vector<ScenePrimitive> primitives;
   std::vector<SceneMesh> meshes;
-  int reference_supersamples = 8;  // per axis, per pixel, for the ground truth
+  // The ground truth's samples ([reference] samples): 0 adaptive ("auto"), else n×n per pixel.
+  int reference_samples = 0;
   TruthPixel reference_pixel = TruthPixel::Box;
   const toml::table* pipeline = nullptr;  // [pipeline] table (in root), or null
   TechTable tech = TechTable::defaults();

@@ -66,11 +66,13 @@ void run_scene(const std::string& text) {
   TextureUnit unit(textures, mats, setup, scene.tech, true);
   std::vector<PlaneProjection> maps;
   for (const ScenePrimitive& p : scene.primitives) maps.emplace_back(scene, p);
-  const int n = std::min(scene.reference_supersamples, 2);
+  // At most 2×2 fixed samples, or the adaptive grid when the scene asks for it.
+  const PixelIntegrator integrate(
+      TruthPixel::Box, {scene.reference_samples > 0 ? std::min(scene.reference_samples, 2) : 0});
   auto truth = [&](const Fragment& f, int material) {
     const MaterialSetup& m = mats[static_cast<size_t>(material)];
     (void)ground_truth_exact(textures[static_cast<int>(f.tex)], m.address_u(), m.address_v(),
-                             maps[f.prim], static_cast<int>(f.x), static_cast<int>(f.y), n);
+                             maps[f.prim], static_cast<int>(f.x), static_cast<int>(f.y), integrate);
   };
   if (unit.front_stages() > 0) {
     draw_scene_front_end(scene, maps, unit,

@@ -28,7 +28,7 @@ TEST(SceneOverrides, ChangeKeysAsTheFileWould) {
   EXPECT_EQ(s.background, glm::dvec3(0.5, 0.25, 1));
   EXPECT_EQ(s.primitives[1].material, s.primitives[0].material);
   EXPECT_NE(base.primitives[1].material, base.primitives[0].material);
-  EXPECT_EQ(s.reference_supersamples, 3);
+  EXPECT_EQ(s.reference_samples, 3);
   EXPECT_EQ(s.tech.clock_mhz, 250);
   EXPECT_EQ(s.tech.lat(OpKind::Mul), 5);
   ASSERT_NE(s.pipeline, nullptr);
