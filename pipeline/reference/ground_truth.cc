@@ -217,7 +217,11 @@ glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av
 
 glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
                               const PlaneProjection& map, int px, int py, int n) {
-  const PixelSamples s = PixelSamples::make(TruthPixel::Box, n);
+  return ground_truth_exact(tex, au, av, map, px, py, PixelSamples::make(TruthPixel::Box, n));
+}
+
+glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
+                              const PlaneProjection& map, int px, int py, const PixelSamples& s) {
   glm::dvec4 sum(0);
   for (size_t k = 0; k < s.w.size(); ++k) {
     const UvSample t = map.at(px + s.x[k], py + s.y[k]);

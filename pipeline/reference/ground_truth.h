@@ -121,6 +121,9 @@ glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av
 // build their own).
 glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
                               const PlaneProjection& map, int px, int py, int n);
+// The same with any sample set (study filters' box truth: a grid stretched to the footprint).
+glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
+                              const PlaneProjection& map, int px, int py, const PixelSamples& s);
 
 // From a fragment alone: the pixel footprint is the parallelogram spanned by its derivatives
 // (first-order approximation of the projective map; used for traces without a scene).
