@@ -401,6 +401,10 @@ int run_cli(int argc, char** argv) {
       run.opt.max_memory = parse_byte_size(run.max_memory, "--max-memory");
       run.opt.error_scale = parse_error_scale(run.error_scale);
       run.opt.ledger = run.opt.ledger || run.opt.ledger_maps;
+      if (run.opt.ledger && run.opt.reference == "none")
+        throw texsim::InputError("--ledger",
+                                 "the error ledger needs the ground truth: drop "
+                                 "--reference none");
       run_simulation(run.opt, std::cout);
     } else if (*gen) {
       const uint64_t n =

@@ -362,12 +362,14 @@ class TruthBatch {
 void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImages& images,
                        const TextureUnit& unit, const RunSummary& sum, const LedgerRun& ledger,
                        std::ostream& log) {
-  // All five files are moved into opt.out together, once every one was written.
+  // Every file is moved into opt.out together, once every one was written.
   OutputSet outputs(opt.out);
   write_image(outputs.path("image.png"), images.image());
-  write_image(outputs.path("reference.png"), images.reference());
-  write_error_heatmap(outputs.path("error.png"), images.image(), images.reference(),
-                      info.error_scale);
+  if (info.has_truth) {
+    write_image(outputs.path("reference.png"), images.reference());
+    write_error_heatmap(outputs.path("error.png"), images.image(), images.reference(),
+                        info.error_scale);
+  }
   for (const auto& [file, exact] : ledger.maps)
     write_error_heatmap(outputs.path(file), exact, images.image(), info.error_scale);
   write_run_reports(outputs.staging(), info, unit, sum.accuracy);
@@ -382,8 +384,9 @@ void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImag
     log << " over " << info.frames.size() << " frames (images: frame " << info.image_frame << ")";
   }
   log << "\n  report: " << opt.out << "/report.json, " << opt.out << "/report.md\n";
-  log << "  images: " << opt.out << "/image.png, " << opt.out << "/reference.png, " << opt.out
-      << "/error.png\n";
+  log << "  images: " << opt.out << "/image.png";
+  if (info.has_truth) log << ", " << opt.out << "/reference.png, " << opt.out << "/error.png";
+  log << "\n";
   if (!ledger.maps.empty())
     log << "  ledger maps: " << opt.out << "/ledger_<block>.png (" << ledger.maps.size() << ")\n";
 }
@@ -458,9 +461,9 @@ ImageLayout run_layout(const RunOptions& opt, const Scene& scene, bool use_scene
 std::string reference_text(const GroundTruth& truth, double mean_samples, size_t frames,
                            bool surface, const std::vector<MaterialSetup>& mats) {
   if (truth.none) {
-    return "NO GROUND TRUTH (--reference none): it was not computed, reference.png is black, and "
-           "every accuracy figure of this report (PSNR, NMSE, errors, error.png) compares the "
-           "image with black: they mean nothing.";
+    return "No ground truth (--reference none): it was not computed, so this report has no "
+           "accuracy figures (null in report.json) and the run writes no reference.png or "
+           "error.png.";
   }
   const PixelIntegrator& in = truth.integrate;
   std::string s = "Ground truth: level-0 texture, bilinear reconstruction in double, " +
@@ -654,6 +657,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   info.reference =
       reference_text(truth, batch.mean_samples(), info.frames.size(), surf.active(), mats);
   info.reference_pixel = to_string(scene.reference_pixel);
+  info.has_truth = opt.reference != "none";
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
   finish_object_space(os, unit.cycles(), raster, sum, info);
   info.provenance = run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech);

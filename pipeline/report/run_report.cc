@@ -167,6 +167,21 @@ void add_physical_json(Json& j, const RunInfo& info, const TextureUnit& unit) {
   }
 }
 
+// Without a ground truth every accuracy figure is null (the keys stay, so readers of the
+// report find them) and there is no error map.
+void drop_accuracy_figures(Json& j) {
+  auto drop = [](Json& a) {
+    for (const char* k : {"psnr_db", "nmse", "max_abs", "mean_abs", "mse"})
+      if (a.contains(k)) a[k] = nullptr;
+  };
+  drop(j["accuracy"]);
+  for (Json& f : j["frames"])
+    if (f.contains("accuracy")) drop(f["accuracy"]);
+  if (j.contains("materials"))
+    for (auto& [name, m] : j["materials"].items()) drop(m["accuracy"]);
+  j.erase("error_map");
+}
+
 // report.json; docs/reports.md lists every key.
 Json report_json(const RunInfo& info, const TextureUnit& unit, const AccuracyMetrics& acc,
                  const std::vector<MaterialRow>& rows) {
@@ -222,6 +237,7 @@ Json report_json(const RunInfo& info, const TextureUnit& unit, const AccuracyMet
                      {0.0, 0.25 * info.error_scale, 0.5 * info.error_scale, 0.75 * info.error_scale,
                       info.error_scale}}};
   j["provenance"] = provenance_json(info.provenance);
+  if (!info.has_truth) drop_accuracy_figures(j);
   return j;
 }
 
@@ -253,6 +269,7 @@ void md_summary(std::ostream& md, const RunInfo& info, const TextureUnit& unit,
   }
   md << "| area (sum of blocks) | " << fmt(ph.area_total) << " |\n\n";
   md << "## Accuracy against the ground truth\n\n" << info.reference << "\n\n";
+  if (!info.has_truth) return;
   md << "| PSNR (dB) | NMSE | max abs error | mean abs error | pixels |\n|---|---|---|---|---|\n";
   md << "| " << fmt(acc.psnr_db) << " | " << fmt(acc.nmse) << " | " << fmt(acc.max_abs) << " | "
      << fmt(acc.mean_abs) << " | " << acc.pixels << " |\n\n";
@@ -266,15 +283,17 @@ void md_summary(std::ostream& md, const RunInfo& info, const TextureUnit& unit,
   md << "\n";
 }
 
-void md_materials(std::ostream& md, const TextureUnit& unit, const std::vector<MaterialRow>& rows) {
+void md_materials(std::ostream& md, const TextureUnit& unit, const std::vector<MaterialRow>& rows,
+                  bool has_truth) {
   md << "## Materials: accuracy next to cost\n\n"
         "| material | blocks | fragments | PSNR (dB) | NMSE | max abs error | ops/fragment | "
         "texels/fragment |\n"
         "|---|---|---|---|---|---|---|---|\n";
   for (const MaterialRow& r : rows) {
     md << "| " << r.name << " | " << joined(r.blocks) << " | " << r.fragments << " | "
-       << fmt(r.acc.psnr_db) << " | " << fmt(r.acc.nmse) << " | " << fmt(r.acc.max_abs) << " | "
-       << fmt(r.per_fragment(static_cast<double>(r.ops.total()))) << " | "
+       << (has_truth ? fmt(r.acc.psnr_db) + " | " + fmt(r.acc.nmse) + " | " + fmt(r.acc.max_abs)
+                     : std::string("— | — | —"))
+       << " | " << fmt(r.per_fragment(static_cast<double>(r.ops.total()))) << " | "
        << fmt(r.per_fragment(static_cast<double>(r.texels))) << " |\n";
   }
   if (unit.front_stages() > 0) {
@@ -334,13 +353,19 @@ std::string report_markdown(const RunInfo& info, const TextureUnit& unit,
                             const AccuracyMetrics& acc, const std::vector<MaterialRow>& rows) {
   std::ostringstream md;
   md_summary(md, info, unit, acc);
-  md_materials(md, unit, rows);
+  md_materials(md, unit, rows, info.has_truth);
   subsystems_markdown(md, info.subsystems);
   object_space_markdown(md, info.object_space);
   md_blocks(md, unit);
   if (const ClockedPipeline* p = unit.pipeline()) md_stages(md, *p);
   md_memory(md, unit);
   if (!info.ledger.empty()) ledger_markdown(md, info.ledger);
+  if (!info.has_truth) {
+    md << "\n## Images\n\n`image.png` (filtered result); no ground truth, so no `reference.png` "
+          "or `error.png`.\n";
+    provenance_markdown(md, info.provenance);
+    return md.str();
+  }
   md << "\n## Images\n\n`image.png` (filtered result), `reference.png` (ground truth), `error.png` "
         "(max-channel absolute error, black 0 through red and yellow to white "
      << fmt(info.error_scale)

@@ -22,6 +22,7 @@ struct RunInfo {
   std::string trace;                    // trace file, or "" when fragments came from the scene
   std::string reference;                // how the ground truth was made
   std::string reference_pixel = "box";  // its pixel model ([reference] pixel)
+  bool has_truth = true;  // false with --reference none: no accuracy figures, no error images
   int width = 0, height = 0;
   std::vector<std::string> textures;
   std::vector<AccuracyMetrics> material_accuracy;  // per material of the texture unit
