@@ -1,6 +1,7 @@
 #include "pipeline/texture/texture_unit.h"
 
 #include <algorithm>
+#include <glm/geometric.hpp>
 #include <stdexcept>
 
 #include "blocks/base/config_reader.h"
@@ -348,8 +349,10 @@ Rgba TextureUnit::process_surface(const Fragment& f, Path& p, int material, cons
         std::to_string(f.prim) + " is not known");
   }
   const SurfaceFrame& sf = surfaces_[f.prim];
-  // The eye direction through the pixel's centre, in the primitive's tangent frame.
-  const glm::dvec3 view_ts = sf.to_tangent(sf.view(f.x + 0.5, f.y + 0.5));
+  // The eye direction in the primitive's tangent frame: the fragment's own (a version-2 trace
+  // carries it), else through the pixel's centre from the scene's camera.
+  const glm::dvec3 view_ts = f.has_view() ? glm::normalize(glm::dvec3(f.view_x, f.view_y, f.view_z))
+                                          : sf.to_tangent(sf.view(f.x + 0.5, f.y + 0.5));
   Fragment g = f;
   cur_relief_ii_ = 0;
   cur_relief_texels_ = 0;

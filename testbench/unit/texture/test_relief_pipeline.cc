@@ -135,5 +135,45 @@ TEST(ReliefPipeline, VisibilityFilterDepthIsTheReliefScale) {
   }
 }
 
+TEST(ReliefPipeline, AFragmentsOwnViewVectorReplacesTheCameras) {
+  const Scene s = parse_scene(
+      scene_text(R"({ method = "steep", height_texture = "h", scale = 4.0 })"), "s.toml", "");
+  TextureSet tex;
+  for (size_t i = 0; i < s.textures.size(); ++i) tex.add(load_scene_texture(s, i));
+  const std::vector<MaterialSetup> mats = build_materials(s);
+  TextureUnit camera(tex, mats, PipelineSetup{}, s.tech, false);
+  TextureUnit carried(tex, mats, PipelineSetup{}, s.tech, false);
+  TextureUnit overhead(tex, mats, PipelineSetup{}, s.tech, false);
+  const SurfaceFrame sf(s, s.primitives[0]);
+  for (TextureUnit* u : {&camera, &carried, &overhead}) u->set_surfaces({sf});
+  const PlaneProjection map(s, s.primitives[0]);
+  size_t n = 0, moved = 0;
+  for (int y = 0; y < s.height; ++y) {
+    for (int x = 0; x < s.width; ++x) {
+      const UvSample u = map.at(x + 0.5, y + 0.5);
+      if (!u.inside) continue;
+      const Fragment f = u.fragment(static_cast<uint32_t>(x), static_cast<uint32_t>(y));
+      // The camera's view vector as a version-2 trace carries it (float).
+      const glm::dvec3 v = sf.to_tangent(sf.view(x + 0.5, y + 0.5));
+      Fragment g = f;
+      g.view_x = static_cast<float>(v.x);
+      g.view_y = static_cast<float>(v.y);
+      g.view_z = static_cast<float>(v.z);
+      const Rgba a = camera.process(f, 0), b = carried.process(g, 0);
+      EXPECT_NEAR(a.r, b.r, 1e-3) << x << "," << y;
+      EXPECT_NEAR(a.g, b.g, 1e-3) << x << "," << y;
+      // Seen from straight above, the relief does not shift the coordinates.
+      Fragment o = f;
+      o.view_z = 1;
+      const Rgba c = overhead.process(o, 0);
+      moved += (c.r != a.r || c.g != a.g) ? 1 : 0;
+      ++n;
+    }
+  }
+  ASSERT_GT(n, 200u);
+  EXPECT_GT(moved, n / 10);
+  EXPECT_LT(overhead.material_relief_steps(0), camera.material_relief_steps(0));
+}
+
 }  // namespace
 }  // namespace texsim
