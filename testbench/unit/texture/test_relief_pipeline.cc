@@ -19,7 +19,8 @@ namespace texsim {
 namespace {
 
 // One wall seen at a grazing angle; `relief` is the wall's relief table.
-std::string scene_text(const std::string& relief) {
+std::string scene_text(const std::string& relief,
+                       const std::string& height = "procedural:noise?size=64") {
   return R"(
 [output]
 width = 48
@@ -30,7 +31,8 @@ look_at = [0.0, 1.0, -10.0]
 [textures.t]
 source = "procedural:checker?size=64&cells=4"
 [textures.h]
-source = "procedural:noise?size=64"
+source = ")" +
+         height + R"("
 [materials.wall]
 texture = "t"
 filter = { mode = "trilinear", address = "wrap" }
@@ -53,8 +55,8 @@ struct UnitRun {
   std::vector<Rgba> colours;
 };
 
-UnitRun run(const std::string& relief) {
-  const Scene s = parse_scene(scene_text(relief), "s.toml", "");
+UnitRun run(const std::string& relief, const std::string& height = "procedural:noise?size=64") {
+  const Scene s = parse_scene(scene_text(relief, height), "s.toml", "");
   TextureSet tex;
   for (size_t i = 0; i < s.textures.size(); ++i) tex.add(load_scene_texture(s, i));
   TextureUnit unit(tex, build_materials(s), PipelineSetup{}, s.tech, true);
@@ -119,6 +121,19 @@ TEST(ReliefPipeline, VisibilityAwareFilterIsAPerMaterialStage) {
   EXPECT_NE(vis.cycles, plain.cycles);
   // The relief stage is the same in all three.
   EXPECT_EQ(vis.relief_fetches, plain.relief_fetches);
+}
+
+TEST(ReliefPipeline, VisibilityFilterOverFlatReliefIsPlainEwaAtTheCostOfItsTraces) {
+  // One checker cell: every height is 0.95, nothing hides anything; deep enough (1.2 texels
+  // below the polygon) that the traces read heights before they leave the relief.
+  const std::string flat = "procedural:checker?size=64&cells=1";
+  const std::string base = R"(method = "steep", height_texture = "h", scale = 24.0)";
+  const UnitRun ewa = run("{ " + base + ", visibility_filter = { visibility = false } }", flat);
+  const UnitRun vis = run("{ " + base + ", visibility_filter = {} }", flat);
+  ASSERT_EQ(vis.colours.size(), ewa.colours.size());
+  for (size_t i = 0; i < vis.colours.size(); ++i) ASSERT_EQ(vis.colours[i], ewa.colours[i]) << i;
+  EXPECT_GT(vis.cache_reads, ewa.cache_reads);
+  EXPECT_GT(vis.cycles, ewa.cycles);
 }
 
 TEST(ReliefPipeline, VisibilityFilterDepthIsTheReliefScale) {
