@@ -267,7 +267,14 @@ void TraceCsvReader::parse_columns(std::string_view line) {
       fail(1, "missing required column '" + std::string(specs[s].name) + "'");
     }
   }
-  header_.has_lod_bias = seen.back();
+  header_.has_lod_bias = seen[11];
+  const int views = seen[12] + seen[13] + seen[14];
+  if (views != 0 && views != 3) {
+    fail(1, "the view vector needs all three columns view_x, view_y, view_z (" +
+                std::to_string(views) + " present)");
+  }
+  header_.has_view = views == 3;
+  header_.version = written_version(header_.has_view);
 }
 
 void TraceCsvReader::parse_record(std::string_view line, Fragment& f) {
@@ -326,8 +333,17 @@ void TraceCsvReader::parse_record(std::string_view line, Fragment& f) {
         case 10:
           err = parse_float(val, f.dvdy, fname);
           break;
-        default:
+        case 11:
           err = parse_float(val, f.lod_bias, fname);
+          break;
+        case 12:
+          err = parse_float(val, f.view_x, fname);
+          break;
+        case 13:
+          err = parse_float(val, f.view_y, fname);
+          break;
+        default:
+          err = parse_float(val, f.view_z, fname);
           break;
       }
       if (!err.empty()) fail(col + 1, "column '" + std::string(fname) + "': " + err);
@@ -343,6 +359,8 @@ void TraceCsvReader::parse_record(std::string_view line, Fragment& f) {
   if (!ids_.contains(f.tex)) {
     fail(tex_col, "texture id " + std::to_string(f.tex) + " is not in the texture table");
   }
+  if (header_.has_view && !f.has_view())
+    fail(1, "the view vector (view_x, view_y, view_z) is zero");
 }
 
 size_t TraceCsvReader::next_chunk(std::vector<Fragment>& out) {
@@ -366,22 +384,22 @@ size_t TraceCsvReader::next_chunk(std::vector<Fragment>& out) {
 // Writer
 
 TraceCsvWriter::TraceCsvWriter(const std::string& path, const TraceHeader& header)
-    : path_(path), temp_(temp_path_for(path)), has_lod_bias_(header.has_lod_bias) {
-  if (header.version != kTraceVersion) {
-    throw InputError(path_, "cannot write trace version " + std::to_string(header.version) +
-                                " (this writer writes version " + std::to_string(kTraceVersion) +
-                                ")");
-  }
+    : path_(path),
+      temp_(temp_path_for(path)),
+      has_lod_bias_(header.has_lod_bias),
+      has_view_(header.has_view) {
+  check_writable_version(header.version, path_);
   validate_textures(header.textures, path_);
   ids_ = TextureIdSet(header.textures);
-  std::string h = "# texsim trace, format v1, CSV form (traces/FORMAT.md)\n";
+  std::string h = "# texsim trace, format v" + std::to_string(written_version(has_view_)) +
+                  ", CSV form (traces/FORMAT.md)\n";
   for (const TraceTexture& t : header.textures) {
     h += "# texture " + std::to_string(t.id) + " " + csv_quote_token(t.name) + " " +
          csv_quote_token(t.source) + " " + std::to_string(t.width) + " " +
          std::to_string(t.height) + "\n";
   }
   bool first = true;
-  for (const TraceField& f : canonical_fields(has_lod_bias_)) {
+  for (const TraceField& f : canonical_fields(has_lod_bias_, has_view_)) {
     if (!first) h += ',';
     h += f.name;
     first = false;
@@ -415,7 +433,7 @@ void TraceCsvWriter::put(std::string_view s) {
 
 void TraceCsvWriter::write(const Fragment& f) {
   if (closed_) throw InputError(path_, "write after close");
-  const std::string bad = check_fragment(f, ids_, has_lod_bias_);
+  const std::string bad = check_fragment(f, ids_, has_lod_bias_, has_view_);
   if (!bad.empty()) throw InputError(path_ + ": record " + std::to_string(records_), bad);
   line_.clear();
   // Shortest text that reads back to the same value: exact CSV <-> binary round trips.
@@ -435,8 +453,13 @@ void TraceCsvWriter::write(const Fragment& f) {
   num(f.dudx, ',');
   num(f.dvdx, ',');
   num(f.dudy, ',');
-  num(f.dvdy, has_lod_bias_ ? ',' : '\n');
-  if (has_lod_bias_) num(f.lod_bias, '\n');
+  num(f.dvdy, has_lod_bias_ || has_view_ ? ',' : '\n');
+  if (has_lod_bias_) num(f.lod_bias, has_view_ ? ',' : '\n');
+  if (has_view_) {
+    num(f.view_x, ',');
+    num(f.view_y, ',');
+    num(f.view_z, '\n');
+  }
   put(line_);
   ++records_;
 }

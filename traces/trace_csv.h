@@ -71,6 +71,7 @@ class TraceCsvWriter {
   std::string path_, temp_;
   TraceFilePtr file_;
   bool has_lod_bias_ = false;
+  bool has_view_ = false;
   TextureIdSet ids_;
   std::string line_;
   uint64_t records_ = 0;

@@ -39,7 +39,10 @@ enum FieldIndex : size_t {
   kDvdx,
   kDudy,
   kDvdy,
-  kLodBias
+  kLodBias,
+  kViewX,
+  kViewY,
+  kViewZ
 };
 
 // Little-endian loads and stores; the byte reversal only exists on a big-endian host.
@@ -175,31 +178,42 @@ const TraceTexture* TraceHeader::find_texture(uint32_t id) const {
 
 const std::vector<TraceFieldSpec>& trace_field_specs() {
   static const std::vector<TraceFieldSpec> specs = {
-      {"frame", TraceType::U32, true}, {"prim", TraceType::U32, true},
-      {"x", TraceType::U32, true},     {"y", TraceType::U32, true},
-      {"tex", TraceType::U32, true},   {"u", TraceType::F64, true},
-      {"v", TraceType::F64, true},     {"dudx", TraceType::F64, true},
-      {"dvdx", TraceType::F64, true},  {"dudy", TraceType::F64, true},
-      {"dvdy", TraceType::F64, true},  {"lod_bias", TraceType::F32, false},
+      {"frame", TraceType::U32, true},   {"prim", TraceType::U32, true},
+      {"x", TraceType::U32, true},       {"y", TraceType::U32, true},
+      {"tex", TraceType::U32, true},     {"u", TraceType::F64, true},
+      {"v", TraceType::F64, true},       {"dudx", TraceType::F64, true},
+      {"dvdx", TraceType::F64, true},    {"dudy", TraceType::F64, true},
+      {"dvdy", TraceType::F64, true},    {"lod_bias", TraceType::F32, false},
+      {"view_x", TraceType::F32, false}, {"view_y", TraceType::F32, false},
+      {"view_z", TraceType::F32, false},
   };
   return specs;
 }
 
-std::vector<TraceField> canonical_fields(bool has_lod_bias) {
+std::vector<TraceField> canonical_fields(bool has_lod_bias, bool has_view) {
   std::vector<TraceField> fields;
   uint32_t offset = 0;
   for (const TraceFieldSpec& s : trace_field_specs()) {
-    if (!s.required && !(s.name == "lod_bias" && has_lod_bias)) continue;
+    const bool wanted = s.required || (s.name == "lod_bias" ? has_lod_bias : has_view);
+    if (!wanted) continue;
     fields.push_back({std::string(s.name), s.type, offset});
     offset += type_size(s.type);
   }
   return fields;
 }
 
-uint32_t canonical_record_size(bool has_lod_bias) {
+uint32_t canonical_record_size(bool has_lod_bias, bool has_view) {
   uint32_t size = 0;
-  for (const TraceField& f : canonical_fields(has_lod_bias)) size += type_size(f.type);
+  for (const TraceField& f : canonical_fields(has_lod_bias, has_view)) size += type_size(f.type);
   return size;
+}
+
+void check_writable_version(uint32_t version, const std::string& where) {
+  if (version < 1 || version > kTraceVersion) {
+    throw InputError(where, "cannot write trace version " + std::to_string(version) +
+                                " (this writer writes versions 1.." +
+                                std::to_string(kTraceVersion) + ")");
+  }
 }
 
 void validate_textures(const std::vector<TraceTexture>& textures, const std::string& where) {
@@ -263,7 +277,8 @@ bool TextureIdSet::contains(uint32_t id) const {
   return std::binary_search(sorted_.begin(), sorted_.end(), id);
 }
 
-std::string check_fragment(const Fragment& f, const TextureIdSet& ids, bool has_lod_bias) {
+std::string check_fragment(const Fragment& f, const TextureIdSet& ids, bool has_lod_bias,
+                           bool has_view) {
   const double vals[6] = {f.u, f.v, f.dudx, f.dvdx, f.dudy, f.dvdy};
   for (size_t i = 0; i < 6; ++i) {
     if (!std::isfinite(vals[i])) {
@@ -273,6 +288,16 @@ std::string check_fragment(const Fragment& f, const TextureIdSet& ids, bool has_
   }
   if (has_lod_bias && !std::isfinite(f.lod_bias)) {
     return std::string("field 'lod_bias' is ") + nonfinite_word(f.lod_bias);
+  }
+  if (has_view) {
+    const float view[3] = {f.view_x, f.view_y, f.view_z};
+    for (size_t i = 0; i < 3; ++i) {
+      if (!std::isfinite(view[i])) {
+        return std::string("field '") + std::string(trace_field_specs()[kViewX + i].name) +
+               "' is " + nonfinite_word(view[i]) + " (the view vector must be finite)";
+      }
+    }
+    if (!f.has_view()) return "the view vector (view_x, view_y, view_z) is zero";
   }
   if (!ids.contains(f.tex)) {
     return "texture id " + std::to_string(f.tex) + " is not in the texture table";
@@ -297,13 +322,10 @@ TraceWriter::TraceWriter(const std::string& path, const TraceHeader& header,
     : path_(path),
       temp_(temp_path_for(path)),
       has_lod_bias_(header.has_lod_bias),
-      record_size_(canonical_record_size(header.has_lod_bias)),
+      has_view_(header.has_view),
+      record_size_(canonical_record_size(header.has_lod_bias, header.has_view)),
       records_per_chunk_(records_per_chunk) {
-  if (header.version != kTraceVersion) {
-    throw InputError(path_, "cannot write trace version " + std::to_string(header.version) +
-                                " (this writer writes version " + std::to_string(kTraceVersion) +
-                                ")");
-  }
+  check_writable_version(header.version, path_);
   if (records_per_chunk_ < 1 || records_per_chunk_ > kTraceMaxRecordsPerChunk ||
       uint64_t{records_per_chunk_} * record_size_ > kTraceMaxChunkBytes) {
     throw InputError(path_, "records per chunk " + std::to_string(records_per_chunk_) +
@@ -313,9 +335,9 @@ TraceWriter::TraceWriter(const std::string& path, const TraceHeader& header,
   validate_textures(header.textures, path_);
   ids_ = TextureIdSet(header.textures);
 
-  const std::vector<TraceField> fields = canonical_fields(has_lod_bias_);
+  const std::vector<TraceField> fields = canonical_fields(has_lod_bias_, has_view_);
   std::vector<unsigned char> h(kTraceMagic, kTraceMagic + sizeof kTraceMagic);
-  append_le<uint32_t>(h, kTraceVersion);
+  append_le<uint32_t>(h, written_version(has_view_));
   append_le<uint32_t>(h, 0);  // header size, patched below
   append_le<uint32_t>(h, record_size_);
   append_le<uint32_t>(h, records_per_chunk_);
@@ -376,9 +398,9 @@ void TraceWriter::put(const void* data, size_t n) {
 
 void TraceWriter::write(const Fragment& f) {
   if (closed_) throw InputError(path_, "write after close");
-  const std::string bad = check_fragment(f, ids_, has_lod_bias_);
+  const std::string bad = check_fragment(f, ids_, has_lod_bias_, has_view_);
   if (!bad.empty()) throw InputError(path_ + ": record " + std::to_string(records_), bad);
-  // Canonical layout (packed, trace_field_specs() order): 5 x u32, 6 x f64, [f32].
+  // Canonical layout (packed, trace_field_specs() order): 5 x u32, 6 x f64, [f32], [3 x f32].
   unsigned char* p = chunk_.data() + size_t{in_chunk_} * record_size_;
   store_le(p + 0, f.frame);
   store_le(p + 4, f.prim);
@@ -392,6 +414,12 @@ void TraceWriter::write(const Fragment& f) {
   store_le(p + 52, f.dudy);
   store_le(p + 60, f.dvdy);
   if (has_lod_bias_) store_le(p + 68, f.lod_bias);
+  if (has_view_) {
+    unsigned char* q = p + (has_lod_bias_ ? 72 : 68);
+    store_le(q, f.view_x);
+    store_le(q + 4, f.view_y);
+    store_le(q + 8, f.view_z);
+  }
   ++records_;
   if (++in_chunk_ == records_per_chunk_) flush_chunk();
 }
@@ -477,9 +505,9 @@ FixedHeader parse_fixed_header(const unsigned char* h, const std::string& where)
   const FixedHeader fh{load_le<uint32_t>(h + 8),  load_le<uint32_t>(h + 12),
                        load_le<uint32_t>(h + 16), load_le<uint32_t>(h + 20),
                        load_le<uint32_t>(h + 24), load_le<uint32_t>(h + 28)};
-  if (fh.version != kTraceVersion) {
+  if (fh.version < 1 || fh.version > kTraceVersion) {
     throw InputError(where, "unknown version " + std::to_string(fh.version) +
-                                " (this reader reads version " + std::to_string(kTraceVersion) +
+                                " (this reader reads versions 1.." + std::to_string(kTraceVersion) +
                                 ")");
   }
   if (fh.record_size < 1 || fh.record_size > kTraceMaxRecordSize) {
@@ -592,11 +620,13 @@ std::vector<TraceTexture> parse_textures(const unsigned char*& p, const unsigned
 
 // The record offset of each known field (trace_field_specs() order; -1 = absent). Unknown
 // fields are skipped; a known field of the wrong type or a missing required one is an error.
-std::vector<int64_t> known_field_offsets(const std::vector<TraceField>& fields,
+std::vector<int64_t> known_field_offsets(const std::vector<TraceField>& fields, uint32_t version,
                                          const std::string& where) {
   const auto& specs = trace_field_specs();
   std::vector<int64_t> offsets(specs.size(), -1);
   for (size_t s = 0; s < specs.size(); ++s) {
+    // Version 1 does not know the view vector: fields of those names are skipped there.
+    if (version < 2 && s >= kViewX) continue;
     for (const TraceField& f : fields) {
       if (f.name != specs[s].name) continue;
       if (f.type != specs[s].type) {
@@ -608,6 +638,11 @@ std::vector<int64_t> known_field_offsets(const std::vector<TraceField>& fields,
     if (offsets[s] < 0 && specs[s].required) {
       throw InputError(where, "missing required field '" + std::string(specs[s].name) + "'");
     }
+  }
+  const int views = (offsets[kViewX] >= 0) + (offsets[kViewY] >= 0) + (offsets[kViewZ] >= 0);
+  if (views != 0 && views != 3) {
+    throw InputError(where, "the view vector needs all three fields view_x, view_y, view_z (" +
+                                std::to_string(views) + " present)");
   }
   return offsets;
 }
@@ -639,8 +674,9 @@ void TraceReader::open_binary() {
   header_.textures = parse_textures(p, h.data() + header_size - 4, fh.texture_count, where);
   validate_textures(header_.textures, where);
   ids_ = TextureIdSet(header_.textures);
-  offsets_ = known_field_offsets(header_.fields, where);
+  offsets_ = known_field_offsets(header_.fields, fh.version, where);
   header_.has_lod_bias = offsets_[kLodBias] >= 0;
+  header_.has_view = offsets_[kViewX] >= 0;
 }
 
 std::string TraceReader::chunk_where() const {
@@ -711,6 +747,7 @@ size_t TraceReader::next_binary_chunk(std::vector<Fragment>& out) {
   const size_t rs = header_.record_size;
   const int64_t* o = offsets_.data();
   const bool lod = header_.has_lod_bias;
+  const bool view = header_.has_view;
   for (uint32_t r = 0; r < count; ++r) {
     const unsigned char* p = payload_.data() + r * rs;
     Fragment& f = out[r];
@@ -731,7 +768,14 @@ size_t TraceReader::next_binary_chunk(std::vector<Fragment>& out) {
                         std::isfinite(f.dvdx) && std::isfinite(f.dudy) && std::isfinite(f.dvdy) &&
                         std::isfinite(f.lod_bias);
     if (!finite || !ids_.contains(f.tex)) {
-      throw InputError(record_where(r), check_fragment(f, ids_, lod));
+      throw InputError(record_where(r), check_fragment(f, ids_, lod, view));
+    }
+    if (view) {
+      f.view_x = load_le<float>(p + o[kViewX]);
+      f.view_y = load_le<float>(p + o[kViewY]);
+      f.view_z = load_le<float>(p + o[kViewZ]);
+      const std::string bad = check_fragment(f, ids_, lod, view);
+      if (!bad.empty()) throw InputError(record_where(r), bad);
     }
   }
   ++chunks_;

@@ -1,7 +1,8 @@
 #pragma once
-// Trace files, format v1 (traces/FORMAT.md): the binary writer and the streaming reader that
-// also opens the CSV form. The reader holds one chunk at a time, so its memory does not depend
-// on the length of the trace; every defect of the input is an InputError naming file and record.
+// Trace files, format v2 (traces/FORMAT.md; v1 files are read too): the binary writer and the
+// streaming reader that also opens the CSV form. The reader holds one chunk at a time, so its
+// memory does not depend on the length of the trace; every defect of the input is an InputError
+// naming file and record.
 #include <cstdint>
 #include <cstdio>
 #include <memory>
@@ -13,7 +14,9 @@
 
 namespace texsim {
 
-inline constexpr uint32_t kTraceVersion = 1;
+// The newest version: 2 adds the optional view vector (view_x, view_y, view_z). A writer
+// writes version 1 when the trace has no view vector, so such a file stays a version-1 file.
+inline constexpr uint32_t kTraceVersion = 2;
 inline constexpr char kTraceMagic[8] = {'T', 'E', 'X', 'S', 'I', 'M', 'T', 'R'};
 
 // Limits that a header must respect; anything beyond is treated as corruption, so a damaged
@@ -70,8 +73,9 @@ struct TraceTexture {
 };
 
 struct TraceHeader {
-  uint32_t version = kTraceVersion;
+  uint32_t version = kTraceVersion;  // read: the file's; write: ignored unless unknown
   bool has_lod_bias = false;
+  bool has_view = false;  // records carry the view vector (version 2)
   std::vector<TraceTexture> textures;
   // Layout info, filled in by TraceReader. Writers always write the canonical layout for
   // has_lod_bias (canonical_fields()) and ignore these.
@@ -91,8 +95,12 @@ struct TraceFieldSpec {
 };
 const std::vector<TraceFieldSpec>& trace_field_specs();
 // Canonical binary layout written by TraceWriter (packed, in trace_field_specs() order).
-std::vector<TraceField> canonical_fields(bool has_lod_bias);
-uint32_t canonical_record_size(bool has_lod_bias);
+std::vector<TraceField> canonical_fields(bool has_lod_bias, bool has_view = false);
+uint32_t canonical_record_size(bool has_lod_bias, bool has_view = false);
+// The version a writer writes for a trace with or without the view vector.
+inline uint32_t written_version(bool has_view) { return has_view ? 2 : 1; }
+// Throws InputError(where, ...) unless a writer can write `version` (1..kTraceVersion).
+void check_writable_version(uint32_t version, const std::string& where);
 
 // Checks a header's texture table (count, unique ids, sizes, name/source lengths and
 // characters); throws InputError(where, ...) naming the entry.
@@ -110,9 +118,11 @@ class TextureIdSet {
   std::vector<uint8_t> dense_;  // used when ids are small: dense_[id] != 0
 };
 
-// Checks one fragment (finite coordinates/derivatives/lod_bias, texture id in the table);
-// returns an empty string when it is valid, else what is wrong.
-std::string check_fragment(const Fragment& f, const TextureIdSet& ids, bool has_lod_bias);
+// Checks one fragment (finite coordinates/derivatives/lod_bias, with has_view a finite,
+// non-zero view vector, texture id in the table); returns an empty string when it is valid,
+// else what is wrong.
+std::string check_fragment(const Fragment& f, const TextureIdSet& ids, bool has_lod_bias,
+                           bool has_view = false);
 
 // Binary trace writer; writes to a temporary name and renames on close() (no half-written
 // file). The destructor without close() removes the temporary file.
@@ -136,6 +146,7 @@ class TraceWriter {
   std::string path_, temp_;
   TraceFilePtr file_;
   bool has_lod_bias_ = false;
+  bool has_view_ = false;
   uint32_t record_size_ = 0;
   uint32_t records_per_chunk_ = 0;
   TextureIdSet ids_;

@@ -86,6 +86,7 @@ int trace_info(const std::string& path, std::ostream& out) {
     }
   }
   out << "\nlod_bias:   " << (h.has_lod_bias ? "present" : "absent") << "\n";
+  if (h.has_view) out << "view:       present (view_x, view_y, view_z)\n";
   out << "textures:   " << h.textures.size() << "\n";
   for (const TraceTexture& t : h.textures) {
     out << "  id " << t.id << "  " << t.name << "  " << t.width << "x" << t.height << "  "
@@ -119,8 +120,8 @@ int trace_info(const std::string& path, std::ostream& out) {
 void trace_convert(const std::string& in, const std::string& out) {
   TraceReader reader(in);
   TraceHeader h;
-  h.version = kTraceVersion;
   h.has_lod_bias = reader.header().has_lod_bias;
+  h.has_view = reader.header().has_view;
   h.textures = reader.header().textures;
   write_trace(out, h, [&](auto& writer) {
     std::vector<Fragment> chunk;

@@ -15,6 +15,10 @@ struct Fragment {
   double u = 0, v = 0;
   double dudx = 0, dvdx = 0, dudy = 0, dvdy = 0;
   float lod_bias = 0;  // optional field; 0 when absent
+  // Optional (trace version 2): the unit tangent-space vector towards the eye (x along +u, y
+  // along +v, z out of the surface) that relief uses; all 0 when absent.
+  float view_x = 0, view_y = 0, view_z = 0;
+  bool has_view() const { return view_x != 0 || view_y != 0 || view_z != 0; }
 };
 
 }  // namespace texsim

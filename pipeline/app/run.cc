@@ -681,7 +681,6 @@ uint64_t generate_scene_trace(const std::string& scene_path, const std::string& 
                               const std::vector<std::string>& overrides) {
   const Scene scene =
       scene_path.empty() ? default_scene(overrides) : load_scene(scene_path, overrides);
-  (void)build_materials(scene);  // checks the materials' effects
   TraceHeader h;
   for (size_t i = 0; i < scene.textures.size(); ++i) {
     const Texture t = load_scene_texture(scene, i);
@@ -693,8 +692,25 @@ uint64_t generate_scene_trace(const std::string& scene_path, const std::string& 
     h.textures.push_back({static_cast<uint32_t>(i), scene.textures[i].name, src,
                           static_cast<uint32_t>(t.width(0)), static_cast<uint32_t>(t.height(0))});
   }
+  // Relief and lighting need the view vector: their scenes' traces carry it (version 2).
+  const std::vector<MaterialSetup> mats = build_materials(scene);  // checks the effects too
+  h.has_view = std::any_of(mats.begin(), mats.end(),
+                           [](const MaterialSetup& m) { return m.relief || m.lighting; });
+  std::vector<SurfaceFrame> frames;
+  if (h.has_view) {
+    for (const auto& p : scene.primitives) frames.emplace_back(scene, p);
+  }
   return write_trace(out_path, h, [&](auto& w) {
-    generate_fragments(scene, 0, [&](const Fragment& f) { w.write(f); });
+    generate_fragments(scene, 0, [&](const Fragment& f) {
+      if (!h.has_view) return w.write(f);
+      const SurfaceFrame& sf = frames[f.prim];
+      const glm::dvec3 v = sf.to_tangent(sf.view(f.x + 0.5, f.y + 0.5));
+      Fragment g = f;
+      g.view_x = static_cast<float>(v.x);
+      g.view_y = static_cast<float>(v.y);
+      g.view_z = static_cast<float>(v.z);
+      w.write(g);
+    });
   });
 }
 

@@ -54,7 +54,7 @@ LightingSetup LightingSetup::from_toml(const ConfigReader& r) {
 
 ReliefSetup ReliefSetup::from_toml(const ConfigReader& r) {
   r.reject_unknown({"method", "height_texture", "scale", "parallax", "tracer", "distance_map",
-                    "refined", "terrain"});
+                    "refined", "terrain", "visibility_filter"});
   ReliefSetup s;
   s.method = static_cast<Method>(
       r.get_choice("method", 1, {"parallax", "steep", "distance_map", "terrain"}));
@@ -73,6 +73,14 @@ ReliefSetup ReliefSetup::from_toml(const ConfigReader& r) {
   s.tracer = SphereTracer::Config::from_toml(r.sub("tracer"));
   s.distance_map = DistanceMapBuilder::Config::from_toml(r.sub("distance_map"));
   s.terrain = TerrainRayMarcher::Config::from_toml(r.sub("terrain"));
+  if (r.table().contains("visibility_filter")) {
+    const ConfigReader vf = r.sub("visibility_filter");
+    if (vf.table().contains("depth_texels"))
+      vf.fail("depth_texels", "is set by relief.scale, not here");
+    s.visibility_filter = true;
+    s.visibility = VisibilityAwareFilter::Config::from_toml(vf);
+    s.visibility.depth_texels = s.scale;
+  }
   return s;
 }
 
@@ -105,12 +113,28 @@ glm::dvec3 view_in_texels(const glm::dvec3& view_ts, double u_len, double v_len,
   return {view_ts.x / su, view_ts.y / sv, view_ts.z / sz};
 }
 
-ReliefEffect::ReliefEffect(const ReliefSetup& s, const Texture& height)
+ReliefEffect::ReliefEffect(const ReliefSetup& s, const Texture& height, const Texture* colour)
     : setup_(s),
       hm_(height_map_of(height)),
       mapper_(s.parallax),
       tracer_(s.tracer),
-      marcher_(s.terrain) {
+      marcher_(s.terrain),
+      vaf_(s.visibility) {
+  if (s.visibility_filter) {
+    if (!colour)
+      throw std::logic_error("relief: the visibility-aware filter has no colour texture");
+    // The filter works on the height map's texel grid: the colour texture's level 0 read there
+    // (nearest texel; texel (x, y) of the grid covers colour texels x·cw/hw ...).
+    colours_ = {hm_.width, hm_.height, {}};
+    colours_.c.reserve(hm_.h.size());
+    for (int32_t y = 0; y < hm_.height; ++y) {
+      for (int32_t x = 0; x < hm_.width; ++x) {
+        const Rgba c = colour->texel(0, static_cast<int>(int64_t{x} * colour->width(0) / hm_.width),
+                                     static_cast<int>(int64_t{y} * colour->height(0) / hm_.height));
+        colours_.c.emplace_back(c.r, c.g, c.b, c.a);
+      }
+    }
+  }
   if (s.method == ReliefSetup::Method::DistanceMap) {
     const DistanceMapBuilder b(s.distance_map);
     dmap_ = s.refined ? b.refined(hm_) : b.classic(hm_);
@@ -145,7 +169,8 @@ TimingSpec ReliefEffect::timing(const TechTable& t) const {
 }
 
 ReliefEffect::Shift ReliefEffect::march_terrain(double x, double y, const glm::dvec3& vt,
-                                                OpCounts& ops) const {
+                                                OpCounts& ops,
+                                                std::vector<ReliefRead>* reads) const {
   // Grid coordinates: x along u, z along v, y up; the ray enters at the polygon (height
   // `scale`) and runs against the view vector.
   const TerrainRayMarcher::Result r =
@@ -155,11 +180,29 @@ ReliefEffect::Shift ReliefEffect::march_terrain(double x, double y, const glm::d
     s.u = r.point.x;
     s.v = r.point.z;
   }
+  if (reads && r.evaluations > 0 && std::isfinite(s.u) && std::isfinite(s.v)) {
+    // The marcher's reads are inside its evaluator: modelled as its evaluations evenly spaced
+    // from the entry to the end point, each reading its grid nodes around the point (a square
+    // of fetches-per-evaluation nodes).
+    const uint32_t per = r.fetches / r.evaluations;
+    const auto side = static_cast<int32_t>(std::ceil(std::sqrt(static_cast<double>(per))));
+    for (uint32_t e = 0; e < r.evaluations; ++e) {
+      const double t = r.evaluations > 1 ? static_cast<double>(e) / (r.evaluations - 1) : 1.0;
+      const auto cx = static_cast<int32_t>(std::floor(x + (s.u - x) * t)) - (side - 1) / 2;
+      const auto cy = static_cast<int32_t>(std::floor(y + (s.v - y) * t)) - (side - 1) / 2;
+      for (uint32_t k = 0; k < per; ++k) {
+        reads->push_back({std::clamp(cx + static_cast<int32_t>(k) % side, 0, hm_.width - 1),
+                          std::clamp(cy + static_cast<int32_t>(k) / side, 0, hm_.height - 1),
+                          ReliefRead::kHeightRead});
+      }
+    }
+  }
   return s;
 }
 
 ReliefEffect::Shift ReliefEffect::shift(double u, double v, const glm::dvec3& view_ts, double u_len,
-                                        double v_len, OpCounts& ops) const {
+                                        double v_len, OpCounts& ops,
+                                        std::vector<ReliefRead>* reads) const {
   Shift s{u, v, 0, 0};
   // The height map repeats with the texture: work in the tile holding (u, v).
   const double tu = frac_floor(u), tv = frac_floor(v);
@@ -167,7 +210,7 @@ ReliefEffect::Shift ReliefEffect::shift(double u, double v, const glm::dvec3& vi
   const glm::dvec3 vt = view_in_texels(view_ts, u_len, v_len, hm_.width, hm_.height);
   double sx = x, sy = y;
   if (setup_.method == ReliefSetup::Method::Terrain) {
-    const Shift m = march_terrain(x, y, vt, ops);
+    const Shift m = march_terrain(x, y, vt, ops, reads);
     s.steps = m.steps;
     s.fetches = m.fetches;
     sx = m.u;
@@ -176,14 +219,14 @@ ReliefEffect::Shift ReliefEffect::shift(double u, double v, const glm::dvec3& vi
     const double layers_per_texel = dmap_.depth / setup_.scale;
     const glm::dvec3 dir(-vt.x, -vt.y, -vt.z * layers_per_texel);
     const SphereTracer::Result r =
-        tracer_.trace(dmap_, {x, y, static_cast<double>(dmap_.depth)}, dir, ops);
+        tracer_.trace(dmap_, {x, y, static_cast<double>(dmap_.depth)}, dir, ops, reads);
     s.steps = r.iterations;
     s.fetches = r.fetches;
     if (r.status == SphereTracer::Status::Invalid) return s;
     sx = r.pos.x;
     sy = r.pos.y;
   } else {
-    const ParallaxMapper::Result r = mapper_.map(hm_, x, y, vt.x, vt.y, vt.z, ops);
+    const ParallaxMapper::Result r = mapper_.map(hm_, x, y, vt.x, vt.y, vt.z, ops, reads);
     s.steps = setup_.method == ReliefSetup::Method::Parallax ? 1 : r.linear_steps + r.binary_steps;
     s.fetches = 4 * r.samples;
     if (r.bad_input) return s;
@@ -193,6 +236,23 @@ ReliefEffect::Shift ReliefEffect::shift(double u, double v, const glm::dvec3& vi
   s.u = tu + (sx + 0.5) / hm_.width;
   s.v = tv + (sy + 0.5) / hm_.height;
   return s;
+}
+
+VisibilityAwareFilter::Result ReliefEffect::filter_visible(const Fragment& g,
+                                                           const glm::dvec3& view_ts, double u_len,
+                                                           double v_len, OpCounts& ops,
+                                                           std::vector<ReliefRead>* reads) const {
+  // The footprint in height-map texels (centres at integers), in the tile holding (u, v).
+  const double w = hm_.width, h = hm_.height;
+  VisibilityAwareFilter::Footprint fp;
+  fp.u = (g.u - frac_floor(g.u)) * w - 0.5;
+  fp.v = (g.v - frac_floor(g.v)) * h - 0.5;
+  fp.ux = g.dudx * w;
+  fp.vx = g.dvdx * h;
+  fp.uy = g.dudy * w;
+  fp.vy = g.dvdy * h;
+  const glm::dvec3 vt = view_in_texels(view_ts, u_len, v_len, hm_.width, hm_.height);
+  return vaf_.filter(hm_, colours_, fp, vt.x, vt.y, vt.z, ops, reads);
 }
 
 glm::dvec3 normal_map_rgb(const Texture& t, double u, double v) {

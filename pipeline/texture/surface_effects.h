@@ -15,8 +15,10 @@
 #include <glm/vec3.hpp>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "blocks/base/config_reader.h"
+#include "blocks/base/fragment.h"
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
@@ -27,6 +29,7 @@
 #include "blocks/texture/relief/parallax_mapper.h"
 #include "blocks/texture/relief/sphere_tracer.h"
 #include "blocks/texture/relief/terrain_ray_marcher.h"
+#include "blocks/texture/relief/visibility_aware_filter.h"
 
 namespace texsim {
 
@@ -52,6 +55,10 @@ struct ReliefSetup {
   DistanceMapBuilder::Config distance_map;
   TerrainRayMarcher::Config terrain;  // method terrain: function, deformation, step, caps
   bool refined = false;  // distance_map: the refined map instead of Donnelly's classic one
+  // Table `visibility_filter` present: the material's colour is filtered by the
+  // visibility-aware anisotropic filter at the shifted coordinates, in place of its `filter`.
+  bool visibility_filter = false;
+  VisibilityAwareFilter::Config visibility;  // depth_texels is `scale`
   static ReliefSetup from_toml(const ConfigReader& r);
   std::string block_name() const;
 };
@@ -67,16 +74,28 @@ glm::dvec3 view_in_texels(const glm::dvec3& view_ts, double u_len, double v_len,
 // The relief stage of one material.
 class ReliefEffect {
  public:
-  ReliefEffect(const ReliefSetup& s, const Texture& height);
+  // colour: the material's texture, which the visibility-aware filter reads (it must be given
+  // when the setup has one).
+  ReliefEffect(const ReliefSetup& s, const Texture& height, const Texture* colour = nullptr);
   struct Shift {
     double u = 0, v = 0;   // the shifted normalised coordinates
     uint32_t steps = 0;    // iterations of the method's loop (1 for offset parallax)
     uint32_t fetches = 0;  // height (or distance) reads: bilinear reads count 4
   };
   // (u, v): normalised coordinates on the polygon; view_ts: unit tangent-space view vector;
-  // u_len, v_len: world length of a unit of u and of v on the plane.
+  // u_len, v_len: world length of a unit of u and of v on the plane. `reads`, when given, gets
+  // the texels or voxels of the height reads (for the texture unit's cache).
   Shift shift(double u, double v, const glm::dvec3& view_ts, double u_len, double v_len,
-              OpCounts& ops) const;
+              OpCounts& ops, std::vector<ReliefRead>* reads = nullptr) const;
+  bool has_visibility_filter() const { return setup_.visibility_filter; }
+  // The visibility-aware filter at the fragment's (shifted) coordinates and derivatives:
+  // its colour, counts and (when `reads` is given) its height and colour reads.
+  VisibilityAwareFilter::Result filter_visible(const Fragment& g, const glm::dvec3& view_ts,
+                                               double u_len, double v_len, OpCounts& ops,
+                                               std::vector<ReliefRead>* reads) const;
+  const VisibilityAwareFilter& visibility_filter() const { return vaf_; }
+  const ReliefHeightMap& height_map() const { return hm_; }
+  const DistanceMap& distance_map() const { return dmap_; }
   std::string name() const { return setup_.block_name(); }
   std::string arithmetic() const;
   // Timing of one step of the loop.
@@ -94,7 +113,11 @@ class ReliefEffect {
   TerrainRayMarcher marcher_;
   TerrainGrid grid_;
   double top_ = 0;
-  Shift march_terrain(double x, double y, const glm::dvec3& vt, OpCounts& ops) const;
+  // The visibility-aware filter and the colour texture at the height map's resolution.
+  VisibilityAwareFilter vaf_;
+  VisibilityAwareFilter::ColourMap colours_;
+  Shift march_terrain(double x, double y, const glm::dvec3& vt, OpCounts& ops,
+                      std::vector<ReliefRead>* reads) const;
 };
 
 // The lighting stage of one material.

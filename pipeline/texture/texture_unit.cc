@@ -1,6 +1,7 @@
 #include "pipeline/texture/texture_unit.h"
 
 #include <algorithm>
+#include <glm/geometric.hpp>
 #include <stdexcept>
 
 #include "blocks/base/config_reader.h"
@@ -55,10 +56,16 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
       if (m.relief->height_tex < 0 || m.relief->height_tex >= textures_.size())
         throw std::invalid_argument("texture unit: material '" + m.name +
                                     "': relief height texture is not bound");
+      p.relief_height = &textures_[m.relief->height_tex];
+      p.relief_colour = &textures_[m.texture];
+      // Each distance map in a region of its own, far above the textures.
+      p.volume_base = (uint64_t{1} << 40) + (static_cast<uint64_t>(reliefs_.size()) << 32);
       reliefs_.push_back(
-          std::make_unique<ReliefEffect>(*m.relief, textures_[m.relief->height_tex]));
+          std::make_unique<ReliefEffect>(*m.relief, *p.relief_height, p.relief_colour));
       p.relief = reliefs_.back().get();
       p.relief_step_ii = p.relief->timing(tech_).ii;
+      if (p.relief->has_visibility_filter())
+        p.vis_ii = std::max<uint32_t>(1, p.relief->visibility_filter().timing(tech_).ii);
     }
     if (m.lighting) {
       const int nt = m.lighting->normal_tex;
@@ -92,7 +99,10 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     TimingSpec lod_t{}, addr_t{};
     for (const auto& p : paths_) {
       const TimingSpec l = p.lod.timing(tech_);
-      const TimingSpec a = p.footprint ? p.footprint->timing(tech_) : p.addr.timing(tech_);
+      const TimingSpec a = p.footprint ? p.footprint->timing(tech_)
+                           : p.relief && p.relief->has_visibility_filter()
+                               ? p.relief->visibility_filter().timing(tech_)
+                               : p.addr.timing(tech_);
       lod_t.latency = std::max(lod_t.latency, l.latency);
       addr_t.latency = std::max(addr_t.latency, a.latency);
     }
@@ -297,7 +307,8 @@ Rgba TextureUnit::process_footprint(const Fragment& f, Path& p, const Texture& t
       if (s == addr) c.extra_ii = scan > 0 ? scan - 1 : 0;
       if (s == cache) {
         c.extra_ii = n > 0 ? (n + tpc - 1) / tpc - 1 : 0;
-        c.extra_latency = cache_lookups(fetched_, tex, start);
+        const uint64_t relief_wait = relief_lookups(start);
+        c.extra_latency = std::max(relief_wait, cache_lookups(fetched_, tex, start));
       }
       return c;
     });
@@ -338,27 +349,99 @@ Rgba TextureUnit::process_surface(const Fragment& f, Path& p, int material, cons
         std::to_string(f.prim) + " is not known");
   }
   const SurfaceFrame& sf = surfaces_[f.prim];
-  // The eye direction through the pixel's centre, in the primitive's tangent frame.
-  const glm::dvec3 view_ts = sf.to_tangent(sf.view(f.x + 0.5, f.y + 0.5));
+  // The eye direction in the primitive's tangent frame: the fragment's own (a version-2 trace
+  // carries it), else through the pixel's centre from the scene's camera.
+  const glm::dvec3 view_ts = f.has_view() ? glm::normalize(glm::dvec3(f.view_x, f.view_y, f.view_z))
+                                          : sf.to_tangent(sf.view(f.x + 0.5, f.y + 0.5));
   Fragment g = f;
   cur_relief_ii_ = 0;
+  cur_relief_texels_ = 0;
   if (p.relief) {
-    const ReliefEffect::Shift sh =
-        p.relief->shift(f.u, f.v, view_ts, sf.u_length(), sf.v_length(), p.relief_ops);
+    relief_reads_.clear();
+    const ReliefEffect::Shift sh = p.relief->shift(f.u, f.v, view_ts, sf.u_length(), sf.v_length(),
+                                                   p.relief_ops, pipe_ ? &relief_reads_ : nullptr);
     g.u = sh.u;
     g.v = sh.v;
     p.relief_steps += sh.steps;
     p.relief_fetches += sh.fetches;
     cur_relief_ii_ = sh.steps > 0 ? sh.steps * p.relief_step_ii - 1 : 0;
+    if (pipe_ && !relief_reads_.empty()) {
+      relief_lines(p, relief_reads_, relief_lines_);
+      cur_relief_texels_ = relief_reads_.size();
+    }
   }
   cur_light_ii_ = p.lighting ? p.light_extra_ii : 0;
-  Rgba c = filter_fragment(g, p, front);
+  Rgba c = p.relief && p.relief->has_visibility_filter() ? process_visible(g, p, view_ts, sf, front)
+                                                         : filter_fragment(g, p, front);
   cur_relief_ii_ = cur_light_ii_ = 0;
+  cur_relief_texels_ = 0;
   if (p.lighting) {
     const glm::dvec3 light_ts = sf.to_tangent(p.lighting->setup().light_dir);
     c = p.lighting->shade(c, g.u, g.v, view_ts, light_ts, p.normal_ops, p.shader_ops);
   }
   return c;
+}
+
+void TextureUnit::relief_lines(const Path& p, const std::vector<ReliefRead>& reads,
+                               std::vector<uint64_t>& lines) const {
+  lines.clear();
+  const Texture& h = *p.relief_height;
+  const Texture& c = *p.relief_colour;
+  const ReliefHeightMap& hm = p.relief->height_map();
+  const DistanceMap& dm = p.relief->distance_map();
+  for (const ReliefRead& r : reads) {
+    uint64_t addr = 0;
+    if (r.z == ReliefRead::kHeightRead) {
+      addr = h.address(0, r.x, r.y);
+    } else if (r.z == ReliefRead::kColourRead) {
+      // The filter's colour grid is the height map's: texel (x, y) is the colour texel it
+      // was resampled from.
+      addr = c.address(0, static_cast<int>(int64_t{r.x} * c.width(0) / hm.width),
+                       static_cast<int>(int64_t{r.y} * c.height(0) / hm.height));
+    } else {
+      addr = p.volume_base + dm.index(r.x, r.y, r.z);
+    }
+    lines.push_back(cache_.line_of(addr));
+  }
+  std::sort(lines.begin(), lines.end());
+  lines.erase(std::unique(lines.begin(), lines.end()), lines.end());
+}
+
+uint64_t TextureUnit::relief_lookups(uint64_t start) {
+  if (cur_relief_texels_ == 0) return 0;
+  return access_lines(relief_lines_.data(), static_cast<int>(relief_lines_.size()),
+                      cur_relief_texels_, start);
+}
+
+Rgba TextureUnit::process_visible(const Fragment& g, Path& p, const glm::dvec3& view_ts,
+                                  const SurfaceFrame& sf, const ItemCost* front) {
+  fetched_reads_.clear();
+  const VisibilityAwareFilter::Result r = p.relief->filter_visible(
+      g, view_ts, sf.u_length(), sf.v_length(), p.vis_ops, pipe_ ? &fetched_reads_ : nullptr);
+  ++p.fragments;
+  count_frame(g);
+  const uint32_t n = r.stats.colour_reads + r.stats.trace_reads;
+  p.vis_texels += n;
+  if (pipe_) {
+    relief_lines(p, fetched_reads_, lines_);
+    const uint32_t tpc = setup_.cache.texels_per_cycle;
+    const uint32_t scan = std::max<uint32_t>(1, n * p.vis_ii);
+    const int addr = base_ + kAddress, cache = base_ + kCache;
+    pipe_->issue_with(0, [&](int s, uint64_t start) {
+      if (s < kMaxFront && s < front_) return front_cost(p, front, s);
+      ItemCost c;
+      add_effect_costs(s, c);
+      if (s == addr) c.extra_ii = scan - 1;
+      if (s == cache) {
+        c.extra_ii = n > 0 ? (n + tpc - 1) / tpc - 1 : 0;
+        const uint64_t relief_wait = relief_lookups(start);
+        c.extra_latency = std::max(
+            relief_wait, access_lines(lines_.data(), static_cast<int>(lines_.size()), n, start));
+      }
+      return c;
+    });
+  }
+  return {r.colour.x, r.colour.y, r.colour.z, r.colour.w};
 }
 
 Rgba TextureUnit::filter_fragment(const Fragment& f, Path& p, const ItemCost* front) {
@@ -385,7 +468,8 @@ void TextureUnit::issue_timed(Path& p, const ItemCost* front, uint32_t probes, L
       if (s == addr) c.extra_ii = probes - 1;
       if (s == cache) {
         c.extra_ii = p.cache_extra_ii[probes];
-        c.extra_latency = lookups(start);
+        const uint64_t relief_wait = relief_lookups(start);
+        c.extra_latency = std::max(relief_wait, lookups(start));
       }
       if (s == blend) c.extra_ii = p.blend_extra_ii[probes];
       return c;
@@ -538,8 +622,10 @@ std::vector<BlockUse> TextureUnit::material_blocks(int material) const {
     if (p.coords->has_derivs())
       add("derivs." + cc.derivs + "[" + cc.format + "]", arith, st[1].timing, p.deriv_ops);
   }
-  if (p.relief)
-    add(p.relief->name(), p.relief->arithmetic(), p.relief->timing(tech_), p.relief_ops);
+  if (p.relief) {
+    add(p.relief->name(), p.relief->arithmetic(), p.relief->timing(tech_), p.relief_ops,
+        p.relief_fetches);
+  }
   // Lighting comes after the blend (its blocks last).
   const auto add_lighting = [&] {
     if (!p.lighting) return;
@@ -550,6 +636,12 @@ std::vector<BlockUse> TextureUnit::material_blocks(int material) const {
     const BlinnPhongShader& sh = p.lighting->shader();
     add(sh.name(), sh.arithmetic(), sh.timing(tech_), p.shader_ops);
   };
+  if (p.relief && p.relief->has_visibility_filter()) {
+    const VisibilityAwareFilter& vf = p.relief->visibility_filter();
+    add(vf.name(), vf.arithmetic(), vf.timing(tech_), p.vis_ops, p.vis_texels);
+    add_lighting();
+    return out;
+  }
   if (p.footprint) {
     add(p.footprint->name(), p.footprint->arithmetic(), p.footprint->timing(tech_), p.footprint_ops,
         p.footprint_texels);

@@ -161,6 +161,16 @@ class TextureUnit {
     OpCounts relief_ops, normal_ops, shader_ops;
     uint64_t relief_steps = 0, relief_fetches = 0;
     uint32_t relief_step_ii = 1, light_extra_ii = 0;
+    // Where the relief's reads lie in memory: the height texture, the colour texture (read by
+    // the visibility-aware filter) and the distance map's volume (one byte per voxel).
+    const Texture* relief_height = nullptr;
+    const Texture* relief_colour = nullptr;
+    uint64_t volume_base = 0;
+    // The visibility-aware filter (when the relief has one): its operations, texels read
+    // (colours and trace heights) and issue cycles per read.
+    OpCounts vis_ops;
+    uint64_t vis_texels = 0;
+    uint32_t vis_ii = 1;
   };
   // Tag look-ups of the fragment's distinct lines at cycle `start`; returns the cycles the
   // cache stage waits beyond its hit latency (DRAM refills).
@@ -205,11 +215,23 @@ class TextureUnit {
   Rgba filter_fragment(const Fragment& f, Path& p, const ItemCost* front);
   // Relief → filter → lighting for a material with either effect.
   Rgba process_surface(const Fragment& f, Path& p, int material, const ItemCost* front);
+  // The visibility-aware filter of a relief material in place of its filter: the filter's
+  // reads occupy the address stage (one per issue cycle) and go through the cache.
+  Rgba process_visible(const Fragment& g, Path& p, const glm::dvec3& view_ts,
+                       const SurfaceFrame& sf, const ItemCost* front);
+  // The distinct cache lines of a relief block's reads, sorted.
+  void relief_lines(const Path& p, const std::vector<ReliefRead>& reads,
+                    std::vector<uint64_t>& lines) const;
   // Extra issue cycles of the relief and lighting stages for the current fragment.
   void add_effect_costs(int s, ItemCost& c) const {
     if (s == relief_stage_) c.extra_ii += cur_relief_ii_;
     if (s == light_stage_) c.extra_ii += cur_light_ii_;
   }
+  // The current fragment's relief reads looked up in the cache at `start` (the cache stage,
+  // before the filter's: the cache and DRAM see requests in time order); returns the wait
+  // beyond the hit latency (0 without relief reads). Their issue cycles are the relief
+  // stage's steps (one bilinear read per step), not the cache stage's.
+  uint64_t relief_lookups(uint64_t start);
   // Cost of front-end stage s for a fragment of path p (with the dropped fragments' cycles).
   ItemCost front_cost(const Path& p, const ItemCost* front, int s) {
     ItemCost c;
@@ -243,6 +265,10 @@ class TextureUnit {
   int base_ = 0;  // index of the LOD stage: after the front end and the relief stage
   int relief_stage_ = -1, light_stage_ = -1;  // -1: no material needs the stage
   uint32_t cur_relief_ii_ = 0, cur_light_ii_ = 0;
+  uint64_t cur_relief_texels_ = 0;         // the current fragment's relief reads (timed)
+  std::vector<ReliefRead> relief_reads_;   // the current fragment's relief reads
+  std::vector<ReliefRead> fetched_reads_;  // its visibility-aware filter's reads
+  std::vector<uint64_t> relief_lines_;     // their distinct cache lines
   std::vector<std::unique_ptr<ReliefEffect>> reliefs_;
   std::vector<std::unique_ptr<LightingEffect>> lightings_;
   std::vector<SurfaceFrame> surfaces_;

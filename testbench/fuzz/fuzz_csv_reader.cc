@@ -35,11 +35,16 @@ bool same(const texsim::Fragment& a, const texsim::Fragment& b) {
   return a.frame == b.frame && a.prim == b.prim && a.x == b.x && a.y == b.y && a.tex == b.tex &&
          same_bits(a.u, b.u) && same_bits(a.v, b.v) && same_bits(a.dudx, b.dudx) &&
          same_bits(a.dvdx, b.dvdx) && same_bits(a.dudy, b.dudy) && same_bits(a.dvdy, b.dvdy) &&
-         std::bit_cast<uint32_t>(a.lod_bias) == std::bit_cast<uint32_t>(b.lod_bias);
+         std::bit_cast<uint32_t>(a.lod_bias) == std::bit_cast<uint32_t>(b.lod_bias) &&
+         std::bit_cast<uint32_t>(a.view_x) == std::bit_cast<uint32_t>(b.view_x) &&
+         std::bit_cast<uint32_t>(a.view_y) == std::bit_cast<uint32_t>(b.view_y) &&
+         std::bit_cast<uint32_t>(a.view_z) == std::bit_cast<uint32_t>(b.view_z);
 }
 
 bool same(const texsim::TraceHeader& a, const texsim::TraceHeader& b) {
-  if (a.has_lod_bias != b.has_lod_bias || a.textures.size() != b.textures.size()) return false;
+  if (a.has_lod_bias != b.has_lod_bias || a.has_view != b.has_view ||
+      a.textures.size() != b.textures.size())
+    return false;
   for (size_t i = 0; i < a.textures.size(); ++i) {
     const texsim::TraceTexture &s = a.textures[i], &t = b.textures[i];
     if (s.id != t.id || s.name != t.name || s.source != t.source || s.width != t.width ||

@@ -41,7 +41,8 @@ ParallaxMapper::Config ParallaxMapper::Config::from_toml(const ConfigReader& r) 
 }
 
 ParallaxMapper::Result ParallaxMapper::map(const ReliefHeightMap& hm, double u, double v, double vx,
-                                           double vy, double vz, OpCounts& ops) const {
+                                           double vy, double vz, OpCounts& ops,
+                                           std::vector<ReliefRead>* reads) const {
   Result res;
   res.u = u;
   res.v = v;
@@ -56,16 +57,17 @@ ParallaxMapper::Result ParallaxMapper::map(const ReliefHeightMap& hm, double u, 
   // Texel shift per unit depth (0..1) along the ray into the relief.
   const double sx = -nx / nz * cfg_.depth_texels, sy = -ny / nz * cfg_.depth_texels;
   if (cfg_.method == Method::Offset) {
-    return offset(hm, u, v, sx, sy, -nx * cfg_.depth_texels, -ny * cfg_.depth_texels, ops);
+    return offset(hm, u, v, sx, sy, -nx * cfg_.depth_texels, -ny * cfg_.depth_texels, ops, reads);
   }
-  return iterative(hm, u, v, sx, sy, nz, ops);
+  return iterative(hm, u, v, sx, sy, nz, ops, reads);
 }
 
 ParallaxMapper::Result ParallaxMapper::offset(const ReliefHeightMap& hm, double u, double v,
                                               double sx, double sy, double lx, double ly,
-                                              OpCounts& ops) const {
+                                              OpCounts& ops, std::vector<ReliefRead>* reads) const {
   Result res;
   const double depth = 1.0 - hm.bilinear(u, v);
+  if (reads) hm.bilinear_texels(u, v, *reads);
   count_sample(ops);
   res.samples = 1;
   res.linear_steps = 1;
@@ -78,8 +80,8 @@ ParallaxMapper::Result ParallaxMapper::offset(const ReliefHeightMap& hm, double 
 }
 
 ParallaxMapper::Result ParallaxMapper::iterative(const ReliefHeightMap& hm, double u, double v,
-                                                 double sx, double sy, double vz,
-                                                 OpCounts& ops) const {
+                                                 double sx, double sy, double vz, OpCounts& ops,
+                                                 std::vector<ReliefRead>* reads) const {
   Result res;
   // Layers from min (normal incidence) to max (grazing): the iteration cap.
   const auto n =
@@ -90,6 +92,7 @@ ParallaxMapper::Result ParallaxMapper::iterative(const ReliefHeightMap& hm, doub
   for (int32_t i = 0; i <= n; ++i) {
     d = std::min(i * step, 1.0);
     const double surf = 1.0 - hm.bilinear(u + sx * d, v + sy * d);
+    if (reads) hm.bilinear_texels(u + sx * d, v + sy * d, *reads);
     count_sample(ops);
     ops.add += 4;  // u, v, depth, 1 - h
     ops.cmp += 1;
@@ -104,6 +107,7 @@ ParallaxMapper::Result ParallaxMapper::iterative(const ReliefHeightMap& hm, doub
     for (int32_t k = 0; k < cfg_.binary_steps; ++k) {
       const double mid = 0.5 * (lo + hi);
       const double surf = 1.0 - hm.bilinear(u + sx * mid, v + sy * mid);
+      if (reads) hm.bilinear_texels(u + sx * mid, v + sy * mid, *reads);
       count_sample(ops);
       ops.add += 4;
       ops.mul += 2;

@@ -7,6 +7,7 @@
 // Arithmetic: double throughout; heights are the map's float values, read bilinearly.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "blocks/base/datapath.h"
 #include "blocks/base/op_counts.h"
@@ -46,9 +47,10 @@ class ParallaxMapper {
 
   // (u, v): texel coordinates where the view ray meets the polygon; (vx, vy, vz): tangent-space
   // vector from the surface towards the eye (any length; vz > 0 above the surface). A view
-  // vector parallel to (or below) the surface is clamped to vz = min_view_z.
+  // vector parallel to (or below) the surface is clamped to vz = min_view_z. `reads`, when
+  // given, gets the texels of every height read (for a cache model).
   Result map(const ReliefHeightMap& hm, double u, double v, double vx, double vy, double vz,
-             OpCounts& ops) const;
+             OpCounts& ops, std::vector<ReliefRead>* reads = nullptr) const;
 
   // Item: one height step (a linear or binary step, or the offset method's one read).
   OpCounts ops_per_item() const;
@@ -62,9 +64,9 @@ class ParallaxMapper {
 
  private:
   Result offset(const ReliefHeightMap& hm, double u, double v, double sx, double sy, double lx,
-                double ly, OpCounts& ops) const;
+                double ly, OpCounts& ops, std::vector<ReliefRead>* reads) const;
   Result iterative(const ReliefHeightMap& hm, double u, double v, double sx, double sy, double vz,
-                   OpCounts& ops) const;
+                   OpCounts& ops, std::vector<ReliefRead>* reads) const;
   Config cfg_{};
 };
 

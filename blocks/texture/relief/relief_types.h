@@ -10,6 +10,14 @@
 
 namespace texsim {
 
+// One memory read of a relief block, for a cache model: height texel (x, y) (z = kHeightRead),
+// colour texel (x, y) at the height map's resolution (z = kColourRead), or distance-map voxel
+// (x, y, z ≥ 0).
+struct ReliefRead {
+  static constexpr int32_t kHeightRead = -1, kColourRead = -2;
+  int32_t x, y, z;
+};
+
 // A height map: w × h texels, heights in [0, 1] (1 = the top of the relief). Texel (x, y) has
 // its centre at (x, y). Reads clamp to the edge; a NaN height reads as 0 (the defined fallback:
 // the base of the relief).
@@ -40,6 +48,17 @@ struct ReliefHeightMap {
     const double h01 = texel(ix, iy + 1), h11 = texel(ix + 1, iy + 1);
     const double top = h00 + (h10 - h00) * ax, bot = h01 + (h11 - h01) * ax;
     return top + (bot - top) * ay;
+  }
+  // The 4 texels bilinear(x, y) reads, clamped as it clamps them (x, y finite).
+  void bilinear_texels(double x, double y, std::vector<ReliefRead>& out) const {
+    const auto ix =
+        static_cast<int32_t>(std::clamp(std::floor(x), -1.0, static_cast<double>(width)));
+    const auto iy =
+        static_cast<int32_t>(std::clamp(std::floor(y), -1.0, static_cast<double>(height)));
+    for (int32_t k = 0; k < 4; ++k) {
+      out.push_back({std::clamp(ix + (k & 1), 0, width - 1),
+                     std::clamp(iy + (k >> 1), 0, height - 1), ReliefRead::kHeightRead});
+    }
   }
 };
 

@@ -26,7 +26,8 @@ SphereTracer::Config SphereTracer::Config::from_toml(const ConfigReader& r) {
 }
 
 SphereTracer::Result SphereTracer::trace(const DistanceMap& m, const glm::dvec3& start,
-                                         const glm::dvec3& dir, OpCounts& ops) const {
+                                         const glm::dvec3& dir, OpCounts& ops,
+                                         std::vector<ReliefRead>* reads) const {
   Result res;
   res.pos = start;
   ops += ray_setup_ops();
@@ -60,6 +61,10 @@ SphereTracer::Result SphereTracer::trace(const DistanceMap& m, const glm::dvec3&
     const double dist = m.at(static_cast<int32_t>(ix), static_cast<int32_t>(iy),
                              static_cast<int32_t>(std::max<int64_t>(iz, 0)));
     ++res.fetches;
+    if (reads) {
+      reads->push_back({static_cast<int32_t>(ix), static_cast<int32_t>(iy),
+                        static_cast<int32_t>(std::max<int64_t>(iz, 0))});
+    }
     ops.mem += 1;
     ops.cmp += 4;  // the three bounds and the hit test
     if (!(dist > 0)) {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <string>
+#include <vector>
 
 #include "blocks/base/datapath.h"
 #include "blocks/base/op_counts.h"
@@ -44,9 +45,10 @@ class SphereTracer {
 
   // Traces from `start` (voxel coordinates; a start above the volume first moves down to its
   // top) along `dir` (any length, normalised here). Non-finite or zero inputs: Invalid, no
-  // reads. A ray parallel to the surface ends Miss at a side or Capped.
-  Result trace(const DistanceMap& m, const glm::dvec3& start, const glm::dvec3& dir,
-               OpCounts& ops) const;
+  // reads. A ray parallel to the surface ends Miss at a side or Capped. `reads`, when given,
+  // gets the voxel of every fetch (for a cache model).
+  Result trace(const DistanceMap& m, const glm::dvec3& start, const glm::dvec3& dir, OpCounts& ops,
+               std::vector<ReliefRead>* reads = nullptr) const;
 
   // Item: one iteration (read, hit test, step).
   OpCounts ops_per_item() const;

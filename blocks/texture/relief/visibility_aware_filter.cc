@@ -22,6 +22,7 @@ struct RowTexel {
 struct Accumulator {
   const VisibilityAwareFilter::ColourMap& tex;
   VisibilityAwareFilter::Stats& st;
+  std::vector<ReliefRead>* log;
   std::unordered_set<int64_t> counted;
   glm::dvec4 sum{0.0};
   double wsum = 0;
@@ -36,6 +37,10 @@ struct Accumulator {
       return;
     }
     ++st.colour_reads;
+    if (log) {
+      log->push_back({std::clamp(x, 0, tex.width - 1), std::clamp(y, 0, tex.height - 1),
+                      ReliefRead::kColourRead});
+    }
     sum += w * glm::dvec4(tex.texel(x, y));
     wsum += w;
   }
@@ -73,7 +78,7 @@ VisibilityAwareFilter::Config VisibilityAwareFilter::Config::from_toml(const Con
 
 bool VisibilityAwareFilter::visible(const ReliefHeightMap& hm, int32_t x, int32_t y, double nx,
                                     double ny, double nz, int32_t& ox, int32_t& oy, uint32_t& reads,
-                                    bool& capped) const {
+                                    bool& capped, std::vector<ReliefRead>* log) const {
   const double d0 = (1.0 - hm.texel(x, y)) * cfg_.depth_texels;
   for (int32_t k = 1; k <= cfg_.max_trace_steps; ++k) {
     const double s = k * cfg_.trace_step;
@@ -84,6 +89,7 @@ bool VisibilityAwareFilter::visible(const ReliefHeightMap& hm, int32_t x, int32_
     if (ix < 0 || iy < 0 || ix >= hm.width || iy >= hm.height) return true;  // off the map
     if (ix == x && iy == y) continue;  // a texel does not hide itself
     ++reads;
+    if (log) log->push_back({ix, iy, ReliefRead::kHeightRead});
     if ((1.0 - hm.texel(ix, iy)) * cfg_.depth_texels < depth - 1e-9) {
       ox = ix;
       oy = iy;
@@ -97,8 +103,8 @@ bool VisibilityAwareFilter::visible(const ReliefHeightMap& hm, int32_t x, int32_
 VisibilityAwareFilter::Result VisibilityAwareFilter::filter(const ReliefHeightMap& hm,
                                                             const ColourMap& tex,
                                                             const Footprint& fp, double vx,
-                                                            double vy, double vz,
-                                                            OpCounts& ops) const {
+                                                            double vy, double vz, OpCounts& ops,
+                                                            std::vector<ReliefRead>* log) const {
   Result res;
   Stats& st = res.stats;
   const double len = std::sqrt(vx * vx + vy * vy + vz * vz);
@@ -119,7 +125,7 @@ VisibilityAwareFilter::Result VisibilityAwareFilter::filter(const ReliefHeightMa
   const double b = -2 * (fp.ux * fp.vx + fp.uy * fp.vy), f = a * c - b * b / 4;
   const double ru = std::min(std::sqrt(c), static_cast<double>(cfg_.max_radius));
   const double rv = std::min(std::sqrt(a), static_cast<double>(cfg_.max_radius));
-  Accumulator acc{tex, st, {}, glm::dvec4(0.0), 0};
+  Accumulator acc{tex, st, log, {}, glm::dvec4(0.0), 0};
   std::vector<RowTexel> row;
   const auto y0 = static_cast<int32_t>(std::ceil(fp.v - rv));
   const auto y1 = static_cast<int32_t>(std::floor(fp.v + rv));
@@ -142,7 +148,7 @@ VisibilityAwareFilter::Result VisibilityAwareFilter::filter(const ReliefHeightMa
       int32_t ox = 0, oy = 0;
       bool capped = false;
       ++st.traced;
-      const bool seen = visible(hm, t.x, y, nx, ny, nz, ox, oy, st.trace_reads, capped);
+      const bool seen = visible(hm, t.x, y, nx, ny, nz, ox, oy, st.trace_reads, capped, log);
       st.capped += capped ? 1 : 0;
       (seen ? st.visible : st.hidden) += 1;
       if (seen) {

@@ -73,14 +73,15 @@ class VisibilityAwareFilter {
   const Config& config() const { return cfg_; }
 
   // (vx, vy, vz): tangent-space vector towards the eye (non-finite or zero: plain EWA,
-  // flagged).
+  // flagged). `log`, when given, gets every counted height and colour read (for a cache model).
   Result filter(const ReliefHeightMap& hm, const ColourMap& tex, const Footprint& fp, double vx,
-                double vy, double vz, OpCounts& ops) const;
+                double vy, double vz, OpCounts& ops, std::vector<ReliefRead>* log = nullptr) const;
 
   // Visibility of texel (x, y) along the unit view vector; on false, (ox, oy) is the texel
-  // that hides it. Adds its height reads to `reads`.
+  // that hides it. Adds its height reads to `reads` (and their texels to `log` when given).
   bool visible(const ReliefHeightMap& hm, int32_t x, int32_t y, double nx, double ny, double nz,
-               int32_t& ox, int32_t& oy, uint32_t& reads, bool& capped) const;
+               int32_t& ox, int32_t& oy, uint32_t& reads, bool& capped,
+               std::vector<ReliefRead>* log = nullptr) const;
 
   // Item: one footprint texel (weight, colour read, accumulate) — the plain filter's cost.
   OpCounts ops_per_item() const;

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
 
 #include "testbench/lib/cli_harness.h"
 
@@ -605,6 +606,57 @@ TEST_F(Cli, UnwritableOutputDirectory) {
         << cmd << p.out;
     EXPECT_LT(secs, 5.0) << cmd;  // the studies take 17-77 s when they do run
   }
+}
+
+TEST_F(Cli, ReliefTraceCarriesTheViewVectorAndRunsLikeTheScene) {
+  // trace gen writes a relief scene's view vectors (version 2); the scene run from that trace
+  // gives the scene run's figures, and a version-1 trace of the same fragments falls back to
+  // the scene's camera.
+  const std::string scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/relief_wall.toml";
+  const std::string small = " --set output.width=80 --set output.height=60";
+  const std::string trc = path("wall.trc"), csv = path("wall.csv");
+  ASSERT_EQ(sh("trace gen " + scene + small + " -o " + trc).code, 0);
+  const Result info = sh("trace info " + trc);
+  ASSERT_EQ(info.code, 0) << info.out;
+  EXPECT_NE(info.out.find("version 2"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("view_x:f32@68"), std::string::npos) << info.out;
+  ASSERT_EQ(sh("trace convert " + trc + " " + csv).code, 0);
+  EXPECT_NE(slurp(csv).find("format v2"), std::string::npos);
+  const Result a = sh("run " + scene + small + " --no-progress --out " + path("scene"));
+  const Result b =
+      sh("run " + scene + small + " --trace " + trc + " --no-progress --out " + path("trace"));
+  const Result c =
+      sh("run " + scene + small + " --trace " + csv + " --no-progress --out " + path("csv"));
+  ASSERT_EQ(a.code, 0) << a.out;
+  ASSERT_EQ(b.code, 0) << b.out;
+  ASSERT_EQ(c.code, 0) << c.out;
+  const Json ja = load_json(path("scene") + "/report.json");
+  const Json jb = load_json(path("trace") + "/report.json");
+  const Json jc = load_json(path("csv") + "/report.json");
+  EXPECT_EQ(num(ja, "fragments"), num(jb, "fragments"));
+  EXPECT_GT(num(jb, "blocks.relief.parallax_iterative.texels"), 0);
+  EXPECT_EQ(num(jb, "cycles"), num(jc, "cycles"));
+  // The float view vector moves the relief's shifts by a hair at most.
+  EXPECT_NEAR(num(ja, "accuracy.psnr_db"), num(jb, "accuracy.psnr_db"), 0.05);
+  // Without the view columns (a version-1 trace) the run derives the view from the camera,
+  // exactly as the scene run does.
+  std::istringstream in(slurp(csv));
+  std::string line, v1;
+  while (std::getline(in, line)) {
+    if (!line.starts_with('#')) {
+      size_t cut = 0;
+      for (int k = 0; k < 11; ++k) cut = line.find(',', cut) + 1;
+      line.resize(cut - 1);
+    }
+    v1 += line + "\n";
+  }
+  write("v1.csv", v1);
+  const Result d = sh("run " + scene + small + " --trace " + path("v1.csv") +
+                      " --no-progress --out " + path("v1"));
+  ASSERT_EQ(d.code, 0) << d.out;
+  const Json jd = load_json(path("v1") + "/report.json");
+  EXPECT_EQ(num(ja, "cycles"), num(jd, "cycles"));
+  EXPECT_EQ(num(ja, "accuracy.psnr_db"), num(jd, "accuracy.psnr_db"));
 }
 
 }  // namespace

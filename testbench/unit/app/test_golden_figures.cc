@@ -458,11 +458,11 @@ materials.ground.psnr 27.648557367438968
 TEST_F(GoldenFigures, ReliefWall) {
   check(scene("relief_wall"), R"(
 fragments 47622
-cycles 614881
+cycles 881188
 blocks.blend.ops add=3137792 cmp=0 div=0 lut=0 mem=784448 mul=3137792 rcp=0 sqrt=0
 blocks.blend.texels 0
-blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=784448 mul=0 rcp=0 sqrt=0
-blocks.cache.texels 784448
+blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=3149996 mul=0 rcp=0 sqrt=0
+blocks.cache.texels 3149996
 blocks.filter.trilinear.ops add=2722308 cmp=1117802 div=0 lut=24932 mem=0 mul=3730612 rcp=0 sqrt=0
 blocks.filter.trilinear.texels 784448
 blocks.lighting.blinn_phong.ops add=619086 cmp=428598 div=0 lut=47622 mem=0 mul=857196 rcp=47622 sqrt=47622
@@ -472,25 +472,25 @@ blocks.lighting.normal_unit.texels 0
 blocks.lod.ops add=287974 cmp=267526 div=24932 lut=97486 mem=0 mul=430840 rcp=0 sqrt=24932
 blocks.lod.texels 0
 blocks.relief.parallax_iterative.ops add=5761766 cmp=643493 div=0 lut=0 mem=2274788 mul=2229663 rcp=49864 sqrt=24932
-blocks.relief.parallax_iterative.texels 0
+blocks.relief.parallax_iterative.texels 2274788
 blocks.relief.parallax_offset.ops add=272280 cmp=68070 div=0 lut=0 mem=90760 mul=363040 rcp=45380 sqrt=22690
-blocks.relief.parallax_offset.texels 0
+blocks.relief.parallax_offset.texels 90760
 stages.address.busy 98056
-stages.address.stalls blocked=36232 latency_full=0 multi_cycle=50434 starved=480468
+stages.address.stalls blocked=655490 latency_full=0 multi_cycle=50434 starved=127381
 stages.blend.busy 98056
-stages.blend.stalls blocked=0 latency_full=0 multi_cycle=50434 starved=516760
+stages.blend.stalls blocked=0 latency_full=0 multi_cycle=50434 starved=783067
 stages.cache.busy 196112
-stages.cache.stalls blocked=0 latency_full=18518 multi_cycle=148490 starved=400183
+stages.cache.stalls blocked=0 latency_full=612886 multi_cycle=148490 starved=72022
 stages.lighting.busy 47622
-stages.lighting.stalls blocked=0 latency_full=0 multi_cycle=0 starved=567203
+stages.lighting.stalls blocked=0 latency_full=0 multi_cycle=0 starved=833510
 stages.lod.busy 47622
-stages.lod.stalls blocked=27513 latency_full=0 multi_cycle=0 starved=539491
+stages.lod.stalls blocked=584423 latency_full=0 multi_cycle=0 starved=248710
 stages.relief.busy 591387
-stages.relief.stalls blocked=23201 latency_full=0 multi_cycle=543765 starved=0
-hits 146544
-misses 38198
-texel_reads 784448
-dram busy_cycles=152792 bytes=2444672 requests=38198
+stages.relief.stalls blocked=289304 latency_full=0 multi_cycle=543765 starved=0
+hits 404608
+misses 219972
+texel_reads 3149996
+dram busy_cycles=879888 bytes=14078208 requests=219972
 psnr_db 26.231085247406185
 max_abs 0.39585393667221069
 materials.floor.fragments 22690

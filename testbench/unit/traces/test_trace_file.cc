@@ -76,7 +76,8 @@ bool same_bits(float a, float b) {
                   a.tex == b.tex && same_bits(a.u, b.u) && same_bits(a.v, b.v) &&
                   same_bits(a.dudx, b.dudx) && same_bits(a.dvdx, b.dvdx) &&
                   same_bits(a.dudy, b.dudy) && same_bits(a.dvdy, b.dvdy) &&
-                  same_bits(a.lod_bias, b.lod_bias);
+                  same_bits(a.lod_bias, b.lod_bias) && same_bits(a.view_x, b.view_x) &&
+                  same_bits(a.view_y, b.view_y) && same_bits(a.view_z, b.view_z);
   if (ok) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure()
          << "fragments differ: frame " << a.frame << "/" << b.frame << " u " << a.u << "/" << b.u
@@ -279,6 +280,12 @@ std::vector<unsigned char> encode_record(const Fragment& f, const FileSpec& s) {
       put(d.offset, &v, 8);
     } else if (n == "lod_bias") {
       put(d.offset, &f.lod_bias, 4);
+    } else if (n == "view_x") {
+      put(d.offset, &f.view_x, 4);
+    } else if (n == "view_y") {
+      put(d.offset, &f.view_y, 4);
+    } else if (n == "view_z") {
+      put(d.offset, &f.view_z, 4);
     }
   }
   return r;
@@ -521,8 +528,10 @@ void expect_header_error(const FileSpec& s, const std::vector<std::string>& part
 
 TEST(TraceFileErrors, UnknownVersion) {
   FileSpec s;
-  s.version = 2;
-  expect_header_error(s, {"unknown version 2"});
+  s.version = 3;
+  expect_header_error(s, {"unknown version 3", "reads versions 1..2"});
+  s.version = 0;
+  expect_header_error(s, {"unknown version 0"});
 }
 
 TEST(TraceFileErrors, AbsurdRecordSize) {
@@ -880,11 +889,137 @@ TEST(TraceWriterFailure, BadHeaderOrChunkSizeIsRejectedBeforeWriting) {
   h.textures[1].name = "a\nb";
   expect_input_error([&] { TraceWriter w(path, h); }, {path, "control character"});
   h = sample_header(true);
-  h.version = 2;
-  expect_input_error([&] { TraceWriter w(path, h); }, {path, "version 2"});
+  h.version = 3;
+  expect_input_error([&] { TraceWriter w(path, h); }, {path, "version 3"});
   expect_input_error([&] { TraceWriter w(path, sample_header(true), 0); },
                      {path, "records per chunk 0"});
   EXPECT_EQ(dir.entries(), 0u);
+}
+
+// ---- version 2: the optional view vector -----------------------------------------------------
+
+std::vector<Fragment> with_views(std::vector<Fragment> frags) {
+  for (size_t i = 0; i < frags.size(); ++i) {
+    frags[i].view_x = 0.25F * static_cast<float>(i % 5) - 0.5F;
+    frags[i].view_y = -0.125F * static_cast<float>(i % 3);
+    frags[i].view_z = 0.75F;
+  }
+  return frags;
+}
+
+// A version-2 layout: the canonical fields, then view_x, view_y, view_z.
+FileSpec view_spec(uint32_t version, int view_fields = 3) {
+  FileSpec s;
+  s.version = version;
+  s.fields = doc_layout(false);
+  const char* names[3] = {"view_x", "view_y", "view_z"};
+  for (int i = 0; i < view_fields; ++i)
+    s.fields.push_back({names[i], 9, 68 + 4 * static_cast<uint32_t>(i)});
+  s.record_size = 80;
+  return s;
+}
+
+std::vector<unsigned char> view_file(const FileSpec& s, const std::vector<Fragment>& frags) {
+  std::vector<unsigned char> out = build_header(s);
+  const auto c = build_chunk(frags, s);
+  out.insert(out.end(), c.begin(), c.end());
+  const auto t = build_trailer(1, frags.size());
+  out.insert(out.end(), t.begin(), t.end());
+  return out;
+}
+
+TEST(TraceViewVector, RoundTripsAsVersion2InBothForms) {
+  for (const bool lod : {false, true}) {
+    for (const char* name : {"v.trc", "v.csv"}) {
+      SCOPED_TRACE(std::string(name) + (lod ? " with lod_bias" : ""));
+      TempDir dir("texsim_trace_file");
+      const std::string path = dir.file(name);
+      TraceHeader h = sample_header(lod);
+      h.has_view = true;
+      const auto frags = with_views(random_fragments(300, lod, {0, 7}, 5));
+      write_trace(path, h, frags);
+      TraceHeader back;
+      const auto got = read_all(path, &back);
+      EXPECT_EQ(back.version, 2u);
+      EXPECT_TRUE(back.has_view);
+      EXPECT_EQ(back.has_lod_bias, lod);
+      if (back.encoding == TraceEncoding::Binary) {
+        EXPECT_EQ(back.record_size, lod ? 84u : 80u);
+      }
+      ASSERT_EQ(got.size(), frags.size());
+      for (size_t i = 0; i < got.size(); ++i) ASSERT_TRUE(same_fragment(got[i], frags[i])) << i;
+    }
+  }
+}
+
+TEST(TraceViewVector, WithoutItTheWriterWritesVersion1) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("v1.trc");
+  TraceHeader h = sample_header(false);
+  h.version = 2;  // the version written is the lowest that describes the file
+  write_trace(path, h, random_fragments(10, false, {0}, 3));
+  TraceHeader back;
+  (void)read_all(path, &back);
+  EXPECT_EQ(back.version, 1u);
+  EXPECT_FALSE(back.has_view);
+  EXPECT_EQ(back.record_size, 68u);
+}
+
+TEST(TraceViewVector, Version1FilesSkipFieldsOfThoseNames) {
+  // Before version 2 the names meant nothing: a version-1 file's view_* fields are skipped.
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("old.trc");
+  const auto frags = with_views(random_fragments(20, false, {0, 3}, 9));
+  spit(path, view_file(view_spec(1), frags));
+  TraceHeader h;
+  const auto got = read_all(path, &h);
+  EXPECT_EQ(h.version, 1u);
+  EXPECT_FALSE(h.has_view);
+  ASSERT_EQ(got.size(), frags.size());
+  EXPECT_FALSE(got[0].has_view());
+  // The same bytes as version 2 carry it.
+  spit(path, view_file(view_spec(2), frags));
+  const auto v2 = read_all(path, &h);
+  EXPECT_TRUE(h.has_view);
+  for (size_t i = 0; i < v2.size(); ++i) ASSERT_TRUE(same_fragment(v2[i], frags[i])) << i;
+}
+
+TEST(TraceViewVector, BadViewVectorsNameFileRecordAndField) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("bad.trc");
+  // Only two of the three fields: a header error.
+  spit(path, view_file(view_spec(2, 2), with_views(random_fragments(4, false, {0}, 1))));
+  expect_input_error([&] { read_all(path); }, {path, "header", "view_x, view_y, view_z"});
+  // A NaN component, and a zero vector: record errors.
+  auto frags = with_views(random_fragments(6, false, {0}, 1));
+  frags[4].view_y = std::numeric_limits<float>::quiet_NaN();
+  spit(path, view_file(view_spec(2), frags));
+  expect_input_error([&] { read_all(path); }, {path, "record 4", "field 'view_y' is NaN"});
+  frags[4].view_y = 0;
+  frags[4].view_x = frags[4].view_z = 0;
+  spit(path, view_file(view_spec(2), frags));
+  expect_input_error([&] { read_all(path); }, {path, "record 4", "view vector", "is zero"});
+  // The writers refuse them too.
+  TraceHeader h = sample_header(false);
+  h.has_view = true;
+  for (const char* name : {"w.trc", "w.csv"}) {
+    const std::string out = dir.file(name);
+    expect_input_error([&] { write_trace(out, h, frags); }, {out, "record 4", "is zero"});
+  }
+}
+
+TEST(TraceViewVector, CsvViewColumnsComeTogetherAndMustBeFinite) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("c.csv");
+  const std::string head = "# texture 0 t procedural:checker 8 8\n";
+  std::ofstream(path) << head << "frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy,view_x,view_z\n";
+  expect_input_error([&] { read_all(path); }, {path, "view_x, view_y, view_z", "2 present"});
+  std::ofstream(path) << head << "frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy,view_x,view_y,view_z\n"
+                      << "0,0,1,1,0,0.5,0.5,0,0,0,0,0.1,nan,0.9\n";
+  expect_input_error([&] { read_all(path); }, {path + ":3:", "view_y"});
+  std::ofstream(path) << head << "frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy,view_x,view_y,view_z\n"
+                      << "0,0,1,1,0,0.5,0.5,0,0,0,0,0,0,0\n";
+  expect_input_error([&] { read_all(path); }, {path + ":3:", "is zero"});
 }
 
 }  // namespace
