@@ -172,30 +172,14 @@ ReliefEffect::Shift ReliefEffect::march_terrain(double x, double y, const glm::d
                                                 OpCounts& ops,
                                                 std::vector<ReliefRead>* reads) const {
   // Grid coordinates: x along u, z along v, y up; the ray enters at the polygon (height
-  // `scale`) and runs against the view vector.
+  // `scale`) and runs against the view vector. Node (i, j) of the grid is texel (i, j) of the
+  // height map's level 0, so the nodes the marcher logs are the height texels it reads.
   const TerrainRayMarcher::Result r =
-      marcher_.march_ray(grid_, top_, {x, setup_.scale, y}, {-vt.x, -vt.z, -vt.y}, ops);
+      marcher_.march_ray(grid_, top_, {x, setup_.scale, y}, {-vt.x, -vt.z, -vt.y}, ops, reads);
   Shift s{x, y, r.steps + r.refinements, r.fetches};
   if (r.hit) {  // no hit (capped, or invalid input): the fragment keeps its (u, v)
     s.u = r.point.x;
     s.v = r.point.z;
-  }
-  if (reads && r.evaluations > 0 && std::isfinite(s.u) && std::isfinite(s.v)) {
-    // The marcher's reads are inside its evaluator: modelled as its evaluations evenly spaced
-    // from the entry to the end point, each reading its grid nodes around the point (a square
-    // of fetches-per-evaluation nodes).
-    const uint32_t per = r.fetches / r.evaluations;
-    const auto side = static_cast<int32_t>(std::ceil(std::sqrt(static_cast<double>(per))));
-    for (uint32_t e = 0; e < r.evaluations; ++e) {
-      const double t = r.evaluations > 1 ? static_cast<double>(e) / (r.evaluations - 1) : 1.0;
-      const auto cx = static_cast<int32_t>(std::floor(x + (s.u - x) * t)) - (side - 1) / 2;
-      const auto cy = static_cast<int32_t>(std::floor(y + (s.v - y) * t)) - (side - 1) / 2;
-      for (uint32_t k = 0; k < per; ++k) {
-        reads->push_back({std::clamp(cx + static_cast<int32_t>(k) % side, 0, hm_.width - 1),
-                          std::clamp(cy + static_cast<int32_t>(k) / side, 0, hm_.height - 1),
-                          ReliefRead::kHeightRead});
-      }
-    }
   }
   return s;
 }

@@ -1,5 +1,6 @@
 #include "blocks/geometry/terrain/terrain_height_evaluator.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "blocks/base/block.h"
@@ -8,6 +9,16 @@
 namespace texsim {
 
 static_assert(Block<TerrainHeightEvaluator>);
+
+namespace {
+
+// Node (i, j) of g; logged (clamped, as TerrainGrid::node clamps) when `reads` is given.
+double read_node(const TerrainGrid& g, int32_t i, int32_t j, std::vector<TerrainNode>* reads) {
+  if (reads) reads->push_back({std::clamp(i, 0, g.nx - 1), std::clamp(j, 0, g.nz - 1)});
+  return g.node(i, j);
+}
+
+}  // namespace
 
 TerrainHeightEvaluator::Config TerrainHeightEvaluator::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"function", "deformation", "blend_shift", "datapath"});
@@ -21,13 +32,13 @@ TerrainHeightEvaluator::Config TerrainHeightEvaluator::Config::from_toml(const C
   return c;
 }
 
-TerrainHeightEvaluator::Sample TerrainHeightEvaluator::sample_2x2(const TerrainGrid& g, double x,
-                                                                  double z, bool grad) const {
+TerrainHeightEvaluator::Sample TerrainHeightEvaluator::sample_2x2(
+    const TerrainGrid& g, double x, double z, bool grad, std::vector<TerrainNode>* reads) const {
   const double xu = std::floor(x), zu = std::floor(z);
   const double xd = x - xu, zd = z - zu;
   const auto i = static_cast<int32_t>(xu), j = static_cast<int32_t>(zu);
-  const double h1 = g.node(i, j), h2 = g.node(i, j + 1), h3 = g.node(i + 1, j),
-               h4 = g.node(i + 1, j + 1);
+  const double h1 = read_node(g, i, j, reads), h2 = read_node(g, i, j + 1, reads),
+               h3 = read_node(g, i + 1, j, reads), h4 = read_node(g, i + 1, j + 1, reads);
   const FiniteBasis& f = cfg_.basis;
   const double fx = f.value(xd), fz = f.value(zd);
   Sample s;
@@ -41,8 +52,8 @@ TerrainHeightEvaluator::Sample TerrainHeightEvaluator::sample_2x2(const TerrainG
   return s;
 }
 
-TerrainHeightEvaluator::Sample TerrainHeightEvaluator::sample_3x3(const TerrainGrid& g, double x,
-                                                                  double z, bool grad) const {
+TerrainHeightEvaluator::Sample TerrainHeightEvaluator::sample_3x3(
+    const TerrainGrid& g, double x, double z, bool grad, std::vector<TerrainNode>* reads) const {
   const double xc = std::floor(x + 0.5), zc = std::floor(z + 0.5);
   const double xp = x - xc, zp = z - zc;
   const auto i0 = static_cast<int32_t>(xc), j0 = static_cast<int32_t>(zc);
@@ -61,7 +72,7 @@ TerrainHeightEvaluator::Sample TerrainHeightEvaluator::sample_3x3(const TerrainG
   for (int a = 0; a < 3; ++a) {
     double row = 0, drow = 0;  // Σ_b h(a, b) f(z - b), and with f'
     for (int b = 0; b < 3; ++b) {
-      const double h = g.node(i0 + a - 1, j0 + b - 1);
+      const double h = read_node(g, i0 + a - 1, j0 + b - 1, reads);
       row += h * fz[b];
       drow += h * dfz[b];
     }
@@ -83,14 +94,14 @@ TerrainHeightEvaluator::Sample TerrainHeightEvaluator::sample(const TerrainGrid&
                                                         : sample_2x2(g, x, z, true);
 }
 
-double TerrainHeightEvaluator::height(const TerrainGrid& g, double x, double z,
-                                      OpCounts& ops) const {
+double TerrainHeightEvaluator::height(const TerrainGrid& g, double x, double z, OpCounts& ops,
+                                      std::vector<TerrainNode>* reads) const {
   ops += ops_per_item();
   if (!std::isfinite(x) || !std::isfinite(z) || g.nx <= 0 || g.nz <= 0) {
-    return g.nx > 0 && g.nz > 0 ? g.node(0, 0) : 0.0;
+    return g.nx > 0 && g.nz > 0 ? read_node(g, 0, 0, reads) : 0.0;
   }
-  return cfg_.basis.deformation == Deformation::Widened ? sample_3x3(g, x, z, false).y
-                                                        : sample_2x2(g, x, z, false).y;
+  return cfg_.basis.deformation == Deformation::Widened ? sample_3x3(g, x, z, false, reads).y
+                                                        : sample_2x2(g, x, z, false, reads).y;
 }
 
 double TerrainHeightEvaluator::height_8mul(const TerrainGrid& g, double x, double z,

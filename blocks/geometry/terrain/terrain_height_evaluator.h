@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "blocks/base/datapath.h"
 #include "blocks/base/op_counts.h"
@@ -21,6 +22,12 @@
 namespace texsim {
 
 class ConfigReader;
+
+// A grid node an evaluation read, clamped to the grid as the read is (TerrainGrid::node).
+struct TerrainNode {
+  int32_t i = 0, j = 0;
+  bool operator==(const TerrainNode&) const = default;
+};
 
 class TerrainHeightEvaluator {
  public:
@@ -38,8 +45,10 @@ class TerrainHeightEvaluator {
   explicit TerrainHeightEvaluator(const Config& c) : cfg_(c) {}
   const Config& config() const { return cfg_; }
 
-  // Height at (x, z); non-finite x or z reads the node (0, 0).
-  double height(const TerrainGrid& g, double x, double z, OpCounts& ops) const;
+  // Height at (x, z); non-finite x or z reads the node (0, 0). `reads`, when given, gets the
+  // nodes read, in read order (fetches_per_item() of them, or the one node (0, 0)).
+  double height(const TerrainGrid& g, double x, double z, OpCounts& ops,
+                std::vector<TerrainNode>* reads = nullptr) const;
   // Height and gradient (normal = (-dydx, 1, -dydz), the seed's eq. after 2.52).
   Sample sample(const TerrainGrid& g, double x, double z, OpCounts& ops) const;
   // The 8-multiplication form of eq. 2.50 (2 × 2 supports only; variant 1 falls back to
@@ -59,8 +68,10 @@ class TerrainHeightEvaluator {
   }
 
  private:
-  Sample sample_2x2(const TerrainGrid& g, double x, double z, bool grad) const;
-  Sample sample_3x3(const TerrainGrid& g, double x, double z, bool grad) const;
+  Sample sample_2x2(const TerrainGrid& g, double x, double z, bool grad,
+                    std::vector<TerrainNode>* reads = nullptr) const;
+  Sample sample_3x3(const TerrainGrid& g, double x, double z, bool grad,
+                    std::vector<TerrainNode>* reads = nullptr) const;
   OpCounts basis_ops() const;  // one f^k evaluation
   Config cfg_{};
 };

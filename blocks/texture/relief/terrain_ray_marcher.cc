@@ -45,7 +45,8 @@ TerrainRayMarcher::Result TerrainRayMarcher::march(const AviationCamera& cam, co
 
 TerrainRayMarcher::Result TerrainRayMarcher::march_ray(const TerrainGrid& g, double top,
                                                        const glm::dvec3& eye, const glm::dvec3& v,
-                                                       OpCounts& ops) const {
+                                                       OpCounts& ops,
+                                                       std::vector<ReliefRead>* reads) const {
   Result r;
   ops += ray_setup_ops();
   const double len = glm::length(v);
@@ -55,10 +56,17 @@ TerrainRayMarcher::Result TerrainRayMarcher::march_ray(const TerrainGrid& g, dou
     return r;
   }
   const glm::dvec3 d = v / len;
+  std::vector<TerrainNode> nodes;  // the evaluator's reads (only when `reads` is given)
+  std::vector<TerrainNode>* const log = reads ? &nodes : nullptr;
   auto height = [&](double t) {
     ++r.evaluations;
     const glm::dvec3 p = eye + t * d;
-    return p.y - eval_.height(g, p.x, p.z, ops);  // < 0: below the surface
+    const double y = p.y - eval_.height(g, p.x, p.z, ops, log);  // < 0: below the surface
+    if (reads) {
+      for (const TerrainNode& n : nodes) reads->push_back({n.i, n.j, ReliefRead::kHeightRead});
+      nodes.clear();
+    }
+    return y;
   };
   double t = 0;
   if (eye.y > top) {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <string>
+#include <vector>
 
 #include "blocks/base/datapath.h"
 #include "blocks/base/op_counts.h"
@@ -14,6 +15,7 @@
 #include "blocks/base/timing_spec.h"
 #include "blocks/geometry/aviation_camera.h"
 #include "blocks/geometry/terrain/terrain_height_evaluator.h"
+#include "blocks/texture/relief/relief_types.h"
 
 namespace texsim {
 
@@ -56,9 +58,11 @@ class TerrainRayMarcher {
                OpCounts& ops) const;
   // The same march for any ray from `eye` along `dir` (any length; grid units, y up), without
   // the normal (`normal` stays up): the terrain relief effect feeds it the view rays of the
-  // scene camera's fragments (pipeline/texture/surface_effects.h).
+  // scene camera's fragments (pipeline/texture/surface_effects.h). `reads`, when given, gets
+  // every grid node the evaluator reads, in read order, as the height texel (i, j)
+  // (ReliefRead::kHeightRead): the grid is a height map's level 0, node (i, j) its texel (i, j).
   Result march_ray(const TerrainGrid& g, double top, const glm::dvec3& eye, const glm::dvec3& dir,
-                   OpCounts& ops) const;
+                   OpCounts& ops, std::vector<ReliefRead>* reads = nullptr) const;
 
   // Item: one march step (position update, one height evaluation, the compare).
   OpCounts ops_per_item() const;
