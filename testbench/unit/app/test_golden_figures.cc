@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -499,6 +500,92 @@ materials.floor.psnr 23.320616543745114
 materials.wall.fragments 24932
 materials.wall.ops add=11130844 cmp=1869721 div=24932 lut=124660 mem=2977444 mul=8702019 rcp=99728 sqrt=99728
 materials.wall.psnr 35.048862333608625
+)");
+}
+TEST_F(GoldenFigures, TerrainFlyover) {
+  check(scene("terrain_flyover"), R"(
+fragments 26069
+cycles 2294252
+blocks.blend.ops add=2189920 cmp=0 div=0 lut=0 mem=547480 mul=2189920 rcp=0 sqrt=0
+blocks.blend.texels 0
+blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=9723720 mul=0 rcp=0 sqrt=0
+blocks.cache.texels 9723720
+blocks.filter.trilinear.ops add=1378472 cmp=1277443 div=0 lut=26069 mem=0 mul=1557708 rcp=0 sqrt=0
+blocks.filter.trilinear.texels 547480
+blocks.lighting.blinn_phong.ops add=338897 cmp=234621 div=0 lut=26069 mem=0 mul=469242 rcp=26069 sqrt=26069
+blocks.lighting.blinn_phong.texels 0
+blocks.lighting.normal_unit.ops add=104276 cmp=26069 div=0 lut=0 mem=104276 mul=208552 rcp=26069 sqrt=26069
+blocks.lighting.normal_unit.texels 0
+blocks.lod.ops add=182483 cmp=208552 div=26069 lut=78207 mem=0 mul=260690 rcp=0 sqrt=26069
+blocks.lod.texels 0
+blocks.relief.terrain_ray_marcher.ops add=30474505 cmp=8993757 div=52138 lut=4588120 mem=9176240 mul=14259671 rcp=26069 sqrt=26069
+blocks.relief.terrain_ray_marcher.texels 9176240
+stages.address.busy 68435
+stages.address.stalls blocked=0 latency_full=0 multi_cycle=42366 starved=2225619
+stages.blend.busy 68435
+stages.blend.stalls blocked=0 latency_full=0 multi_cycle=42366 starved=2225753
+stages.cache.busy 136870
+stages.cache.stalls blocked=0 latency_full=0 multi_cycle=110801 starved=2157208
+stages.lighting.busy 26069
+stages.lighting.stalls blocked=0 latency_full=0 multi_cycle=0 starved=2268127
+stages.lod.busy 26069
+stages.lod.stalls blocked=0 latency_full=0 multi_cycle=0 starved=2267947
+stages.relief.busy 2294060
+stages.relief.stalls blocked=0 latency_full=0 multi_cycle=2267991 starved=0
+hits 384993
+misses 98435
+texel_reads 9723720
+dram busy_cycles=393740 bytes=6299840 requests=98435
+psnr_db 27.752407985214589
+max_abs 0.33504432439804077
+materials.ground.fragments 26069
+materials.ground.ops add=34668553 cmp=10740442 div=78207 lut=4718465 mem=9827996 mul=18945783 rcp=78207 sqrt=104276
+materials.ground.psnr 27.752407985214589
+)");
+}
+TEST_F(GoldenFigures, TerrainDem) {
+  // The DEM ships with matplotlib's sample data (scenes/terrain_dem.toml).
+  if (!std::filesystem::exists(
+          "/usr/share/matplotlib/mpl-data/sample_data/jacksboro_fault_dem.npz"))
+    GTEST_SKIP() << "the DEM of scenes/terrain_dem.toml is not installed";
+  check(scene("terrain_dem"), R"(
+fragments 27986
+cycles 5236956
+blocks.blend.ops add=2362336 cmp=0 div=0 lut=0 mem=590584 mul=2362336 rcp=0 sqrt=0
+blocks.blend.texels 0
+blocks.cache.ops add=0 cmp=0 div=0 lut=0 mem=21538064 mul=0 rcp=0 sqrt=0
+blocks.cache.texels 21538064
+blocks.filter.trilinear.ops add=1486595 cmp=1377070 div=0 lut=27986 mem=0 mul=1680078 rcp=0 sqrt=0
+blocks.filter.trilinear.texels 590584
+blocks.lighting.blinn_phong.ops add=363818 cmp=251874 div=0 lut=27986 mem=0 mul=503748 rcp=27986 sqrt=27986
+blocks.lighting.blinn_phong.texels 0
+blocks.lighting.normal_unit.ops add=111944 cmp=27986 div=0 lut=0 mem=111944 mul=223888 rcp=27986 sqrt=27986
+blocks.lighting.normal_unit.texels 0
+blocks.lod.ops add=195902 cmp=223888 div=27986 lut=83958 mem=0 mul=279860 rcp=0 sqrt=27986
+blocks.lod.texels 0
+blocks.relief.terrain_ray_marcher.ops add=68778960 cmp=20751578 div=55972 lut=10473740 mem=20947480 mul=31952954 rcp=27986 sqrt=27986
+blocks.relief.terrain_ray_marcher.texels 20947480
+stages.address.busy 73823
+stages.address.stalls blocked=0 latency_full=0 multi_cycle=45837 starved=5162931
+stages.blend.busy 73823
+stages.blend.stalls blocked=0 latency_full=0 multi_cycle=45837 starved=5163069
+stages.cache.busy 147646
+stages.cache.stalls blocked=0 latency_full=0 multi_cycle=119660 starved=5089132
+stages.lighting.busy 27986
+stages.lighting.stalls blocked=0 latency_full=0 multi_cycle=0 starved=5208914
+stages.lod.busy 27986
+stages.lod.stalls blocked=0 latency_full=0 multi_cycle=0 starved=5208730
+stages.relief.busy 5236870
+stages.relief.stalls blocked=0 latency_full=0 multi_cycle=5208884 starved=0
+hits 649573
+misses 425915
+texel_reads 21538064
+dram busy_cycles=1703660 bytes=27258560 requests=425915
+psnr_db 26.414190274866087
+max_abs 0.62768715620040894
+materials.ground.fragments 27986
+materials.ground.ops add=73299555 cmp=22632396 div=83958 lut=10613670 mem=21650008 mul=37002864 rcp=83958 sqrt=111944
+materials.ground.psnr 26.414190274866087
 )");
 }
 TEST_F(GoldenFigures, ObjectSpace) {
