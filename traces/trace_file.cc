@@ -1,6 +1,6 @@
 #include "traces/trace_file.h"
 
-#include <zlib.h>
+#include <isa-l/crc.h>
 
 #include <algorithm>
 #include <bit>
@@ -77,9 +77,11 @@ void append_le(std::vector<unsigned char>& out, T v) {
   store_le(out.data() + n, v);
 }
 
+// zlib's crc32(0, p, n) (FORMAT.md), computed by ISA-L: crc32_gzip_refl takes and returns the
+// CRC in zlib's form (inverted on entry and exit), so 0 starts a CRC as in zlib.
 uint32_t crc_of(const unsigned char* p, size_t n) {
   // Chunks are bounded by kTraceMaxChunkBytes (< 4 GiB), so one call covers them.
-  return static_cast<uint32_t>(::crc32(0L, p, static_cast<uInt>(n)));
+  return crc32_gzip_refl(0, p, static_cast<uint64_t>(n));
 }
 
 std::string hex32(uint32_t v) {
