@@ -174,7 +174,7 @@ struct Candidate {
 
 // What one run of a candidate gave (or why it did not run).
 struct Outcome {
-  bool ran = false, fatal = false;
+  bool ran = false;
   std::string why_not;
   double cycles = 0, area = 0, psnr_db = 0, nmse = 0;
 };
@@ -285,13 +285,11 @@ class Search {
       const RunCapture c = run({override});
       const auto m = std::find(c.material_names.begin(), c.material_names.end(), material);
       const AccuracyMetrics& a = c.materials[static_cast<size_t>(m - c.material_names.begin())];
-      o = {true, false, "", static_cast<double>(c.cycles), c.area, a.psnr_db, a.nmse};
-    } catch (const InputError& e) {
+      o = {true, "", static_cast<double>(c.cycles), c.area, a.psnr_db, a.nmse};
+    } catch (const InputError& e) {  // a refused configuration: skipped with a note
       o.why_not = e.what();
-    } catch (const std::exception& e) {  // not a refused configuration: stops the search
-      o.fatal = true;
-      o.why_not = e.what();
-    }
+    }  // anything else stops the search: the pool rethrows it on the calling thread
+
     return o;
   }
 
@@ -311,7 +309,6 @@ class Search {
     for (size_t t = 0; t < todo.size(); ++t) {
       const Candidate& c = cands[todo[t]];
       const Outcome& o = out[t];
-      if (o.fatal) throw std::runtime_error(o.why_not);
       int index = -1;
       if (o.ran) {
         ++res_.runs;
