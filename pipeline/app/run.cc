@@ -375,7 +375,7 @@ void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImag
   write_run_reports(outputs.staging(), info, unit, sum.accuracy);
   outputs.commit();
   log << "texsim run: " << sum.fragments << " fragments, " << sum.cycles << " cycles, ";
-  if (opt.reference == "none") {
+  if (!info.has_truth) {
     log << "no ground truth (--reference none): no accuracy figures";
   } else {
     log << "PSNR " << sum.accuracy.psnr_db << " dB";
