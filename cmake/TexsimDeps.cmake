@@ -11,6 +11,8 @@ find_package(tinyobjloader REQUIRED)
 pkg_check_modules(HIDAPI REQUIRED IMPORTED_TARGET hidapi-hidraw)
 pkg_check_modules(MPFR REQUIRED IMPORTED_TARGET mpfr)
 find_package(SQLite3 REQUIRED)
+# Google Highway: SIMD with run-time target dispatch (the batched sampler).
+find_package(hwy REQUIRED)
 # Optional: Mesa as a peer renderer (pipeline/reference/mesa_peer.h) needs EGL and OpenGL
 # (libegl-dev, libgl-dev); without them texsim builds and the Mesa rows are skipped.
 find_package(OpenGL COMPONENTS EGL OpenGL)

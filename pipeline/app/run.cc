@@ -294,6 +294,45 @@ Provenance run_provenance(const RunOptions& opt, const std::string& scene_path,
   return p;
 }
 
+// Fragments of one material gathered for the texture unit's batched datapath
+// (TextureUnit::process_batch: the same colours, counts and cycles as one by one), then passed
+// on in arrival order. A batch of one processes each fragment as it comes.
+class UnitBatch {
+ public:
+  UnitBatch(TextureUnit& unit, size_t size) : unit_(unit), size_(size) {}
+  template <class Record>
+  void add(const Fragment& f, const Fragment& g, int material, uint64_t index, Record& record) {
+    if (size_ <= 1) {
+      const Rgba c = unit_.process(g, material);
+      record(f, g, material, &c, index);
+      return;
+    }
+    if (!g_.empty() && material != material_) flush(record);
+    material_ = material;
+    f_.push_back(f);
+    g_.push_back(g);
+    index_.push_back(index);
+    if (g_.size() == size_) flush(record);
+  }
+  template <class Record>
+  void flush(Record& record) {
+    out_.resize(g_.size());
+    unit_.process_batch(g_.data(), g_.size(), material_, out_.data());
+    for (size_t i = 0; i < g_.size(); ++i) record(f_[i], g_[i], material_, &out_[i], index_[i]);
+    f_.clear();
+    g_.clear();
+    index_.clear();
+  }
+
+ private:
+  TextureUnit& unit_;
+  size_t size_;
+  int material_ = 0;
+  std::vector<Fragment> f_, g_;
+  std::vector<uint64_t> index_;
+  std::vector<Rgba> out_;
+};
+
 // Fragments waiting for their ground truth, computed in parallel a batch at a time and then
 // recorded in arrival order. Each truth depends on its fragment alone, so every thread count
 // gives the same bits.
@@ -607,6 +646,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     if (timeline) timeline->observe(*unit.pipeline());
     batch.add(f, g, material, colour, index);
   };
+  // The unit's timeline observes the pipeline after every fragment: no batching then.
+  UnitBatch unit_batch(unit, timeline ? 1 : LinearBatch::kMax);
   auto handle = [&](const Fragment& f, uint64_t index) {
     Fragment g = f;
     g.tex = loaded_texture(f, index, textures, input, opt.trace);
@@ -619,7 +660,12 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
       }
       material = scene.primitives[f.prim].material;
     }
-    const Rgba c = os.drawn_by(material) ? os.shade(material, f.x, f.y) : unit.process(g, material);
+    if (!os.drawn_by(material)) {
+      unit_batch.add(f, g, material, index, record);
+      return;
+    }
+    unit_batch.flush(record);  // in arrival order
+    const Rgba c = os.shade(material, f.x, f.y);
     record(f, g, material, &c, index);
   };
   uint64_t index = 0;
@@ -640,6 +686,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     generate_fragments(
         scene, 0, [&](const Fragment& f) { handle(f, index++); }, &raster, &mats);
   }
+  unit_batch.flush(record);
   batch.flush();
   images.finish();
   if (images.count() == 0) throw InputError(input, "no fragments to render");

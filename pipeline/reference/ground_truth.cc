@@ -82,7 +82,7 @@ const ByteToDouble kByte;
 glm::dvec4 fetch(const Texture& t, int x, int y) {
   if (t.format() == TexelFormat::Rgba8) {
     const Texture::Level& lv = t.level(0);
-    const uint8_t* p = &lv.rgba8[(static_cast<size_t>(y) * lv.width + x) * 4];
+    const uint8_t* p = t.rgba8(0) + (static_cast<size_t>(y) * lv.width + x) * 4;
     return {kByte.v[p[0]], kByte.v[p[1]], kByte.v[p[2]], kByte.v[p[3]]};
   }
   const Rgba c = t.texel(0, x, y);

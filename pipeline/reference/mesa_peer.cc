@@ -225,7 +225,7 @@ GLuint upload(const Texture& tex, AddressMode address, const MesaView& view) {
     const Texture::Level& lv = tex.level(l);
     glTexImage2D(GL_TEXTURE_2D, l, u8 ? GL_RGBA8 : GL_RGBA32F, lv.width, lv.height, 0, GL_RGBA,
                  u8 ? GL_UNSIGNED_BYTE : GL_FLOAT,
-                 u8 ? static_cast<const void*>(lv.rgba8.data()) : lv.rgba32f.data());
+                 u8 ? static_cast<const void*>(tex.rgba8(l)) : tex.rgba32f(l));
     check("glTexImage2D of " + tex.name() + " level " + std::to_string(l) + " (" +
           std::to_string(lv.width) + "x" + std::to_string(lv.height) + ")");
   }

@@ -149,7 +149,22 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     at(kBlend) = {"blend", blend_.timing(tech_), setup.fifo_depth, 0};
     pipe_ = std::make_unique<ClockedPipeline>(std::move(st));
   }
-  for (auto& p : paths_) p.kernel = choose_kernel(p);
+  for (size_t m = 0; m < paths_.size(); ++m) {
+    Path& p = paths_[m];
+    p.kernel = choose_kernel(p);
+    // The batched datapath: a plain bilinear or trilinear material, on a unit without
+    // front-end, relief or lighting stages.
+    const FilterMode filter = p.addr.config().filter;
+    const bool plain = !p.footprint && !p.coords && !p.relief && !p.lighting &&
+                       filter != FilterMode::Nearest &&
+                       blend_.quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
+    if (plain && front_ == 0 && relief_stage_ < 0 && light_stage_ < 0) {
+      p.batch = std::make_shared<LinearBatchSampler>(mats_[m].lod, mats_[m].filter);
+      p.batch_kernel = pipe_ ? pick_batch_kernel<0>(filter, textures_.layout())
+                             : pick_batch_kernel<-1>(filter, textures_.layout());
+      if (!batch_out_) batch_out_ = std::make_unique<LinearBatch>();
+    }
+  }
 }
 
 namespace {
@@ -338,6 +353,27 @@ Rgba TextureUnit::process(const Fragment& f, int material, const ItemCost* front
   Path& p = paths_[static_cast<size_t>(material)];
   if (p.relief || p.lighting) return process_surface(f, p, material, front);
   return filter_fragment(f, p, front);
+}
+
+void TextureUnit::process_batch(const Fragment* f, size_t n, int material, Rgba* out) {
+  Path& p = paths_[static_cast<size_t>(material)];
+  if (!p.batch_kernel) {
+    for (size_t i = 0; i < n; ++i) out[i] = process(f[i], material);
+    return;
+  }
+  // Runs of fragments on one texture, at most a batch each.
+  for (size_t i = 0; i < n;) {
+    const uint32_t t = f[i].tex;
+    size_t j = i + 1;
+    while (j < n && j - i < LinearBatch::kMax && f[j].tex == t) ++j;
+    if (t >= static_cast<uint32_t>(textures_.size())) {
+      out[i] = filter_fragment(f[i], p, nullptr);  // throws, naming the texture
+      j = i + 1;
+    } else {
+      (this->*p.batch_kernel)(f + i, j - i, p, textures_[static_cast<int>(t)], out + i);
+    }
+    i = j;
+  }
 }
 
 Rgba TextureUnit::process_surface(const Fragment& f, Path& p, int material, const ItemCost* front) {
@@ -547,6 +583,70 @@ Rgba TextureUnit::process_linear(const Fragment& f, Path& p, const Texture& tex,
                         [&](uint64_t start) { return cache_lookups<L>(q, n, tex, start); });
   }
   return colour;
+}
+
+template <FilterMode kFilter, TexelLayout L, int kFront>
+void TextureUnit::batch_linear(const Fragment* f, size_t n, Path& p, const Texture& tex,
+                               Rgba* out) {
+  if (tex.layout() != L || !p.batch->serves(tex)) {
+    for (size_t i = 0; i < n; ++i)
+      out[i] = process_linear<kFilter, L, kFront>(f[i], p, tex, nullptr);
+    return;
+  }
+  LinearBatch& b = *batch_out_;
+  p.batch->filter(f, n, tex, b, kFront >= 0 ? cache_.line_shift() : 0);
+  constexpr int nq = kFilter == FilterMode::Trilinear ? 2 : 1;
+  for (size_t i = 0; i < n; ++i) {
+    if (!b.done[i]) {
+      out[i] = process_linear<kFilter, L, kFront>(f[i], p, tex, nullptr);
+      continue;
+    }
+    count_fragment(f[i], p, 1);
+    if constexpr (kFront >= 0) {
+      if (b.has_lines) {
+        // The batch's distinct lines, in order of first use (as cache_lookups<L> finds them).
+        issue_timed<kFront>(p, nullptr, 1, [&](uint64_t start) {
+          uint64_t lines[4 * nq];
+          int k = 0;
+          for (int t = 0; t < 4 * nq; ++t) {
+            if (b.first_use[i] & (1 << t)) lines[k++] = static_cast<uint64_t>(b.line[t][i]);
+          }
+          return access_lines(lines, k, 4 * nq, start);
+        });
+        out[i] = b.colour(i);
+        continue;
+      }
+      TexelQuad q[nq];
+      for (int j = 0; j < nq; ++j) {
+        q[j].level = b.level[j][i];
+        q[j].x0 = b.x0[j][i];
+        q[j].x1 = b.x1[j][i];
+        q[j].y0 = b.y0[j][i];
+        q[j].y1 = b.y1[j][i];
+      }
+      issue_timed<kFront>(p, nullptr, 1,
+                          [&](uint64_t start) { return cache_lookups<L>(q, nq, tex, start); });
+    }
+    out[i] = b.colour(i);
+  }
+}
+
+template <int kFront>
+TextureUnit::BatchKernel TextureUnit::pick_batch_kernel(FilterMode filter, TexelLayout layout) {
+  constexpr FilterMode kBi = FilterMode::Bilinear, kTri = FilterMode::Trilinear;
+  const bool tri = filter == kTri;
+  switch (layout) {
+    case TexelLayout::Linear:
+      return tri ? &TextureUnit::batch_linear<kTri, TexelLayout::Linear, kFront>
+                 : &TextureUnit::batch_linear<kBi, TexelLayout::Linear, kFront>;
+    case TexelLayout::Tiled4x4:
+      return tri ? &TextureUnit::batch_linear<kTri, TexelLayout::Tiled4x4, kFront>
+                 : &TextureUnit::batch_linear<kBi, TexelLayout::Tiled4x4, kFront>;
+    case TexelLayout::Morton:
+      return tri ? &TextureUnit::batch_linear<kTri, TexelLayout::Morton, kFront>
+                 : &TextureUnit::batch_linear<kBi, TexelLayout::Morton, kFront>;
+  }
+  return nullptr;
 }
 
 template <int kFront>

@@ -16,6 +16,7 @@
 #include "blocks/texture/memory/dram_model.h"
 #include "blocks/texture/memory/texture_cache.h"
 #include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/sampler/linear_batch.h"
 #include "blocks/texture/sampler/lod_unit.h"
 #include "blocks/texture/sampler/texel_address_gen.h"
 #include "blocks/texture/sampler/texel_blend.h"
@@ -71,6 +72,11 @@ class TextureUnit {
   // fragment's costs in the coordinate front end (one per stage of its material's coordinate
   // unit, as CoordUnit::generate gives them).
   Rgba process(const Fragment& f, int material, const ItemCost* front = nullptr);
+  // Fragments f[0 .. n) of one material, without front-end costs: the same colours (out[i]),
+  // counts and cycles as n calls of process(f[i], material). A bilinear or trilinear
+  // material's fragments go through the batched SIMD datapath (LinearBatchSampler) first; the
+  // cache and the clocked pipeline then take them one by one, in order.
+  void process_batch(const Fragment* f, size_t n, int material, Rgba* out);
 
   // Coordinate front end: the stages (0, 1 or 2: coordinates, derivatives) in front of LOD,
   // present only when some material has a coordinate unit.
@@ -133,8 +139,12 @@ class TextureUnit {
   // number of front-end stages, functional or timed) so the hot path has no run-time switches
   // on the configuration.
   using Kernel = Rgba (TextureUnit::*)(const Fragment&, Path&, const Texture&, const ItemCost*);
+  using BatchKernel = void (TextureUnit::*)(const Fragment*, size_t, Path&, const Texture&, Rgba*);
   struct Path {
     Kernel kernel = nullptr;
+    // The batched datapath (null: fragments go one by one) and the sampler it runs.
+    BatchKernel batch_kernel = nullptr;
+    std::shared_ptr<const LinearBatchSampler> batch;
     LodUnit lod;
     TexelAddressGen addr;
     uint64_t fragments = 0;
@@ -193,6 +203,12 @@ class TextureUnit {
   template <int kFront>
   Rgba process_taps(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front,
                     const LodResult& lod);
+  // A batch of fragments on one texture (n <= LinearBatch::kMax) through the batched sampler;
+  // the fragments it leaves undone through process_linear.
+  template <FilterMode kFilter, TexelLayout L, int kFront>
+  void batch_linear(const Fragment* f, size_t n, Path& p, const Texture& tex, Rgba* out);
+  template <int kFront>
+  static BatchKernel pick_batch_kernel(FilterMode filter, TexelLayout layout);
   template <int kFront>
   static Kernel pick_kernel(FilterMode filter, TexelLayout layout, bool quads);
   Kernel choose_kernel(const Path& p) const;
@@ -258,7 +274,8 @@ class TextureUnit {
   DramModel dram_;
   std::unique_ptr<ClockedPipeline> pipe_;
   FilterTaps taps_;
-  std::vector<TexelRef> fetched_;  // texels of the current footprint-filter fragment
+  std::unique_ptr<LinearBatch> batch_out_;  // the batched sampler's results
+  std::vector<TexelRef> fetched_;           // texels of the current footprint-filter fragment
   std::vector<uint64_t> lines_;
   uint64_t fragments_ = 0;
   int front_ = 0;

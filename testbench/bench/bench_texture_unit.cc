@@ -23,7 +23,9 @@ BenchFloor& fixture() {
   return f;
 }
 
-void run(benchmark::State& state, FilterMode mode, bool timing) {
+// `batched`: fragments go in batches of LinearBatch::kMax through process_batch (the SIMD
+// datapath), else one by one through process.
+void run(benchmark::State& state, FilterMode mode, bool timing, bool batched = false) {
   BenchFloor& fx = fixture();
   MaterialSetup m;
   m.name = "floor";
@@ -33,7 +35,16 @@ void run(benchmark::State& state, FilterMode mode, bool timing) {
   float sink = 0;
   for (auto _ : state) {
     TextureUnit unit(fx.textures, {m}, setup, TechTable::defaults(), timing);
-    for (const Fragment& f : fx.frags) sink += unit.process(f, 0).r;
+    if (batched) {
+      std::vector<Rgba> out(LinearBatch::kMax);
+      for (size_t i = 0; i < fx.frags.size(); i += LinearBatch::kMax) {
+        const size_t n = std::min(LinearBatch::kMax, fx.frags.size() - i);
+        unit.process_batch(fx.frags.data() + i, n, 0, out.data());
+        sink += out[0].r;
+      }
+    } else {
+      for (const Fragment& f : fx.frags) sink += unit.process(f, 0).r;
+    }
     cycles = unit.cycles();
     benchmark::DoNotOptimize(sink);
   }
@@ -48,10 +59,22 @@ void BM_Bilinear_Functional(benchmark::State& s) { run(s, FilterMode::Bilinear, 
 void BM_Bilinear_Timing(benchmark::State& s) { run(s, FilterMode::Bilinear, true); }
 void BM_Trilinear_Functional(benchmark::State& s) { run(s, FilterMode::Trilinear, false); }
 void BM_Trilinear_Timing(benchmark::State& s) { run(s, FilterMode::Trilinear, true); }
+void BM_Bilinear_Functional_Batch(benchmark::State& s) {
+  run(s, FilterMode::Bilinear, false, true);
+}
+void BM_Bilinear_Timing_Batch(benchmark::State& s) { run(s, FilterMode::Bilinear, true, true); }
+void BM_Trilinear_Functional_Batch(benchmark::State& s) {
+  run(s, FilterMode::Trilinear, false, true);
+}
+void BM_Trilinear_Timing_Batch(benchmark::State& s) { run(s, FilterMode::Trilinear, true, true); }
 BENCHMARK(BM_Bilinear_Functional)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Bilinear_Timing)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Trilinear_Functional)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Trilinear_Timing)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Bilinear_Functional_Batch)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Bilinear_Timing_Batch)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Trilinear_Functional_Batch)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Trilinear_Timing_Batch)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace texsim

@@ -32,24 +32,6 @@ const char* to_string(AddressMode m) {
 
 namespace {
 
-Texture::Level make_level(int w, int h, const std::vector<float>& rgba, TexelFormat format) {
-  Texture::Level lv;
-  lv.width = w;
-  lv.height = h;
-  const size_t n = static_cast<size_t>(w) * h * 4;
-  if (rgba.size() < n) throw std::invalid_argument("texture level data smaller than its size");
-  if (format == TexelFormat::Rgba8) {
-    lv.rgba8.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-      const float c = std::clamp(rgba[i], 0.0f, 1.0f);
-      lv.rgba8[i] = static_cast<uint8_t>(std::lround(c * 255.0f));
-    }
-  } else {
-    lv.rgba32f.assign(rgba.begin(), rgba.begin() + static_cast<std::ptrdiff_t>(n));
-  }
-  return lv;
-}
-
 // 2x2 box filter to floor(w/2) x floor(h/2) (at least 1); odd edges clamp.
 std::vector<float> downsample(const std::vector<float>& src, int w, int h, int& nw, int& nh) {
   nw = std::max(1, w / 2);
@@ -71,6 +53,30 @@ std::vector<float> downsample(const std::vector<float>& src, int w, int h, int& 
 
 }  // namespace
 
+void Texture::add_level(int w, int h, const std::vector<float>& rgba) {
+  Level lv;
+  lv.width = w;
+  lv.height = h;
+  const size_t texels = static_cast<size_t>(w) * static_cast<size_t>(h);
+  const size_t n = texels * 4;
+  if (rgba.size() < n) throw std::invalid_argument("texture level data smaller than its size");
+  lv.first = levels_.empty()
+                 ? 0
+                 : levels_.back().first + static_cast<size_t>(levels_.back().width) *
+                                              static_cast<size_t>(levels_.back().height);
+  if (format_ == TexelFormat::Rgba8) {
+    rgba8_.resize(rgba8_.size() + n);
+    uint8_t* out = rgba8_.data() + lv.first * 4;
+    for (size_t i = 0; i < n; ++i) {
+      const float c = std::clamp(rgba[i], 0.0f, 1.0f);
+      out[i] = static_cast<uint8_t>(std::lround(c * 255.0f));
+    }
+  } else {
+    rgba32f_.insert(rgba32f_.end(), rgba.begin(), rgba.begin() + static_cast<std::ptrdiff_t>(n));
+  }
+  levels_.push_back(lv);
+}
+
 Texture Texture::from_rgba(std::string name, int width, int height, const std::vector<float>& rgba,
                            TexelFormat format, bool build_mips) {
   if (width <= 0 || height <= 0) throw std::invalid_argument("texture size must be positive");
@@ -79,13 +85,13 @@ Texture Texture::from_rgba(std::string name, int width, int height, const std::v
   t.format_ = format;
   std::vector<float> cur = rgba;
   int w = width, h = height;
-  t.levels_.push_back(make_level(w, h, cur, format));
+  t.add_level(w, h, cur);
   while (build_mips && (w > 1 || h > 1)) {
     int nw = 0, nh = 0;
     cur = downsample(cur, w, h, nw, nh);
     w = nw;
     h = nh;
-    t.levels_.push_back(make_level(w, h, cur, format));
+    t.add_level(w, h, cur);
   }
   t.place(0, TexelLayout::Linear);
   return t;
@@ -102,7 +108,7 @@ Texture Texture::from_levels(std::string name, const std::vector<int>& widths,
   t.format_ = format;
   for (size_t i = 0; i < levels.size(); ++i) {
     if (widths[i] <= 0 || heights[i] <= 0) throw std::invalid_argument("bad level size");
-    t.levels_.push_back(make_level(widths[i], heights[i], levels[i], format));
+    t.add_level(widths[i], heights[i], levels[i]);
   }
   t.place(0, TexelLayout::Linear);
   return t;

@@ -23,9 +23,8 @@ class Texture {
   struct Level {
     int width = 0;
     int height = 0;
-    uint64_t offset = 0;         // byte offset of the level inside the texture
-    std::vector<uint8_t> rgba8;  // Rgba8: 4 bytes per texel, row-major
-    std::vector<float> rgba32f;  // Rgba32f: 4 floats per texel, row-major
+    uint64_t offset = 0;  // byte offset of the level inside the texture (simulated memory)
+    size_t first = 0;     // index of its first texel in the texture's texel store
   };
 
   // Builds a texture from level-0 float RGBA texels (row-major, 4 floats per texel).
@@ -45,17 +44,22 @@ class Texture {
   int height(int level) const { return levels_[level].height; }
   const Level& level(int l) const { return levels_[l]; }
   int bytes_per_texel() const { return format_ == TexelFormat::Rgba8 ? 4 : 16; }
+  // The texels of every level in one store, level after level, each row-major with 4 channels
+  // per texel (one store, so a gather with one base reaches every level). Only the store of
+  // the texture's format is filled.
+  const uint8_t* rgba8(int level) const { return rgba8_.data() + levels_[level].first * 4; }
+  const float* rgba32f(int level) const { return rgba32f_.data() + levels_[level].first * 4; }
 
   // Texel at integer coordinates already inside the level (addressing applied upstream).
   Rgba texel(int level, int x, int y) const {
     const Level& lv = levels_[level];
-    const size_t i = (static_cast<size_t>(y) * lv.width + x) * 4;
+    const size_t i = (lv.first + static_cast<size_t>(y) * lv.width + x) * 4;
     if (format_ == TexelFormat::Rgba8) {
       constexpr float k = 1.0f / 255.0f;
-      return {static_cast<float>(lv.rgba8[i]) * k, static_cast<float>(lv.rgba8[i + 1]) * k,
-              static_cast<float>(lv.rgba8[i + 2]) * k, static_cast<float>(lv.rgba8[i + 3]) * k};
+      return {static_cast<float>(rgba8_[i]) * k, static_cast<float>(rgba8_[i + 1]) * k,
+              static_cast<float>(rgba8_[i + 2]) * k, static_cast<float>(rgba8_[i + 3]) * k};
     }
-    return {lv.rgba32f[i], lv.rgba32f[i + 1], lv.rgba32f[i + 2], lv.rgba32f[i + 3]};
+    return {rgba32f_[i], rgba32f_[i + 1], rgba32f_[i + 2], rgba32f_[i + 3]};
   }
 
   // Lays the levels out in memory at `base` with `layout`; returns the bytes used.
@@ -117,12 +121,16 @@ class Texture {
   uint64_t texel_index(const Level& lv, int x, int y) const {
     return texel_index(layout_, lv, x, y);
   }
+  // Appends a level of w × h float RGBA texels (row-major) in the texture's format.
+  void add_level(int w, int h, const std::vector<float>& rgba);
 
   std::string name_;
   TexelFormat format_ = TexelFormat::Rgba8;
   TexelLayout layout_ = TexelLayout::Linear;
   uint64_t base_ = 0;
   std::vector<Level> levels_;
+  std::vector<uint8_t> rgba8_;  // Rgba8: 4 bytes per texel
+  std::vector<float> rgba32f_;  // Rgba32f: 4 floats per texel
 };
 
 // All textures of a scene, placed one after another in one address space.

@@ -85,7 +85,7 @@ typedef uint16_t U16x8 __attribute__((vector_size(16)));
 
 // Texel fetch and conversion to float; RGBA8 channels are c · (1/255) as in Texture::texel.
 struct FetchRgba8 {
-  static const uint8_t* data(const Texture::Level& lv) { return lv.rgba8.data(); }
+  static const uint8_t* data(const Texture& tex, int level) { return tex.rgba8(level); }
   static F4 at(const uint8_t* texels, size_t index) {
     // The texel's 4 bytes in the low lane (a plain 32-bit load), R in the lowest byte.
     static_assert(std::endian::native == std::endian::little, "RGBA8 load assumes little-endian");
@@ -108,7 +108,7 @@ struct FetchRgba8 {
   }
 };
 struct FetchRgba32f {
-  static const float* data(const Texture::Level& lv) { return lv.rgba32f.data(); }
+  static const float* data(const Texture& tex, int level) { return tex.rgba32f(level); }
   static F4 at(const float* texels, size_t index) {
     F4 v;
     std::memcpy(&v, texels + index * 4, sizeof v);
@@ -132,14 +132,14 @@ template <class Fetch>
 struct Products {
   const Texture& tex;
   int32_t level = -1;
-  decltype(Fetch::data(std::declval<const Texture::Level&>())) texels = nullptr;
+  decltype(Fetch::data(std::declval<const Texture&>(), 0)) texels = nullptr;
   size_t width = 0;
 
   F4 operator()(const TexelTap& t) {
     if (t.level != level) {
       level = t.level;
       const Texture::Level& lv = tex.level(level);
-      texels = Fetch::data(lv);
+      texels = Fetch::data(tex, level);
       width = static_cast<size_t>(lv.width);
     }
     const size_t index = static_cast<size_t>(t.y) * width + static_cast<size_t>(t.x);
@@ -176,7 +176,7 @@ inline Rgba blend_taps(const FilterTaps& taps, const Texture& tex, int g) {
 template <class Fetch>
 [[gnu::always_inline]] inline void quad_products(const TexelQuad& q, const Texture& tex, F4* p) {
   const Texture::Level& lv = tex.level(q.level);
-  const auto texels = Fetch::data(lv);
+  const auto texels = Fetch::data(tex, q.level);
   const auto width = static_cast<size_t>(lv.width);
   const size_t r0 = static_cast<size_t>(q.y0) * width, r1 = static_cast<size_t>(q.y1) * width;
   const auto x0 = static_cast<size_t>(q.x0), x1 = static_cast<size_t>(q.x1);

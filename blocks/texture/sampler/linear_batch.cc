@@ -1,0 +1,469 @@
+// The batched linear sampler (linear_batch.h), compiled once per SIMD target by Highway's
+// foreach_target and dispatched at run time. Each step below names the scalar block it mirrors;
+// operations are written in the scalar code's order so every float32 result is the same.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "blocks/texture/sampler/linear_batch.cc"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+//
+#include <hwy/highway.h>
+
+#include "blocks/texture/sampler/linear_batch.h"
+
+#ifndef TEXSIM_LINEAR_BATCH_ONCE
+#define TEXSIM_LINEAR_BATCH_ONCE
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <stdexcept>
+
+namespace texsim::linear_batch_detail {
+
+constexpr size_t kMaxLevels = 32;
+
+// Everything the SIMD part needs, prepared by the scalar part: the fragments' inputs as
+// float32 structure of arrays, and the uniform parameters of the material and texture.
+struct Input {
+  size_t count = 0;
+  alignas(64) float u[LinearBatch::kMax];
+  alignas(64) float v[LinearBatch::kMax];
+  alignas(64) float dudx[LinearBatch::kMax];
+  alignas(64) float dvdx[LinearBatch::kMax];
+  alignas(64) float dudy[LinearBatch::kMax];
+  alignas(64) float dvdy[LinearBatch::kMax];
+  alignas(64) float bias[LinearBatch::kMax];  // sampler bias + fragment bias
+  alignas(64) int32_t ok[LinearBatch::kMax];  // inputs the batch can take (finite)
+  // Uniforms.
+  float tex_w = 0, tex_h = 0;  // level 0 size
+  bool isotropic = true;
+  float max_aniso = 16;
+  float min_lod = 0, max_lod = 0;
+  bool trilinear = false;
+  int32_t top_level = 0;  // q = levels − 1
+  int mip_bits = 8, sub_bits = 8;
+  float mip_scale = 256, mip_frac = 1.0f / 256, fix_scale = 256, frac_scale = 1.0f / 256;
+  AddressMode address_u = AddressMode::Wrap, address_v = AddressMode::Wrap;
+  alignas(64) int32_t level_w[kMaxLevels];
+  alignas(64) int32_t level_h[kMaxLevels];
+  alignas(64) int32_t level_first[kMaxLevels];
+  const int32_t* texels = nullptr;  // the texture's RGBA8 store, one 32-bit word per texel
+  // Cache lines (line_shift > 0): each level's byte address and, for the tiled layout, the
+  // texels per row of tiles.
+  int line_shift = 0;
+  TexelLayout layout = TexelLayout::Linear;
+  alignas(64) int32_t level_base[kMaxLevels];
+  alignas(64) int32_t level_tile_row[kMaxLevels];
+};
+
+}  // namespace texsim::linear_batch_detail
+#endif
+
+HWY_BEFORE_NAMESPACE();
+namespace texsim::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+using linear_batch_detail::Input;
+
+namespace {
+
+using DF = hn::ScalableTag<float>;
+using DI = hn::RebindToSigned<DF>;
+using VF = hn::Vec<DF>;
+using VI = hn::Vec<DI>;
+using MF = hn::Mask<DF>;
+
+// TexelAddressGen::round_half_even for |x| < 2^31: below 2^23 add and subtract ±2^23, above
+// it x is an integer already.
+HWY_INLINE VI round_half_even(DF df, VF x) {
+  const VF k = hn::Set(df, 8388608.0f);
+  const VF c = hn::CopySign(k, x);
+  const VF r = hn::IfThenElse(hn::Lt(hn::Abs(x), k), hn::Sub(hn::Add(x, c), c), x);
+  return hn::ConvertTo(DI(), r);
+}
+
+// std::clamp(x, lo, hi) for non-NaN x: lo when x < lo, else hi when hi < x, else x.
+HWY_INLINE VF clamp(VF x, VF lo, VF hi) {
+  return hn::IfThenElse(hn::Lt(x, lo), lo, hn::IfThenElse(hn::Lt(hi, x), hi, x));
+}
+
+// texel_address_detail::address_pair for power-of-two sizes (wrap, mirror) or any (clamp).
+HWY_INLINE void address_pair(DI di, VI i, VI size, AddressMode mode, VI& a, VI& b) {
+  const VI one = hn::Set(di, 1);
+  const VI zero = hn::Zero(di);
+  const VI last = hn::Sub(size, one);
+  switch (mode) {
+    case AddressMode::Wrap: {
+      a = hn::And(i, last);
+      const VI next = hn::Add(a, one);
+      b = hn::IfThenElse(hn::Eq(next, size), zero, next);
+      return;
+    }
+    case AddressMode::Clamp:
+      a = hn::Min(hn::Max(i, zero), last);
+      b = hn::Min(hn::Max(hn::Add(i, one), zero), last);
+      return;
+    case AddressMode::Mirror: {
+      // (size − 1) − m, m = n ≥ 0 ? n : −(1 + n) = ~n, n = (i mod 2·size) − size.
+      const VI mask2 = hn::Sub(hn::Add(size, size), one);
+      const auto mirror = [&](VI j) {
+        const VI n = hn::Sub(hn::And(j, mask2), size);
+        const VI m = hn::IfThenElse(hn::Lt(n, zero), hn::Not(n), n);
+        return hn::Sub(last, m);
+      };
+      a = mirror(i);
+      b = mirror(hn::Add(i, one));
+      return;
+    }
+  }
+}
+
+// TexelAddressGen::linear_quad on per-lane levels: writes the quad's texels and weights (× w).
+struct Quad {
+  VI x0, x1, y0, y1;
+  VF w[4];
+  MF fits;  // fixed-point coordinates within int32
+};
+
+HWY_INLINE Quad linear_quad(const Input& in, VI level, VF u, VF v, VF w, bool unit_weight) {
+  const DF df;
+  const DI di;
+  const VI wl = hn::GatherIndex(di, in.level_w, level);
+  const VI hl = hn::GatherIndex(di, in.level_h, level);
+  const VF half = hn::Set(df, 0.5f), limit = hn::Set(df, 1073741824.0f);  // 2^30
+  const VF scale = hn::Set(df, in.fix_scale);
+  VF xs = hn::Sub(hn::Mul(u, hn::ConvertTo(df, wl)), half);
+  VF ys = hn::Sub(hn::Mul(v, hn::ConvertTo(df, hl)), half);
+  xs = hn::Mul(clamp(xs, hn::Neg(limit), limit), scale);
+  ys = hn::Mul(clamp(ys, hn::Neg(limit), limit), scale);
+  Quad q;
+  const VF int_limit = hn::Set(df, 2147483648.0f);  // 2^31
+  q.fits = hn::And(hn::Lt(hn::Abs(xs), int_limit), hn::Lt(hn::Abs(ys), int_limit));
+  const VI xf = round_half_even(df, xs), yf = round_half_even(df, ys);
+  const VI mask = hn::Set(di, (int32_t{1} << in.sub_bits) - 1);
+  const VF fs = hn::Set(df, in.frac_scale);
+  const VF a = hn::Mul(hn::ConvertTo(df, hn::And(xf, mask)), fs);
+  const VF be = hn::Mul(hn::ConvertTo(df, hn::And(yf, mask)), fs);
+  address_pair(di, hn::ShiftRightSame(xf, in.sub_bits), wl, in.address_u, q.x0, q.x1);
+  address_pair(di, hn::ShiftRightSame(yf, in.sub_bits), hl, in.address_v, q.y0, q.y1);
+  const VF one = hn::Set(df, 1.0f);
+  const VF wi0 = hn::Sub(one, a), wj0 = hn::Sub(one, be);
+  q.w[0] = hn::Mul(wi0, wj0);
+  q.w[1] = hn::Mul(a, wj0);
+  q.w[2] = hn::Mul(wi0, be);
+  q.w[3] = hn::Mul(a, be);
+  if (!unit_weight) {
+    for (VF& x : q.w) x = hn::Mul(x, w);
+  }
+  return q;
+}
+
+// FetchRgba8::at · w for one texel per lane: the 32-bit word, channels c·(1/255), times w.
+struct Texel {
+  VF r, g, b, a;
+};
+HWY_INLINE Texel product(const Input& in, VI first, VI wl, VI x, VI y, VF w) {
+  const DF df;
+  const DI di;
+  const VI index = hn::Add(first, hn::Add(hn::Mul(y, wl), x));
+  const VI word = hn::GatherIndex(di, in.texels, index);
+  const VI byte = hn::Set(di, 0xff);
+  const VF k = hn::Set(df, 1.0f / 255.0f);
+  const auto channel = [&](int shift) {
+    const VI c = hn::And(hn::ShiftRightSame(word, shift), byte);
+    return hn::Mul(hn::Mul(hn::ConvertTo(df, c), k), w);
+  };
+  return {channel(0), channel(8), channel(16), channel(24)};
+}
+HWY_INLINE Texel add(const Texel& p, const Texel& q) {
+  return {hn::Add(p.r, q.r), hn::Add(p.g, q.g), hn::Add(p.b, q.b), hn::Add(p.a, q.a)};
+}
+// The adder tree of one quad: (p0 + p1) + (p2 + p3).
+HWY_INLINE Texel quad_sum(const Input& in, VI level, const Quad& q) {
+  const DI di;
+  const VI first = hn::GatherIndex(di, in.level_first, level);
+  const VI wl = hn::GatherIndex(di, in.level_w, level);
+  const Texel p0 = product(in, first, wl, q.x0, q.y0, q.w[0]);
+  const Texel p1 = product(in, first, wl, q.x1, q.y0, q.w[1]);
+  const Texel p2 = product(in, first, wl, q.x0, q.y1, q.w[2]);
+  const Texel p3 = product(in, first, wl, q.x1, q.y1, q.w[3]);
+  return add(add(p0, p1), add(p2, p3));
+}
+
+// Texture::spread_bits for 16-bit values: the bits moved to the even positions.
+HWY_INLINE VI spread_bits(DI di, VI v) {
+  v = hn::And(hn::Or(v, hn::ShiftLeft<8>(v)), hn::Set(di, 0x00ff00ff));
+  v = hn::And(hn::Or(v, hn::ShiftLeft<4>(v)), hn::Set(di, 0x0f0f0f0f));
+  v = hn::And(hn::Or(v, hn::ShiftLeft<2>(v)), hn::Set(di, 0x33333333));
+  return hn::And(hn::Or(v, hn::ShiftLeft<1>(v)), hn::Set(di, 0x55555555));
+}
+
+// Texture::row_index and col_index of the texture's layout.
+HWY_INLINE VI row_index(const Input& in, VI level, VI y) {
+  const DI di;
+  switch (in.layout) {
+    case TexelLayout::Linear:
+      return hn::Mul(y, hn::GatherIndex(di, in.level_w, level));
+    case TexelLayout::Tiled4x4:
+      return hn::Add(hn::Mul(hn::ShiftRight<2>(y), hn::GatherIndex(di, in.level_tile_row, level)),
+                     hn::ShiftLeft<2>(hn::And(y, hn::Set(di, 3))));
+    case TexelLayout::Morton:
+      return hn::ShiftLeft<1>(spread_bits(di, y));
+  }
+  return y;
+}
+HWY_INLINE VI col_index(const Input& in, VI x) {
+  const DI di;
+  switch (in.layout) {
+    case TexelLayout::Linear:
+      return x;
+    case TexelLayout::Tiled4x4:
+      return hn::Add(hn::ShiftLeft<4>(hn::ShiftRight<2>(x)), hn::And(x, hn::Set(di, 3)));
+    case TexelLayout::Morton:
+      return spread_bits(di, x);
+  }
+  return x;
+}
+
+// The cache lines of a quad's four taps (tap order), as the texture unit's cache model
+// computes them: (level address + texel index · 4) >> line_shift.
+HWY_INLINE void quad_lines(const Input& in, VI level, const Quad& q, VI* line) {
+  const DI di;
+  const VI base = hn::GatherIndex(di, in.level_base, level);
+  const VI r0 = row_index(in, level, q.y0), r1 = row_index(in, level, q.y1);
+  const VI c0 = col_index(in, q.x0), c1 = col_index(in, q.x1);
+  const auto at = [&](VI r, VI c) {
+    return hn::ShiftRightSame(hn::Add(base, hn::ShiftLeft<2>(hn::Add(r, c))), in.line_shift);
+  };
+  line[0] = at(r0, c0);
+  line[1] = at(r0, c1);
+  line[2] = at(r1, c0);
+  line[3] = at(r1, c1);
+}
+
+// Bit k set when line k differs from lines 0 .. k − 1.
+HWY_INLINE VI first_use(DI di, const VI* line, int n) {
+  VI bits = hn::Set(di, 1);
+  for (int k = 1; k < n; ++k) {
+    auto fresh = hn::Ne(line[k], line[0]);
+    for (int j = 1; j < k; ++j) fresh = hn::And(fresh, hn::Ne(line[k], line[j]));
+    bits = hn::Or(bits, hn::IfThenElseZero(fresh, hn::Set(di, 1 << k)));
+  }
+  return bits;
+}
+
+// LodUnit::eval for lanes whose inputs are finite; `ok` loses the lanes the scalar path must
+// take (ρ² overflow, anisotropic N > 1).
+HWY_INLINE VF lod_lambda(const Input& in, size_t i, MF& ok) {
+  const DF df;
+  const VF mux = hn::Mul(hn::Load(df, in.dudx + i), hn::Set(df, in.tex_w));
+  const VF mvx = hn::Mul(hn::Load(df, in.dvdx + i), hn::Set(df, in.tex_h));
+  const VF muy = hn::Mul(hn::Load(df, in.dudy + i), hn::Set(df, in.tex_w));
+  const VF mvy = hn::Mul(hn::Load(df, in.dvdy + i), hn::Set(df, in.tex_h));
+  const VF px2 = hn::Add(hn::Mul(mux, mux), hn::Mul(mvx, mvx));
+  const VF py2 = hn::Add(hn::Mul(muy, muy), hn::Mul(mvy, mvy));
+  // std::max(px2, py2) returns px2 unless px2 < py2.
+  const VF rmax2 = hn::IfThenElse(hn::Lt(px2, py2), py2, px2);
+  ok = hn::And(ok, hn::IsFinite(rmax2));
+  if (!in.isotropic) {
+    // N = 1 exactly when η ≤ 1: ρmax² = 0, or ρmin² = 0 with maxAniso 1, or min(√(ρmax²/ρmin²),
+    // maxAniso) ≤ 1.
+    const VF rmin2 = hn::IfThenElse(hn::Lt(py2, px2), py2, px2);
+    const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), max_aniso = hn::Set(df, in.max_aniso);
+    const VF ratio = hn::Sqrt(hn::Div(rmax2, hn::IfThenElse(hn::Eq(rmin2, zero), one, rmin2)));
+    const VF eta =
+        hn::IfThenElse(hn::Eq(rmax2, zero), one,
+                       hn::IfThenElse(hn::Eq(rmin2, zero), max_aniso,
+                                      hn::IfThenElse(hn::Lt(max_aniso, ratio), max_aniso, ratio)));
+    ok = hn::And(ok, hn::Le(eta, one));
+  }
+  // ½·log2 ρ² by the scalar code's libm call, lane by lane (the calls overlap: they are
+  // independent).
+  HWY_ALIGN float lg[hn::MaxLanes(df)];
+  hn::Store(rmax2, df, lg);
+  for (size_t k = 0; k < hn::Lanes(df); ++k) lg[k] = std::log2(lg[k]);
+  const VF base = hn::Mul(hn::Set(df, 0.5f), hn::Load(df, lg));
+  const VF lambda = hn::Add(base, hn::Load(df, in.bias + i));
+  return clamp(lambda, hn::Set(df, in.min_lod), hn::Set(df, in.max_lod));
+}
+
+}  // namespace
+
+void FilterLinearBatch(const Input& in, LinearBatch& out) {
+  const DF df;
+  const DI di;
+  const size_t lanes = hn::Lanes(df);
+  const VI zero_i = hn::Zero(di);
+  const VI top = hn::Set(di, in.top_level);
+  const int m = in.mip_bits;
+  const VI one_fix = hn::Set(di, int32_t{1} << m);
+  for (size_t i = 0; i < in.count; i += lanes) {
+    MF ok = hn::RebindMask(df, hn::Ne(hn::Load(di, in.ok + i), zero_i));
+    const VF lambda = lod_lambda(in, i, ok);
+    // TexelAddressGen::select_levels: d' = clamp(λ, 0, q) to fixed point with m fraction bits.
+    const VF d = clamp(lambda, hn::Zero(df), hn::ConvertTo(df, top));
+    const VI dfix = round_half_even(df, hn::Mul(d, hn::Set(df, in.mip_scale)));
+    const VF u = hn::Load(df, in.u + i), v = hn::Load(df, in.v + i);
+    Texel sum;
+    VI level_hi, level_lo;
+    Quad q0, q1;
+    if (in.trilinear) {
+      // (Clamped so lanes left to the scalar path, whose λ may be NaN, gather in range.)
+      level_hi = hn::Min(hn::Max(hn::ShiftRightSame(dfix, m), zero_i), top);
+      level_lo = hn::Min(hn::Add(level_hi, hn::Set(di, 1)), top);
+      const VF delta = hn::Mul(hn::ConvertTo(df, hn::And(dfix, hn::Sub(one_fix, hn::Set(di, 1)))),
+                               hn::Set(df, in.mip_frac));
+      q0 = linear_quad(in, level_hi, u, v, hn::Sub(hn::Set(df, 1.0f), delta), false);
+      q1 = linear_quad(in, level_lo, u, v, delta, false);
+      ok = hn::And(ok, hn::And(q0.fits, q1.fits));
+      sum = add(quad_sum(in, level_hi, q0), quad_sum(in, level_lo, q1));
+    } else {
+      // Vulkan's nearest(d') = ⌈d' + ½⌉ − 1, clamped to [0, q].
+      const VI half = hn::Set(di, (int32_t{1} << m) >> 1);
+      const VI up = hn::Add(hn::Add(dfix, half), hn::Sub(one_fix, hn::Set(di, 1)));
+      level_hi = hn::Sub(hn::ShiftRightSame(up, m), hn::Set(di, 1));
+      level_hi = hn::Min(hn::Max(level_hi, zero_i), top);
+      level_lo = level_hi;
+      q0 = linear_quad(in, level_hi, u, v, hn::Set(df, 1.0f), true);
+      ok = hn::And(ok, q0.fits);
+      sum = quad_sum(in, level_hi, q0);
+    }
+    // TexelBlend's accumulator starts at 0.
+    const VF z = hn::Zero(df);
+    hn::StoreInterleaved4(hn::Add(z, sum.r), hn::Add(z, sum.g), hn::Add(z, sum.b),
+                          hn::Add(z, sum.a), df, out.rgba + 4 * i);
+    hn::Store(hn::VecFromMask(di, hn::RebindMask(di, ok)), di, out.done + i);
+    hn::Store(level_hi, di, out.level[0] + i);
+    hn::Store(q0.x0, di, out.x0[0] + i);
+    hn::Store(q0.x1, di, out.x1[0] + i);
+    hn::Store(q0.y0, di, out.y0[0] + i);
+    hn::Store(q0.y1, di, out.y1[0] + i);
+    if (in.line_shift > 0) {
+      VI line[8];
+      quad_lines(in, level_hi, q0, line);
+      if (in.trilinear) quad_lines(in, level_lo, q1, line + 4);
+      const int taps = in.trilinear ? 8 : 4;
+      for (int k = 0; k < taps; ++k) hn::Store(line[k], di, out.line[k] + i);
+      hn::Store(first_use(di, line, taps), di, out.first_use + i);
+    }
+    if (in.trilinear) {
+      hn::Store(level_lo, di, out.level[1] + i);
+      hn::Store(q1.x0, di, out.x0[1] + i);
+      hn::Store(q1.x1, di, out.x1[1] + i);
+      hn::Store(q1.y0, di, out.y0[1] + i);
+      hn::Store(q1.y1, di, out.y1[1] + i);
+    }
+  }
+}
+
+}  // namespace texsim::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace texsim {
+
+HWY_EXPORT(FilterLinearBatch);
+
+namespace {
+bool pow2(int n) { return n > 0 && (n & (n - 1)) == 0; }
+
+// Whether every texel address of `tex` is below 2^31, so the batch computes addresses in int32
+// (each layout's index grows with x and y: the last texel of a level has its largest).
+bool lines_fit_int32(const Texture& tex) {
+  for (int l = 0; l < tex.levels(); ++l) {
+    if (tex.address(l, tex.width(l) - 1, tex.height(l) - 1) + 4 > (uint64_t{1} << 31)) return false;
+  }
+  return true;
+}
+}  // namespace
+
+LinearBatchSampler::LinearBatchSampler(const LodUnit::Config& lod,
+                                       const TexelAddressGen::Config& addr)
+    : lod_(lod), addr_(addr) {
+  if (addr.filter == FilterMode::Nearest)
+    throw std::invalid_argument("LinearBatchSampler: the filter must be bilinear or trilinear");
+}
+
+bool LinearBatchSampler::serves(const Texture& tex) const {
+  if (tex.format() != TexelFormat::Rgba8) return false;
+  if (tex.levels() < 1 || tex.levels() > static_cast<int>(linear_batch_detail::kMaxLevels))
+    return false;
+  uint64_t texels = 0;
+  for (int l = 0; l < tex.levels(); ++l) {
+    const int w = tex.width(l), h = tex.height(l);
+    if (addr_.address_u != AddressMode::Clamp && !pow2(w)) return false;
+    if (addr_.address_v != AddressMode::Clamp && !pow2(h)) return false;
+    texels += static_cast<uint64_t>(w) * static_cast<uint64_t>(h);
+  }
+  return texels < (uint64_t{1} << 31);
+}
+
+void LinearBatchSampler::filter(const Fragment* f, size_t n, const Texture& tex, LinearBatch& out,
+                                uint32_t line_shift) const {
+  if (n > LinearBatch::kMax) throw std::invalid_argument("LinearBatchSampler: batch too large");
+  static_assert(std::endian::native == std::endian::little, "RGBA8 words assume little-endian");
+  linear_batch_detail::Input in;
+  in.count = n;
+  // Inputs as the scalar blocks convert them (LodUnit::eval, TexelAddressGen::taps); a lane
+  // with a non-finite derivative or bias is the scalar path's (it has its own rules for them).
+  const float sampler_bias = lod_.lod_bias;
+  for (size_t i = 0; i < n; ++i) {
+    const Fragment& g = f[i];
+    const float bias = sampler_bias + g.lod_bias;
+    in.ok[i] = std::isfinite(g.dudx) && std::isfinite(g.dvdx) && std::isfinite(g.dudy) &&
+               std::isfinite(g.dvdy) && std::isfinite(bias);
+    in.dudx[i] = static_cast<float>(g.dudx);
+    in.dvdx[i] = static_cast<float>(g.dvdx);
+    in.dudy[i] = static_cast<float>(g.dudy);
+    in.dvdy[i] = static_cast<float>(g.dvdy);
+    in.bias[i] = bias;
+    in.u[i] = texel_address_detail::finite_or_zero(static_cast<float>(g.u));
+    in.v[i] = texel_address_detail::finite_or_zero(static_cast<float>(g.v));
+  }
+  // Lanes past n: harmless values, not done.
+  const size_t padded = std::min(LinearBatch::kMax, (n + 15) & ~size_t{15});
+  for (size_t i = n; i < padded; ++i) {
+    in.ok[i] = 0;
+    in.dudx[i] = in.dvdx[i] = in.dudy[i] = in.dvdy[i] = in.bias[i] = in.u[i] = in.v[i] = 0;
+  }
+  in.count = padded;
+  in.tex_w = static_cast<float>(tex.width(0));
+  in.tex_h = static_cast<float>(tex.height(0));
+  in.isotropic = lod_.aniso == AnisoMode::Isotropic || lod_.max_aniso <= 1;
+  in.max_aniso = static_cast<float>(lod_.max_aniso);
+  in.min_lod = lod_.min_lod;
+  in.max_lod = lod_.max_lod;
+  in.trilinear = addr_.filter == FilterMode::Trilinear;
+  in.top_level = tex.levels() - 1;
+  in.mip_bits = addr_.mipmap_bits;
+  in.sub_bits = addr_.sub_texel_bits;
+  in.mip_scale = std::ldexp(1.0f, addr_.mipmap_bits);
+  in.mip_frac = std::ldexp(1.0f, -addr_.mipmap_bits);
+  in.fix_scale = std::ldexp(1.0f, addr_.sub_texel_bits);
+  in.frac_scale = std::ldexp(1.0f, -addr_.sub_texel_bits);
+  in.address_u = addr_.address_u;
+  in.address_v = addr_.address_v;
+  for (int l = 0; l < tex.levels(); ++l) {
+    in.level_w[l] = tex.width(l);
+    in.level_h[l] = tex.height(l);
+    in.level_first[l] = static_cast<int32_t>(tex.level(l).first);
+  }
+  in.texels = reinterpret_cast<const int32_t*>(tex.rgba8(0));
+  out.count = n;
+  out.has_lines = line_shift > 0 && lines_fit_int32(tex);
+  if (out.has_lines) {
+    in.line_shift = static_cast<int>(line_shift);
+    in.layout = tex.layout();
+    for (int l = 0; l < tex.levels(); ++l) {
+      in.level_base[l] = static_cast<int32_t>(tex.base() + tex.level(l).offset);
+      in.level_tile_row[l] = ((tex.width(l) + 3) / 4) * 16;
+    }
+  }
+  HWY_DYNAMIC_DISPATCH(FilterLinearBatch)(in, out);
+}
+
+const char* LinearBatchSampler::target() {
+  // Highway's better targets are the lower bits: the best supported one of those compiled in.
+  const int64_t targets = hwy::SupportedTargets() & HWY_TARGETS;
+  return hwy::TargetName(targets & -targets);
+}
+
+}  // namespace texsim
+#endif
