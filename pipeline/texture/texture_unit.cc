@@ -361,18 +361,16 @@ void TextureUnit::process_batch(const Fragment* f, size_t n, int material, Rgba*
     for (size_t i = 0; i < n; ++i) out[i] = process(f[i], material);
     return;
   }
-  // Runs of fragments on one texture, at most a batch each.
-  for (size_t i = 0; i < n;) {
+  // Batches of at most LinearBatch::kMax on the texture of their first fragment; a fragment
+  // on another texture goes through the scalar kernel with its own.
+  for (size_t i = 0; i < n; i += LinearBatch::kMax) {
+    const size_t m = std::min(LinearBatch::kMax, n - i);
     const uint32_t t = f[i].tex;
-    size_t j = i + 1;
-    while (j < n && j - i < LinearBatch::kMax && f[j].tex == t) ++j;
     if (t >= static_cast<uint32_t>(textures_.size())) {
-      out[i] = filter_fragment(f[i], p, nullptr);  // throws, naming the texture
-      j = i + 1;
+      for (size_t k = i; k < i + m; ++k) out[k] = filter_fragment(f[k], p, nullptr);  // throws
     } else {
-      (this->*p.batch_kernel)(f + i, j - i, p, textures_[static_cast<int>(t)], out + i);
+      (this->*p.batch_kernel)(f + i, m, p, textures_[static_cast<int>(t)], out + i);
     }
-    i = j;
   }
 }
 
@@ -589,8 +587,7 @@ template <FilterMode kFilter, TexelLayout L, int kFront>
 void TextureUnit::batch_linear(const Fragment* f, size_t n, Path& p, const Texture& tex,
                                Rgba* out) {
   if (tex.layout() != L || !p.batch->serves(tex)) {
-    for (size_t i = 0; i < n; ++i)
-      out[i] = process_linear<kFilter, L, kFront>(f[i], p, tex, nullptr);
+    for (size_t i = 0; i < n; ++i) out[i] = filter_fragment(f[i], p, nullptr);
     return;
   }
   LinearBatch& b = *batch_out_;
@@ -598,7 +595,7 @@ void TextureUnit::batch_linear(const Fragment* f, size_t n, Path& p, const Textu
   constexpr int nq = kFilter == FilterMode::Trilinear ? 2 : 1;
   for (size_t i = 0; i < n; ++i) {
     if (!b.done[i]) {
-      out[i] = process_linear<kFilter, L, kFront>(f[i], p, tex, nullptr);
+      out[i] = filter_fragment(f[i], p, nullptr);  // its own texture, the scalar kernel
       continue;
     }
     count_fragment(f[i], p, 1);

@@ -43,6 +43,7 @@ TextureCache::TextureCache(const Config& c) : cfg_(c) {
   if (!std::has_single_bit(sets_)) throw std::invalid_argument("texture cache: sets must be 2^n");
   line_shift_ = static_cast<uint32_t>(std::countr_zero(c.line_bytes));
   ways_.assign(static_cast<size_t>(sets_) * c.ways, Way{kInvalid, 0});
+  mru_.assign(sets_, 0);
 }
 
 uint32_t TextureCache::fill(Way* set, uint64_t line) {

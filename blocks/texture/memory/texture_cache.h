@@ -41,25 +41,26 @@ class TextureCache {
   bool access_line(uint64_t line) {
     ++stats_.accesses;
     ++clock_;
-    // First the way of the last hit or fill: neighbouring fragments mostly read the same
-    // lines. A line is in at most one way, so a match there is the hit the search would find.
-    Way* const last = ways_.data() + last_;
-    if (last->tag == line) {
-      last->stamp = clock_;
+    // First the set's most recently used way: neighbouring fragments read the same lines,
+    // each in its own set. A line is in at most one way, so a match there is the hit the
+    // search would find.
+    const size_t set_index = static_cast<size_t>(line & (sets_ - 1));
+    Way* const set = ways_.data() + set_index * cfg_.ways;
+    Way* const mru = set + mru_[set_index];
+    if (mru->tag == line) {
+      mru->stamp = clock_;
       ++stats_.hits;
       return true;
     }
-    const size_t first = static_cast<size_t>(line & (sets_ - 1)) * cfg_.ways;
-    Way* set = ways_.data() + first;
     for (uint32_t w = 0; w < cfg_.ways; ++w) {
       if (set[w].tag == line) {
         set[w].stamp = clock_;
         ++stats_.hits;
-        last_ = first + w;
+        mru_[set_index] = w;
         return true;
       }
     }
-    last_ = first + fill(set, line);
+    mru_[set_index] = fill(set, line);
     return false;
   }
   uint32_t line_shift() const { return line_shift_; }
@@ -89,13 +90,13 @@ class TextureCache {
   uint32_t sets_ = 1;
   uint32_t line_shift_ = 6;
   uint64_t clock_ = 0;
-  size_t last_ = 0;  // index of the way that hit or was filled last
   // One set's ways side by side: a look-up reads one contiguous block.
   struct Way {
     uint64_t tag;    // line number; kInvalid = empty
     uint64_t stamp;  // last use, for LRU (0 = never used)
   };
-  std::vector<Way> ways_;  // sets_ * ways
+  std::vector<Way> ways_;      // sets_ * ways
+  std::vector<uint32_t> mru_;  // per set: the way that hit or was filled last
   Stats stats_;
 };
 

@@ -14,24 +14,21 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <stdexcept>
 
 namespace texsim::linear_batch_detail {
 
 constexpr size_t kMaxLevels = 32;
 
-// Everything the SIMD part needs, prepared by the scalar part: the fragments' inputs as
-// float32 structure of arrays, and the uniform parameters of the material and texture.
+// Everything the SIMD part needs: the fragments (read straight from the caller's array) and
+// the uniform parameters of the material and texture.
 struct Input {
+  const Fragment* frags = nullptr;
   size_t count = 0;
-  alignas(64) float u[LinearBatch::kMax];
-  alignas(64) float v[LinearBatch::kMax];
-  alignas(64) float dudx[LinearBatch::kMax];
-  alignas(64) float dvdx[LinearBatch::kMax];
-  alignas(64) float dudy[LinearBatch::kMax];
-  alignas(64) float dvdy[LinearBatch::kMax];
-  alignas(64) float bias[LinearBatch::kMax];  // sampler bias + fragment bias
-  alignas(64) int32_t ok[LinearBatch::kMax];  // inputs the batch can take (finite)
+  uint32_t tex_id = 0;     // fragments on another texture are left to the scalar path
+  float sampler_bias = 0;  // LodUnit::Config::lod_bias
   // Uniforms.
   float tex_w = 0, tex_h = 0;  // level 0 size
   bool isotropic = true;
@@ -249,14 +246,105 @@ HWY_INLINE VI first_use(DI di, const VI* line, int n) {
   return bits;
 }
 
+// One vector of fragments as the scalar blocks convert them (LodUnit::eval,
+// TexelAddressGen::taps): derivatives and coordinates to float32, bias = sampler + fragment.
+// `ok`: the lanes the batch takes — on its texture, with finite float32 derivatives and bias
+// (a double that overflows float32 goes to the scalar path too, which has its own rules).
+struct Lanes {
+  VF u, v, dudx, dvdx, dudy, dvdy, bias;
+  MF ok;
+};
+
+// Field at byte `offset` of fragments f[0 .. lanes), a double, as float32 lanes.
+HWY_INLINE VF double_field(const Fragment* f, size_t offset) {
+  const DF df;
+  const char* const base = reinterpret_cast<const char*>(f) + offset;
+#if HWY_TARGET == HWY_SCALAR
+  double d;
+  std::memcpy(&d, base, sizeof d);
+  return hn::Set(df, static_cast<float>(d));
+#else
+  const hn::Half<DF> dh;
+  const hn::Rebind<double, decltype(dh)> dd;
+  const hn::RebindToSigned<decltype(dd)> di64;
+  constexpr int64_t kStride = sizeof(Fragment) / sizeof(double);
+  static_assert(sizeof(Fragment) % sizeof(double) == 0);
+  HWY_ALIGN static constexpr int64_t kIndex[16] = {0,
+                                                   kStride,
+                                                   2 * kStride,
+                                                   3 * kStride,
+                                                   4 * kStride,
+                                                   5 * kStride,
+                                                   6 * kStride,
+                                                   7 * kStride,
+                                                   8 * kStride,
+                                                   9 * kStride,
+                                                   10 * kStride,
+                                                   11 * kStride,
+                                                   12 * kStride,
+                                                   13 * kStride,
+                                                   14 * kStride,
+                                                   15 * kStride};
+  static_assert(hn::MaxLanes(dd) <= 16);
+  const auto index = hn::Load(di64, kIndex);
+  const double* const d = reinterpret_cast<const double*>(base);
+  const auto lo = hn::GatherIndex(dd, d, index);
+  const auto hi = hn::GatherIndex(dd, d + hn::Lanes(dd) * kStride, index);
+  return hn::Combine(df, hn::DemoteTo(dh, hi), hn::DemoteTo(dh, lo));
+#endif
+}
+
+// A 32-bit field at byte `offset` of fragments f[0 .. lanes).
+template <class D>
+HWY_INLINE hn::Vec<D> word_field(D d, const Fragment* f, size_t offset) {
+  using T = hn::TFromD<D>;
+  constexpr int32_t kStride = sizeof(Fragment) / sizeof(T);
+  static_assert(sizeof(Fragment) % sizeof(T) == 0);
+  const DI di;
+  const VI index = hn::Mul(hn::Iota(di, 0), hn::Set(di, kStride));
+  return hn::GatherIndex(d, reinterpret_cast<const T*>(reinterpret_cast<const char*>(f) + offset),
+                         index);
+}
+
+HWY_INLINE Lanes load_lanes(const Input& in, size_t i) {
+  const DF df;
+  const DI di;
+  const size_t n = hn::Lanes(df);
+  const Fragment* f = in.frags + i;
+  Fragment tail[hn::MaxLanes(df)];
+  if (i + n > in.count) {
+    // The last, partial vector: the lanes past the end read default fragments, not done.
+    for (size_t k = 0; k < n; ++k) tail[k] = i + k < in.count ? in.frags[i + k] : Fragment{};
+    f = tail;
+  }
+  Lanes l;
+  const VF u = double_field(f, offsetof(Fragment, u));
+  const VF v = double_field(f, offsetof(Fragment, v));
+  l.u = hn::IfThenElseZero(hn::IsFinite(u), u);  // finite_or_zero
+  l.v = hn::IfThenElseZero(hn::IsFinite(v), v);
+  l.dudx = double_field(f, offsetof(Fragment, dudx));
+  l.dvdx = double_field(f, offsetof(Fragment, dvdx));
+  l.dudy = double_field(f, offsetof(Fragment, dudy));
+  l.dvdy = double_field(f, offsetof(Fragment, dvdy));
+  l.bias = hn::Add(hn::Set(df, in.sampler_bias), word_field(df, f, offsetof(Fragment, lod_bias)));
+  const VI tex = word_field(di, f, offsetof(Fragment, tex));
+  const VI lane = hn::Add(hn::Iota(di, 0), hn::Set(di, static_cast<int32_t>(i)));
+  l.ok = hn::RebindMask(df, hn::And(hn::Eq(tex, hn::Set(di, static_cast<int32_t>(in.tex_id))),
+                                    hn::Lt(lane, hn::Set(di, static_cast<int32_t>(in.count)))));
+  l.ok = hn::And(l.ok, hn::And(hn::And(hn::IsFinite(l.dudx), hn::IsFinite(l.dvdx)),
+                               hn::And(hn::IsFinite(l.dudy), hn::IsFinite(l.dvdy))));
+  l.ok = hn::And(l.ok, hn::IsFinite(l.bias));
+  return l;
+}
+
 // LodUnit::eval for lanes whose inputs are finite; `ok` loses the lanes the scalar path must
 // take (ρ² overflow, anisotropic N > 1).
-HWY_INLINE VF lod_lambda(const Input& in, size_t i, MF& ok) {
+HWY_INLINE VF lod_lambda(const Input& in, const Lanes& l, MF& ok) {
   const DF df;
-  const VF mux = hn::Mul(hn::Load(df, in.dudx + i), hn::Set(df, in.tex_w));
-  const VF mvx = hn::Mul(hn::Load(df, in.dvdx + i), hn::Set(df, in.tex_h));
-  const VF muy = hn::Mul(hn::Load(df, in.dudy + i), hn::Set(df, in.tex_w));
-  const VF mvy = hn::Mul(hn::Load(df, in.dvdy + i), hn::Set(df, in.tex_h));
+  const VF mux = hn::Mul(l.dudx, hn::Set(df, in.tex_w));
+  const VF mvx = hn::Mul(l.dvdx, hn::Set(df, in.tex_h));
+  const VF muy = hn::Mul(l.dudy, hn::Set(df, in.tex_w));
+  const VF mvy = hn::Mul(l.dvdy, hn::Set(df, in.tex_h));
   const VF px2 = hn::Add(hn::Mul(mux, mux), hn::Mul(mvx, mvx));
   const VF py2 = hn::Add(hn::Mul(muy, muy), hn::Mul(mvy, mvy));
   // std::max(px2, py2) returns px2 unless px2 < py2.
@@ -280,7 +368,7 @@ HWY_INLINE VF lod_lambda(const Input& in, size_t i, MF& ok) {
   hn::Store(rmax2, df, lg);
   for (size_t k = 0; k < hn::Lanes(df); ++k) lg[k] = std::log2(lg[k]);
   const VF base = hn::Mul(hn::Set(df, 0.5f), hn::Load(df, lg));
-  const VF lambda = hn::Add(base, hn::Load(df, in.bias + i));
+  const VF lambda = hn::Add(base, l.bias);
   return clamp(lambda, hn::Set(df, in.min_lod), hn::Set(df, in.max_lod));
 }
 
@@ -295,12 +383,13 @@ void FilterLinearBatch(const Input& in, LinearBatch& out) {
   const int m = in.mip_bits;
   const VI one_fix = hn::Set(di, int32_t{1} << m);
   for (size_t i = 0; i < in.count; i += lanes) {
-    MF ok = hn::RebindMask(df, hn::Ne(hn::Load(di, in.ok + i), zero_i));
-    const VF lambda = lod_lambda(in, i, ok);
+    const Lanes l = load_lanes(in, i);
+    MF ok = l.ok;
+    const VF lambda = lod_lambda(in, l, ok);
     // TexelAddressGen::select_levels: d' = clamp(λ, 0, q) to fixed point with m fraction bits.
     const VF d = clamp(lambda, hn::Zero(df), hn::ConvertTo(df, top));
     const VI dfix = round_half_even(df, hn::Mul(d, hn::Set(df, in.mip_scale)));
-    const VF u = hn::Load(df, in.u + i), v = hn::Load(df, in.v + i);
+    const VF u = l.u, v = l.v;
     Texel sum;
     VI level_hi, level_lo;
     Quad q0, q1;
@@ -400,30 +489,10 @@ void LinearBatchSampler::filter(const Fragment* f, size_t n, const Texture& tex,
   if (n > LinearBatch::kMax) throw std::invalid_argument("LinearBatchSampler: batch too large");
   static_assert(std::endian::native == std::endian::little, "RGBA8 words assume little-endian");
   linear_batch_detail::Input in;
+  in.frags = f;
   in.count = n;
-  // Inputs as the scalar blocks convert them (LodUnit::eval, TexelAddressGen::taps); a lane
-  // with a non-finite derivative or bias is the scalar path's (it has its own rules for them).
-  const float sampler_bias = lod_.lod_bias;
-  for (size_t i = 0; i < n; ++i) {
-    const Fragment& g = f[i];
-    const float bias = sampler_bias + g.lod_bias;
-    in.ok[i] = std::isfinite(g.dudx) && std::isfinite(g.dvdx) && std::isfinite(g.dudy) &&
-               std::isfinite(g.dvdy) && std::isfinite(bias);
-    in.dudx[i] = static_cast<float>(g.dudx);
-    in.dvdx[i] = static_cast<float>(g.dvdx);
-    in.dudy[i] = static_cast<float>(g.dudy);
-    in.dvdy[i] = static_cast<float>(g.dvdy);
-    in.bias[i] = bias;
-    in.u[i] = texel_address_detail::finite_or_zero(static_cast<float>(g.u));
-    in.v[i] = texel_address_detail::finite_or_zero(static_cast<float>(g.v));
-  }
-  // Lanes past n: harmless values, not done.
-  const size_t padded = std::min(LinearBatch::kMax, (n + 15) & ~size_t{15});
-  for (size_t i = n; i < padded; ++i) {
-    in.ok[i] = 0;
-    in.dudx[i] = in.dvdx[i] = in.dudy[i] = in.dvdy[i] = in.bias[i] = in.u[i] = in.v[i] = 0;
-  }
-  in.count = padded;
+  in.tex_id = f[0].tex;
+  in.sampler_bias = lod_.lod_bias;
   in.tex_w = static_cast<float>(tex.width(0));
   in.tex_h = static_cast<float>(tex.height(0));
   in.isotropic = lod_.aniso == AnisoMode::Isotropic || lod_.max_aniso <= 1;

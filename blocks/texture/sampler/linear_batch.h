@@ -7,8 +7,9 @@
 // Bit-identical to the scalar blocks (LodUnit::eval, TexelAddressGen::select_levels and
 // linear_quad, TexelBlend::blend_quads): the same float32 operations in the same order, no
 // fused multiply-add, log2 by the same libm call. A fragment the batch cannot treat the same
-// way — a non-finite input, anisotropic N > 1, a coordinate of 2^(31 − sub_texel_bits) texels or
-// more — is left undone (`done[i]` = 0) for the scalar path. test_linear_batch compares the two.
+// way — a non-finite input, anisotropic N > 1, another texture, a coordinate of 2^(31 −
+// sub_texel_bits) texels or more — is left undone (`done[i]` = 0) for the scalar path.
+// test_linear_batch compares the two.
 #include <cstddef>
 #include <cstdint>
 
@@ -53,7 +54,8 @@ class LinearBatchSampler {
   // and power-of-two level sizes along an axis that wraps or mirrors.
   bool serves(const Texture& tex) const;
 
-  // Filters fragments f[0 .. n) (n <= LinearBatch::kMax) on `tex` (serves(tex) must hold).
+  // Filters fragments f[0 .. n) (n <= LinearBatch::kMax) on `tex`, the texture of f[0]
+  // (serves(tex) must hold); fragments whose Fragment::tex differs from f[0].tex are undone.
   // With line_shift > 0 also the taps' cache lines of 2^line_shift bytes at the texture's
   // placed addresses (tex.address()), when every address of the texture is below 2^31
   // (out.has_lines says whether they were computed).

@@ -1,0 +1,150 @@
+// TextureUnit::process_batch against process, fragment by fragment: the same colours (bit for
+// bit), fragment counts, cycles, per-stage counters, cache and DRAM figures and block operation
+// counts, for bilinear and trilinear materials in every texel layout, functional and timed,
+// with batch sizes that split and with fragments the batch leaves to the scalar path (hard
+// inputs, anisotropic probes, a second texture it does not serve).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+
+#include "testbench/lib/bench_floor.h"
+
+namespace texsim {
+namespace {
+
+BenchFloor& floor_fixture() {
+  static BenchFloor fixture = [] {
+    BenchFloor b = make_bench_floor(200, 150);
+    // A second texture the batch does not serve (RGBA32F), for every third run of 500.
+    std::vector<float> px(64 * 64 * 4);
+    for (size_t i = 0; i < px.size(); ++i) px[i] = static_cast<float>(i % 251) / 251.0f;
+    b.textures.add(Texture::from_rgba("f32", 64, 64, px, TexelFormat::Rgba32f, true));
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (size_t i = 0; i < b.frags.size(); ++i) {
+      Fragment& f = b.frags[i];
+      if ((i / 500) % 3 == 1) f.tex = 1;
+      if (i % 97 == 5) f.dudx = nan;  // non-finite derivative: λ from the fallback
+      if (i % 89 == 7) f.u = 3e7;     // beyond the batch's int32 fixed point
+      if (i % 83 == 11) f.lod_bias = std::numeric_limits<float>::infinity();
+    }
+    return b;
+  }();
+  return fixture;
+}
+
+struct Figures {
+  std::vector<Rgba> colours;
+  uint64_t fragments = 0, cycles = 0;
+  TextureCache::Stats cache;
+  DramModel::Stats dram;
+  std::vector<StageStats> stages;
+  std::vector<BlockUse> blocks;
+};
+
+Figures run(const MaterialSetup& m, TexelLayout layout, bool timing, size_t batch) {
+  BenchFloor& fx = floor_fixture();
+  PipelineSetup setup;
+  setup.layout = layout;
+  TextureUnit unit(fx.textures, {m}, setup, TechTable::defaults(), timing);
+  Figures out;
+  out.colours.resize(fx.frags.size());
+  if (batch == 0) {
+    for (size_t i = 0; i < fx.frags.size(); ++i) out.colours[i] = unit.process(fx.frags[i], 0);
+  } else {
+    for (size_t i = 0; i < fx.frags.size(); i += batch) {
+      const size_t n = std::min(batch, fx.frags.size() - i);
+      unit.process_batch(fx.frags.data() + i, n, 0, out.colours.data() + i);
+    }
+  }
+  out.fragments = unit.fragments();
+  out.cycles = unit.cycles();
+  out.cache = unit.cache().stats();
+  out.dram = unit.dram().stats();
+  if (unit.pipeline()) {
+    for (int s = 0; s < unit.pipeline()->stage_count(); ++s)
+      out.stages.push_back(unit.pipeline()->stats(s));
+  }
+  out.blocks = unit.blocks();
+  return out;
+}
+
+void expect_same(const Figures& a, const Figures& b) {
+  ASSERT_EQ(a.colours.size(), b.colours.size());
+  size_t differ = 0;
+  for (size_t i = 0; i < a.colours.size(); ++i)
+    differ += std::memcmp(&a.colours[i], &b.colours[i], sizeof(Rgba)) != 0;
+  EXPECT_EQ(differ, 0u);
+  EXPECT_EQ(a.fragments, b.fragments);
+  EXPECT_EQ(a.cycles, b.cycles);
+  EXPECT_EQ(a.cache.accesses, b.cache.accesses);
+  EXPECT_EQ(a.cache.hits, b.cache.hits);
+  EXPECT_EQ(a.cache.misses, b.cache.misses);
+  EXPECT_EQ(a.cache.texel_reads, b.cache.texel_reads);
+  EXPECT_EQ(a.dram.requests, b.dram.requests);
+  EXPECT_EQ(a.dram.busy_cycles, b.dram.busy_cycles);
+  ASSERT_EQ(a.stages.size(), b.stages.size());
+  for (size_t s = 0; s < a.stages.size(); ++s) {
+    EXPECT_EQ(a.stages[s].items, b.stages[s].items);
+    EXPECT_EQ(a.stages[s].busy, b.stages[s].busy);
+    EXPECT_EQ(a.stages[s].stall_starved, b.stages[s].stall_starved);
+    EXPECT_EQ(a.stages[s].stall_blocked, b.stages[s].stall_blocked);
+    EXPECT_EQ(a.stages[s].stall_full, b.stages[s].stall_full);
+  }
+  ASSERT_EQ(a.blocks.size(), b.blocks.size());
+  for (size_t k = 0; k < a.blocks.size(); ++k) {
+    EXPECT_EQ(a.blocks[k].name, b.blocks[k].name);
+    EXPECT_TRUE(a.blocks[k].ops == b.blocks[k].ops) << a.blocks[k].name;
+    EXPECT_EQ(a.blocks[k].texels, b.blocks[k].texels);
+  }
+}
+
+TEST(UnitBatch, SameFiguresAsOneByOne) {
+  for (FilterMode filter : {FilterMode::Bilinear, FilterMode::Trilinear}) {
+    for (TexelLayout layout : {TexelLayout::Linear, TexelLayout::Tiled4x4, TexelLayout::Morton}) {
+      for (bool timing : {false, true}) {
+        MaterialSetup m;
+        m.name = "floor";
+        m.filter.filter = filter;
+        SCOPED_TRACE(std::string(to_string(filter)) + " " + to_string(layout) +
+                     (timing ? " timed" : " functional"));
+        const Figures one = run(m, layout, timing, 0);
+        EXPECT_GT(one.cache.accesses + (timing ? 0 : 1), 0u);
+        for (size_t batch : {size_t{7}, LinearBatch::kMax, size_t{1000}})
+          expect_same(one, run(m, layout, timing, batch));
+      }
+    }
+  }
+}
+
+TEST(UnitBatch, AnisotropicMaterialMixesBatchAndScalarFragments) {
+  MaterialSetup m;
+  m.name = "floor";
+  m.filter.filter = FilterMode::Trilinear;
+  m.lod.aniso = AnisoMode::Vulkan;
+  m.lod.max_aniso = 8;
+  expect_same(run(m, TexelLayout::Tiled4x4, true, 0), run(m, TexelLayout::Tiled4x4, true, 256));
+}
+
+TEST(UnitBatch, AnUnloadedTextureFailsAtItsFragment) {
+  BenchFloor& fx = floor_fixture();
+  std::vector<Fragment> frags(fx.frags.begin(), fx.frags.begin() + 40);
+  frags[25].tex = 9;
+  MaterialSetup m;
+  m.name = "floor";
+  m.filter.filter = FilterMode::Bilinear;
+  TextureUnit one(fx.textures, {m}, PipelineSetup{}, TechTable::defaults(), true);
+  TextureUnit batched(fx.textures, {m}, PipelineSetup{}, TechTable::defaults(), true);
+  for (size_t i = 0; i < 25; ++i) one.process(frags[i], 0);
+  EXPECT_THROW(one.process(frags[25], 0), std::out_of_range);
+  std::vector<Rgba> out(frags.size());
+  EXPECT_THROW(batched.process_batch(frags.data(), frags.size(), 0, out.data()), std::out_of_range);
+  // The fragments before it went through, as one by one.
+  EXPECT_EQ(batched.fragments(), one.fragments());
+  EXPECT_EQ(batched.cycles(), one.cycles());
+}
+
+}  // namespace
+}  // namespace texsim
