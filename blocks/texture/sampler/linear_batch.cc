@@ -337,9 +337,9 @@ HWY_INLINE Lanes load_lanes(const Input& in, size_t i) {
   return l;
 }
 
-// LodUnit::eval for lanes whose inputs are finite; `ok` loses the lanes the scalar path must
-// take (ρ² overflow, anisotropic N > 1).
-HWY_INLINE VF lod_lambda(const Input& in, const Lanes& l, MF& ok) {
+// LodUnit::eval's ρ² for lanes whose inputs are finite; `ok` loses the lanes the scalar
+// path must take (ρ² overflow, anisotropic N > 1).
+HWY_INLINE VF lod_rho2(const Input& in, const Lanes& l, MF& ok) {
   const DF df;
   const VF mux = hn::Mul(l.dudx, hn::Set(df, in.tex_w));
   const VF mvx = hn::Mul(l.dvdx, hn::Set(df, in.tex_h));
@@ -362,15 +362,108 @@ HWY_INLINE VF lod_lambda(const Input& in, const Lanes& l, MF& ok) {
                                       hn::IfThenElse(hn::Lt(max_aniso, ratio), max_aniso, ratio)));
     ok = hn::And(ok, hn::Le(eta, one));
   }
-  // ½·log2 ρ² by the scalar code's libm call, lane by lane (the calls overlap: they are
-  // independent).
-  HWY_ALIGN float lg[hn::MaxLanes(df)];
-  hn::Store(rmax2, df, lg);
-  for (size_t k = 0; k < hn::Lanes(df); ++k) lg[k] = std::log2(lg[k]);
-  const VF base = hn::Mul(hn::Set(df, 0.5f), hn::Load(df, lg));
-  const VF lambda = hn::Add(base, l.bias);
-  return clamp(lambda, hn::Set(df, in.min_lod), hn::Set(df, in.max_lod));
+  return rmax2;
 }
+
+// The scalar path's λ → fixed-point d' for one lane: ½·log2f(ρ²) + bias, clamped to
+// [min_lod, max_lod] and [0, q], times 2^m, rounded to nearest even (LodUnit::eval,
+// TexelAddressGen::select_levels).
+int32_t scalar_dfix(const Input& in, float rmax2, float bias) {
+  const float lambda = std::clamp(0.5f * std::log2(rmax2) + bias, in.min_lod, in.max_lod);
+  const float d = std::clamp(lambda, 0.0f, static_cast<float>(in.top_level));
+  return static_cast<int32_t>(TexelAddressGen::round_half_even(d * in.mip_scale));
+}
+
+#if HWY_TARGET != HWY_SCALAR
+// d' in fixed point without libm: log2 ρ² in double (exponent + a series for the mantissa,
+// |error| < 1e-12), then the interval the scalar float32 path can land in: the C library's
+// log2f within 4 ulp of the exact value (glibc's is within 1; test_linear_batch checks it over
+// the float range) and the float32 addition of the bias within 2 ulp. Where the whole interval
+// rounds to one fixed-point value, that value is the scalar path's; the other lanes
+// (`unsure`) take the scalar path's own arithmetic.
+template <class DD>
+HWY_INLINE hn::Vec<DD> dfix_half(DD dd, hn::Vec<DD> e, hn::Vec<DD> m, hn::Vec<DD> bias,
+                                 const Input& in, hn::Mask<DD>& sure) {
+  using VD = hn::Vec<DD>;
+  const VD one = hn::Set(dd, 1.0);
+  const VD sv = hn::Div(hn::Sub(m, one), hn::Add(m, one));  // |s| <= 0.1716
+  const VD z = hn::Mul(sv, sv);
+  // ln m = 2s (1 + z/3 + z²/5 + … + z⁷/15): the first omitted term is below 1e-13.
+  VD poly = hn::Set(dd, 1.0 / 15);
+  for (double k : {13.0, 11.0, 9.0, 7.0, 5.0, 3.0, 1.0})
+    poly = hn::Add(hn::Mul(poly, z), hn::Set(dd, 1.0 / k));
+  const VD y = hn::Add(e, hn::Mul(hn::Mul(hn::Add(sv, sv), poly), hn::Set(dd, 1.4426950408889634)));
+  const VD unit = hn::Set(dd, 1.0);
+  const VD ey =
+      hn::Add(hn::Mul(hn::Set(dd, 0x1p-21), hn::Max(hn::Abs(y), unit)), hn::Set(dd, 1e-9));
+  const VD half = hn::Set(dd, 0.5);
+  VD lo = hn::Add(hn::Mul(half, hn::Sub(y, ey)), bias);
+  VD hi = hn::Add(hn::Mul(half, hn::Add(y, ey)), bias);
+  const VD eb = hn::Mul(hn::Set(dd, 0x1p-22), hn::Max(hn::Max(hn::Abs(lo), hn::Abs(hi)), unit));
+  lo = hn::Sub(lo, eb);
+  hi = hn::Add(hi, eb);
+  const auto clamp_d = [&](VD x) {
+    x = hn::Min(hn::Max(x, hn::Set(dd, in.min_lod)), hn::Set(dd, in.max_lod));
+    x = hn::Min(hn::Max(x, hn::Zero(dd)), hn::Set(dd, static_cast<double>(in.top_level)));
+    return hn::Mul(x, hn::Set(dd, static_cast<double>(in.mip_scale)));
+  };
+  const VD xl = hn::Add(clamp_d(lo), half), xh = hn::Add(clamp_d(hi), half);
+  const VD kl = hn::Floor(xl), kh = hn::Floor(xh);
+  // One integer for the whole interval, and no tie (x + ½ an integer) at its low end.
+  sure = hn::And(hn::Eq(kl, kh), hn::Lt(kl, xl));
+  return kl;
+}
+
+HWY_INLINE VI level_fixed(const Input& in, VF rmax2, VF bias, MF ok) {
+  const DF df;
+  const DI di;
+  const hn::Half<DF> dh;
+  const hn::Rebind<double, decltype(dh)> dd;
+  const hn::Rebind<int32_t, decltype(dd)> dih;
+  // ρ² = 2^e · m, m in [√½, √2) (exact in float32 for a normal ρ²).
+  const VI bits = hn::BitCast(di, rmax2);
+  VI e = hn::Sub(hn::ShiftRight<23>(bits), hn::Set(di, 127));
+  VF m = hn::BitCast(df, hn::Or(hn::And(bits, hn::Set(di, 0x7fffff)), hn::Set(di, 0x3f800000)));
+  const auto big = hn::Gt(m, hn::Set(df, 1.41421356f));
+  m = hn::IfThenElse(big, hn::Mul(m, hn::Set(df, 0.5f)), m);
+  e = hn::Add(e, hn::IfThenElseZero(hn::RebindMask(di, big), hn::Set(di, 1)));
+  const VF ef = hn::ConvertTo(df, e);
+  hn::Mask<decltype(dd)> sure_lo, sure_hi;
+  const auto klo = dfix_half(dd, hn::PromoteTo(dd, hn::LowerHalf(dh, ef)),
+                             hn::PromoteTo(dd, hn::LowerHalf(dh, m)),
+                             hn::PromoteTo(dd, hn::LowerHalf(dh, bias)), in, sure_lo);
+  const auto khi = dfix_half(dd, hn::PromoteTo(dd, hn::UpperHalf(dh, ef)),
+                             hn::PromoteTo(dd, hn::UpperHalf(dh, m)),
+                             hn::PromoteTo(dd, hn::UpperHalf(dh, bias)), in, sure_hi);
+  VI dfix = hn::Combine(di, hn::DemoteTo(dih, khi), hn::DemoteTo(dih, klo));
+  const auto sure_d = [&](hn::Mask<decltype(dd)> s) {
+    return hn::DemoteTo(dih, hn::IfThenElseZero(s, hn::Set(dd, 1.0)));
+  };
+  const VI sure = hn::Combine(di, sure_d(sure_hi), sure_d(sure_lo));
+  // Zero and subnormal ρ² (log2 −inf, or no implicit bit) are the scalar arithmetic's too.
+  const MF normal = hn::Ge(rmax2, hn::Set(df, 0x1p-126f));
+  const MF unsure = hn::AndNot(hn::And(normal, hn::RebindMask(df, hn::Ne(sure, hn::Zero(di)))), ok);
+  if (!hn::AllFalse(df, unsure)) {
+    HWY_ALIGN float r[hn::MaxLanes(df)], b[hn::MaxLanes(df)];
+    HWY_ALIGN int32_t d[hn::MaxLanes(df)], u[hn::MaxLanes(df)];
+    hn::Store(rmax2, df, r);
+    hn::Store(bias, df, b);
+    hn::Store(dfix, di, d);
+    hn::Store(hn::VecFromMask(di, hn::RebindMask(di, unsure)), di, u);
+    for (size_t k = 0; k < hn::Lanes(df); ++k) {
+      if (u[k]) d[k] = scalar_dfix(in, r[k], b[k]);
+    }
+    dfix = hn::Load(di, d);
+  }
+  return dfix;
+}
+#else
+HWY_INLINE VI level_fixed(const Input& in, VF rmax2, VF bias, MF ok) {
+  const DI di;
+  if (hn::AllFalse(DF(), ok)) return hn::Zero(di);
+  return hn::Set(di, scalar_dfix(in, hn::GetLane(rmax2), hn::GetLane(bias)));
+}
+#endif
 
 }  // namespace
 
@@ -385,10 +478,9 @@ void FilterLinearBatch(const Input& in, LinearBatch& out) {
   for (size_t i = 0; i < in.count; i += lanes) {
     const Lanes l = load_lanes(in, i);
     MF ok = l.ok;
-    const VF lambda = lod_lambda(in, l, ok);
+    const VF rmax2 = lod_rho2(in, l, ok);
     // TexelAddressGen::select_levels: d' = clamp(λ, 0, q) to fixed point with m fraction bits.
-    const VF d = clamp(lambda, hn::Zero(df), hn::ConvertTo(df, top));
-    const VI dfix = round_half_even(df, hn::Mul(d, hn::Set(df, in.mip_scale)));
+    const VI dfix = level_fixed(in, rmax2, l.bias, ok);
     const VF u = l.u, v = l.v;
     Texel sum;
     VI level_hi, level_lo;

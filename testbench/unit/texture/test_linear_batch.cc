@@ -396,6 +396,84 @@ TEST(LinearBatch, AnisotropicLodLeavesMultiProbeFragmentsToTheScalarPath) {
   hwy::SetSupportedTargetsForTest(0);
 }
 
+// Fragments whose λ lies a few float32 steps around the rounding ties of the fixed-point LOD
+// ((k + ½) / 2^8): where the batch's double-precision interval cannot decide the rounding it
+// must fall back to the scalar arithmetic, and the results must agree bit for bit.
+std::vector<Fragment> near_ties(int size, float bias) {
+  std::vector<Fragment> out;
+  for (int k = 0; k < 6 * 256; k += 7) {
+    const double lambda = (k + 0.5) / 256.0 - bias;
+    const double rho = std::exp2(lambda);  // ρ = 2^λ texels per pixel
+    for (int step = -12; step <= 12; ++step) {
+      Fragment f;
+      f.u = 0.3 + 0.001 * k;
+      f.v = 0.7;
+      f.dudx = rho / size;
+      for (int j = 0; j < std::abs(step); ++j)
+        f.dudx = std::nextafter(static_cast<float>(f.dudx), step < 0 ? 0.0f : 1e30f);
+      f.dvdy = f.dudx * 0.5;
+      f.lod_bias = bias;
+      out.push_back(f);
+    }
+  }
+  return out;
+}
+
+TEST(LinearBatch, LevelsNearTheFixedPointTiesAreTheScalarOnes) {
+  for (int64_t t : targets()) {
+    hwy::SetSupportedTargetsForTest(t);
+    SCOPED_TRACE(std::string("target ") + LinearBatchSampler::target());
+    for (float bias : {0.0f, 0.3f, -1.7f}) {
+      const std::vector<Fragment> frags = near_ties(512, bias);
+      for (FilterMode filter : {FilterMode::Bilinear, FilterMode::Trilinear}) {
+        const Case c{filter,
+                     AnisoMode::Isotropic,
+                     16,
+                     AddressMode::Wrap,
+                     AddressMode::Wrap,
+                     8,
+                     8,
+                     0,
+                     1000,
+                     0,
+                     512,
+                     512,
+                     true};
+        EXPECT_EQ(check(c, frags, frags.size()), frags.size());
+      }
+    }
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+// The batch's assumption about the C library: log2f within 4 ulp of log2 over the positive
+// normal floats (every 101st of them, and the neighbours of every power of two).
+TEST(LinearBatch, LibraryLog2fIsWithinFourUlp) {
+  double worst = 0;
+  auto check_at = [&](uint32_t bits) {
+    float x;
+    std::memcpy(&x, &bits, sizeof x);
+    const double exact = std::log2(static_cast<double>(x));
+    const float got = std::log2(x);
+    if (exact == 0) {
+      EXPECT_EQ(got, 0.0f);
+      return;
+    }
+    const float e = static_cast<float>(exact);
+    const double ulp = std::nextafter(std::fabs(e), 1e30f) - std::fabs(e);
+    worst = std::max(worst, std::fabs(static_cast<double>(got) - exact) / ulp);
+  };
+  for (uint32_t b = 0x00800000u; b < 0x7f800000u; b += 101) check_at(b);
+  for (uint32_t e = 1; e < 255; ++e) {
+    for (uint32_t d = 0; d < 64; ++d) {
+      check_at((e << 23) + d);
+      check_at((e << 23) - d - 1);
+    }
+  }
+  EXPECT_LE(worst, 4.0);
+  EXPECT_GT(worst, 0.0);  // the check measured something
+}
+
 TEST(LinearBatch, ServesOnlyWhatItCanDoExactly) {
   TexelAddressGen::Config ac;
   ac.filter = FilterMode::Bilinear;
