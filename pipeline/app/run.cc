@@ -31,6 +31,7 @@
 #include "pipeline/scene/scene.h"
 #include "pipeline/scene/texture_loader.h"
 #include "pipeline/texture/texture_unit.h"
+#include "traces/prefetch_reader.h"
 #include "traces/trace_file.h"
 #include "traces/trace_tools.h"
 
@@ -671,8 +672,11 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   uint64_t index = 0;
   std::vector<RasterCounters> raster;
   if (reader) {
+    // With more than one thread, the next chunks are read and decoded while these simulate.
+    std::unique_ptr<PrefetchReader> ahead;
+    if (resolve_threads(opt.threads) > 1) ahead = std::make_unique<PrefetchReader>(*reader);
     std::vector<Fragment> chunk;
-    while (reader->next_chunk(chunk) > 0) {
+    while ((ahead ? ahead->next_chunk(chunk) : reader->next_chunk(chunk)) > 0) {
       for (const Fragment& f : chunk) handle(f, index++);
     }
   } else if (unit.front_stages() > 0) {
