@@ -295,6 +295,29 @@ Provenance run_provenance(const RunOptions& opt, const std::string& scene_path,
   return p;
 }
 
+// The material of trace record `index`: its primitive's in the scene.
+int primitive_material(const Fragment& f, uint64_t index, const Scene& scene,
+                       const std::string& trace) {
+  if (f.prim >= scene.primitives.size()) {
+    throw InputError(trace, "record " + std::to_string(index) + ": primitive " +
+                                std::to_string(f.prim) + " is not a primitive of scene " +
+                                scene.path);
+  }
+  return scene.primitives[f.prim].material;
+}
+
+// Every fragment of the trace, in order, to `handle`. With more than one thread the next
+// chunks are read and decoded while these simulate.
+template <class Handle>
+void stream_trace(TraceReader& reader, int threads, Handle&& handle) {
+  std::unique_ptr<PrefetchReader> ahead;
+  if (resolve_threads(threads) > 1) ahead = std::make_unique<PrefetchReader>(reader);
+  std::vector<Fragment> chunk;
+  while ((ahead ? ahead->next_chunk(chunk) : reader.next_chunk(chunk)) > 0) {
+    for (const Fragment& f : chunk) handle(f);
+  }
+}
+
 // Fragments of one material gathered for the texture unit's batched datapath
 // (TextureUnit::process_batch: the same colours, counts and cycles as one by one), then passed
 // on in arrival order. A batch of one processes each fragment as it comes.
@@ -652,15 +675,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   auto handle = [&](const Fragment& f, uint64_t index) {
     Fragment g = f;
     g.tex = loaded_texture(f, index, textures, input, opt.trace);
-    int material = 0;
-    if (truth.exact()) {
-      if (f.prim >= scene.primitives.size()) {
-        throw InputError(opt.trace, "record " + std::to_string(index) + ": primitive " +
-                                        std::to_string(f.prim) + " is not a primitive of scene " +
-                                        scene.path);
-      }
-      material = scene.primitives[f.prim].material;
-    }
+    const int material = truth.exact() ? primitive_material(f, index, scene, opt.trace) : 0;
     if (!os.drawn_by(material)) {
       unit_batch.add(f, g, material, index, record);
       return;
@@ -672,13 +687,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   uint64_t index = 0;
   std::vector<RasterCounters> raster;
   if (reader) {
-    // With more than one thread, the next chunks are read and decoded while these simulate.
-    std::unique_ptr<PrefetchReader> ahead;
-    if (resolve_threads(opt.threads) > 1) ahead = std::make_unique<PrefetchReader>(*reader);
-    std::vector<Fragment> chunk;
-    while ((ahead ? ahead->next_chunk(chunk) : reader->next_chunk(chunk)) > 0) {
-      for (const Fragment& f : chunk) handle(f, index++);
-    }
+    stream_trace(*reader, opt.threads, [&](const Fragment& f) { handle(f, index++); });
   } else if (unit.front_stages() > 0) {
     // Some material computes its own coordinates: planes drawn one by one through the front end.
     draw_scene_front_end(scene, maps, unit, [&](const Fragment& f, int material, const Rgba* c) {

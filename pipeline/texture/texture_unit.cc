@@ -150,21 +150,23 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     pipe_ = std::make_unique<ClockedPipeline>(std::move(st));
   }
   for (size_t m = 0; m < paths_.size(); ++m) {
-    Path& p = paths_[m];
-    p.kernel = choose_kernel(p);
-    // The batched datapath: a plain bilinear or trilinear material, on a unit without
-    // front-end, relief or lighting stages.
-    const FilterMode filter = p.addr.config().filter;
-    const bool plain = !p.footprint && !p.coords && !p.relief && !p.lighting &&
-                       filter != FilterMode::Nearest &&
-                       blend_.quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
-    if (plain && front_ == 0 && relief_stage_ < 0 && light_stage_ < 0) {
-      p.batch = std::make_shared<LinearBatchSampler>(mats_[m].lod, mats_[m].filter);
-      p.batch_kernel = pipe_ ? pick_batch_kernel<0>(filter, textures_.layout())
-                             : pick_batch_kernel<-1>(filter, textures_.layout());
-      if (!batch_out_) batch_out_ = std::make_unique<LinearBatch>();
-    }
+    paths_[m].kernel = choose_kernel(paths_[m]);
+    choose_batch(paths_[m], mats_[m]);
   }
+}
+
+void TextureUnit::choose_batch(Path& p, const MaterialSetup& m) {
+  // The batched datapath: a plain bilinear or trilinear material, on a unit without
+  // front-end, relief or lighting stages.
+  const FilterMode filter = p.addr.config().filter;
+  const bool plain = !p.footprint && !p.coords && !p.relief && !p.lighting &&
+                     filter != FilterMode::Nearest &&
+                     blend_.quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
+  if (!plain || front_ != 0 || relief_stage_ >= 0 || light_stage_ >= 0) return;
+  p.batch = std::make_shared<LinearBatchSampler>(m.lod, m.filter);
+  p.batch_kernel = pipe_ ? pick_batch_kernel<0>(filter, textures_.layout())
+                         : pick_batch_kernel<-1>(filter, textures_.layout());
+  if (!batch_out_) batch_out_ = std::make_unique<LinearBatch>();
 }
 
 namespace {

@@ -209,6 +209,8 @@ class TextureUnit {
   void batch_linear(const Fragment* f, size_t n, Path& p, const Texture& tex, Rgba* out);
   template <int kFront>
   static BatchKernel pick_batch_kernel(FilterMode filter, TexelLayout layout);
+  // Sets p's batched datapath when material m can use one.
+  void choose_batch(Path& p, const MaterialSetup& m);
   template <int kFront>
   static Kernel pick_kernel(FilterMode filter, TexelLayout layout, bool quads);
   Kernel choose_kernel(const Path& p) const;

@@ -144,7 +144,12 @@ Expected scalar(const LodUnit& lod, const TexelAddressGen& addr, const TexelBlen
   return e;
 }
 
-bool same_bits(const Rgba& a, const Rgba& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same_bits(const Rgba& a, const Rgba& b) {
+  for (int c = 0; c < 4; ++c) {
+    if (std::bit_cast<uint32_t>(a[c]) != std::bit_cast<uint32_t>(b[c])) return false;
+  }
+  return true;
+}
 
 struct Case {
   FilterMode filter;
@@ -480,7 +485,7 @@ TEST(LinearBatch, ServesOnlyWhatItCanDoExactly) {
   const LinearBatchSampler wrap(LodUnit::Config{}, ac);
   EXPECT_TRUE(wrap.serves(random_texture(64, 32, 1)));
   EXPECT_FALSE(wrap.serves(random_texture(37, 32, 1)));  // wrap needs powers of two
-  std::vector<float> px(16 * 4, 0.5f);
+  std::vector<float> px(size_t{16} * 4, 0.5f);
   EXPECT_FALSE(
       wrap.serves(Texture::from_rgba("f", 4, 4, px, TexelFormat::Rgba32f, true)));  // RGBA8 only
   ac.address_u = ac.address_v = AddressMode::Clamp;

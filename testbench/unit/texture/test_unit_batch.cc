@@ -5,8 +5,8 @@
 // inputs, anisotropic probes, a second texture it does not serve).
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -19,7 +19,7 @@ BenchFloor& floor_fixture() {
   static BenchFloor fixture = [] {
     BenchFloor b = make_bench_floor(200, 150);
     // A second texture the batch does not serve (RGBA32F), for every third run of 500.
-    std::vector<float> px(64 * 64 * 4);
+    std::vector<float> px(size_t{64} * 64 * 4);
     for (size_t i = 0; i < px.size(); ++i) px[i] = static_cast<float>(i % 251) / 251.0f;
     b.textures.add(Texture::from_rgba("f32", 64, 64, px, TexelFormat::Rgba32f, true));
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -75,7 +75,9 @@ void expect_same(const Figures& a, const Figures& b) {
   ASSERT_EQ(a.colours.size(), b.colours.size());
   size_t differ = 0;
   for (size_t i = 0; i < a.colours.size(); ++i)
-    differ += std::memcmp(&a.colours[i], &b.colours[i], sizeof(Rgba)) != 0;
+    for (int c = 0; c < 4; ++c)
+      differ +=
+          std::bit_cast<uint32_t>(a.colours[i][c]) != std::bit_cast<uint32_t>(b.colours[i][c]);
   EXPECT_EQ(differ, 0u);
   EXPECT_EQ(a.fragments, b.fragments);
   EXPECT_EQ(a.cycles, b.cycles);
