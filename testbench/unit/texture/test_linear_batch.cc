@@ -39,8 +39,7 @@ std::vector<Fragment> fragments(uint64_t seed, size_t ordinary, size_t hard) {
     const double mag = std::pow(10.0, -6.0 + 7.0 * unit(rng));
     return unit(rng) < 0.5 ? -mag : mag;
   };
-  std::vector<Fragment> out;
-  for (size_t i = 0; i < ordinary; ++i) {
+  auto ordinary_fragment = [&] {
     Fragment f;
     f.u = -3.0 + 6.0 * unit(rng);
     f.v = -3.0 + 6.0 * unit(rng);
@@ -48,19 +47,18 @@ std::vector<Fragment> fragments(uint64_t seed, size_t ordinary, size_t hard) {
     f.dvdx = deriv();
     f.dudy = deriv();
     f.dvdy = deriv();
+    return f;
+  };
+  std::vector<Fragment> out;
+  for (size_t i = 0; i < ordinary; ++i) {
+    Fragment f = ordinary_fragment();
     f.lod_bias = static_cast<float>(-2.0 + 4.0 * unit(rng));
     out.push_back(f);
   }
   const double specials[] = {0.0, -0.0, inf, -inf, nan, 1e30, -1e30, 1e300, 1e6, -1e6, 4e6, 1e-40};
   const size_t ns = std::size(specials);
   for (size_t i = 0; i < hard; ++i) {
-    Fragment f;
-    f.u = -3.0 + 6.0 * unit(rng);
-    f.v = -3.0 + 6.0 * unit(rng);
-    f.dudx = deriv();
-    f.dvdx = deriv();
-    f.dudy = deriv();
-    f.dvdy = deriv();
+    Fragment f = ordinary_fragment();
     // One to three fields replaced by special values.
     const int k = 1 + static_cast<int>(rng() % 3);
     for (int j = 0; j < k; ++j) {
@@ -152,14 +150,14 @@ bool same_bits(const Rgba& a, const Rgba& b) {
 }
 
 struct Case {
-  FilterMode filter;
-  AnisoMode aniso;
-  int max_aniso;
-  AddressMode au, av;
-  int sub_bits, mip_bits;
-  float min_lod, max_lod, lod_bias;
-  int w, h;
-  bool mips;
+  FilterMode filter = FilterMode::Bilinear;
+  AnisoMode aniso = AnisoMode::Isotropic;
+  int max_aniso = 16;
+  AddressMode au = AddressMode::Wrap, av = AddressMode::Wrap;
+  int sub_bits = 8, mip_bits = 8;
+  float min_lod = 0, max_lod = 1000, lod_bias = 0;
+  int w = 64, h = 64;
+  bool mips = true;
   TexelLayout layout = TexelLayout::Tiled4x4;
   uint64_t base = 4096;     // where the texture is placed in memory
   uint32_t line_shift = 6;  // 64-byte cache lines
@@ -240,7 +238,7 @@ TEST(LinearBatch, IdenticalToScalarOnEveryTarget) {
         for (AddressMode av : modes) {
           for (TexelLayout layout :
                {TexelLayout::Linear, TexelLayout::Tiled4x4, TexelLayout::Morton}) {
-            Case c{filter, AnisoMode::Isotropic, 16, au, av, 8, 8, 0, 1000, 0, 64, 32, true};
+            Case c{.filter = filter, .au = au, .av = av, .h = 32};
             c.layout = layout;
             c.line_shift = 4 + 2 * static_cast<uint32_t>(layout);
             // Isotropic LOD: every ordinary fragment is the batch's.
@@ -260,93 +258,33 @@ TEST(LinearBatch, FractionBitsLodRangesAndTextureShapes) {
     SCOPED_TRACE(std::string("target ") + LinearBatchSampler::target());
     for (int bits : {1, 4, 12, 16}) {
       for (FilterMode filter : {FilterMode::Bilinear, FilterMode::Trilinear}) {
-        const Case c{filter,
-                     AnisoMode::Isotropic,
-                     16,
-                     AddressMode::Wrap,
-                     AddressMode::Mirror,
-                     bits,
-                     17 - bits,
-                     0.5f,
-                     3.25f,
-                     -0.75f,
-                     256,
-                     16,
-                     true};
+        const Case c{.filter = filter,
+                     .av = AddressMode::Mirror,
+                     .sub_bits = bits,
+                     .mip_bits = 17 - bits,
+                     .min_lod = 0.5f,
+                     .max_lod = 3.25f,
+                     .lod_bias = -0.75f,
+                     .w = 256,
+                     .h = 16};
         EXPECT_GT(check(c, frags, 1500), 1000u);
       }
     }
     // 1×1, a single column, no mips, and a non-power-of-two texture under clamp.
-    const Case one{FilterMode::Trilinear,
-                   AnisoMode::Isotropic,
-                   16,
-                   AddressMode::Wrap,
-                   AddressMode::Wrap,
-                   8,
-                   8,
-                   0,
-                   1000,
-                   0,
-                   1,
-                   1,
-                   true};
+    const Case one{.filter = FilterMode::Trilinear, .w = 1, .h = 1};
     EXPECT_EQ(check(one, frags, 1500), 1500u);
-    const Case column{FilterMode::Bilinear,
-                      AnisoMode::Isotropic,
-                      16,
-                      AddressMode::Mirror,
-                      AddressMode::Wrap,
-                      8,
-                      8,
-                      0,
-                      1000,
-                      0,
-                      1,
-                      64,
-                      true};
+    const Case column{.au = AddressMode::Mirror, .w = 1};
     EXPECT_EQ(check(column, frags, 1500), 1500u);
-    const Case flat{FilterMode::Trilinear,
-                    AnisoMode::Isotropic,
-                    16,
-                    AddressMode::Wrap,
-                    AddressMode::Wrap,
-                    8,
-                    8,
-                    0,
-                    1000,
-                    0,
-                    32,
-                    32,
-                    false};
+    const Case flat{.filter = FilterMode::Trilinear, .w = 32, .h = 32, .mips = false};
     EXPECT_EQ(check(flat, frags, 1500), 1500u);
-    Case high{FilterMode::Bilinear,
-              AnisoMode::Isotropic,
-              16,
-              AddressMode::Wrap,
-              AddressMode::Wrap,
-              8,
-              8,
-              0,
-              1000,
-              0,
-              64,
-              64,
-              true};
+    Case high{};
     high.base = uint64_t{3} << 30;
     EXPECT_EQ(check(high, frags, 1500), 1500u);
-    const Case npot{FilterMode::Trilinear,
-                    AnisoMode::Isotropic,
-                    16,
-                    AddressMode::Clamp,
-                    AddressMode::Clamp,
-                    8,
-                    8,
-                    0,
-                    1000,
-                    0,
-                    37,
-                    23,
-                    true};
+    const Case npot{.filter = FilterMode::Trilinear,
+                    .au = AddressMode::Clamp,
+                    .av = AddressMode::Clamp,
+                    .w = 37,
+                    .h = 23};
     EXPECT_EQ(check(npot, frags, 1500), 1500u);
   }
   hwy::SetSupportedTargetsForTest(0);
@@ -358,19 +296,13 @@ TEST(LinearBatch, AnisotropicLodLeavesMultiProbeFragmentsToTheScalarPath) {
     hwy::SetSupportedTargetsForTest(t);
     SCOPED_TRACE(std::string("target ") + LinearBatchSampler::target());
     for (int max_aniso : {1, 2, 16}) {
-      const Case c{FilterMode::Trilinear,
-                   AnisoMode::Vulkan,
-                   max_aniso,
-                   AddressMode::Wrap,
-                   AddressMode::Clamp,
-                   8,
-                   8,
-                   0,
-                   1000,
-                   0.5f,
-                   128,
-                   128,
-                   true};
+      const Case c{.filter = FilterMode::Trilinear,
+                   .aniso = AnisoMode::Vulkan,
+                   .max_aniso = max_aniso,
+                   .av = AddressMode::Clamp,
+                   .lod_bias = 0.5f,
+                   .w = 128,
+                   .h = 128};
       // check() requires one probe for every done fragment; with maxAniso 1 all are done.
       const size_t done = check(c, frags, 2000);
       if (max_aniso == 1) {
@@ -383,19 +315,7 @@ TEST(LinearBatch, AnisotropicLodLeavesMultiProbeFragmentsToTheScalarPath) {
       f.dudy = -f.dvdx;
       f.dvdy = f.dudx;
     }
-    const Case c{FilterMode::Bilinear,
-                 AnisoMode::Vulkan,
-                 16,
-                 AddressMode::Wrap,
-                 AddressMode::Wrap,
-                 8,
-                 8,
-                 0,
-                 1000,
-                 0,
-                 64,
-                 64,
-                 true};
+    const Case c{.aniso = AnisoMode::Vulkan};
     EXPECT_GT(check(c, iso, 2000), 1000u);
   }
   hwy::SetSupportedTargetsForTest(0);
@@ -431,19 +351,7 @@ TEST(LinearBatch, LevelsNearTheFixedPointTiesAreTheScalarOnes) {
     for (float bias : {0.0f, 0.3f, -1.7f}) {
       const std::vector<Fragment> frags = near_ties(512, bias);
       for (FilterMode filter : {FilterMode::Bilinear, FilterMode::Trilinear}) {
-        const Case c{filter,
-                     AnisoMode::Isotropic,
-                     16,
-                     AddressMode::Wrap,
-                     AddressMode::Wrap,
-                     8,
-                     8,
-                     0,
-                     1000,
-                     0,
-                     512,
-                     512,
-                     true};
+        const Case c{.filter = filter, .w = 512, .h = 512};
         EXPECT_EQ(check(c, frags, frags.size()), frags.size());
       }
     }
