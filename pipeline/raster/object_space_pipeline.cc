@@ -166,6 +166,8 @@ class Renderer {
  private:
   void primitive(uint32_t index);
   void band(const PrimitiveWork& w, const std::vector<glm::dvec3>& poly);
+  // Texture and splat the waiting samples of one band (material, projection kind, depth slope).
+  void splat_batch(int material, bool ortho, double slope);
 
   const Scene& scene_;
   int material_;  // -1: every primitive
@@ -178,6 +180,10 @@ class Renderer {
   TextureUnit unit_;
   SplatBuffer buffer_;
   ObjectSpaceResult r_;
+  // Samples waiting for the texture unit, their projections, and their colours.
+  std::vector<Fragment> batch_;
+  std::vector<ProjectedSample> projected_;
+  std::vector<Rgba> colours_;
 };
 
 void Renderer::primitive(uint32_t index) {
@@ -291,14 +297,29 @@ void Renderer::band(const PrimitiveWork& w, const std::vector<glm::dvec3>& poly)
         f.y = static_cast<uint32_t>(std::clamp(q.y, 0.0, r_.height - 1.0));
         f.u = s.u;
         f.v = s.v;
-        const Rgba c = unit_.process(f, w.material);
-        const double tol = ortho ? 2 * slope + 1e-9 * std::fabs(q.depth)
-                                 : 2 * q.depth * q.depth * slope + 1e-9 * q.depth;
-        r_.splat_ops.mul += 3;
-        r_.splat_ops.add += 1;
-        splat_.splat(buffer_, q.x, q.y, q.depth, tol, c, r_.splat, r_.splat_ops);
+        batch_.push_back(f);
+        projected_.push_back(q);
+        if (batch_.size() == LinearBatch::kMax) splat_batch(w.material, ortho, slope);
       },
       r_.raster, r_.raster_ops);
+  splat_batch(w.material, ortho, slope);
+}
+
+void Renderer::splat_batch(int material, bool ortho, double slope) {
+  // The samples through the texture unit a batch at a time (its batched datapath), then
+  // splatted in sample order.
+  colours_.resize(batch_.size());
+  unit_.process_batch(batch_.data(), batch_.size(), material, colours_.data());
+  for (size_t i = 0; i < batch_.size(); ++i) {
+    const ProjectedSample& q = projected_[i];
+    const double tol = ortho ? 2 * slope + 1e-9 * std::fabs(q.depth)
+                             : 2 * q.depth * q.depth * slope + 1e-9 * q.depth;
+    r_.splat_ops.mul += 3;
+    r_.splat_ops.add += 1;
+    splat_.splat(buffer_, q.x, q.y, q.depth, tol, colours_[i], r_.splat, r_.splat_ops);
+  }
+  batch_.clear();
+  projected_.clear();
 }
 
 ObjectSpaceResult Renderer::run() {

@@ -463,7 +463,8 @@ StudyFilterRun run_study_filter_method(const StudyFilterMethod& m, TextureSet& t
   MaterialSetup mat = m.material;
   mat.texture = 0;
   TextureUnit unit(textures, {mat}, PipelineSetup{}, tech, true);
-  for (const Fragment& f : fragments) r.colours.push_back(unit.process(f, 0));
+  r.colours.resize(fragments.size());
+  unit.process_batch(fragments.data(), fragments.size(), 0, r.colours.data());
   r.cycles = unit.cycles();
   r.misses = unit.cache().stats().misses;
   const ClockedPipeline& pipe = *unit.pipeline();
