@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <map>
 #include <ostream>
 
@@ -277,9 +278,17 @@ void check_memory(const RunOptions& opt, const ImageLayout& l, const TextureSet&
                                "), over the --max-memory limit of " + gib(opt.max_memory));
 }
 
+// The trace's digest for the provenance (its whole file is hashed): read beside the run when
+// it has more than one thread, else when asked for; the same digest either way.
+std::future<InputDigest> trace_digest(const RunOptions& opt) {
+  if (opt.trace.empty()) return {};
+  const auto policy = resolve_threads(opt.threads) > 1 ? std::launch::async : std::launch::deferred;
+  return std::async(policy, [path = opt.trace] { return digest_file("trace", path); });
+}
+
 Provenance run_provenance(const RunOptions& opt, const std::string& scene_path,
                           const RunTextures& textures, const PipelineSetup& setup,
-                          const TechTable& tech) {
+                          const TechTable& tech, std::future<InputDigest>& trace) {
   Provenance p;
   p.version = kTexsimVersion;
   p.command = opt.command;
@@ -288,7 +297,7 @@ Provenance run_provenance(const RunOptions& opt, const std::string& scene_path,
                            ? InputDigest{"scene", scene_path, "", 0}
                            : digest_file("scene", scene_path));
   }
-  if (!opt.trace.empty()) p.inputs.push_back(digest_file("trace", opt.trace));
+  if (trace.valid()) p.inputs.push_back(trace.get());
   p.inputs.insert(p.inputs.end(), textures.digests.begin(), textures.digests.end());
   p.setup = setup;
   p.tech = tech;
@@ -632,9 +641,11 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
                     : load_scene(opt.scene, opt.overrides);
 
   std::unique_ptr<TraceSummary> trace_sum;
+  std::future<InputDigest> digest;
   std::unique_ptr<TraceReader> reader;
   if (!opt.trace.empty()) {
     trace_sum = std::make_unique<TraceSummary>(first_pass(opt));
+    digest = trace_digest(opt);
     reader = std::make_unique<TraceReader>(opt.trace);
   }
   RunTextures textures =
@@ -720,7 +731,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   info.has_truth = opt.reference != "none";
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
   finish_object_space(os, unit.cycles(), raster, sum, info);
-  info.provenance = run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech);
+  info.provenance =
+      run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech, digest);
   if (opt.capture) {
     const bool write = opt.capture->write_outputs;
     *opt.capture = capture_run(images, unit, sum);
