@@ -6,8 +6,10 @@
 //
 // Bit-identical to the scalar blocks (LodUnit::eval, TexelAddressGen::select_levels and
 // linear_quad, TexelBlend::blend_quads): the same float32 operations in the same order, no
-// fused multiply-add, log2 by the same libm call. A fragment the batch cannot treat the same
-// way — a non-finite input, anisotropic N > 1, another texture, a coordinate of 2^(31 −
+// fused multiply-add; the fixed-point level from log2 in double where an error interval
+// decides it, else by the scalar float32 arithmetic with the same libm log2f (the arithmetic
+// is stated in linear_batch.cc and docs/architecture.md). A fragment the batch cannot treat the
+// same way — a non-finite input, anisotropic N > 1, another texture, a coordinate of 2^(31 −
 // sub_texel_bits) texels or more — is left undone (`done[i]` = 0) for the scalar path.
 // test_linear_batch compares the two.
 #include <cstddef>
