@@ -368,11 +368,9 @@ void TextureUnit::process_batch(const Fragment* f, size_t n, int material, Rgba*
   for (size_t i = 0; i < n; i += LinearBatch::kMax) {
     const size_t m = std::min(LinearBatch::kMax, n - i);
     const uint32_t t = f[i].tex;
-    if (t >= static_cast<uint32_t>(textures_.size())) {
-      for (size_t k = i; k < i + m; ++k) out[k] = filter_fragment(f[k], p, nullptr);  // throws
-    } else {
-      (this->*p.batch_kernel)(f + i, m, p, textures_[static_cast<int>(t)], out + i);
-    }
+    if (t >= static_cast<uint32_t>(textures_.size()))
+      filter_fragment(f[i], p, nullptr);  // throws, naming the texture
+    (this->*p.batch_kernel)(f + i, m, p, textures_[static_cast<int>(t)], out + i);
   }
 }
 

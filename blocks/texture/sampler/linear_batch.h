@@ -27,7 +27,6 @@ namespace texsim {
 // cache model looks up.
 struct LinearBatch {
   static constexpr size_t kMax = 256;
-  size_t count = 0;
   alignas(64) int32_t done[kMax];
   alignas(64) int32_t level[2][kMax];
   alignas(64) int32_t x0[2][kMax];

@@ -192,7 +192,6 @@ size_t check(const Case& c, const std::vector<Fragment>& frags, size_t ordinary)
     // Uneven batch sizes, so partial vectors are covered.
     const size_t n = std::min(LinearBatch::kMax - (round++ % 7), frags.size() - start);
     batch.filter(frags.data() + start, n, tex, *out, c.line_shift);
-    EXPECT_EQ(out->count, n);
     for (size_t i = 0; i < n; ++i) {
       if (!out->done[i]) continue;
       const Fragment& f = frags[start + i];

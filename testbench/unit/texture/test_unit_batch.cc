@@ -113,7 +113,9 @@ TEST(UnitBatch, SameFiguresAsOneByOne) {
         SCOPED_TRACE(std::string(to_string(filter)) + " " + to_string(layout) +
                      (timing ? " timed" : " functional"));
         const Figures one = run(m, layout, timing, 0);
-        EXPECT_GT(one.cache.accesses + (timing ? 0 : 1), 0u);
+        if (timing) {
+          EXPECT_GT(one.cache.accesses, 0u);  // the timed runs use the cache
+        }
         for (size_t batch : {size_t{7}, LinearBatch::kMax, size_t{1000}})
           expect_same(one, run(m, layout, timing, batch));
       }
