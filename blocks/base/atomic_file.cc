@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "blocks/base/input_error.h"
+#include "blocks/base/input_file.h"
 #include "blocks/base/temp_registry.h"
 
 namespace texsim {
@@ -34,6 +35,12 @@ std::string temp_path_for(const std::string& path, const std::string& ext) {
 
 void commit_temp(const std::string& temp, const std::string& path) {
   if (temp == path || (path == "-" && temp == "/dev/stdout")) return;
+  try {
+    refuse_overwriting_input(path);
+  } catch (const InputError&) {
+    remove_temp(temp);
+    throw;
+  }
   if (std::rename(temp.c_str(), path.c_str()) != 0) {
     const std::string err = std::strerror(errno);
     remove_temp(temp);

@@ -11,6 +11,7 @@
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
+#include "blocks/base/input_file.h"
 #include "blocks/base/temp_registry.h"
 
 namespace texsim {
@@ -55,11 +56,19 @@ void OutputSet::commit() {
     if (std::find(names_.begin(), names_.end(), n) == names_.end()) names_.push_back(n);
   }
   // What a rename would refuse is found before anything moves: a directory in the way.
+  // and a file this run read as its input (texsim run DIR/report.json --out DIR).
   for (const std::string& n : names_) {
     if (fs::is_directory(dir_ + "/" + n, ec)) {
       remove_staging();
       committed_ = true;
       throw InputError(dir_ + "/" + n, "is a directory: no output was moved into " + dir_);
+    }
+    try {
+      refuse_overwriting_input(dir_ + "/" + n);
+    } catch (const InputError&) {
+      remove_staging();
+      committed_ = true;
+      throw;
     }
   }
   sigset_t hold, old;
