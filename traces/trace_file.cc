@@ -12,6 +12,7 @@
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
+#include "blocks/base/input_file.h"
 #include "traces/trace_csv.h"
 
 namespace texsim {
@@ -106,21 +107,8 @@ void TraceFileCloser::operator()(std::FILE* f) const {
 }
 
 TraceFilePtr open_trace_input(const std::string& path, uint64_t* size) {
-  std::error_code ec;
-  const auto st = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(st)) throw InputError(path, "cannot open trace: no such file");
-  if (std::filesystem::is_directory(st))
-    throw InputError(path, "cannot open trace: is a directory");
-  if (!std::filesystem::is_regular_file(st)) {
-    throw InputError(path, "cannot open trace: not a regular file");
-  }
-  TraceFilePtr f(std::fopen(path.c_str(), "rb"));
-  if (!f) throw InputError(path, std::string("cannot open trace: ") + std::strerror(errno));
-  if (size != nullptr) {
-    *size = std::filesystem::file_size(path, ec);
-    if (ec) throw InputError(path, "cannot read the file size: " + ec.message());
-  }
-  return f;
+  // Streamed in chunks, so no size limit; a FIFO, device or directory is refused.
+  return TraceFilePtr(open_input_file(path, "trace", kNoSizeLimit, size).release());
 }
 
 const char* to_string(TraceType t) {

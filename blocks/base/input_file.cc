@@ -8,7 +8,7 @@
 #include <cstring>
 #include <mutex>
 #include <set>
-#include <utility>
+#include <tuple>
 
 #include "blocks/base/input_error.h"
 
@@ -16,10 +16,16 @@ namespace texsim {
 
 namespace {
 
-// (device, inode) of every input opened by this process.
+// Every input opened by this process, by device, inode and modification time: an inode number of a
+// deleted input can come back as a new file, which then is not the input (a new file has a
+// new modification time; a link or chmod of the input changes its ctime, not its mtime).
+using FileId = std::tuple<dev_t, ino_t, int64_t, int64_t>;
+FileId id_of(const struct stat& st) {
+  return {st.st_dev, st.st_ino, st.st_mtim.tv_sec, st.st_mtim.tv_nsec};
+}
 std::mutex g_inputs_mutex;
-std::set<std::pair<dev_t, ino_t>>& inputs_read() {
-  static std::set<std::pair<dev_t, ino_t>> s;
+std::set<FileId>& inputs_read() {
+  static std::set<FileId> s;
   return s;
 }
 
@@ -39,6 +45,10 @@ int open_checked(const std::string& path, std::string_view what, uint64_t max_by
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
   if (fd < 0) {
     const int e = errno;
+    struct stat st {};
+    // A socket cannot be opened at all (ENXIO): name what it is, as for the other kinds.
+    if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+      throw InputError(path, "cannot read " + w + ": " + kind_of(st.st_mode));
     throw InputError(path, "cannot open " + w + ": " +
                                (e == ENOENT ? std::string("no such file") : std::strerror(e)));
   }
@@ -62,7 +72,7 @@ int open_checked(const std::string& path, std::string_view what, uint64_t max_by
   if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
   {
     const std::lock_guard<std::mutex> lock(g_inputs_mutex);
-    inputs_read().emplace(st.st_dev, st.st_ino);
+    inputs_read().insert(id_of(st));
   }
   if (size != nullptr) *size = bytes;
   return fd;
@@ -112,7 +122,7 @@ void refuse_overwriting_input(const std::string& target) {
   bool input = false;
   {
     const std::lock_guard<std::mutex> lock(g_inputs_mutex);
-    input = inputs_read().count({st.st_dev, st.st_ino}) != 0;
+    input = inputs_read().count(id_of(st)) != 0;
   }
   if (input) {
     throw InputError(target,

@@ -1,9 +1,12 @@
 #include "blocks/base/output_set.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -18,9 +21,69 @@ namespace texsim {
 
 namespace fs = std::filesystem;
 
-OutputSet::OutputSet(std::string dir)
-    : dir_(std::move(dir)), staging_(dir_ + "/.texsim-staging." + std::to_string(::getpid())) {
+namespace {
+
+// Staging directories are named .texsim-staging.<host>.<pid>: on a file system shared by
+// several machines (Slurm), only a directory of this host whose process is gone is stale.
+std::string host_name() {
+  char h[256] = {};
+  if (::gethostname(h, sizeof h - 1) != 0 || h[0] == '\0') return "host";
+  std::string s(h);
+  for (char& c : s)
+    if (c == '/' || c == '.') c = '_';
+  return s;
+}
+
+constexpr const char* kStagingPrefix = ".texsim-staging.";
+
+// Removes the staging directories that killed runs of this host left behind (SIGKILL, a power
+// cut): their process no longer exists.
+void remove_stale_staging(const std::string& dir, const std::string& host) {
+  std::error_code ec;
+  const std::string mine = std::string(kStagingPrefix) + host + ".";
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string n = e.path().filename().string();
+    if (n.rfind(mine, 0) != 0) continue;
+    const std::string pid_text = n.substr(mine.size());
+    long pid = 0;
+    const auto [end, err] =
+        std::from_chars(pid_text.data(), pid_text.data() + pid_text.size(), pid);
+    if (err != std::errc() || end != pid_text.data() + pid_text.size() || pid <= 0) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    std::error_code rm;
+    fs::remove_all(e.path(), rm);
+  }
+}
+
+// Holds an exclusive flock on the output directory itself while a set is moved in: two runs
+// committing into one directory do not interleave, and a reader that takes a shared lock on the
+// directory (`flock -s DIR cat DIR/report.json`) sees one run's complete set.
+class DirLock {
+ public:
+  explicit DirLock(const std::string& dir)
+      : fd_(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)) {
+    if (fd_ >= 0) {
+      while (::flock(fd_, LOCK_EX) != 0 && errno == EINTR) {
+      }
+    }
+  }
+  ~DirLock() {
+    if (fd_ >= 0) ::close(fd_);  // closing releases the lock
+  }
+  DirLock(const DirLock&) = delete;
+  DirLock& operator=(const DirLock&) = delete;
+
+ private:
+  int fd_;
+};
+
+}  // namespace
+
+OutputSet::OutputSet(std::string dir) : dir_(std::move(dir)) {
+  const std::string host = host_name();
+  staging_ = dir_ + "/" + std::string(kStagingPrefix) + host + "." + std::to_string(::getpid());
   ensure_dir(dir_);
+  remove_stale_staging(dir_, host);
   std::error_code ec;
   fs::remove_all(staging_, ec);  // left by an earlier process with this pid that was killed
   track_temp(staging_);
@@ -71,6 +134,7 @@ void OutputSet::commit() {
       throw;
     }
   }
+  const DirLock lock(dir_);
   sigset_t hold, old;
   sigemptyset(&hold);
   for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&hold, sig);

@@ -3,6 +3,10 @@
 // inside the output directory and moved into it only by commit(), after every file was
 // written. Without commit() (an error, an exception, SIGINT/SIGTERM) the staging directory and
 // its files are removed and the files already in the output directory stay as they were.
+// A staging directory that a killed process of this host left behind is removed by the next
+// OutputSet in that directory. commit() holds an exclusive flock on the output directory while
+// it moves the files: concurrent commits into one directory do not interleave, and a reader
+// holding a shared flock on the directory sees the complete set of one run.
 #include <string>
 #include <vector>
 
@@ -10,7 +14,7 @@ namespace texsim {
 
 class OutputSet {
  public:
-  // Creates `dir` if needed and the staging directory `dir`/.texsim-staging.<pid>; throws
+  // Creates `dir` if needed and the staging directory `dir`/.texsim-staging.<host>.<pid>; throws
   // InputError naming `dir` and the reason.
   explicit OutputSet(std::string dir);
   ~OutputSet();

@@ -7,6 +7,7 @@
 
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
+#include "blocks/base/input_file.h"
 #include "blocks/geometry/aviation_camera.h"
 #include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene_meshes.h"
@@ -229,12 +230,9 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
 const char* to_string(TruthPixel p) { return p == TruthPixel::Box ? "box" : "gaussian"; }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "cannot open scene file");
-  std::stringstream ss;
-  ss << in.rdbuf();
+  const std::string text = read_input_file(path, "scene file", kMaxTextInput);
   const std::string dir = std::filesystem::path(path).parent_path().string();
-  return parse_scene(ss.str(), path, dir, overrides);
+  return parse_scene(text, path, dir, overrides);
 }
 
 const char* default_scene_text() {

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "blocks/base/input_error.h"
+#include "blocks/base/input_file.h"
 #include "pipeline/scene/npz_height_field.h"
 #include "pipeline/scene/procedural_texture.h"
 
@@ -48,15 +49,8 @@ Texture load_texture(const std::string& source, const std::string& base_dir,
   if (is_procedural_source(source)) return make_procedural_texture(source, source);
   const std::string path = resolve_texture_path(source, base_dir);
   if (is_npz_source(path)) return npz_height_texture(path);  // a DEM height field
-  // Only regular files: a device or FIFO (e.g. /dev/zero) would never end.
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(status)) throw InputError(path, "texture file not found");
-  if (!std::filesystem::is_regular_file(status))
-    throw InputError(path, "not a regular file (a texture must be an image file)");
-  const uintmax_t bytes = std::filesystem::file_size(path, ec);
-  if (ec || bytes > kMaxFileBytes)
-    throw InputError(path, "texture file larger than 2 GiB (or its size cannot be read)");
+  // Only regular files of at most 2 GiB: a device or FIFO (e.g. /dev/zero) would never end.
+  check_input_file(path, "texture file", kMaxFileBytes);
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw InputError(path, "cannot read texture: " + OIIO::geterror());
   std::vector<int> ws, hs;

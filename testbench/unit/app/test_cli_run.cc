@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -501,8 +502,43 @@ TEST_F(Cli, MissingTextureFileNamesIt) {
   const Result r = sh("run " + path("s.toml") + " --out " + path("out"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("s.toml:2:10: textures.t.source: "), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("no_such.png: texture file not found"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("no_such.png: cannot open texture file: no such file"), std::string::npos)
+      << r.out;
   expect_no_outputs(path("out"));
+}
+
+// A run never replaces its own input: a scene saved as DIR/report.json run with --out DIR used
+// to be overwritten by the report. The scene and the output directory stay as they were.
+TEST_F(Cli, RunRefusesToOverwriteItsOwnInput) {
+  const std::string scene =
+      "[output]\nwidth = 16\nheight = 12\n[textures.t]\nsource = "
+      "\"procedural:checker?size=16&cells=2\"\n[materials.m]\ntexture = \"t\"\n"
+      "[[planes]]\nmaterial = \"m\"\norigin = [-2.0, -1.0, -4.0]\nedge_u = [4.0, 0.0, 0.0]\n"
+      "edge_v = [0.0, 2.0, 0.0]\n";
+  fs::create_directories(path("d"));
+  write("d/report.json", scene);
+  const Result r = sh("run " + path("d/report.json") + " --out " + path("d") + " --reference none");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("report.json: is an input of this run"), std::string::npos) << r.out;
+  std::ifstream in(path("d/report.json"));
+  const std::string kept((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(kept, scene);
+  EXPECT_FALSE(fs::exists(path("d/image.png")));  // the set moves as a whole or not at all
+}
+
+// Inputs that are not regular files get a clear error and never block or read forever.
+TEST_F(Cli, SceneThatIsAFifoDirectoryOrDeviceIsRefused) {
+  ASSERT_EQ(::mkfifo(path("fifo.toml").c_str(), 0600), 0);
+  Result r = sh("run " + path("fifo.toml") + " --out " + path("o"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("fifo.toml: cannot read scene file: is a FIFO"), std::string::npos) << r.out;
+  r = sh("run /dev/zero --out " + path("o"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("/dev/zero: cannot read scene file: is a device"), std::string::npos)
+      << r.out;
+  r = sh("run " + path("") + " --out " + path("o"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("cannot read scene file: is a directory"), std::string::npos) << r.out;
 }
 
 // A bad procedural spec names the scene file and the line:column of the value, for run and

@@ -1,7 +1,9 @@
 // A run's outputs are committed as a set (all or none, older files untouched otherwise), and
 // SIGINT/SIGTERM remove the temporary files and staging directory of an unfinished write.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <spawn.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,6 +16,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+#include <vector>
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
@@ -98,6 +101,94 @@ TEST(OutputSet, RunThatCannotCommitKeepsThePreviousRunWhole) {
   EXPECT_EQ(read(out + "/report.json"), json);
   EXPECT_EQ(listing(out), (std::set<std::string>{"error.png", "image.png", "reference.png",
                                                  "report.json", "report.md"}));
+}
+
+// A run killed with SIGKILL leaves its staging directory; the next OutputSet in that directory
+// removes it, and leaves alone the staging directory of a run that is still going.
+TEST(OutputSet, StagingOfAKilledRunIsRemovedByTheNextRun) {
+  TempDir d("outset");
+  const std::string dir = d.file("");
+  auto child = [&](int hold_fd) {
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      OutputSet set(dir);
+      write_file_atomic(set.path("report.json"), "unfinished");
+      char c = 0;
+      if (hold_fd >= 0) (void)!::read(hold_fd, &c, 1);  // alive until the parent writes
+      ::_exit(0);                                       // no destructor: as if killed
+    }
+    return pid;
+  };
+  int hold[2];
+  ASSERT_EQ(::pipe(hold), 0);
+  const pid_t dead = child(-1);
+  int status = 0;
+  ASSERT_EQ(::waitpid(dead, &status, 0), dead);
+  ASSERT_EQ(listing(dir).size(), 1U);  // the killed run's staging directory
+  // The next run (still going) removes it when it starts.
+  const pid_t alive = child(hold[0]);
+  const std::string alive_tag = "." + std::to_string(alive);
+  auto alive_staging = [&] {
+    const std::set<std::string> l = listing(dir);
+    return l.size() == 1 && l.begin()->find(alive_tag) != std::string::npos;
+  };
+  for (int i = 0; i < 2000 && !alive_staging(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_TRUE(alive_staging());
+  {
+    OutputSet next(dir);
+    write_file_atomic(next.path("report.json"), "done");
+    next.commit();
+  }
+  // The live run's staging directory stays beside the committed report.
+  std::set<std::string> left = listing(dir);
+  EXPECT_EQ(left.erase("report.json"), 1U);
+  EXPECT_EQ(left.size(), 1U);
+  if (!left.empty()) {
+    EXPECT_NE(left.begin()->find(alive_tag), std::string::npos) << *left.begin();
+  }
+  ASSERT_EQ(::write(hold[1], "x", 1), 1);
+  ASSERT_EQ(::waitpid(alive, &status, 0), alive);
+  ::close(hold[0]);
+  ::close(hold[1]);
+}
+
+// Two processes commit sets into one directory over and over; a reader holding a shared flock
+// on the directory always finds the files of one run only.
+TEST(OutputSet, AReaderHoldingTheDirectoryLockSeesOneRunsSet) {
+  TempDir d("outset");
+  const std::string dir = d.file("");
+  const std::vector<std::string> names = {"a.json", "b.md", "c.png", "d.png", "e.png"};
+  auto writer = [&](char who) {
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      for (int i = 0; i < 60; ++i) {
+        OutputSet set(dir);
+        const std::string tag = std::string(1, who) + std::to_string(i);
+        for (const std::string& n : names) write_file_atomic(set.path(n), tag);
+        set.commit();
+      }
+      ::_exit(0);
+    }
+    return pid;
+  };
+  const pid_t a = writer('A'), b = writer('B');
+  int checked = 0, mixed = 0;
+  for (int round = 0; round < 400; ++round) {
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::flock(fd, LOCK_SH), 0);
+    std::set<std::string> tags;
+    for (const std::string& n : names)
+      if (fs::exists(d.file(n))) tags.insert(read(d.file(n)));
+    ::close(fd);
+    if (tags.size() > 1) ++mixed;
+    if (!tags.empty()) ++checked;
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(a, &status, 0), a);
+  ASSERT_EQ(::waitpid(b, &status, 0), b);
+  EXPECT_EQ(mixed, 0) << "of " << checked << " locked reads";
 }
 
 // In a child: a staging directory with one file, a temporary trace file, then `sig`.

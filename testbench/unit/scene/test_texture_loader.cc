@@ -115,7 +115,8 @@ TEST_F(Loader, ErrorsNameTheFile) {
     load_texture("missing.png", dir_.string());
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("missing.png: texture file not found"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("missing.png: cannot open texture file: no such file"),
+              std::string::npos)
         << e.what();
   }
 }
@@ -132,11 +133,11 @@ TEST_F(Loader, SpecialFilesAndHugeDeclaredSizesAreRefused) {
       EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
     }
   };
-  expect_error("/dev/zero", "", "/dev/zero: not a regular file");
-  expect_error(dir_.string(), "", "not a regular file");
+  expect_error("/dev/zero", "", "/dev/zero: cannot read texture file: is a device");
+  expect_error(dir_.string(), "", "cannot read texture file: is a directory");
   const std::string fifo = (dir_ / "pipe.png").string();
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  expect_error(fifo, "", "pipe.png: not a regular file");
+  expect_error(fifo, "", "pipe.png: cannot read texture file: is a FIFO");
   // A PNG whose header declares 20000 x 20000 RGB pixels (no pixel data follows).
   auto be32 = [](std::string& s, uint32_t v) {
     for (int k = 3; k >= 0; --k) s += static_cast<char>((v >> (8 * k)) & 0xFF);
@@ -208,7 +209,8 @@ TEST(SceneTextures, BadProceduralSpecsNameSceneFileLineAndColumn) {
 TEST_F(Loader, SceneTextureFileErrorsNameSceneFileLineAndColumn) {
   const std::string missing = scene_error("missing.png", dir_.string());
   EXPECT_EQ(missing.rfind("s.toml:2:10: textures.floor.source: ", 0), 0) << missing;
-  EXPECT_NE(missing.find("missing.png: texture file not found"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("missing.png: cannot open texture file: no such file"), std::string::npos)
+      << missing;
   std::ofstream(dir_ / "junk.png") << "this is not a png";
   const std::string junk = scene_error("junk.png", dir_.string());
   EXPECT_EQ(junk.rfind("s.toml:2:10: textures.floor.source: ", 0), 0) << junk;
