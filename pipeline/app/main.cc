@@ -214,8 +214,8 @@ void add_sweep_commands(CLI::App& app, SweepCli& s) {
 
 int run_sweep_command(SweepCli& s, const char* argv0) {
   // Parsed strictly here (CLI11 would take "1/2/3", wrap "-1" or answer with its own message).
-  if (!s.shard.empty()) texsim::parse_sweep_shard(s.shard, s.opt.shard, s.opt.shards);
-  if (!s.job.empty()) s.opt.job = texsim::parse_sweep_job(s.job);
+  if (s.cmd->count("--shard") > 0) texsim::parse_sweep_shard(s.shard, s.opt.shard, s.opt.shards);
+  if (s.cmd->count("--job") > 0) s.opt.job = texsim::parse_sweep_job(s.job);
   s.opt.command = std::filesystem::absolute(argv0).string();
   return texsim::run_sweep(s.file, s.opt, std::cout);
 }

@@ -504,34 +504,42 @@ void write_merged_plot(const std::vector<MergedRow>& rows, const std::string& pa
   write_plot_png(path, spec);
 }
 
-// The rows of every job-* directory of `dirs`, in order; a directory given twice (by any
-// name) is refused, as it would repeat each of its rows.
+// The rows of the job-* directories of `dir`, in job order.
+void read_merge_dir(const std::string& dir, std::vector<MergedRow>& rows) {
+  std::vector<fs::path> jobs;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.is_directory() && e.path().filename().string().rfind("job-", 0) == 0)
+      jobs.push_back(e.path());
+  }
+  std::sort(jobs.begin(), jobs.end());
+  for (const fs::path& j : jobs) {
+    if (!fs::exists(j / "job.json") || !fs::exists(j / "report.json")) {
+      throw InputError(j.string(), "has no job.json and report.json (a job that did not finish?)");
+    }
+    MergedRow row{read_json(j / "job.json", "job.json"),
+                  read_json(j / "report.json", "report.json"), ""};
+    check_merge_inputs(row.job, row.report, j);
+    row.report_sha1 = digest_file("report", (j / "report.json").string()).sha1;
+    rows.push_back(std::move(row));
+  }
+}
+
+// The rows of every directory of `dirs`, in order; a directory given twice (by any name) is
+// refused, as it would repeat each of its rows.
 std::vector<MergedRow> read_merge_rows(const std::vector<std::string>& dirs) {
   std::vector<MergedRow> rows;
   std::vector<std::pair<fs::path, std::string>> seen;
   for (const std::string& d : dirs) {
-    if (!fs::is_directory(d)) throw InputError(d, "not a directory");
-    const fs::path canon = fs::canonical(d);
-    for (const auto& [c, name] : seen) {
-      if (c == canon) throw InputError(d, "given twice (the same directory as " + name + ")");
-    }
-    seen.emplace_back(canon, d);
-    std::vector<fs::path> jobs;
-    for (const auto& e : fs::directory_iterator(d)) {
-      if (e.is_directory() && e.path().filename().string().rfind("job-", 0) == 0)
-        jobs.push_back(e.path());
-    }
-    std::sort(jobs.begin(), jobs.end());
-    for (const fs::path& j : jobs) {
-      if (!fs::exists(j / "job.json") || !fs::exists(j / "report.json")) {
-        throw InputError(j.string(),
-                         "has no job.json and report.json (a job that did not finish?)");
+    try {
+      if (!fs::is_directory(d)) throw InputError(d, "not a directory");
+      const fs::path canon = fs::canonical(d);
+      for (const auto& [c, name] : seen) {
+        if (c == canon) throw InputError(d, "given twice (the same directory as " + name + ")");
       }
-      MergedRow row{read_json(j / "job.json", "job.json"),
-                    read_json(j / "report.json", "report.json"), ""};
-      check_merge_inputs(row.job, row.report, j);
-      row.report_sha1 = digest_file("report", (j / "report.json").string()).sha1;
-      rows.push_back(std::move(row));
+      seen.emplace_back(canon, d);
+      read_merge_dir(d, rows);
+    } catch (const fs::filesystem_error& e) {  // an unreadable directory
+      throw InputError(e.path1().empty() ? d : e.path1().string(), e.code().message());
     }
   }
   return rows;
