@@ -188,7 +188,7 @@ void add_run_command(CLI::App& app, RunCli& r) {
 // `sweep` and `merge` and their options.
 struct SweepCli {
   texsim::SweepOptions opt;
-  std::string file, shard;
+  std::string file, shard, job;
   std::vector<std::string> merge_dirs;
   std::string merge_out = "out/merged";
   CLI::App* cmd = nullptr;
@@ -204,8 +204,7 @@ void add_sweep_commands(CLI::App& app, SweepCli& s) {
   s.cmd->add_option("--jobs", s.opt.jobs, "Jobs at a time (0: one per hardware thread)")
       ->check(CLI::Range(0, 1024));
   s.cmd->add_option("--shard", s.shard, "K/N: run only jobs with id % N == K-1 (GNU parallel)");
-  s.cmd->add_option("--job", s.opt.job, "Run one job (a Slurm array task)")
-      ->check(CLI::NonNegativeNumber);
+  s.cmd->add_option("--job", s.job, "Run one job (a Slurm array task)");
   s.cmd->add_flag("--slurm", s.opt.slurm, "Write OUT/sweep.sbatch (a job array) instead");
   s.cmd->add_flag("--list", s.opt.list, "Print the jobs (JSON lines) and exit");
   s.merge = app.add_subcommand("merge", "Combine sweep outputs into merged.csv and merged.md");
@@ -214,17 +213,9 @@ void add_sweep_commands(CLI::App& app, SweepCli& s) {
 }
 
 int run_sweep_command(SweepCli& s, const char* argv0) {
-  if (!s.shard.empty()) {
-    const size_t slash = s.shard.find('/');
-    try {
-      s.opt.shard = std::stoi(s.shard.substr(0, slash));
-      s.opt.shards = slash == std::string::npos ? 0 : std::stoi(s.shard.substr(slash + 1));
-    } catch (const std::exception&) {
-      s.opt.shards = 0;
-    }
-    if (s.opt.shards < 1 || s.opt.shard < 1 || s.opt.shard > s.opt.shards)
-      throw texsim::InputError("--shard " + s.shard, "expected K/N with 1 <= K <= N");
-  }
+  // Parsed strictly here (CLI11 would take "1/2/3", wrap "-1" or answer with its own message).
+  if (s.cmd->count("--shard") > 0) texsim::parse_sweep_shard(s.shard, s.opt.shard, s.opt.shards);
+  if (s.cmd->count("--job") > 0) s.opt.job = texsim::parse_sweep_job(s.job);
   s.opt.command = std::filesystem::absolute(argv0).string();
   return texsim::run_sweep(s.file, s.opt, std::cout);
 }

@@ -2,6 +2,8 @@
 
 #include <sqlite3.h>
 
+#include <cstdint>
+
 #include "blocks/base/input_error.h"
 
 namespace texsim {
@@ -31,6 +33,9 @@ ResultsLedger::ResultsLedger(const std::string& path) : path_(path) {
     db_ = nullptr;
     throw InputError(path, "cannot open the results ledger: " + why);
   }
+  // Merges running at once into the same ledger wait for each other instead of failing with
+  // "database is locked".
+  sqlite3_busy_timeout(db_, kBusyTimeoutMs);
   exec(kSchema);
 }
 
@@ -62,7 +67,10 @@ bool ResultsLedger::add(const nlohmann::ordered_json& job, const nlohmann::order
     ++col;
     if (v == nullptr || v->is_null()) {
       sqlite3_bind_null(st, col);
-    } else if (v->is_number_integer() || v->is_number_unsigned()) {
+    } else if (v->is_number_unsigned() && v->get<uint64_t>() > uint64_t{INT64_MAX}) {
+      // Beyond SQLite's 64-bit signed integers: kept as REAL (its nearest double), never wrapped.
+      sqlite3_bind_double(st, col, static_cast<double>(v->get<uint64_t>()));
+    } else if (v->is_number_integer()) {
       sqlite3_bind_int64(st, col, v->get<int64_t>());
     } else if (v->is_number()) {
       sqlite3_bind_double(st, col, v->get<double>());

@@ -12,13 +12,17 @@ namespace texsim {
 
 class ResultsLedger {
  public:
+  // How long a statement waits for another connection's lock before failing.
+  static constexpr int kBusyTimeoutMs = 10000;
+
   // Opens (creating if needed) the database and its table; throws InputError naming the file.
   explicit ResultsLedger(const std::string& path);
   ~ResultsLedger();
   ResultsLedger(const ResultsLedger&) = delete;
   ResultsLedger& operator=(const ResultsLedger&) = delete;
 
-  // Adds a run; returns false if a report with the same SHA-1 is already there.
+  // Adds a run; returns false if a report with the same SHA-1 is already there. Integers beyond
+  // the range of int64 (SQLite's INTEGER) are stored as REAL.
   bool add(const nlohmann::ordered_json& job, const nlohmann::ordered_json& report,
            const std::string& report_sha1);
   int64_t rows() const;
