@@ -94,7 +94,7 @@ class TuneShardFile : public ::testing::Test {
  protected:
   std::string write(const std::string& text, const std::string& sub = "s") const {
     std::filesystem::create_directories(d_.file(sub));
-    const std::string path = d_.file(sub) + "/tune_shard.json";
+    std::string path = d_.file(sub) + "/tune_shard.json";
     std::ofstream(path, std::ios::binary) << text;
     return path;
   }
