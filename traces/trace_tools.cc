@@ -18,6 +18,14 @@ std::string fmt_range(const TraceRange& r) {
   return buf;
 }
 
+// Pixel coordinates are 32-bit integers: printed exactly (%g would give 4.29497e+09).
+std::string fmt_pixels(const TraceRange& r) {
+  if (r.empty) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "[%.0f, %.0f]", r.lo, r.hi);
+  return buf;
+}
+
 }  // namespace
 
 TraceSummary summarize_trace(const std::string& path) {
@@ -106,7 +114,7 @@ int trace_info(const std::string& path, std::ostream& out) {
     out << "  frame " << frame << ": " << n << " fragments\n";
   }
   out << "primitives: " << s.prim_min << ".." << s.prim_max << "\n";
-  out << "pixel bbox: x " << fmt_range(s.x) << ", y " << fmt_range(s.y) << "\n";
+  out << "pixel bbox: x " << fmt_pixels(s.x) << ", y " << fmt_pixels(s.y) << "\n";
   out << "u:          " << fmt_range(s.u) << "\n";
   out << "v:          " << fmt_range(s.v) << "\n";
   out << "du/dx:      " << fmt_range(s.dudx) << "\n";

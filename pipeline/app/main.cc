@@ -221,12 +221,14 @@ int run_sweep_command(SweepCli& s, const char* argv0) {
 }
 
 // `tune` and its options.
-CLI::App* add_tune_command(CLI::App& app, texsim::TuneOptions& t) {
+// `--shard` goes to `shard` and is parsed with the other inputs (an InputError, exit 2).
+CLI::App* add_tune_command(CLI::App& app, texsim::TuneOptions& t, std::string& shard) {
   CLI::App* cmd = app.add_subcommand(
       "tune",
       "Cheapest configuration per material that meets an error budget; Pareto front "
       "(docs/tune.md)");
-  cmd->add_option("scene", t.scene, "Scene file (TOML)")->required();
+  cmd->add_option("scene", t.scene, "Scene file (TOML), or 'default' for the built-in scene")
+      ->required();
   cmd->add_option("--budget", t.budget,
                   "psnr=<dB> (at least) or nmse=<value> (at most), per "
                   "material")
@@ -244,8 +246,8 @@ CLI::App* add_tune_command(CLI::App& app, texsim::TuneOptions& t) {
                   "depend on it")
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();
-  cmd->add_option_function<std::string>(
-      "--shard", [&t](const std::string& v) { texsim::parse_tune_shard(v, t); },
+  cmd->add_option(
+      "--shard", shard,
       "K/N: search only materials with index % N == K-1; writes tune_shard.json (GNU parallel)");
   cmd->add_flag("--families", t.families,
                 "Also switch each material's filter family (classic, ewa, spaf, feline, "
@@ -382,7 +384,8 @@ int run_cli(int argc, char** argv) {
   CLI::App* cosim_cmd = add_cosim_command(app, cosim);
 
   TuneOptions tune;
-  CLI::App* tune_cmd = add_tune_command(app, tune);
+  std::string tune_shard;
+  CLI::App* tune_cmd = add_tune_command(app, tune, tune_shard);
 
   if (const int status = parse_command_line(app, argc, argv); status >= 0) return status;
   try {
@@ -408,6 +411,7 @@ int run_cli(int argc, char** argv) {
     } else if (*study.cmd) {
       return run_study_command(study);
     } else if (*tune_cmd) {
+      if (tune_cmd->count("--shard") > 0) parse_tune_shard(tune_shard, tune);
       run_tune(tune, std::cout);
     } else if (*cosim_cmd) {
       return run_cosim(cosim, std::cout, std::cerr);

@@ -1,6 +1,8 @@
 #include "pipeline/app/tuner.h"
 
 #include <algorithm>
+#include <charconv>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,9 +13,12 @@
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
+#include "blocks/base/input_file.h"
+#include "blocks/base/printable.h"
 #include "pipeline/app/material_override.h"
 #include "pipeline/app/run.h"
 #include "pipeline/kernel/parallel_range.h"
@@ -369,6 +374,8 @@ class Search {
   std::map<std::string, int> seen_;
 };
 
+bool is_default_scene(const std::string& scene) { return scene == "default"; }
+
 std::string num(double v, int prec = 6) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*g", prec, v);
@@ -378,7 +385,11 @@ std::string num(double v, int prec = 6) {
 // The scene file with the chosen material tables; relative texture and mesh paths made
 // absolute so the file works from the output directory.
 std::string tuned_scene(const TuneOptions& opt, const TuneResult& res) {
-  toml::table root = toml::parse_file(opt.scene);
+  const bool builtin = is_default_scene(opt.scene);
+  const std::string text = builtin ? std::string(default_scene_text())
+                                   : read_input_file(opt.scene, "scene file", kMaxTextInput);
+  toml::table root = toml::parse(
+      std::string_view(text), std::string_view(builtin ? "<built-in default scene>" : opt.scene));
   std::vector<std::string> sets = opt.overrides;
   for (const TuneMaterial& m : res.materials)
     sets.push_back(m.points[static_cast<size_t>(m.chosen)].override);
@@ -479,18 +490,24 @@ void write_summary(const TuneOptions& opt, const TuneResult& res, const StudyFil
 
 }  // namespace
 
+namespace {
+
+// A decimal count in [1, INT_MAX]: digits only (no sign, point, space or suffix).
+bool parse_count(std::string_view text, int& v) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string_view::npos) return false;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  return ec == std::errc() && end == text.data() + text.size() && v >= 1;
+}
+
+}  // namespace
+
 void parse_tune_shard(const std::string& text, TuneOptions& opt) {
   const size_t slash = text.find('/');
   int k = 0, n = 0;
-  try {
-    size_t used_k = 0, used_n = 0;
-    k = std::stoi(text.substr(0, slash), &used_k);
-    n = slash == std::string::npos ? 0 : std::stoi(text.substr(slash + 1), &used_n);
-    if (used_k != slash || used_n != text.size() - slash - 1) n = 0;
-  } catch (const std::exception&) {
-    n = 0;
-  }
-  if (n < 1 || k < 1 || k > n) throw InputError("--shard " + text, "expected K/N with 1 <= K <= N");
+  if (slash == std::string::npos || !parse_count(std::string_view(text).substr(0, slash), k) ||
+      !parse_count(std::string_view(text).substr(slash + 1), n) || k > n)
+    throw InputError("--shard " + printable(text),
+                     "expected K/N: two whole numbers with 1 <= K <= N (e.g. 1/4)");
   opt.shard = k;
   opt.shards = n;
 }
@@ -539,53 +556,231 @@ nlohmann::ordered_json shard_json(const TuneOptions& opt, const TuneResult& res,
   return j;
 }
 
-// The shards' materials in scene order; each material exactly once; the shards must be of
-// this scene, budget, cost and overrides.
-void read_shards(const TuneOptions& opt, size_t materials, TuneResult& res) {
-  std::vector<std::optional<TuneMaterial>> slots(materials);
+// Reads one tune_shard.json field by field: every field's type and range checked, each error
+// naming the file and the field (`materials[1].chosen`).
+class ShardReader {
+ public:
+  using Json = nlohmann::ordered_json;
+  explicit ShardReader(const std::string& path) : path_(path) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& what) const {
+    throw InputError(path_, field + ": " + what);
+  }
+  const Json& at(const Json& obj, const std::string& field, const char* key) const {
+    if (!obj.is_object()) fail(field.empty() ? "(top level)" : field, "expected an object");
+    const auto it = obj.find(key);
+    if (it == obj.end()) fail(name(field, key), "missing");
+    return *it;
+  }
+  // A string of printable UTF-8; a `cell` (a CSV or Markdown table cell) also without " or |.
+  std::string text(const Json& obj, const std::string& field, const char* key,
+                   bool cell = false) const {
+    const Json& v = at(obj, field, key);
+    if (!v.is_string()) fail(name(field, key), "expected a string");
+    const auto& s = v.get_ref<const std::string&>();
+    if (!is_printable_utf8(s) || (cell && s.find_first_of("\"|") != std::string::npos))
+      fail(name(field, key), shown(v) + " holds a control character" + (cell ? ", \" or |" : ""));
+    return s;
+  }
+  bool flag(const Json& obj, const std::string& field, const char* key) const {
+    const Json& v = at(obj, field, key);
+    if (!v.is_boolean()) fail(name(field, key), "expected true or false");
+    return v.get<bool>();
+  }
+  int64_t integer(const Json& obj, const std::string& field, const char* key, int64_t lo,
+                  int64_t hi) const {
+    const Json& v = at(obj, field, key);
+    const bool fits = v.is_number_integer() &&
+                      (v.is_number_unsigned() ? v.get<uint64_t>() <= static_cast<uint64_t>(hi)
+                                              : v.get<int64_t>() <= hi);
+    if (!fits || v.get<int64_t>() < lo)
+      fail(name(field, key), shown(v) + " is not a whole number in [" + std::to_string(lo) + ", " +
+                                 std::to_string(hi) + "]");
+    return v.get<int64_t>();
+  }
+  double number(const Json& obj, const std::string& field, const char* key, double lo) const {
+    const Json& v = at(obj, field, key);
+    if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < lo)
+      fail(name(field, key), shown(v) + " is not a finite number" +
+                                 (lo > -HUGE_VAL ? " >= " + num(lo) : std::string()));
+    return v.get<double>();
+  }
+  const Json& array(const Json& obj, const std::string& field, const char* key) const {
+    const Json& v = at(obj, field, key);
+    if (!v.is_array()) fail(name(field, key), "expected an array");
+    return v;
+  }
+
+ private:
+  static std::string name(const std::string& field, const char* key) {
+    return field.empty() ? key : field + "." + key;
+  }
+  // A value as JSON text for a message, whatever bytes it holds, at most 60 characters.
+  static std::string shown(const Json& v) {
+    std::string t = v.dump(-1, ' ', true, nlohmann::json::error_handler_t::replace);
+    if (t.size() > 60) t = t.substr(0, 57) + "...";
+    return t;
+  }
+  const std::string& path_;
+};
+
+// Parses `text` as JSON; a value nested deeper than kMaxShardDepth is refused while parsing,
+// before the parser goes deeper.
+nlohmann::ordered_json parse_shard_json(const std::string& path, const std::string& text) {
+  const nlohmann::ordered_json::parser_callback_t depth_limit =
+      [&path](int depth, nlohmann::ordered_json::parse_event_t event, nlohmann::ordered_json&) {
+        if ((event == nlohmann::ordered_json::parse_event_t::object_start ||
+             event == nlohmann::ordered_json::parse_event_t::array_start) &&
+            depth >= kMaxShardDepth)
+          throw InputError(path, "nested deeper than " + std::to_string(kMaxShardDepth) +
+                                     " levels: not a tune shard");
+        return true;
+      };
+  try {
+    return nlohmann::ordered_json::parse(text, depth_limit);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path, std::string("not JSON: ") + e.what());
+  }
+}
+
+TunePoint read_point(const ShardReader& r, const nlohmann::ordered_json& jp, const std::string& f) {
+  TunePoint p;
+  p.label = r.text(jp, f, "label", true);
+  p.override = r.text(jp, f, "override");
+  p.cycles = r.number(jp, f, "cycles", 0);
+  p.area = r.number(jp, f, "area", 0);
+  p.psnr_db = r.number(jp, f, "psnr_db", -HUGE_VAL);
+  p.nmse = r.number(jp, f, "nmse", 0);
+  p.meets = r.flag(jp, f, "meets");
+  p.pareto = r.flag(jp, f, "pareto");
+  return p;
+}
+
+TuneMaterial read_material(const ShardReader& r, const nlohmann::ordered_json& jm,
+                           const std::string& f) {
+  TuneMaterial m;
+  m.name = r.text(jm, f, "name");
+  m.budget = r.text(jm, f, "budget");
+  Budget budget;
+  try {
+    budget = parse_budget(m.budget);
+  } catch (const InputError&) {
+    r.fail(f + ".budget", "'" + m.budget + "' is not psnr=<dB> or nmse=<positive value>");
+  }
+  const nlohmann::ordered_json& points = r.array(jm, f, "points");
+  if (points.empty()) r.fail(f + ".points", "empty: a material has at least its own point");
+  for (size_t i = 0; i < points.size(); ++i) {
+    const std::string fp = f + ".points[" + std::to_string(i) + "]";
+    m.points.push_back(read_point(r, points[i], fp));
+    const TunePoint& p = m.points.back();
+    if (p.override.rfind("materials." + m.name + "=", 0) != 0)
+      r.fail(fp + ".override", "does not set materials." + m.name);
+    if (p.meets != budget.meets(p.psnr_db, p.nmse))
+      r.fail(fp + ".meets", "disagrees with the point's accuracy and the budget " + m.budget);
+  }
+  m.chosen =
+      static_cast<int>(r.integer(jm, f, "chosen", 0, static_cast<int64_t>(points.size()) - 1));
+  m.budget_met = r.flag(jm, f, "budget_met");
+  if (m.budget_met != m.points[static_cast<size_t>(m.chosen)].meets)
+    r.fail(f + ".budget_met", "disagrees with the chosen point's meets");
+  return m;
+}
+
+}  // namespace
+
+TuneShard read_tune_shard(const std::string& path) {
+  const std::string text = read_input_file(path, "tune shard", kMaxJsonInput);
+  const nlohmann::ordered_json j = parse_shard_json(path, text);
+  const ShardReader r(path);
+  TuneShard s;
+  s.scene = r.text(j, "", "scene");
+  s.budget = r.text(j, "", "budget");
+  s.cost = r.text(j, "", "cost");
+  const nlohmann::ordered_json& overrides = r.array(j, "", "overrides");
+  for (size_t i = 0; i < overrides.size(); ++i) {
+    if (!overrides[i].is_string())
+      r.fail("overrides[" + std::to_string(i) + "]", "expected a string");
+    s.overrides.push_back(overrides[i].get<std::string>());
+  }
+  s.families = r.flag(j, "", "families");
+  s.shards = static_cast<int>(r.integer(j, "", "shards", 1, INT_MAX));
+  s.shard = static_cast<int>(r.integer(j, "", "shard", 1, s.shards));
+  s.runs = static_cast<int>(r.integer(j, "", "runs", 0, kMaxShardRuns));
+  const nlohmann::ordered_json& materials = r.array(j, "", "materials");
+  for (size_t k = 0; k < materials.size(); ++k) {
+    const std::string f = "materials[" + std::to_string(k) + "]";
+    const auto index = static_cast<size_t>(r.integer(materials[k], f, "index", 0, INT_MAX));
+    if (static_cast<int>(index % static_cast<size_t>(s.shards)) != s.shard - 1)
+      r.fail(f + ".index", std::to_string(index) + " is not in shard " + std::to_string(s.shard) +
+                               "/" + std::to_string(s.shards));
+    if (std::find(s.indices.begin(), s.indices.end(), index) != s.indices.end())
+      r.fail(f + ".index", "material " + std::to_string(index) + " appears twice");
+    s.indices.push_back(index);
+    s.materials.push_back(read_material(r, materials[k], f));
+  }
+  return s;
+}
+
+namespace {
+
+// The shards' materials in scene order: each material exactly once, from a shard of this
+// scene, budget, cost and overrides; no shard (or directory) given twice.
+void read_shards(const TuneOptions& opt, const std::vector<SceneMaterial>& materials,
+                 TuneResult& res) {
+  std::vector<std::optional<TuneMaterial>> slots(materials.size());
+  std::vector<std::string> from(materials.size());  // the shard file of each material
+  std::map<std::string, std::string> dirs;          // canonical directory -> as given
+  std::map<int, std::string> shard_files;           // shard k -> its file
+  int shards = 0;
   for (const std::string& dir : opt.merge) {
+    std::error_code ec;
+    const std::string canon = std::filesystem::weakly_canonical(dir, ec).string();
+    if (!dirs.emplace(ec ? dir : canon, dir).second)
+      throw InputError("texsim tune --merge " + dir, "this shard directory is given twice");
     const std::string path = (std::filesystem::path(dir) / kShardFile).string();
-    std::ifstream in(path);
-    if (!in) throw InputError(path, "no tune shard here (run `texsim tune … --shard k/n` first)");
-    nlohmann::ordered_json j;
-    try {
-      j = nlohmann::ordered_json::parse(in);
-      for (const char* key : {"scene", "budget", "cost"}) {
-        const std::string want = key == std::string("scene")    ? opt.scene
-                                 : key == std::string("budget") ? opt.budget
-                                                                : opt.cost;
-        if (j.at(key).get<std::string>() != want)
-          throw InputError(path, std::string(key) + " differs: '" + j.at(key).get<std::string>() +
-                                     "', this merge has '" + want + "'");
-      }
-      if (j.at("overrides").get<std::vector<std::string>>() != opt.overrides)
-        throw InputError(path, "the --set overrides differ from this merge's");
-      if (j.at("families").get<bool>() != opt.families)
-        throw InputError(path, "--families differs from this merge's");
-      res.runs += j.at("runs").get<int>();
-      for (const auto& jm : j.at("materials")) {
-        const auto i = jm.at("index").get<size_t>();
-        if (i >= materials || slots[i])
-          throw InputError(path, "material " + std::to_string(i) + " out of range or twice");
-        TuneMaterial m;
-        m.name = jm.at("name").get<std::string>();
-        m.budget = jm.at("budget").get<std::string>();
-        m.chosen = jm.at("chosen").get<int>();
-        m.budget_met = jm.at("budget_met").get<bool>();
-        for (const auto& jp : jm.at("points")) {
-          m.points.push_back({jp.at("label").get<std::string>(),
-                              jp.at("override").get<std::string>(), jp.at("cycles").get<double>(),
-                              jp.at("area").get<double>(), jp.at("psnr_db").get<double>(),
-                              jp.at("nmse").get<double>(), jp.at("meets").get<bool>(),
-                              jp.at("pareto").get<bool>()});
-        }
-        slots[i] = std::move(m);
-      }
-    } catch (const nlohmann::json::exception& e) {
-      throw InputError(path, std::string("not a tune shard: ") + e.what());
+    if (!std::filesystem::exists(path, ec))
+      throw InputError(path, "no tune shard here (run `texsim tune … --shard k/n` first)");
+    const TuneShard s = read_tune_shard(path);
+    const std::pair<const char*, std::pair<std::string, std::string>> same[] = {
+        {"scene", {s.scene, opt.scene}},
+        {"budget", {s.budget, opt.budget}},
+        {"cost", {s.cost, opt.cost}}};
+    for (const auto& [key, v] : same) {
+      if (v.first != v.second)
+        throw InputError(path, std::string(key) + " differs: '" + v.first + "', this merge has '" +
+                                   v.second + "'");
+    }
+    if (s.overrides != opt.overrides)
+      throw InputError(path, "the --set overrides differ from this merge's");
+    if (s.families != opt.families) throw InputError(path, "--families differs from this merge's");
+    if (shards != 0 && s.shards != shards)
+      throw InputError(path, "shard " + std::to_string(s.shard) + "/" + std::to_string(s.shards) +
+                                 " is of another split than " + std::to_string(shards));
+    shards = s.shards;
+    if (const auto [it, fresh] = shard_files.emplace(s.shard, path); !fresh)
+      throw InputError(path, "shard " + std::to_string(s.shard) + "/" + std::to_string(s.shards) +
+                                 " is also " + it->second);
+    res.runs += s.runs;
+    for (size_t k = 0; k < s.materials.size(); ++k) {
+      const size_t i = s.indices[k];
+      const std::string f = "materials[" + std::to_string(k) + "]";
+      if (i >= materials.size())
+        throw InputError(path, f + ".index: " + std::to_string(i) +
+                                   " is out of range (the scene has " +
+                                   std::to_string(materials.size()) + " materials)");
+      if (slots[i])
+        throw InputError(path, f + ": material " + std::to_string(i) + " is also in " + from[i]);
+      if (s.materials[k].name != materials[i].name)
+        throw InputError(path, f + ".name: '" + s.materials[k].name + "', the scene's material " +
+                                   std::to_string(i) + " is '" + materials[i].name + "'");
+      if (s.materials[k].budget != budget_text(materials[i], opt.budget))
+        throw InputError(path, f + ".budget: '" + s.materials[k].budget + "', this merge has '" +
+                                   budget_text(materials[i], opt.budget) + "'");
+      slots[i] = s.materials[k];
+      from[i] = path;
     }
   }
-  for (size_t i = 0; i < materials; ++i) {
+  for (size_t i = 0; i < materials.size(); ++i) {
     if (!slots[i])
       throw InputError("texsim tune --merge", "no shard has material " + std::to_string(i));
     res.materials.push_back(std::move(*slots[i]));
@@ -609,12 +804,14 @@ TuneResult run_tune(const TuneOptions& opt, std::ostream& log) {
     throw InputError("--shard", "expected k/n with 1 <= k <= n");
   if (opt.shards > 0 && !opt.merge.empty())
     throw InputError("--merge", "merges shards; it does not take --shard");
-  const Scene scene = load_scene(opt.scene, opt.overrides);
+  // "default" is the built-in scene, as for `texsim run default`.
+  const Scene scene = is_default_scene(opt.scene) ? default_scene(opt.overrides)
+                                                  : load_scene(opt.scene, opt.overrides);
   const StudyFiles files(opt.out);
   TuneResult res;
   Search search(opt, res, log);
   if (!opt.merge.empty()) {
-    read_shards(opt, scene.materials.size(), res);
+    read_shards(opt, scene.materials, res);
     for (const TuneMaterial& tm : res.materials) log_material(tm, log);
   } else {
     std::vector<size_t> mine;

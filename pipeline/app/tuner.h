@@ -5,6 +5,7 @@
 // accuracy meets the budget. Each point is a `texsim run` of the scene with the material's
 // table replaced through a `--set` override (the other materials as configured), so the
 // search is the run machinery's and deterministic: fixed knob order, fixed value order.
+#include <cstdint>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -59,6 +60,28 @@ struct TuneResult {
 
 // Sets opt.shard and opt.shards from "K/N"; throws InputError unless 1 <= K <= N.
 void parse_tune_shard(const std::string& text, TuneOptions& opt);
+
+// One shard's tune_shard.json (docs/tune.md), as read by --merge.
+struct TuneShard {
+  std::string scene, budget, cost;
+  std::vector<std::string> overrides;
+  bool families = false;
+  int shard = 0, shards = 0, runs = 0;
+  std::vector<size_t> indices;          // each material's index in the scene
+  std::vector<TuneMaterial> materials;  // in the file's order
+};
+
+// Limits of a tune shard (docs/cli.md#input-limits): its size is kMaxJsonInput.
+inline constexpr int kMaxShardDepth = 64;             // nesting of arrays and objects
+inline constexpr int64_t kMaxShardRuns = 1000000000;  // `runs`
+
+// Reads and checks one tune_shard.json on its own (the merge then checks it against the scene
+// and the other shards): a regular file within kMaxJsonInput, JSON nested at most
+// kMaxShardDepth deep, every field of the expected type and range, `chosen` a point of its
+// material, each point's override of its material, `meets` and `budget_met` consistent with
+// the budget, each material index in this shard and only once. Throws InputError naming the
+// file and the field.
+TuneShard read_tune_shard(const std::string& path);
 
 // The cost of a point under opt.cost.
 double tune_cost(const TuneOptions& opt, const TunePoint& p);

@@ -2,9 +2,12 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cstdio>
 
 #include "blocks/base/input_error.h"
+#include "blocks/base/printable.h"
 
 namespace texsim {
 
@@ -47,10 +50,28 @@ toml::node_view<toml::node> parse_value(toml::table& holder, const std::string& 
   return holder["value"];
 }
 
+// A --set is one line of TOML: a newline, CR or other control character (tab aside, which TOML
+// takes as a space) would let a value carry further keys or lines into the scene.
+void check_one_line(const std::string& set) {
+  for (size_t i = 0; i < set.size(); ++i) {
+    const auto c = static_cast<unsigned char>(set[i]);
+    if ((c < 0x20 && c != '\t') || c == 0x7f) {
+      const size_t eq = set.find('=');
+      char code[8];
+      std::snprintf(code, sizeof code, "\\x%02x", c);
+      throw InputError("--set " + printable(set.substr(0, std::min(eq, i))),
+                       std::string("control character ") + code + " at byte " +
+                           std::to_string(i + 1) +
+                           ": a --set KEY=VALUE is one line without control characters");
+    }
+  }
+}
+
 }  // namespace
 
 void apply_overrides(toml::table& root, const std::vector<std::string>& sets) {
   for (const std::string& set : sets) {
+    check_one_line(set);
     const size_t eq = set.find('=');
     if (eq == std::string::npos) throw InputError("--set " + set, "expected KEY=VALUE");
     const std::string key = set.substr(0, eq), where = "--set " + key;

@@ -54,5 +54,22 @@ TEST(SceneOverrides, BadOverridesNameTheOption) {
   EXPECT_NE(error_of({"frob.x=1"}).find("unknown key 'frob'"), std::string::npos);
 }
 
+// A value holding a newline would add lines to the scene (`output.width=100\n[frob]`): every
+// control character but tab is refused, naming the override and the byte.
+TEST(SceneOverrides, ControlCharactersAreRefused) {
+  EXPECT_EQ(error_of({"output.width=100\nother = 1"}),
+            "--set output.width: control character \\x0a at byte 17: a --set KEY=VALUE is one "
+            "line without control characters");
+  EXPECT_NE(error_of({"output.width=100\r"}).find("control character \\x0d at byte 17"),
+            std::string::npos);
+  EXPECT_NE(error_of({"materials.floor.filter.mode=\"ewa\x1b[2J\""}).find("\\x1b"),
+            std::string::npos);
+  EXPECT_NE(error_of({"output.wi\ndth=3"}).find("--set output.wi: control character \\x0a"),
+            std::string::npos);
+  EXPECT_NE(error_of({"output.width=1\x7f"}).find("\\x7f"), std::string::npos);
+  EXPECT_EQ(default_scene({"output.background=[0.5,\t0.25, 1]"}).background,
+            glm::dvec3(0.5, 0.25, 1));
+}
+
 }  // namespace
 }  // namespace texsim

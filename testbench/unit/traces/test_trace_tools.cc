@@ -164,5 +164,27 @@ TEST(TraceTools, FrameListIsBounded) {
   EXPECT_NE(out.str().find("frames:     more than 65536 distinct"), std::string::npos) << out.str();
 }
 
+// Pixel coordinates of 10^9 and more are printed as the integers they are, not in %g form.
+TEST(TraceTools, InfoPrintsLargePixelCoordinatesExactly) {
+  TempDir dir("texsim_trace_tools");
+  const std::string path = dir.file("far.trc");
+  TraceHeader h;
+  h.textures = {{0, "t", "p", 8, 8}};
+  {
+    TraceWriter w(path, h);
+    Fragment f;
+    f.x = f.y = 1;
+    w.write(f);
+    f.x = 4294967295u;
+    f.y = 1000000000u;
+    w.write(f);
+    w.close();
+  }
+  std::ostringstream out;
+  trace_info(path, out);
+  EXPECT_NE(out.str().find("pixel bbox: x [1, 4294967295], y [1, 1000000000]"), std::string::npos)
+      << out.str();
+}
+
 }  // namespace
 }  // namespace texsim
