@@ -128,6 +128,7 @@ void LinkHost::receive(std::vector<Pending>& requests, std::vector<size_t>& outs
     }
     ++requests[*it].answers;
     accept(requests[*it], std::move(d.message));
+    ++stats_.accepted;
     outstanding.erase(it);
     silent_ = strays_ = reports_ = 0;  // progress: every budget starts again
   }

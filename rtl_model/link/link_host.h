@@ -31,6 +31,7 @@ struct LinkOptions {
 
 struct LinkStats {
   uint64_t requests = 0;
+  uint64_t accepted = 0;  // responses used (one per request that succeeded)
   uint64_t reports_out = 0, reports_in = 0;
   uint64_t timeouts = 0;       // reads that returned nothing
   uint64_t retransmits = 0;    // requests sent again
@@ -53,6 +54,7 @@ class LinkHost {
   Counters counters();
 
   const LinkStats& stats() const { return stats_; }
+  const LinkOptions& options() const { return opt_; }  // as clamped by the constructor
   // The bounds between two accepted responses (docs/rtl/link.md, "Bounds").
   int stray_budget() const;
   int report_budget() const;
