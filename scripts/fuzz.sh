@@ -5,7 +5,8 @@
 # their round trip through both writers), fuzz_scene (scene TOML through the materials, the
 # texture unit and a tiny render), fuzz_sweep (sweep files through the grid's expansion, the
 # job list and the Slurm script), fuzz_merge_json (job.json and report.json through merge) and
-# fuzz_tune_shard (tune_shard.json as `tune --merge` reads it). New inputs go to
+# fuzz_tune_shard (tune_shard.json as `tune --merge` reads it) and fuzz_link_host (the input
+# plays the board behind LinkHost; -timeout=5 catches a host that loops). New inputs go to
 # build-fuzz/corpus/.
 # Exit 1 if any harness finds a crash, a leak, undefined behaviour or a non-InputError
 # exception (the reproducer is left in build-fuzz/).
@@ -17,7 +18,7 @@ build=${FUZZ_BUILD_DIR:-build-fuzz}
 CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTEXSIM_FUZZ=ON \
   -DTEXSIM_BUILD_BENCH=OFF -DTEXSIM_WERROR=OFF > /dev/null
 cmake --build "$build" -j "$(nproc)" --target fuzz_trace_reader fuzz_csv_reader fuzz_scene \
-  fuzz_sweep fuzz_merge_json fuzz_tune_shard
+  fuzz_sweep fuzz_merge_json fuzz_tune_shard fuzz_link_host
 run() {  # run NAME CORPUS [ENV=VALUE]
   local name=$1 seeds=$2; shift 2
   local work="$build/corpus/$name${1:+-crc}"
@@ -25,8 +26,10 @@ run() {  # run NAME CORPUS [ENV=VALUE]
   echo "== $name ${1:-} ($secs s)"
   local dict=()  # testbench/fuzz/NAME.dict: the format's keywords, when the harness has one
   [[ -f testbench/fuzz/${name#fuzz_}.dict ]] && dict=(-dict="../testbench/fuzz/${name#fuzz_}.dict")
+  local limits=()  # the link host must end every input quickly, whatever the board sends
+  [[ $name == fuzz_link_host ]] && limits=(-timeout=5)
   (cd "$build" && env "$@" "./testbench/$name" -max_total_time="$secs" -rss_limit_mb=2048 \
-     -max_len=65536 -print_final_stats=1 "${dict[@]}" "../$work" "../$seeds" 2>&1 | tail -n 12)
+     -max_len=65536 -print_final_stats=1 "${dict[@]}" "${limits[@]}" "../$work" "../$seeds" 2>&1 | tail -n 12)
 }
 run fuzz_trace_reader testbench/fuzz/corpus/trace
 run fuzz_trace_reader testbench/fuzz/corpus/trace TEXSIM_FUZZ_FIX_CRC=1
@@ -35,4 +38,5 @@ run fuzz_scene testbench/fuzz/corpus/scene
 run fuzz_sweep testbench/fuzz/corpus/sweep
 run fuzz_merge_json testbench/fuzz/corpus/merge_json
 run fuzz_tune_shard testbench/fuzz/corpus/tune_shard
+run fuzz_link_host testbench/fuzz/corpus/link_host
 echo "fuzz: no findings in ${secs} s per harness"

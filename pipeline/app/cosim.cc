@@ -8,6 +8,8 @@
 #include <random>
 #include <vector>
 
+#include "blocks/base/input_error.h"
+#include "blocks/base/printable.h"
 #include "rtl_model/link/hid_transport.h"
 #include "rtl_model/link/link_host.h"
 #include "rtl_model/link/vd_core_block.h"
@@ -77,10 +79,15 @@ Tally stream_and_compare(LinkHost& host, BoardBlock& core, const CosimOptions& o
 // served is an error.
 std::string resolve_board(const CosimOptions& opt, std::ostream& out) {
   if (opt.link != "virtual") {
-    if (!opt.board.empty()) throw LinkError("--board applies to --link virtual only");
+    if (!opt.board.empty()) throw InputError("--board", "applies to --link virtual only");
     return "";
   }
   const bool rtl_fits = rtl_board_available() && opt.frac_bits == rtl_frac_bits();
+  if (opt.board == "rtl" && rtl_board_available() && !rtl_fits) {
+    throw InputError("--board rtl", "the RTL is built for u0." + std::to_string(rtl_frac_bits()) +
+                                        " inputs only, not --frac-bits " +
+                                        std::to_string(opt.frac_bits) + " (--board model runs it)");
+  }
   if (opt.board == "rtl" && !rtl_board_available()) {
     throw LinkError(
         "--board rtl: texsim was built without Verilator, so the virtual board can run only the "
@@ -101,10 +108,24 @@ std::string resolve_board(const CosimOptions& opt, std::ostream& out) {
   return board;
 }
 
-int cosim(const CosimOptions& opt, std::ostream& out) {
+// Usage errors (exit 2): what the command line asks for that no board could serve.
+void check_usage(const CosimOptions& opt) {
   if (opt.frac_bits != 16 && opt.frac_bits != 12 && opt.frac_bits != 8) {
-    throw LinkError("--frac-bits " + std::to_string(opt.frac_bits) + ": 16, 12 or 8");
+    throw InputError("--frac-bits", std::to_string(opt.frac_bits) + ": 16, 12 or 8");
   }
+  if (opt.link != "virtual" && opt.link != "hid") {
+    throw InputError("--link", "unknown link '" + opt.link + "' (virtual or hid)");
+  }
+  const std::vector<std::string> names = core_block_names();
+  if (std::find(names.begin(), names.end(), opt.block) == names.end()) {
+    std::string known;
+    for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+    throw InputError("--block", "no block '" + opt.block + "' (blocks: " + known + ")");
+  }
+}
+
+int cosim(const CosimOptions& opt, std::ostream& out) {
+  check_usage(opt);
   const std::string board = resolve_board(opt, out);
   std::unique_ptr<BoardBlock> core = make_core_block(opt.block);
   const std::vector<uint8_t> config = {static_cast<uint8_t>(opt.frac_bits)};
@@ -118,10 +139,11 @@ int cosim(const CosimOptions& opt, std::ostream& out) {
   if (opt.link == "hid") lo.window = 2;
   LinkHost host(*transport, lo);
   const Capabilities& caps = host.capabilities();
-  out << "texsim cosim: " << opt.block << " on the " << transport->describe() << " (firmware "
-      << int{caps.fw_major} << "." << int{caps.fw_minor} << "." << int{caps.fw_patch} << ", "
-      << caps.packet_size << "-byte reports, " << int{caps.max_in_flight}
-      << " requests in flight)\n";
+  // The transport's description may hold a USB product string: the board's text.
+  out << "texsim cosim: " << opt.block << " on the " << printable(transport->describe())
+      << " (firmware " << int{caps.fw_major} << "." << int{caps.fw_minor} << "."
+      << int{caps.fw_patch} << ", " << caps.packet_size << "-byte reports, "
+      << int{caps.max_in_flight} << " requests in flight)\n";
   host.select(opt.block);
   host.configure(config);
   const BlockCaps bc = core->caps();
@@ -159,10 +181,14 @@ int cosim(const CosimOptions& opt, std::ostream& out) {
 }  // namespace
 
 int run_cosim(const CosimOptions& opt, std::ostream& out, std::ostream& err) {
+  // Board text inside the messages (refusals, names) is escaped: it cannot act on a terminal.
   try {
     return cosim(opt, out);
+  } catch (const InputError& e) {
+    err << "texsim cosim: error: " << printable(e.what()) << "\n";
+    return 2;
   } catch (const LinkError& e) {
-    err << "texsim cosim: error: " << e.what() << "\n";
+    err << "texsim cosim: error: " << printable(e.what()) << "\n";
     return 4;
   }
 }

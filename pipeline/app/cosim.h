@@ -25,8 +25,10 @@ struct CosimOptions {
   int timeout_ms = 250;
 };
 
-// Exit status: 0 every result matched, 1 some did not, 4 the link failed (no device, no valid
-// answer after the retries, a refusal); the reason goes to `err`.
+// Exit status: 0 every result matched, 1 some did not, 2 a usage error (an unknown block,
+// --board with --link hid, --board rtl for a format the RTL is not built for), 4 the link
+// failed (no device, no valid answer within the link's bounds, a refusal); the reason goes to
+// `err`, with control characters escaped.
 int run_cosim(const CosimOptions& opt, std::ostream& out, std::ostream& err);
 
 // Adds the `cosim` subcommand, its options written into `opt`.

@@ -2,6 +2,7 @@
 // The link's commands and the layout of their payloads (docs/rtl/link.md). Every response
 // echoes its request's command and tag; its payload starts with a status byte (0: OK, else an
 // error code followed by a message text). Integers are big endian.
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -88,6 +89,9 @@ struct StreamHeader {
 };
 // Largest vector count of one Stream message.
 inline constexpr uint16_t kMaxStreamVectors = 1000;
+// Bytes of StreamHeader on the wire, and the smallest payload a board must take: one vector.
+inline constexpr size_t kStreamHeader = 6;
+inline constexpr size_t kMinStreamPayload = kStreamHeader + 4;
 
 struct Counters {
   uint64_t vectors = 0;

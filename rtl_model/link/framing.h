@@ -30,6 +30,9 @@ inline constexpr size_t kCrcSize = 2;
 // Largest payload: fits the 128 CONT reports with room to spare.
 inline constexpr size_t kMaxPayload = 4096;
 static_assert(kMaxPayload + kCrcSize <= kInitData + kMaxSeq * kContData);
+// Reports of the longest message: one INIT and the CONTs for the rest.
+inline constexpr size_t kMaxReportsPerMessage =
+    1 + (kMaxPayload + kCrcSize - kInitData + kContData - 1) / kContData;
 
 // A link failure the host cannot recover from (no device, no answer after every retry, a board
 // that reports an error): its text says what happened.

@@ -3,7 +3,8 @@
 // (docs/rtl/blocks.md). Every block has the ports clk, rst, in_valid, out_valid and the
 // op counters ops_add, ops_mul, ops_div, ops_cmp, items (rtl_model/rtl/texsim_op_counters.v).
 // Waveforms are switched at run time: a non-empty trace path (or the environment variable
-// TEXSIM_RTL_TRACE naming a directory) writes a VCD of every clock edge.
+// TEXSIM_RTL_TRACE naming a directory) writes a VCD of every clock edge. A waveform that cannot
+// be written is an InputError, never a run without it.
 #include <verilated.h>
 #include <verilated_vcd_c.h>
 
@@ -16,8 +17,11 @@
 namespace texsim::rtl {
 
 // Where the VCD of block `name` goes: `explicit_path` if set, else $TEXSIM_RTL_TRACE/<name>.vcd
-// if that variable is set, else "" (no trace).
+// if that variable is set, else "" (no trace). Throws InputError naming the variable and the
+// path when it is set to something that is not a directory this user can write into.
 std::string trace_path_for(const std::string& name, const std::string& explicit_path = "");
+// Throws InputError: the VCD at `path` could not be opened.
+[[noreturn]] void throw_unopened_trace(const std::string& path);
 
 template <class Model>
 class RtlHarness {
@@ -31,6 +35,7 @@ class RtlHarness {
       vcd_ = std::make_unique<VerilatedVcdC>();
       top_->trace(vcd_.get(), 99);
       vcd_->open(trace_path_.c_str());
+      if (!vcd_->isOpen()) throw_unopened_trace(trace_path_);
     }
     top_->clk = 0;
     top_->rst = 1;

@@ -41,13 +41,20 @@ TEST(CosimCli, RtlBoardMatchesTheCoreOrSaysItIsMissing) {
   EXPECT_EQ(m.code, 0) << m.out;
   EXPECT_NE(m.out.find("runs the C++ models"), std::string::npos) << m.out;
   // The RTL is built for u0.16: by default other formats fall back to the models, an explicit
-  // request for the RTL is refused with the board's reason.
+  // request for the RTL is a usage error.
   const auto f = sh("cosim --frac-bits 12 --vectors 2000");
   EXPECT_EQ(f.code, 0) << f.out;
   EXPECT_NE(f.out.find("the RTL is built for u0.16 inputs only"), std::string::npos) << f.out;
   const auto fr = sh("cosim --board rtl --frac-bits 12 --vectors 10");
-  EXPECT_EQ(fr.code, 4) << fr.out;
+  EXPECT_EQ(fr.code, 2) << fr.out;
   EXPECT_NE(fr.out.find("u0.16 inputs only"), std::string::npos) << fr.out;
+  // A waveform asked for in a directory that does not exist: an error, not a silent run.
+  const auto w = cli_harness::shell("TEXSIM_RTL_TRACE=/nonexistent/texsim-waves " +
+                                    std::string(TEXSIM_BINARY) + " cosim --vectors 10");
+  EXPECT_EQ(w.code, 2) << w.out;
+  EXPECT_NE(w.out.find("TEXSIM_RTL_TRACE=/nonexistent/texsim-waves: no such directory"),
+            std::string::npos)
+      << w.out;
 }
 
 TEST(CosimCli, NoUsbBoardIsAClearErrorNotAHang) {
@@ -56,9 +63,11 @@ TEST(CosimCli, NoUsbBoardIsAClearErrorNotAHang) {
   EXPECT_NE(r.out.find("no USB HID device 1209:7e57 found"), std::string::npos) << r.out;
 }
 
+// Usage errors exit 2 (docs/cli.md, "Exit status"); text echoed from the command line is
+// escaped.
 TEST(CosimCli, BadArgumentsAreClearErrors) {
   const auto block = sh("cosim --block vd_p7 --vectors 10");
-  EXPECT_EQ(block.code, 4) << block.out;
+  EXPECT_EQ(block.code, 2) << block.out;
   EXPECT_NE(block.out.find("no block 'vd_p7' (blocks: vd_p2, vd_p1)"), std::string::npos)
       << block.out;
   const auto vid = sh("cosim --link hid --vid zz");
@@ -67,8 +76,12 @@ TEST(CosimCli, BadArgumentsAreClearErrors) {
   EXPECT_EQ(sh("cosim --link usb").code, 2);
   EXPECT_EQ(sh("cosim --board fpga").code, 2);
   const auto hid = sh("cosim --link hid --board rtl --vectors 10");
-  EXPECT_EQ(hid.code, 4) << hid.out;
-  EXPECT_NE(hid.out.find("--board applies to --link virtual only"), std::string::npos) << hid.out;
+  EXPECT_EQ(hid.code, 2) << hid.out;
+  EXPECT_NE(hid.out.find("--board: applies to --link virtual only"), std::string::npos) << hid.out;
+  const auto bell = sh("cosim --block \"$(printf 'vd\\007\\033[2J')\" --vectors 10");
+  EXPECT_EQ(bell.code, 2) << bell.out;
+  EXPECT_NE(bell.out.find("no block 'vd\\x07\\x1B[2J'"), std::string::npos) << bell.out;
+  EXPECT_EQ(bell.out.find('\a'), std::string::npos) << bell.out;
 }
 
 }  // namespace

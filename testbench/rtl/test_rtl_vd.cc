@@ -6,10 +6,12 @@
 #include <Vvd_p1.h>
 #include <Vvd_p2.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <random>
@@ -18,6 +20,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "blocks/base/input_error.h"
 #include "rtl_model/params/rtl_params.h"
 #include "testbench/rtl/lockstep.h"
 
@@ -115,6 +118,55 @@ TEST(RtlHarness, WritesVcdWhenAsked) {
   std::remove(path.c_str());
   RtlHarness<Vvd_p1> quiet("vd_p1", "");
   EXPECT_EQ(quiet.trace_path().empty(), std::getenv("TEXSIM_RTL_TRACE") == nullptr);
+}
+
+// TEXSIM_RTL_TRACE naming something that is not a writable directory used to give no
+// waveform and no word: now an InputError naming the variable and the path.
+TEST(RtlHarness, TraceVariableThatCannotBeWrittenIsAnError) {
+  namespace fs = std::filesystem;
+  const char* saved = std::getenv("TEXSIM_RTL_TRACE");  // NOLINT(concurrency-mt-unsafe)
+  const std::string keep = saved ? saved : "";
+  const fs::path base = fs::path(testing::TempDir()) / "texsim_rtl_trace_env";
+  fs::remove_all(base);
+  fs::create_directories(base / "ok");
+  std::ofstream(base / "file") << "x";
+  const auto message_for = [](const fs::path& dir) {
+    ::setenv("TEXSIM_RTL_TRACE", dir.c_str(), 1);  // NOLINT(concurrency-mt-unsafe)
+    try {
+      RtlHarness<Vvd_p2> h("vd_p2");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string missing = message_for(base / "missing");
+  EXPECT_NE(missing.find("TEXSIM_RTL_TRACE=" + (base / "missing").string() + ": no such directory"),
+            std::string::npos)
+      << missing;
+  const std::string file = message_for(base / "file");
+  EXPECT_NE(file.find("TEXSIM_RTL_TRACE=" + (base / "file").string() + ": not a directory"),
+            std::string::npos)
+      << file;
+  if (::geteuid() != 0) {  // root may write anywhere
+    fs::create_directories(base / "ro");
+    fs::permissions(base / "ro", fs::perms::owner_read | fs::perms::owner_exec);
+    const std::string ro = message_for(base / "ro");
+    EXPECT_NE(ro.find("may not write"), std::string::npos) << ro;
+    fs::permissions(base / "ro", fs::perms::owner_all);
+  }
+  EXPECT_EQ(message_for(base / "ok"), "");
+  EXPECT_TRUE(fs::exists(base / "ok" / "vd_p2.vcd"));
+  // An explicit path that cannot be opened.
+  ::unsetenv("TEXSIM_RTL_TRACE");  // NOLINT(concurrency-mt-unsafe)
+  try {
+    RtlHarness<Vvd_p2> h("vd_p2", (base / "missing" / "x.vcd").string());
+    ADD_FAILURE() << "an unopened waveform was ignored";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot open the waveform file"), std::string::npos)
+        << e.what();
+  }
+  if (saved) ::setenv("TEXSIM_RTL_TRACE", keep.c_str(), 1);  // NOLINT(concurrency-mt-unsafe)
+  fs::remove_all(base);
 }
 
 }  // namespace
