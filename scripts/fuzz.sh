@@ -3,7 +3,9 @@
 # for SECONDS (default 60) on its seed corpus: fuzz_trace_reader (binary traces; also in the
 # mode that recomputes CRCs so mutations reach the parser), fuzz_csv_reader (CSV traces, and
 # their round trip through both writers) and fuzz_scene (scene TOML through the materials, the
-# texture unit and a tiny render). New inputs go to build-fuzz/corpus/.
+# texture unit and a tiny render), fuzz_obj (OBJ text and an MTL through the mesh loader) and
+# fuzz_npz (.npz archives and .npy arrays through the DEM reader). New inputs go to
+# build-fuzz/corpus/.
 # Exit 1 if any harness finds a crash, a leak, undefined behaviour or a non-InputError
 # exception (the reproducer is left in build-fuzz/).
 # Usage: scripts/fuzz.sh [SECONDS]
@@ -13,7 +15,8 @@ secs=${1:-60}
 build=${FUZZ_BUILD_DIR:-build-fuzz}
 CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTEXSIM_FUZZ=ON \
   -DTEXSIM_BUILD_BENCH=OFF -DTEXSIM_WERROR=OFF > /dev/null
-cmake --build "$build" -j "$(nproc)" --target fuzz_trace_reader fuzz_csv_reader fuzz_scene
+cmake --build "$build" -j "$(nproc)" --target fuzz_trace_reader fuzz_csv_reader fuzz_scene \
+  fuzz_obj fuzz_npz
 run() {  # run NAME CORPUS [ENV=VALUE]
   local name=$1 seeds=$2; shift 2
   local work="$build/corpus/$name${1:+-crc}"
@@ -28,4 +31,6 @@ run fuzz_trace_reader testbench/fuzz/corpus/trace
 run fuzz_trace_reader testbench/fuzz/corpus/trace TEXSIM_FUZZ_FIX_CRC=1
 run fuzz_csv_reader testbench/fuzz/corpus/csv
 run fuzz_scene testbench/fuzz/corpus/scene
+run fuzz_obj testbench/fuzz/corpus/obj
+run fuzz_npz testbench/fuzz/corpus/npz
 echo "fuzz: no findings in ${secs} s per harness"
