@@ -84,15 +84,16 @@ struct FaceRef {
   uint8_t corners = 0;
 };
 
-// A positive index beyond the elements read so far: OBJ allows it if the file has them.
+// The largest positive index beyond the elements read so far, per kind, and its line: OBJ
+// allows such an index if the file has the element by its end.
 struct ForwardRef {
-  int line = 0, kind = 0;
+  int line = 0;
   long index = 0;
 };
 
 struct ObjScan {
   std::vector<FaceRef> faces;
-  std::vector<ForwardRef> forward;
+  ForwardRef forward[3];
   long count[3] = {0, 0, 0};  // v, vt, vn lines
   uint64_t corners = 0, triangles = 0;
 };
@@ -117,7 +118,7 @@ void corner_part(std::string_view part, std::string_view tok, int kind, ObjScan&
                                 std::to_string(v) + " but only " + std::to_string(n) +
                                 " come before it");
   }
-  if (v > n) s.forward.push_back({line, kind, v});
+  if (v > n && v > s.forward[kind].index) s.forward[kind] = {line, v};
 }
 
 void scan_face(const std::vector<std::string_view>& fl, ObjScan& s, int no,
@@ -188,12 +189,13 @@ ObjScan scan(const std::string& text, const std::string& file, const MeshBudget&
     scan_line(std::string_view(text).substr(at, end - at), no, file, s);
     at = end + 1;
   }
-  for (const ForwardRef& f : s.forward) {
-    if (f.index > s.count[f.kind]) {
+  for (int k = 0; k < 3; ++k) {
+    const ForwardRef& f = s.forward[k];
+    if (f.index > s.count[k]) {
       throw InputError(file + ":" + std::to_string(f.line),
-                       "face refers to " + std::string(kKindName[f.kind]) + " " +
+                       "face refers to " + std::string(kKindName[k]) + " " +
                            std::to_string(f.index) + " but the file has " +
-                           std::to_string(s.count[f.kind]));
+                           std::to_string(s.count[k]));
     }
   }
   if (s.triangles > budget.max_triangles) {
