@@ -30,6 +30,7 @@
 #include "pipeline/report/run_report.h"
 #include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene.h"
+#include "pipeline/scene/scene_memory.h"
 #include "pipeline/scene/texture_loader.h"
 #include "pipeline/texture/texture_unit.h"
 #include "traces/prefetch_reader.h"
@@ -230,7 +231,8 @@ struct ImageLayout {
   int canvas_w = 0, canvas_h = 0;
   PixelRect extent;
   int pairs = 1;  // buffer pairs: two when a kept frame waits while later frames are compared
-  uint64_t scene_bytes = 0;  // a scene run's primitive projections and depth test
+  uint64_t scene_bytes = 0;         // a scene run's primitive projections and depth test
+  uint64_t object_space_bytes = 0;  // its object-space passes' splat and pass buffers
 };
 
 // A trace's layout from a first pass over it (which also finds bad records before the run):
@@ -250,8 +252,9 @@ uint64_t texture_bytes(const TextureSet& set) {
   uint64_t b = 0;
   for (int t = 0; t < set.size(); ++t) {
     for (int l = 0; l < set[t].levels(); ++l) {
-      b += static_cast<uint64_t>(set[t].width(l)) * static_cast<uint64_t>(set[t].height(l)) *
-           static_cast<uint64_t>(set[t].bytes_per_texel());
+      b = sat_add(b, sat_mul(sat_mul(static_cast<uint64_t>(set[t].width(l)),
+                                     static_cast<uint64_t>(set[t].height(l))),
+                             static_cast<uint64_t>(set[t].bytes_per_texel())));
     }
   }
   return b;
@@ -268,13 +271,15 @@ void check_memory(const RunOptions& opt, const ImageLayout& l, const TextureSet&
                   const std::string& source, const std::string& what) {
   const uint64_t tex = texture_bytes(textures);
   const uint64_t img = RunImages::estimate_bytes(l.extent, l.pairs, l.canvas_w, l.canvas_h);
-  if (tex + img + l.scene_bytes <= opt.max_memory) return;
-  throw InputError(source, what + ": the run needs an estimated " + gib(tex + img + l.scene_bytes) +
-                               " (images " + std::to_string(l.extent.x1 - l.extent.x0) + " x " +
+  const uint64_t total = sat_add(sat_add(sat_add(tex, img), l.scene_bytes), l.object_space_bytes);
+  if (total <= opt.max_memory) return;
+  throw InputError(source, what + ": the run needs an estimated " + gib(total) + " (images " +
+                               std::to_string(l.extent.x1 - l.extent.x0) + " x " +
                                std::to_string(l.extent.y1 - l.extent.y0) + " pixels of a " +
                                std::to_string(l.canvas_w) + " x " + std::to_string(l.canvas_h) +
                                " image: " + gib(img) + "; textures: " + gib(tex) +
                                "; primitives and depth test: " + gib(l.scene_bytes) +
+                               "; object-space buffers: " + gib(l.object_space_bytes) +
                                "), over the --max-memory limit of " + gib(opt.max_memory));
 }
 
@@ -505,6 +510,18 @@ TraceSummary first_pass(const RunOptions& opt) {
   return sum;
 }
 
+// Object-space passes (run_object_space.h): each keeps an image, coverage and drawn flags of
+// the whole image; the splat buffer (colour, weight and depth in double) lives while one
+// pass renders.
+uint64_t object_space_bytes(const Scene& scene) {
+  uint64_t passes = 0;
+  for (const SceneMaterial& m : scene.materials) passes += m.object_space ? 1 : 0;
+  if (passes == 0) return 0;
+  const uint64_t px = sat_mul(static_cast<uint64_t>(std::max(scene.width, 0)),
+                              static_cast<uint64_t>(std::max(scene.height, 0)));
+  return sat_mul(px, sat_add(6 * sizeof(double), sat_mul(passes, sizeof(Rgba) + 2)));
+}
+
 // The run's layout, checked against --max-memory before any buffer is made.
 ImageLayout run_layout(const RunOptions& opt, const Scene& scene, bool use_scene,
                        const TraceSummary* trace, const std::vector<PlaneProjection>& maps,
@@ -522,8 +539,9 @@ ImageLayout run_layout(const RunOptions& opt, const Scene& scene, bool use_scene
                      "--frame " + std::to_string(opt.frame) + ": a scene renders frame 0 only");
   }
   ImageLayout l{scene.width, scene.height, scene_extent(scene, maps), 1};
-  l.scene_bytes = l.extent.pixels() * kDepthTestBytesPerPixel +
-                  maps.size() * sizeof(PlaneProjection) * 2;  // the run's and the generator's
+  l.scene_bytes = sat_add(sat_mul(l.extent.pixels(), kDepthTestBytesPerPixel),
+                          sat_mul(maps.size(), sizeof(PlaneProjection) * 2));  // run's, generator's
+  l.object_space_bytes = object_space_bytes(scene);
   check_memory(opt, l, textures, scene.path,
                "[output] width = " + std::to_string(scene.width) +
                    ", height = " + std::to_string(scene.height));
@@ -636,6 +654,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   ensure_dir(opt.out);  // an unwritable --out is found before the run, not after it
   // Scene: a file, the built-in default, or (trace only) none.
   const bool use_scene = !opt.scene.empty() || opt.trace.empty();
+  set_scene_memory_limit(opt.max_memory);  // meshes and DEMs are refused before allocation
   Scene scene = (opt.scene.empty() || opt.scene == "default")
                     ? default_scene(opt.overrides)
                     : load_scene(opt.scene, opt.overrides);
@@ -658,6 +677,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
       PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : kNoPipeline, scene.path);
   std::vector<PlaneProjection> maps;
   if (use_scene) {
+    maps.reserve(scene.primitives.size());
     for (const auto& p : scene.primitives) maps.emplace_back(scene, p);
   }
   const ImageLayout layout = run_layout(opt, scene, use_scene, trace_sum.get(), maps, textures.set);

@@ -1,15 +1,22 @@
 #include "pipeline/app/run_images.h"
 
+#include <algorithm>
 #include <stdexcept>
+
+#include "pipeline/scene/scene_memory.h"
 
 namespace texsim {
 
 uint64_t RunImages::estimate_bytes(const PixelRect& extent, int pairs, int canvas_w, int canvas_h) {
   // Each pair is an image and its reference; writing builds the buffer's 8-bit pixels and the
   // canvas's (3 bytes each) for one image at a time.
-  const uint64_t canvas = static_cast<uint64_t>(canvas_w) * static_cast<uint64_t>(canvas_h);
-  return static_cast<uint64_t>(pairs) * 2 * extent.pixels() * ImageRgb::kBytesPerPixel +
-         3 * (extent.pixels() + canvas);
+  // Saturating: an estimate that wraps would pass the --max-memory check.
+  const uint64_t canvas = sat_mul(static_cast<uint64_t>(std::max(canvas_w, 0)),
+                                  static_cast<uint64_t>(std::max(canvas_h, 0)));
+  const uint64_t px = extent.pixels();
+  return sat_add(
+      sat_mul(sat_mul(static_cast<uint64_t>(std::max(pairs, 0)) * 2, px), ImageRgb::kBytesPerPixel),
+      sat_mul(3, sat_add(px, canvas)));
 }
 
 RunImages::RunImages(const PixelRect& extent, int canvas_w, int canvas_h, glm::dvec3 background,

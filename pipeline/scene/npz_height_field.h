@@ -22,8 +22,20 @@ struct NpzHeightField {
   std::string array;        // the archive member read, e.g. "elevation.npy"
 };
 
-// Reads `path`; throws InputError naming the file on any problem.
+// Limits (docs/cli.md#input-limits): the archive's size, checked before it is read; a
+// member's declared uncompressed size, checked before it is inflated; each side of the array.
+// The estimated memory of the field and its texture is also checked against
+// scene_memory_limit() (--max-memory) before the array is inflated.
+inline constexpr uint64_t kMaxNpzBytes = uint64_t{1} << 28;
+inline constexpr int kMaxNpzSide = 8192;
+
+// Reads `path`; throws InputError naming the file on any problem. Its .npy header is parsed
+// as the dictionary it is (keys descr, fortran_order and shape, each once, nothing else;
+// versions 1.0, 2.0 and 3.0). Heights of ±inf are refused; NaN is no-data.
 NpzHeightField read_npz_height_field(const std::string& path);
+// One .npy array's bytes (`where` names it in errors): the field, or width 0 when the array
+// is not 2-D. The fuzz harness's and the tests' entry.
+NpzHeightField parse_npy_height_field(const std::string& bytes, const std::string& where);
 // The field as a grey texture with its MIP chain (relief and normals read level 0).
 Texture npz_height_texture(const std::string& path);
 bool is_npz_source(const std::string& source);

@@ -1,5 +1,6 @@
 #include "pipeline/scene/scene_meshes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
@@ -7,8 +8,10 @@
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
 #include "blocks/geometry/aviation_camera.h"
+#include "pipeline/geometry/plane_projection.h"
 #include "pipeline/scene/mesh.h"
 #include "pipeline/scene/obj_loader.h"
+#include "pipeline/scene/scene_memory.h"
 #include "pipeline/scene/scene_values.h"
 
 namespace texsim {
@@ -26,6 +29,41 @@ int material_of(const Scene& s, const ConfigReader& r) {
   throw InputError(at(s.path, *n), "unknown material '" + name + "'");
 }
 
+// Per face: the scene's primitive and two projections of it (the run's and the generator's).
+constexpr uint64_t kBytesPerFace = sizeof(ScenePrimitive) + 2 * sizeof(PlaneProjection);
+// Placed vertices beyond this magnitude overflow the projections' products.
+constexpr double kMaxWorldCoordinate = 1e15;
+
+// What the scene's faces so far leave of the memory limit for the next mesh.
+MeshBudget budget_of(const Scene& s) {
+  MeshBudget b;
+  b.bytes_per_triangle = kBytesPerFace;
+  b.max_triangles = kMaxScenePrimitives - std::min(s.primitives.size(), kMaxScenePrimitives);
+  const uint64_t used = sat_mul(s.primitives.size(), kBytesPerFace);
+  const uint64_t limit = scene_memory_limit();
+  b.max_bytes = used >= limit ? 0 : limit - used;
+  return b;
+}
+
+Mesh build_grid(const ConfigReader& r, const Scene& s) {
+  const glm::dvec2 size = read_vec<2>(r, "size", glm::dvec2(1));
+  const glm::dvec2 cells = read_vec<2>(r, "cells", glm::dvec2(1));
+  if (!(size.x > 0 && size.y > 0)) r.fail("size", "must be > 0");
+  for (int i = 0; i < 2; ++i) {
+    if (!(cells[i] >= 1 && cells[i] <= 1024 && cells[i] == std::floor(cells[i])))
+      r.fail("cells", "must be whole numbers in 1..1024");
+  }
+  const auto nx = static_cast<uint64_t>(cells.x), ny = static_cast<uint64_t>(cells.y);
+  const MeshBudget b = budget_of(s);
+  const uint64_t bytes = mesh_bytes((nx + 1) * (ny + 1), 0, 2 * nx * ny, b);
+  if (bytes > b.max_bytes) {
+    r.fail("cells", "a grid of " + std::to_string(nx) + " x " + std::to_string(ny) +
+                        " cells would take an estimated " + std::to_string(bytes >> 20) +
+                        " MiB, over the memory limit (--max-memory) with the faces before it");
+  }
+  return make_grid(static_cast<int>(nx), static_cast<int>(ny), size);
+}
+
 Mesh build_mesh(const ConfigReader& r, const Scene& s, const std::string& source,
                 UvProjection proj) {
   if (source == "box") {
@@ -34,20 +72,11 @@ Mesh build_mesh(const ConfigReader& r, const Scene& s, const std::string& source
     if (!(size.x > 0 && size.y > 0 && size.z > 0)) r.fail("size", "must be > 0");
     return make_box(size);
   }
-  if (source == "grid") {
-    const glm::dvec2 size = read_vec<2>(r, "size", glm::dvec2(1));
-    const glm::dvec2 cells = read_vec<2>(r, "cells", glm::dvec2(1));
-    if (!(size.x > 0 && size.y > 0)) r.fail("size", "must be > 0");
-    for (int i = 0; i < 2; ++i) {
-      if (!(cells[i] >= 1 && cells[i] <= 1024 && cells[i] == std::floor(cells[i])))
-        r.fail("cells", "must be whole numbers in 1..1024");
-    }
-    return make_grid(static_cast<int>(cells.x), static_cast<int>(cells.y), size);
-  }
+  if (source == "grid") return build_grid(r, s);
   for (const char* k : {"size", "cells"}) {
     if (r.table().contains(k)) r.fail(k, "box and grid only");
   }
-  return load_obj(source, s.base_dir, proj);
+  return load_obj(source, s.base_dir, proj, budget_of(s));
 }
 
 // The model transform: p' = position + A·(scale·p), A from aviation angles (degrees).
@@ -94,7 +123,17 @@ void parse_mesh(const toml::node& e, Scene& s) {
                                         std::to_string(kMaxScenePrimitives) + " primitives");
   }
   std::vector<glm::dvec3> world(mesh.positions.size());
-  for (size_t i = 0; i < world.size(); ++i) world[i] = pl.apply(mesh.positions[i]);
+  for (size_t i = 0; i < world.size(); ++i) {
+    world[i] = pl.apply(mesh.positions[i]);
+    for (int k = 0; k < 3; ++k) {
+      if (!(std::fabs(world[i][k]) <= kMaxWorldCoordinate)) {
+        throw InputError(at(s.path, e), sm.source + ": vertex " + std::to_string(i + 1) +
+                                            " placed at a coordinate beyond ±1e15 (position, "
+                                            "scale and the mesh's coordinates together)");
+      }
+    }
+  }
+  s.primitives.reserve(s.primitives.size() + mesh.triangles.size());
   sm.first = s.primitives.size();
   sm.vertices = world.size();
   for (const MeshTriangle& t : mesh.triangles) {

@@ -172,6 +172,29 @@ TEST_F(Cli, LargestSceneImageIsEstimatedAndRefusedOrSizedByItsPlanes) {
   EXPECT_LT(children_peak_mib(), 1200);
 }
 
+TEST_F(Cli, MeshesAndObjectSpaceBuffersAreInTheEstimateBeforeAllocation) {
+  // A 1024² grid mesh used 2 GB before --max-memory was checked.
+  write("g.toml",
+        "[output]\nwidth = 96\nheight = 72\n[camera]\nposition = [0.0, 1.0, 3.0]\n"
+        "look_at = [0.0, 0.0, 0.0]\n[[meshes]]\nmaterial = \"m\"\nsource = \"grid\"\n"
+        "cells = [1024, 1024]\n[textures.t]\nsource = \"procedural:checker?size=64\"\n"
+        "[materials.m]\ntexture = \"t\"\n");
+  Result r = sh("run --no-progress " + path("g.toml") + " --max-memory 1G --out " + path("o"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("a grid of 1024 x 1024 cells would take an estimated"), std::string::npos)
+      << r.out;
+  EXPECT_LT(children_peak_mib(), 400);
+  // The object-space passes' buffers of the whole image count too.
+  r = sh("run --no-progress " + std::string(TEXSIM_SOURCE_DIR) +
+         "/scenes/object_space.toml --set output.width=4096 --set output.height=4096 "
+         "--max-memory 1G --out " +
+         path("o"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_EQ(r.out.find("object-space buffers: 0.00 GiB"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("object-space buffers: "), std::string::npos) << r.out;
+  expect_no_outputs(path("o"));
+}
+
 TEST_F(Cli, TraceTextureErrorsNameTheTraceAndEntryAndSizesAreBounded) {
   write("t.csv",
         "# texture 0 crate nofile.png 64 64\n"

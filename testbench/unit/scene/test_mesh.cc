@@ -73,7 +73,7 @@ TEST(ObjLoader, BadMeshesNameFileAndLine) {
                 "projection (planar, box or spherical)");
   EXPECT_EQ(load("v 0 0 0\n"), f + ": mesh has no faces");
   EXPECT_EQ(error_of([&] { load_obj("/dev/null", "", UvProjection::Planar); }),
-            "/dev/null: mesh file is not a regular file");
+            "/dev/null: cannot read OBJ mesh: is a device, not a regular file");
 }
 
 TEST(ObjLoader, BunnyWithoutCoordinatesNeedsAProjection) {

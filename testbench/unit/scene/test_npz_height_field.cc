@@ -2,6 +2,7 @@
 // to [0, 1]; no-data (the int16 minimum, NaN) reads as the lowest height; a missing file names
 // itself and the package; the shipped DEM scene's file when installed.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <zlib.h>
 
 #include <cmath>
@@ -14,7 +15,9 @@
 
 #include "blocks/base/input_error.h"
 #include "pipeline/scene/npz_height_field.h"
+#include "pipeline/scene/scene_memory.h"
 #include "pipeline/scene/texture_loader.h"
+#include "testbench/lib/temp_dir.h"
 
 namespace texsim {
 namespace {
@@ -162,6 +165,145 @@ TEST(NpzHeightField, ErrorsNameTheFile) {
   EXPECT_THROW((void)read_npz_height_field(one_d), InputError);
   EXPECT_THROW((void)read_npz_height_field(write_temp("texsim_dem_bad.npz", "not a zip")),
                InputError);
+}
+
+// A .npy of any header text (version major.0), padded as numpy pads it.
+std::string npy_raw(const std::string& dict, const std::string& data, int major = 1) {
+  std::string hdr = dict;
+  const size_t prefix = major == 1 ? 10 : 12;
+  while ((prefix + hdr.size() + 1) % 64 != 0) hdr.push_back(' ');
+  hdr.push_back('\n');
+  std::string b = "\x93NUMPY";
+  b.push_back(static_cast<char>(major));
+  b.push_back(0);
+  put(b, static_cast<uint32_t>(hdr.size()), major == 1 ? 2 : 4);
+  return b + hdr + data;
+}
+
+// The InputError message of parsing `b` as an .npy ("" if none).
+std::string npy_error(const std::string& b) {
+  try {
+    (void)parse_npy_height_field(b, "a.npy");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string doubles(std::initializer_list<double> v) {
+  std::string d;
+  for (const double x : v) {
+    uint64_t bits = 0;
+    std::memcpy(&bits, &x, 8);
+    put(d, static_cast<uint32_t>(bits), 4);
+    put(d, static_cast<uint32_t>(bits >> 32), 4);
+  }
+  return d;
+}
+
+TEST(NpzHeightField, HeaderIsParsedAsADictionary) {
+  const std::string four = std::string(8, '\0');
+  // A key inside another key's string was taken as a key.
+  EXPECT_EQ(npy_error(npy_raw("{'descr': '<i2', 'fortran_order': False, 'x': \"'shape': (1, 1)\"}",
+                              four)),
+            "a.npy: .npy header: unknown key 'x'");
+  EXPECT_EQ(npy_error(npy_raw("{'descr': \"'shape': (1, 1),\", 'fortran_order': False}", four)),
+            "a.npy: .npy header: no 'shape' key");
+  EXPECT_EQ(
+      npy_error(npy_raw(
+          "{'descr': '<i2', 'fortran_order': False, 'shape': (1, 1), 'shape': (1, 1)}", four)),
+      "a.npy: .npy header: key 'shape' appears twice");
+  EXPECT_EQ(npy_error(npy_raw("{'descr': '<i2', 'fortran_order': 0, 'shape': (1, 1)}", four)),
+            "a.npy: .npy header: fortran_order must be True or False");
+  // Beyond 32 bits: accepted before (and the product wrapped).
+  EXPECT_EQ(npy_error(npy_raw("{'descr': '<i2', 'fortran_order': False, 'shape': (4294967296, 1)}",
+                              four)),
+            "a.npy: .npy header: a shape dimension beyond 32 bits");
+  EXPECT_EQ(
+      npy_error(npy_raw("{'descr': '<i2', 'fortran_order': False, 'shape': (8193, 1)}", four)),
+      "a.npy: shape (8193, 1): each side must be 1..8192");
+  EXPECT_EQ(npy_error(npy_raw("{'descr': '<i2', 'fortran_order': False, 'shape': (2, 2)}",
+                              std::string(7, '\0'))),
+            "a.npy: truncated data");
+  // Versions 2.0 and 3.0 (a 4-byte header length) are read; 9.0 is refused.
+  const std::string dict = "{'descr': '<i2', 'fortran_order': False, 'shape': (2, 2), }";
+  EXPECT_EQ(parse_npy_height_field(npy_raw(dict, four, 2), "a.npy").width, 2);
+  EXPECT_EQ(parse_npy_height_field(npy_raw(dict, four, 3), "a.npy").height, 2);
+  std::string v9 = npy_raw(dict, four);
+  v9[6] = 9;
+  EXPECT_EQ(npy_error(v9), "a.npy: .npy version 9.0 (1.0, 2.0 or 3.0 are read)");
+  // Not 2-D: skipped (width 0), as in an archive.
+  EXPECT_EQ(parse_npy_height_field(npy("<f8", "(1,)", std::string(8, '\0')), "a.npy").width, 0);
+}
+
+TEST(NpzHeightField, ExtremeHeightsNormaliseWithoutOverflow) {
+  // ±1e308 became NaN (the span overflowed) and the run reported PSNR 999 dB.
+  const NpzHeightField f =
+      parse_npy_height_field(npy("<f8", "(2, 2)", doubles({-1e308, 1e308, 0, 1.7e308})), "a.npy");
+  EXPECT_EQ(f.no_data, 0u);
+  for (const double h : f.h) EXPECT_TRUE(h >= 0 && h <= 1) << h;
+  EXPECT_DOUBLE_EQ(f.h[0], 0);
+  EXPECT_DOUBLE_EQ(f.h[3], 1);
+  EXPECT_NEAR(f.h[2], 0.5 / 1.35, 1e-12);  // (0 + 0.5e308) / (0.85e308 + 0.5e308)
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(npy_error(npy("<f8", "(1, 2)", doubles({0, -inf}))),
+            "a.npy: height at row 0, column 1 is infinite (NaN marks no-data)");
+}
+
+TEST(NpzHeightField, SizesAreCheckedBeforeReadingOrInflating) {
+  TempDir d("npz");
+  // 8192 x 8192 float64 zeros declare 512 MiB: refused from the zip directory, before inflating.
+  const std::string big = npy("<f8", "(8192, 8192)", std::string(4096, '\0'));
+  std::string z = zip({{"e.npy", big}}, true);
+  const uint32_t declared = 8192u * 8192u * 8u + static_cast<uint32_t>(big.size() - 4096);
+  const size_t dir = z.find("PK\x01\x02");
+  ASSERT_NE(dir, std::string::npos);
+  for (int i = 0; i < 4; ++i)
+    z[dir + 24 + static_cast<size_t>(i)] = static_cast<char>(declared >> (8 * i));
+  std::string e;
+  try {
+    (void)read_npz_height_field(write_temp("texsim_dem_bomb.npz", z));
+  } catch (const InputError& x) {
+    e = x.what();
+  }
+  EXPECT_NE(e.find("declares 536871040 bytes uncompressed, more than the limit"), std::string::npos)
+      << e;
+  // float32 fits the archive limit: the memory estimate refuses it from the header alone.
+  const std::string f4 = npy("<f4", "(8192, 8000)", std::string(70000, '\0'));
+  std::string z4 = zip({{"e.npy", f4}}, true);
+  const uint32_t declared4 = 8192u * 8000u * 4u + static_cast<uint32_t>(f4.size() - 70000);
+  const size_t dir4 = z4.find("PK\x01\x02");
+  for (int i = 0; i < 4; ++i)
+    z4[dir4 + 24 + static_cast<size_t>(i)] = static_cast<char>(declared4 >> (8 * i));
+  set_scene_memory_limit(uint64_t{1} << 30);
+  e.clear();
+  try {
+    (void)read_npz_height_field(write_temp("texsim_dem_bomb4.npz", z4));
+  } catch (const InputError& x) {
+    e = x.what();
+  }
+  set_scene_memory_limit(UINT64_MAX);
+  EXPECT_NE(e.find("a 8192 x 8000 height field would take an estimated"), std::string::npos) << e;
+  // A file over 256 MiB is refused from its size (sparse here), not read whole first.
+  const std::string huge = d.file("huge.npz");
+  std::ofstream(huge).close();
+  std::filesystem::resize_file(huge, uint64_t{3} << 30);
+  EXPECT_THROW((void)read_npz_height_field(huge), InputError);
+}
+
+TEST(NpzHeightField, NotARegularFileIsAClearError) {
+  TempDir d("npz");
+  std::filesystem::create_directory(d.file("dir.npz"));
+  ASSERT_EQ(::mkfifo(d.file("fifo.npz").c_str(), 0600), 0);  // blocked forever before
+  for (const std::string& p : {d.file("dir.npz"), d.file("fifo.npz"), std::string("/dev/zero")}) {
+    std::string e;
+    try {
+      (void)read_npz_height_field(p);
+    } catch (const InputError& x) {
+      e = x.what();
+    }
+    EXPECT_NE(e.find(p + ": cannot read"), std::string::npos) << e;
+  }
 }
 
 TEST(NpzHeightField, ShippedSampleDem) {
