@@ -15,7 +15,7 @@ if [[ ${1:-} == subset ]]; then
   build=${FUZZ_BUILD_DIR:-build-fuzz}
   # Readers, parsers, writers and the CLI; the names are the test executables.
   tests=(test_input_file test_output_set test_trace_file test_trace_csv test_trace_tools
-    test_prefetch_reader test_mesh test_npz_height_field test_scene_overrides test_texture_loader
+    test_prefetch_reader test_mesh test_obj_inputs test_npz_height_field test_scene_overrides test_texture_loader
     test_shell_quote test_sweep test_sweep_inputs test_tune_inputs test_cli_run test_link_protocol
     test_link_hostile)
   CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTEXSIM_FUZZ=ON \

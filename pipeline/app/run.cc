@@ -238,7 +238,17 @@ struct ImageLayout {
 // A trace's layout from a first pass over it (which also finds bad records before the run):
 // the canvas holds the scene's image (if any) and every fragment; the buffers only the
 // fragments' bounding box.
-ImageLayout trace_layout(const TraceSummary& sum, const Scene* scene) {
+ImageLayout trace_layout(const TraceSummary& sum, const Scene* scene, const std::string& path) {
+  // The image a trace draws is at most as wide and high as a scene's (16384): a pixel beyond
+  // it is refused here rather than wrapped into a negative extent.
+  constexpr double kMaxPixel = 16383;
+  if (sum.x.hi > kMaxPixel || sum.y.hi > kMaxPixel) {
+    const bool in_x = sum.x.hi > kMaxPixel;
+    throw InputError(path, std::string("a fragment lies at ") + (in_x ? "x = " : "y = ") +
+                               std::to_string(static_cast<uint64_t>(in_x ? sum.x.hi : sum.y.hi)) +
+                               ": a run draws pixels 0 to 16383 in x and y (an image of at most "
+                               "16384 x 16384, as a scene's [output])");
+  }
   ImageLayout l;
   l.extent = {static_cast<int>(sum.x.lo), static_cast<int>(sum.y.lo),
               static_cast<int>(sum.x.hi) + 1, static_cast<int>(sum.y.hi) + 1};
@@ -527,7 +537,7 @@ ImageLayout run_layout(const RunOptions& opt, const Scene& scene, bool use_scene
                        const TraceSummary* trace, const std::vector<PlaneProjection>& maps,
                        const TextureSet& textures) {
   if (trace != nullptr) {
-    const ImageLayout l = trace_layout(*trace, use_scene ? &scene : nullptr);
+    const ImageLayout l = trace_layout(*trace, use_scene ? &scene : nullptr, opt.trace);
     check_memory(opt, l, textures, opt.trace,
                  "its fragments cover pixels (" + std::to_string(l.extent.x0) + ", " +
                      std::to_string(l.extent.y0) + ") to (" + std::to_string(l.extent.x1 - 1) +

@@ -526,6 +526,27 @@ TEST_F(Cli, RunRefusesToOverwriteItsOwnInput) {
   EXPECT_FALSE(fs::exists(path("d/image.png")));  // the set moves as a whole or not at all
 }
 
+// A trace pixel beyond the largest image (x = 4294967295 after a pixel at (1, 1)) is refused by
+// name; it used to wrap into a negative extent and end in an internal error.
+TEST_F(Cli, TracePixelBeyondTheLargestImageIsRefused) {
+  write("s.toml",
+        "[textures.t]\nsource = \"procedural:checker?size=16&cells=2\"\n[materials.m]\n"
+        "texture = \"t\"\n");
+  for (const char* xy : {"4294967295,1", "1,16384"}) {
+    write("t.csv", std::string("# texture 0 t procedural:checker?size=16&cells=2 16 16\n"
+                               "frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy\n"
+                               "0,0,1,1,0,0.5,0.5,0.01,0,0,0.01\n0,0,") +
+                       xy + ",0,0.5,0.5,0.01,0,0,0.01\n");
+    const Result r = sh("run " + path("s.toml") + " --trace " + path("t.csv") + " --out " +
+                        path("o") + " --reference none");
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("t.csv: a fragment lies at "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(std::string(xy)[0] == '1' ? "y = 16384" : "x = 4294967295"),
+              std::string::npos)
+        << r.out;
+  }
+}
+
 // Inputs that are not regular files get a clear error and never block or read forever.
 TEST_F(Cli, SceneThatIsAFifoDirectoryOrDeviceIsRefused) {
   ASSERT_EQ(::mkfifo(path("fifo.toml").c_str(), 0600), 0);
