@@ -18,7 +18,9 @@ if [[ ${1:-} == subset ]]; then
     test_prefetch_reader test_mesh test_obj_inputs test_npz_height_field test_scene_overrides test_texture_loader
     test_shell_quote test_sweep test_sweep_inputs test_tune_inputs test_cli_run test_link_protocol
     test_link_hostile)
+  # The configuration of scripts/fuzz.sh, so that its build serves here.
   CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTEXSIM_FUZZ=ON \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
     -DTEXSIM_BUILD_BENCH=OFF -DTEXSIM_WERROR=OFF > /dev/null
   cmake --build "$build" -j "$(nproc)" --target texsim "${tests[@]}"
   regex=$(printf '%s|' "${tests[@]}")

@@ -3,8 +3,12 @@
 #include <cmath>
 
 #include "blocks/geometry/near_clipper.h"
+#include "pipeline/scene/scene_meshes.h"
 
 namespace texsim {
+
+// The scene's memory estimate counts kPlaneProjectionBytes for each projection of a face.
+static_assert(sizeof(PlaneProjection) <= kPlaneProjectionBytes);
 
 namespace {
 using V = long double;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "blocks/base/input_error.h"
+#include "blocks/base/shell_quote.h"
 #include "blocks/texture/memory/texture_memory.h"
 
 namespace texsim {
@@ -46,10 +47,8 @@ std::string command_line(int argc, const char* const* argv) {
       line += " " + a;
       continue;
     }
-    // Single quotes as a POSIX shell reads them: a ' inside becomes '\''.
-    line += " '";
-    for (char c : a) line += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    line += "'";
+    line += ' ';
+    line += shell_quote(a);  // argv holds no NUL
   }
   return line;
 }

@@ -8,7 +8,6 @@
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
 #include "blocks/geometry/aviation_camera.h"
-#include "pipeline/geometry/plane_projection.h"
 #include "pipeline/scene/mesh.h"
 #include "pipeline/scene/obj_loader.h"
 #include "pipeline/scene/scene_memory.h"
@@ -30,7 +29,7 @@ int material_of(const Scene& s, const ConfigReader& r) {
 }
 
 // Per face: the scene's primitive and two projections of it (the run's and the generator's).
-constexpr uint64_t kBytesPerFace = sizeof(ScenePrimitive) + 2 * sizeof(PlaneProjection);
+constexpr uint64_t kBytesPerFace = sizeof(ScenePrimitive) + 2 * kPlaneProjectionBytes;
 // Placed vertices beyond this magnitude overflow the projections' products.
 constexpr double kMaxWorldCoordinate = 1e15;
 

@@ -14,5 +14,8 @@ void parse_meshes(const toml::table& root, Scene& s);
 
 // Faces a scene may hold in all: bounds memory (a primitive's projection is ~1 KB).
 constexpr size_t kMaxScenePrimitives = size_t{1} << 22;
+// Bytes the run's memory estimate reserves for one PlaneProjection (pipeline/geometry, a layer
+// above this one): plane_projection.cc asserts that the type fits.
+constexpr size_t kPlaneProjectionBytes = 1024;
 
 }  // namespace texsim

@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "blocks/base/shell_quote.h"
+
 namespace texsim::synth {
 
 namespace fs = std::filesystem;
@@ -30,16 +32,11 @@ std::string on_path(const std::string& name) {
   return "";
 }
 
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (const char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
 // Runs a command line in `dir` with its output in dir/log; true if it exited with 0. Scripts
 // and netlists use plain names inside dir, so no path needs quoting inside a yosys script.
 bool run(const fs::path& dir, const std::string& command, const std::string& log) {
-  const std::string cmd = "cd " + quote(dir.string()) + " && " + command + " >" + log + " 2>&1";
+  const std::string cmd =
+      "cd " + shell_quote(dir.string()) + " && " + command + " >" + log + " 2>&1";
   const int rc = std::system(cmd.c_str());
   return rc != -1 && WIFEXITED(rc) && WEXITSTATUS(rc) == 0;
 }
@@ -211,7 +208,7 @@ void place_and_route(const SynthJob& job, const Tools& tools, const json& ports,
   write_text(dir / "wrap.ys", read_design(job) + "read_verilog -sv wrap.v\nsynth_ice40 -top " +
                                   "study_wrap" + (r.pnr_without_dsp ? "" : " -dsp") +
                                   " -json wrap.json\n");
-  if (!run(dir, quote(tools.yosys) + " -q -s wrap.ys", "wrap.log")) {
+  if (!run(dir, shell_quote(tools.yosys) + " -q -s wrap.ys", "wrap.log")) {
     r.pnr_error = "yosys could not synthesise the place-and-route wrapper (" +
                   (dir / "wrap.log").string() + ")";
     return;
@@ -219,7 +216,7 @@ void place_and_route(const SynthJob& job, const Tools& tools, const json& ports,
   for (const int seed : job.seeds) {
     const std::string s = std::to_string(seed);
     const std::string report = "pnr_seed" + s + ".json";
-    std::string cmd = quote(tools.nextpnr);
+    std::string cmd = shell_quote(tools.nextpnr);
     cmd += " --up5k --package sg48 --freq 12 --timing-allow-fail --seed " + s;
     cmd += " --json wrap.json --report " + report;
     const bool ok = run(dir, cmd, "pnr_seed" + s + ".log");
@@ -275,7 +272,7 @@ SynthResult run_synth(const SynthJob& job, const Tools& tools) {
                                    "synth_ice40 -top study_top -dsp -json ice40_net.json\n"
                                    "tee -q -o ice40.json stat -json\n");
   for (const std::string step : {"generic", "ice40"}) {
-    if (!run(dir, quote(tools.yosys) + " -q -s " + step + ".ys", step + ".log")) {
+    if (!run(dir, shell_quote(tools.yosys) + " -q -s " + step + ".ys", step + ".log")) {
       r.error = "yosys " + step + " synthesis failed (" + (dir / (step + ".log")).string() + ")";
       return r;
     }

@@ -547,6 +547,19 @@ TEST_F(Cli, TracePixelBeyondTheLargestImageIsRefused) {
   }
 }
 
+// `trace convert` onto its own input is refused when the output would replace it.
+TEST_F(Cli, TraceConvertOntoItsInputIsRefused) {
+  const std::string trc = path("a.trc");
+  ASSERT_EQ(sh("trace gen default --set output.width=16 --set output.height=12 -o " + trc).code, 0);
+  const auto size = fs::file_size(trc);
+  const Result r = sh("trace convert " + trc + " " + trc);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("a.trc: is an input of this run"), std::string::npos) << r.out;
+  EXPECT_EQ(fs::file_size(trc), size);
+  EXPECT_EQ(sh("trace info " + trc).code, 0);
+  EXPECT_EQ(std::distance(fs::directory_iterator(path("")), fs::directory_iterator()), 1);
+}
+
 // Inputs that are not regular files get a clear error and never block or read forever.
 TEST_F(Cli, SceneThatIsAFifoDirectoryOrDeviceIsRefused) {
   ASSERT_EQ(::mkfifo(path("fifo.toml").c_str(), 0600), 0);
