@@ -155,7 +155,9 @@ void key_patterns(const Json& j, const std::string& path, std::set<std::string>&
     if (is_op_kind(k) && (last == "ops" || last == "latency" || last == "area" ||
                           path == "materials.*.object_space.ops.*"))
       seg = "<op>";
-    const std::string sub = path.empty() ? seg : path + "." + seg;
+    std::string sub = path;
+    if (!sub.empty()) sub += ".";
+    sub += seg;
     out.insert(sub);
     key_patterns(v, sub, out);
   }
@@ -809,6 +811,7 @@ TEST_F(ReportFigures, MergeColumnsAreTheReportsValues) {
   std::string line;
   std::getline(csv_in, line);
   std::vector<std::string> want;
+  want.reserve(kMergeColumns.size());
   for (const MergeColumn& c : kMergeColumns) want.push_back(c.name);
   ASSERT_EQ(split(line, ','), want) << "a new merge column must be checked here";
   std::vector<std::string> md_lines;
