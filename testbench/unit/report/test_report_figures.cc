@@ -614,6 +614,53 @@ void check_against_images(const Json& r, const texsim::RunCapture& c) {
   }
 }
 
+// --- report.md prints the same figures as report.json ------------------------------------------
+
+std::string g4(double v, int prec = 4) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+  return buf;
+}
+
+void expect_in(const std::string& md, const std::string& text) {
+  EXPECT_NE(md.find(text), std::string::npos) << "report.md lacks '" << text << "'";
+}
+
+// report.md computes some figures on its own (the hit rate, per-fragment figures): each must be
+// report.json's, printed to 4 significant digits.
+void check_markdown(const Json& r, const std::string& md) {
+  expect_in(md, "| cycles | " + r["cycles"].dump() + " (" + g4(d(r["cycles_per_fragment"])) +
+                    " per fragment) |");
+  expect_in(md, "| area (sum of blocks) | " + g4(d(r["area_total"])) + " |");
+  if (r.contains("physical")) {
+    const Json& p = r["physical"];
+    expect_in(md, "| time at " + g4(d(p["clock_mhz"])) + " MHz | " + g4(d(p["time_us"])) + " µs (" +
+                      g4(d(p["fragments_per_second"]) / 1e6) + " M fragments/s) |");
+  }
+  const Json& c = r["cache"];
+  expect_in(md, "| " + c["hits"].dump() + " | " + c["misses"].dump() + " | " +
+                    g4(100 * d(c["hit_rate"])) + "% | " + c["texel_reads"].dump() + " | " +
+                    c["fill_bytes"].dump() + " | " + r["dram"]["requests"].dump() + " |");
+  const Json& a = r["accuracy"];
+  if (!a["psnr_db"].is_null()) {
+    expect_in(md, "| " + g4(d(a["psnr_db"])) + " | " + g4(d(a["nmse"])) + " | " +
+                      g4(d(a["max_abs"])) + " | " + g4(d(a["mean_abs"])) + " | " +
+                      a["pixels"].dump() + " |");
+  }
+  for (const auto& [name, m] : r["materials"].items()) {
+    expect_in(md, " | " + m["fragments"].dump() + " | ");
+    expect_in(md, " | " + g4(d(m["ops_per_fragment"])) + " | " + g4(d(m["texels_per_fragment"])) +
+                      " |\n");
+  }
+  for (const auto& [name, b] : r["blocks"].items())
+    expect_in(md, " | " + g4(d(b["ops_per_fragment"])) + " | " + b["texels"].dump() + " |\n");
+  if (r.contains("stages")) {
+    for (const auto& [name, st] : r["stages"].items())
+      expect_in(md, "| " + name + " | " + st["latency"].dump() + " | " +
+                        g4(100 * d(st["utilisation"]), 3) + "% | ");
+  }
+}
+
 class ReportFigures : public ::testing::Test {
  protected:
   // Runs in-process with `opt` into a fresh directory; returns the report (and the images in
@@ -627,8 +674,12 @@ class ReportFigures : public ::testing::Test {
     opt.capture = &capture_;
     std::ostringstream log;
     texsim::run_simulation(opt, log);
-    std::ifstream in(opt.out + "/report.json");
-    return Json::parse(in);
+    std::ifstream in(opt.out + "/report.json"), md(opt.out + "/report.md");
+    const Json r = Json::parse(in);
+    std::stringstream text;
+    text << md.rdbuf();
+    check_markdown(r, text.str());
+    return r;
   }
   Json run_scene(const std::string& scene, std::vector<std::string> sets = {},
                  bool functional = false) {
