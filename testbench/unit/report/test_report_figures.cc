@@ -675,7 +675,7 @@ class ReportFigures : public ::testing::Test {
     std::ostringstream log;
     texsim::run_simulation(opt, log);
     std::ifstream in(opt.out + "/report.json"), md(opt.out + "/report.md");
-    const Json r = Json::parse(in);
+    Json r = Json::parse(in);
     std::stringstream text;
     text << md.rdbuf();
     check_markdown(r, text.str());
