@@ -106,16 +106,14 @@ std::string ops_cell(const OpCounts& o) {
   return std::to_string(o.mul) + " / " + std::to_string(o.add) + " / " + std::to_string(o.lut);
 }
 
-// `csv`: the names quoted, as variant 2's ("variant 2, a = 2^-1") hold a comma.
-StudyTable table(const std::vector<TerrainStudyRow>& rows, bool csv) {
-  const auto name = [csv](const std::string& s) { return csv ? "\"" + s + "\"" : s; };
+StudyTable table(const std::vector<TerrainStudyRow>& rows) {
   StudyTable t({"function", "deformation", "heights read", "mul / add / lut (3-mul form)",
                 "mul / add / lut (8-mul form)", "latency cycles (3 / 8)", "area (3 / 8)",
                 "max slope jump at nodes", "slope jump / abs(Δ²y)", "flat ripple 1-D %",
                 "flat ripple 2-D %", "terrace T", "terrace max abs(y − x)"},
                "llrrrrrrrrrrr");
   for (const auto& r : rows) {
-    t.add({name(r.function), name(r.deformation), std::to_string(r.heights), ops_cell(r.ops3),
+    t.add({r.function, r.deformation, std::to_string(r.heights), ops_cell(r.ops3),
            r.has_8mul ? ops_cell(r.ops8) : "—",
            fmt(r.latency3) + " / " + (r.has_8mul ? fmt(r.latency8) : "—"),
            fmt(r.area3) + " / " + (r.has_8mul ? fmt(r.area8) : "—"), fmt(r.max_jump, 3),
@@ -170,8 +168,8 @@ int run_study_terrain(const std::string& out_dir, std::ostream& log) {
   const auto t0 = std::chrono::steady_clock::now();
   const StudyFiles files(out_dir);
   const std::vector<TerrainStudyRow> rows = measure_terrain_study();
-  const StudyTable t = table(rows, false);
-  files.csv("terrain.csv", table(rows, true));
+  const StudyTable t = table(rows);
+  files.csv("terrain.csv", t);
   files.text(
       "terrain.md",
       "# Study terrain: finite-function height evaluation\n\n"
