@@ -848,6 +848,66 @@ void expect_cell(const std::string& cell, const Json& v, const std::string& what
   }
 }
 
+// The SQLite results ledger merge writes: its columns are the known ones, each figure column
+// the report's value stored as a number, the others the job's and the provenance's.
+void check_results_ledger(const texsim::TempDir& dir) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(dir.file("m/ledger.sqlite").c_str(), &db), SQLITE_OK);
+  sqlite3_stmt* st = nullptr;
+  ASSERT_EQ(sqlite3_prepare_v2(db, "SELECT * FROM runs ORDER BY job", -1, &st, nullptr), SQLITE_OK)
+      << sqlite3_errmsg(db);
+  std::vector<std::string> names;
+  names.reserve(static_cast<size_t>(sqlite3_column_count(st)));
+  for (int i = 0; i < sqlite3_column_count(st); ++i) names.emplace_back(sqlite3_column_name(st, i));
+  const std::vector<std::string> known = {
+      "report_sha1",  "texsim_version", "command",   "job",        "scene",
+      "trace",        "overrides",      "fragments", "cycles",     "cycles_per_fragment",
+      "psnr_db",      "nmse",           "max_abs",   "area_total", "time_us",
+      "configuration"};
+  ASSERT_EQ(names, known) << "a new ledger column must be checked here";
+  const std::map<std::string, std::string> figures = {
+      {"fragments", "/fragments"},
+      {"cycles", "/cycles"},
+      {"cycles_per_fragment", "/cycles_per_fragment"},
+      {"psnr_db", "/accuracy/psnr_db"},
+      {"nmse", "/accuracy/nmse"},
+      {"max_abs", "/accuracy/max_abs"},
+      {"area_total", "/area_total"},
+      {"time_us", "/physical/time_us"}};
+  int rows = 0;
+  while (sqlite3_step(st) == SQLITE_ROW) {
+    auto text = [&](int i) {
+      return std::string(reinterpret_cast<const char*>(sqlite3_column_text(st, i)));
+    };
+    char name[40];
+    std::snprintf(name, sizeof name, "sw/job-%05d/", sqlite3_column_int(st, 3));
+    std::ifstream rf(dir.file(std::string(name) + "report.json")),
+        jf(dir.file(std::string(name) + "job.json"));
+    const Json r = Json::parse(rf), job = Json::parse(jf);
+    for (int i = 0; i < static_cast<int>(names.size()); ++i) {
+      const auto f = figures.find(names[i]);
+      if (f == figures.end()) continue;
+      const int type = sqlite3_column_type(st, i);
+      EXPECT_TRUE(type == SQLITE_INTEGER || type == SQLITE_FLOAT) << names[i];
+      EXPECT_SAME(sqlite3_column_double(st, i), d(r.at(Json::json_pointer(f->second)))) << names[i];
+    }
+    EXPECT_EQ(text(0).size(), 40u);
+    EXPECT_EQ(text(1), r["provenance"]["texsim_version"].get<std::string>());
+    EXPECT_EQ(text(2), r["provenance"]["command"].get<std::string>());
+    EXPECT_EQ(sqlite3_column_int(st, 3), job["job"].get<int>());
+    EXPECT_EQ(text(4), job["scene"].get<std::string>());
+    EXPECT_EQ(text(5), job["trace"].get<std::string>());
+    EXPECT_EQ(Json::parse(text(6)), job["overrides"]);
+    const Json config = Json::parse(text(15));
+    EXPECT_EQ(config["pipeline"], r["provenance"]["pipeline"]);
+    EXPECT_EQ(config["tech"], r["provenance"]["tech"]);
+    ++rows;
+  }
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  EXPECT_EQ(rows, 2);
+}
+
 TEST_F(ReportFigures, MergeColumnsAreTheReportsValues) {
   const std::string sweep = dir_.file("s.toml");
   std::ofstream(sweep) << "[sweep]\nscenes = [\"default\"]\nout = \"sw\"\n"
@@ -895,41 +955,7 @@ TEST_F(ReportFigures, MergeColumnsAreTheReportsValues) {
       expect_cell(m, v, "merged.md " + c.name);
     }
   }
-  // The SQLite ledger: each figure column is the report's value, stored as a number.
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(dir_.file("m/ledger.sqlite").c_str(), &db), SQLITE_OK);
-  sqlite3_stmt* st = nullptr;
-  const char* sql =
-      "SELECT job, fragments, cycles, cycles_per_fragment, psnr_db, nmse, max_abs, area_total, "
-      "time_us, texsim_version, command FROM runs ORDER BY job";
-  ASSERT_EQ(sqlite3_prepare_v2(db, sql, -1, &st, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
-  int rows = 0;
-  while (sqlite3_step(st) == SQLITE_ROW) {
-    const int job = sqlite3_column_int(st, 0);
-    char name[40];
-    std::snprintf(name, sizeof name, "sw/job-%05d/report.json", job);
-    std::ifstream rf(dir_.file(name));
-    const Json r = Json::parse(rf);
-    const char* ptrs[] = {"/fragments",        "/cycles",          "/cycles_per_fragment",
-                          "/accuracy/psnr_db", "/accuracy/nmse",   "/accuracy/max_abs",
-                          "/area_total",       "/physical/time_us"};
-    for (int i = 0; i < 8; ++i) {
-      EXPECT_EQ(sqlite3_column_type(st, i + 1) == SQLITE_INTEGER ||
-                    sqlite3_column_type(st, i + 1) == SQLITE_FLOAT,
-                true)
-          << ptrs[i];
-      EXPECT_SAME(sqlite3_column_double(st, i + 1), d(r.at(Json::json_pointer(ptrs[i]))))
-          << ptrs[i];
-    }
-    EXPECT_EQ(reinterpret_cast<const char*>(sqlite3_column_text(st, 9)),
-              r["provenance"]["texsim_version"].get<std::string>());
-    EXPECT_EQ(reinterpret_cast<const char*>(sqlite3_column_text(st, 10)),
-              r["provenance"]["command"].get<std::string>());
-    ++rows;
-  }
-  sqlite3_finalize(st);
-  sqlite3_close(db);
-  EXPECT_EQ(rows, 2);
+  check_results_ledger(dir_);
 }
 
 }  // namespace
