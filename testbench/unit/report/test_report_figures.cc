@@ -276,15 +276,14 @@ void check_stages(const Json& r) {
   for (const auto& [name, s] : r["stages"].items()) {
     const double busy = d(s["busy"]);
     const Json& st = s["stalls"];
-    // utilisation = busy ÷ (cycles × lanes), lanes a whole number.
+    // utilisation = busy ÷ (cycles × lanes); no scene of this test gives a stage more than
+    // the default one lane (the report does not list lanes).
     ASSERT_GT(d(s["utilisation"]), 0.0) << name;
     const double lanes = busy / (cycles * d(s["utilisation"]));
-    EXPECT_SAME(lanes, std::round(lanes)) << name;
-    EXPECT_GE(std::round(lanes), 1.0) << name;
+    EXPECT_SAME(lanes, 1.0) << name;
     EXPECT_LE(d(s["utilisation"]), 1.0) << name;
     EXPECT_LE(u(st["multi_cycle"]), u(s["busy"])) << name;
-    EXPECT_LE(busy + d(st["starved"]) + d(st["blocked"]) + d(st["latency_full"]),
-              cycles * std::round(lanes))
+    EXPECT_LE(busy + d(st["starved"]) + d(st["blocked"]) + d(st["latency_full"]), cycles * lanes)
         << name;
     EXPECT_GE(s["latency"].get<int64_t>(), 0) << name;
   }
