@@ -451,9 +451,13 @@ PlotSpec plot(const ReliefStudy& st, const std::string& map, double elev) {
 }  // namespace
 
 int run_study_relief(const std::string& out_dir, std::ostream& log) {
+  return run_study_relief(out_dir, log, ReliefStudyOptions{});
+}
+
+int run_study_relief(const std::string& out_dir, std::ostream& log, const ReliefStudyOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   const StudyFiles files(out_dir);
-  const ReliefStudy st = measure_relief_study(ReliefStudyOptions{});
+  const ReliefStudy st = measure_relief_study(opt);
   const StudyTable methods_t = methods_table(st), claim_t = distance_claim_table(st),
                    filter_t = filter_table(st);
   files.csv("relief.csv", methods_t);
@@ -463,9 +467,11 @@ int run_study_relief(const std::string& out_dir, std::ostream& log) {
   files.text(
       "relief.md",
       "# Study relief: relief methods at grazing views\n\n" + notes + "\nHeight maps " +
-          std::to_string(ReliefStudyOptions{}.size) +
+          std::to_string(opt.size) +
           " texels square, relief depth 4 texels, distance maps of 16 layers. Per map and view "
-          "elevation (angle above the surface) 400 fragments in the map's middle, random "
+          "elevation (angle above the surface) " +
+          std::to_string(opt.fragments) +
+          " fragments in the map's middle, random "
           "azimuths. Reference: steep parallax with 1024 layers and 24 halvings over the "
           "bilinear heights. Error: distance in texels from the reference surface point; colour "
           "error: mean |colour − reference colour| per RGB channel of the colour map read "
@@ -485,7 +491,9 @@ int run_study_relief(const std::string& out_dir, std::ostream& log) {
           claim_t.markdown() +
           "\n## Visibility-aware against plain anisotropic filtering (seed: \"−5.1 % speed\")\n\n"
           "EWA footprints 1.5 texels per pixel across the view and 1.5 / sin(elevation) along "
-          "it, 150 per map and elevation. Reference: the exact classification with traces in "
+          "it, " +
+          std::to_string(opt.filter_fragments) +
+          " per map and elevation. Reference: the exact classification with traces in "
           "steps of 1/20 texel. Cycles: the filter's latency plus one read per cycle on one "
           "memory port (colour texels and trace heights); speed = plain cycles / cycles − 1.\n\n" +
           filter_t.markdown());

@@ -54,5 +54,7 @@ struct ReliefStudy {
 
 ReliefStudy measure_relief_study(const ReliefStudyOptions& opt);
 int run_study_relief(const std::string& out_dir, std::ostream& log);
+// The same with other options (a short run for tests).
+int run_study_relief(const std::string& out_dir, std::ostream& log, const ReliefStudyOptions& opt);
 
 }  // namespace texsim

@@ -18,11 +18,30 @@ std::string joined(const std::vector<std::string>& cells, const char* sep) {
   }
   return s;
 }
+
+// A CSV cell: one holding a comma, quote or line break is quoted (RFC 4180, inner quotes
+// doubled) unless the study quoted it already.
+std::string csv_cell(const std::string& c) {
+  const bool quoted = c.size() >= 2 && c.front() == '"' && c.back() == '"';
+  if (quoted || c.find_first_of(",\"\r\n") == std::string::npos) return c;
+  std::string q = "\"";
+  for (char ch : c) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return q + "\"";
+}
+
+std::string csv_line(const std::vector<std::string>& cells) {
+  std::string s;
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (i) s += ",";
+    s += csv_cell(cells[i]);
+  }
+  return s + "\n";
+}
 }  // namespace
 
 std::string StudyTable::csv() const {
-  std::string s = joined(header_, ",") + "\n";
-  for (const auto& r : rows_) s += joined(r, ",") + "\n";
+  std::string s = csv_line(header_);
+  for (const auto& r : rows_) s += csv_line(r);
   return s;
 }
 

@@ -15,7 +15,8 @@ class StudyTable {
  public:
   // `align` gives each column's Markdown alignment, 'l' or 'r' (left when missing).
   explicit StudyTable(std::vector<std::string> header, std::string align = "");
-  // One row of already formatted cells (CSV cells are written as given: quote them yourself).
+  // One row of already formatted cells. In CSV a cell with a comma, quote or line break is
+  // quoted (one already in quotes is written as given).
   void add(std::vector<std::string> cells) { rows_.push_back(std::move(cells)); }
   size_t size() const { return rows_.size(); }
 

@@ -2,10 +2,16 @@
 // op counts, cycles and errors must agree with the blocks' own figures.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <map>
 #include <set>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
@@ -15,6 +21,22 @@
 
 namespace texsim {
 namespace {
+
+// The cells of a CSV line (quoted cells may hold commas).
+std::vector<std::string> cells_of(const std::string& line) {
+  std::vector<std::string> out(1);
+  bool quoted = false;
+  for (char ch : line) {
+    if (ch == '"') {
+      quoted = !quoted;
+    } else if (ch == ',' && !quoted) {
+      out.emplace_back();
+    } else {
+      out.back() += ch;
+    }
+  }
+  return out;
+}
 
 StudyCoordsOptions small() {
   StudyCoordsOptions o;
@@ -98,6 +120,44 @@ TEST(CoordMethod, CoordUnitGivesFragmentsDerivativesAndCosts) {
   }
 }
 
+// coords.csv's coordinate rows against the measured rows: counts as measured, operations per
+// pixel = the run's operations ÷ its pixels (9 significant digits).
+void check_coords_csv(const std::string& csv, const StudyCoordsResult& r) {
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::map<std::string, size_t> col;
+  size_t i = 0;
+  for (const std::string& h : cells_of(line)) col[h] = i++;
+  for (const char* c : {"study", "tilt_deg", "method", "format", "pixels", "add_px", "mul_px",
+                        "div_px", "rcp_px", "cmp_px", "rows", "triangles", "divisions"})
+    ASSERT_TRUE(col.count(c)) << c;
+  size_t k = 0;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> v = cells_of(line);
+    if (v[col["study"]] != "coords") continue;
+    ASSERT_LT(k, r.coords.size());
+    const CoordStudyRow& c = r.coords[k++];  // in the result's order
+    EXPECT_EQ(v[col["method"]], c.method);
+    EXPECT_EQ(v[col["format"]], c.format);
+    EXPECT_NEAR(std::stod(v[col["tilt_deg"]]), c.tilt, 1e-6);
+    EXPECT_EQ(std::stoull(v[col["pixels"]]), c.pixels);
+    EXPECT_EQ(std::stoull(v[col["rows"]]), c.rows);
+    EXPECT_EQ(std::stoull(v[col["triangles"]]), c.triangles);
+    EXPECT_EQ(std::stoull(v[col["divisions"]]), c.divisions);
+    const std::pair<const char*, uint64_t> ops[] = {{"add_px", c.ops.add},
+                                                    {"mul_px", c.ops.mul},
+                                                    {"div_px", c.ops.div},
+                                                    {"rcp_px", c.ops.rcp},
+                                                    {"cmp_px", c.ops.cmp}};
+    for (const auto& [name, n] : ops) {
+      const double want = c.pixels ? static_cast<double>(n) / static_cast<double>(c.pixels) : 0;
+      EXPECT_NEAR(std::stod(v[col[name]]), want, 1e-8 * std::max(1.0, want)) << name << line;
+    }
+  }
+  EXPECT_EQ(k, r.coords.size());
+}
+
 TEST(StudyCoords, SmallStudyIsConsistent) {
   const StudyCoordsOptions o = small();
   const StudyCoordsResult r = measure_study_coords(o, nullptr);
@@ -138,6 +198,7 @@ TEST(StudyCoords, SmallStudyIsConsistent) {
   size_t lines = 0;
   for (char ch : csv) lines += ch == '\n';
   EXPECT_EQ(lines, 1 + r.coords.size() + r.derivs.size());
+  check_coords_csv(csv, r);
 }
 
 // Tasks run on any number of threads give the same tables, byte for byte.

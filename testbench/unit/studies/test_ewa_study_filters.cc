@@ -4,7 +4,9 @@
 // weights; cycles and texel counts are positive and bounded).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -33,6 +35,85 @@ std::vector<std::string> split_csv(const std::string& line) {
   }
   out.push_back(cur);
   return out;
+}
+
+using Rows = std::map<std::string, std::vector<std::vector<std::string>>>;
+
+// The cells of the Markdown table that follows `heading` in `md`, header row first.
+std::vector<std::vector<std::string>> md_table(const std::string& md, const std::string& heading) {
+  std::vector<std::vector<std::string>> rows;
+  size_t at = md.find(heading);
+  if (at == std::string::npos) return rows;
+  at = md.find("\n|", at);
+  while (at != std::string::npos && md.compare(at, 2, "\n|") == 0) {
+    const size_t end = md.find('\n', at + 1);
+    const std::string line = md.substr(at + 2, end - at - 2);
+    std::vector<std::string> cells(1);
+    for (char ch : line) {
+      if (ch == '|') {
+        cells.emplace_back();
+      } else {
+        cells.back() += ch;
+      }
+    }
+    cells.pop_back();  // after the closing '|'
+    for (std::string& c : cells) {
+      c.erase(0, c.find_first_not_of(' '));
+      c.erase(c.find_last_not_of(' ') + 1);
+    }
+    if (cells.front().find("---") == std::string::npos) rows.push_back(cells);
+    at = end;
+  }
+  return rows;
+}
+
+// Pooled PSNR (Σ err² over every compared pixel, from each row's PSNR and pixels) and the
+// largest error of a method's rows.
+struct PooledFromRows {
+  double psnr = 0, psnr_box = 0, max_abs = 0;
+};
+PooledFromRows pooled(const std::vector<std::vector<std::string>>& rows,
+                      std::map<std::string, size_t>& col) {
+  double px = 0, se = 0, se_box = 0, mx = 0;
+  for (const auto& r : rows) {
+    const double n = std::stod(r[col["pixels"]]);
+    px += n;
+    se += n * std::pow(10.0, -std::stod(r[col["psnr_db"]]) / 10);
+    se_box += n * std::pow(10.0, -std::stod(r[col["psnr_box_db"]]) / 10);
+    mx = std::max(mx, std::stod(r[col["max_abs"]]));
+  }
+  return {10 * std::log10(px / se), 10 * std::log10(px / se_box), mx};
+}
+
+// filters.md's pooled table and rankings against filters.csv's rows (printed to 4 or 3
+// significant digits).
+void check_pooled_tables(const std::string& md, const Rows& by_method,
+                         std::map<std::string, size_t>& col) {
+  const auto all = md_table(md, "## All views pooled");
+  ASSERT_GT(all.size(), 1u);
+  ASSERT_EQ(all[0][2], "PSNR dB");
+  ASSERT_EQ(all[0][4], "max err");
+  for (size_t i = 1; i < all.size(); ++i) {
+    ASSERT_TRUE(by_method.count(all[i][0])) << all[i][0];
+    const PooledFromRows p = pooled(by_method.at(all[i][0]), col);
+    EXPECT_NEAR(std::stod(all[i][2]), p.psnr, 0.006 + 5e-4 * p.psnr) << all[i][0];
+    EXPECT_NEAR(std::stod(all[i][4]), p.max_abs, 5e-3 * p.max_abs + 1e-9) << all[i][0];
+  }
+  for (const bool box : {false, true}) {
+    const auto rank = md_table(md, box ? "## Ranking against the box-pixel truth"
+                                       : "## Ranking against the Gaussian-pixel truth");
+    ASSERT_EQ(rank.size(), by_method.size() + 1) << box;
+    double prev = 1e9;
+    for (size_t i = 1; i < rank.size(); ++i) {
+      EXPECT_EQ(rank[i][0], std::to_string(i));
+      const PooledFromRows p = pooled(by_method.at(rank[i][1]), col);
+      const double own = box ? p.psnr_box : p.psnr, other = box ? p.psnr : p.psnr_box;
+      EXPECT_NEAR(std::stod(rank[i][3]), own, 0.006 + 5e-4 * own) << rank[i][1];
+      EXPECT_NEAR(std::stod(rank[i][5]), other, 0.006 + 5e-4 * other) << rank[i][1];
+      EXPECT_LE(own, prev + 0.01) << "ranked by PSNR: " << rank[i][1];  // CSV: 5 digits
+      prev = own;
+    }
+  }
 }
 
 TEST(StudyFilters, SmallRunWritesConsistentTables) {
@@ -110,6 +191,7 @@ TEST(StudyFilters, SmallRunWritesConsistentTables) {
   EXPECT_NE(ss.str().find("Computing Gaussian weights"), std::string::npos);
   EXPECT_NE(ss.str().find("Ranking against the Gaussian-pixel truth"), std::string::npos);
   EXPECT_NE(ss.str().find("Ranking against the box-pixel truth"), std::string::npos);
+  check_pooled_tables(ss.str(), by_method, col);
   // The two truths differ (and filters_truths.csv says by how much): a row per view.
   std::ifstream truths(dir + "/filters_truths.csv");
   size_t truth_rows = 0;

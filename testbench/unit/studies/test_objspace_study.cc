@@ -2,9 +2,14 @@
 // leaves no holes, and its figures keep the relations the study's claims rest on.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "pipeline/studies/study_objspace.h"
 #include "testbench/lib/temp_dir.h"
@@ -66,6 +71,19 @@ TEST(StudyObjspace, EveryMethodOnEveryCaseWithoutHoles) {
   EXPECT_LT(tilt[2]->pixels * 4, tilt[0]->pixels);
 }
 
+// The cells of a CSV line (objspace.csv quotes none).
+std::vector<std::string> cells(const std::string& line) {
+  std::vector<std::string> out(1);
+  for (char ch : line) {
+    if (ch == ',') {
+      out.emplace_back();
+    } else {
+      out.back() += ch;
+    }
+  }
+  return out;
+}
+
 TEST(StudyObjspace, WritesTableMarkdownAndPlots) {
   const TempDir dir("objspace_study");
   std::ostringstream log;
@@ -76,6 +94,29 @@ TEST(StudyObjspace, WritesTableMarkdownAndPlots) {
   for (const char* f : {"objspace.csv", "objspace.md", "objspace_tilt.png",
                         "objspace_resolution.png", "objspace_count.png"})
     EXPECT_TRUE(std::filesystem::exists(dir.file(std::string("out/") + f))) << f;
+  // The derived columns of objspace.csv against the columns they derive from.
+  std::ifstream in(dir.file("out/objspace.csv"));
+  std::string line;
+  std::getline(in, line);
+  std::map<std::string, size_t> col;
+  const std::vector<std::string> head = cells(line);
+  for (size_t i = 0; i < head.size(); ++i) col[head[i]] = i;
+  for (const char* c : {"pixels", "cycles", "cycles per pixel", "ops", "add", "mem"})
+    ASSERT_TRUE(col.count(c)) << c;
+  int rows = 0;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> c = cells(line);
+    ASSERT_EQ(c.size(), head.size()) << line;
+    const double pixels = std::stod(c[col["pixels"]]), cycles = std::stod(c[col["cycles"]]);
+    const double cpp = std::stod(c[col["cycles per pixel"]]);  // 3 significant digits
+    EXPECT_NEAR(cpp, cycles / std::max(pixels, 1.0), 5e-3 * cpp) << line;
+    uint64_t ops = 0;
+    for (const char* k : {"add", "mul", "div", "rcp", "sqrt", "lut", "cmp", "mem"})
+      ops += std::stoull(c[col[k]]);
+    EXPECT_EQ(std::stoull(c[col["ops"]]), ops) << line;
+    ++rows;
+  }
+  EXPECT_GT(rows, 0);
 }
 
 }  // namespace

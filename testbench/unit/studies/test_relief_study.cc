@@ -3,9 +3,14 @@
 // the refined map: fewer iterations; visibility: more reads, less error than plain EWA).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "pipeline/studies/study_relief.h"
+#include "testbench/lib/temp_dir.h"
 
 namespace texsim {
 namespace {
@@ -64,6 +69,58 @@ TEST(StudyRelief, ShortRunOrdersMethodsByCostAndError) {
     if (f.map == "sharp") {
       EXPECT_LT(f.err_exact, f.err_plain) << f.elevation_deg;
     }
+  }
+}
+
+// The cells of a CSV line (quoted cells may hold commas).
+std::vector<std::string> csv_cells(const std::string& line) {
+  std::vector<std::string> out(1);
+  bool quoted = false;
+  for (char ch : line) {
+    if (ch == '"') {
+      quoted = !quoted;
+    } else if (ch == ',' && !quoted) {
+      out.emplace_back();
+    } else {
+      out.back() += ch;
+    }
+  }
+  return out;
+}
+
+// "now (p %)": the percentage must be 100 (a / b − 1) of the figures it compares (printed to
+// 4 significant digits, the percentage to 3).
+void expect_pct(const std::string& cell, double a, double b, const std::string& what) {
+  const size_t open = cell.find(" (");
+  ASSERT_NE(open, std::string::npos) << what << ": " << cell;
+  const double p = std::stod(cell.substr(open + 2)), want = 100 * (a / b - 1);
+  EXPECT_NEAR(p, want, 5e-3 * std::abs(want) + 0.2 * (1 + std::abs(want) / 100)) << what << cell;
+}
+
+// relief.csv and relief_filter.csv keep one cell per column (method names and headers hold
+// commas), and the speed columns are the percentages of the cycles beside them.
+TEST(StudyRelief, TablesKeepTheirColumnsAndDerivedCells) {
+  const TempDir dir("relief_study");
+  std::ostringstream log;
+  ASSERT_EQ(run_study_relief(dir.file("out"), log, short_run()), 0);
+  for (const char* f : {"relief.csv", "relief_filter.csv"}) {
+    std::ifstream in(dir.file(std::string("out/") + f));
+    std::string line;
+    std::getline(in, line);
+    const size_t n = csv_cells(line).size();
+    EXPECT_EQ(n, std::string(f) == "relief.csv" ? 11u : 12u) << line;
+    int rows = 0;
+    while (std::getline(in, line)) {
+      const std::vector<std::string> c = csv_cells(line);
+      ASSERT_EQ(c.size(), n) << f << ": " << line;
+      if (std::string(f) == "relief_filter.csv") {
+        const double plain = std::stod(c[5]);
+        expect_pct(c[6], plain, std::stod(c[6]), "row rule");
+        expect_pct(c[7], plain, std::stod(c[7]), "exact");
+      }
+      ++rows;
+    }
+    EXPECT_GT(rows, 0) << f;
   }
 }
 

@@ -15,6 +15,19 @@ TEST(StudyTable, WritesCsvAndMarkdown) {
   EXPECT_EQ(t.markdown(), "| method | cycles |\n|---|---:|\n| ewa | 14.7 |\n| \"a, b\" |  |\n");
 }
 
+// Names with commas (relief methods, terrain deformations, header cells) stay one cell.
+TEST(StudyTable, CsvQuotesCellsWithCommasQuotesOrLineBreaks) {
+  StudyTable t({"reads, exact", "method"});
+  t.add({"offset parallax, limited", "say \"hi\""});
+  t.add({"two\nlines", "\"already, quoted\""});
+  EXPECT_EQ(t.csv(),
+            "\"reads, exact\",method\n\"offset parallax, limited\",\"say \"\"hi\"\"\"\n"
+            "\"two\nlines\",\"already, quoted\"\n");
+  EXPECT_EQ(t.markdown(),
+            "| reads, exact | method |\n|---|---|\n| offset parallax, limited | say \"hi\" |\n"
+            "| two\nlines | \"already, quoted\" |\n");
+}
+
 TEST(StudyTable, LabelledSeriesKeepsEveryPointsLabel) {
   const PlotSeries s = labelled_series("ewa", {{1, 2, "a"}, {3, 4, "b"}});
   EXPECT_EQ(s.label, "ewa");

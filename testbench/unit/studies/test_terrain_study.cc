@@ -4,8 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "pipeline/studies/study_terrain.h"
+#include "testbench/lib/temp_dir.h"
 
 namespace texsim {
 namespace {
@@ -47,6 +52,52 @@ TEST(StudyTerrain, RowsMatchTheClosedForms) {
     }
   }
   EXPECT_EQ(widened, 4);
+}
+
+// terrain.csv against the measured rows: counts and operators as measured, ripples in per cent
+// (4 decimals), the other figures to their printed digits; names with a comma are quoted (a
+// variant 2 row once had an unquoted comma, one cell too many).
+TEST(StudyTerrain, TableCellsAreTheMeasuredFigures) {
+  const std::vector<TerrainStudyRow> rows = measure_terrain_study();
+  const TempDir dir("terrain_study");
+  std::ostringstream log;
+  ASSERT_EQ(run_study_terrain(dir.file("out"), log), 0);
+  std::ifstream in(dir.file("out/terrain.csv"));
+  std::string line;
+  std::getline(in, line);
+  size_t k = 0;
+  while (std::getline(in, line)) {
+    std::vector<std::string> c(1);
+    bool quoted = false;
+    for (char ch : line) {
+      if (ch == '"') {
+        quoted = !quoted;
+      } else if (ch == ',' && !quoted) {
+        c.emplace_back();
+      } else {
+        c.back() += ch;
+      }
+    }
+    ASSERT_EQ(c.size(), 13u) << line;
+    ASSERT_LT(k, rows.size());
+    const TerrainStudyRow& r = rows[k++];
+    EXPECT_EQ(c[0], r.function);
+    EXPECT_EQ(c[1], r.deformation);
+    EXPECT_EQ(std::stoi(c[2]), r.heights);
+    auto ops = [](const OpCounts& o) {
+      return std::to_string(o.mul) + " / " + std::to_string(o.add) + " / " + std::to_string(o.lut);
+    };
+    EXPECT_EQ(c[3], ops(r.ops3)) << line;
+    EXPECT_EQ(c[4], r.has_8mul ? ops(r.ops8) : "—") << line;
+    EXPECT_NEAR(std::stod(c[5]), r.latency3, 5e-4 * r.latency3) << line;
+    EXPECT_NEAR(std::stod(c[6]), r.area3, 5e-4 * r.area3) << line;
+    EXPECT_NEAR(std::stod(c[7]), r.max_jump, 5e-3 * r.max_jump + 1e-12) << line;
+    EXPECT_NEAR(std::stod(c[8]), r.jump_ratio, 5e-4 * r.jump_ratio + 1e-12) << line;
+    EXPECT_NEAR(std::stod(c[9]), 100 * r.ripple_1d, 5e-5) << line;
+    EXPECT_NEAR(std::stod(c[10]), 100 * r.ripple_2d, 5e-5) << line;
+    EXPECT_NEAR(std::stod(c[11]), r.terrace, 5e-4 * std::abs(r.terrace) + 1e-12) << line;
+  }
+  EXPECT_EQ(k, rows.size());
 }
 
 }  // namespace

@@ -4,10 +4,12 @@
 // writes its table for a shipped scene.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -95,6 +97,72 @@ TEST(ThesisStudy, IssueRatioIsAParameterWithTheStudysDefault) {
   }
 }
 
+// The cells of a table line: "| a | b |" (Markdown) or "a,b" with quoted cells (CSV).
+std::vector<std::string> cells_of(const std::string& line, char sep) {
+  std::vector<std::string> cells(1);
+  bool quoted = false;
+  for (char ch : line) {
+    if (ch == '"') {
+      quoted = !quoted;
+    } else if (ch == sep && !quoted) {
+      cells.emplace_back();
+    } else {
+      cells.back() += ch;
+    }
+  }
+  for (std::string& c : cells) {
+    c.erase(0, std::min(c.size(), c.find_first_not_of(' ')));
+    c.erase(c.find_last_not_of(' ') + 1);
+  }
+  if (sep == '|') {  // the empty cells before the first and after the last '|'
+    cells.erase(cells.begin());
+    cells.pop_back();
+  }
+  return cells;
+}
+
+// thesis.md's speed table against thesis.csv: each percentage is cycles(baseline) /
+// cycles(method) − 1 of the two methods' rows (cycles = per-fragment figure × fragments).
+void check_gains(const std::string& md, const std::string& csv) {
+  std::map<std::string, std::vector<double>> totals;  // method: pipelined, 4:1, 16:1 cycles
+  std::istringstream c(csv);
+  std::string line;
+  std::getline(c, line);
+  while (std::getline(c, line)) {
+    const std::vector<std::string> v = cells_of(line, ',');
+    ASSERT_EQ(v.size(), 7u) << line;
+    const double n = std::stod(v[2]);
+    totals[v[1]] = {std::stod(v[4]) * n, std::stod(v[5]) * n, std::stod(v[6]) * n};
+  }
+  std::istringstream m(md.substr(md.find("Speed (")));
+  int rows = 0;
+  while (std::getline(m, line)) {
+    if (line.rfind("| weight maps", 0) != 0 && line.rfind("| computed weights", 0) != 0) continue;
+    const std::vector<std::string> v = cells_of(line, '|');
+    ASSERT_EQ(v.size(), 7u) << line;
+    const std::string& tag = v[1];
+    std::string base, method;
+    if (v[2] == "computed → map") {
+      base = tag + " computed", method = tag + " map";
+    } else if (v[2] == "computed + edge V(d) → map") {
+      base = tag + " computed + edge V(d) P2 fx16", method = tag + " map";
+    } else if (v[2] == "uniform → computed") {
+      base = tag + " computed", method = tag + " uniform";  // the slow-down of computing
+    } else {
+      ASSERT_EQ(v[2], "SPAF V(d) coverage → map");
+      base = "spaf V(d) P2 fx16, budget 64", method = "texsim map";
+    }
+    ASSERT_TRUE(totals.count(base) && totals.count(method)) << line;
+    for (int k = 0; k < 3; ++k) {
+      const double want = 100 * (totals[base][k] / totals[method][k] - 1);
+      // Per-fragment figures to 4 digits, percentages to 0.1.
+      EXPECT_NEAR(std::stod(v[3 + k]), want, 0.06 + 0.15 * (1 + want / 100)) << line << " " << k;
+    }
+    ++rows;
+  }
+  EXPECT_EQ(rows, 7);
+}
+
 TEST(ThesisStudy, CommandWritesTheTable) {
   const std::string out = testing::TempDir() + "/thesis_study";
   std::filesystem::remove_all(out);
@@ -108,6 +176,10 @@ TEST(ThesisStudy, CommandWritesTheTable) {
   EXPECT_NE(text.str().find("thesis map"), std::string::npos);
   EXPECT_NE(text.str().find("0.000708"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(out + "/thesis.csv"));
+  std::ifstream csv(out + "/thesis.csv");
+  std::stringstream csv_text;
+  csv_text << csv.rdbuf();
+  check_gains(text.str(), csv_text.str());
 }
 
 }  // namespace

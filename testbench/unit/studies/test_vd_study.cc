@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
@@ -69,6 +70,9 @@ TEST(StudyVd, WritesTableCsvAndPlot) {
     ++rows;
     const double max_abs = std::stod(f[2]);
     EXPECT_GE(max_abs, 0.0);
+    // The signed error at the maximum is the maximum; the mean is at most the maximum.
+    EXPECT_NEAR(std::abs(std::stod(f[4])), max_abs, 1e-5 * max_abs) << line;
+    EXPECT_LE(std::stod(f[5]), max_abs * (1 + 1e-5)) << line;
     if (!f[14].empty()) {
       const double claim = std::stod(f[14]);
       EXPECT_EQ(f[15], max_abs <= claim ? "yes" : "no") << line;
