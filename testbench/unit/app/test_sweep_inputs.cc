@@ -20,6 +20,7 @@
 #include "pipeline/app/results_ledger.h"
 #include "pipeline/app/sweep.h"
 #include "testbench/lib/cli_harness.h"
+#include "testbench/lib/error_of.h"
 #include "testbench/lib/temp_dir.h"
 
 namespace texsim {
@@ -32,17 +33,6 @@ using cli_harness::slurp;
 const char* kSweep =
     "[sweep]\nscenes = [\"default\"]\n[grid]\n\"output.width\" = [40, 48]\n"
     "\"pipeline.fifo_depth\" = [2, 4]\n";
-
-// The message of the InputError `f` throws ("" if none).
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 // A stub for texsim that writes its arguments, NUL-separated, to $ARGV_FILE.
 std::string write_stub(const std::string& path) {

@@ -15,22 +15,13 @@
 #include "blocks/base/input_error.h"
 #include "pipeline/app/tuner.h"
 #include "testbench/lib/cli_harness.h"
+#include "testbench/lib/error_of.h"
 #include "testbench/lib/temp_dir.h"
 
 namespace texsim {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(TuneShardSpec, OnlyTwoWholeNumbersWithKWithinN) {
   TuneOptions opt;

@@ -9,21 +9,11 @@
 #include "blocks/base/input_error.h"
 #include "pipeline/scene/mesh.h"
 #include "pipeline/scene/obj_loader.h"
+#include "testbench/lib/error_of.h"
 #include "testbench/lib/temp_dir.h"
 
 namespace texsim {
 namespace {
-
-// Message of the InputError `f` throws ("" if none).
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 double area(const Mesh& m, const MeshTriangle& t) {
   return 0.5 * glm::length(glm::cross(m.positions[t.v[1]] - m.positions[t.v[0]],

@@ -19,20 +19,11 @@
 #include "pipeline/scene/obj_loader.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/scene/scene_memory.h"
+#include "testbench/lib/error_of.h"
 #include "testbench/lib/temp_dir.h"
 
 namespace texsim {
 namespace {
-
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 class ObjInputs : public ::testing::Test {
  protected:
