@@ -40,7 +40,7 @@ TEST(InputFile, ReadsARegularFileWhole) {
   std::ofstream(d.file("a.toml"), std::ios::binary) << std::string("x\0y\n", 4);
   EXPECT_EQ(read_input_file(d.file("a.toml"), "scene file", 4), std::string("x\0y\n", 4));
   EXPECT_EQ(check_input_file(d.file("a.toml"), "scene file", 4), 4U);
-  std::ofstream(d.file("empty"));
+  std::ofstream(d.file("empty")) << "";
   EXPECT_EQ(read_input_file(d.file("empty"), "scene file", 0), "");
 }
 
