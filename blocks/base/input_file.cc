@@ -6,9 +6,9 @@
 
 #include <cerrno>
 #include <cstring>
+#include <map>
 #include <mutex>
-#include <set>
-#include <tuple>
+#include <utility>
 
 #include "blocks/base/input_error.h"
 
@@ -16,17 +16,18 @@ namespace texsim {
 
 namespace {
 
-// Every input opened by this process, by device, inode and modification time: an inode number of a
-// deleted input can come back as a new file, which then is not the input (a new file has a
-// new modification time; a link or chmod of the input changes its ctime, not its mtime).
-using FileId = std::tuple<dev_t, ino_t, int64_t, int64_t>;
-FileId id_of(const struct stat& st) {
-  return {st.st_dev, st.st_ino, st.st_mtim.tv_sec, st.st_mtim.tv_nsec};
-}
+// Every input opened by this process: (device, inode) and the modification time it had. An inode
+// number of a deleted input can come back as a new file, which then is not the input (a new
+// file has a new modification time; a link or chmod of the input changes its ctime, not its
+// mtime). Keyed by inode, so reading one file again (a fuzzer rewrites its input file for every
+// run) updates its entry instead of adding one.
+using FileKey = std::pair<dev_t, ino_t>;
+using FileTime = std::pair<int64_t, int64_t>;
+FileTime mtime_of(const struct stat& st) { return {st.st_mtim.tv_sec, st.st_mtim.tv_nsec}; }
 std::mutex g_inputs_mutex;
-std::set<FileId>& inputs_read() {
-  static std::set<FileId> s;
-  return s;
+std::map<FileKey, FileTime>& inputs_read() {
+  static std::map<FileKey, FileTime> m;
+  return m;
 }
 
 const char* kind_of(mode_t m) {
@@ -72,7 +73,7 @@ int open_checked(const std::string& path, std::string_view what, uint64_t max_by
   if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
   {
     const std::lock_guard<std::mutex> lock(g_inputs_mutex);
-    inputs_read().insert(id_of(st));
+    inputs_read()[{st.st_dev, st.st_ino}] = mtime_of(st);
   }
   if (size != nullptr) *size = bytes;
   return fd;
@@ -122,7 +123,8 @@ void refuse_overwriting_input(const std::string& target) {
   bool input = false;
   {
     const std::lock_guard<std::mutex> lock(g_inputs_mutex);
-    input = inputs_read().count(id_of(st)) != 0;
+    const auto it = inputs_read().find({st.st_dev, st.st_ino});
+    input = it != inputs_read().end() && it->second == mtime_of(st);
   }
   if (input) {
     throw InputError(target,
