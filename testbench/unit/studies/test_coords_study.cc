@@ -18,25 +18,10 @@
 #include "blocks/texture/coords/uv_heckbert_direct.h"
 #include "pipeline/studies/study_coords.h"
 #include "pipeline/texture/coord_method.h"
+#include "testbench/lib/csv_cells.h"
 
 namespace texsim {
 namespace {
-
-// The cells of a CSV line (quoted cells may hold commas).
-std::vector<std::string> cells_of(const std::string& line) {
-  std::vector<std::string> out(1);
-  bool quoted = false;
-  for (char ch : line) {
-    if (ch == '"') {
-      quoted = !quoted;
-    } else if (ch == ',' && !quoted) {
-      out.emplace_back();
-    } else {
-      out.back() += ch;
-    }
-  }
-  return out;
-}
 
 StudyCoordsOptions small() {
   StudyCoordsOptions o;
@@ -128,13 +113,13 @@ void check_coords_csv(const std::string& csv, const StudyCoordsResult& r) {
   std::getline(in, line);
   std::map<std::string, size_t> col;
   size_t i = 0;
-  for (const std::string& h : cells_of(line)) col[h] = i++;
+  for (const std::string& h : csv_cells(line)) col[h] = i++;
   for (const char* c : {"study", "tilt_deg", "method", "format", "pixels", "add_px", "mul_px",
                         "div_px", "rcp_px", "cmp_px", "rows", "triangles", "divisions"})
     ASSERT_TRUE(col.count(c)) << c;
   size_t k = 0;
   while (std::getline(in, line)) {
-    const std::vector<std::string> v = cells_of(line);
+    const std::vector<std::string> v = csv_cells(line);
     if (v[col["study"]] != "coords") continue;
     ASSERT_LT(k, r.coords.size());
     const CoordStudyRow& c = r.coords[k++];  // in the result's order

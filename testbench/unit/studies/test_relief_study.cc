@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "pipeline/studies/study_relief.h"
+#include "testbench/lib/csv_cells.h"
 #include "testbench/lib/temp_dir.h"
 
 namespace texsim {
@@ -70,22 +71,6 @@ TEST(StudyRelief, ShortRunOrdersMethodsByCostAndError) {
       EXPECT_LT(f.err_exact, f.err_plain) << f.elevation_deg;
     }
   }
-}
-
-// The cells of a CSV line (quoted cells may hold commas).
-std::vector<std::string> csv_cells(const std::string& line) {
-  std::vector<std::string> out(1);
-  bool quoted = false;
-  for (char ch : line) {
-    if (ch == '"') {
-      quoted = !quoted;
-    } else if (ch == ',' && !quoted) {
-      out.emplace_back();
-    } else {
-      out.back() += ch;
-    }
-  }
-  return out;
 }
 
 // "now (p %)": the percentage must be 100 (a / b − 1) of the figures it compares (printed to
