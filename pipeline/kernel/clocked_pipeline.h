@@ -99,6 +99,27 @@ class ClockedPipeline {
     return retire(arrival);
   }
 
+  // Split issue, for a scheduler that orders several pipelines' memory requests by cycle
+  // (docs/timing-model.md#several-units): issue_head runs the item through stages [0, k) and
+  // returns its arrival at stage k; start_at(k, arrival) is the cycle it will start there;
+  // issue_tail runs stages [k, n) and retires it. issue_head then issue_tail give the same
+  // times as issue_with with the same costs; no other item may be issued in between.
+  template <class CostFn>
+  uint64_t issue_head(uint64_t ready, int k, CostFn&& cost_at) {
+    const ItemCtx c = item_ctx();
+    uint64_t arrival = ready;
+    for (size_t s = 0; s < static_cast<size_t>(k); ++s) arrival = step(c, s, arrival, cost_at);
+    return arrival;
+  }
+  uint64_t start_at(int k, uint64_t arrival) const;
+  template <class CostFn>
+  uint64_t issue_tail(int k, uint64_t arrival, CostFn&& cost_at) {
+    const ItemCtx c = item_ctx();
+    for (size_t s = static_cast<size_t>(k); s < stages_.size(); ++s)
+      arrival = step(c, s, arrival, cost_at);
+    return retire(arrival);
+  }
+
   // Total cycles: when the last item left the last stage.
   // Cycle at which the last item left the pipeline.
   uint64_t cycles() const { return cycles_; }

@@ -17,29 +17,33 @@ constexpr int kMaxFront =
 constexpr int kAnyStages = 1000;
 }  // namespace
 
-PipelineSetup PipelineSetup::from_toml(const toml::table& t, const std::string& source) {
-  PipelineSetup p;
-  ConfigReader r(t, source, "pipeline");
-  r.reject_unknown({"fifo_depth", "layout", "cache", "dram", "blend"});
-  p.fifo_depth = static_cast<uint32_t>(r.get_int("fifo_depth", p.fifo_depth, 1, 1 << 16));
-  p.layout = static_cast<TexelLayout>(
-      r.get_choice("layout", static_cast<int>(p.layout), {"linear", "tiled4x4", "morton"}));
-  p.cache = TextureCache::Config::from_toml(r.sub("cache"));
-  p.dram = DramModel::Config::from_toml(r.sub("dram"));
-  p.blend = TexelBlend::Config::from_toml(r.sub("blend"));
-  return p;
-}
-
 TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
                          const PipelineSetup& setup, const TechTable& tech, bool timing)
+    : TextureUnit(textures, std::move(materials), setup, tech, timing,
+                  std::make_unique<MemorySystem>(setup, 1), nullptr, 0) {}
+
+TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
+                         const PipelineSetup& setup, const TechTable& tech, MemorySystem& memory,
+                         int unit)
+    : TextureUnit(textures, std::move(materials), setup, tech, true, nullptr, &memory, unit) {}
+
+TextureUnit::~TextureUnit() = default;
+
+TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
+                         const PipelineSetup& setup, const TechTable& tech, bool timing,
+                         std::unique_ptr<MemorySystem> own, MemorySystem* shared, int unit)
     : textures_(textures),
       mats_(std::move(materials)),
       setup_(setup),
       tech_(tech),
       timing_(timing),
       blend_(setup.blend),
-      cache_(setup.cache),
-      dram_(setup.dram) {
+      own_memory_(std::move(own)),
+      mem_(shared ? shared : own_memory_.get()),
+      cache_(mem_->l1(unit)),
+      next_(&mem_->behind_l1()),
+      unit_(unit),
+      defer_(shared != nullptr) {
   if (mats_.empty()) throw std::invalid_argument("texture unit: no materials");
   textures_.place(setup.layout);
   for (const auto& m : mats_) {
@@ -148,6 +152,7 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     at(kCache) = {"cache", cache_t, setup.fifo_depth, setup.cache.miss_queue};
     at(kBlend) = {"blend", blend_.timing(tech_), setup.fifo_depth, 0};
     pipe_ = std::make_unique<ClockedPipeline>(std::move(st));
+    defer_costs_.resize(static_cast<size_t>(pipe_->stage_count()));
   }
   for (size_t m = 0; m < paths_.size(); ++m) {
     paths_[m].kernel = choose_kernel(paths_[m]);
@@ -162,7 +167,7 @@ void TextureUnit::choose_batch(Path& p, const MaterialSetup& m) {
   const bool plain = !p.footprint && !p.coords && !p.relief && !p.lighting &&
                      filter != FilterMode::Nearest &&
                      blend_.quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
-  if (!plain || front_ != 0 || relief_stage_ >= 0 || light_stage_ >= 0) return;
+  if (!plain || front_ != 0 || relief_stage_ >= 0 || light_stage_ >= 0 || defer_) return;
   p.batch = std::make_shared<LinearBatchSampler>(m.lod, m.filter);
   p.batch_kernel = pipe_ ? pick_batch_kernel<0>(filter, textures_.layout())
                          : pick_batch_kernel<-1>(filter, textures_.layout());
@@ -224,11 +229,19 @@ int distinct_lines(const FilterTaps& taps, const Texture& tex, uint32_t shift, u
 }  // namespace
 
 uint64_t TextureUnit::access_lines(const uint64_t* lines, int n, uint64_t texels, uint64_t start) {
+  if (recording_) {
+    // Two-step timing: the look-ups are made at commit(), at the cycle the scheduler allows.
+    rec_groups_.push_back({rec_lines_.size(), static_cast<size_t>(n), texels});
+    rec_lines_.insert(rec_lines_.end(), lines, lines + n);
+    return 0;
+  }
   const uint64_t hit_ready = start + setup_.cache.hit_latency;
   uint64_t ready = hit_ready;
+  const uint32_t line_bytes = setup_.cache.line_bytes;
+  const uint32_t shift = cache_.line_shift();
   for (int k = 0; k < n; ++k) {
     if (!cache_.access_line(lines[k]))
-      ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
+      ready = std::max(ready, next_->read_line(start, lines[k] << shift, line_bytes, unit_));
   }
   cache_.count_texels(texels);
   return ready - hit_ready;
@@ -293,14 +306,7 @@ uint64_t TextureUnit::cache_lookups(const std::vector<TexelRef>& texels, const T
   for (const TexelRef& t : texels) lines_.push_back(cache_.line_of(tex.address(t.level, t.x, t.y)));
   std::sort(lines_.begin(), lines_.end());
   lines_.erase(std::unique(lines_.begin(), lines_.end()), lines_.end());
-  const uint64_t hit_ready = start + setup_.cache.hit_latency;
-  uint64_t ready = hit_ready;
-  for (uint64_t line : lines_) {
-    if (!cache_.access_line(line))
-      ready = std::max(ready, dram_.read(start, setup_.cache.line_bytes));
-  }
-  cache_.count_texels(texels.size());
-  return ready - hit_ready;
+  return access_lines(lines_.data(), static_cast<int>(lines_.size()), texels.size(), start);
 }
 
 // A footprint filter is one block that scans, weights and accumulates: it occupies the address
@@ -317,7 +323,7 @@ Rgba TextureUnit::process_footprint(const Fragment& f, Path& p, const Texture& t
     const uint32_t tpc = setup_.cache.texels_per_cycle;
     const uint32_t scan = p.footprint->issue_cycles(out.stats);
     const int addr = base_ + kAddress, cache = base_ + kCache;
-    pipe_->issue_with(0, [&](int s, uint64_t start) {
+    issue_any([&](int s, uint64_t start) {
       if (s < kMaxFront && s < front_) return front_cost(p, front, s);
       ItemCost c;
       add_effect_costs(s, c);
@@ -461,7 +467,7 @@ Rgba TextureUnit::process_visible(const Fragment& g, Path& p, const glm::dvec3& 
     const uint32_t tpc = setup_.cache.texels_per_cycle;
     const uint32_t scan = std::max<uint32_t>(1, n * p.vis_ii);
     const int addr = base_ + kAddress, cache = base_ + kCache;
-    pipe_->issue_with(0, [&](int s, uint64_t start) {
+    issue_any([&](int s, uint64_t start) {
       if (s < kMaxFront && s < front_) return front_cost(p, front, s);
       ItemCost c;
       add_effect_costs(s, c);
@@ -488,6 +494,39 @@ Rgba TextureUnit::filter_fragment(const Fragment& f, Path& p, const ItemCost* fr
   return (this->*p.kernel)(f, p, tex, front);
 }
 
+template <class CostFn>
+void TextureUnit::issue_any(CostFn&& cost_at) {
+  if (!defer_) {
+    pipe_->issue_with(0, cost_at);
+    return;
+  }
+  // Every stage's cost now (only the cache stage's wait depends on the cycle, and its
+  // look-ups are recorded, not made); the stages in front of the cache now, the rest at commit.
+  rec_groups_.clear();
+  rec_lines_.clear();
+  recording_ = true;
+  for (int s = 0; s < pipe_->stage_count(); ++s)
+    defer_costs_[static_cast<size_t>(s)] = cost_at(s, 0);
+  recording_ = false;
+  const int k = base_ + kCache;
+  defer_arrival_ = pipe_->issue_head(
+      0, k, [&](int s, uint64_t) { return defer_costs_[static_cast<size_t>(s)]; });
+  defer_start_ = pipe_->start_at(k, defer_arrival_);
+}
+
+void TextureUnit::commit() {
+  const int k = base_ + kCache;
+  uint64_t wait = 0;
+  recording_ = false;
+  for (const LineGroup& g : rec_groups_) {
+    wait = std::max(wait, access_lines(rec_lines_.data() + g.first, static_cast<int>(g.count),
+                                       g.texels, defer_start_));
+  }
+  defer_costs_[static_cast<size_t>(k)].extra_latency = wait;
+  pipe_->issue_tail(k, defer_arrival_,
+                    [&](int s, uint64_t) { return defer_costs_[static_cast<size_t>(s)]; });
+}
+
 template <int kFront, class Lookups>
 void TextureUnit::issue_timed(Path& p, const ItemCost* front, uint32_t probes, Lookups&& lookups) {
   // Per-stage costs: the address stage issues one probe per cycle, cache and blend take
@@ -495,7 +534,7 @@ void TextureUnit::issue_timed(Path& p, const ItemCost* front, uint32_t probes, L
   if constexpr (kFront == kAnyStages) {
     // A unit with relief or lighting stages: every stage by index, the effects' extra cycles.
     const int addr = base_ + kAddress, cache = base_ + kCache, blend = base_ + kBlend;
-    pipe_->issue_with(0, [&](int s, uint64_t start) {
+    issue_any([&](int s, uint64_t start) {
       if (s < kMaxFront && s < front_) return front_cost(p, front, s);
       ItemCost c;
       add_effect_costs(s, c);
@@ -672,7 +711,7 @@ TextureUnit::Kernel TextureUnit::choose_kernel(const Path& p) const {
       !p.footprint && linear && blend_.quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
   const TexelLayout layout = textures_.layout();
   if (!pipe_) return pick_kernel<-1>(filter, layout, quads);
-  if (relief_stage_ >= 0 || light_stage_ >= 0)
+  if (relief_stage_ >= 0 || light_stage_ >= 0 || defer_)
     return pick_kernel<kAnyStages>(filter, layout, quads);
   switch (front_) {
     case 0:
@@ -699,7 +738,9 @@ void TextureUnit::check_timing_invariants() const {
     const uint64_t busy = pipe_->stats(s).busy;
     if (cycles < busy / lanes) fail("stage '" + pipe_->config(s).name + "'", busy / lanes);
   }
-  if (cycles < dram_.stats().busy_cycles) fail("the DRAM channel", dram_.stats().busy_cycles);
+  // A unit of several shares its DRAM: UnitArray checks it against the last unit's cycles.
+  const uint64_t dram_busy = own_memory_ ? mem_->dram().stats().busy_cycles : 0;
+  if (cycles < dram_busy) fail("the DRAM channel", dram_busy);
 }
 
 std::vector<BlockUse> TextureUnit::material_blocks(int material) const {

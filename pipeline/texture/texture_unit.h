@@ -25,18 +25,10 @@
 #include "pipeline/texture/coord_method.h"
 #include "pipeline/texture/effect_registry.h"
 #include "pipeline/texture/footprint_filter.h"
+#include "pipeline/texture/memory_system.h"
+#include "pipeline/texture/pipeline_setup.h"
 
 namespace texsim {
-
-struct PipelineSetup {
-  uint32_t fifo_depth = 4;
-  TexelLayout layout = TexelLayout::Tiled4x4;
-  TextureCache::Config cache;
-  DramModel::Config dram;
-  TexelBlend::Config blend;
-  // Reads [pipeline] (keys fifo_depth, layout, cache, dram, blend); errors name file:line:col.
-  static PipelineSetup from_toml(const toml::table& t, const std::string& source);
-};
 
 struct BlockUse {
   std::string name;        // e.g. "lod", "filter.trilinear", "blend", "cache"
@@ -65,6 +57,21 @@ class TextureUnit {
   // With `timing` false the unit is functional only: colours and op counts, no cache or clock.
   TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
               const PipelineSetup& setup, const TechTable& tech, bool timing);
+  // Unit `unit` of several (UnitArray): its L1 is memory.l1(unit), its misses go to
+  // memory.behind_l1(), and it is timed in two steps (process() runs a fragment up to the
+  // cache stage; commit() makes its look-ups), so that a scheduler can order the units'
+  // requests to the shared levels by cycle. No batched datapath in this mode.
+  TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
+              const PipelineSetup& setup, const TechTable& tech, MemorySystem& memory, int unit);
+  TextureUnit(const TextureUnit&) = delete;
+  TextureUnit& operator=(const TextureUnit&) = delete;
+  ~TextureUnit();
+
+  // Two-step timing (the constructor with a MemorySystem): the cycle the last processed
+  // fragment starts the cache stage, and the rest of its way (once per processed fragment,
+  // before the next one).
+  uint64_t pending_start() const { return defer_start_; }
+  void commit();
 
   // Filters one fragment with its material's blocks and the fragment's own texture (f.tex, an
   // index into the unit's TextureSet); in timing mode also sends it through the clocked
@@ -123,7 +130,8 @@ class TextureUnit {
   int material_count() const { return static_cast<int>(mats_.size()); }
   const ClockedPipeline* pipeline() const { return pipe_.get(); }
   const TextureCache& cache() const { return cache_; }
-  const DramModel& dram() const { return dram_; }
+  const DramModel& dram() const { return mem_->dram(); }
+  const MemorySystem& memory() const { return *mem_; }
   const std::vector<FrameStats>& frames() const {
     // The current frame's cycles are the pipeline's so far (set here, not per fragment).
     if (pipe_ && !frames_.empty()) frames_.back().cycles = pipe_->run_end();
@@ -135,6 +143,9 @@ class TextureUnit {
   // the hot path counts fragments and probes and blocks() multiplies the per-fragment and
   // per-probe counts of the blocks: exact, and three increments instead of three OpCounts sums.
   struct Path;
+  TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
+              const PipelineSetup& setup, const TechTable& tech, bool timing,
+              std::unique_ptr<MemorySystem> own, MemorySystem* shared, int unit);
   // The per-fragment datapath of one material, chosen at construction (filter, layout, the
   // number of front-end stages, functional or timed) so the hot path has no run-time switches
   // on the configuration.
@@ -272,8 +283,26 @@ class TextureUnit {
   TechTable tech_;
   bool timing_;
   TexelBlend blend_;
-  TextureCache cache_;
-  DramModel dram_;
+  std::unique_ptr<MemorySystem> own_memory_;  // set: a unit on its own (first constructor)
+  MemorySystem* mem_;
+  TextureCache& cache_;  // this unit's L1
+  LineMemory* next_;     // where its misses go
+  int unit_ = 0;
+  // Two-step timing: the costs of the fragment in flight, its arrival and start at the cache
+  // stage, and its recorded look-ups (groups of lines, each with its texels).
+  bool defer_ = false, recording_ = false;
+  std::vector<ItemCost> defer_costs_;
+  uint64_t defer_arrival_ = 0, defer_start_ = 0;
+  struct LineGroup {
+    size_t first, count;
+    uint64_t texels;
+  };
+  std::vector<LineGroup> rec_groups_;
+  std::vector<uint64_t> rec_lines_;
+  // Runs the fragment through the pipeline with cost_at(stage, start) — at once, or in two
+  // steps in a unit of several.
+  template <class CostFn>
+  void issue_any(CostFn&& cost_at);
   std::unique_ptr<ClockedPipeline> pipe_;
   FilterTaps taps_;
   std::unique_ptr<LinearBatch> batch_out_;  // the batched sampler's results

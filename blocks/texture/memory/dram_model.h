@@ -8,10 +8,11 @@
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
+#include "blocks/texture/memory/line_memory.h"
 
 namespace texsim {
 
-class DramModel {
+class DramModel final : public LineMemory {
  public:
   struct Config {
     uint32_t latency = 100;       // cycles from request to first data
@@ -28,6 +29,10 @@ class DramModel {
   explicit DramModel(const Config& c) : cfg_(c) {}
   // A read of `bytes` issued at cycle `now`; returns the cycle its data has fully arrived.
   uint64_t read(uint64_t now, uint32_t bytes);
+  // As a level behind an L1: the flat channel does not look at the address or the unit.
+  uint64_t read_line(uint64_t now, uint64_t /*addr*/, uint32_t bytes, int /*unit*/) override {
+    return read(now, bytes);
+  }
   const Stats& stats() const { return stats_; }
   const Config& config() const { return cfg_; }
   // Smallest bandwidth a scene may set: 64-byte lines then take 65,536 cycles each, which keeps

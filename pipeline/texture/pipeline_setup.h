@@ -1,0 +1,39 @@
+#pragma once
+// The scene's [pipeline] table: FIFO depths, texel layout, the blend block, the number of
+// texture units and the memory hierarchy behind them (docs/scenes.md#pipeline).
+#include <toml++/toml.h>
+
+#include <cstdint>
+#include <string>
+
+#include "blocks/texture/memory/dram_model.h"
+#include "blocks/texture/memory/texture_cache.h"
+#include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/sampler/texel_blend.h"
+
+namespace texsim {
+
+struct PipelineSetup {
+  static constexpr uint32_t kMaxUnits = 64;
+  uint32_t fifo_depth = 4;
+  TexelLayout layout = TexelLayout::Tiled4x4;
+  // Texture units, each with its own clocked pipeline and L1 (`cache`); screen tiles of
+  // unit_tile × unit_tile pixels go to the units interleaved (unit_of_pixel).
+  uint32_t units = 1;
+  uint32_t unit_tile = 16;
+  TextureCache::Config cache;  // each unit's L1
+  DramModel::Config dram;
+  TexelBlend::Config blend;
+  // Reads [pipeline]; errors name file:line:col and the rule broken.
+  static PipelineSetup from_toml(const toml::table& t, const std::string& source);
+
+  // The unit that textures pixel (x, y): tiles in a row go to units 0, 1, .., N − 1, and each
+  // tile row starts one unit further on, so that neither rows nor columns of tiles share a
+  // unit with their neighbours (for N > 1).
+  int unit_of_pixel(uint32_t x, uint32_t y) const {
+    const uint32_t tx = x / unit_tile, ty = y / unit_tile;
+    return static_cast<int>((tx + ty) % units);
+  }
+};
+
+}  // namespace texsim
