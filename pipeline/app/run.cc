@@ -33,6 +33,7 @@
 #include "pipeline/scene/scene_memory.h"
 #include "pipeline/scene/texture_loader.h"
 #include "pipeline/texture/texture_unit.h"
+#include "pipeline/texture/unit_array.h"
 #include "traces/prefetch_reader.h"
 #include "traces/trace_file.h"
 #include "traces/trace_tools.h"
@@ -447,7 +448,7 @@ class TruthBatch {
 
 // Writes the images and reports to opt.out and a summary to log.
 void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImages& images,
-                       const TextureUnit& unit, const RunSummary& sum, const LedgerRun& ledger,
+                       const UnitArray& unit, const RunSummary& sum, const LedgerRun& ledger,
                        std::ostream& log) {
   // Every file is moved into opt.out together, once every one was written.
   OutputSet outputs(opt.out);
@@ -479,7 +480,7 @@ void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImag
 }
 
 // The run's images and figures for a caller that compares runs.
-RunCapture capture_run(const RunImages& images, const TextureUnit& unit, const RunSummary& sum) {
+RunCapture capture_run(const RunImages& images, const UnitArray& unit, const RunSummary& sum) {
   RunCapture c;
   c.image = std::make_unique<ImageRgb>(images.image());
   c.reference = std::make_unique<ImageRgb>(images.reference());
@@ -597,10 +598,14 @@ std::string reference_text(const GroundTruth& truth, double mean_samples, size_t
 
 // The stage timeline when --timeline asks for one (then each fragment's stage times are
 // copied), else null.
-std::unique_ptr<StageTimeline> make_timeline(const RunOptions& opt, const TextureUnit& unit) {
+std::unique_ptr<StageTimeline> make_timeline(const RunOptions& opt, const UnitArray& units) {
   if (opt.timeline.empty()) return nullptr;
-  if (!unit.pipeline()) {
+  if (!units.unit(0).pipeline()) {
     throw InputError(opt.timeline, "--timeline needs the clocked pipeline (not --functional)");
+  }
+  if (units.several()) {
+    throw InputError(opt.timeline,
+                     "--timeline draws one texture unit; the scene's [pipeline] units > 1");
   }
   return std::make_unique<StageTimeline>(opt.timeline_limit);
 }
@@ -624,7 +629,7 @@ uint32_t loaded_texture(const Fragment& f, uint64_t index, const RunTextures& te
 
 // The report's image, texture and accuracy fields of a finished run.
 RunInfo images_info(const RunOptions& opt, const ImageLayout& layout, const RunTextures& textures,
-                    const TextureUnit& unit, const RunImages& images) {
+                    const UnitArray& unit, const RunImages& images) {
   RunInfo info;
   info.trace = opt.trace;
   info.width = layout.canvas_w;
@@ -691,12 +696,13 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     for (const auto& p : scene.primitives) maps.emplace_back(scene, p);
   }
   const ImageLayout layout = run_layout(opt, scene, use_scene, trace_sum.get(), maps, textures.set);
-  TextureUnit unit(textures.set, mats, setup, scene.tech, !opt.functional);
+  UnitArray units(textures.set, mats, setup, scene.tech, !opt.functional);
+  TextureUnit& unit = units.unit(0);
   // Materials with `object_space`: drawn first, their pixels then take the resolved colours.
   ObjectSpaceFrame os =
       object_space_frame(scene, use_scene && !reader, textures.set, mats, setup, log);
   const SurfaceSetup surf = surface_setup(scene, mats, textures.set);
-  if (surf.active()) unit.set_surfaces(surf.frames);
+  if (surf.active()) units.set_surfaces(surf.frames);
   const GroundTruth truth =
       ground_truth(scene, textures.set, mats, maps, surf, opt.reference == "none");
   RunImages images(layout.extent, layout.canvas_w, layout.canvas_h, scene.background,
@@ -705,7 +711,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   const std::string& input = opt.trace.empty() ? scene.path : opt.trace;
   // Fragments are processed as they stream in. f: as given; g: texture id of the loaded texture.
   TruthBatch batch(truth, images, progress, input, opt.threads);
-  const std::unique_ptr<StageTimeline> timeline = make_timeline(opt, unit);
+  const std::unique_ptr<StageTimeline> timeline = make_timeline(opt, units);
   auto record = [&](const Fragment& f, const Fragment& g, int material, const Rgba* colour,
                     uint64_t index) {
     if (timeline) timeline->observe(*unit.pipeline());
@@ -713,12 +719,17 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   };
   // The unit's timeline observes the pipeline after every fragment: no batching then.
   UnitBatch unit_batch(unit, timeline ? 1 : LinearBatch::kMax);
+  const UnitArray::Record to_record = record;
   auto handle = [&](const Fragment& f, uint64_t index) {
     Fragment g = f;
     g.tex = loaded_texture(f, index, textures, input, opt.trace);
     const int material = truth.exact() ? primitive_material(f, index, scene, opt.trace) : 0;
     if (!os.drawn_by(material)) {
-      unit_batch.add(f, g, material, index, record);
+      if (units.several()) {
+        units.add(f, g, material, index, to_record);  // to the unit of its screen tile
+      } else {
+        unit_batch.add(f, g, material, index, record);
+      }
       return;
     }
     unit_batch.flush(record);  // in arrival order
@@ -741,6 +752,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
         scene, 0, [&](const Fragment& f) { handle(f, index++); }, &raster, &mats);
   }
   unit_batch.flush(record);
+  units.finish();
   batch.flush();
   images.finish();
   if (images.count() == 0) throw InputError(input, "no fragments to render");
@@ -748,34 +760,34 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     throw InputError(input, "--frame " + std::to_string(opt.frame) + ": no fragment of that frame");
   }
 
-  unit.check_timing_invariants();
+  units.check_timing_invariants();
   RunSummary sum;
-  sum.fragments = unit.fragments();
-  sum.cycles = unit.cycles();
+  sum.fragments = units.fragments();
+  sum.cycles = units.cycles();
   sum.accuracy = images.total();
-  RunInfo info = images_info(opt, layout, textures, unit, images);
+  RunInfo info = images_info(opt, layout, textures, units, images);
   info.scene = use_scene ? scene.path : "(none: trace only)";
   info.reference =
       reference_text(truth, batch.mean_samples(), info.frames.size(), surf.active(), mats);
   info.reference_pixel = to_string(scene.reference_pixel);
   info.has_truth = opt.reference != "none";
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
-  finish_object_space(os, unit.cycles(), raster, sum, info);
+  finish_object_space(os, units.cycles(), raster, sum, info);
   info.provenance =
       run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech, digest);
   if (opt.capture) {
     const bool write = opt.capture->write_outputs;
-    *opt.capture = capture_run(images, unit, sum);
+    *opt.capture = capture_run(images, units, sum);
     opt.capture->write_outputs = write;
     if (!write) return sum;
   }
   LedgerRun ledger;
   if (opt.ledger) {
-    ledger = run_error_ledger(opt, capture_run(images, unit, sum), log);
+    ledger = run_error_ledger(opt, capture_run(images, units, sum), log);
     info.ledger = ledger.ledger;
   }
   if (timeline) timeline->write_vcd(opt.timeline);  // first: a bad path leaves no report
-  write_run_outputs(opt, info, images, unit, sum, ledger, log);
+  write_run_outputs(opt, info, images, units, sum, ledger, log);
   if (timeline) log << "  timeline: " << opt.timeline << timeline->summary() << "\n";
   return sum;
 }

@@ -31,7 +31,7 @@ struct MaterialRow {
   }
 };
 
-std::vector<MaterialRow> material_rows(const RunInfo& info, const TextureUnit& unit) {
+std::vector<MaterialRow> material_rows(const RunInfo& info, const UnitArray& unit) {
   std::vector<MaterialRow> rows;
   for (int m = 0; m < unit.material_count(); ++m) {
     MaterialRow r;
@@ -77,12 +77,13 @@ Json block_json(const BlockUse& b, double frags) {
   return e;
 }
 
-void add_stages_json(Json& j, const ClockedPipeline& p) {
+void add_stages_json(Json& j, const UnitArray& unit) {
+  const ClockedPipeline& p = *unit.unit(0).pipeline();
   for (int s = 0; s < p.stage_count(); ++s) {
-    const StageStats& st = p.stats(s);
+    const StageStats st = unit.stage_totals(s);
     j["stages"][p.config(s).name] = {{"latency", p.config(s).timing.latency},
                                      {"busy", st.busy},
-                                     {"utilisation", p.utilisation(s)},
+                                     {"utilisation", unit.utilisation(s)},
                                      {"stalls",
                                       {{"starved", st.stall_starved},
                                        {"blocked", st.stall_blocked},
@@ -92,8 +93,8 @@ void add_stages_json(Json& j, const ClockedPipeline& p) {
 }
 
 // The texture cache's counters and geometry, then DRAM's.
-void add_memory_json(Json& j, const TextureUnit& unit) {
-  const auto& cs = unit.cache().stats();
+void add_memory_json(Json& j, const UnitArray& unit) {
+  const TextureCache::Stats cs = unit.l1_totals();
   j["cache"] = {
       {"hits", cs.hits},
       {"misses", cs.misses},
@@ -102,12 +103,31 @@ void add_memory_json(Json& j, const TextureUnit& unit) {
        cs.accesses ? static_cast<double>(cs.hits) / static_cast<double>(cs.accesses) : 0.0},
       {"texel_reads", cs.texel_reads},
       {"fill_bytes", cs.fill_bytes},
-      {"size_bytes", unit.cache().config().size_bytes},
-      {"ways", unit.cache().config().ways},
-      {"line_bytes", unit.cache().config().line_bytes}};
-  j["dram"] = {{"requests", unit.dram().stats().requests},
-               {"bytes", unit.dram().stats().bytes},
-               {"busy_cycles", unit.dram().stats().busy_cycles}};
+      {"size_bytes", unit.l1_config().size_bytes},
+      {"ways", unit.l1_config().ways},
+      {"line_bytes", unit.l1_config().line_bytes}};
+  j["dram"] = {{"requests", unit.memory().dram().stats().requests},
+               {"bytes", unit.memory().dram().stats().bytes},
+               {"busy_cycles", unit.memory().dram().stats().busy_cycles}};
+  if (!unit.several()) return;
+  // Several units: each unit's share, and how exactly the scheduler kept cycle order.
+  Json units = Json::array();
+  for (int u = 0; u < unit.units(); ++u) {
+    const TextureUnit& t = unit.unit(u);
+    const TextureCache::Stats& c = t.cache().stats();
+    units.push_back(
+        {{"unit", u},
+         {"fragments", t.fragments()},
+         {"cycles", t.cycles()},
+         {"l1",
+          {{"accesses", c.accesses},
+           {"hits", c.hits},
+           {"misses", c.misses},
+           {"hit_rate",
+            c.accesses ? static_cast<double>(c.hits) / static_cast<double>(c.accesses) : 0.0}}}});
+  }
+  j["units"] = units;
+  j["scheduler"] = {{"forced_commits", unit.forced_commits()}, {"late_items", unit.late_items()}};
 }
 
 Json accuracy_json(const AccuracyMetrics& a) {
@@ -143,7 +163,7 @@ struct Physical {
   double area_total = 0;            // sum of the listed blocks' areas
 };
 
-Physical physical(const RunInfo& info, const TextureUnit& unit) {
+Physical physical(const RunInfo& info, const UnitArray& unit) {
   Physical ph;
   ph.clock_mhz = info.provenance.tech.clock_mhz;
   ph.seconds = static_cast<double>(unit.cycles()) / (ph.clock_mhz * 1e6);
@@ -152,7 +172,7 @@ Physical physical(const RunInfo& info, const TextureUnit& unit) {
   return ph;
 }
 
-void add_physical_json(Json& j, const RunInfo& info, const TextureUnit& unit) {
+void add_physical_json(Json& j, const RunInfo& info, const UnitArray& unit) {
   const Physical ph = physical(info, unit);
   j["area_total"] = ph.area_total;
   if (!unit.timing()) return;
@@ -183,7 +203,7 @@ void drop_accuracy_figures(Json& j) {
 }
 
 // report.json; docs/reports.md lists every key.
-Json report_json(const RunInfo& info, const TextureUnit& unit, const AccuracyMetrics& acc,
+Json report_json(const RunInfo& info, const UnitArray& unit, const AccuracyMetrics& acc,
                  const std::vector<MaterialRow>& rows) {
   const double frags = static_cast<double>(unit.fragments());
   Json j;
@@ -197,7 +217,7 @@ Json report_json(const RunInfo& info, const TextureUnit& unit, const AccuracyMet
   if (info.frames.size() > 1) j["image"]["frame"] = info.image_frame;
   j["textures"] = info.textures;
   for (const auto& b : unit.blocks()) j["blocks"][b.name] = block_json(b, frags);
-  if (const ClockedPipeline* p = unit.pipeline()) add_stages_json(j, *p);
+  if (unit.timing()) add_stages_json(j, unit);
   add_memory_json(j, unit);
   j["frames"] = Json::array();
   for (size_t i = 0; i < unit.frames().size(); ++i) {
@@ -247,7 +267,7 @@ std::string joined(const std::vector<std::string>& names) {
   return s;
 }
 
-void md_summary(std::ostream& md, const RunInfo& info, const TextureUnit& unit,
+void md_summary(std::ostream& md, const RunInfo& info, const UnitArray& unit,
                 const AccuracyMetrics& acc) {
   const double frags = static_cast<double>(unit.fragments());
   md << "# texsim run report\n\n";
@@ -283,7 +303,7 @@ void md_summary(std::ostream& md, const RunInfo& info, const TextureUnit& unit,
   md << "\n";
 }
 
-void md_materials(std::ostream& md, const TextureUnit& unit, const std::vector<MaterialRow>& rows,
+void md_materials(std::ostream& md, const UnitArray& unit, const std::vector<MaterialRow>& rows,
                   bool has_truth) {
   md << "## Materials: accuracy next to cost\n\n"
         "| material | blocks | fragments | PSNR (dB) | NMSE | max abs error | ops/fragment | "
@@ -304,7 +324,7 @@ void md_materials(std::ostream& md, const TextureUnit& unit, const std::vector<M
   }
 }
 
-void md_blocks(std::ostream& md, const TextureUnit& unit) {
+void md_blocks(std::ostream& md, const UnitArray& unit) {
   const double frags = static_cast<double>(unit.fragments());
   md << "\n## Blocks (instantiated for this scene's materials)\n\n";
   md << "| block | materials | arithmetic | latency | area |";
@@ -321,20 +341,23 @@ void md_blocks(std::ostream& md, const TextureUnit& unit) {
   }
 }
 
-void md_stages(std::ostream& md, const ClockedPipeline& p) {
-  md << "\n## Pipeline stages\n\n| stage | latency | utilisation | starved | blocked | in-flight "
+void md_stages(std::ostream& md, const UnitArray& unit) {
+  const ClockedPipeline& p = *unit.unit(0).pipeline();
+  md << "\n## Pipeline stages";
+  if (unit.several()) md << " (" << unit.units() << " units, summed)";
+  md << "\n\n| stage | latency | utilisation | starved | blocked | in-flight "
         "full | multi-cycle |\n"
         "|---|---|---|---|---|---|---|\n";
   for (int s = 0; s < p.stage_count(); ++s) {
-    const StageStats& st = p.stats(s);
+    const StageStats st = unit.stage_totals(s);
     md << "| " << p.config(s).name << " | " << p.config(s).timing.latency << " | "
-       << fmt(100.0 * p.utilisation(s), 3) << "% | " << st.stall_starved << " | "
+       << fmt(100.0 * unit.utilisation(s), 3) << "% | " << st.stall_starved << " | "
        << st.stall_blocked << " | " << st.stall_full << " | " << st.stall_extra << " |\n";
   }
 }
 
-void md_memory(std::ostream& md, const TextureUnit& unit) {
-  const auto& cs = unit.cache().stats();
+void md_memory(std::ostream& md, const UnitArray& unit) {
+  const TextureCache::Stats cs = unit.l1_totals();
   md << "\n## Texture cache and DRAM\n\n| hits | misses | hit rate | texels read | fill bytes | "
         "DRAM requests |\n"
         "|---|---|---|---|---|---|\n";
@@ -342,22 +365,22 @@ void md_memory(std::ostream& md, const TextureUnit& unit) {
      << fmt(cs.accesses ? 100.0 * static_cast<double>(cs.hits) / static_cast<double>(cs.accesses)
                         : 0,
             4)
-     << "% | " << cs.texel_reads << " | " << cs.fill_bytes << " | " << unit.dram().stats().requests
-     << " |\n";
-  md << "\nCache: " << unit.cache().config().size_bytes << " B, " << unit.cache().config().ways
-     << "-way, " << unit.cache().config().line_bytes << " B lines, LRU.\n";
+     << "% | " << cs.texel_reads << " | " << cs.fill_bytes << " | "
+     << unit.memory().dram().stats().requests << " |\n";
+  md << "\nCache: " << unit.l1_config().size_bytes << " B, " << unit.l1_config().ways << "-way, "
+     << unit.l1_config().line_bytes << " B lines, LRU.\n";
 }
 
 // report.md: the same run for a reader; docs/reports.md describes each section.
-std::string report_markdown(const RunInfo& info, const TextureUnit& unit,
-                            const AccuracyMetrics& acc, const std::vector<MaterialRow>& rows) {
+std::string report_markdown(const RunInfo& info, const UnitArray& unit, const AccuracyMetrics& acc,
+                            const std::vector<MaterialRow>& rows) {
   std::ostringstream md;
   md_summary(md, info, unit, acc);
   md_materials(md, unit, rows, info.has_truth);
   subsystems_markdown(md, info.subsystems);
   object_space_markdown(md, info.object_space);
   md_blocks(md, unit);
-  if (const ClockedPipeline* p = unit.pipeline()) md_stages(md, *p);
+  if (unit.timing()) md_stages(md, unit);
   md_memory(md, unit);
   if (!info.ledger.empty()) ledger_markdown(md, info.ledger);
   if (!info.has_truth) {
@@ -379,7 +402,7 @@ std::string report_markdown(const RunInfo& info, const TextureUnit& unit,
 
 }  // namespace
 
-void write_run_reports(const std::string& dir, const RunInfo& info, const TextureUnit& unit,
+void write_run_reports(const std::string& dir, const RunInfo& info, const UnitArray& unit,
                        const AccuracyMetrics& acc) {
   const std::vector<MaterialRow> rows = material_rows(info, unit);
   // Names come from input files and need not be UTF-8: invalid bytes become U+FFFD instead of

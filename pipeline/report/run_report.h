@@ -8,7 +8,7 @@
 #include "pipeline/report/object_space_report.h"
 #include "pipeline/report/provenance.h"
 #include "pipeline/report/subsystems_report.h"
-#include "pipeline/texture/texture_unit.h"
+#include "pipeline/texture/unit_array.h"
 
 namespace texsim {
 
@@ -38,7 +38,7 @@ struct RunInfo {
 };
 
 // Writes DIR/report.json and DIR/report.md (atomically).
-void write_run_reports(const std::string& dir, const RunInfo& info, const TextureUnit& unit,
+void write_run_reports(const std::string& dir, const RunInfo& info, const UnitArray& unit,
                        const AccuracyMetrics& acc);
 
 }  // namespace texsim

@@ -1,0 +1,97 @@
+#pragma once
+// The texture units of a run: one (today's unit, with its own L1 and DRAM) or several, each
+// with its own clocked pipeline and L1, sharing the levels behind the L1s. Fragments go to the
+// unit of their screen tile (PipelineSetup::unit_of_pixel); the units run on one global clock
+// (UnitScheduler orders their requests to the shared levels by cycle). Reports read the totals
+// from here. docs/timing-model.md#several-units.
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "pipeline/kernel/unit_scheduler.h"
+#include "pipeline/texture/memory_system.h"
+#include "pipeline/texture/texture_unit.h"
+
+namespace texsim {
+
+class UnitArray {
+ public:
+  // Called once per fragment with its colour, when its unit has filtered it (for several
+  // units, later than add() and not in the order of add() across units; in order per unit).
+  using Record = std::function<void(const Fragment& f, const Fragment& g, int material,
+                                    const Rgba* colour, uint64_t index)>;
+  // Fragments a scheduler may hold before it commits out of cycle order (see UnitScheduler).
+  static constexpr size_t kWindow = size_t{1} << 18;
+
+  // Several units only when timed and setup.units > 1; otherwise one unit as today.
+  UnitArray(TextureSet& textures, const std::vector<MaterialSetup>& materials,
+            const PipelineSetup& setup, const TechTable& tech, bool timing,
+            size_t window = kWindow);
+  UnitArray(const UnitArray&) = delete;
+  UnitArray& operator=(const UnitArray&) = delete;
+  ~UnitArray();
+
+  int units() const { return static_cast<int>(units_.size()); }
+  TextureUnit& unit(int u) { return *units_[static_cast<size_t>(u)]; }
+  const TextureUnit& unit(int u) const { return *units_[static_cast<size_t>(u)]; }
+  bool several() const { return units_.size() > 1; }
+  void set_surfaces(const std::vector<SurfaceFrame>& frames);
+
+  // Several units: fragment g (f as given) of `material` to the unit of its pixel; `record`
+  // gets its colour. finish() drains the units (call once, after the last fragment).
+  void add(const Fragment& f, const Fragment& g, int material, uint64_t index,
+           const Record& record);
+  void finish();
+
+  // Totals over the units (with one unit, that unit's figures).
+  bool timing() const { return units_[0]->timing(); }
+  uint64_t fragments() const;
+  uint64_t cycles() const;  // the last unit's
+  std::vector<BlockUse> blocks() const;
+  std::vector<BlockUse> material_blocks(int m) const;
+  uint64_t material_fragments(int m) const;
+  uint64_t material_relief_steps(int m) const;
+  uint64_t material_relief_fetches(int m) const;
+  bool material_has_relief(int m) const { return units_[0]->material_has_relief(m); }
+  const MaterialSetup& material(int m) const { return units_[0]->material(m); }
+  int material_count() const { return units_[0]->material_count(); }
+  // Fragments summed, cycles the last unit's (refreshed by each call).
+  const std::vector<FrameStats>& frames() const;
+  TextureCache::Stats l1_totals() const { return memory().l1_totals(); }
+  const TextureCache::Config& l1_config() const { return units_[0]->cache().config(); }
+  const MemorySystem& memory() const { return units_[0]->memory(); }
+  // Stage s's counters summed over the units (each unit has the same stages).
+  StageStats stage_totals(int s) const;
+  // Stage s's busy issue slots ÷ (the run's cycles × lanes × units).
+  double utilisation(int s) const;
+  int front_stages() const { return units_[0]->front_stages(); }
+  const FrontEndStats& front_end_stats() const { return units_[0]->front_end_stats(); }
+  // The scheduler's figures: commits made before every unit had an item (window full) and
+  // items that reached the shared levels later than a request of a later cycle.
+  uint64_t forced_commits() const { return sched_ ? sched_->forced_commits() : 0; }
+  uint64_t late_items() const { return sched_ ? sched_->late_items() : 0; }
+  // Every unit's invariants, and the shared DRAM's busy cycles within the run's.
+  void check_timing_invariants() const;
+
+ private:
+  struct Item {
+    Fragment f, g;
+    int material;
+    uint64_t index;
+  };
+  struct Hooks {
+    UnitArray* a;
+    uint64_t begin(int u, Item& it);
+    void commit(int u, Item& it);
+  };
+
+  PipelineSetup setup_;
+  std::unique_ptr<MemorySystem> memory_;  // several units: the shared memory
+  std::vector<std::unique_ptr<TextureUnit>> units_;
+  Hooks hooks_{this};
+  std::unique_ptr<UnitScheduler<Item, Hooks>> sched_;
+  const Record* record_ = nullptr;
+  mutable std::vector<FrameStats> frames_;
+};
+
+}  // namespace texsim
