@@ -2,10 +2,10 @@
 // simulation with explicit FIFOs, on random configurations: leave times must agree exactly.
 #include <gtest/gtest.h>
 
-#include <deque>
 #include <random>
 
 #include "pipeline/kernel/clocked_pipeline.h"
+#include "testbench/lib/stepped_pipeline.h"
 
 namespace texsim {
 namespace {
@@ -66,61 +66,6 @@ TEST(ClockedPipeline, StructuralDeadlockAndWatchdog) {
   EXPECT_THROW(p.issue(0, stuck.data()), DeadlockError);
 }
 
-// Cycle-stepped reference with explicit FIFOs; within a cycle it iterates to a fixpoint so
-// an item may leave one stage and start the next in the same cycle, as the kernel allows.
-std::vector<uint64_t> reference(const std::vector<StageConfig>& cfg,
-                                const std::vector<uint64_t>& ready,
-                                const std::vector<std::vector<ItemCost>>& cost) {
-  const size_t n = cfg.size(), items = ready.size();
-  struct InStage {
-    size_t item;
-    uint64_t finish;
-  };
-  std::vector<std::deque<size_t>> fifo(n + 1);
-  std::vector<std::deque<InStage>> inside(n);
-  std::vector<std::vector<uint64_t>> lane_free(n);
-  std::vector<uint32_t> cap(n);
-  for (size_t s = 0; s < n; ++s) {
-    const auto& t = cfg[s].timing;
-    lane_free[s].assign(t.lanes, 0);
-    cap[s] = cfg[s].max_inflight ? cfg[s].max_inflight : t.lanes * ((t.latency + t.ii - 1) / t.ii);
-  }
-  std::vector<uint64_t> done(items, 0);
-  size_t next_in = 0, finished = 0;
-  for (uint64_t t = 0; finished < items; ++t) {
-    if (t > 10'000'000) ADD_FAILURE() << "reference did not finish";
-    while (next_in < items && ready[next_in] <= t) fifo[0].push_back(next_in++);
-    for (bool changed = true; changed;) {
-      changed = false;
-      for (size_t s = 0; s < n; ++s) {
-        while (!inside[s].empty() && inside[s].front().finish <= t &&
-               (s + 1 == n || fifo[s + 1].size() < cfg[s + 1].fifo_depth)) {
-          const size_t it = inside[s].front().item;
-          inside[s].pop_front();
-          if (s + 1 == n) {
-            done[it] = t;
-            ++finished;
-          } else {
-            fifo[s + 1].push_back(it);
-          }
-          changed = true;
-        }
-        while (!fifo[s].empty() && inside[s].size() < cap[s]) {
-          const size_t it = fifo[s].front();
-          uint64_t& lf = lane_free[s][it % cfg[s].timing.lanes];
-          if (lf > t) break;
-          const ItemCost c = cost[it][s];
-          lf = t + cfg[s].timing.ii + c.extra_ii;
-          inside[s].push_back({it, t + cfg[s].timing.latency + c.extra_latency});
-          fifo[s].pop_front();
-          changed = true;
-        }
-      }
-    }
-  }
-  return done;
-}
-
 TEST(ClockedPipeline, MatchesCycleSteppedReferenceOnRandomConfigs) {
   std::mt19937 rng_engine(11);
   auto rng = [&] { return static_cast<uint32_t>(rng_engine()); };
@@ -146,7 +91,7 @@ TEST(ClockedPipeline, MatchesCycleSteppedReferenceOnRandomConfigs) {
     ClockedPipeline p(cfg);
     std::vector<uint64_t> got(items);
     for (size_t i = 0; i < items; ++i) got[i] = p.issue(ready[i], cost[i].data());
-    const auto want = reference(cfg, ready, cost);
+    const auto want = stepped_reference(cfg, ready, cost);
     ASSERT_EQ(got, want) << "trial " << trial;
     EXPECT_EQ(p.cycles(), want.back());
     for (int s = 0; s < p.stage_count(); ++s) {
