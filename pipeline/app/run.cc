@@ -696,6 +696,16 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     for (const auto& p : scene.primitives) maps.emplace_back(scene, p);
   }
   const ImageLayout layout = run_layout(opt, scene, use_scene, trace_sum.get(), maps, textures.set);
+  if (!opt.functional && setup.units > 1) {
+    for (const MaterialSetup& m : mats) {
+      if (m.coords) {
+        throw InputError(scene.path, "[pipeline] units = " + std::to_string(setup.units) +
+                                         ": material '" + m.name +
+                                         "' computes its own coordinates (coords), which only one "
+                                         "texture unit does; set units = 1");
+      }
+    }
+  }
   UnitArray units(textures.set, mats, setup, scene.tech, !opt.functional);
   TextureUnit& unit = units.unit(0);
   // Materials with `object_space`: drawn first, their pixels then take the resolved colours.

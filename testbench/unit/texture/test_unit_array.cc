@@ -1,0 +1,128 @@
+// Several texture units in a scene run: the image does not depend on how many units filter it,
+// the fragments are shared out by screen tile, more units finish sooner, and a bad [pipeline]
+// hierarchy is refused before any work, naming the file, line and column.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "blocks/base/input_error.h"
+#include "pipeline/app/run.h"
+#include "testbench/lib/error_of.h"
+#include "testbench/lib/temp_dir.h"
+
+namespace texsim {
+namespace {
+
+struct Outcome {
+  RunCapture capture;
+  nlohmann::json report;
+};
+
+Outcome run_units(const std::string& scene, int units, const std::string& dir,
+                  std::vector<std::string> extra = {}) {
+  RunOptions opt;
+  opt.scene = scene;
+  opt.reference = "none";
+  opt.threads = 1;
+  opt.out = dir + "/u" + std::to_string(units);
+  opt.overrides = std::move(extra);
+  opt.overrides.push_back("pipeline.units=" + std::to_string(units));
+  Outcome o;
+  o.capture.write_outputs = true;
+  opt.capture = &o.capture;
+  std::ostringstream log;
+  run_simulation(opt, log);
+  std::ifstream in(opt.out + "/report.json");
+  o.report = nlohmann::json::parse(in);
+  return o;
+}
+
+TEST(UnitArray, ImageIsTheSameAndTheWorkIsSharedByTile) {
+  TempDir dir("unit_array");
+  const Outcome one = run_units("default", 1, dir.file(""));
+  EXPECT_FALSE(one.report.contains("units"));
+  uint64_t last_cycles = one.capture.cycles;
+  for (int n : {2, 4, 16}) {
+    const Outcome o = run_units("default", n, dir.file(""));
+    EXPECT_EQ(o.capture.image->rgb, one.capture.image->rgb) << n << " units";
+    EXPECT_EQ(o.report["fragments"], one.report["fragments"]);
+    const auto& units = o.report["units"];
+    ASSERT_EQ(units.size(), static_cast<size_t>(n));
+    uint64_t sum = 0, l1 = 0, most = 0;
+    for (const auto& u : units) {
+      sum += u["fragments"].get<uint64_t>();
+      l1 += u["l1"]["accesses"].get<uint64_t>();
+      most = std::max(most, u["cycles"].get<uint64_t>());
+      EXPECT_GT(u["fragments"].get<uint64_t>(), 0u);  // the floor covers every unit's tiles
+    }
+    EXPECT_EQ(sum, o.report["fragments"].get<uint64_t>());
+    EXPECT_EQ(l1, o.report["cache"]["accesses"].get<uint64_t>());
+    EXPECT_EQ(most, o.capture.cycles);  // the frame ends with the last unit
+    EXPECT_EQ(o.report["scheduler"]["late_items"].get<uint64_t>(), 0u);
+    // Each block's operations are the same work shared out: equal totals.
+    EXPECT_EQ(o.report["blocks"]["lod"]["ops"], one.report["blocks"]["lod"]["ops"]);
+    EXPECT_LT(o.capture.cycles, last_cycles) << n << " units are not faster";
+    last_cycles = o.capture.cycles;
+  }
+}
+
+TEST(UnitArray, AFunctionalRunIgnoresTheUnitCount) {
+  TempDir dir("unit_array");
+  RunOptions opt;
+  opt.scene = "default";
+  opt.reference = "none";
+  opt.functional = true;
+  opt.threads = 1;
+  opt.out = dir.file("") + "/f";
+  opt.overrides = {"pipeline.units=8"};
+  RunCapture c;
+  c.write_outputs = false;
+  opt.capture = &c;
+  std::ostringstream log;
+  EXPECT_NO_THROW(run_simulation(opt, log));
+  EXPECT_EQ(c.cycles, 0u);
+}
+
+std::string scene_error(const std::string& pipeline_lines) {
+  TempDir dir("unit_array");
+  const std::string path = dir.file("") + "/s.toml";
+  std::ofstream(path) << "[pipeline]\n" << pipeline_lines << "\n";
+  RunOptions opt;
+  opt.scene = path;
+  opt.reference = "none";
+  opt.out = dir.file("") + "/out";
+  std::ostringstream log;
+  const std::string e = error_of([&] { run_simulation(opt, log); });
+  EXPECT_FALSE(std::filesystem::exists(opt.out + "/report.json"));
+  return e;
+}
+
+TEST(UnitArray, AnImpossibleUnitCountOrTileIsAnErrorAtItsLine) {
+  EXPECT_NE(scene_error("units = 0").find("s.toml:2:"), std::string::npos);
+  EXPECT_NE(scene_error("units = 0").find("units"), std::string::npos);
+  EXPECT_NE(scene_error("units = 65").find("units"), std::string::npos);
+  const std::string tile = scene_error("units = 4\nunit_tile = 12");
+  EXPECT_NE(tile.find("s.toml:3:"), std::string::npos) << tile;
+  EXPECT_NE(tile.find("power of two"), std::string::npos) << tile;
+}
+
+TEST(UnitArray, ACoordinateUnitMaterialNeedsOneUnit) {
+  TempDir dir("unit_array");
+  RunOptions opt;
+  opt.scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/coords.toml";
+  opt.reference = "none";
+  opt.out = dir.file("") + "/out";
+  opt.overrides = {"pipeline.units=2"};
+  std::ostringstream log;
+  const std::string e = error_of([&] { run_simulation(opt, log); });
+  EXPECT_NE(e.find("coords.toml"), std::string::npos) << e;
+  EXPECT_NE(e.find("units = 2"), std::string::npos) << e;
+}
+
+}  // namespace
+}  // namespace texsim
