@@ -1,7 +1,7 @@
 #pragma once
-// Shared L2 between the texture units' L1s and the next level (docs/timing-model.md#memory-
-// hierarchy): set-associative, true LRU, read-only, split into address-interleaved slices, each
-// with its own ports and miss status holding registers (MSHRs).
+// Shared L2 between the texture units' L1s and the next level
+// (docs/timing-model.md#memory-hierarchy): set-associative, true LRU, read-only, split into
+// address-interleaved slices, each with its own ports and miss status holding registers (MSHRs).
 //
 // A request for an L1 line at `now` goes to the slice of the L2 line holding it
 // (slice = L2 line number mod slices) and is accepted at the first cycle >= now with a free
