@@ -20,7 +20,8 @@ EnergyTable EnergyTable::defaults() {
   //             the op as well would count them twice.
   //            add  mul  div   rcp   sqrt  lut  cmp  mem
   e.op_pj = {0.9, 3.7, 14.5, 10.8, 18.2, 2.5, 0.1, 0.0};
-  e.sram = {{8 * 1024, 10.0}, {32 * 1024, 20.0}, {1024 * 1024, 100.0}};
+  constexpr uint64_t kKiB = 1024;
+  e.sram = {{8 * kKiB, 10.0}, {32 * kKiB, 20.0}, {1024 * kKiB, 100.0}};
   e.sram_access_bytes = 8;
   // 1.3-2.6 nJ per 64-bit access: the low end taken as a row-buffer hit (1.3 nJ / 8 bytes) and
   // the spread as the row activation an access may need (2.6 - 1.3 nJ).

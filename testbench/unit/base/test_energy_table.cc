@@ -12,6 +12,8 @@
 namespace texsim {
 namespace {
 
+constexpr uint64_t kKiB = 1024;
+
 EnergyTable from_text(const std::string& text) {
   return EnergyTable::from_toml(parse_toml(text, "t.toml"), "t.toml");
 }
@@ -34,9 +36,9 @@ TEST(EnergyTable, HorowitzDefaults) {
   ops.mem = 7;  // charged per memory level, not here
   EXPECT_DOUBLE_EQ(e.ops_pj(ops), 2 * 0.9 + 3.7 + 10 * 0.1);
   // 64-bit reads: 8 KB 10 pJ, 32 KB 20 pJ, 1 MB 100 pJ.
-  EXPECT_DOUBLE_EQ(e.sram_access_pj(8 * 1024, 8), 10.0);
-  EXPECT_DOUBLE_EQ(e.sram_access_pj(32 * 1024, 8), 20.0);
-  EXPECT_DOUBLE_EQ(e.sram_access_pj(1024 * 1024, 8), 100.0);
+  EXPECT_DOUBLE_EQ(e.sram_access_pj(8 * kKiB, 8), 10.0);
+  EXPECT_DOUBLE_EQ(e.sram_access_pj(32 * kKiB, 8), 20.0);
+  EXPECT_DOUBLE_EQ(e.sram_access_pj(1024 * kKiB, 8), 100.0);
   // DRAM 1.3 nJ per 64-bit access at best, 2.6 nJ with an activation.
   EXPECT_DOUBLE_EQ(e.dram_pj(8, 0), 1300.0);
   EXPECT_DOUBLE_EQ(e.dram_pj(8, 1), 2600.0);
@@ -46,15 +48,15 @@ TEST(EnergyTable, HorowitzDefaults) {
 TEST(EnergyTable, SramRuleBetweenClasses) {
   const EnergyTable e = EnergyTable::defaults();
   // 16 KB is half way from 8 KB to 32 KB in log2: (10 + 20) / 2.
-  EXPECT_DOUBLE_EQ(e.sram_access_pj(16 * 1024, 8), 15.0);
+  EXPECT_DOUBLE_EQ(e.sram_access_pj(16 * kKiB, 8), 15.0);
   // 256 KB is 3 of the 5 doublings from 32 KB to 1 MB: 20 + 3/5 * 80.
-  EXPECT_NEAR(e.sram_access_pj(256 * 1024, 8), 68.0, 1e-12);
+  EXPECT_NEAR(e.sram_access_pj(256 * kKiB, 8), 68.0, 1e-12);
   // Held constant outside the classes.
   EXPECT_DOUBLE_EQ(e.sram_access_pj(1024, 8), 10.0);
-  EXPECT_DOUBLE_EQ(e.sram_access_pj(64 * 1024 * 1024, 8), 100.0);
+  EXPECT_DOUBLE_EQ(e.sram_access_pj(64 * kKiB * 1024, 8), 100.0);
   // Linear in the access width: a 64-byte line from 32 KB is 8 reads of 8 bytes.
-  EXPECT_DOUBLE_EQ(e.sram_access_pj(32 * 1024, 64), 160.0);
-  EXPECT_DOUBLE_EQ(e.sram_access_pj(32 * 1024, 4), 10.0);
+  EXPECT_DOUBLE_EQ(e.sram_access_pj(32 * kKiB, 64), 160.0);
+  EXPECT_DOUBLE_EQ(e.sram_access_pj(32 * kKiB, 4), 10.0);
 }
 
 TEST(EnergyTable, Overrides) {
