@@ -19,7 +19,8 @@ TechTable TechTable::defaults() {
 TechTable TechTable::from_toml(const toml::table& table, const std::string& source) {
   TechTable t = defaults();
   ConfigReader r(table, source, "tech");
-  r.reject_unknown({"latency", "area", "clock_mhz", "block_area"});
+  // `energy` belongs to EnergyTable::from_toml (blocks/base/energy_table.h).
+  r.reject_unknown({"latency", "area", "clock_mhz", "block_area", "energy"});
   t.clock_mhz = r.get_double("clock_mhz", t.clock_mhz);
   if (!(t.clock_mhz > 0 && t.clock_mhz <= kMaxClockMhz))
     r.fail("clock_mhz", "must be in (0, " + std::to_string(static_cast<int>(kMaxClockMhz)) + "]");
