@@ -57,7 +57,7 @@ RasterWalk::RasterWalk(const RasterOrder& o, int width, int height, const PixelR
   const auto side = static_cast<uint32_t>(tile_ / 2);
   const int qbits = bits_for(side);
   std::vector<std::pair<uint32_t, uint16_t>> q;
-  q.reserve(side * side);
+  q.reserve(static_cast<size_t>(side) * side);
   for (uint32_t y = 0; y < side; ++y) {
     for (uint32_t x = 0; x < side; ++x)
       q.emplace_back(curve_index(o.quad_order, x, y, qbits), static_cast<uint16_t>(y << 8 | x));

@@ -110,7 +110,7 @@ TEST(RasterOrder, CurveIndicesByHand) {
   // Up to 32 × 32: a bijection onto 0..n²−1 whose consecutive cells are neighbours.
   for (int bits = 1; bits <= 5; ++bits) {
     const uint32_t n = 1u << bits;
-    std::vector<Px> at(n * n, {-1, -1});
+    std::vector<Px> at(static_cast<size_t>(n) * n, {-1, -1});
     for (uint32_t y = 0; y < n; ++y) {
       for (uint32_t x = 0; x < n; ++x) {
         const uint32_t d = curve_index(CurveOrder::Hilbert, x, y, bits);
@@ -314,6 +314,7 @@ std::vector<Fragment> frags(const Scene& s, std::vector<RasterCounters>* rc = nu
 
 std::vector<std::tuple<int, int, uint32_t>> pixels(const std::vector<Fragment>& f) {
   std::vector<std::tuple<int, int, uint32_t>> p;
+  p.reserve(f.size());
   for (const Fragment& g : f) p.emplace_back(g.x, g.y, g.prim);
   return p;
 }
