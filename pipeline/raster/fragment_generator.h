@@ -13,9 +13,11 @@
 
 namespace texsim {
 
-// Calls `emit` for every kept pixel in raster order (rows top to bottom), frame `frame`.
+// Calls `emit` for every kept pixel in the scene's raster order (Scene::raster: rows top to
+// bottom by default, or tiles and 2×2 quads, pipeline/raster/raster_order.h), frame `frame`.
 // Fragment::prim is the primitive index, Fragment::tex the material's texture index.
-// `raster`, if given, receives each material's rasteriser counters (indexed by material).
+// `raster`, if given, receives each material's rasteriser counters (indexed by material) and
+// its quads and helper lanes after the depth test (the same in every order).
 // `mats`: the scene's materials if the caller has built them (otherwise built here).
 void generate_fragments(const Scene& scene, uint32_t frame,
                         const std::function<void(const Fragment&)>& emit,

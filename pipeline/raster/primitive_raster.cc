@@ -18,6 +18,8 @@ RasterCounters& RasterCounters::operator+=(const RasterCounters& o) {
   memory_cycles += o.memory_cycles;
   cycles += o.cycles;
   time_ns += o.time_ns;
+  quads += o.quads;
+  helper_lanes += o.helper_lanes;
   ops += o.ops;
   return *this;
 }

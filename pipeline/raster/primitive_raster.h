@@ -25,6 +25,10 @@ struct RasterCounters {
   // Edge: one visited pixel per issue slot at the pipeline clock.
   uint64_t cycles = 0;
   double time_ns = 0;  // rectangle scan: both clocks; edge: cycles at the tech table's clock
+  // After the depth test (the fragment generator): 2×2 quads anchored at even x, y in which a
+  // primitive of the material kept at least one pixel (one quad per primitive and square), and
+  // their uncovered lanes, which a GPU runs as helper lanes for the quad's derivatives.
+  uint64_t quads = 0, helper_lanes = 0;
   OpCounts ops;
   RasterCounters& operator+=(const RasterCounters& o);
 };

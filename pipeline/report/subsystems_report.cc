@@ -35,6 +35,8 @@ void add_subsystems_json(Json& j, const SubsystemsInfo& s) {
               {"rows", c.rows},
               {"pixels_visited", c.pixels_visited},
               {"pixels_covered", c.pixels_covered},
+              {"quads", c.quads},
+              {"helper_lanes", c.helper_lanes},
               {"time_ns", c.time_ns},
               {"ops", ops_json(c.ops)}};
     if (m.block == "raster.rect_scan") {
@@ -61,15 +63,17 @@ void subsystems_markdown(std::ostream& md, const SubsystemsInfo& s) {
        << g.cycles << " | " << g.ops.total() << " |\n";
   }
   if (s.raster.empty()) return;
-  md << "\n## Rasterisation (ПРП), per material, before the depth test\n\n| material | block | "
-        "primitives | triangles | rows | pixels visited | pixels covered | divisions | cycles "
-        "(fast / memory clock) | time (ns) |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  md << "\n## Rasterisation (ПРП), per material, before the depth test (quads: after it)\n\n| "
+        "material | block | primitives | triangles | rows | pixels visited | pixels covered | "
+        "quads | helper lanes | divisions | cycles (fast / memory clock) | time (ns) "
+        "|\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const MaterialRaster& m : s.raster) {
     const RasterCounters& c = m.counters;
     const bool rs = m.block == "raster.rect_scan";
     md << "| " << m.material << " | " << m.block << " | " << c.primitives << " | " << c.triangles
        << " | " << c.rows << " | " << c.pixels_visited << " | " << c.pixels_covered << " | "
-       << (rs ? std::to_string(c.divisions) : "—") << " | "
+       << c.quads << " | " << c.helper_lanes << " | " << (rs ? std::to_string(c.divisions) : "—")
+       << " | "
        << (rs ? std::to_string(c.fast_cycles) + " / " + std::to_string(c.memory_cycles)
               : std::to_string(c.cycles))
        << " | " << static_cast<uint64_t>(c.time_ns) << " |\n";

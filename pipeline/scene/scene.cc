@@ -211,7 +211,7 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   const toml::table& root = *s.root;
   const ConfigReader top(root, source_name, "scene");
   top.reject_unknown({"output", "camera", "textures", "materials", "planes", "meshes", "pipeline",
-                      "tech", "reference"});
+                      "tech", "reference", "raster"});
   parse_output(top, s);
   parse_camera(top, s, s.camera);
   parse_textures(top, s);
@@ -223,6 +223,7 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   parse_reference_samples(ref, s);
   s.reference_pixel = static_cast<TruthPixel>(ref.get_choice("pixel", 0, {"box", "gaussian"}));
   s.pipeline = top.subtable("pipeline");
+  s.raster = RasterOrder::from_toml(top.sub("raster"));
   if (const toml::table* t = top.subtable("tech")) s.tech = TechTable::from_toml(*t, source_name);
   return s;
 }

@@ -14,6 +14,7 @@
 #include "blocks/base/tech_table.h"
 #include "blocks/geometry/camera.h"
 #include "pipeline/scene/object_space_config.h"
+#include "pipeline/scene/raster_order_config.h"
 
 namespace texsim {
 
@@ -89,6 +90,7 @@ struct Scene {
   int reference_samples = 0;
   TruthPixel reference_pixel = TruthPixel::Box;
   const toml::table* pipeline = nullptr;  // [pipeline] table (in root), or null
+  RasterOrder raster;                     // [raster]: the order fragments are emitted in
   TechTable tech = TechTable::defaults();
   std::shared_ptr<toml::table> root;  // the parsed document (keeps source positions)
 };

@@ -100,9 +100,9 @@ const std::set<std::string> kKnownKeys = {
     "geometry.cull_disagreements", "geometry.cycles", "geometry.time_ns", "geometry.ops",
     "geometry.ops.<op>", "raster", "raster.*", "raster.*.block", "raster.*.primitives",
     "raster.*.triangles", "raster.*.rejected", "raster.*.rows", "raster.*.pixels_visited",
-    "raster.*.pixels_covered", "raster.*.time_ns", "raster.*.ops", "raster.*.ops.<op>",
-    "raster.*.divisions", "raster.*.divisions_per_triangle", "raster.*.fast_cycles",
-    "raster.*.memory_cycles", "raster.*.cycles",
+    "raster.*.pixels_covered", "raster.*.quads", "raster.*.helper_lanes", "raster.*.time_ns",
+    "raster.*.ops", "raster.*.ops.<op>", "raster.*.divisions", "raster.*.divisions_per_triangle",
+    "raster.*.fast_cycles", "raster.*.memory_cycles", "raster.*.cycles",
     // physical
     "area_total", "physical", "physical.clock_mhz", "physical.time_us",
     "physical.fragments_per_second",
@@ -435,6 +435,14 @@ void check_geometry(const Json& r) {
     EXPECT_TRUE(r["materials"].contains(name)) << name;
     EXPECT_LE(u(c["pixels_covered"]), u(c["pixels_visited"])) << name;
     EXPECT_LE(u(c["rejected"]), u(c["primitives"])) << name;
+    // Quads after the depth test: each holds 1..4 of the material's kept pixels, which are its
+    // fragments unless the object-space pipeline draws it.
+    EXPECT_LE(u(c["helper_lanes"]), 3 * u(c["quads"])) << name;
+    EXPECT_LE(u(c["quads"]), u(c["pixels_covered"])) << name;
+    const Json& m = r["materials"][name];
+    if (!m.contains("object_space")) {
+      EXPECT_EQ(4 * u(c["quads"]) - u(c["helper_lanes"]), u(m["fragments"])) << name;
+    }
     if (c["block"] == "raster.rect_scan") {
       EXPECT_SAME(d(c["divisions_per_triangle"]), ratio(d(c["divisions"]), d(c["triangles"])))
           << name;
@@ -738,6 +746,23 @@ TEST_F(ReportFigures, RectScanRasterAndGeometry) {
   bool rect = false;
   for (const auto& [n, c] : r["raster"].items()) rect = rect || c["block"] == "raster.rect_scan";
   EXPECT_TRUE(rect);
+}
+
+// A tiled raster order reorders the fragments: the same fragments, quads and image; only the
+// figures of the order (cache, cycles) may move.
+TEST_F(ReportFigures, TiledRasterOrder) {
+  const Json rows = run_scene("");
+  const Json r = run_scene("", {"raster.order=tiled", "raster.tile=8", "raster.tile_order=hilbert",
+                                "raster.quad_order=morton"});
+  check_report(r, kW, kH);
+  check_against_images(r, capture_);
+  EXPECT_EQ(u(r["fragments"]), u(rows["fragments"]));
+  EXPECT_NEAR(d(r["accuracy"]["psnr_db"]), d(rows["accuracy"]["psnr_db"]), 1e-9);
+  for (const auto& [name, c] : rows["raster"].items()) {
+    EXPECT_EQ(u(r["raster"][name]["quads"]), u(c["quads"])) << name;
+    EXPECT_EQ(u(r["raster"][name]["helper_lanes"]), u(c["helper_lanes"])) << name;
+    EXPECT_GT(u(c["quads"]), 0u) << name;
+  }
 }
 
 TEST_F(ReportFigures, ObjectSpace) {
