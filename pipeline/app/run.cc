@@ -783,6 +783,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   info.has_truth = opt.reference != "none";
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
   finish_object_space(os, units.cycles(), raster, sum, info);
+  info.energy = scene.energy;
   info.provenance =
       run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech, digest);
   if (opt.capture) {

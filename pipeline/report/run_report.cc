@@ -106,9 +106,44 @@ void add_memory_json(Json& j, const UnitArray& unit) {
       {"size_bytes", unit.l1_config().size_bytes},
       {"ways", unit.l1_config().ways},
       {"line_bytes", unit.l1_config().line_bytes}};
-  j["dram"] = {{"requests", unit.memory().dram().stats().requests},
-               {"bytes", unit.memory().dram().stats().bytes},
-               {"busy_cycles", unit.memory().dram().stats().busy_cycles}};
+  const MemorySystem& mem = unit.memory();
+  const DramModel::Stats d = mem.dram_totals();
+  j["dram"] = {{"requests", d.requests}, {"bytes", d.bytes}, {"busy_cycles", d.busy_cycles}};
+  if (const BankedDram* b = mem.banked()) {
+    const BankedDram::Stats& s = b->stats();
+    Json& e = j["dram"];
+    e["model"] = "banked";
+    e["channels"] = b->config().channels;
+    e["banks"] = b->config().banks;
+    e["row_hits"] = s.row_hits;
+    e["row_empty"] = s.row_empty;
+    e["row_conflicts"] = s.row_conflicts;
+    e["row_hit_rate"] =
+        s.requests ? static_cast<double>(s.row_hits) / static_cast<double>(s.requests) : 0.0;
+    e["activations"] = s.activations;
+    e["bank_wait_cycles"] = s.bank_wait_cycles;
+    e["channel_busy_cycles"] = s.bus_busy_cycles;
+  }
+  if (const L2Cache* l2 = mem.l2()) {
+    const L2Cache::Stats& s = l2->stats();
+    j["l2"] = {{"accesses", s.accesses},
+               {"hits", s.hits},
+               {"misses", s.misses},
+               {"hit_rate",
+                s.accesses ? static_cast<double>(s.hits) / static_cast<double>(s.accesses) : 0.0},
+               {"mshr_merges", s.mshr_merges},
+               {"mshr_stalls", s.mshr_stalls},
+               {"mshr_stall_cycles", s.mshr_stall_cycles},
+               {"bank_conflicts", s.bank_conflicts},
+               {"bank_conflict_cycles", s.bank_conflict_cycles},
+               {"prefetches_issued", s.prefetches_issued},
+               {"prefetches_useful", s.prefetches_useful},
+               {"fill_bytes", s.fill_bytes},
+               {"size_bytes", l2->config().size_bytes},
+               {"ways", l2->config().ways},
+               {"line_bytes", l2->config().line_bytes},
+               {"slices", l2->config().slices}};
+  }
   if (!unit.several()) return;
   // Several units: each unit's share, and how exactly the scheduler kept cycle order.
   Json units = Json::array();
@@ -187,6 +222,15 @@ void add_physical_json(Json& j, const RunInfo& info, const UnitArray& unit) {
   }
 }
 
+void add_energy_json(Json& j, const EnergyBreakdown& e, double frags) {
+  Json blocks;
+  for (const auto& [name, pj] : e.blocks) blocks[name] = pj;
+  j["energy"] = {{"total_pj", e.total_pj()}, {"per_fragment_pj", per_fragment(e.total_pj(), frags)},
+                 {"ops_pj", e.ops_pj},       {"l1_pj", e.l1_pj},
+                 {"l2_pj", e.l2_pj},         {"dram_pj", e.dram_pj},
+                 {"blocks_pj", blocks}};
+}
+
 // Without a ground truth every accuracy figure is null (the keys stay, so readers of the
 // report find them) and there is no error map.
 void drop_accuracy_figures(Json& j) {
@@ -246,6 +290,7 @@ Json report_json(const RunInfo& info, const UnitArray& unit, const AccuracyMetri
   add_subsystems_json(j, info.subsystems);
   add_object_space_json(j, info.object_space);
   add_physical_json(j, info, unit);
+  if (unit.timing()) add_energy_json(j, run_energy(unit, info.energy), frags);
   if (!info.ledger.empty()) {
     j["ledger"] = ledger_json(info.ledger);
     j["ledger_setup"] = ledger_setup_json(info.ledger);
@@ -366,9 +411,43 @@ void md_memory(std::ostream& md, const UnitArray& unit) {
                         : 0,
             4)
      << "% | " << cs.texel_reads << " | " << cs.fill_bytes << " | "
-     << unit.memory().dram().stats().requests << " |\n";
+     << unit.memory().dram_totals().requests << " |\n";
   md << "\nCache: " << unit.l1_config().size_bytes << " B, " << unit.l1_config().ways << "-way, "
      << unit.l1_config().line_bytes << " B lines, LRU.\n";
+  const auto pct = [](uint64_t a, uint64_t b) {
+    return fmt(b ? 100.0 * static_cast<double>(a) / static_cast<double>(b) : 0, 4) + "%";
+  };
+  if (unit.several()) {
+    md << "\n"
+       << unit.units() << " texture units (one L1 each; screen tiles interleaved):\n\n"
+       << "| unit | fragments | cycles | L1 hit rate |\n|---|---|---|---|\n";
+    for (int u = 0; u < unit.units(); ++u) {
+      const TextureUnit& t = unit.unit(u);
+      md << "| " << u << " | " << t.fragments() << " | " << t.cycles() << " | "
+         << pct(t.cache().stats().hits, t.cache().stats().accesses) << " |\n";
+    }
+  }
+  if (const L2Cache* l2 = unit.memory().l2()) {
+    const L2Cache::Stats& s = l2->stats();
+    md << "\nShared L2: " << l2->config().size_bytes << " B, " << l2->config().slices << " slices, "
+       << l2->config().line_bytes << " B lines: " << s.accesses << " accesses, hit rate "
+       << pct(s.hits, s.accesses) << ", " << s.mshr_merges << " MSHR merges, " << s.bank_conflicts
+       << " bank conflicts, " << s.mshr_stalls << " MSHR stalls.\n";
+  }
+  if (const BankedDram* b = unit.memory().banked()) {
+    const BankedDram::Stats& s = b->stats();
+    md << "\nDRAM: " << b->config().channels << " channels × " << b->config().banks
+       << " banks: row hits " << pct(s.row_hits, s.requests) << ", " << s.row_conflicts
+       << " row conflicts, " << s.activations << " activations.\n";
+  }
+}
+
+void md_energy(std::ostream& md, const EnergyBreakdown& e, double frags) {
+  md << "\n## Energy ([tech.energy])\n\n| total (nJ) | per fragment (pJ) | operations | L1 | L2 | "
+        "DRAM |\n|---|---|---|---|---|---|\n";
+  md << "| " << fmt(e.total_pj() / 1000) << " | " << fmt(per_fragment(e.total_pj(), frags)) << " | "
+     << fmt(e.ops_pj / 1000) << " | " << fmt(e.l1_pj / 1000) << " | " << fmt(e.l2_pj / 1000)
+     << " | " << fmt(e.dram_pj / 1000) << " |\n\n(operations, L1, L2 and DRAM in nJ)\n";
 }
 
 // report.md: the same run for a reader; docs/reports.md describes each section.
@@ -382,6 +461,8 @@ std::string report_markdown(const RunInfo& info, const UnitArray& unit, const Ac
   md_blocks(md, unit);
   if (unit.timing()) md_stages(md, unit);
   md_memory(md, unit);
+  if (unit.timing())
+    md_energy(md, run_energy(unit, info.energy), static_cast<double>(unit.fragments()));
   if (!info.ledger.empty()) ledger_markdown(md, info.ledger);
   if (!info.has_truth) {
     md << "\n## Images\n\n`image.png` (filtered result); no ground truth, so no `reference.png` "

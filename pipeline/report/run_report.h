@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/report/energy_report.h"
 #include "pipeline/report/error_ledger_report.h"
 #include "pipeline/report/image_metrics.h"
 #include "pipeline/report/object_space_report.h"
@@ -35,6 +36,7 @@ struct RunInfo {
   ErrorLedger ledger;  // per-block error ledger (texsim run --ledger); empty: not reported
   ObjectSpaceInfo object_space;  // materials drawn object-space; empty: none
   Provenance provenance;
+  EnergyTable energy = EnergyTable::defaults();  // [tech.energy], for the energy figures
 };
 
 // Writes DIR/report.json and DIR/report.md (atomically).

@@ -224,7 +224,10 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   s.reference_pixel = static_cast<TruthPixel>(ref.get_choice("pixel", 0, {"box", "gaussian"}));
   s.pipeline = top.subtable("pipeline");
   s.raster = RasterOrder::from_toml(top.sub("raster"));
-  if (const toml::table* t = top.subtable("tech")) s.tech = TechTable::from_toml(*t, source_name);
+  if (const toml::table* t = top.subtable("tech")) {
+    s.tech = TechTable::from_toml(*t, source_name);
+    s.energy = EnergyTable::from_toml(*t, source_name);
+  }
   return s;
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "blocks/base/energy_table.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/geometry/camera.h"
 #include "pipeline/scene/object_space_config.h"
@@ -92,7 +93,8 @@ struct Scene {
   const toml::table* pipeline = nullptr;  // [pipeline] table (in root), or null
   RasterOrder raster;                     // [raster]: the order fragments are emitted in
   TechTable tech = TechTable::defaults();
-  std::shared_ptr<toml::table> root;  // the parsed document (keeps source positions)
+  EnergyTable energy = EnergyTable::defaults();  // [tech.energy]
+  std::shared_ptr<toml::table> root;             // the parsed document (keeps source positions)
 };
 
 // Parses a scene file; throws InputError "file:line:column: what" on syntax, type, range and

@@ -1,5 +1,6 @@
 #include "pipeline/texture/memory_system.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace texsim {
@@ -8,7 +9,28 @@ MemorySystem::MemorySystem(const PipelineSetup& setup, int units) : dram_(setup.
   if (units < 1 || units > static_cast<int>(PipelineSetup::kMaxUnits))
     throw std::invalid_argument("memory system: units must be in [1, 64]");
   for (int u = 0; u < units; ++u) l1_.push_back(std::make_unique<TextureCache>(setup.cache));
-  behind_l1_ = &dram_;
+  LineMemory* dram = &dram_;
+  if (setup.dram_kind == PipelineSetup::DramKind::Banked) {
+    banked_ = std::make_unique<BankedDram>(setup.banked);
+    banked_->validate(setup.has_l2 ? setup.l2.line_bytes : setup.cache.line_bytes);
+    dram = banked_.get();
+  }
+  behind_l1_ = dram;
+  if (setup.has_l2) {
+    l2_ = std::make_unique<L2Cache>(setup.l2, *dram);
+    l2_->validate(setup.cache.line_bytes);
+    behind_l1_ = l2_.get();
+  }
+}
+
+DramModel::Stats MemorySystem::dram_totals() const {
+  if (!banked_) return dram_.stats();
+  const BankedDram::Stats& b = banked_->stats();
+  DramModel::Stats t;
+  t.requests = b.requests;
+  t.bytes = b.bytes;
+  for (uint64_t c : b.bus_busy_cycles) t.busy_cycles = std::max(t.busy_cycles, c);
+  return t;
 }
 
 TextureCache::Stats MemorySystem::l1_totals() const {

@@ -1,12 +1,14 @@
 #pragma once
-// The texture units' memory: one L1 texture cache per unit, and the level behind the L1s
-// (shared by all units). Today's default is one unit whose L1 misses go to the flat DRAM
-// (a latency plus a bandwidth-limited channel). docs/timing-model.md#memory-hierarchy.
+// The texture units' memory: one L1 texture cache per unit, then (shared by all units) an
+// optional L2 and the DRAM: the flat channel (a latency plus a bandwidth limit, the default) or
+// channels, banks and row buffers. docs/timing-model.md#memory-hierarchy.
 #include <cstdint>
 #include <memory>
 #include <vector>
 
+#include "blocks/texture/memory/banked_dram.h"
 #include "blocks/texture/memory/dram_model.h"
+#include "blocks/texture/memory/l2_cache.h"
 #include "blocks/texture/memory/line_memory.h"
 #include "blocks/texture/memory/texture_cache.h"
 #include "pipeline/texture/pipeline_setup.h"
@@ -23,13 +25,20 @@ class MemorySystem {
   const TextureCache& l1(int unit) const { return *l1_[static_cast<size_t>(unit)]; }
   // Where an L1 miss goes.
   LineMemory& behind_l1() { return *behind_l1_; }
+  // The flat DRAM (its counters stay zero when the DRAM is banked).
   const DramModel& dram() const { return dram_; }
+  const L2Cache* l2() const { return l2_.get(); }
+  const BankedDram* banked() const { return banked_.get(); }
   // The L1s' counters summed.
   TextureCache::Stats l1_totals() const;
+  // DRAM figures of either model: requests, bytes, and the busiest channel's busy cycles.
+  DramModel::Stats dram_totals() const;
 
  private:
   std::vector<std::unique_ptr<TextureCache>> l1_;  // by unit; stable addresses
   DramModel dram_;
+  std::unique_ptr<BankedDram> banked_;
+  std::unique_ptr<L2Cache> l2_;
   LineMemory* behind_l1_ = nullptr;
 };
 

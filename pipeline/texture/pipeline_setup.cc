@@ -9,7 +9,7 @@ namespace texsim {
 PipelineSetup PipelineSetup::from_toml(const toml::table& t, const std::string& source) {
   PipelineSetup p;
   ConfigReader r(t, source, "pipeline");
-  r.reject_unknown({"fifo_depth", "layout", "units", "unit_tile", "cache", "dram", "blend"});
+  r.reject_unknown({"fifo_depth", "layout", "units", "unit_tile", "cache", "l2", "dram", "blend"});
   p.fifo_depth = static_cast<uint32_t>(r.get_int("fifo_depth", p.fifo_depth, 1, 1 << 16));
   p.layout = static_cast<TexelLayout>(
       r.get_choice("layout", static_cast<int>(p.layout), {"linear", "tiled4x4", "morton"}));
@@ -19,7 +19,25 @@ PipelineSetup PipelineSetup::from_toml(const toml::table& t, const std::string& 
     r.fail("unit_tile",
            "must be a power of two (tiles are whole quads and align with the raster's)");
   p.cache = TextureCache::Config::from_toml(r.sub("cache"));
-  p.dram = DramModel::Config::from_toml(r.sub("dram"));
+  uint32_t line = p.cache.line_bytes;  // what the level behind the L1s is asked for
+  if (r.subtable("l2")) {
+    const ConfigReader l2 = r.sub("l2");
+    p.has_l2 = true;
+    p.l2 = L2Cache::Config::from_toml(l2);
+    const std::string e = p.l2.line_error(line);
+    if (!e.empty()) l2.fail("line_bytes", e);
+    line = p.l2.line_bytes;
+  }
+  const ConfigReader dram = r.sub("dram");
+  p.dram_kind = static_cast<DramKind>(dram.get_choice("model", 0, {"flat", "banked"}));
+  const ConfigReader keys = dram.for_block("dram", {"model"});
+  if (p.dram_kind == DramKind::Flat) {
+    p.dram = DramModel::Config::from_toml(keys);
+  } else {
+    p.banked = BankedDram::Config::from_toml(keys);
+    const std::string e = p.banked.line_error(line);
+    if (!e.empty()) dram.fail("row_bytes", e);
+  }
   p.blend = TexelBlend::Config::from_toml(r.sub("blend"));
   return p;
 }

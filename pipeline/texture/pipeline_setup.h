@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <string>
 
+#include "blocks/texture/memory/banked_dram.h"
 #include "blocks/texture/memory/dram_model.h"
+#include "blocks/texture/memory/l2_cache.h"
 #include "blocks/texture/memory/texture_cache.h"
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/sampler/texel_blend.h"
@@ -22,7 +24,15 @@ struct PipelineSetup {
   uint32_t units = 1;
   uint32_t unit_tile = 16;
   TextureCache::Config cache;  // each unit's L1
+  // A shared L2 between the L1s and DRAM ([pipeline.l2] present).
+  bool has_l2 = false;
+  L2Cache::Config l2;
+  // DRAM: the flat channel (latency + bandwidth; `dram`) or channels, banks and row buffers
+  // (`banked`), chosen by [pipeline.dram] model.
+  enum class DramKind { Flat, Banked };
+  DramKind dram_kind = DramKind::Flat;
   DramModel::Config dram;
+  BankedDram::Config banked;
   TexelBlend::Config blend;
   // Reads [pipeline]; errors name file:line:col and the rule broken.
   static PipelineSetup from_toml(const toml::table& t, const std::string& source);

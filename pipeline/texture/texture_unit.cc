@@ -739,7 +739,7 @@ void TextureUnit::check_timing_invariants() const {
     if (cycles < busy / lanes) fail("stage '" + pipe_->config(s).name + "'", busy / lanes);
   }
   // A unit of several shares its DRAM: UnitArray checks it against the last unit's cycles.
-  const uint64_t dram_busy = own_memory_ ? mem_->dram().stats().busy_cycles : 0;
+  const uint64_t dram_busy = own_memory_ ? mem_->dram_totals().busy_cycles : 0;
   if (cycles < dram_busy) fail("the DRAM channel", dram_busy);
 }
 

@@ -160,7 +160,7 @@ void UnitArray::check_timing_invariants() const {
   if (!several()) return;
   uint64_t end = 0;
   for (const auto& u : units_) end = std::max(end, u->pipeline()->run_end());
-  const uint64_t busy = memory().dram().stats().busy_cycles;
+  const uint64_t busy = memory().dram_totals().busy_cycles;
   if (end < busy)
     throw std::logic_error("timing invariant violated: the DRAM channel needs " +
                            std::to_string(busy) + " cycles but the run took " +
