@@ -10,7 +10,9 @@
 #include <random>
 #include <vector>
 
+#include "blocks/texture/memory/banked_dram.h"
 #include "blocks/texture/memory/dram_model.h"
+#include "blocks/texture/memory/l2_cache.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/kernel/unit_scheduler.h"
 #include "testbench/lib/stepped_pipeline.h"
@@ -179,6 +181,61 @@ void expect_same_as_stepped(const MemoryFactory& make, uint32_t seed, int trials
 
 TEST(UnitScheduler, SeveralUnitsOnAFlatDramMatchTheCycleSteppedModel) {
   expect_same_as_stepped(nullptr, 5, 250);
+}
+
+// A shared L2 (small, with few MSHRs and ports so that conflicts and stalls happen) over a
+// banked DRAM, as one level.
+class L2OverBankedDram : public LineMemory {
+ public:
+  explicit L2OverBankedDram(uint32_t seed)
+      : dram_(dram_config(seed)), l2_(l2_config(seed), dram_) {}
+  uint64_t read_line(uint64_t now, uint64_t addr, uint32_t bytes, int unit) override {
+    return l2_.read_line(now, addr, bytes, unit);
+  }
+  const L2Cache& l2() const { return l2_; }
+
+ private:
+  static BankedDram::Config dram_config(uint32_t seed) {
+    BankedDram::Config c = BankedDram::Config::preset(seed % 2 ? "lpddr4" : "gddr6");
+    c.channels = 1u << (seed % 3);
+    c.banks = 2;
+    c.page_policy = seed % 5 == 0 ? BankedDram::PagePolicy::Closed : BankedDram::PagePolicy::Open;
+    return c;
+  }
+  static L2Cache::Config l2_config(uint32_t seed) {
+    L2Cache::Config c;
+    c.size_bytes = 1024;
+    c.ways = 2;
+    c.line_bytes = 128;
+    c.slices = 1u << (seed % 3);
+    c.mshrs = 1 + seed % 3;
+    c.hit_latency = 1 + seed % 7;
+    c.prefetch = seed % 2 ? L2Cache::Prefetch::NextLine : L2Cache::Prefetch::None;
+    return c;
+  }
+  BankedDram dram_;
+  L2Cache l2_;
+};
+
+TEST(UnitScheduler, SeveralUnitsOnAnL2AndBankedDramMatchTheCycleSteppedModel) {
+  uint32_t seed = 0;
+  uint64_t merges = 0, conflicts = 0;
+  for (int round = 0; round < 25; ++round) {
+    ++seed;
+    L2OverBankedDram* last = nullptr;
+    expect_same_as_stepped(
+        [&]() -> std::unique_ptr<LineMemory> {
+          auto m = std::make_unique<L2OverBankedDram>(seed);
+          last = m.get();
+          return m;
+        },
+        100 + seed, 10);
+    merges += last->l2().stats().mshr_merges;
+    conflicts += last->l2().stats().bank_conflicts;
+  }
+  // The configurations exercised the shared level's contention, not only its hits.
+  EXPECT_GT(merges, 0u);
+  EXPECT_GT(conflicts, 0u);
 }
 
 TEST(UnitScheduler, OneUnitIsTheKernelAlone) {
