@@ -349,10 +349,12 @@ void stream_trace(TraceReader& reader, int threads, Handle&& handle) {
 class UnitBatch {
  public:
   UnitBatch(TextureUnit& unit, size_t size) : unit_(unit), size_(size) {}
+  // The unit filters u (g, or g with derivatives from its quad); record gets f and g.
   template <class Record>
-  void add(const Fragment& f, const Fragment& g, int material, uint64_t index, Record& record) {
+  void add(const Fragment& f, const Fragment& g, const Fragment& u, int material, uint64_t index,
+           Record& record) {
     if (size_ <= 1) {
-      const Rgba c = unit_.process(g, material);
+      const Rgba c = unit_.process(u, material);
       record(f, g, material, &c, index);
       return;
     }
@@ -360,16 +362,18 @@ class UnitBatch {
     material_ = material;
     f_.push_back(f);
     g_.push_back(g);
+    u_.push_back(u);
     index_.push_back(index);
     if (g_.size() == size_) flush(record);
   }
   template <class Record>
   void flush(Record& record) {
     out_.resize(g_.size());
-    unit_.process_batch(g_.data(), g_.size(), material_, out_.data());
+    unit_.process_batch(u_.data(), u_.size(), material_, out_.data());
     for (size_t i = 0; i < g_.size(); ++i) record(f_[i], g_[i], material_, &out_[i], index_[i]);
     f_.clear();
     g_.clear();
+    u_.clear();
     index_.clear();
   }
 
@@ -377,9 +381,44 @@ class UnitBatch {
   TextureUnit& unit_;
   size_t size_;
   int material_ = 0;
-  std::vector<Fragment> f_, g_;
+  std::vector<Fragment> f_, g_, u_;
   std::vector<uint64_t> index_;
   std::vector<Rgba> out_;
+};
+
+// [pipeline] derivatives = "coarse" | "fine": fragments grouped into quads (QuadAssembler's
+// rule) go on, in arrival order, once their quad is complete, with derivatives from the quad's
+// differences for the unit; the ground truth keeps each fragment's own.
+class QuadFeed {
+ public:
+  explicit QuadFeed(QuadDerivatives mode) : quads_(mode) {}
+  // send(f, g, u, material, index), u: g with the quad's derivatives.
+  template <class Send>
+  void add(const Fragment& f, const Fragment& g, int material, uint64_t index, Send&& send) {
+    if (const Quad* q = quads_.push(g)) release(*q, send);
+    open_.push_back({f, g, material, index});
+  }
+  template <class Send>
+  void flush(Send&& send) {
+    if (const Quad* q = quads_.flush()) release(*q, send);
+  }
+  const QuadCounts& counts() const { return quads_.counts(); }
+
+ private:
+  struct Entry {
+    Fragment f, g;
+    int material;
+    uint64_t index;
+  };
+  template <class Send>
+  void release(const Quad& q, Send& send) {
+    for (const Entry& e : open_)
+      send(e.f, e.g, q.lane[static_cast<size_t>((e.g.x & 1) | (e.g.y & 1) << 1)], e.material,
+           e.index);
+    open_.clear();
+  }
+  QuadAssembler quads_;
+  std::vector<Entry> open_;
 };
 
 // Fragments waiting for their ground truth, computed in parallel a batch at a time and then
@@ -696,6 +735,15 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     for (const auto& p : scene.primitives) maps.emplace_back(scene, p);
   }
   const ImageLayout layout = run_layout(opt, scene, use_scene, trace_sum.get(), maps, textures.set);
+  if (setup.derivatives != QuadDerivatives::Own) {
+    for (const MaterialSetup& m : mats) {
+      if (m.coords) {
+        throw InputError(scene.path, "[pipeline] derivatives: material '" + m.name +
+                                         "' computes its own coordinates and derivatives "
+                                         "(coords); set derivatives = \"fragment\"");
+      }
+    }
+  }
   if (!opt.functional && setup.units > 1) {
     for (const MaterialSetup& m : mats) {
       if (m.coords) {
@@ -730,18 +778,30 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   // The unit's timeline observes the pipeline after every fragment: no batching then.
   UnitBatch unit_batch(unit, timeline ? 1 : LinearBatch::kMax);
   const UnitArray::Record to_record = record;
+  auto to_unit = [&](const Fragment& f, const Fragment& g, const Fragment& u, int material,
+                     uint64_t index) {
+    if (units.several()) {
+      units.add(f, g, u, material, index, to_record);  // to the unit of its screen tile
+    } else {
+      unit_batch.add(f, g, u, material, index, record);
+    }
+  };
+  std::unique_ptr<QuadFeed> quads;
+  if (setup.derivatives != QuadDerivatives::Own)
+    quads = std::make_unique<QuadFeed>(setup.derivatives);
   auto handle = [&](const Fragment& f, uint64_t index) {
     Fragment g = f;
     g.tex = loaded_texture(f, index, textures, input, opt.trace);
     const int material = truth.exact() ? primitive_material(f, index, scene, opt.trace) : 0;
     if (!os.drawn_by(material)) {
-      if (units.several()) {
-        units.add(f, g, material, index, to_record);  // to the unit of its screen tile
+      if (quads) {
+        quads->add(f, g, material, index, to_unit);
       } else {
-        unit_batch.add(f, g, material, index, record);
+        to_unit(f, g, g, material, index);
       }
       return;
     }
+    if (quads) quads->flush(to_unit);
     unit_batch.flush(record);  // in arrival order
     const Rgba c = os.shade(material, f.x, f.y);
     record(f, g, material, &c, index);
@@ -761,6 +821,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     generate_fragments(
         scene, 0, [&](const Fragment& f) { handle(f, index++); }, &raster, &mats);
   }
+  if (quads) quads->flush(to_unit);
   unit_batch.flush(record);
   units.finish();
   batch.flush();
@@ -784,6 +845,13 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
   finish_object_space(os, units.cycles(), raster, sum, info);
   info.energy = scene.energy;
+  if (quads || setup.quad_merge) {
+    QuadInfo& q = info.quads;
+    q.derivatives = setup.derivatives;
+    q.merge = setup.quad_merge;
+    if (quads) q.counts = quads->counts();
+    q.merged_lookups = units.quad_merged_lookups();
+  }
   info.provenance =
       run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech, digest);
   if (opt.capture) {

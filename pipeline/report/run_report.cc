@@ -291,6 +291,21 @@ Json report_json(const RunInfo& info, const UnitArray& unit, const AccuracyMetri
   add_object_space_json(j, info.object_space);
   add_physical_json(j, info, unit);
   if (unit.timing()) add_energy_json(j, run_energy(unit, info.energy), frags);
+  if (info.quads.active()) {
+    static const char* const kModes[] = {"fragment", "coarse", "fine"};
+    const QuadInfo& q = info.quads;
+    Json& e = j["quads"];
+    e = {{"derivatives", kModes[static_cast<int>(q.derivatives)]},
+         {"merge", q.merge},
+         {"merged_lookups", q.merged_lookups}};
+    if (q.derivatives != QuadDerivatives::Own) {
+      // The quads the derivatives came from, and the fragments that kept their own.
+      e["quads"] = q.counts.quads;
+      e["helper_lanes"] = q.counts.helper_lanes;
+      e["own_x"] = q.counts.own_x;
+      e["own_y"] = q.counts.own_y;
+    }
+  }
   if (!info.ledger.empty()) {
     j["ledger"] = ledger_json(info.ledger);
     j["ledger_setup"] = ledger_setup_json(info.ledger);

@@ -18,6 +18,15 @@ struct FrameAccuracy {
   AccuracyMetrics accuracy;
 };
 
+// Quads in the texture unit ([pipeline] derivatives, quad_merge); reported when either is on.
+struct QuadInfo {
+  QuadDerivatives derivatives = QuadDerivatives::Own;
+  bool merge = false;
+  QuadCounts counts;            // the quads derivatives were taken from (derivatives != fragment)
+  uint64_t merged_lookups = 0;  // tag look-ups a quad's earlier lane had made (quad_merge)
+  bool active() const { return derivatives != QuadDerivatives::Own || merge; }
+};
+
 struct RunInfo {
   std::string scene;                    // scene file or "<built-in default scene>"
   std::string trace;                    // trace file, or "" when fragments came from the scene
@@ -37,6 +46,7 @@ struct RunInfo {
   ObjectSpaceInfo object_space;  // materials drawn object-space; empty: none
   Provenance provenance;
   EnergyTable energy = EnergyTable::defaults();  // [tech.energy], for the energy figures
+  QuadInfo quads;
 };
 
 // Writes DIR/report.json and DIR/report.md (atomically).

@@ -9,7 +9,8 @@ namespace texsim {
 PipelineSetup PipelineSetup::from_toml(const toml::table& t, const std::string& source) {
   PipelineSetup p;
   ConfigReader r(t, source, "pipeline");
-  r.reject_unknown({"fifo_depth", "layout", "units", "unit_tile", "cache", "l2", "dram", "blend"});
+  r.reject_unknown({"fifo_depth", "layout", "units", "unit_tile", "derivatives", "quad_merge",
+                    "cache", "l2", "dram", "blend"});
   p.fifo_depth = static_cast<uint32_t>(r.get_int("fifo_depth", p.fifo_depth, 1, 1 << 16));
   p.layout = static_cast<TexelLayout>(
       r.get_choice("layout", static_cast<int>(p.layout), {"linear", "tiled4x4", "morton"}));
@@ -18,6 +19,9 @@ PipelineSetup PipelineSetup::from_toml(const toml::table& t, const std::string& 
   if (!std::has_single_bit(p.unit_tile))
     r.fail("unit_tile",
            "must be a power of two (tiles are whole quads and align with the raster's)");
+  p.derivatives = static_cast<QuadDerivatives>(
+      r.get_choice("derivatives", static_cast<int>(p.derivatives), {"fragment", "coarse", "fine"}));
+  p.quad_merge = r.get_bool("quad_merge", p.quad_merge);
   p.cache = TextureCache::Config::from_toml(r.sub("cache"));
   uint32_t line = p.cache.line_bytes;  // what the level behind the L1s is asked for
   if (r.subtable("l2")) {

@@ -12,6 +12,7 @@
 #include "blocks/texture/memory/texture_cache.h"
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/sampler/texel_blend.h"
+#include "pipeline/texture/quad_assembler.h"
 
 namespace texsim {
 
@@ -23,6 +24,11 @@ struct PipelineSetup {
   // unit_tile × unit_tile pixels go to the units interleaved (unit_of_pixel).
   uint32_t units = 1;
   uint32_t unit_tile = 16;
+  // Quads: derivatives from the fragment ("fragment") or from quad differences (Vulkan's
+  // coarse or fine rules; with coarse ones a quad's four lanes share one LOD), and whether a
+  // quad's lanes share their tag look-ups (one per distinct line of the quad).
+  QuadDerivatives derivatives = QuadDerivatives::Own;
+  bool quad_merge = false;
   TextureCache::Config cache;  // each unit's L1
   // A shared L2 between the L1s and DRAM ([pipeline.l2] present).
   bool has_l2 = false;

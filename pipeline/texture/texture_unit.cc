@@ -43,6 +43,7 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
       cache_(mem_->l1(unit)),
       next_(&mem_->behind_l1()),
       unit_(unit),
+      quad_merge_(setup.quad_merge),
       defer_(shared != nullptr) {
   if (mats_.empty()) throw std::invalid_argument("texture unit: no materials");
   textures_.place(setup.layout);
@@ -239,12 +240,55 @@ uint64_t TextureUnit::access_lines(const uint64_t* lines, int n, uint64_t texels
   uint64_t ready = hit_ready;
   const uint32_t line_bytes = setup_.cache.line_bytes;
   const uint32_t shift = cache_.line_shift();
+  if (quad_merge_) return access_quad_lines(lines, n, texels, start);
   for (int k = 0; k < n; ++k) {
     if (!cache_.access_line(lines[k]))
       ready = std::max(ready, next_->read_line(start, lines[k] << shift, line_bytes, unit_));
   }
   cache_.count_texels(texels);
   return ready - hit_ready;
+}
+
+uint64_t TextureUnit::access_quad_lines(const uint64_t* lines, int n, uint64_t texels,
+                                        uint64_t start) {
+  const uint64_t hit_ready = start + setup_.cache.hit_latency;
+  uint64_t ready = hit_ready;
+  for (int k = 0; k < n; ++k) {
+    const auto it = std::find_if(quad_lines_.begin(), quad_lines_.end(),
+                                 [&](const auto& e) { return e.first == lines[k]; });
+    if (it != quad_lines_.end()) {
+      // The quad's earlier lane looked it up: its data comes with that read (or its fill).
+      ++quad_merged_;
+      ready = std::max(ready, it->second);
+      continue;
+    }
+    uint64_t r = hit_ready;
+    if (!cache_.access_line(lines[k])) {
+      r = std::max(r, next_->read_line(start, lines[k] << cache_.line_shift(),
+                                       setup_.cache.line_bytes, unit_));
+    }
+    quad_lines_.emplace_back(lines[k], r);
+    ready = std::max(ready, r);
+  }
+  cache_.count_texels(texels);
+  return ready - hit_ready;
+}
+
+void TextureUnit::note_quad(const Fragment& f) {
+  const uint32_t lane = 1u << ((f.x & 1) | (f.y & 1) << 1);
+  const bool same = quad_open_ && f.frame == quad_frame_ && f.prim == quad_prim_ &&
+                    f.x >> 1 == quad_x_ && f.y >> 1 == quad_y_ && (quad_mask_ & lane) == 0;
+  if (!same) {
+    // Every unit commits a fragment before it takes the next, so the quad's look-ups are done.
+    quad_lines_.clear();
+    quad_open_ = true;
+    quad_frame_ = f.frame;
+    quad_prim_ = f.prim;
+    quad_x_ = f.x >> 1;
+    quad_y_ = f.y >> 1;
+    quad_mask_ = 0;
+  }
+  quad_mask_ |= lane;
 }
 
 uint64_t TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start) {

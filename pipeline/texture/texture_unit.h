@@ -132,6 +132,8 @@ class TextureUnit {
   const TextureCache& cache() const { return cache_; }
   const DramModel& dram() const { return mem_->dram(); }
   const MemorySystem& memory() const { return *mem_; }
+  // Tag look-ups quad merging saved: lines a quad's earlier lane had looked up.
+  uint64_t quad_merged_lookups() const { return quad_merged_; }
   const std::vector<FrameStats>& frames() const {
     // The current frame's cycles are the pipeline's so far (set here, not per fragment).
     if (pipe_ && !frames_.empty()) frames_.back().cycles = pipe_->run_end();
@@ -200,6 +202,9 @@ class TextureUnit {
   template <TexelLayout L>
   [[gnu::always_inline]] inline uint64_t cache_lookups(const TexelQuad* q, int n,
                                                        const Texture& tex, uint64_t start);
+  // access_lines with quad merging: a line the open quad already looked up is not looked up
+  // again.
+  uint64_t access_quad_lines(const uint64_t* lines, int n, uint64_t texels, uint64_t start);
   // Charges the DRAM refills of lines[0 .. n) looked up at `start`; returns the extra wait.
   [[gnu::always_inline]] inline uint64_t access_lines(const uint64_t* lines, int n, uint64_t texels,
                                                       uint64_t start);
@@ -270,11 +275,15 @@ class TextureUnit {
     return c;
   }
   void count_frame(const Fragment& f) {
+    if (quad_merge_) note_quad(f);
     if (frames_.empty() || frames_.back().frame != f.frame) new_frame(f);
     ++frames_.back().fragments;
     ++fragments_;
   }
   void new_frame(const Fragment& f);
+  // Quad merging: whether f opens a new quad (QuadAssembler's rule: same frame, primitive and
+  // 2x2 square as the previous fragment, and a lane not yet taken, continue it).
+  void note_quad(const Fragment& f);
 
   TextureSet& textures_;
   std::vector<MaterialSetup> mats_;
@@ -288,6 +297,13 @@ class TextureUnit {
   TextureCache& cache_;  // this unit's L1
   LineMemory* next_;     // where its misses go
   int unit_ = 0;
+  // Quad merging ([pipeline] quad_merge): the open quad, and the lines its lanes looked up
+  // with the cycle each is ready; a later lane reading one of them makes no look-up.
+  bool quad_merge_ = false;
+  uint32_t quad_frame_ = 0, quad_prim_ = 0, quad_x_ = 0, quad_y_ = 0, quad_mask_ = 0;
+  bool quad_open_ = false;
+  std::vector<std::pair<uint64_t, uint64_t>> quad_lines_;  // (line, ready)
+  uint64_t quad_merged_ = 0;                               // look-ups saved
   // Two-step timing: the costs of the fragment in flight, its arrival and start at the cache
   // stage, and its recorded look-ups (groups of lines, each with its texels).
   bool defer_ = false, recording_ = false;

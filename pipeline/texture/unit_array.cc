@@ -33,17 +33,17 @@ void UnitArray::set_surfaces(const std::vector<SurfaceFrame>& frames) {
 
 uint64_t UnitArray::Hooks::begin(int u, Item& it) {
   TextureUnit& unit = *a->units_[static_cast<size_t>(u)];
-  const Rgba c = unit.process(it.g, it.material);
+  const Rgba c = unit.process(it.u, it.material);
   (*a->record_)(it.f, it.g, it.material, &c, it.index);
   return unit.pending_start();
 }
 
 void UnitArray::Hooks::commit(int u, Item& /*it*/) { a->units_[static_cast<size_t>(u)]->commit(); }
 
-void UnitArray::add(const Fragment& f, const Fragment& g, int material, uint64_t index,
-                    const Record& record) {
+void UnitArray::add(const Fragment& f, const Fragment& g, const Fragment& u, int material,
+                    uint64_t index, const Record& record) {
   record_ = &record;
-  sched_->add(setup_.unit_of_pixel(f.x, f.y), Item{f, g, material, index});
+  sched_->add(setup_.unit_of_pixel(f.x, f.y), Item{f, g, u, material, index});
 }
 
 void UnitArray::finish() {
@@ -101,6 +101,11 @@ std::vector<BlockUse> UnitArray::material_blocks(int m) const {
 uint64_t UnitArray::material_fragments(int m) const {
   uint64_t n = 0;
   for (const auto& u : units_) n += u->material_fragments(m);
+  return n;
+}
+uint64_t UnitArray::quad_merged_lookups() const {
+  uint64_t n = 0;
+  for (const auto& u : units_) n += u->quad_merged_lookups();
   return n;
 }
 uint64_t UnitArray::material_relief_steps(int m) const {

@@ -39,7 +39,8 @@ class UnitArray {
 
   // Several units: fragment g (f as given) of `material` to the unit of its pixel; `record`
   // gets its colour. finish() drains the units (call once, after the last fragment).
-  void add(const Fragment& f, const Fragment& g, int material, uint64_t index,
+  // The unit filters u (g, or g with its quad's derivatives); record gets f and g.
+  void add(const Fragment& f, const Fragment& g, const Fragment& u, int material, uint64_t index,
            const Record& record);
   void finish();
 
@@ -50,6 +51,7 @@ class UnitArray {
   std::vector<BlockUse> blocks() const;
   std::vector<BlockUse> material_blocks(int m) const;
   uint64_t material_fragments(int m) const;
+  uint64_t quad_merged_lookups() const;
   uint64_t material_relief_steps(int m) const;
   uint64_t material_relief_fetches(int m) const;
   bool material_has_relief(int m) const { return units_[0]->material_has_relief(m); }
@@ -75,7 +77,7 @@ class UnitArray {
 
  private:
   struct Item {
-    Fragment f, g;
+    Fragment f, g, u;
     int material;
     uint64_t index;
   };
