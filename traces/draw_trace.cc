@@ -664,6 +664,69 @@ DrawRecordKind DrawTraceReader::next() {
   return kind;
 }
 
+bool is_draw_trace(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  char magic[sizeof kDrawMagic] = {};
+  const bool yes = std::fread(magic, 1, sizeof magic, f) == sizeof magic &&
+                   std::memcmp(magic, kDrawMagic, sizeof magic) == 0;
+  std::fclose(f);
+  return yes;
+}
+
+int draw_trace_info(const std::string& path, std::ostream& out) {
+  DrawTraceReader r(path);
+  struct Frame {
+    uint32_t number;
+    uint64_t draws = 0, vertices = 0, triangles = 0, units = 0;
+    CallCounts calls;
+  };
+  std::vector<Frame> frames;
+  std::vector<std::string> textures;  // one line each; the texture table of a draw trace
+  uint64_t texture_bytes = 0;
+  for (DrawRecordKind k; (k = r.next()) != DrawRecordKind::End;) {
+    if (k == DrawRecordKind::Texture) {
+      const DrawTexture& t = r.texture();
+      uint64_t bytes = 0;
+      for (const auto& l : t.levels) bytes += l.size();
+      texture_bytes += bytes;
+      textures.push_back("  id " + std::to_string(t.id) + "  " + std::to_string(t.width) + "x" +
+                         std::to_string(t.height) + "  " + std::to_string(t.levels.size()) +
+                         " levels  " + std::to_string(bytes) + " bytes  " + t.name);
+    } else if (k == DrawRecordKind::Frame) {
+      frames.push_back(Frame{r.frame(), 0, 0, 0, 0, {}});
+    } else if (k == DrawRecordKind::Draw) {
+      Frame& f = frames.back();
+      ++f.draws;
+      f.vertices += r.draw().vertex_count;
+      f.triangles += r.draw().indices.size() / 3;
+      f.units += r.draw().units.size();
+    } else {
+      frames.back().calls = r.uninterpreted();
+    }
+  }
+  out << "draw trace: " << path << "\n";
+  out << "format:     draw trace, version " << kDrawVersion << "\n";
+  out << "source:     " << r.source() << "\n";
+  out << "frames:     " << frames.size() << "\n";
+  for (const Frame& f : frames) {
+    uint64_t calls = 0;
+    for (const auto& [n, c] : f.calls) calls += c;
+    out << "  frame " << f.number << ": " << f.draws << " draws, " << f.vertices << " vertices, "
+        << f.triangles << " triangles, " << f.units << " texture bindings; " << calls
+        << " calls not interpreted";
+    const char* sep = ": ";
+    for (const auto& [n, c] : f.calls) {
+      out << sep << n << " " << c;
+      sep = ", ";
+    }
+    out << "\n";
+  }
+  out << "textures:   " << textures.size() << " (" << texture_bytes << " bytes of texels)\n";
+  for (const std::string& t : textures) out << t << "\n";
+  return 0;
+}
+
 void write_draw_trace(const std::string& path, const DrawTrace& trace) {
   DrawTraceWriter w(path, trace.source);
   for (const DrawTexture& t : trace.textures) w.add_texture(t);

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -171,6 +172,12 @@ class DrawTraceReader {
 
 void write_draw_trace(const std::string& path, const DrawTrace& trace);
 DrawTrace read_draw_trace(const std::string& path);
+
+// True when the file at `path` starts with the draw trace magic (false if it cannot be read).
+bool is_draw_trace(const std::string& path);
+// `texsim trace info` for a draw trace, in one streaming pass: the frames with their draws,
+// vertices, triangles and uninterpreted calls, and the textures with their sizes; returns 0.
+int draw_trace_info(const std::string& path, std::ostream& out);
 
 // Bytes of level `level` of a width x height RGBA8 texture.
 uint64_t draw_level_bytes(uint32_t width, uint32_t height, uint32_t level);

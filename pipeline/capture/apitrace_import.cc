@@ -748,7 +748,7 @@ void Interpreter::tex_image() {
   const uint32_t bound = units_[active_].bound;
   GlTexture& t = textures_[bound];
   t.trace_id = -1;
-  ++t.upload;
+  if (num(1) == 0) ++t.upload;  // counts the uploads of the base level
   if (!(level >= 0 && level < kDrawMaxLevels)) {
     t.bad = "level out of range";
     return count(call_ + "[level]");

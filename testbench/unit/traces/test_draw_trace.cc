@@ -9,12 +9,14 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "blocks/base/input_error.h"
 #include "testbench/lib/temp_dir.h"
 #include "traces/draw_trace.h"
+#include "traces/trace_tools.h"
 
 namespace texsim {
 namespace {
@@ -330,6 +332,20 @@ TEST_F(DrawTraceTest, WriterRefusesBadInputAndLeavesNoFile) {
   t.textures[0].levels[2].pop_back();
   EXPECT_THROW(write_draw_trace(dir.file("x.draws"), t), InputError);
   EXPECT_FALSE(std::filesystem::exists(dir.file("x.draws")));
+}
+
+TEST_F(DrawTraceTest, TraceInfoSummarisesFramesAndTextures) {
+  std::ostringstream out;
+  EXPECT_EQ(trace_info(path, out), 0);  // `texsim trace info` recognises the magic
+  const std::string s = out.str();
+  EXPECT_NE(s.find("source:     test capture"), std::string::npos) << s;
+  EXPECT_NE(s.find("frame 7: 2 draws, 8 vertices, 4 triangles, 3 texture bindings; 3 calls not "
+                   "interpreted: glClear 1, glScissor 2"),
+            std::string::npos)
+      << s;
+  EXPECT_NE(s.find("frame 9: 1 draws, 4 vertices, 2 triangles"), std::string::npos) << s;
+  EXPECT_NE(s.find("textures:   2 (748 bytes of texels)"), std::string::npos) << s;
+  EXPECT_NE(s.find("id 0  16x8  5 levels  684 bytes  tex 0"), std::string::npos) << s;
 }
 
 }  // namespace
