@@ -21,7 +21,6 @@ constexpr char kDrawTag[4] = {'D', 'R', 'A', 'W'};
 constexpr char kFrameEndTag[4] = {'F', 'E', 'N', 'D'};
 constexpr char kEndTag[4] = {'T', 'E', 'N', 'D'};
 constexpr uint32_t kRecordHeaderBytes = 12;
-constexpr uint32_t kTexFixedBytes = 24;
 constexpr uint32_t kDrawStateBytes = 64;
 constexpr uint32_t kDrawCountsBytes = 16;
 constexpr uint32_t kUnitBytes = 36;

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <string_view>
 #include <unordered_map>
@@ -288,14 +289,37 @@ class Interpreter {
     const double v = std::strtod(a.c_str(), &end);
     if (a.empty() || *end != '\0')
       throw InputError(where(), "argument " + std::to_string(i) + " '" + a + "' is not a number");
+    if (!std::isfinite(v))
+      throw InputError(where(), "argument " + std::to_string(i) + " '" + a + "' is not finite");
     return v;
+  }
+  // A whole-number argument in [lo, hi], or an error (never an out-of-range conversion).
+  int64_t whole(size_t i, int64_t lo, int64_t hi) {
+    const double v = num(i);
+    if (!(v >= static_cast<double>(lo) && v <= static_cast<double>(hi)) || v != std::floor(v))
+      throw InputError(where(), "argument " + std::to_string(i) + " '" + std::string(args_[i]) +
+                                    "' is not a whole number in " + std::to_string(lo) + ".." +
+                                    std::to_string(hi));
+    return static_cast<int64_t>(v);
+  }
+  uint32_t u32(size_t i, uint32_t hi) { return static_cast<uint32_t>(whole(i, 0, hi)); }
+  float f32(size_t i) { return to_f32(num(i), "argument " + std::to_string(i)); }
+  float to_f32(double v, const std::string& what) {
+    if (!(std::fabs(v) <= std::numeric_limits<float>::max()))
+      throw InputError(where(), what + " is not a finite single-precision value");
+    return static_cast<float>(v);
+  }
+  // GL_TEXTURE0..7 -> 0..7, else -1.
+  static int unit_of(std::string_view a) {
+    if (a.size() != 11 || !a.starts_with("GL_TEXTURE") || a[10] < '0' || a[10] > '7') return -1;
+    return a[10] - '0';
   }
   // The value of an enum argument, or kUnknown for a name the importer does not know.
   uint32_t gl_enum(size_t i) {
     const std::string_view a = args_.at(i);
     const auto& m = gl_enums();
     if (const auto it = m.find(a); it != m.end()) return it->second;
-    if (!a.empty() && a[0] >= '0' && a[0] <= '9') return static_cast<uint32_t>(num(i));
+    if (!a.empty() && a[0] >= '0' && a[0] <= '9') return u32(i, 0xFFFFFFFEu);
     return kUnknown;
   }
   std::vector<double> numbers(size_t i) {
@@ -424,9 +448,9 @@ ClientArray* Interpreter::client_array(std::string_view which) {
 
 void Interpreter::set_pointer(ClientArray& a, size_t n) {
   need_args(n);
-  a.size = static_cast<uint32_t>(num(0));
+  a.size = u32(0, 4);
   a.type = gl_enum(1);
-  a.stride = static_cast<uint32_t>(num(2));
+  a.stride = u32(2, 65535);
   bool offset = false;
   auto data = blob(3, &offset);
   a.buffer = offset;
@@ -473,7 +497,7 @@ bool Interpreter::dispatch() {
   if (c == "glBindTexture") {
     need_args(2);
     if (args_[0] != "GL_TEXTURE_2D") return count(c + "(" + std::string(args_[0]) + ")"), true;
-    const auto t = static_cast<uint32_t>(num(1));
+    const auto t = u32(1, 0xFFFFFFFFu);
     if (!textures_.contains(t)) {
       if (textures_.size() >= kImportMaxTextureNames)
         throw InputError(where(),
@@ -505,9 +529,8 @@ bool Interpreter::dispatch() {
              c == "glClientActiveTextureARB") {
     need_args(1);
     const std::string_view a = args_[0];
-    const int u = a.starts_with("GL_TEXTURE") ? std::atoi(std::string(a.substr(10)).c_str()) : -1;
-    if (u < 0 || u >= kUnitsTracked || !a.starts_with("GL_TEXTURE") ||
-        a.find_first_not_of("0123456789", 10) != std::string_view::npos)
+    const int u = unit_of(a);
+    if (u < 0)
       throw InputError(where(), "texture unit '" + std::string(a) + "' is not GL_TEXTURE0..7");
     (c.find("Client") != std::string::npos ? client_active_ : active_) = static_cast<uint32_t>(u);
   } else if (c == "glTexEnvf" || c == "glTexEnvi") {
@@ -620,8 +643,8 @@ bool Interpreter::dispatch() {
     st_.depth_write = num(0) != 0;
   } else if (c == "glDepthRange" || c == "glDepthRangef") {
     need_args(2);
-    st_.depth_near = static_cast<float>(num(0));
-    st_.depth_far = static_cast<float>(num(1));
+    st_.depth_near = f32(0);
+    st_.depth_far = f32(1);
   } else if (c == "glCullFace") {
     need_args(1);
     st_.cull_face = gl_enum(0);
@@ -630,20 +653,20 @@ bool Interpreter::dispatch() {
     st_.front_face = gl_enum(0);
   } else if (c == "glPolygonOffset") {
     need_args(2);
-    st_.offset_factor = static_cast<float>(num(0));
-    st_.offset_units = static_cast<float>(num(1));
+    st_.offset_factor = f32(0);
+    st_.offset_units = f32(1);
   } else if (c == "glAlphaFunc") {
     need_args(2);
     st_.alpha_func = gl_enum(0);
-    st_.alpha_ref = static_cast<float>(std::clamp(num(1), 0.0, 1.0));
+    st_.alpha_ref = std::clamp(f32(1), 0.0f, 1.0f);
   } else if (c == "glBlendFunc") {
     need_args(2);
     st_.blend_src = gl_enum(0);
     st_.blend_dst = gl_enum(1);
   } else if (c == "glViewport") {
     need_args(4);
-    st_.viewport_x = static_cast<int32_t>(num(0));
-    st_.viewport_y = static_cast<int32_t>(num(1));
+    st_.viewport_x = static_cast<int32_t>(whole(0, INT32_MIN, INT32_MAX));
+    st_.viewport_y = static_cast<int32_t>(whole(1, INT32_MIN, INT32_MAX));
     const double vw = num(2), vh = num(3);
     st_.viewport_w = vw >= 1 && vw <= 16384 ? static_cast<uint32_t>(vw) : 0;
     st_.viewport_h = vh >= 1 && vh <= 16384 ? static_cast<uint32_t>(vh) : 0;
@@ -658,17 +681,16 @@ bool Interpreter::dispatch() {
     }
   } else if (c == "glTexCoord2f") {
     need_args(2);
-    units_[0].s = static_cast<float>(num(0));
-    units_[0].t = static_cast<float>(num(1));
+    units_[0].s = f32(0);
+    units_[0].t = f32(1);
     count(c);  // immediate mode: the current value is kept, the vertex it feeds is not
   } else if (c == "glMultiTexCoord2f" || c == "glMultiTexCoord2fARB") {
     need_args(3);
     const std::string_view a = args_[0];
-    const int u = a.starts_with("GL_TEXTURE") ? std::atoi(std::string(a.substr(10)).c_str()) : -1;
-    if (u < 0 || u >= kUnitsTracked)
-      throw InputError(where(), "bad texture unit " + std::string(a));
-    units_[u].s = static_cast<float>(num(1));
-    units_[u].t = static_cast<float>(num(2));
+    const int u = unit_of(a);
+    if (u < 0) throw InputError(where(), "bad texture unit " + std::string(a));
+    units_[u].s = f32(1);
+    units_[u].t = f32(2);
   } else if (c == "glPixelStorei") {
     need_args(2);
     const double v = num(1);
@@ -734,9 +756,9 @@ void Interpreter::tex_parameter() {
   else if (p == "GL_TEXTURE_WRAP_T")
     t.wrap_t = gl_enum(2);
   else if (p == "GL_TEXTURE_MAX_ANISOTROPY_EXT" || p == "GL_TEXTURE_MAX_ANISOTROPY")
-    t.aniso = static_cast<float>(std::clamp(num(2), 1.0, 16.0));
+    t.aniso = std::clamp(f32(2), 1.0f, 16.0f);
   else if (p == "GL_TEXTURE_LOD_BIAS")
-    t.lod_bias = static_cast<float>(num(2));
+    t.lod_bias = f32(2);
   else
     count(call_ + "(" + std::string(p) + ")");
 }
@@ -971,10 +993,8 @@ void Interpreter::draw(uint32_t mode, std::vector<uint32_t> idx) {
     for (int row = 0; row < 4; ++row) {
       const double x =
           mvp[row] * p[0] + mvp[4 + row] * p[1] + mvp[8 + row] * p[2] + mvp[12 + row] * p[3];
-      d.position[4 * v + row] = static_cast<float>(x);
-      if (!std::isfinite(static_cast<float>(x)))
-        throw InputError(where(),
-                         "vertex " + std::to_string(src) + ": clip-space position is not finite");
+      d.position[4 * v + row] =
+          to_f32(x, "vertex " + std::to_string(src) + ": clip-space position");
     }
     for (size_t i = 0; i < d.units.size(); ++i) {
       const Unit& unit = units_[d.units[i].unit];
@@ -986,17 +1006,16 @@ void Interpreter::draw(uint32_t mode, std::vector<uint32_t> idx) {
         if (a.size == 4 && fetch(a, "texture coordinate", src, 3) != 1)
           return count(c + "[projective texture coordinates]");
       }
-      d.st[i][2 * v] = static_cast<float>(cs);
-      d.st[i][2 * v + 1] = static_cast<float>(ct);
-      if (!std::isfinite(d.st[i][2 * v]) || !std::isfinite(d.st[i][2 * v + 1]))
-        throw InputError(where(),
-                         "vertex " + std::to_string(src) + ": texture coordinate is not finite");
+      d.st[i][2 * v] = to_f32(cs, "vertex " + std::to_string(src) + ": texture coordinate");
+      d.st[i][2 * v + 1] = to_f32(ct, "vertex " + std::to_string(src) + ": texture coordinate");
     }
     for (uint32_t k = 0; k < 4; ++k) {
       uint8_t col = color_now_[k];
       if (color_.enabled) {
         if (k < color_.size) {
           const double x = fetch(color_, "colour", src, k);
+          if (!std::isfinite(x))
+            throw InputError(where(), "vertex " + std::to_string(src) + ": colour is not finite");
           col = color_.type == 0x1401
                     ? static_cast<uint8_t>(x)
                     : static_cast<uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255));

@@ -211,7 +211,7 @@ TEST_F(ApitraceImportTest, BadDumpsAreClearErrors) {
   write_bytes(dir.file("blob_call25.bin"),
               bytes_of<float>({0, 0, 0, 99, NAN, 0, 0, 99, 1, 1, 0, 99, 0, 1, 0.5f}));
   // A NaN in the application's vertex array: an error naming the call, not a NaN in the trace.
-  EXPECT_NE(error_of(1, 1).find("clip-space position is not finite"), std::string::npos);
+  EXPECT_NE(error_of(1, 1).find("clip-space position is not a finite"), std::string::npos);
 }
 
 TEST_F(ApitraceImportTest, FrameRanges) {
