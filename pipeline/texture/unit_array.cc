@@ -34,7 +34,9 @@ void UnitArray::set_surfaces(const std::vector<SurfaceFrame>& frames) {
 uint64_t UnitArray::Hooks::begin(int u, Item& it) {
   TextureUnit& unit = *a->units_[static_cast<size_t>(u)];
   const Rgba c = unit.process(it.u, it.material);
-  (*a->record_)(it.f, it.g, it.material, &c, it.index);
+  Fragment g = it.f;
+  g.tex = it.g_tex;
+  (*a->record_)(it.f, g, it.material, &c, it.index);
   return unit.pending_start();
 }
 
@@ -43,7 +45,8 @@ void UnitArray::Hooks::commit(int u, Item& /*it*/) { a->units_[static_cast<size_
 void UnitArray::add(const Fragment& f, const Fragment& g, const Fragment& u, int material,
                     uint64_t index, const Record& record) {
   record_ = &record;
-  sched_->add(setup_.unit_of_pixel(f.x, f.y), Item{f, g, u, material, index});
+  // g differs from f in its texture id only (run.cc's loaded texture), never elsewhere.
+  sched_->add(setup_.unit_of_pixel(f.x, f.y), Item{f, u, g.tex, material, index});
 }
 
 void UnitArray::finish() {

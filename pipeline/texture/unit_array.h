@@ -76,8 +76,10 @@ class UnitArray {
   void check_timing_invariants() const;
 
  private:
+  // g is f with the loaded texture's id (g_tex): kept as that id, not a third fragment.
   struct Item {
-    Fragment f, g, u;
+    Fragment f, u;
+    uint32_t g_tex;
     int material;
     uint64_t index;
   };
