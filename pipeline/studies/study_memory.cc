@@ -101,6 +101,8 @@ MemoryStudyRow make_row(const std::string& scene, const std::string& path, const
   }
   if (row.count("output.width"))
     r.other = get(s, "output.width") + "x" + get(s, "output.height") + " px";
+  if (row.count("materials.floor.lod.max_aniso"))
+    r.other = "floor max_aniso=" + get(s, "materials.floor.lod.max_aniso");
   for (const char* k : {"pipeline.unit_tile", "pipeline.quad_merge", "pipeline.cache.miss_queue",
                         "pipeline.l2.prefetch"}) {
     if (row.count(k) || (std::string(k) == "pipeline.unit_tile" && r.units > 1)) {
@@ -191,6 +193,18 @@ void full_plan(const SceneRef& sc, std::vector<MemoryStudyRow>& rows) {
         add("resolution", with(with(o, l1(size, 4, 64)),
                                {{"output.width", std::to_string(scene.width * scale)},
                                 {"output.height", std::to_string(scene.height * scale)}}));
+      }
+    }
+  }
+  // photo's floor filters anisotropically (up to 16 probes along the footprint's major axis):
+  // the same raster orders with the floor isotropic, to tell the footprint's share.
+  if (sc.name == "photo") {
+    for (const char* aniso : {"1", "16"}) {
+      for (const Set& o : {Set{{"raster.order", "rows"}}, tiled("hilbert")}) {
+        for (uint32_t size : {4096u, 16384u, 65536u}) {
+          add("footprint",
+              with(with(o, l1(size, 4, 64)), {{"materials.floor.lod.max_aniso", aniso}}));
+        }
       }
     }
   }
@@ -398,6 +412,7 @@ std::string markdown(const std::vector<MemoryStudyRow>& rows, const StudyMemoryO
       {"l2", "L2 size, slices and next-line prefetch (4 units, banked gddr6)"},
       {"miss_queue", "Latency hiding: fragments in flight in the L1 stage"},
       {"resolution", "Screen resolution × raster order"},
+      {"footprint", "Anisotropic footprints × raster order (photo's floor)"},
       {"quad_merge", "Quad merging of tag look-ups"}};
   for (const auto& [key, title] : sweeps) {
     std::vector<MemoryStudyRow> part;

@@ -4,7 +4,8 @@
 // base (one unit, 16 KB 4-way L1 of 64-byte lines, tiled4x4 texels, row raster order, flat
 // DRAM). Sweeps: L1 size × ways × line; texel layout × raster order × L1 size; units 1..16 with
 // flat DRAM, banked DRAM and a shared L2 over banked DRAM; unit tile; L2 size × slices and
-// prefetch; the L1's miss queue (latency hiding); quad merging. Per row: L1 hit rate, DRAM
+// prefetch; the L1's miss queue (latency hiding); screen resolution × raster order; photo's
+// floor isotropic against anisotropic; quad merging. Per row: L1 hit rate, DRAM
 // bytes, cycles and energy per fragment, L2 and DRAM row-buffer hit rates, the scheduler's
 // late items (docs/studies/study-memory.md).
 #include <cstdint>
@@ -27,7 +28,7 @@ struct MemoryStudyRow {
   // The plan.
   std::string scene;  // short name: "default", "photo", ...
   std::string scene_path;
-  std::string sweep;                       // "l1", "layout", "units", "unit_tile", "l2", ...
+  std::string sweep;  // "l1", "layout", "units", "unit_tile", "l2", "miss_queue", ...
   std::map<std::string, std::string> set;  // every override of the run (base and row)
   int units = 1;
   uint32_t l1_bytes = 0, l1_ways = 0, l1_line = 0;
