@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -72,6 +73,23 @@ TEST_F(StudyMemoryQuick, EveryPlannedRowRanAndTheOutputsExist) {
   size_t lines = 0;
   while (std::getline(in, line)) ++lines;
   EXPECT_EQ(lines, rows.size() + 1);
+}
+
+// Rows run on the pool, each in its own slot: one thread writes the same table as two.
+TEST_F(StudyMemoryQuick, ThreadCountDoesNotChangeTheTable) {
+  std::ostringstream log;
+  StudyMemoryOptions opt;
+  opt.quick = true;
+  opt.threads = 1;
+  ASSERT_EQ(run_study_memory(dir_->file("one"), log, opt), 0);
+  auto read = [](const std::string& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string two = read(dir_->file("out/memory.csv"));
+  EXPECT_FALSE(two.empty());
+  EXPECT_EQ(read(dir_->file("one/memory.csv")), two);
+  EXPECT_EQ(read(dir_->file("one/memory.md")), read(dir_->file("out/memory.md")));
 }
 
 // One unit, same line size: every L1 sees the same look-ups in the same order. A cache with
