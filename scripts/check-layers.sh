@@ -12,6 +12,7 @@ layer() {
     blocks/*) echo "1 blocks" ;;
     traces/*) echo "1 traces" ;;
     rtl_model/*) echo "2 rtl" ;;
+    pipeline/capture/*) echo "2 capture" ;;
     pipeline/kernel/*) echo "3 kernel" ;;
     pipeline/scene/*) echo "4 scene" ;;
     pipeline/geometry/*) echo "5 geometry" ;;

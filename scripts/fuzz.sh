@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer harnesses (testbench/fuzz/) with clang, ASan and UBSan, and runs each
 # for SECONDS (default 60) on its seed corpus: fuzz_trace_reader (binary traces; also in the
-# mode that recomputes CRCs so mutations reach the parser), fuzz_csv_reader (CSV traces, and
+# mode that recomputes CRCs so mutations reach the parser), fuzz_draw_trace (draw traces, also
+# with the CRCs recomputed), fuzz_apitrace_dump (apitrace dump text, and blobs, through the
+# importer of `texsim import apitrace`), fuzz_csv_reader (CSV traces, and
 # their round trip through both writers), fuzz_scene (scene TOML through the materials, the
 # texture unit and a tiny render), fuzz_obj (OBJ text and an MTL through the mesh loader),
 # fuzz_npz (.npz archives and .npy arrays through the DEM reader), fuzz_sweep (sweep files
@@ -20,7 +22,7 @@ build=${FUZZ_BUILD_DIR:-build-fuzz}
 CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTEXSIM_FUZZ=ON \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
   -DTEXSIM_BUILD_BENCH=OFF -DTEXSIM_WERROR=OFF > /dev/null
-cmake --build "$build" -j "$(nproc)" --target fuzz_trace_reader fuzz_csv_reader fuzz_scene \
+cmake --build "$build" -j "$(nproc)" --target fuzz_trace_reader fuzz_draw_trace fuzz_apitrace_dump fuzz_csv_reader fuzz_scene \
   fuzz_obj fuzz_npz fuzz_sweep fuzz_merge_json fuzz_tune_shard fuzz_link_host
 run() {  # run NAME CORPUS [ENV=VALUE]
   local name=$1 seeds=$2; shift 2
@@ -36,6 +38,9 @@ run() {  # run NAME CORPUS [ENV=VALUE]
 }
 run fuzz_trace_reader testbench/fuzz/corpus/trace
 run fuzz_trace_reader testbench/fuzz/corpus/trace TEXSIM_FUZZ_FIX_CRC=1
+run fuzz_draw_trace testbench/fuzz/corpus/draws
+run fuzz_draw_trace testbench/fuzz/corpus/draws TEXSIM_FUZZ_FIX_CRC=1
+run fuzz_apitrace_dump testbench/fuzz/corpus/apitrace_dump
 run fuzz_csv_reader testbench/fuzz/corpus/csv
 run fuzz_scene testbench/fuzz/corpus/scene
 run fuzz_sweep testbench/fuzz/corpus/sweep

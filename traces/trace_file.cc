@@ -13,9 +13,17 @@
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
 #include "blocks/base/input_file.h"
+#include "traces/byte_order.h"
 #include "traces/trace_csv.h"
 
 namespace texsim {
+
+// zlib's crc32(0, p, n) (FORMAT.md), computed by ISA-L: crc32_gzip_refl takes and returns the
+// CRC in zlib's form (inverted on entry and exit), so 0 starts a CRC as in zlib. Records are
+// bounded by the formats' chunk limits (< 4 GiB), so one call covers them.
+uint32_t trace_crc32(const unsigned char* p, size_t n) {
+  return crc32_gzip_refl(0, p, static_cast<uint64_t>(n));
+}
 
 namespace {
 
@@ -46,44 +54,7 @@ enum FieldIndex : size_t {
   kViewZ
 };
 
-// Little-endian loads and stores; the byte reversal only exists on a big-endian host.
-template <class T>
-T load_le(const unsigned char* p) {
-  T v;
-  if constexpr (std::endian::native == std::endian::little) {
-    std::memcpy(&v, p, sizeof v);
-  } else {
-    unsigned char b[sizeof(T)];
-    for (size_t i = 0; i < sizeof(T); ++i) b[i] = p[sizeof(T) - 1 - i];
-    std::memcpy(&v, b, sizeof v);
-  }
-  return v;
-}
-
-template <class T>
-void store_le(unsigned char* p, T v) {
-  if constexpr (std::endian::native == std::endian::little) {
-    std::memcpy(p, &v, sizeof v);
-  } else {
-    unsigned char b[sizeof(T)];
-    std::memcpy(b, &v, sizeof v);
-    for (size_t i = 0; i < sizeof(T); ++i) p[i] = b[sizeof(T) - 1 - i];
-  }
-}
-
-template <class T>
-void append_le(std::vector<unsigned char>& out, T v) {
-  const size_t n = out.size();
-  out.resize(n + sizeof(T));
-  store_le(out.data() + n, v);
-}
-
-// zlib's crc32(0, p, n) (FORMAT.md), computed by ISA-L: crc32_gzip_refl takes and returns the
-// CRC in zlib's form (inverted on entry and exit), so 0 starts a CRC as in zlib.
-uint32_t crc_of(const unsigned char* p, size_t n) {
-  // Chunks are bounded by kTraceMaxChunkBytes (< 4 GiB), so one call covers them.
-  return crc32_gzip_refl(0, p, static_cast<uint64_t>(n));
-}
+uint32_t crc_of(const unsigned char* p, size_t n) { return trace_crc32(p, n); }
 
 std::string hex32(uint32_t v) {
   char buf[16];

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "traces/draw_trace.h"
 #include "traces/trace_csv.h"
 
 namespace texsim {
@@ -73,6 +74,7 @@ TraceSummary summarize_trace(const std::string& path) {
 }
 
 int trace_info(const std::string& path, std::ostream& out) {
+  if (is_draw_trace(path)) return draw_trace_info(path, out);
   const TraceSummary s = summarize_trace(path);
   const TraceHeader& h = s.header;
   const bool csv = h.encoding == TraceEncoding::Csv;

@@ -18,6 +18,7 @@
 #include "pipeline/app/run.h"
 #include "pipeline/app/sweep.h"
 #include "pipeline/app/tuner.h"
+#include "pipeline/capture/apitrace_import.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/report/provenance.h"
 #include "pipeline/studies/study_coords.h"
@@ -388,6 +389,18 @@ int run_cli(int argc, char** argv) {
   conv->add_option("input", conv_in, "Input trace")->required();
   conv->add_option("output", conv_out, "Output trace")->required();
 
+  auto* import_cmd =
+      app.add_subcommand("import", "Turn captures of real applications into draw traces");
+  import_cmd->require_subcommand(1);
+  std::string imp_capture, imp_frames, imp_out;
+  auto* imp = import_cmd->add_subcommand(
+      "apitrace",
+      "Interpret the fixed-function OpenGL of an apitrace capture into a draw trace "
+      "(traces/DRAWS.md)");
+  imp->add_option("capture", imp_capture, "apitrace capture (.trace)")->required();
+  imp->add_option("--frames", imp_frames, "Frames to import, A-B or A (0-based)")->required();
+  imp->add_option("-o,--output", imp_out, "Output draw trace (.draws)")->required();
+
   StudyCli study;
   add_study_commands(app, study);
 
@@ -420,6 +433,11 @@ int run_cli(int argc, char** argv) {
       // With -o - the trace itself is on standard output: the summary goes to stderr.
       (gen_out == "-" ? std::cerr : std::cout)
           << "texsim trace gen: wrote " << n << " fragments to " << gen_out << "\n";
+    } else if (*imp) {
+      uint32_t first = 0, last = 0;
+      parse_frame_range(imp_frames, first, last);
+      const ImportSummary s = import_apitrace(imp_capture, first, last, imp_out);
+      print_import_summary(s, imp_out, std::cout);
     } else if (*info) {
       return trace_info(info_in, std::cout);
     } else if (*study.cmd) {

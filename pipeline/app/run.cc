@@ -844,7 +844,6 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   info.has_truth = opt.reference != "none";
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
   finish_object_space(os, units.cycles(), raster, sum, info);
-  info.energy = scene.energy;
   if (quads || setup.quad_merge) {
     QuadInfo& q = info.quads;
     q.derivatives = setup.derivatives;
@@ -854,6 +853,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   }
   info.provenance =
       run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech, digest);
+  info.provenance.energy = scene.energy;
   if (opt.capture) {
     const bool write = opt.capture->write_outputs;
     *opt.capture = capture_run(images, units, sum);

@@ -67,8 +67,58 @@ Json setup_json(const PipelineSetup& s) {
                 {"hit_latency", s.cache.hit_latency},
                 {"texels_per_cycle", s.cache.texels_per_cycle},
                 {"miss_queue", s.cache.miss_queue}};
-  j["dram"] = {{"latency", s.dram.latency}, {"bytes_per_cycle", s.dram.bytes_per_cycle}};
+  if (s.dram_kind == PipelineSetup::DramKind::Flat) {
+    j["dram"] = {{"latency", s.dram.latency}, {"bytes_per_cycle", s.dram.bytes_per_cycle}};
+  } else {
+    static const char* const kMappings[] = {"row_bank_channel", "row_channel_bank", "bank_xor"};
+    const BankedDram::Config& b = s.banked;
+    j["dram"] = {{"model", "banked"},
+                 {"channels", b.channels},
+                 {"banks", b.banks},
+                 {"row_bytes", b.row_bytes},
+                 {"interleave_bytes", b.interleave_bytes},
+                 {"mapping", kMappings[static_cast<int>(b.mapping)]},
+                 {"page_policy", b.page_policy == BankedDram::PagePolicy::Open ? "open" : "closed"},
+                 {"tCL", b.tCL},
+                 {"tRCD", b.tRCD},
+                 {"tRP", b.tRP},
+                 {"tRAS", b.tRAS},
+                 {"burst_length", b.burst_length},
+                 {"bus_bytes", b.bus_bytes},
+                 {"beats_per_cycle", b.beats_per_cycle}};
+  }
   j["blend"] = {{"taps_per_cycle", s.blend.taps_per_cycle}};
+  // The units and the L2 only when they differ from one unit on its own.
+  if (s.units > 1) {
+    j["units"] = s.units;
+    j["unit_tile"] = s.unit_tile;
+  }
+  if (s.derivatives != QuadDerivatives::Own)
+    j["derivatives"] = s.derivatives == QuadDerivatives::Coarse ? "coarse" : "fine";
+  if (s.quad_merge) j["quad_merge"] = true;
+  if (s.has_l2) {
+    const L2Cache::Config& l = s.l2;
+    j["l2"] = {{"size_bytes", l.size_bytes},
+               {"ways", l.ways},
+               {"line_bytes", l.line_bytes},
+               {"slices", l.slices},
+               {"ports", l.ports},
+               {"hit_latency", l.hit_latency},
+               {"mshrs", l.mshrs},
+               {"prefetch", l.prefetch == L2Cache::Prefetch::NextLine ? "next_line" : "none"}};
+  }
+  return j;
+}
+
+Json energy_json(const EnergyTable& e) {
+  Json j;
+  for (int k = 0; k < kOpKinds; ++k) j["op"][std::string(kOpKindNames[k])] = e.op_pj[k];
+  j["sram"] = Json::array();
+  for (const EnergyTable::SramClass& c : e.sram)
+    j["sram"].push_back({{"capacity_bytes", c.capacity_bytes}, {"pj", c.pj}});
+  j["sram_access_bytes"] = e.sram_access_bytes;
+  j["dram_byte_pj"] = e.dram_byte_pj;
+  j["dram_activation_pj"] = e.dram_activation_pj;
   return j;
 }
 
@@ -100,6 +150,7 @@ nlohmann::ordered_json provenance_json(const Provenance& p) {
   }
   j["pipeline"] = setup_json(p.setup);
   j["tech"] = tech_json(p.tech);
+  j["tech"]["energy"] = energy_json(p.energy);
   return j;
 }
 

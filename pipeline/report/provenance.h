@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "blocks/base/energy_table.h"
 #include "blocks/base/tech_table.h"
 #include "pipeline/texture/texture_unit.h"
 
@@ -26,6 +27,7 @@ struct Provenance {
   std::vector<InputDigest> inputs;
   PipelineSetup setup;  // resolved: the scene's [pipeline] over the defaults
   TechTable tech;       // resolved: the scene's [tech] over the defaults
+  EnergyTable energy = EnergyTable::defaults();  // resolved [tech.energy]
 };
 
 // The file's SHA-1 (via OpenImageIO) and size; throws InputError if it cannot be read.

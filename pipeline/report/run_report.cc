@@ -290,7 +290,7 @@ Json report_json(const RunInfo& info, const UnitArray& unit, const AccuracyMetri
   add_subsystems_json(j, info.subsystems);
   add_object_space_json(j, info.object_space);
   add_physical_json(j, info, unit);
-  if (unit.timing()) add_energy_json(j, run_energy(unit, info.energy), frags);
+  if (unit.timing()) add_energy_json(j, run_energy(unit, info.provenance.energy), frags);
   if (info.quads.active()) {
     static const char* const kModes[] = {"fragment", "coarse", "fine"};
     const QuadInfo& q = info.quads;
@@ -477,7 +477,7 @@ std::string report_markdown(const RunInfo& info, const UnitArray& unit, const Ac
   if (unit.timing()) md_stages(md, unit);
   md_memory(md, unit);
   if (unit.timing())
-    md_energy(md, run_energy(unit, info.energy), static_cast<double>(unit.fragments()));
+    md_energy(md, run_energy(unit, info.provenance.energy), static_cast<double>(unit.fragments()));
   if (!info.ledger.empty()) ledger_markdown(md, info.ledger);
   if (!info.has_truth) {
     md << "\n## Images\n\n`image.png` (filtered result); no ground truth, so no `reference.png` "

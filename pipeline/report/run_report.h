@@ -45,7 +45,6 @@ struct RunInfo {
   ErrorLedger ledger;  // per-block error ledger (texsim run --ledger); empty: not reported
   ObjectSpaceInfo object_space;  // materials drawn object-space; empty: none
   Provenance provenance;
-  EnergyTable energy = EnergyTable::defaults();  // [tech.energy], for the energy figures
   QuadInfo quads;
 };
 

@@ -48,7 +48,20 @@ const std::set<std::string> kKnownKeys = {
     // memory
     "cache", "cache.hits", "cache.misses", "cache.accesses", "cache.hit_rate", "cache.texel_reads",
     "cache.fill_bytes", "cache.size_bytes", "cache.ways", "cache.line_bytes", "dram",
-    "dram.requests", "dram.bytes", "dram.busy_cycles",
+    "dram.requests", "dram.bytes", "dram.busy_cycles", "dram.model", "dram.channels", "dram.banks",
+    "dram.row_hits", "dram.row_empty", "dram.row_conflicts", "dram.row_hit_rate",
+    "dram.activations", "dram.bank_wait_cycles", "dram.channel_busy_cycles", "l2", "l2.accesses",
+    "l2.hits", "l2.misses", "l2.hit_rate", "l2.mshr_merges", "l2.mshr_stalls",
+    "l2.mshr_stall_cycles", "l2.bank_conflicts", "l2.bank_conflict_cycles", "l2.prefetches_issued",
+    "l2.prefetches_useful", "l2.fill_bytes", "l2.size_bytes", "l2.ways", "l2.line_bytes",
+    "l2.slices",
+    // several units, quads, energy
+    "units", "units[].unit", "units[].fragments", "units[].cycles", "units[].l1",
+    "units[].l1.accesses", "units[].l1.hits", "units[].l1.misses", "units[].l1.hit_rate",
+    "scheduler", "scheduler.forced_commits", "scheduler.late_items", "quads", "quads.derivatives",
+    "quads.merge", "quads.merged_lookups", "quads.quads", "quads.helper_lanes", "quads.own_x",
+    "quads.own_y", "energy", "energy.total_pj", "energy.per_fragment_pj", "energy.ops_pj",
+    "energy.l1_pj", "energy.l2_pj", "energy.dram_pj", "energy.blocks_pj", "energy.blocks_pj.*",
     // frames and accuracy
     "frames", "frames[].frame", "frames[].fragments", "frames[].cycles_end", "frames[].time_us",
     "frames[].accuracy", "frames[].accuracy.psnr_db", "frames[].accuracy.nmse",
@@ -129,7 +142,23 @@ const std::set<std::string> kKnownKeys = {
     "provenance.pipeline.cache.line_bytes", "provenance.pipeline.cache.hit_latency",
     "provenance.pipeline.cache.texels_per_cycle", "provenance.pipeline.cache.miss_queue",
     "provenance.pipeline.dram", "provenance.pipeline.dram.latency",
-    "provenance.pipeline.dram.bytes_per_cycle", "provenance.pipeline.blend",
+    "provenance.pipeline.dram.bytes_per_cycle", "provenance.pipeline.dram.model",
+    "provenance.pipeline.dram.channels", "provenance.pipeline.dram.banks",
+    "provenance.pipeline.dram.row_bytes", "provenance.pipeline.dram.interleave_bytes",
+    "provenance.pipeline.dram.mapping", "provenance.pipeline.dram.page_policy",
+    "provenance.pipeline.dram.tCL", "provenance.pipeline.dram.tRCD", "provenance.pipeline.dram.tRP",
+    "provenance.pipeline.dram.tRAS", "provenance.pipeline.dram.burst_length",
+    "provenance.pipeline.dram.bus_bytes", "provenance.pipeline.dram.beats_per_cycle",
+    "provenance.pipeline.units", "provenance.pipeline.unit_tile", "provenance.pipeline.derivatives",
+    "provenance.pipeline.quad_merge", "provenance.pipeline.l2", "provenance.pipeline.l2.size_bytes",
+    "provenance.pipeline.l2.ways", "provenance.pipeline.l2.line_bytes",
+    "provenance.pipeline.l2.slices", "provenance.pipeline.l2.ports",
+    "provenance.pipeline.l2.hit_latency", "provenance.pipeline.l2.mshrs",
+    "provenance.pipeline.l2.prefetch", "provenance.tech.energy", "provenance.tech.energy.op",
+    "provenance.tech.energy.op.<op>", "provenance.tech.energy.sram",
+    "provenance.tech.energy.sram[].capacity_bytes", "provenance.tech.energy.sram[].pj",
+    "provenance.tech.energy.sram_access_bytes", "provenance.tech.energy.dram_byte_pj",
+    "provenance.tech.energy.dram_activation_pj", "provenance.pipeline.blend",
     "provenance.pipeline.blend.taps_per_cycle", "provenance.tech", "provenance.tech.clock_mhz",
     "provenance.tech.latency", "provenance.tech.latency.<op>", "provenance.tech.area",
     "provenance.tech.area.<op>"};
@@ -140,8 +169,9 @@ bool is_op_kind(const std::string& k) {
 }
 
 void key_patterns(const Json& j, const std::string& path, std::set<std::string>& out) {
-  static const std::set<std::string> named = {"blocks", "stages", "materials",
-                                              "raster", "ledger", "materials.*.object_space.ops"};
+  static const std::set<std::string> named = {
+      "blocks",          "stages", "materials", "raster", "ledger", "materials.*.object_space.ops",
+      "energy.blocks_pj"};
   if (j.is_array()) {
     for (const Json& e : j) key_patterns(e, path + "[]", out);
     return;
@@ -152,7 +182,7 @@ void key_patterns(const Json& j, const std::string& path, std::set<std::string>&
   for (const auto& [k, v] : j.items()) {
     std::string seg = k;
     if (named.count(path)) seg = "*";
-    if (is_op_kind(k) && (last == "ops" || last == "latency" || last == "area" ||
+    if (is_op_kind(k) && (last == "ops" || last == "latency" || last == "area" || last == "op" ||
                           path == "materials.*.object_space.ops.*"))
       seg = "<op>";
     std::string sub = path;
@@ -273,17 +303,21 @@ void check_materials(const Json& r) {
 void check_stages(const Json& r) {
   if (!r.contains("stages")) return;
   const double cycles = d(r["cycles"]);
+  const Json& setup = r["provenance"]["pipeline"];
+  const double units = setup.contains("units") ? d(setup["units"]) : 1.0;
   for (const auto& [name, s] : r["stages"].items()) {
     const double busy = d(s["busy"]);
     const Json& st = s["stalls"];
-    // utilisation = busy ÷ (cycles × lanes); no scene of this test gives a stage more than
-    // the default one lane (the report does not list lanes).
+    // utilisation = busy ÷ (cycles × lanes × units), busy and stalls summed over the units; no
+    // scene of this test gives a stage more than the default one lane (the report does not
+    // list lanes).
     ASSERT_GT(d(s["utilisation"]), 0.0) << name;
-    const double lanes = busy / (cycles * d(s["utilisation"]));
+    const double lanes = busy / (cycles * d(s["utilisation"]) * units);
     EXPECT_SAME(lanes, 1.0) << name;
     EXPECT_LE(d(s["utilisation"]), 1.0) << name;
     EXPECT_LE(u(st["multi_cycle"]), u(s["busy"])) << name;
-    EXPECT_LE(busy + d(st["starved"]) + d(st["blocked"]) + d(st["latency_full"]), cycles * lanes)
+    EXPECT_LE(busy + d(st["starved"]) + d(st["blocked"]) + d(st["latency_full"]),
+              cycles * lanes * units)
         << name;
     EXPECT_GE(s["latency"].get<int64_t>(), 0) << name;
   }
@@ -300,14 +334,131 @@ void check_memory(const Json& r) {
   EXPECT_EQ(u(c["fill_bytes"]), misses * u(c["line_bytes"]));
   for (const char* k : {"size_bytes", "ways", "line_bytes"}) EXPECT_EQ(c[k], cfg["cache"][k]) << k;
   const Json& dr = r["dram"];
-  EXPECT_EQ(u(dr["requests"]), misses);
-  EXPECT_EQ(u(dr["bytes"]), u(c["fill_bytes"]));
-  const uint64_t bpc = u(cfg["dram"]["bytes_per_cycle"]);
-  EXPECT_EQ(u(dr["busy_cycles"]), misses * ((u(c["line_bytes"]) + bpc - 1) / bpc));
+  if (!r.contains("l2") && !dr.contains("model")) {  // the flat DRAM right behind the L1s
+    EXPECT_EQ(u(dr["requests"]), misses);
+    EXPECT_EQ(u(dr["bytes"]), u(c["fill_bytes"]));
+    const uint64_t bpc = u(cfg["dram"]["bytes_per_cycle"]);
+    EXPECT_EQ(u(dr["busy_cycles"]), misses * ((u(c["line_bytes"]) + bpc - 1) / bpc));
+  }
   if (r["mode"] == "timing") {
     EXPECT_EQ(u(c["texel_reads"]), u(r["blocks"]["cache"]["texels"]));
     EXPECT_GT(hits + misses, 0u);
   }
+}
+
+// The levels behind the L1s: what each passes on, and its rates.
+void check_hierarchy(const Json& r) {
+  const Json& c = r["cache"];
+  const Json& dr = r["dram"];
+  uint64_t dram_lines = u(c["misses"]), dram_line_bytes = u(c["line_bytes"]);
+  if (r.contains("l2")) {
+    const Json& l = r["l2"];
+    EXPECT_EQ(u(l["accesses"]), u(c["misses"]));  // every L1 miss asks the L2
+    EXPECT_EQ(u(l["accesses"]), u(l["hits"]) + u(l["misses"]) + u(l["mshr_merges"]));
+    EXPECT_SAME(d(l["hit_rate"]), ratio(d(l["hits"]), d(l["accesses"])));
+    EXPECT_LE(u(l["prefetches_useful"]), u(l["prefetches_issued"]));
+    dram_lines = u(l["misses"]) + u(l["prefetches_issued"]);
+    dram_line_bytes = u(l["line_bytes"]);
+    EXPECT_EQ(u(l["fill_bytes"]), dram_lines * dram_line_bytes);
+    for (const char* k : {"size_bytes", "ways", "line_bytes", "slices"})
+      EXPECT_EQ(l[k], r["provenance"]["pipeline"]["l2"][k]) << k;
+  }
+  EXPECT_EQ(u(dr["requests"]), dram_lines);
+  EXPECT_EQ(u(dr["bytes"]), dram_lines * dram_line_bytes);
+  if (dr.contains("model")) {
+    const uint64_t req = u(dr["requests"]);
+    EXPECT_EQ(req, u(dr["row_hits"]) + u(dr["row_empty"]) + u(dr["row_conflicts"]));
+    EXPECT_EQ(u(dr["activations"]), u(dr["row_empty"]) + u(dr["row_conflicts"]));
+    EXPECT_SAME(d(dr["row_hit_rate"]), ratio(d(dr["row_hits"]), static_cast<double>(req)));
+    uint64_t busiest = 0;
+    for (const Json& b : dr["channel_busy_cycles"]) busiest = std::max(busiest, u(b));
+    EXPECT_EQ(dr["channel_busy_cycles"].size(), u(dr["channels"]));
+    EXPECT_EQ(u(dr["busy_cycles"]), busiest);
+    EXPECT_LE(busiest, u(r["cycles"]));
+  }
+}
+
+// Several units: their shares add up to the run's figures, and the order was exact.
+void check_units(const Json& r) {
+  if (!r.contains("units")) return;
+  uint64_t frags = 0, acc = 0, hits = 0, misses = 0, last = 0;
+  for (const Json& e : r["units"]) {
+    frags += u(e["fragments"]);
+    const Json& l = e["l1"];
+    EXPECT_EQ(u(l["accesses"]), u(l["hits"]) + u(l["misses"]));
+    EXPECT_SAME(d(l["hit_rate"]), ratio(d(l["hits"]), d(l["accesses"])));
+    acc += u(l["accesses"]);
+    hits += u(l["hits"]);
+    misses += u(l["misses"]);
+    last = std::max(last, u(e["cycles"]));
+  }
+  EXPECT_EQ(frags, u(r["fragments"]));
+  EXPECT_EQ(acc, u(r["cache"]["accesses"]));
+  EXPECT_EQ(hits, u(r["cache"]["hits"]));
+  EXPECT_EQ(misses, u(r["cache"]["misses"]));
+  EXPECT_EQ(last, u(r["cycles"]));
+  EXPECT_EQ(r["units"].size(), u(r["provenance"]["pipeline"]["units"]));
+  EXPECT_EQ(u(r["scheduler"]["late_items"]), 0u);
+}
+
+void check_quads(const Json& r) {
+  if (!r.contains("quads")) return;
+  const Json& q = r["quads"];
+  if (!q.contains("quads")) return;
+  // Every fragment of the unit came through a quad (no object-space materials here).
+  EXPECT_EQ(u(q["helper_lanes"]), 4 * u(q["quads"]) - u(r["fragments"]));
+  EXPECT_LE(u(q["own_x"]), u(r["fragments"]));
+  EXPECT_LE(u(q["own_y"]), u(r["fragments"]));
+}
+
+// An SRAM access's energy from the provenance's classes: linear in log2(capacity) between
+// classes, constant outside them, linear in the access width.
+double sram_pj(const Json& e, double capacity, double bytes) {
+  const Json& cls = e["sram"];
+  const double width = bytes / d(e["sram_access_bytes"]);
+  if (capacity <= d(cls.front()["capacity_bytes"])) return d(cls.front()["pj"]) * width;
+  if (capacity >= d(cls.back()["capacity_bytes"])) return d(cls.back()["pj"]) * width;
+  size_t i = 1;
+  while (d(cls[i]["capacity_bytes"]) < capacity) ++i;
+  const double a = std::log2(d(cls[i - 1]["capacity_bytes"]));
+  const double b = std::log2(d(cls[i]["capacity_bytes"]));
+  const double t = (std::log2(capacity) - a) / (b - a);
+  return (d(cls[i - 1]["pj"]) + t * (d(cls[i]["pj"]) - d(cls[i - 1]["pj"]))) * width;
+}
+
+void check_energy(const Json& r) {
+  if (r["mode"] != "timing") {
+    EXPECT_FALSE(r.contains("energy"));
+    return;
+  }
+  const Json& en = r["energy"];
+  const Json& table = r["provenance"]["tech"]["energy"];
+  double ops = 0;
+  for (const auto& [name, b] : r["blocks"].items()) {
+    double pj = 0;
+    for (const auto& [k, n] : b["ops"].items()) pj += d(n) * d(table["op"][k]);
+    EXPECT_SAME(d(en["blocks_pj"][name]), pj) << name;
+    ops += pj;
+  }
+  EXPECT_SAME(d(en["ops_pj"]), ops);
+  const Json& c = r["cache"];
+  EXPECT_SAME(d(en["l1_pj"]),
+              d(c["texel_reads"]) * sram_pj(table, d(c["size_bytes"]), 4) +
+                  d(c["misses"]) * sram_pj(table, d(c["size_bytes"]), d(c["line_bytes"])));
+  double l2 = 0;
+  if (r.contains("l2")) {
+    const Json& l = r["l2"];
+    l2 = d(l["accesses"]) * sram_pj(table, d(l["size_bytes"]), d(c["line_bytes"])) +
+         (d(l["misses"]) + d(l["prefetches_issued"])) *
+             sram_pj(table, d(l["size_bytes"]), d(l["line_bytes"]));
+  }
+  EXPECT_SAME(d(en["l2_pj"]), l2);
+  const double act = r["dram"].contains("activations") ? d(r["dram"]["activations"]) : 0.0;
+  EXPECT_SAME(d(en["dram_pj"]), d(r["dram"]["bytes"]) * d(table["dram_byte_pj"]) +
+                                    act * d(table["dram_activation_pj"]));
+  const double total = d(en["ops_pj"]) + d(en["l1_pj"]) + d(en["l2_pj"]) + d(en["dram_pj"]);
+  EXPECT_SAME(d(en["total_pj"]), total);
+  EXPECT_SAME(d(en["per_fragment_pj"]), ratio(total, d(r["fragments"])));
 }
 
 double mse_of(const Json& a) {
@@ -565,6 +716,10 @@ void check_report(const Json& r, int width, int height) {
   check_materials(r);
   check_stages(r);
   check_memory(r);
+  check_hierarchy(r);
+  check_units(r);
+  check_quads(r);
+  check_energy(r);
   check_frames(r);
   check_accuracy(r);
   check_physical(r);
@@ -714,6 +869,21 @@ TEST_F(ReportFigures, DefaultSceneTiming) {
   check_report(r, kW, kH);
   check_against_images(r, capture_);
   EXPECT_TRUE(r.contains("stages"));
+}
+
+// Several units, quads, an L2 over banked DRAM and an energy table of the scene's own.
+TEST_F(ReportFigures, MemoryHierarchy) {
+  const Json r = run_scene(
+      "", {"pipeline.units=4", "pipeline.unit_tile=8", "pipeline.quad_merge=true",
+           "pipeline.derivatives=coarse", "raster.order=tiled", "pipeline.l2.size_bytes=65536",
+           "pipeline.l2.prefetch=next_line", "pipeline.dram.model=banked",
+           "pipeline.dram.preset=lpddr4", "tech.energy.dram_byte_pj=100"});
+  check_report(r, kW, kH);
+  check_against_images(r, capture_);
+  for (const char* k : {"units", "l2", "quads", "energy", "scheduler"})
+    EXPECT_TRUE(r.contains(k)) << k;
+  EXPECT_EQ(r["dram"]["model"], "banked");
+  EXPECT_SAME(d(r["provenance"]["tech"]["energy"]["dram_byte_pj"]), 100.0);
 }
 
 TEST_F(ReportFigures, DefaultSceneFunctional) {

@@ -3,6 +3,8 @@
 // hierarchy is refused before any work, naming the file, line and column.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -68,6 +70,50 @@ TEST(UnitArray, ImageIsTheSameAndTheWorkIsSharedByTile) {
     EXPECT_EQ(o.report["blocks"]["lod"]["ops"], one.report["blocks"]["lod"]["ops"]);
     EXPECT_LT(o.capture.cycles, last_cycles) << n << " units are not faster";
     last_cycles = o.capture.cycles;
+  }
+}
+
+// Quad merging takes look-ups away, never colours: every look-up it saves is one the unit made
+// without it (a line an earlier lane of the same quad had looked up).
+TEST(UnitArray, QuadMergingSavesLookupsAndKeepsTheImage) {
+  TempDir dir("unit_array");
+  for (int units : {1, 4}) {
+    const std::vector<std::string> tiled = {"raster.order=tiled"};
+    std::vector<std::string> merged = tiled;
+    merged.push_back("pipeline.quad_merge=true");
+    const Outcome off = run_units("default", units, dir.file("off"), tiled);
+    const Outcome on = run_units("default", units, dir.file("on"), merged);
+    EXPECT_EQ(on.capture.image->rgb, off.capture.image->rgb);
+    const auto saved = on.report["quads"]["merged_lookups"].get<uint64_t>();
+    EXPECT_GT(saved, on.report["fragments"].get<uint64_t>() / 4) << units << " units";
+    EXPECT_EQ(on.report["cache"]["accesses"].get<uint64_t>() + saved,
+              off.report["cache"]["accesses"].get<uint64_t>())
+        << units << " units";
+  }
+}
+
+// Derivatives from quad differences: in the tiled order the quads are the rasteriser's own
+// (the same count as the raster section's, from an independent count), and the image moves
+// only slightly from the exact derivatives' (the floor is a plane: differences of u and v
+// across a pixel are the derivatives up to the perspective's curvature).
+TEST(UnitArray, QuadDerivativesUseTheRasterisersQuads) {
+  TempDir dir("unit_array");
+  const Outcome own = run_units("default", 1, dir.file("own"), {"raster.order=tiled"});
+  for (const char* mode : {"coarse", "fine"}) {
+    const Outcome q =
+        run_units("default", 1, dir.file(mode),
+                  {"raster.order=tiled", std::string("pipeline.derivatives=") + mode});
+    uint64_t raster_quads = 0;
+    for (const auto& [name, m] : q.report["raster"].items())
+      if (m.contains("quads")) raster_quads += m["quads"].get<uint64_t>();
+    EXPECT_EQ(q.report["quads"]["quads"].get<uint64_t>(), raster_quads) << mode;
+    // A LOD step at a checker edge can move one pixel far; on average the image barely moves.
+    double sum = 0;
+    for (size_t i = 0; i < own.capture.image->rgb.size(); ++i)
+      sum += std::abs(double(q.capture.image->rgb[i]) - own.capture.image->rgb[i]);
+    const double mean = sum / static_cast<double>(own.capture.image->rgb.size());
+    EXPECT_GT(mean, 0.0) << mode;
+    EXPECT_LT(mean, 0.005) << mode;
   }
 }
 

@@ -1,0 +1,240 @@
+// The apitrace importer (traces/DRAWS.md, "Import from apitrace") on hand-written dump text
+// with blob files, checked against clip positions computed by hand; and its errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "blocks/base/input_error.h"
+#include "pipeline/capture/apitrace_import.h"
+#include "testbench/lib/temp_dir.h"
+#include "traces/draw_trace.h"
+
+namespace texsim {
+namespace {
+
+void write_bytes(const std::string& path, const std::vector<uint8_t>& b) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+}
+template <class T>
+std::vector<uint8_t> bytes_of(const std::vector<T>& v) {
+  std::vector<uint8_t> b(v.size() * sizeof(T));
+  std::memcpy(b.data(), v.data(), b.size());
+  return b;
+}
+
+// Frame 0 uploads a 3x2 RGB texture (rows padded to 4 bytes); frame 1 draws a strip through
+// an ortho projection and a translated, scaled modelview, then the same vertices rotated;
+// frame 2 only clears.
+const char* kDump = R"(// process.name = "test"
+0 glViewport(0, 0, 64, 32)
+1 glMatrixMode(GL_PROJECTION)
+2 glLoadIdentity()
+3 glOrtho(0, 64, 0, 32, -1, 1)
+4 glMatrixMode(GL_MODELVIEW)
+5 glLoadIdentity()
+6 glTranslatef(8, 4, 0)
+7 glScalef(2, 2, 1)
+8 glGenTextures(1, &5)
+9 glBindTexture(GL_TEXTURE_2D, 5)
+10 glPixelStorei(GL_UNPACK_ALIGNMENT, 4)
+11 glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB, 3, 2, 0, GL_RGB, GL_UNSIGNED_BYTE, blob("blob_call11.bin"))
+12 glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR)
+13 glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY_EXT, 8)
+14 glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
+15 glXSwapBuffers(0x1, 2)
+
+16 glEnable(GL_TEXTURE_2D)
+17 glTexEnvf(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE)
+18 glEnable(GL_DEPTH_TEST)
+19 glDepthFunc(GL_LEQUAL)
+20 glEnable(GL_BLEND)
+21 glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA)
+22 glEnable(GL_FOG)
+23 glScissor(0, 0, 64, 32)
+24 glEnableClientState(GL_VERTEX_ARRAY)
+25 glVertexPointer(3, GL_FLOAT, 16, blob("blob_call25.bin")) // fake
+26 glClientActiveTextureARB(GL_TEXTURE0)
+27 glEnableClientState(GL_TEXTURE_COORD_ARRAY)
+28 glTexCoordPointer(2, GL_FLOAT, 0, blob("blob_call28.bin")) // fake
+29 glColor4f(1, 0.5, 0, 1)
+30 glDrawElements(GL_TRIANGLE_STRIP, 4, GL_UNSIGNED_SHORT, blob("blob_call30.bin"))
+31 glPushMatrix()
+32 glRotatef(90, 0, 0, 1)
+33 glDrawArrays(GL_TRIANGLES, 1, 3)
+34 glPopMatrix()
+35 glDrawArrays(GL_LINES, 0, 2)
+36 glXSwapBuffers(0x1, 2)
+
+37 glClear(GL_COLOR_BUFFER_BIT)
+38 glXSwapBuffers(0x1, 2)
+)";
+
+class ApitraceImportTest : public ::testing::Test {
+ protected:
+  TempDir dir{"apitrace_import"};
+  std::string dump = dir.file("dump.txt");
+  std::string out = dir.file("out.draws");
+  void SetUp() override {
+    write_text(kDump);
+    std::vector<uint8_t> rgb = {1, 2,  3,  4,  5,  6,  7,  8,  9,  0, 0,
+                                0, 10, 11, 12, 13, 14, 15, 16, 17, 18};
+    write_bytes(dir.file("blob_call11.bin"), rgb);
+    // Stride 16: x, y, z and a float of padding (the last vertex needs only 12 bytes).
+    write_bytes(dir.file("blob_call25.bin"),
+                bytes_of<float>({0, 0, 0, 99, 1, 0, 0, 99, 1, 1, 0, 99, 0, 1, 0.5f}));
+    write_bytes(dir.file("blob_call28.bin"), bytes_of<float>({0, 0, 1, 0, 1, 1, 0, 1}));
+    write_bytes(dir.file("blob_call30.bin"), bytes_of<uint16_t>({0, 1, 3, 2}));
+  }
+  void write_text(const std::string& text) {
+    std::ofstream o(dump);
+    o << text;
+  }
+  std::string error_of(uint32_t first, uint32_t last) {
+    try {
+      import_apitrace_dump(dump, dir.file("."), first, last, out, "cap.trace");
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  }
+  void replace(const std::string& from, const std::string& to) {
+    std::string t = kDump;
+    const size_t at = t.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    t.replace(at, from.size(), to);
+    write_text(t);
+  }
+};
+
+void expect_clip(const Draw& d, uint32_t v, double x, double y, double z, double w) {
+  EXPECT_NEAR(d.position[4 * v + 0], x, 1e-6) << "vertex " << v;
+  EXPECT_NEAR(d.position[4 * v + 1], y, 1e-6) << "vertex " << v;
+  EXPECT_NEAR(d.position[4 * v + 2], z, 1e-6) << "vertex " << v;
+  EXPECT_NEAR(d.position[4 * v + 3], w, 1e-6) << "vertex " << v;
+}
+
+TEST_F(ApitraceImportTest, ClipPositionsStateAndTexturesMatchHandComputation) {
+  const ImportSummary s = import_apitrace_dump(dump, dir.file("."), 1, 1, out, "cap.trace");
+  const DrawTrace t = read_draw_trace(out);
+  ASSERT_EQ(t.frames.size(), 1u);
+  EXPECT_EQ(t.frames[0].number, 1u);
+  ASSERT_EQ(t.frames[0].draws.size(), 2u);
+
+  // Ortho(0, 64, 0, 32, -1, 1): x/32 - 1, y/16 - 1, -z. Modelview: (2x + 8, 2y + 4, z).
+  const Draw& a = t.frames[0].draws[0];
+  ASSERT_EQ(a.vertex_count, 4u);
+  expect_clip(a, 0, -0.75, -0.75, 0, 1);
+  expect_clip(a, 1, -0.6875, -0.75, 0, 1);
+  expect_clip(a, 2, -0.6875, -0.625, 0, 1);
+  expect_clip(a, 3, -0.75, -0.625, -0.5, 1);
+  // The strip 0, 1, 3, 2 as triangles, the odd one with its first two swapped.
+  EXPECT_EQ(a.indices, (std::vector<uint32_t>{0, 1, 3, 3, 1, 2}));
+  EXPECT_EQ(a.color[0], 255);
+  EXPECT_EQ(a.color[1], 128);
+  EXPECT_EQ(a.color[2], 0);
+  EXPECT_EQ(a.st[0], (std::vector<float>{0, 0, 1, 0, 1, 1, 0, 1}));
+  ASSERT_EQ(a.units.size(), 1u);
+  EXPECT_EQ(a.units[0].texture, 0u);
+  EXPECT_EQ(a.units[0].min_filter, 0x2601u);
+  EXPECT_EQ(a.units[0].wrap_s, 0x812Fu);
+  EXPECT_EQ(a.units[0].wrap_t, 0x2901u);
+  EXPECT_FLOAT_EQ(a.units[0].max_anisotropy, 8);
+  EXPECT_EQ(a.units[0].env_mode, 0x1E01u);
+  EXPECT_TRUE(a.state.depth_test);
+  EXPECT_EQ(a.state.depth_func, 0x0203u);
+  EXPECT_TRUE(a.state.blend);
+  EXPECT_EQ(a.state.blend_src, 0x0302u);
+  EXPECT_EQ(a.state.blend_dst, 0x0303u);
+  EXPECT_EQ(a.state.viewport_w, 64u);
+  EXPECT_EQ(a.state.viewport_h, 32u);
+
+  // Rotated 90 degrees about z first: (x, y) -> (-y, x); vertices 1..3 renumbered 0..2.
+  const Draw& b = t.frames[0].draws[1];
+  ASSERT_EQ(b.vertex_count, 3u);
+  expect_clip(b, 0, -0.75, -0.625, 0, 1);
+  expect_clip(b, 1, -0.8125, -0.625, 0, 1);
+  expect_clip(b, 2, -0.8125, -0.75, -0.5, 1);
+  EXPECT_EQ(b.indices, (std::vector<uint32_t>{0, 1, 2}));
+
+  // The texture: 3x2 RGB with rows padded to 4 bytes, expanded to RGBA; only its base level
+  // (the min filter does not use mipmaps).
+  ASSERT_EQ(t.textures.size(), 1u);
+  EXPECT_EQ(t.textures[0].width, 3u);
+  EXPECT_EQ(t.textures[0].height, 2u);
+  ASSERT_EQ(t.textures[0].levels.size(), 1u);
+  EXPECT_EQ(t.textures[0].levels[0],
+            (std::vector<uint8_t>{1,  2,  3,  255, 4,  5,  6,  255, 7,  8,  9,  255,
+                                  10, 11, 12, 255, 13, 14, 15, 255, 16, 17, 18, 255}));
+
+  // What was not interpreted is counted, in the summary and in the trace.
+  const CallCounts want = {
+      {"glEnable(GL_FOG)", 1}, {"glScissor", 1}, {"glDrawArrays[points or lines]", 1}};
+  EXPECT_EQ(t.frames[0].uninterpreted, want);
+  EXPECT_EQ(s.frames.at(1).uninterpreted, want);
+  EXPECT_EQ(s.frames.at(1).draws, 2u);
+  EXPECT_EQ(s.frames.at(1).triangles, 3u);
+}
+
+TEST_F(ApitraceImportTest, FramesBeyondTheCaptureAreAnError) {
+  const std::string e = error_of(2, 5);
+  EXPECT_NE(e.find("cap.trace: the capture ends in frame 3"), std::string::npos) << e;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST_F(ApitraceImportTest, IndexPastTheVertexArrayNamesCallAndFrame) {
+  write_bytes(dir.file("blob_call30.bin"), bytes_of<uint16_t>({0, 1, 3, 9}));
+  const std::string e = error_of(1, 1);
+  EXPECT_NE(e.find("cap.trace: call 30 (glDrawElements), frame 1"), std::string::npos) << e;
+  EXPECT_NE(e.find("ends before vertex 4"), std::string::npos) << e;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST_F(ApitraceImportTest, BadDumpsAreClearErrors) {
+  replace("blob(\"blob_call30.bin\")", "blob(8)");
+  EXPECT_NE(error_of(1, 1).find("--blobs"), std::string::npos);
+  replace("34 glPopMatrix()", "34 glPopMatrix()\n34 glPopMatrix()");
+  EXPECT_NE(error_of(1, 1).find("call 34 (glPopMatrix), frame 1: matrix stack underflow"),
+            std::string::npos);
+  replace("blob(\"blob_call28.bin\")", "blob(\"../etc/passwd\")");
+  EXPECT_NE(error_of(1, 1).find("is not the call's"), std::string::npos);
+  replace("8 glGenTextures(1, &5)", "garbage line");
+  EXPECT_NE(error_of(1, 1).find("not a call"), std::string::npos);
+  replace("6 glTranslatef(8, 4, 0)", "6 glTranslatef(8, 4)");
+  EXPECT_NE(error_of(1, 1).find("2 arguments, expected 3"), std::string::npos);
+  write_text(kDump);
+  write_bytes(dir.file("blob_call25.bin"),
+              bytes_of<float>({0, 0, 0, 99, NAN, 0, 0, 99, 1, 1, 0, 99, 0, 1, 0.5f}));
+  // A NaN in the application's vertex array: an error naming the call, not a NaN in the trace.
+  EXPECT_NE(error_of(1, 1).find("clip-space position is not a finite"), std::string::npos);
+}
+
+TEST_F(ApitraceImportTest, FrameRanges) {
+  uint32_t a = 0, b = 0;
+  parse_frame_range("3-7", a, b);
+  EXPECT_EQ(a, 3u);
+  EXPECT_EQ(b, 7u);
+  parse_frame_range("4", a, b);
+  EXPECT_EQ(a, 4u);
+  EXPECT_EQ(b, 4u);
+  EXPECT_THROW(parse_frame_range("7-3", a, b), InputError);
+  EXPECT_THROW(parse_frame_range("x", a, b), InputError);
+  EXPECT_THROW(parse_frame_range("-3", a, b), InputError);
+}
+
+// The shipped sample (traces/samples/README.md) reads back through the strict reader.
+TEST(ApitraceSample, ShippedDrawTraceReads) {
+  const DrawTrace t =
+      read_draw_trace(std::string(TEXSIM_SOURCE_DIR) + "/traces/samples/openarena-aggressor.draws");
+  ASSERT_EQ(t.frames.size(), 3u);
+  for (const DrawFrame& f : t.frames) EXPECT_GT(f.draws.size(), 10u);
+  EXPECT_GT(t.textures.size(), 5u);
+}
+
+}  // namespace
+}  // namespace texsim
