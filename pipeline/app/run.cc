@@ -756,6 +756,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   }
   UnitArray units(textures.set, mats, setup, scene.tech, !opt.functional);
   TextureUnit& unit = units.unit(0);
+  WorkloadStats workload(workload_textures(textures.set));  // placed by the units: their addresses
   // Materials with `object_space`: drawn first, their pixels then take the resolved colours.
   ObjectSpaceFrame os =
       object_space_frame(scene, use_scene && !reader, textures.set, mats, setup, log);
@@ -794,6 +795,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     g.tex = loaded_texture(f, index, textures, input, opt.trace);
     const int material = truth.exact() ? primitive_material(f, index, scene, opt.trace) : 0;
     if (!os.drawn_by(material)) {
+      workload.add(f, g.tex);  // the screen-space texture unit's stream
       if (quads) {
         quads->add(f, g, material, index, to_unit);
       } else {
@@ -815,6 +817,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     draw_scene_front_end(scene, maps, unit, [&](const Fragment& f, int material, const Rgba* c) {
       Fragment g = f;
       g.tex = static_cast<uint32_t>(textures.index.at(f.tex));
+      workload.add(f, g.tex);
       record(f, g, material, c, index++);
     });
   } else {
@@ -837,6 +840,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   sum.cycles = units.cycles();
   sum.accuracy = images.total();
   RunInfo info = images_info(opt, layout, textures, units, images);
+  workload.finish();
+  info.workload = &workload;
   info.scene = use_scene ? scene.path : "(none: trace only)";
   info.reference =
       reference_text(truth, batch.mean_samples(), info.frames.size(), surf.active(), mats);

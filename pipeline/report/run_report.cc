@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "blocks/base/atomic_file.h"
+#include "pipeline/report/workload_report.h"
 
 namespace texsim {
 
@@ -317,6 +318,7 @@ Json report_json(const RunInfo& info, const UnitArray& unit, const AccuracyMetri
                      {0.0, 0.25 * info.error_scale, 0.5 * info.error_scale, 0.75 * info.error_scale,
                       info.error_scale}}};
   j["provenance"] = provenance_json(info.provenance);
+  if (info.workload) add_workload_json(j, *info.workload);
   if (!info.has_truth) drop_accuracy_figures(j);
   return j;
 }
@@ -479,6 +481,7 @@ std::string report_markdown(const RunInfo& info, const UnitArray& unit, const Ac
   if (unit.timing())
     md_energy(md, run_energy(unit, info.provenance.energy), static_cast<double>(unit.fragments()));
   if (!info.ledger.empty()) ledger_markdown(md, info.ledger);
+  if (info.workload) workload_markdown(md, *info.workload);
   if (!info.has_truth) {
     md << "\n## Images\n\n`image.png` (filtered result); no ground truth, so no `reference.png` "
           "or `error.png`.\n";

@@ -9,6 +9,7 @@
 #include "pipeline/report/object_space_report.h"
 #include "pipeline/report/provenance.h"
 #include "pipeline/report/subsystems_report.h"
+#include "pipeline/report/workload_stats.h"
 #include "pipeline/texture/unit_array.h"
 
 namespace texsim {
@@ -46,6 +47,7 @@ struct RunInfo {
   ObjectSpaceInfo object_space;  // materials drawn object-space; empty: none
   Provenance provenance;
   QuadInfo quads;
+  const WorkloadStats* workload = nullptr;  // the fragments' characterisation; null: none
 };
 
 // Writes DIR/report.json and DIR/report.md (atomically).

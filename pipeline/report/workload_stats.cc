@@ -16,39 +16,53 @@ WorkloadTexture WorkloadTexture::of(const Texture& t) {
   return w;
 }
 
-std::vector<WorkloadTexture> place_workload_textures(const std::vector<std::array<int, 2>>& sizes,
+std::vector<WorkloadTexture> place_workload_textures(std::vector<WorkloadTexture> textures,
                                                      TexelLayout layout) {
-  // The same rules as Texture::place and TextureSet::place, without the texels.
-  std::vector<WorkloadTexture> out;
   uint64_t base = 0;
-  for (const auto& [w0, h0] : sizes) {
-    WorkloadTexture t;
+  for (WorkloadTexture& t : textures) {
     t.base = base;
     t.layout = layout;
     uint64_t off = 0;
+    for (Texture::Level& lv : t.levels) {
+      lv.offset = off;
+      const auto w = static_cast<uint64_t>(lv.width), h = static_cast<uint64_t>(lv.height);
+      uint64_t texels = w * h;
+      if (layout == TexelLayout::Tiled4x4) texels = ((w + 3) / 4) * ((h + 3) / 4) * 16;
+      if (layout == TexelLayout::Morton) {
+        uint64_t s = 1;
+        while (s < std::max(w, h)) s <<= 1;
+        texels = s * s;
+      }
+      off += (texels * static_cast<uint64_t>(t.bytes_per_texel) + 255) & ~uint64_t{255};
+    }
+    base += (off + 4095) & ~uint64_t{4095};
+  }
+  return textures;
+}
+
+std::vector<WorkloadTexture> place_workload_textures(const std::vector<std::array<int, 2>>& sizes,
+                                                     TexelLayout layout) {
+  std::vector<WorkloadTexture> out;
+  for (const auto& [w0, h0] : sizes) {
+    WorkloadTexture t;
     int w = std::max(w0, 1), h = std::max(h0, 1);
     while (true) {
       Texture::Level lv;
       lv.width = w;
       lv.height = h;
-      lv.offset = off;
       t.levels.push_back(lv);
-      const auto uw = static_cast<uint64_t>(w), uh = static_cast<uint64_t>(h);
-      uint64_t texels = uw * uh;
-      if (layout == TexelLayout::Tiled4x4) texels = ((uw + 3) / 4) * ((uh + 3) / 4) * 16;
-      if (layout == TexelLayout::Morton) {
-        uint64_t s = 1;
-        while (s < std::max(uw, uh)) s <<= 1;
-        texels = s * s;
-      }
-      off += (texels * 4 + 255) & ~uint64_t{255};
       if (w == 1 && h == 1) break;
       w = std::max(w / 2, 1);
       h = std::max(h / 2, 1);
     }
-    base += (off + 4095) & ~uint64_t{4095};
     out.push_back(std::move(t));
   }
+  return place_workload_textures(std::move(out), layout);
+}
+
+std::vector<WorkloadTexture> workload_textures(const TextureSet& set) {
+  std::vector<WorkloadTexture> out;
+  for (int i = 0; i < set.size(); ++i) out.push_back(WorkloadTexture::of(set[i]));
   return out;
 }
 

@@ -38,10 +38,17 @@ struct WorkloadTexture {
   static WorkloadTexture of(const Texture& t);  // a placed texture's own levels and addresses
 };
 
-// Textures of the given level-0 sizes with full RGBA8 mip chains, placed as TextureSet does
-// (used for traces, whose header gives only the sizes).
+// Places textures (their levels' sizes and bytes per texel) one after another as
+// Texture::place and TextureSet::place do: each level rounded up to 256 bytes, each texture on a
+// 4 KiB page.
+std::vector<WorkloadTexture> place_workload_textures(std::vector<WorkloadTexture> textures,
+                                                     TexelLayout layout);
+// Textures of the given level-0 sizes with full RGBA8 mip chains (sizes floor(w/2) down to 1x1),
+// placed: a trace's texture table gives only the sizes.
 std::vector<WorkloadTexture> place_workload_textures(const std::vector<std::array<int, 2>>& sizes,
                                                      TexelLayout layout);
+// The textures of a placed set, at their own addresses.
+std::vector<WorkloadTexture> workload_textures(const TextureSet& set);
 
 // Open-addressing hash table of 64-bit keys (all but ~0) with a 32-bit value each; grows by
 // doubling. Faster than std::unordered_map for the per-texel inserts of every fragment.

@@ -161,7 +161,26 @@ const std::set<std::string> kKnownKeys = {
     "provenance.tech.energy.dram_activation_pj", "provenance.pipeline.blend",
     "provenance.pipeline.blend.taps_per_cycle", "provenance.tech", "provenance.tech.clock_mhz",
     "provenance.tech.latency", "provenance.tech.latency.<op>", "provenance.tech.area",
-    "provenance.tech.area.<op>"};
+    "provenance.tech.area.<op>",
+    // workload characterisation
+    "workload", "workload.layout", "workload.line_bytes", "workload.lod_lo", "workload.lod_step",
+    "workload.aniso_bins", "workload.reuse_line_bytes", "workload.reuse_max_lines",
+    "workload.total", "workload.frames", "workload.total.frame", "workload.frames[].frame",
+    "workload.total.fragments", "workload.frames[].fragments", "workload.total.quads",
+    "workload.frames[].quads", "workload.total.textures", "workload.frames[].textures",
+    "workload.total.texels_level0", "workload.frames[].texels_level0", "workload.total.texels_lod",
+    "workload.frames[].texels_lod", "workload.total.texels_per_fragment",
+    "workload.frames[].texels_per_fragment", "workload.total.footprint_texels_per_fragment",
+    "workload.frames[].footprint_texels_per_fragment", "workload.total.lines",
+    "workload.frames[].lines", "workload.total.working_set_bytes",
+    "workload.frames[].working_set_bytes", "workload.total.lod_under",
+    "workload.frames[].lod_under", "workload.total.lod", "workload.frames[].lod",
+    "workload.total.lod_over", "workload.frames[].lod_over", "workload.total.aniso",
+    "workload.frames[].aniso", "workload.total.magnified", "workload.frames[].magnified",
+    "workload.total.minified", "workload.frames[].minified", "workload.total.magnified_share",
+    "workload.frames[].magnified_share", "workload.total.line_uses", "workload.frames[].line_uses",
+    "workload.total.first_uses", "workload.frames[].first_uses", "workload.total.untracked_uses",
+    "workload.frames[].untracked_uses", "workload.total.reuse", "workload.frames[].reuse"};
 
 bool is_op_kind(const std::string& k) {
   return std::any_of(texsim::kOpKindNames.begin(), texsim::kOpKindNames.end(),
@@ -709,6 +728,90 @@ void check_provenance(const Json& r) {
   EXPECT_EQ(p["tech"]["area"].size(), texsim::kOpKindNames.size());
 }
 
+uint64_t sum(const Json& a) {
+  uint64_t s = 0;
+  for (const Json& v : a) s += u(v);
+  return s;
+}
+
+// One frame's (or the total's) characterisation: histograms hold every fragment, working sets
+// shrink as lines grow, a fragment brings at most four texels and as many line uses.
+void check_workload_frame(const Json& w, const Json& setup) {
+  const uint64_t frags = u(w["fragments"]);
+  EXPECT_GT(frags, 0u);
+  EXPECT_LE(u(w["quads"]), frags);
+  EXPECT_GE(4 * u(w["quads"]), frags);
+  EXPECT_GE(u(w["textures"]), 1u);
+  EXPECT_EQ(u(w["lod_under"]) + sum(w["lod"]) + u(w["lod_over"]), frags);
+  EXPECT_EQ(w["lod"].size(), 32u);
+  EXPECT_EQ(sum(w["aniso"]), frags);
+  EXPECT_EQ(w["aniso"].size(), setup["aniso_bins"].size());
+  EXPECT_EQ(u(w["magnified"]) + u(w["minified"]), frags);
+  EXPECT_SAME(d(w["magnified_share"]), ratio(d(w["magnified"]), static_cast<double>(frags)));
+  EXPECT_GE(u(w["texels_level0"]), 1u);
+  EXPECT_LE(u(w["texels_level0"]), 4 * frags);
+  EXPECT_GE(u(w["texels_lod"]), 1u);
+  EXPECT_LE(u(w["texels_lod"]), 4 * frags);
+  EXPECT_SAME(d(w["texels_per_fragment"]), ratio(d(w["texels_lod"]), static_cast<double>(frags)));
+  EXPECT_GE(d(w["footprint_texels_per_fragment"]), 0.0);
+  const Json& lines = w["lines"];
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_GE(u(lines[0]), u(lines[1]));
+  EXPECT_GE(u(lines[1]), u(lines[2]));
+  EXPECT_GE(u(lines[2]), 1u);
+  EXPECT_LE(u(lines[0]), u(w["texels_lod"]));  // every line holds a texel read
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(u(w["working_set_bytes"][k]), u(lines[k]) * u(setup["line_bytes"][k])) << k;
+    // A line is at most twice the one of half its size (and holds at most all of them).
+    if (k > 0) {
+      EXPECT_LE(u(lines[k - 1]), 2 * u(lines[k])) << k;
+    }
+  }
+  // Reuse on 64-byte lines: every use is a first use, a reuse of some distance or untracked.
+  EXPECT_EQ(u(setup["reuse_line_bytes"]), 64u);
+  if (u(w["untracked_uses"]) == 0) {
+    EXPECT_EQ(u(w["first_uses"]), u(lines[1]));
+  } else {
+    EXPECT_LT(u(w["first_uses"]), u(lines[1]));
+  }
+  EXPECT_EQ(sum(w["reuse"]), u(w["line_uses"]) - u(w["first_uses"]) - u(w["untracked_uses"]));
+  EXPECT_GE(u(w["line_uses"]), frags);
+  EXPECT_LE(u(w["line_uses"]), 4 * frags);
+}
+
+// Frames of the characterisation are the run's frames; the total sums them.
+void check_workload(const Json& r) {
+  ASSERT_TRUE(r.contains("workload"));
+  const Json& w = r["workload"];
+  EXPECT_EQ(w["layout"], r["provenance"]["pipeline"]["layout"]);
+  EXPECT_EQ(w["line_bytes"], Json::parse("[32, 64, 128]"));
+  EXPECT_SAME(d(w["lod_lo"]), -4.0);
+  EXPECT_SAME(d(w["lod_step"]), 0.5);
+  EXPECT_EQ(u(w["reuse_max_lines"]), 1u << 20);
+  ASSERT_EQ(w["frames"].size(), r["frames"].size());
+  Json total = w["frames"][0];
+  for (size_t i = 0; i < w["frames"].size(); ++i) {
+    const Json& f = w["frames"][i];
+    check_workload_frame(f, w);
+    EXPECT_EQ(f["frame"], r["frames"][i]["frame"]);
+    EXPECT_EQ(u(f["fragments"]), u(r["frames"][i]["fragments"]));
+    if (i == 0) continue;
+    for (const char* k :
+         {"fragments", "quads", "textures", "texels_level0", "texels_lod", "lod_under", "lod_over",
+          "magnified", "minified", "line_uses", "first_uses", "untracked_uses"})
+      total[k] = u(total[k]) + u(f[k]);
+    for (const char* k : {"lines", "working_set_bytes", "lod", "aniso", "reuse"})
+      for (size_t j = 0; j < f[k].size(); ++j) total[k][j] = u(total[k][j]) + u(f[k][j]);
+  }
+  const Json& t = w["total"];
+  check_workload_frame(t, w);
+  EXPECT_EQ(u(t["fragments"]), u(r["fragments"]));
+  for (const char* k : {"fragments", "quads", "textures", "texels_level0", "texels_lod", "lines",
+                        "working_set_bytes", "lod_under", "lod", "lod_over", "aniso", "magnified",
+                        "minified", "line_uses", "first_uses", "untracked_uses", "reuse"})
+    EXPECT_EQ(t[k], total[k]) << k;
+}
+
 void check_report(const Json& r, int width, int height) {
   expect_known_keys(r);
   check_summary(r, width, height);
@@ -729,6 +832,7 @@ void check_report(const Json& r, int width, int height) {
   check_object_space(r);
   check_ledger(r);
   check_provenance(r);
+  check_workload(r);
 }
 
 // The accuracy figures against the run's own float images: over covered pixels, per channel.
@@ -797,6 +901,13 @@ void expect_in(const std::string& md, const std::string& text) {
 // report.md computes some figures on its own (the hit rate, per-fragment figures): each must be
 // report.json's, printed to 4 significant digits.
 void check_markdown(const Json& r, const std::string& md) {
+  for (const Json& f : r["workload"]["frames"]) {
+    expect_in(md, "| " + f["frame"].dump() + " | " + f["fragments"].dump() + " | " +
+                      f["quads"].dump() + " | " + f["textures"].dump() + " | " +
+                      f["texels_level0"].dump() + " | " + f["texels_lod"].dump() + " | " +
+                      g4(d(f["texels_per_fragment"])) + " | " + f["lines"][0].dump() + " | ");
+    break;  // the first frame's row
+  }
   expect_in(md, "| cycles | " + r["cycles"].dump() + " (" + g4(d(r["cycles_per_fragment"])) +
                     " per fragment) |");
   expect_in(md, "| area (sum of blocks) | " + g4(d(r["area_total"])) + " |");

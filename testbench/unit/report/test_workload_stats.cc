@@ -12,6 +12,8 @@
 namespace texsim {
 namespace {
 
+using Sizes = std::vector<std::array<int, 2>>;
+
 Fragment frag(uint32_t frame, uint32_t x, uint32_t y, double u, double v, double dudx,
               double dvdy) {
   Fragment f;
@@ -28,7 +30,7 @@ Fragment frag(uint32_t frame, uint32_t x, uint32_t y, double u, double v, double
 TEST(WorkloadStats, PlacementFollowsTheTextureSet) {
   // Linear 8x8 RGBA8: levels of 256, 64, 16 and 4 bytes, each rounded up to 256 bytes; the
   // next texture starts on the next 4 KiB page.
-  const auto t = place_workload_textures({{{8, 8}}, {{2, 2}}}, TexelLayout::Linear);
+  const auto t = place_workload_textures(Sizes{{8, 8}, {2, 2}}, TexelLayout::Linear);
   ASSERT_EQ(t.size(), 2u);
   ASSERT_EQ(t[0].levels.size(), 4u);
   EXPECT_EQ(t[0].levels[2].width, 2);
@@ -39,13 +41,13 @@ TEST(WorkloadStats, PlacementFollowsTheTextureSet) {
   set.add(
       Texture::from_rgba("a", 8, 8, std::vector<float>(8 * 8 * 4, 0.5f), TexelFormat::Rgba8, true));
   set.place(TexelLayout::Tiled4x4);
-  const WorkloadTexture w = WorkloadTexture::of(set[0]);
-  const auto p = place_workload_textures({{{8, 8}}}, TexelLayout::Tiled4x4);
+  const WorkloadTexture w = workload_textures(set)[0];
+  const auto p = place_workload_textures(Sizes{{8, 8}}, TexelLayout::Tiled4x4);
   for (int l = 0; l < 4; ++l) EXPECT_EQ(w.address(l, 1, 1), p[0].address(l, 1, 1)) << l;
 }
 
 TEST(WorkloadStats, TwoFramesByHand) {
-  WorkloadStats s(place_workload_textures({{{8, 8}}}, TexelLayout::Linear));
+  WorkloadStats s(place_workload_textures(Sizes{{8, 8}}, TexelLayout::Linear));
   // Frame 0, λ = 0 (one texel per pixel): footprints x 0-1 and 2-3, rows 0-1 (addresses 0, 4,
   // 32, 36 and 8, 12, 40, 44); then λ = -1 at x 6-7 (24, 28, 56, 60). Pixels (0,0), (1,0):
   // one quad; (2,0): another.
@@ -91,7 +93,7 @@ TEST(WorkloadStats, TwoFramesByHand) {
 }
 
 TEST(WorkloadStats, HistogramEdges) {
-  WorkloadStats s(place_workload_textures({{{16, 16}}}, TexelLayout::Tiled4x4));
+  WorkloadStats s(place_workload_textures(Sizes{{16, 16}}, TexelLayout::Tiled4x4));
   Fragment f = frag(0, 0, 0, 0.5, 0.5, 0, 0);  // point footprint: λ = -inf
   s.add(f, 0);
   f.dudx = 1e6;  // λ ≈ 23.9: overflow; a line segment: η > 16
