@@ -21,6 +21,7 @@
 #include "pipeline/capture/apitrace_import.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/report/provenance.h"
+#include "pipeline/report/workload_report.h"
 #include "pipeline/studies/study_coords.h"
 #include "pipeline/studies/study_filters.h"
 #include "pipeline/studies/study_memory.h"
@@ -31,6 +32,7 @@
 #include "pipeline/studies/study_terrain.h"
 #include "pipeline/studies/study_thesis.h"
 #include "pipeline/studies/study_vd.h"
+#include "traces/draw_trace.h"
 #include "traces/trace_tools.h"
 
 namespace {
@@ -439,7 +441,11 @@ int run_cli(int argc, char** argv) {
       const ImportSummary s = import_apitrace(imp_capture, first, last, imp_out);
       print_import_summary(s, imp_out, std::cout);
     } else if (*info) {
-      return trace_info(info_in, std::cout);
+      const int rc = trace_info(info_in, std::cout);
+      // A fragment trace in a file: its workload too (a second pass).
+      if (rc == 0 && !is_draw_trace(info_in) && std::filesystem::is_regular_file(info_in))
+        print_trace_workload(info_in, std::cout);
+      return rc;
     } else if (*study.cmd) {
       return run_study_command(study);
     } else if (*tune_cmd) {

@@ -143,4 +143,40 @@ WorkloadStats trace_workload(const std::string& path) {
   return w;
 }
 
+void print_trace_workload(const std::string& path, std::ostream& out) {
+  const WorkloadStats w = trace_workload(path);
+  if (w.frames().empty()) return;
+  out << "workload:   tiled4x4 addresses, full RGBA8 mip chains (docs/reports.md \"workload\")\n";
+  auto line = [&](const std::string& name, const FrameWorkload& f) {
+    out << "  " << name << ": " << f.fragments << " fragments, " << f.quads << " quads, "
+        << f.textures << " textures, distinct texels " << f.texels_level0 << " (level 0) "
+        << f.texels_lod << " (λ level), " << fmt(f.per_fragment(static_cast<double>(f.texels_lod)))
+        << " texels/fragment, lines " << f.lines[0] << "/" << f.lines[1] << "/" << f.lines[2]
+        << " (32/64/128 B), magnified "
+        << fmt(100 * f.per_fragment(static_cast<double>(f.magnified)))
+        << "%, reuse within 256 lines " << fmt(100 * reuse_within(f, 256)) << "%\n";
+  };
+  size_t n = 0;
+  for (const FrameWorkload& f : w.frames()) {
+    if (n++ == 16) {
+      out << "  ...\n";
+      break;
+    }
+    line("frame " + std::to_string(f.frame), f);
+  }
+  const FrameWorkload t = w.total();
+  if (w.frames().size() > 1) line("all frames", t);
+  out << "  LOD λ (0.5 bins from " << FrameWorkload::kLodLo << "): below " << t.lod_under << ",";
+  for (uint64_t c : t.lod) out << " " << c;
+  out << ", above " << t.lod_over << "\n  anisotropy:";
+  for (size_t k = 0; k < t.aniso.size(); ++k) out << " " << kAnisoNames[k] << ": " << t.aniso[k];
+  out << "\n  footprint: " << fmt(t.per_fragment(t.footprint_texels))
+      << " level-0 texels per fragment\n  reuse distance (64 B lines; bins 0, [1,2), [2,4), ...): "
+      << t.line_uses << " uses, " << t.first_uses << " first";
+  if (t.untracked_uses > 0) out << ", " << t.untracked_uses << " untracked";
+  out << ";";
+  for (uint64_t c : t.reuse) out << " " << c;
+  out << "\n";
+}
+
 }  // namespace texsim

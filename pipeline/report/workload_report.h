@@ -19,6 +19,10 @@ nlohmann::ordered_json workload_frame_json(const FrameWorkload& f);
 // tiled4x4 layout (what `texsim run` uses by default).
 WorkloadStats trace_workload(const std::string& path);
 
+// `texsim trace info`'s workload lines for a fragment trace (a regular file: it is read a
+// second time); prints nothing for a trace without records.
+void print_trace_workload(const std::string& path, std::ostream& out);
+
 // Share of line reuses within `lines` distinct lines (reuse histogram bins up to it), of all
 // reuses; 0 without reuses.
 double reuse_within(const FrameWorkload& f, uint64_t lines);

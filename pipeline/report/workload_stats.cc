@@ -116,6 +116,7 @@ void FlatTable::grow() {
 }
 
 void FlatTable::clear() {
+  recent_.fill(kEmpty);
   if (size_ == 0) return;
   std::fill(keys_.begin(), keys_.end(), kEmpty);
   size_ = 0;
@@ -142,7 +143,7 @@ void ReuseDistance::compact() {
   std::sort(live.begin(), live.end());
   size_t n = tree_.empty() ? 0 : tree_.size() - 1;
   if (n == 0) n = 4096;
-  while (live.size() * 2 > n) n *= 2;
+  while (live.size() * 4 > n) n *= 2;  // at least 3/4 of the tree free: few compactions
   for (size_t i = 0; i < live.size(); ++i) *live[i].second = static_cast<uint32_t>(i);
   tree_.assign(n + 1, 0);
   for (size_t i = 1; i <= n; ++i) {
@@ -156,6 +157,10 @@ void ReuseDistance::compact() {
 
 void ReuseDistance::use(uint64_t line) {
   ++uses;
+  if (line == last_line_) {
+    ++hist[0];  // the latest line again: distance 0, and the order of last uses is unchanged
+    return;
+  }
   if (tree_.empty() || now_ + 1 >= tree_.size()) compact();
   uint32_t* last = last_.find(line);
   if (last == nullptr) {
@@ -164,6 +169,7 @@ void ReuseDistance::use(uint64_t line) {
       return;
     }
     ++first_uses;
+    last_line_ = line;
     bool ins = false;
     last_.find_or_insert(line, ins) = now_;
   } else {
@@ -173,6 +179,7 @@ void ReuseDistance::use(uint64_t line) {
     add(*last, -1);
     --live_;
     *last = now_;
+    last_line_ = line;
   }
   add(now_, 1);
   ++live_;
@@ -183,6 +190,7 @@ void ReuseDistance::reset() {
   last_.clear();
   std::fill(tree_.begin(), tree_.end(), 0);
   now_ = live_ = 0;
+  last_line_ = ~uint64_t{0};
   hist.fill(0);
   uses = first_uses = untracked = 0;
 }
@@ -190,7 +198,21 @@ void ReuseDistance::reset() {
 // --- WorkloadStats ------------------------------------------------------------------------------
 
 WorkloadStats::WorkloadStats(std::vector<WorkloadTexture> textures)
-    : textures_(std::move(textures)), touched_(textures_.size(), 0) {}
+    : textures_(std::move(textures)), touched_(textures_.size(), 0) {
+  // The end of the address space: every layout's last texel is the one at (w-1, h-1).
+  uint64_t end = 0;
+  for (const WorkloadTexture& t : textures_) {
+    for (size_t l = 0; l < t.levels.size(); ++l) {
+      const Texture::Level& lv = t.levels[l];
+      end = std::max(end, t.address(static_cast<int>(l), lv.width - 1, lv.height - 1) +
+                              static_cast<uint64_t>(t.bytes_per_texel));
+    }
+  }
+  texels0_.resize(end / 4 + 1);
+  texels_.resize(end / 4 + 1);
+  for (size_t k = 0; k < 3; ++k)
+    lines_[k].resize(end / static_cast<uint64_t>(FrameWorkload::kLineBytes[k]) + 1);
+}
 
 namespace {
 
@@ -198,6 +220,7 @@ namespace {
 // `size` texels, wrapped into the level.
 int wrapped_first(double u, int size) {
   double s = std::floor(u * size - 0.5);
+  if (s >= 0 && s < size) return static_cast<int>(s);
   if (!std::isfinite(s)) return 0;
   s = std::fmod(s, static_cast<double>(size));
   if (s < 0) s += size;
@@ -246,9 +269,10 @@ void WorkloadStats::add(const Fragment& f, uint32_t tex) {
     const double rmax2 = std::max(px2, py2), rmin2 = std::min(px2, py2);
     lambda = 0.5 * std::log2(rmax2) + f.lod_bias;  // -inf for a point footprint
     if (rmax2 > 0) {
-      aniso = rmin2 == 0 ? FrameWorkload::kAnisoBins - 1
-                         : static_cast<int>(std::lround(0.5 * std::log2(rmax2 / rmin2)));
-      aniso = std::clamp(aniso, 0, FrameWorkload::kAnisoBins - 1);
+      // log2 η rounded: η² against 2^(2k+1), the squares of the bins' edges 2^(k+½).
+      static constexpr double kEdges2[] = {2, 8, 32, 128, 512};
+      const double ratio2 = rmin2 == 0 ? HUGE_VAL : rmax2 / rmin2;
+      while (aniso < FrameWorkload::kAnisoBins - 1 && ratio2 >= kEdges2[aniso]) ++aniso;
     }
     const double area = std::abs(mux * mvy - mvx * muy);
     if (std::isfinite(area)) cur_.footprint_texels += area;
@@ -267,13 +291,12 @@ void WorkloadStats::add(const Fragment& f, uint32_t tex) {
   }
   ++(lambda < 0 ? cur_.magnified : cur_.minified);
 
-  bool ins = false;
-  for (uint64_t a : footprint(t, 0, f.u, f.v)) texels0_.find_or_insert(a, ins);
+  for (uint64_t a : footprint(t, 0, f.u, f.v)) texels0_.set(a / 4);
   const int top = static_cast<int>(t.levels.size()) - 1;
   const int level =
       lambda <= 0 ? 0 : (lambda >= top ? top : static_cast<int>(std::floor(lambda + 0.5)));
   const std::array<uint64_t, 4> a = footprint(t, std::min(level, top), f.u, f.v);
-  for (uint64_t x : a) texels_.find_or_insert(x, ins);
+  for (uint64_t x : a) texels_.set(x / 4);
   for (size_t k = 0; k < FrameWorkload::kLineBytes.size(); ++k) {
     const auto bytes = static_cast<uint64_t>(FrameWorkload::kLineBytes[k]);
     for (size_t i = 0; i < 4; ++i) {
@@ -281,16 +304,16 @@ void WorkloadStats::add(const Fragment& f, uint32_t tex) {
       bool seen = false;  // the fragment's texels in one line are one use
       for (size_t j = 0; j < i; ++j) seen = seen || a[j] / bytes == line;
       if (seen) continue;
-      lines_[k].find_or_insert(line, ins);
+      lines_[k].set(line);
       if (FrameWorkload::kLineBytes[k] == FrameWorkload::kReuseLineBytes) reuse_.use(line);
     }
   }
 }
 
 void WorkloadStats::close_frame() {
-  cur_.texels_level0 = texels0_.size();
-  cur_.texels_lod = texels_.size();
-  for (size_t k = 0; k < 3; ++k) cur_.lines[k] = lines_[k].size();
+  cur_.texels_level0 = texels0_.count();
+  cur_.texels_lod = texels_.count();
+  for (size_t k = 0; k < 3; ++k) cur_.lines[k] = lines_[k].count();
   cur_.line_uses = reuse_.uses;
   cur_.first_uses = reuse_.first_uses;
   cur_.untracked_uses = reuse_.untracked;
@@ -298,7 +321,7 @@ void WorkloadStats::close_frame() {
   frames_.push_back(cur_);
   texels0_.clear();
   texels_.clear();
-  for (FlatTable& l : lines_) l.clear();
+  for (Bitmap& l : lines_) l.clear();
   reuse_.reset();
   std::fill(touched_.begin(), touched_.end(), 0);
   open_ = false;

@@ -14,6 +14,7 @@
 // - Reuse distance: per frame, exact LRU stack distance on 64-byte lines (distinct other lines
 //   between two uses; a fragment's texels in one line are one use), for at most kReuseMaxLines
 //   distinct lines per frame; uses of further lines are counted as untracked.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -57,6 +58,15 @@ class FlatTable {
   // The value slot of `key`; `inserted` tells whether the key is new (its value is then 0).
   uint32_t& find_or_insert(uint64_t key, bool& inserted);
   uint32_t* find(uint64_t key);  // null when absent
+  // Set use: adds `key`. A small direct-mapped memory of recent keys skips most repeats (the
+  // texels and lines of neighbouring fragments) before the table's own, cache-missing probe.
+  void insert(uint64_t key) {
+    uint64_t& r = recent_[(key * 0x9E3779B97F4A7C15ULL) >> 58];
+    if (r == key) return;
+    r = key;
+    bool inserted = false;
+    find_or_insert(key, inserted);
+  }
   size_t size() const { return size_; }
   void clear();
   template <class F>
@@ -71,6 +81,36 @@ class FlatTable {
   std::vector<uint64_t> keys_;
   std::vector<uint32_t> vals_;
   size_t size_ = 0;
+  std::array<uint64_t, 64> recent_ = filled_recent();
+  static std::array<uint64_t, 64> filled_recent() {
+    std::array<uint64_t, 64> a;
+    a.fill(kEmpty);
+    return a;
+  }
+};
+
+// One bit per granule of the textures' address space: distinct texels (4-byte granules) and
+// lines (a granule per line) are counted by direct indexing, 1/32 of the texture memory at
+// most, faster than any hash set.
+class Bitmap {
+ public:
+  void resize(uint64_t bits) { words_.assign((bits + 63) / 64, 0); }
+  void set(uint64_t i) {
+    uint64_t& w = words_[i >> 6];
+    const uint64_t m = uint64_t{1} << (i & 63);
+    count_ += (w & m) == 0;
+    w |= m;
+  }
+  uint64_t count() const { return count_; }
+  void clear() {
+    if (count_ == 0) return;
+    std::fill(words_.begin(), words_.end(), 0);
+    count_ = 0;
+  }
+
+ private:
+  std::vector<uint64_t> words_;
+  uint64_t count_ = 0;
 };
 
 // Exact LRU stack distances: a Fenwick tree over access times marks each line's last use.
@@ -88,9 +128,10 @@ class ReuseDistance {
   void add(uint32_t t, int d);
   uint32_t prefix(uint32_t t) const;  // marks at times < t
   void compact();
-  FlatTable last_;               // line -> last use time
-  std::vector<int32_t> tree_;    // Fenwick tree over times
-  uint32_t now_ = 0, live_ = 0;  // next time; marks in the tree
+  FlatTable last_;                     // line -> last use time
+  std::vector<int32_t> tree_;          // Fenwick tree over times
+  uint32_t now_ = 0, live_ = 0;        // next time; marks in the tree
+  uint64_t last_line_ = ~uint64_t{0};  // the line of the latest use
 };
 
 struct FrameWorkload {
@@ -137,7 +178,7 @@ class WorkloadStats {
   bool open_ = false;
   uint32_t qframe_ = 0, qprim_ = 0, qx_ = 0, qy_ = 0;
   std::vector<uint8_t> touched_;
-  FlatTable texels0_, texels_, lines_[3];
+  Bitmap texels0_, texels_, lines_[3];
   ReuseDistance reuse_;
 };
 
