@@ -795,7 +795,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     g.tex = loaded_texture(f, index, textures, input, opt.trace);
     const int material = truth.exact() ? primitive_material(f, index, scene, opt.trace) : 0;
     if (!os.drawn_by(material)) {
-      workload.add(f, g.tex);  // the screen-space texture unit's stream
+      if (opt.workload) workload.add(f, g.tex);  // the screen-space texture unit's stream
       if (quads) {
         quads->add(f, g, material, index, to_unit);
       } else {
@@ -817,7 +817,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     draw_scene_front_end(scene, maps, unit, [&](const Fragment& f, int material, const Rgba* c) {
       Fragment g = f;
       g.tex = static_cast<uint32_t>(textures.index.at(f.tex));
-      workload.add(f, g.tex);
+      if (opt.workload) workload.add(f, g.tex);
       record(f, g, material, c, index++);
     });
   } else {
@@ -841,7 +841,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   sum.accuracy = images.total();
   RunInfo info = images_info(opt, layout, textures, units, images);
   workload.finish();
-  info.workload = &workload;
+  if (opt.workload) info.workload = &workload;
   info.scene = use_scene ? scene.path : "(none: trace only)";
   info.reference =
       reference_text(truth, batch.mean_samples(), info.frames.size(), surf.active(), mats);
