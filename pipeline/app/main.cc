@@ -32,6 +32,7 @@
 #include "pipeline/studies/study_terrain.h"
 #include "pipeline/studies/study_thesis.h"
 #include "pipeline/studies/study_vd.h"
+#include "pipeline/studies/study_workloads.h"
 #include "traces/draw_trace.h"
 #include "traces/trace_tools.h"
 
@@ -268,13 +269,14 @@ CLI::App* add_tune_command(CLI::App& app, texsim::TuneOptions& t, std::string& s
 struct StudyCli {
   CLI::App *cmd = nullptr, *vd = nullptr, *coords = nullptr, *filters = nullptr, *raster = nullptr,
            *objspace = nullptr, *rtl = nullptr, *thesis = nullptr, *relief = nullptr,
-           *terrain = nullptr, *memory = nullptr;
+           *terrain = nullptr, *memory = nullptr, *workloads = nullptr;
   std::string out = "out/study";
   int threads = 0;
   texsim::StudyRtlOptions rtl_opt;
   std::vector<std::string> rtl_params;
   texsim::StudyThesisOptions thesis_opt;
   texsim::StudyMemoryOptions memory_opt;
+  texsim::StudyWorkloadsOptions workloads_opt;
 };
 
 void add_study_commands(CLI::App& app, StudyCli& s) {
@@ -312,14 +314,26 @@ void add_study_commands(CLI::App& app, StudyCli& s) {
       "memory",
       "Memory hierarchy on the shipped scenes: L1 size/ways/line, layout, raster order, units, "
       "L2, DRAM: hit rates, DRAM bytes, cycles and energy per fragment");
+  s.workloads = c.add_subcommand(
+      "workloads",
+      "Workload characterisation of the shipped scenes and of fragment traces side by side: "
+      "texels and lines per frame, LOD, anisotropy, magnification, line reuse distance");
+  s.workloads->add_flag("--quick", s.workloads_opt.quick,
+                        "The built-in scene at 160x120 only (seconds)");
+  s.workloads->add_option("--scene", s.workloads_opt.scenes,
+                          "Scene file or 'default' (repeatable; default: the built-in scene and "
+                          "the shipped scenes)");
+  s.workloads->add_option("--trace", s.workloads_opt.traces,
+                          "Fragment trace to put beside the scenes, e.g. real frames "
+                          "(repeatable)");
   for (auto* sub : {s.vd, s.coords, s.filters, s.raster, s.objspace, s.rtl, s.thesis, s.relief,
-                    s.terrain, s.memory})
+                    s.terrain, s.memory, s.workloads})
     sub->add_option("--out", s.out, "Output directory")->capture_default_str();
   s.memory->add_flag("--quick", s.memory_opt.quick, "A few rows on the built-in scene (seconds)");
   s.memory->add_option("--scene", s.memory_opt.scenes,
                        "Scene file or 'default' (repeatable; default: the built-in scene, "
                        "photo, flight and bunny)");
-  for (auto* sub : {s.vd, s.coords, s.filters, s.memory}) {
+  for (auto* sub : {s.vd, s.coords, s.filters, s.memory, s.workloads}) {
     sub->add_option("--threads", s.threads,
                     "Worker threads (0: one per core); the outputs do not depend on it")
         ->check(CLI::Range(0, 1024))
@@ -354,6 +368,10 @@ int run_study_command(StudyCli& s) {
   if (*s.vd) return run_study_vd(s.out, std::cout, s.threads);
   if (*s.coords) return run_study_coords(s.out, std::cout, s.threads);
   if (*s.raster) return run_study_raster(s.out, std::cout);
+  if (*s.workloads) {
+    s.workloads_opt.threads = s.threads;
+    return run_study_workloads(s.out, std::cout, s.workloads_opt);
+  }
   if (*s.memory) {
     s.memory_opt.threads = s.threads;
     return run_study_memory(s.out, std::cout, s.memory_opt);

@@ -1,0 +1,41 @@
+#pragma once
+// `texsim study workloads`: the workload characterisation (docs/reports.md "workload") of the
+// shipped scenes and of fragment traces side by side: fragments, texels and lines per frame,
+// LOD and anisotropy, magnification, reuse distance (docs/studies/study-workloads.md).
+#include <array>
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "pipeline/report/workload_stats.h"
+
+namespace texsim {
+
+struct StudyWorkloadsOptions {
+  // Scene files ("default": the built-in scene); empty: the built-in scene and the shipped
+  // scenes of kWorkloadScenes (--quick: the built-in scene at 160x120 only).
+  std::vector<std::string> scenes;
+  std::vector<std::string> traces;  // fragment traces (e.g. real frames), characterised as given
+  bool quick = false;
+  int threads = 0;  // rows in parallel (0: one per core); the outputs do not depend on it
+};
+
+struct WorkloadStudyRow {
+  std::string name, source, kind;  // kind: "scene" or "trace"
+  size_t frames = 0;
+  FrameWorkload total;  // distinct counts summed over frames
+  double per_frame(double v) const { return frames ? v / static_cast<double>(frames) : 0; }
+};
+
+// Runs every row (scenes through `texsim run`, functional, no ground truth, tiled4x4; traces
+// read directly), writes workloads.csv, workloads.md, workloads_lod.png and
+// workloads_reuse.png into out_dir; returns 0. With `rows` set, the rows are copied there.
+int run_study_workloads(const std::string& out_dir, std::ostream& log,
+                        const StudyWorkloadsOptions& opt,
+                        std::vector<WorkloadStudyRow>* rows = nullptr);
+
+// Share of a row's line reuses at a distance below `lines` (a power of two).
+double reuse_share_below(const FrameWorkload& f, uint64_t lines);
+
+}  // namespace texsim
