@@ -91,7 +91,7 @@ void workload_markdown(std::ostream& md, const WorkloadStats& w) {
      << w.layout()
      << " addresses; reuse distance in distinct 64-byte lines within the frame.\n\n"
         "| frame | fragments | quads | textures | texels (level 0) | texels (λ level) | "
-        "texels/fragment | lines 32 B | lines 64 B | lines 128 B | magnified | reuse ≤ 256 "
+        "texels/fragment | lines 32 B | lines 64 B | lines 128 B | magnified | reuse < 256 "
         "lines |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto row = [&](const std::string& name, const FrameWorkload& f) {
     md << "| " << name << " | " << f.fragments << " | " << f.quads << " | " << f.textures << " | "
@@ -154,7 +154,7 @@ void print_trace_workload(const std::string& path, std::ostream& out) {
         << " texels/fragment, lines " << f.lines[0] << "/" << f.lines[1] << "/" << f.lines[2]
         << " (32/64/128 B), magnified "
         << fmt(100 * f.per_fragment(static_cast<double>(f.magnified)))
-        << "%, reuse within 256 lines " << fmt(100 * reuse_within(f, 256)) << "%\n";
+        << "%, reuse below 256 lines " << fmt(100 * reuse_within(f, 256)) << "%\n";
   };
   size_t n = 0;
   for (const FrameWorkload& f : w.frames()) {

@@ -23,8 +23,8 @@ WorkloadStats trace_workload(const std::string& path);
 // second time); prints nothing for a trace without records.
 void print_trace_workload(const std::string& path, std::ostream& out);
 
-// Share of line reuses within `lines` distinct lines (reuse histogram bins up to it), of all
-// reuses; 0 without reuses.
+// Share of line reuses at a distance below `lines` (a power of two: whole histogram bins) of
+// all reuses; 0 without reuses.
 double reuse_within(const FrameWorkload& f, uint64_t lines);
 
 }  // namespace texsim

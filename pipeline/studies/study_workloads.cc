@@ -125,7 +125,7 @@ StudyTable table(const std::vector<WorkloadStudyRow>& rows) {
     c.push_back(fmt(median_lod(f)));
     c.push_back(share(static_cast<double>(f.magnified), fr));
     c.push_back(share(static_cast<double>(aniso2), fr));
-    for (uint64_t d : {16u, 256u, 4096u}) c.push_back(fmt(100 * reuse_share_below(f, d)));
+    for (uint64_t d : {16u, 256u, 4096u}) c.push_back(fmt(100 * reuse_within(f, d)));
     c.push_back(share(static_cast<double>(f.first_uses), static_cast<double>(f.line_uses)));
     t.add(c);
   }
@@ -170,7 +170,7 @@ PlotSpec reuse_plot(const std::vector<WorkloadStudyRow>& rows) {
     for (int b = 0; b < ReuseDistance::kBins; ++b) {
       const uint64_t d = uint64_t{1} << b;
       s.x.push_back(static_cast<double>(d));
-      s.y.push_back(reuse_share_below(r.total, d));
+      s.y.push_back(reuse_within(r.total, d));
     }
     p.series.push_back(s);
   }
@@ -187,16 +187,6 @@ std::string cpu_model() {
 }
 
 }  // namespace
-
-double reuse_share_below(const FrameWorkload& f, uint64_t lines) {
-  uint64_t all = 0, below = 0;
-  for (size_t b = 0; b < f.reuse.size(); ++b) {
-    all += f.reuse[b];
-    // Bin 0: distance 0; bin b: [2^(b-1), 2^b).
-    if ((uint64_t{1} << b) <= lines) below += f.reuse[b];
-  }
-  return all > 0 ? static_cast<double>(below) / static_cast<double>(all) : 0.0;
-}
 
 int run_study_workloads(const std::string& out_dir, std::ostream& log,
                         const StudyWorkloadsOptions& opt, std::vector<WorkloadStudyRow>* out_rows) {

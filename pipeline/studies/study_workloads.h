@@ -35,7 +35,4 @@ int run_study_workloads(const std::string& out_dir, std::ostream& log,
                         const StudyWorkloadsOptions& opt,
                         std::vector<WorkloadStudyRow>* rows = nullptr);
 
-// Share of a row's line reuses at a distance below `lines` (a power of two).
-double reuse_share_below(const FrameWorkload& f, uint64_t lines);
-
 }  // namespace texsim

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/report/workload_report.h"
 #include "pipeline/studies/study_workloads.h"
 #include "testbench/lib/temp_dir.h"
 
@@ -55,7 +56,7 @@ TEST(StudyWorkloads, QuickWithATrace) {
   EXPECT_EQ(t.total.line_uses, 4u);
   EXPECT_EQ(t.total.first_uses, 3u);
   EXPECT_EQ(t.total.reuse[0], 1u);
-  EXPECT_DOUBLE_EQ(reuse_share_below(t.total, 1), 1.0);
+  EXPECT_DOUBLE_EQ(reuse_within(t.total, 1), 1.0);
   for (const char* f :
        {"workloads.csv", "workloads.md", "workloads_lod.png", "workloads_reuse.png"})
     EXPECT_TRUE(std::filesystem::exists(dir.file("out/") + f)) << f;
