@@ -642,10 +642,6 @@ std::unique_ptr<StageTimeline> make_timeline(const RunOptions& opt, const UnitAr
   if (!units.unit(0).pipeline()) {
     throw InputError(opt.timeline, "--timeline needs the clocked pipeline (not --functional)");
   }
-  if (units.several()) {
-    throw InputError(opt.timeline,
-                     "--timeline draws one texture unit; the scene's [pipeline] units > 1");
-  }
   return std::make_unique<StageTimeline>(opt.timeline_limit);
 }
 
@@ -772,9 +768,13 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   const std::unique_ptr<StageTimeline> timeline = make_timeline(opt, units);
   auto record = [&](const Fragment& f, const Fragment& g, int material, const Rgba* colour,
                     uint64_t index) {
-    if (timeline) timeline->observe(*unit.pipeline());
+    if (timeline && !units.several()) timeline->observe(*unit.pipeline());
     batch.add(f, g, material, colour, index);
   };
+  // Several units: each unit's tracks, observed as each fragment leaves its unit.
+  if (timeline && units.several()) {
+    units.set_commit_observer([&](int u, const ClockedPipeline& p) { timeline->observe(p, u); });
+  }
   // The unit's timeline observes the pipeline after every fragment: no batching then.
   UnitBatch unit_batch(unit, timeline ? 1 : LinearBatch::kMax);
   const UnitArray::Record to_record = record;

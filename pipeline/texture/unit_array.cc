@@ -40,7 +40,11 @@ uint64_t UnitArray::Hooks::begin(int u, Item& it) {
   return unit.pending_start();
 }
 
-void UnitArray::Hooks::commit(int u, Item& /*it*/) { a->units_[static_cast<size_t>(u)]->commit(); }
+void UnitArray::Hooks::commit(int u, Item& /*it*/) {
+  TextureUnit& unit = *a->units_[static_cast<size_t>(u)];
+  unit.commit();
+  if (a->observer_) a->observer_(u, *unit.pipeline());
+}
 
 void UnitArray::add(const Fragment& f, const Fragment& g, const Fragment& u, int material,
                     uint64_t index, const Record& record) {

@@ -43,6 +43,10 @@ class UnitArray {
   void add(const Fragment& f, const Fragment& g, const Fragment& u, int material, uint64_t index,
            const Record& record);
   void finish();
+  // Several units: called after each fragment's last stage with its unit (for --timeline).
+  void set_commit_observer(std::function<void(int unit, const ClockedPipeline& pipe)> f) {
+    observer_ = std::move(f);
+  }
 
   // Totals over the units (with one unit, that unit's figures).
   bool timing() const { return units_[0]->timing(); }
@@ -96,6 +100,7 @@ class UnitArray {
   std::unique_ptr<UnitScheduler<Item, Hooks>> sched_;
   const Record* record_ = nullptr;
   mutable std::vector<FrameStats> frames_;
+  std::function<void(int, const ClockedPipeline&)> observer_;
 };
 
 }  // namespace texsim
