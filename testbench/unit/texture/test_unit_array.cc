@@ -155,6 +155,19 @@ TEST(UnitArray, AnImpossibleUnitCountOrTileIsAnErrorAtItsLine) {
   const std::string tile = scene_error("units = 4\nunit_tile = 12");
   EXPECT_NE(tile.find("s.toml:3:"), std::string::npos) << tile;
   EXPECT_NE(tile.find("power of two"), std::string::npos) << tile;
+  // An L2 line smaller than the L1's, a DRAM row smaller than the line read from it, MSHRs 0.
+  const std::string l2 = scene_error("[pipeline.l2]\nline_bytes = 32");
+  EXPECT_NE(l2.find("s.toml:3:"), std::string::npos) << l2;
+  EXPECT_NE(l2.find("line_bytes"), std::string::npos) << l2;
+  const std::string row =
+      scene_error("[pipeline.dram]\nmodel = \"banked\"\nrow_bytes = 32\ninterleave_bytes = 32");
+  EXPECT_NE(row.find("s.toml:"), std::string::npos) << row;
+  EXPECT_NE(row.find("row_bytes"), std::string::npos) << row;
+  const std::string mshrs = scene_error("[pipeline.l2]\nmshrs = 0");
+  EXPECT_NE(mshrs.find("s.toml:3:"), std::string::npos) << mshrs;
+  EXPECT_NE(mshrs.find("mshrs"), std::string::npos) << mshrs;
+  const std::string model = scene_error("[pipeline.dram]\nmodel = \"hbm\"");
+  EXPECT_NE(model.find("model"), std::string::npos) << model;
 }
 
 TEST(UnitArray, ACoordinateUnitMaterialNeedsOneUnit) {
