@@ -170,17 +170,20 @@ TEST(UnitArray, AnImpossibleUnitCountOrTileIsAnErrorAtItsLine) {
   EXPECT_NE(model.find("model"), std::string::npos) << model;
 }
 
-TEST(UnitArray, ACoordinateUnitMaterialNeedsOneUnit) {
+// A scene whose materials compute their own coordinates: unit 0 runs the coordinate units and
+// each fragment (and each fragment dropped after the front end) goes to its tile's unit; the
+// image and the front end's counts do not depend on the unit count.
+TEST(UnitArray, ACoordinateFrontEndFeedsEveryUnit) {
   TempDir dir("unit_array");
-  RunOptions opt;
-  opt.scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/coords.toml";
-  opt.reference = "none";
-  opt.out = dir.file("") + "/out";
-  opt.overrides = {"pipeline.units=2"};
-  std::ostringstream log;
-  const std::string e = error_of([&] { run_simulation(opt, log); });
-  EXPECT_NE(e.find("coords.toml"), std::string::npos) << e;
-  EXPECT_NE(e.find("units = 2"), std::string::npos) << e;
+  const std::string scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/coords.toml";
+  const Outcome one = run_units(scene, 1, dir.file("one"));
+  const Outcome four = run_units(scene, 4, dir.file("four"));
+  EXPECT_EQ(four.capture.image->rgb, one.capture.image->rgb);
+  EXPECT_EQ(four.report["front_end"], one.report["front_end"]);
+  EXPECT_EQ(four.report["fragments"], one.report["fragments"]);
+  for (const auto& u : four.report["units"]) EXPECT_GT(u["fragments"].get<uint64_t>(), 0u);
+  EXPECT_LT(four.capture.cycles, one.capture.cycles);
+  EXPECT_EQ(four.report["scheduler"]["late_items"].get<uint64_t>(), 0u);
 }
 
 }  // namespace
