@@ -64,6 +64,7 @@ Json comparison_json(const FrameComparison& c, const std::string& path) {
           {"mse", c.mse},
           {"mean_abs_8bit", c.mean_abs},
           {"max_abs_8bit", c.max_abs},
+          {"pixels_equal", c.equal},
           {"pixels_off_by_more_than_8", c.off_by_more_than_8}};
 }
 
@@ -115,6 +116,12 @@ DrawRunSummary run_draws(const DrawRunOptions& opt, std::ostream& log) {
   static const toml::table kNoPipeline;
   const PipelineSetup setup =
       PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : kNoPipeline, scene.path);
+  if (setup.derivatives != QuadDerivatives::Own) {
+    throw InputError(scene.path,
+                     "[pipeline] derivatives: a draw trace's fragments carry their exact "
+                     "derivatives; quad derivatives are not available with --draws (set "
+                     "derivatives = \"fragment\")");
+  }
   const DrawTrace trace = read_draw_trace(opt.draws);
   const size_t index = pick_frame(trace, ro.frame, opt.draws);
 

@@ -57,6 +57,7 @@ FrameComparison compare_frame(const RenderedFrame& f, const Rgb8Image& ref,
     }
     c.max_abs = std::max<uint64_t>(c.max_abs, static_cast<uint64_t>(worst));
     c.off_by_more_than_8 += worst > 8;
+    c.equal += worst == 0;
   }
   c.drawn_agreement_pct =
       c.pixels ? 100.0 * static_cast<double>(c.drawn_agree) / static_cast<double>(c.pixels) : 0;

@@ -30,6 +30,7 @@ struct FrameComparison {
   double psnr_db = 0;               // 10 log10(1 / mse); 999 when equal
   double mean_abs = 0;              // mean |difference| per channel, in 8-bit steps
   uint64_t max_abs = 0;             // largest per-channel difference, in 8-bit steps
+  uint64_t equal = 0;               // pixels drawn by both with the same R, G, B
   uint64_t off_by_more_than_8 = 0;  // pixels drawn by both with a channel more than 8 steps off
 };
 

@@ -31,13 +31,13 @@ TEST(DrawsValidation, EveryShippedFrameMatchesTheGamesImage) {
     std::snprintf(name, sizeof name, "frame_%04u.png", f.number);
     const std::string ref_path = kSamples + "openarena-aggressor/" + name;
     const FrameComparison c = compare_frame(f, read_rgb8_image(ref_path), ref_path);
+    const auto u = [](uint64_t v) { return static_cast<unsigned long long>(v); };
     std::printf(
         "frame %u: pixels drawn agree on %.4f %% (texsim only %llu, reference only %llu), "
-        "PSNR %.2f dB over %llu pixels, mean |d| %.3f, max |d| %llu (8-bit)\n",
-        f.number, c.drawn_agreement_pct, static_cast<unsigned long long>(c.drawn_texsim_only),
-        static_cast<unsigned long long>(c.drawn_reference_only), c.psnr_db,
-        static_cast<unsigned long long>(c.drawn_both), c.mean_abs,
-        static_cast<unsigned long long>(c.max_abs));
+        "PSNR %.2f dB over %llu pixels (%llu equal), mean |d| %.3f, max |d| %llu (8-bit), %llu "
+        "off by more than 8\n",
+        f.number, c.drawn_agreement_pct, u(c.drawn_texsim_only), u(c.drawn_reference_only),
+        c.psnr_db, u(c.drawn_both), u(c.equal), c.mean_abs, u(c.max_abs), u(c.off_by_more_than_8));
     // The targets: the set of pixels drawn equal on >= 99.9 %, PSNR >= 30 dB over them.
     EXPECT_GE(c.drawn_agreement_pct, 99.9) << name;
     EXPECT_GE(c.psnr_db, 30.0) << name;
