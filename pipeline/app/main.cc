@@ -24,6 +24,7 @@
 #include "pipeline/report/provenance.h"
 #include "pipeline/studies/study_coords.h"
 #include "pipeline/studies/study_filters.h"
+#include "pipeline/app/study_memory.h"
 #include "pipeline/studies/study_objspace.h"
 #include "pipeline/studies/study_raster.h"
 #include "pipeline/studies/study_relief.h"
@@ -275,12 +276,13 @@ CLI::App* add_tune_command(CLI::App& app, texsim::TuneOptions& t, std::string& s
 struct StudyCli {
   CLI::App *cmd = nullptr, *vd = nullptr, *coords = nullptr, *filters = nullptr, *raster = nullptr,
            *objspace = nullptr, *rtl = nullptr, *thesis = nullptr, *relief = nullptr,
-           *terrain = nullptr;
+           *terrain = nullptr, *memory = nullptr;
   std::string out = "out/study";
   int threads = 0;
   texsim::StudyRtlOptions rtl_opt;
   std::vector<std::string> rtl_params;
   texsim::StudyThesisOptions thesis_opt;
+  texsim::StudyMemoryOptions memory_opt;
 };
 
 void add_study_commands(CLI::App& app, StudyCli& s) {
@@ -314,10 +316,18 @@ void add_study_commands(CLI::App& app, StudyCli& s) {
   s.terrain = c.add_subcommand(
       "terrain",
       "Finite-function terrain: evaluator costs, slope jumps, flat ripple, terrace measure");
-  for (auto* sub :
-       {s.vd, s.coords, s.filters, s.raster, s.objspace, s.rtl, s.thesis, s.relief, s.terrain})
+  s.memory = c.add_subcommand(
+      "memory",
+      "Memory hierarchy on the shipped scenes: L1 size/ways/line, layout, raster order, units, "
+      "L2, DRAM: hit rates, DRAM bytes, cycles and energy per fragment");
+  for (auto* sub : {s.vd, s.coords, s.filters, s.raster, s.objspace, s.rtl, s.thesis, s.relief,
+                    s.terrain, s.memory})
     sub->add_option("--out", s.out, "Output directory")->capture_default_str();
-  for (auto* sub : {s.vd, s.coords, s.filters}) {
+  s.memory->add_flag("--quick", s.memory_opt.quick, "A few rows on the built-in scene (seconds)");
+  s.memory->add_option("--scene", s.memory_opt.scenes,
+                       "Scene file or 'default' (repeatable; default: the built-in scene, "
+                       "photo, flight and bunny)");
+  for (auto* sub : {s.vd, s.coords, s.filters, s.memory}) {
     sub->add_option("--threads", s.threads,
                     "Worker threads (0: one per core); the outputs do not depend on it")
         ->check(CLI::Range(0, 1024))
@@ -352,6 +362,10 @@ int run_study_command(StudyCli& s) {
   if (*s.vd) return run_study_vd(s.out, std::cout, s.threads);
   if (*s.coords) return run_study_coords(s.out, std::cout, s.threads);
   if (*s.raster) return run_study_raster(s.out, std::cout);
+  if (*s.memory) {
+    s.memory_opt.threads = s.threads;
+    return run_study_memory(s.out, std::cout, s.memory_opt);
+  }
   StudyFiltersOptions fo;
   fo.threads = s.threads;
   return run_study_filters(s.out, std::cout, fo);

@@ -12,9 +12,10 @@
 // is committed anyway (counted: forced_commits), and a later item of an idle unit may then reach
 // the shared levels at an earlier cycle than requests already made (counted: late_items, the
 // measure of how far the order was from exact; 0 whenever no commit was forced).
+#include <algorithm>
 #include <cstdint>
-#include <deque>
 #include <queue>
+#include <utility>
 #include <vector>
 
 namespace texsim {
@@ -43,8 +44,32 @@ class UnitScheduler {
   uint64_t last_commit_cycle() const { return last_cycle_; }
 
  private:
+  // A unit's waiting items: a ring of a power-of-two size that grows when full (a deque
+  // allocated and freed a block every few items).
+  class Ring {
+   public:
+    bool empty() const { return head_ == tail_; }
+    Item& front() { return items_[head_ & mask_]; }
+    void pop_front() { ++head_; }
+    void push_back(Item&& it) {
+      if (tail_ - head_ == items_.size()) grow();
+      items_[tail_++ & mask_] = std::move(it);
+    }
+
+   private:
+    void grow() {
+      std::vector<Item> bigger(std::max<size_t>(16, items_.size() * 2));
+      for (size_t i = head_; i != tail_; ++i) bigger[i - head_] = std::move(items_[i & mask_]);
+      tail_ -= head_;
+      head_ = 0;
+      items_ = std::move(bigger);
+      mask_ = items_.size() - 1;
+    }
+    std::vector<Item> items_;
+    size_t head_ = 0, tail_ = 0, mask_ = 0;
+  };
   struct Lane {
-    std::deque<Item> queue;  // front: the begun item, when begun
+    Ring queue;  // front: the begun item, when begun
     bool begun = false;
     uint64_t start = 0;  // begun item's cycle at the memory stage
   };

@@ -3,6 +3,7 @@
 // texture units and the memory hierarchy behind them (docs/scenes.md#pipeline).
 #include <toml++/toml.h>
 
+#include <bit>
 #include <cstdint>
 #include <string>
 
@@ -47,8 +48,9 @@ struct PipelineSetup {
   // tile row starts one unit further on, so that neither rows nor columns of tiles share a
   // unit with their neighbours (for N > 1).
   int unit_of_pixel(uint32_t x, uint32_t y) const {
-    const uint32_t tx = x / unit_tile, ty = y / unit_tile;
-    return static_cast<int>((tx + ty) % units);
+    const int shift = std::countr_zero(unit_tile);  // unit_tile is a power of two
+    const uint32_t t = (x >> shift) + (y >> shift);
+    return static_cast<int>((units & (units - 1)) == 0 ? t & (units - 1) : t % units);
   }
 };
 

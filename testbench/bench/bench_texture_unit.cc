@@ -13,6 +13,7 @@
 #include <benchmark/benchmark.h>
 
 #include "pipeline/texture/texture_unit.h"
+#include "pipeline/texture/unit_array.h"
 #include "testbench/lib/bench_floor.h"
 
 namespace texsim {
@@ -67,6 +68,48 @@ void BM_Trilinear_Functional_Batch(benchmark::State& s) {
   run(s, FilterMode::Trilinear, false, true);
 }
 void BM_Trilinear_Timing_Batch(benchmark::State& s) { run(s, FilterMode::Trilinear, true, true); }
+// Several units on one global clock (UnitArray, the scheduler in cycle order), trilinear,
+// timed, one by one: the simulator's cost per fragment as the unit count grows (argument: units;
+// 1 is the plain unit UnitArray wraps). `shared`: an L2 over banked DRAM behind the L1s.
+void run_units(benchmark::State& state, bool shared) {
+  BenchFloor& fx = fixture();
+  MaterialSetup m;
+  m.name = "floor";
+  m.filter.filter = FilterMode::Trilinear;
+  PipelineSetup setup;
+  setup.units = static_cast<uint32_t>(state.range(0));
+  if (shared) {
+    setup.has_l2 = true;
+    setup.dram_kind = PipelineSetup::DramKind::Banked;
+  }
+  uint64_t cycles = 0;
+  float sink = 0;
+  const UnitArray::Record record = [&](const Fragment&, const Fragment&, int, const Rgba* c,
+                                       uint64_t) { sink += c->r; };
+  for (auto _ : state) {
+    UnitArray units(fx.textures, {m}, setup, TechTable::defaults(), true);
+    uint64_t i = 0;
+    for (const Fragment& f : fx.frags) {
+      if (units.several()) {
+        units.add(f, f, f, 0, i++, record);
+      } else {
+        sink += units.unit(0).process(f, 0).r;
+      }
+    }
+    units.finish();
+    cycles = units.cycles();
+    benchmark::DoNotOptimize(sink);
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) *
+                          static_cast<int64_t>(fx.frags.size()));
+  state.counters["sim_cycles_per_frag"] =
+      static_cast<double>(cycles) / static_cast<double>(fx.frags.size());
+}
+void BM_Units_FlatDram(benchmark::State& s) { run_units(s, false); }
+void BM_Units_L2_BankedDram(benchmark::State& s) { run_units(s, true); }
+BENCHMARK(BM_Units_FlatDram)->Arg(1)->Arg(2)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Units_L2_BankedDram)->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond);
+
 BENCHMARK(BM_Bilinear_Functional)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Bilinear_Timing)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Trilinear_Functional)->Unit(benchmark::kMillisecond);
