@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/app/study_workloads.h"
 #include "pipeline/report/workload_report.h"
-#include "pipeline/studies/study_workloads.h"
 #include "testbench/lib/temp_dir.h"
 
 namespace texsim {

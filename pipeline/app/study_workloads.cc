@@ -1,4 +1,4 @@
-#include "pipeline/studies/study_workloads.h"
+#include "pipeline/app/study_workloads.h"
 
 #include <bit>
 #include <chrono>
