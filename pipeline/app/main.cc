@@ -337,8 +337,10 @@ void add_study_commands(CLI::App& app, StudyCli& s) {
                           "Scene file or 'default' (repeatable; default: the built-in scene and "
                           "the shipped scenes)");
   s.workloads->add_option("--trace", s.workloads_opt.traces,
-                          "Fragment trace to put beside the scenes, e.g. real frames "
-                          "(repeatable)");
+                          "Fragment trace to put beside the scenes (repeatable)");
+  s.workloads->add_option("--draws", s.workloads_opt.draws,
+                          "Draw trace of real frames to put beside the scenes (repeatable; "
+                          "default: traces/samples/openarena-aggressor.draws)");
   for (auto* sub : {s.vd, s.coords, s.filters, s.raster, s.objspace, s.rtl, s.thesis, s.relief,
                     s.terrain, s.memory, s.workloads})
     sub->add_option("--out", s.out, "Output directory")->capture_default_str();

@@ -128,6 +128,8 @@ DrawRunSummary run_draws(const DrawRunOptions& opt, std::ostream& log) {
   DrawRunSummary s;
   const auto t0 = std::chrono::steady_clock::now();
   DrawRenderer renderer(trace, {index}, setup, scene.tech, !ro.functional, opt.draws);
+  WorkloadStats workload(workload_textures(renderer.textures()));
+  if (ro.workload) renderer.set_lookup_observer([&](const Fragment& f) { workload.add(f, f.tex); });
   s.frame = renderer.render(index);
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const UnitArray& units = renderer.units();
@@ -166,6 +168,8 @@ DrawRunSummary run_draws(const DrawRunOptions& opt, std::ostream& log) {
   }
 
   RunInfo info;
+  workload.finish();
+  if (ro.workload) info.workload = &workload;
   info.scene = scene.path;
   info.trace = opt.draws;
   info.has_truth = false;

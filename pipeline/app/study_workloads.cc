@@ -11,6 +11,7 @@
 #include "blocks/base/input_error.h"
 #include "pipeline/app/run.h"
 #include "pipeline/kernel/parallel_range.h"
+#include "pipeline/render/draw_renderer.h"
 #include "pipeline/report/workload_report.h"
 #include "pipeline/studies/study_table.h"
 
@@ -81,6 +82,24 @@ void measure_scene(WorkloadStudyRow& r, const std::string& dir, bool quick) {
     throw InputError(dir + "/report.json", std::string("unexpected report: ") + e.what());
   }
   std::filesystem::remove_all(dir);
+}
+
+// A draw trace's row: every frame rendered by the draw renderer (functional, default pipeline
+// with tiled4x4 textures), the look-ups it sends to the unit characterised.
+void measure_draws(WorkloadStudyRow& r) {
+  const DrawTrace trace = read_draw_trace(r.source);
+  std::vector<size_t> frames(trace.frames.size());
+  for (size_t i = 0; i < frames.size(); ++i) frames[i] = i;
+  static const toml::table kNoPipeline;
+  PipelineSetup setup = PipelineSetup::from_toml(kNoPipeline, r.source);
+  setup.layout = TexelLayout::Tiled4x4;
+  DrawRenderer renderer(trace, frames, setup, TechTable::defaults(), false, r.source);
+  WorkloadStats w(workload_textures(renderer.textures()));
+  renderer.set_lookup_observer([&](const Fragment& f) { w.add(f, f.tex); });
+  for (size_t i : frames) renderer.render(i);
+  w.finish();
+  r.frames = w.frames().size();
+  r.total = w.total();
 }
 
 // The λ of the histogram's median fragment (the bin's centre); the under/overflow bins give
@@ -206,12 +225,20 @@ int run_study_workloads(const std::string& out_dir, std::ostream& log,
   }
   for (const std::string& t : opt.traces)
     rows.push_back({std::filesystem::path(t).filename().string(), t, "trace", 0, {}});
+  std::vector<std::string> draws = opt.draws;
+  const std::string sample =
+      std::string(TEXSIM_SCENES_DIR) + "/../traces/samples/openarena-aggressor.draws";
+  if (draws.empty() && !opt.quick && std::filesystem::exists(sample)) draws.push_back(sample);
+  for (const std::string& t : draws)
+    rows.push_back({std::filesystem::path(t).stem().string(), t, "draws", 0, {}});
   log << "study workloads: " << rows.size() << " workloads\n";
   const std::string work = files.path(".runs");
   parallel_tasks(rows.size(), opt.threads, [&](size_t k) {
     WorkloadStudyRow& r = rows[k];
     if (r.kind == "scene") {
       measure_scene(r, work + "/" + std::to_string(k), opt.quick);
+    } else if (r.kind == "draws") {
+      measure_draws(r);
     } else {
       const WorkloadStats w = trace_workload(r.source);
       r.frames = w.frames().size();
@@ -221,12 +248,14 @@ int run_study_workloads(const std::string& out_dir, std::ostream& log,
   std::filesystem::remove_all(work);
   const StudyTable t = table(rows);
   files.csv("workloads.csv", t);
-  std::string md = "# Workloads side by side\n\n`texsim study workloads" +
-                   std::string(opt.quick ? " --quick" : "") + "` on " + cpu_model() +
-                   ". Per frame means; distinct texels and lines counted per frame "
-                   "(docs/reports.md \"workload\"). Scenes: functional runs, tiled4x4 "
-                   "addresses; traces: full RGBA8 mip chains, tiled4x4.\n\n" +
-                   t.markdown();
+  std::string md =
+      "# Workloads side by side\n\n`texsim study workloads" +
+      std::string(opt.quick ? " --quick" : "") + "` on " + cpu_model() +
+      ". Per frame means; distinct texels and lines counted per frame "
+      "(docs/reports.md \"workload\"). Scenes: functional runs, tiled4x4 "
+      "addresses; traces: full RGBA8 mip chains, tiled4x4; draw traces: every frame rendered, "
+      "the texture look-ups at tiled4x4 addresses.\n\n" +
+      t.markdown();
   files.text("workloads.md", md);
   files.plot("workloads_lod.png", lod_plot(rows));
   files.plot("workloads_reuse.png", reuse_plot(rows));

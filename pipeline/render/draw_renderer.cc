@@ -407,6 +407,8 @@ void DrawRenderer::raster_triangle(const Draw& d, const Tri& t, uint32_t frame,
     const int m = materials_.at(key);
     const uint32_t tex = static_cast<uint32_t>(tex_index_.at(du.texture));
     for (Fragment& g : look_[u]) g.tex = tex;
+    if (observer_)
+      for (const Fragment& g : look_[u]) observer_(g);
     texel_[u].resize(look_[u].size());
     for (size_t i = 0; i < look_[u].size(); i += LinearBatch::kMax) {
       const size_t n = std::min<size_t>(LinearBatch::kMax, look_[u].size() - i);

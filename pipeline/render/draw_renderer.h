@@ -7,6 +7,7 @@
 // in double; coverage in the edge rasteriser's fixed point (8 sub-pixel bits); depth as a
 // 24-bit unsigned integer (round to nearest); colour as colour_stage.h says.
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -64,6 +65,12 @@ class DrawRenderer {
   RenderedFrame render(size_t index);
 
   const UnitArray& units() const { return *units_; }
+  // The textures as the units placed them; `observer` sees every look-up sent to the unit (its
+  // tex: an index into them), in the unit's order, e.g. to characterise the workload.
+  const TextureSet& textures() const { return textures_; }
+  void set_lookup_observer(std::function<void(const Fragment&)> observer) {
+    observer_ = std::move(observer);
+  }
   // "name (W×H, L levels)" of each texture, for reports.
   std::vector<std::string> texture_names() const;
   // What each material is: its texture and GL sampler state mapped to texsim's.
@@ -97,6 +104,7 @@ class DrawRenderer {
   std::vector<Fragment> look_[kDrawMaxUnits];
   std::vector<Rgba> texel_[kDrawMaxUnits];
   DrawRenderCounts* counts_ = nullptr;
+  std::function<void(const Fragment&)> observer_;
 };
 
 // The texsim material of one GL texture unit's sampler state, and what texsim approximates
