@@ -60,11 +60,39 @@ TEST(StudyWorkloads, QuickWithATrace) {
   for (const char* f :
        {"workloads.csv", "workloads.md", "workloads_lod.png", "workloads_reuse.png"})
     EXPECT_TRUE(std::filesystem::exists(dir.file("out/") + f)) << f;
+  // `texsim trace info`'s lines for the same trace.
+  std::ostringstream info;
+  print_trace_workload(dir.file("t.csv"), info);
+  EXPECT_NE(info.str().find("frame 0: 3 fragments, 2 quads, 1 textures, distinct texels 12 "
+                            "(level 0) 12 (λ level), 4 texels/fragment"),
+            std::string::npos)
+      << info.str();
+  EXPECT_NE(info.str().find("frame 1: 1 fragments, 1 quads"), std::string::npos) << info.str();
   std::ifstream csv(dir.file("out/workloads.csv"));
   std::string line;
   int lines = 0;
   while (std::getline(csv, line)) ++lines;
   EXPECT_EQ(lines, 3);
+}
+
+// The shipped draw trace's frames: every look-up the renderer sends is characterised.
+TEST(StudyWorkloads, RealFramesOfTheSampleDrawTrace) {
+  TempDir dir("study_workloads_draws");
+  StudyWorkloadsOptions opt;
+  opt.quick = true;
+  opt.draws = {std::string(TEXSIM_SOURCE_DIR) + "/traces/samples/openarena-aggressor.draws"};
+  std::vector<WorkloadStudyRow> rows;
+  std::ostringstream log;
+  ASSERT_EQ(run_study_workloads(dir.file("out"), log, opt, &rows), 0);
+  ASSERT_EQ(rows.size(), 2u);
+  const WorkloadStudyRow& r = rows[1];
+  EXPECT_EQ(r.kind, "draws");
+  EXPECT_EQ(r.frames, 3u);
+  EXPECT_GT(r.total.fragments, 100000u);
+  EXPECT_EQ(r.total.magnified + r.total.minified, r.total.fragments);
+  EXPECT_GT(r.total.magnified, 0u);
+  EXPECT_GT(r.total.textures, 3u);
+  EXPECT_LE(r.total.texels_lod, 4 * r.total.fragments);
 }
 
 }  // namespace
