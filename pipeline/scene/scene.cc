@@ -11,6 +11,7 @@
 #include "blocks/geometry/aviation_camera.h"
 #include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene_meshes.h"
+#include "pipeline/scene/scene_models.h"
 #include "pipeline/scene/scene_overrides.h"
 #include "pipeline/scene/scene_values.h"
 
@@ -210,14 +211,15 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   apply_overrides(*s.root, overrides);
   const toml::table& root = *s.root;
   const ConfigReader top(root, source_name, "scene");
-  top.reject_unknown({"output", "camera", "textures", "materials", "planes", "meshes", "pipeline",
-                      "tech", "reference", "raster"});
+  top.reject_unknown({"output", "camera", "textures", "materials", "planes", "meshes", "models",
+                      "pipeline", "tech", "reference", "raster"});
   parse_output(top, s);
   parse_camera(top, s, s.camera);
   parse_textures(top, s);
   parse_materials(top, s);
   parse_planes(root, s);
   parse_meshes(root, s);
+  parse_models(root, s);
   const ConfigReader ref = top.sub("reference");
   ref.reject_unknown({"samples", "supersamples", "pixel"});
   parse_reference_samples(ref, s);

@@ -61,9 +61,10 @@ struct ScenePrimitive {
   int mesh = -1;  // index into Scene::meshes; -1 for a [[planes]] entry
 };
 
-// A [[meshes]] entry: its faces are Scene::primitives[first, first + count).
+// A [[meshes]] or [[models]] entry: its faces are Scene::primitives[first, first + count).
 struct SceneMesh {
   std::string source;  // file path as given, or "box" / "grid"
+  bool model = false;  // a [[models]] entry (read through Assimp)
   std::string uv;      // "file", "planar", "box" or "spherical"
   int material = 0;
   size_t first = 0, count = 0;
@@ -95,6 +96,9 @@ struct Scene {
   TechTable tech = TechTable::defaults();
   EnergyTable energy = EnergyTable::defaults();  // [tech.energy]
   std::shared_ptr<toml::table> root;             // the parsed document (keeps source positions)
+  // Effect tables of the materials made from a [[models]] file's own materials (they have no
+  // table in the document); SceneMaterial::effects points into them.
+  std::vector<std::shared_ptr<const toml::table>> model_effects;
 };
 
 // Parses a scene file; throws InputError "file:line:column: what" on syntax, type, range and
