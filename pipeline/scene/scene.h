@@ -14,6 +14,7 @@
 #include "blocks/base/energy_table.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/geometry/camera.h"
+#include "pipeline/scene/camera_path.h"
 #include "pipeline/scene/object_space_config.h"
 #include "pipeline/scene/raster_order_config.h"
 
@@ -82,7 +83,11 @@ struct Scene {
   std::string base_dir;  // relative texture paths resolve here
   int width = 320, height = 240;
   glm::dvec3 background{0, 0, 0};
-  Camera camera;  // its image is the output's width × height
+  Camera camera;  // its image is the output's width × height (with a path: frame 0's)
+  // [camera] path: keys the camera moves through; [output] frames: how many frames a run
+  // renders along it (1 without a path).
+  std::vector<CameraKey> camera_path;
+  int frames = 1;
   std::vector<SceneTexture> textures;
   std::vector<SceneMaterial> materials;
   // [[planes]] first, in order, then every mesh's faces: a fragment's `prim` indexes this.
@@ -100,6 +105,9 @@ struct Scene {
   // table in the document); SceneMaterial::effects points into them.
   std::vector<std::shared_ptr<const toml::table>> model_effects;
 };
+
+// The camera of frame k (0 <= k < s.frames): s.camera, or posed along the path at frame k's time.
+Camera frame_camera(const Scene& s, int k);
 
 // Parses a scene file; throws InputError "file:line:column: what" on syntax, type, range and
 // reference errors (unknown texture or material names, unknown keys, malformed procedural
