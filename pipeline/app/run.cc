@@ -584,11 +584,17 @@ ImageLayout run_layout(const RunOptions& opt, const Scene& scene, bool use_scene
                      ", " + std::to_string(l.extent.y1 - 1) + ")");
     return l;
   }
-  if (opt.frame > 0) {
+  if (opt.frame >= scene.frames) {
     throw InputError(scene.path,
-                     "--frame " + std::to_string(opt.frame) + ": a scene renders frame 0 only");
+                     "--frame " + std::to_string(opt.frame) + ": the scene renders " +
+                         (scene.frames == 1 ? std::string("frame 0 only")
+                                            : "frames 0 to " + std::to_string(scene.frames - 1)));
   }
   ImageLayout l{scene.width, scene.height, scene_extent(scene, maps), 1};
+  if (scene.frames > 1) {  // a camera path: every frame may cover any pixel
+    l.extent = {0, 0, scene.width, scene.height};
+    l.pairs = 2;
+  }
   l.scene_bytes = sat_add(sat_mul(l.extent.pixels(), kDepthTestBytesPerPixel),
                           sat_mul(maps.size(), sizeof(PlaneProjection) * 2));  // run's, generator's
   l.object_space_bytes = object_space_bytes(scene);
@@ -682,6 +688,27 @@ RunInfo images_info(const RunOptions& opt, const ImageLayout& layout, const RunT
   info.error_scale = info.error_scale_auto ? images.kept_accuracy().max_abs : opt.error_scale;
   info.error_bar_rows = colour_bar_rows(layout.canvas_h);
   return info;
+}
+
+// A scene with a camera path renders its frames one after another through the fragment
+// generator; what builds per-primitive state once for one camera cannot follow it.
+void check_scene_frames(const Scene& scene, bool front_end, bool object_space, bool surfaces,
+                        bool several_units) {
+  if (scene.frames == 1) return;
+  if (several_units) {
+    // Their fragments wait per tile: a frame's would be judged through the next frame's maps.
+    throw InputError(scene.path, "output.frames = " + std::to_string(scene.frames) +
+                                     ": a camera path runs on one texture unit ([pipeline] units "
+                                     "= 1); render one frame for several units");
+  }
+  const char* what = front_end      ? "coordinates of their own (coords)"
+                     : object_space ? "object_space"
+                     : surfaces     ? "relief or lighting"
+                                    : nullptr;
+  if (what == nullptr) return;
+  throw InputError(scene.path, "output.frames = " + std::to_string(scene.frames) +
+                                   ": materials with " + what +
+                                   " are drawn for one camera only; render one frame (frames = 1)");
 }
 
 // The run's ground truth: the scene's pixel model; relief and lighting have only the box.
@@ -818,8 +845,25 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
       record(f, g, material, c, index++);
     });
   } else {
-    generate_fragments(
-        scene, 0, [&](const Fragment& f) { handle(f, index++); }, &raster, &mats);
+    check_scene_frames(scene, unit.front_stages() > 0, os.active(), surf.active(), units.several());
+    for (int k = 0; k < scene.frames; ++k) {
+      if (k > 0) {
+        // Frame k's camera: what is in flight is finished and judged through frame k-1's maps.
+        if (quads) quads->flush(to_unit);
+        unit_batch.flush(record);
+        batch.flush();
+        scene.camera = frame_camera(scene, k);
+        for (size_t i = 0; i < maps.size(); ++i)
+          maps[i] = PlaneProjection(scene, scene.primitives[i]);
+      }
+      std::vector<RasterCounters> frame_raster;
+      generate_fragments(
+          scene, static_cast<uint32_t>(k), [&](const Fragment& f) { handle(f, index++); },
+          &frame_raster, &mats);
+      if (raster.empty()) raster.resize(frame_raster.size());
+      for (size_t m = 0; m < raster.size() && m < frame_raster.size(); ++m)
+        raster[m] += frame_raster[m];
+    }
   }
   if (quads) quads->flush(to_unit);
   unit_batch.flush(record);
@@ -872,8 +916,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
 }
 uint64_t generate_scene_trace(const std::string& scene_path, const std::string& out_path,
                               const std::vector<std::string>& overrides) {
-  const Scene scene =
-      scene_path.empty() ? default_scene(overrides) : load_scene(scene_path, overrides);
+  Scene scene = scene_path.empty() ? default_scene(overrides) : load_scene(scene_path, overrides);
   TraceHeader h;
   for (size_t i = 0; i < scene.textures.size(); ++i) {
     const Texture t = load_scene_texture(scene, i);
@@ -889,21 +932,25 @@ uint64_t generate_scene_trace(const std::string& scene_path, const std::string& 
   const std::vector<MaterialSetup> mats = build_materials(scene);  // checks the effects too
   h.has_view = std::any_of(mats.begin(), mats.end(),
                            [](const MaterialSetup& m) { return m.relief || m.lighting; });
-  std::vector<SurfaceFrame> frames;
-  if (h.has_view) {
-    for (const auto& p : scene.primitives) frames.emplace_back(scene, p);
-  }
+  // A camera path: one frame after another, each with its own camera (and view vectors).
   return write_trace(out_path, h, [&](auto& w) {
-    generate_fragments(scene, 0, [&](const Fragment& f) {
-      if (!h.has_view) return w.write(f);
-      const SurfaceFrame& sf = frames[f.prim];
-      const glm::dvec3 v = sf.to_tangent(sf.view(f.x + 0.5, f.y + 0.5));
-      Fragment g = f;
-      g.view_x = static_cast<float>(v.x);
-      g.view_y = static_cast<float>(v.y);
-      g.view_z = static_cast<float>(v.z);
-      w.write(g);
-    });
+    for (int k = 0; k < scene.frames; ++k) {
+      scene.camera = frame_camera(scene, k);
+      std::vector<SurfaceFrame> frames;
+      if (h.has_view) {
+        for (const auto& p : scene.primitives) frames.emplace_back(scene, p);
+      }
+      generate_fragments(scene, static_cast<uint32_t>(k), [&](const Fragment& f) {
+        if (!h.has_view) return w.write(f);
+        const SurfaceFrame& sf = frames[f.prim];
+        const glm::dvec3 v = sf.to_tangent(sf.view(f.x + 0.5, f.y + 0.5));
+        Fragment g = f;
+        g.view_x = static_cast<float>(v.x);
+        g.view_y = static_cast<float>(v.y);
+        g.view_z = static_cast<float>(v.z);
+        w.write(g);
+      });
+    }
   });
 }
 
