@@ -17,9 +17,9 @@ namespace texsim {
 
 namespace {
 
-// Assimp's file access with texsim's checks: a file that is not regular or is over the limit
-// is not opened (the error is kept and thrown after Assimp returns, as Assimp would otherwise
-// report only "cannot open"). `allow_disk` false: nothing is opened (a model in memory).
+// Assimp's file access with texsim's checks: a file that is there but is not regular or is over
+// the limit is not opened (the error is kept and thrown after Assimp returns, as Assimp would
+// otherwise report only "cannot open"). `allow_disk` false: nothing is opened (a model in memory).
 class CheckedIoSystem : public Assimp::DefaultIOSystem {
  public:
   explicit CheckedIoSystem(bool allow_disk) : allow_disk_(allow_disk) {}
@@ -28,6 +28,10 @@ class CheckedIoSystem : public Assimp::DefaultIOSystem {
   }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
     if (!allow_disk_ || mode == nullptr || mode[0] != 'r') return nullptr;
+    // A file that is not there is Assimp's to judge: formats probe optional files (an MD3's
+    // shader scripts and skins).
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec)) return nullptr;
     try {
       (void)check_input_file(file, "model file", kMaxModelBytes);
     } catch (const InputError&) {
