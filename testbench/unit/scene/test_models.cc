@@ -61,6 +61,16 @@ class Models : public ::testing::Test {
                                                           << "255 255 255 0 0 0\n";
     std::ofstream(dir.file("t.gltf"), std::ios::binary) << kGltf;
   }
+  // kGltf with its mesh in a material whose base colour is skin.ppm.
+  static std::string textured_gltf() {
+    std::string t = kGltf;
+    t.replace(t.find("\"attributes\""), 0, "\"material\": 0, ");
+    t.replace(t.rfind('}'), 0,
+              ", \"images\": [{\"uri\": \"skin.ppm\"}], \"textures\": [{\"source\": 0}],\n"
+              " \"materials\": [{\"name\": \"hide\", \"pbrMetallicRoughness\": "
+              "{\"baseColorTexture\": {\"index\": 0}}}]\n");
+    return t;
+  }
   void TearDown() override { set_scene_memory_limit(UINT64_MAX); }
   Scene scene(const std::string& models) {
     return parse_scene(std::string(kHead) + models, "s.toml", dir.file(""));
@@ -140,6 +150,17 @@ TEST_F(Models, TheFilesDiffuseTextureBecomesAMaterial) {
   ASSERT_NE(s.materials[1].effects, nullptr);
   EXPECT_TRUE(s.materials[1].effects->contains("filter"));
   for (const ScenePrimitive& p : s.primitives) EXPECT_EQ(p.material, 1);
+}
+
+TEST_F(Models, TheGltfBaseColourTextureBecomesAMaterial) {
+  std::ofstream(dir.file("tex.gltf"), std::ios::binary) << textured_gltf();
+  const Scene s = scene("[[models]]\npath = \"tex.gltf\"\n");
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials[1].name, "tex.hide");
+  EXPECT_EQ(std::filesystem::path(s.textures[1].source),
+            std::filesystem::absolute(dir.file("skin.ppm")).lexically_normal());
+  ASSERT_EQ(s.primitives.size(), 1u);
+  EXPECT_EQ(s.primitives[0].material, 1);
 }
 
 TEST_F(Models, BadInputsNameTheFileAndTheEntry) {
