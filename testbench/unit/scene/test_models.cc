@@ -163,6 +163,15 @@ TEST_F(Models, TheGltfBaseColourTextureBecomesAMaterial) {
   EXPECT_EQ(s.primitives[0].material, 1);
 }
 
+TEST(ShippedModels, CatAndHorseFromGlmark2Data) {
+  const Scene s = load_scene(std::string(TEXSIM_SOURCE_DIR) + "/scenes/models.toml");
+  ASSERT_EQ(s.meshes.size(), 2u);
+  EXPECT_EQ(s.meshes[0].count, 14348u);  // cat.3ds's triangles
+  EXPECT_EQ(s.meshes[1].count, 7172u);   // horse.3ds's
+  EXPECT_EQ(s.primitives.size(), 1u + 14348u + 7172u);
+  EXPECT_EQ(s.meshes[1].uv, "file");
+}
+
 TEST_F(Models, BadInputsNameTheFileAndTheEntry) {
   EXPECT_EQ(error("[[models]]\npath = \"none.obj\"\nmaterial = \"m\"\n"),
             "s.toml:8:1: models[0].path: " + dir.file("none.obj") +
