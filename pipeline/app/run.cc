@@ -711,6 +711,27 @@ void check_scene_frames(const Scene& scene, bool front_end, bool object_space, b
                                    " are drawn for one camera only; render one frame (frames = 1)");
 }
 
+// The scene's fragments frame after frame (one frame without a camera path). Before frame k's
+// camera replaces frame k-1's, `drain` finishes what is in flight, so that every fragment is
+// judged through its own frame's projective maps (`maps`, which the ground truth reads).
+template <class Emit, class Drain>
+void scene_frames(Scene& scene, std::vector<PlaneProjection>& maps,
+                  const std::vector<MaterialSetup>& mats, std::vector<RasterCounters>& raster,
+                  Emit&& emit, Drain&& drain) {
+  for (int k = 0; k < scene.frames; ++k) {
+    if (k > 0) {
+      drain();
+      scene.camera = frame_camera(scene, k);
+      for (size_t i = 0; i < maps.size(); ++i)
+        maps[i] = PlaneProjection(scene, scene.primitives[i]);
+    }
+    std::vector<RasterCounters> frame_raster;
+    generate_fragments(scene, static_cast<uint32_t>(k), emit, &frame_raster, &mats);
+    raster.resize(std::max(raster.size(), frame_raster.size()));
+    for (size_t m = 0; m < frame_raster.size(); ++m) raster[m] += frame_raster[m];
+  }
+}
+
 // The run's ground truth: the scene's pixel model; relief and lighting have only the box.
 GroundTruth ground_truth(const Scene& scene, const TextureSet& set,
                          const std::vector<MaterialSetup>& mats,
@@ -846,24 +867,13 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     });
   } else {
     check_scene_frames(scene, unit.front_stages() > 0, os.active(), surf.active(), units.several());
-    for (int k = 0; k < scene.frames; ++k) {
-      if (k > 0) {
-        // Frame k's camera: what is in flight is finished and judged through frame k-1's maps.
-        if (quads) quads->flush(to_unit);
-        unit_batch.flush(record);
-        batch.flush();
-        scene.camera = frame_camera(scene, k);
-        for (size_t i = 0; i < maps.size(); ++i)
-          maps[i] = PlaneProjection(scene, scene.primitives[i]);
-      }
-      std::vector<RasterCounters> frame_raster;
-      generate_fragments(
-          scene, static_cast<uint32_t>(k), [&](const Fragment& f) { handle(f, index++); },
-          &frame_raster, &mats);
-      if (raster.empty()) raster.resize(frame_raster.size());
-      for (size_t m = 0; m < raster.size() && m < frame_raster.size(); ++m)
-        raster[m] += frame_raster[m];
-    }
+    scene_frames(
+        scene, maps, mats, raster, [&](const Fragment& f) { handle(f, index++); },
+        [&] {
+          if (quads) quads->flush(to_unit);
+          unit_batch.flush(record);
+          batch.flush();
+        });
   }
   if (quads) quads->flush(to_unit);
   unit_batch.flush(record);

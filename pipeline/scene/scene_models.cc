@@ -44,18 +44,21 @@ std::vector<int> file_materials(const Model& model, const ConfigReader& r, const
       const ModelMaterial& mm = model.materials[static_cast<size_t>(fm)];
       const std::string label = mm.name.empty() ? std::to_string(fm) : mm.name;
       if (mm.texture.empty()) {
-        throw InputError(at(s.path, e), stem + ": the file's material '" + label +
-                                            "' has no diffuse texture file: give the entry a "
-                                            "'material'");
+        std::string what = stem;
+        what.append(": the file's material '").append(label);
+        what.append("' has no diffuse texture file: give the entry a 'material'");
+        throw InputError(at(s.path, e), what);
       }
-      std::string name = stem + "." + label;
-      for (int n = 2; material_named(s, name); ++n)
-        name = stem + "." + label + "#" + std::to_string(n);
+      std::string base = stem;
+      base.append(".").append(label);
+      std::string name = base;
+      for (int n = 2; material_named(s, name); ++n) name = base + "#" + std::to_string(n);
       SceneTexture t;
       t.name = name;
       t.source = std::filesystem::absolute(mm.texture).lexically_normal().string();
-      t.where =
-          at(s.path, e) + ": texture '" + mm.texture + "' of the model's material '" + label + "'";
+      t.where = at(s.path, e);
+      t.where.append(": texture '").append(mm.texture);
+      t.where.append("' of the model's material '").append(label).append("'");
       s.textures.push_back(std::move(t));
       SceneMaterial m;
       m.name = name;
