@@ -23,7 +23,7 @@
 #include "pipeline/report/provenance.h"
 #include "pipeline/studies/study_coords.h"
 #include "pipeline/studies/study_filters.h"
-#include "pipeline/studies/study_memory.h"
+#include "pipeline/app/study_memory.h"
 #include "pipeline/studies/study_objspace.h"
 #include "pipeline/studies/study_raster.h"
 #include "pipeline/studies/study_relief.h"

@@ -648,10 +648,6 @@ std::unique_ptr<StageTimeline> make_timeline(const RunOptions& opt, const UnitAr
   if (!units.unit(0).pipeline()) {
     throw InputError(opt.timeline, "--timeline needs the clocked pipeline (not --functional)");
   }
-  if (units.several()) {
-    throw InputError(opt.timeline,
-                     "--timeline draws one texture unit; the scene's [pipeline] units > 1");
-  }
   return std::make_unique<StageTimeline>(opt.timeline_limit);
 }
 
@@ -792,16 +788,6 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
       }
     }
   }
-  if (!opt.functional && setup.units > 1) {
-    for (const MaterialSetup& m : mats) {
-      if (m.coords) {
-        throw InputError(scene.path, "[pipeline] units = " + std::to_string(setup.units) +
-                                         ": material '" + m.name +
-                                         "' computes its own coordinates (coords), which only one "
-                                         "texture unit does; set units = 1");
-      }
-    }
-  }
   UnitArray units(textures.set, mats, setup, scene.tech, !opt.functional);
   TextureUnit& unit = units.unit(0);
   // Materials with `object_space`: drawn first, their pixels then take the resolved colours.
@@ -820,9 +806,13 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   const std::unique_ptr<StageTimeline> timeline = make_timeline(opt, units);
   auto record = [&](const Fragment& f, const Fragment& g, int material, const Rgba* colour,
                     uint64_t index) {
-    if (timeline) timeline->observe(*unit.pipeline());
+    if (timeline && !units.several()) timeline->observe(*unit.pipeline());
     batch.add(f, g, material, colour, index);
   };
+  // Several units: each unit's tracks, observed as each fragment leaves its unit.
+  if (timeline && units.several()) {
+    units.set_commit_observer([&](int u, const ClockedPipeline& p) { timeline->observe(p, u); });
+  }
   // The unit's timeline observes the pipeline after every fragment: no batching then.
   UnitBatch unit_batch(unit, timeline ? 1 : LinearBatch::kMax);
   const UnitArray::Record to_record = record;
@@ -860,11 +850,30 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     stream_trace(*reader, opt.threads, [&](const Fragment& f) { handle(f, index++); });
   } else if (unit.front_stages() > 0) {
     // Some material computes its own coordinates: planes drawn one by one through the front end.
-    draw_scene_front_end(scene, maps, unit, [&](const Fragment& f, int material, const Rgba* c) {
+    auto loaded = [&](const Fragment& f) {
       Fragment g = f;
       g.tex = static_cast<uint32_t>(textures.index.at(f.tex));
-      record(f, g, material, c, index++);
-    });
+      return g;
+    };
+    if (units.several()) {
+      // Unit 0 runs the coordinate units; each fragment is textured by its tile's unit.
+      FrontEndTarget target;
+      target.texture = [&](const Fragment& f, int m, const ItemCost* front) {
+        const Fragment g = loaded(f);
+        units.add(f, g, g, m, index++, to_record, front);
+      };
+      target.drop = [&](int m, const ItemCost* front, bool rejected, int32_t x, int32_t y) {
+        units.drop(m, front, rejected, x, y);
+      };
+      target.untextured = [&](const Fragment& f, int m) {
+        record(f, loaded(f), m, nullptr, index++);
+      };
+      draw_scene_front_end(scene, maps, unit, target);
+    } else {
+      draw_scene_front_end(scene, maps, unit, [&](const Fragment& f, int material, const Rgba* c) {
+        record(f, loaded(f), material, c, index++);
+      });
+    }
   } else {
     check_scene_frames(scene, unit.front_stages() > 0, os.active(), surf.active(), units.several());
     scene_frames(

@@ -43,17 +43,20 @@ constexpr int kItemBits = 32, kInflightBits = 16;
 
 }  // namespace
 
-void StageTimeline::record(const ClockedPipeline& pipe) {
+void StageTimeline::record(const ClockedPipeline& pipe, int unit) {
   const auto n = static_cast<size_t>(pipe.stage_count());
-  if (names_.empty()) {
-    for (size_t s = 0; s < n; ++s) names_.push_back(pipe.config(static_cast<int>(s)).name);
-    starts_.resize(n);
-    leaves_.resize(n);
+  const auto u = static_cast<size_t>(unit);
+  if (u >= first_track_.size()) first_track_.resize(u + 1, -1);
+  if (first_track_[u] < 0) {
+    first_track_[u] = static_cast<int>(tracks_.size());
+    for (size_t s = 0; s < n; ++s)
+      tracks_.push_back({unit, pipe.config(static_cast<int>(s)).name, {}, {}});
   }
   for (size_t s = 0; s < n; ++s) {
     const ClockedPipeline::ItemTimes t = pipe.last_item(static_cast<int>(s));
-    starts_[s].push_back(t.start);
-    leaves_[s].push_back(t.leave);
+    Track& k = tracks_[static_cast<size_t>(first_track_[u]) + s];
+    k.starts.push_back(t.start);
+    k.leaves.push_back(t.leave);
   }
   ++recorded_;
 }
@@ -61,7 +64,17 @@ void StageTimeline::record(const ClockedPipeline& pipe) {
 void StageTimeline::write_vcd(const std::string& path) const {
   AtomicTextFile file(path);
   std::ostream& o = file.out();
-  const size_t n = names_.size();
+  // Tracks by unit, then stage (a unit's tracks were made together, in stage order).
+  std::vector<const Track*> order;
+  for (const int first : first_track_) {
+    if (first < 0) continue;
+    for (size_t k = static_cast<size_t>(first);
+         k < tracks_.size() && tracks_[k].unit == tracks_[static_cast<size_t>(first)].unit; ++k)
+      order.push_back(&tracks_[k]);
+  }
+  const size_t n = order.size();
+  const bool units =
+      std::count_if(first_track_.begin(), first_track_.end(), [](int f) { return f >= 0; }) > 1;
   o << "$version texsim run --timeline $end\n"
     << "$comment the clocked pipeline's stages: busy = an item in the stage, items = items "
        "issued to it, inflight = items in it; one time unit = one clock cycle; "
@@ -69,7 +82,12 @@ void StageTimeline::write_vcd(const std::string& path) const {
     << "$timescale 1ns $end\n"
     << "$scope module texsim_pipeline $end\n";
   for (size_t s = 0; s < n; ++s) {
-    o << "$scope module " << vcd_name(names_[s]) << " $end\n"
+    const bool first_of_unit = s == 0 || order[s - 1]->unit != order[s]->unit;
+    if (units && first_of_unit) {
+      if (s > 0) o << "$upscope $end\n";
+      o << "$scope module unit" << order[s]->unit << " $end\n";
+    }
+    o << "$scope module " << vcd_name(order[s]->stage) << " $end\n"
       << "$var wire 1 " << vcd_id(3 * s) << " busy $end\n"
       << "$var wire " << kItemBits << " " << vcd_id(3 * s + 1) << " items [" << kItemBits - 1
       << ":0] $end\n"
@@ -77,6 +95,7 @@ void StageTimeline::write_vcd(const std::string& path) const {
       << kInflightBits - 1 << ":0] $end\n"
       << "$upscope $end\n";
   }
+  if (units) o << "$upscope $end\n";
   o << "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n";
   for (size_t s = 0; s < n; ++s) {
     o << "0" << vcd_id(3 * s) << "\nb0 " << vcd_id(3 * s + 1) << "\nb0 " << vcd_id(3 * s + 2)
@@ -87,8 +106,8 @@ void StageTimeline::write_vcd(const std::string& path) const {
   // Every cycle at which some stage's counts change, then per stage the counts at that cycle.
   std::vector<uint64_t> times;
   for (size_t s = 0; s < n; ++s) {
-    times.insert(times.end(), starts_[s].begin(), starts_[s].end());
-    times.insert(times.end(), leaves_[s].begin(), leaves_[s].end());
+    times.insert(times.end(), order[s]->starts.begin(), order[s]->starts.end());
+    times.insert(times.end(), order[s]->leaves.begin(), order[s]->leaves.end());
   }
   std::sort(times.begin(), times.end());
   times.erase(std::unique(times.begin(), times.end()), times.end());
@@ -96,8 +115,9 @@ void StageTimeline::write_vcd(const std::string& path) const {
   for (const uint64_t t : times) {
     bool stamped = t == 0;  // #0 is already open after $dumpvars
     for (size_t s = 0; s < n; ++s) {
-      while (started[s] < starts_[s].size() && starts_[s][started[s]] <= t) ++started[s];
-      while (left[s] < leaves_[s].size() && leaves_[s][left[s]] <= t) ++left[s];
+      while (started[s] < order[s]->starts.size() && order[s]->starts[started[s]] <= t)
+        ++started[s];
+      while (left[s] < order[s]->leaves.size() && order[s]->leaves[left[s]] <= t) ++left[s];
       const size_t inflight = started[s] - left[s];
       if (started[s] == shown_items[s] && inflight == shown_inflight[s]) continue;
       if (!stamped) o << "#" << t << "\n";

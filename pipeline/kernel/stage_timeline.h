@@ -19,12 +19,17 @@ class StageTimeline {
   // Records at most `limit` items (the first ones); later items are counted, not recorded.
   explicit StageTimeline(uint64_t limit) : limit_(limit) {}
 
-  // Call after each fragment: records the pipeline's last item if it is new.
-  void observe(const ClockedPipeline& pipe) {
-    if (pipe.items() == seen_) return;
-    seen_ = pipe.items();
+  // Call after each fragment of texture unit `unit` (0 for a run of one unit) with its
+  // pipeline: records the pipeline's last item if it is new. With several units each unit's
+  // stages are a scope `unitN` of their own.
+  void observe(const ClockedPipeline& pipe, int unit = 0) {
+    const auto u = static_cast<size_t>(unit);
+    if (u >= seen_by_unit_.size()) seen_by_unit_.resize(u + 1, 0);
+    if (pipe.items() == seen_by_unit_[u]) return;
+    seen_ += pipe.items() - seen_by_unit_[u];
+    seen_by_unit_[u] = pipe.items();
     if (recorded_ >= limit_) return;
-    record(pipe);
+    record(pipe, unit);
   }
 
   uint64_t recorded() const { return recorded_; }
@@ -38,13 +43,21 @@ class StageTimeline {
   void write_vcd(const std::string& path) const;
 
  private:
-  void record(const ClockedPipeline& pipe);
+  void record(const ClockedPipeline& pipe, int unit);
+
+  // One stage of one unit: its recorded items' start and leave cycles (in order: a stage
+  // takes its items in order).
+  struct Track {
+    int unit;
+    std::string stage;
+    std::vector<uint64_t> starts, leaves;
+  };
 
   uint64_t limit_;
   uint64_t seen_ = 0, recorded_ = 0;
-  std::vector<std::string> names_;  // stage names, from the first item's pipeline
-  // Per stage, the recorded items' start and leave cycles (in order: stages are in order).
-  std::vector<std::vector<uint64_t>> starts_, leaves_;
+  std::vector<uint64_t> seen_by_unit_;
+  std::vector<int> first_track_;  // by unit: its first track, -1 before its first item
+  std::vector<Track> tracks_;
 };
 
 }  // namespace texsim

@@ -48,6 +48,20 @@ PlaneTriangles plane_triangles(const PlaneProjection& proj, int width, int heigh
 void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>& maps,
                           TextureUnit& unit,
                           const std::function<void(const Fragment&, int, const Rgba*)>& emit) {
+  FrontEndTarget t;
+  t.texture = [&](const Fragment& f, int m, const ItemCost* front) {
+    const Rgba c = unit.process(f, m, front);
+    emit(f, m, &c);
+  };
+  t.drop = [&](int m, const ItemCost* front, bool rejected, int32_t, int32_t) {
+    unit.drop(m, front, rejected);
+  };
+  t.untextured = [&](const Fragment& f, int m) { emit(f, m, nullptr); };
+  draw_scene_front_end(scene, maps, unit, t);
+}
+
+void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>& maps,
+                          TextureUnit& unit, const FrontEndTarget& target) {
   const int w = scene.width, h = scene.height;
   const auto pixel = [w](int32_t x, int32_t y) {
     return static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
@@ -102,8 +116,7 @@ void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>
                              .fragment(static_cast<uint32_t>(x), static_cast<uint32_t>(r.y));
             e.prim = f.prim;
             e.tex = f.tex;
-            const Rgba c = unit.process(e, m);
-            emit(e, m, &c);
+            target.texture(e, m, nullptr);
           }
         }
         continue;
@@ -118,7 +131,7 @@ void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>
         const bool on_image = g.x >= 0 && g.y >= 0 && g.x < w && g.y < h;
         const size_t k = on_image ? pixel(g.x, g.y) : 0;
         if (!on_image || owner[k] != static_cast<int32_t>(p) || done[k]) {
-          unit.drop(m, front, false);
+          target.drop(m, front, false, on_image ? g.x : -1, on_image ? g.y : -1);
           continue;
         }
         done[k] = 1;
@@ -126,8 +139,8 @@ void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>
         f.y = static_cast<uint32_t>(g.y);
         if (!g.uv.valid) {
           f.u = f.v = f.dudx = f.dvdx = f.dudy = f.dvdy = 0;  // none: the pixel is not textured
-          unit.drop(m, front, true);
-          emit(f, m, nullptr);
+          target.drop(m, front, true, g.x, g.y);
+          target.untextured(f, m);
           continue;
         }
         // Texels to normalised coordinates; no derivatives (derivs = "none", or rejected by
@@ -138,8 +151,7 @@ void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>
         f.dvdx = g.d.valid ? g.d.vx / th : 0;
         f.dudy = g.d.valid ? g.d.uy / tw : 0;
         f.dvdy = g.d.valid ? g.d.vy / th : 0;
-        const Rgba c = unit.process(f, m, front);
-        emit(f, m, &c);
+        target.texture(f, m, front);
       }
     }
   }

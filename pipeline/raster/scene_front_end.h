@@ -36,4 +36,20 @@ void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>
                           TextureUnit& unit,
                           const std::function<void(const Fragment&, int, const Rgba*)>& emit);
 
+// Where the front end's fragments go when they are not textured by `unit` itself (several
+// texture units: each fragment to the unit of its tile). `unit` still runs the coordinate
+// units (generate_coords) and gives the materials and textures.
+struct FrontEndTarget {
+  // A fragment to texture; `front`: its front-end costs (null for exact coordinates).
+  std::function<void(const Fragment& f, int material, const ItemCost* front)> texture;
+  // A generated fragment that leaves after the front end at pixel (x, y) (x < 0: off the
+  // image): occluded, covered twice, or (`rejected`) its coordinates rejected.
+  std::function<void(int material, const ItemCost* front, bool rejected, int32_t x, int32_t y)>
+      drop;
+  // A pixel left untextured (its coordinates rejected), after its drop.
+  std::function<void(const Fragment& f, int material)> untextured;
+};
+void draw_scene_front_end(const Scene& scene, const std::vector<PlaneProjection>& maps,
+                          TextureUnit& unit, const FrontEndTarget& target);
+
 }  // namespace texsim

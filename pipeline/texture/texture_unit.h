@@ -88,6 +88,8 @@ class TextureUnit {
   // Coordinate front end: the stages (0, 1 or 2: coordinates, derivatives) in front of LOD,
   // present only when some material has a coordinate unit.
   int front_stages() const { return front_; }
+  // Front-end stages of material m's coordinate unit (costs per fragment; 0 without one).
+  int front_count(int m) const { return paths_[static_cast<size_t>(m)].front_count; }
   // The shading frames of the scene's primitives (indexed by Fragment::prim), which relief and
   // lighting need for the view vector. Without them a material with either effect is refused.
   void set_surfaces(std::vector<SurfaceFrame> frames) { surfaces_ = std::move(frames); }

@@ -18,10 +18,7 @@ UnitArray::UnitArray(TextureSet& textures, const std::vector<MaterialSetup>& mat
   memory_ = std::make_unique<MemorySystem>(setup, n);
   for (int u = 0; u < n; ++u)
     units_.push_back(std::make_unique<TextureUnit>(textures, materials, setup, tech, *memory_, u));
-  if (units_[0]->front_stages() > 0)
-    throw std::invalid_argument(
-        "[pipeline] units > 1: a material with a coordinate unit (`coords`) runs on one texture "
-        "unit only; set units = 1");
+  drops_.resize(static_cast<size_t>(n));
   sched_ = std::make_unique<UnitScheduler<Item, Hooks>>(n, hooks_, window);
 }
 
@@ -33,24 +30,61 @@ void UnitArray::set_surfaces(const std::vector<SurfaceFrame>& frames) {
 
 uint64_t UnitArray::Hooks::begin(int u, Item& it) {
   TextureUnit& unit = *a->units_[static_cast<size_t>(u)];
-  const Rgba c = unit.process(it.u, it.material);
+  for (const Drop& d : it.drops) unit.drop(d.material, d.front.data(), d.rejected);
+  const Rgba c = unit.process(it.u, it.material, it.has_front ? it.front.data() : nullptr);
   Fragment g = it.f;
   g.tex = it.g_tex;
   (*a->record_)(it.f, g, it.material, &c, it.index);
   return unit.pending_start();
 }
 
-void UnitArray::Hooks::commit(int u, Item& /*it*/) { a->units_[static_cast<size_t>(u)]->commit(); }
+void UnitArray::Hooks::commit(int u, Item& /*it*/) {
+  TextureUnit& unit = *a->units_[static_cast<size_t>(u)];
+  unit.commit();
+  if (a->observer_) a->observer_(u, *unit.pipeline());
+}
 
 void UnitArray::add(const Fragment& f, const Fragment& g, const Fragment& u, int material,
-                    uint64_t index, const Record& record) {
+                    uint64_t index, const Record& record, const ItemCost* front) {
   record_ = &record;
+  const int unit = setup_.unit_of_pixel(f.x, f.y);
   // g differs from f in its texture id only (run.cc's loaded texture), never elsewhere.
-  sched_->add(setup_.unit_of_pixel(f.x, f.y), Item{f, u, g.tex, material, index});
+  Item it{f, u, g.tex, material, index, false, {}, {}};
+  if (front) {
+    it.has_front = true;
+    const int n = units_[0]->front_count(material);
+    for (int s = 0; s < n; ++s) it.front[static_cast<size_t>(s)] = front[s];
+  }
+  it.drops.swap(drops_[static_cast<size_t>(unit)]);
+  sched_->add(unit, std::move(it));
+}
+
+void UnitArray::drop(int material, const ItemCost* front, bool rejected, int32_t x, int32_t y) {
+  const int unit =
+      x < 0 ? 0 : setup_.unit_of_pixel(static_cast<uint32_t>(x), static_cast<uint32_t>(y));
+  Drop d{material, {}, rejected};
+  const int n = front ? units_[0]->front_count(material) : 0;
+  for (int s = 0; s < n; ++s) d.front[static_cast<size_t>(s)] = front[s];
+  drops_[static_cast<size_t>(unit)].push_back(d);
+}
+
+const FrontEndStats& UnitArray::front_end_stats() const {
+  front_stats_ = {};
+  for (const auto& u : units_) {
+    front_stats_.generated += u->front_end_stats().generated;
+    front_stats_.occluded += u->front_end_stats().occluded;
+    front_stats_.rejected += u->front_end_stats().rejected;
+  }
+  return front_stats_;
 }
 
 void UnitArray::finish() {
   if (sched_) sched_->finish();
+  // Drops after a unit's last fragment: counted; their cycles would go to a next fragment.
+  for (size_t u = 0; u < drops_.size(); ++u) {
+    for (const Drop& d : drops_[u]) units_[u]->drop(d.material, d.front.data(), d.rejected);
+    drops_[u].clear();
+  }
 }
 
 uint64_t UnitArray::fragments() const {

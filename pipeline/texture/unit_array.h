@@ -4,6 +4,7 @@
 // unit of their screen tile (PipelineSetup::unit_of_pixel); the units run on one global clock
 // (UnitScheduler orders their requests to the shared levels by cycle). Reports read the totals
 // from here. docs/timing-model.md#several-units.
+#include <array>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -39,10 +40,18 @@ class UnitArray {
 
   // Several units: fragment g (f as given) of `material` to the unit of its pixel; `record`
   // gets its colour. finish() drains the units (call once, after the last fragment).
-  // The unit filters u (g, or g with its quad's derivatives); record gets f and g.
+  // The unit filters u (g, or g with its quad's derivatives); record gets f and g. `front`:
+  // the fragment's front-end costs (material's front_count of them), or null.
   void add(const Fragment& f, const Fragment& g, const Fragment& u, int material, uint64_t index,
-           const Record& record);
+           const Record& record, const ItemCost* front = nullptr);
+  // A fragment the coordinate front end generated that leaves after it, at pixel (x, y) (x < 0:
+  // off the image, charged to unit 0): its unit takes it before its next fragment.
+  void drop(int material, const ItemCost* front, bool rejected, int32_t x, int32_t y);
   void finish();
+  // Several units: called after each fragment's last stage with its unit (for --timeline).
+  void set_commit_observer(std::function<void(int unit, const ClockedPipeline& pipe)> f) {
+    observer_ = std::move(f);
+  }
 
   // Totals over the units (with one unit, that unit's figures).
   bool timing() const { return units_[0]->timing(); }
@@ -67,7 +76,7 @@ class UnitArray {
   // Stage s's busy issue slots ÷ (the run's cycles × lanes × units).
   double utilisation(int s) const;
   int front_stages() const { return units_[0]->front_stages(); }
-  const FrontEndStats& front_end_stats() const { return units_[0]->front_end_stats(); }
+  const FrontEndStats& front_end_stats() const;  // summed over the units
   // The scheduler's figures: commits made before every unit had an item (window full) and
   // items that reached the shared levels later than a request of a later cycle.
   uint64_t forced_commits() const { return sched_ ? sched_->forced_commits() : 0; }
@@ -76,12 +85,20 @@ class UnitArray {
   void check_timing_invariants() const;
 
  private:
+  struct Drop {
+    int material;
+    std::array<ItemCost, 2> front;
+    bool rejected;
+  };
   // g is f with the loaded texture's id (g_tex): kept as that id, not a third fragment.
   struct Item {
     Fragment f, u;
     uint32_t g_tex;
     int material;
     uint64_t index;
+    bool has_front = false;
+    std::array<ItemCost, 2> front{};
+    std::vector<Drop> drops;  // front-end drops of this unit since its previous fragment
   };
   struct Hooks {
     UnitArray* a;
@@ -96,6 +113,9 @@ class UnitArray {
   std::unique_ptr<UnitScheduler<Item, Hooks>> sched_;
   const Record* record_ = nullptr;
   mutable std::vector<FrameStats> frames_;
+  mutable FrontEndStats front_stats_;
+  std::vector<std::vector<Drop>> drops_;  // by unit: drops waiting for its next fragment
+  std::function<void(int, const ClockedPipeline&)> observer_;
 };
 
 }  // namespace texsim

@@ -6,20 +6,14 @@
 #include <cstring>
 #include <vector>
 
+#include "testbench/fuzz/fuzz_crc.h"
 #include "testbench/fuzz/fuzz_input.h"
 #include "traces/draw_trace.h"
 
 namespace {
 
-uint32_t get_u32(const std::vector<uint8_t>& b, size_t at) {
-  uint32_t v = 0;
-  std::memcpy(&v, b.data() + at, 4);
-  return v;
-}
-void put_crc(std::vector<uint8_t>& b, size_t at, size_t from, size_t len) {
-  const auto crc = static_cast<uint32_t>(crc32(0, b.data() + from, static_cast<uInt>(len)));
-  std::memcpy(b.data() + at, &crc, 4);
-}
+using texsim::fuzz::get_u32;
+using texsim::fuzz::put_crc;
 
 void fix_crcs(std::vector<uint8_t>& b) {
   if (b.size() < 20) return;

@@ -63,7 +63,9 @@ inline Vcd parse(const std::string& text) {
       int bits = 0;
       in >> type >> bits >> id >> name;
       until_end(in);
-      const std::string full = (scope.empty() ? "" : scope.back() + ".") + name;
+      // "stage.name"; under a unit's scope (texsim_pipeline.unitN.stage) "unitN.stage.name".
+      std::string full = (scope.empty() ? "" : scope.back() + ".") + name;
+      if (scope.size() >= 3) full = scope[scope.size() - 2] + "." + full;
       v.width[full] = bits;
       by_id[id] = full;
     } else if (w == "$enddefinitions") {

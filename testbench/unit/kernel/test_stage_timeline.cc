@@ -87,5 +87,32 @@ TEST(StageTimeline, LimitKeepsTheFirstItems) {
   EXPECT_EQ(v.at("a.busy", 3), 0u);
 }
 
+// Several units: each unit's stages under a scope of its own, with that unit's items only.
+TEST(StageTimeline, SeveralUnitsGetAScopeEach) {
+  ClockedPipeline p0({stage("a", 2)}), p1({stage("a", 5)});
+  StageTimeline tl(10);
+  p1.issue();  // unit 1's first item before unit 0's: scopes still in unit order
+  tl.observe(p1, 1);
+  for (int k = 0; k < 2; ++k) {
+    p0.issue();
+    tl.observe(p0, 0);
+  }
+  EXPECT_EQ(tl.recorded(), 3u);
+  EXPECT_EQ(tl.seen(), 3u);
+  const std::string file =
+      (std::filesystem::temp_directory_path() / "texsim_stage_timeline_units.vcd").string();
+  tl.write_vcd(file);
+  const std::string text = cli_harness::slurp(file);
+  const vcd_reader::Vcd v = vcd_reader::parse(text);
+  std::filesystem::remove(file);
+  EXPECT_LT(text.find("unit0"), text.find("unit1"));
+  // Unit 0: starts 0, 1; leaves 2, 3. Unit 1: one item from 0 to 5.
+  EXPECT_EQ(v.at("unit0.a.items", 1), 2u);
+  EXPECT_EQ(v.at("unit0.a.busy", 3), 0u);
+  EXPECT_EQ(v.at("unit1.a.items", 1), 1u);
+  EXPECT_EQ(v.at("unit1.a.busy", 4), 1u);
+  EXPECT_EQ(v.at("unit1.a.busy", 5), 0u);
+}
+
 }  // namespace
 }  // namespace texsim

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/studies/study_memory.h"
+#include "pipeline/app/study_memory.h"
 #include "testbench/lib/temp_dir.h"
 
 namespace texsim {

@@ -155,19 +155,35 @@ TEST(UnitArray, AnImpossibleUnitCountOrTileIsAnErrorAtItsLine) {
   const std::string tile = scene_error("units = 4\nunit_tile = 12");
   EXPECT_NE(tile.find("s.toml:3:"), std::string::npos) << tile;
   EXPECT_NE(tile.find("power of two"), std::string::npos) << tile;
+  // An L2 line smaller than the L1's, a DRAM row smaller than the line read from it, MSHRs 0.
+  const std::string l2 = scene_error("[pipeline.l2]\nline_bytes = 32");
+  EXPECT_NE(l2.find("s.toml:3:"), std::string::npos) << l2;
+  EXPECT_NE(l2.find("line_bytes"), std::string::npos) << l2;
+  const std::string row =
+      scene_error("[pipeline.dram]\nmodel = \"banked\"\nrow_bytes = 32\ninterleave_bytes = 32");
+  EXPECT_NE(row.find("s.toml:"), std::string::npos) << row;
+  EXPECT_NE(row.find("row_bytes"), std::string::npos) << row;
+  const std::string mshrs = scene_error("[pipeline.l2]\nmshrs = 0");
+  EXPECT_NE(mshrs.find("s.toml:3:"), std::string::npos) << mshrs;
+  EXPECT_NE(mshrs.find("mshrs"), std::string::npos) << mshrs;
+  const std::string model = scene_error("[pipeline.dram]\nmodel = \"hbm\"");
+  EXPECT_NE(model.find("model"), std::string::npos) << model;
 }
 
-TEST(UnitArray, ACoordinateUnitMaterialNeedsOneUnit) {
+// A scene whose materials compute their own coordinates: unit 0 runs the coordinate units and
+// each fragment (and each fragment dropped after the front end) goes to its tile's unit; the
+// image and the front end's counts do not depend on the unit count.
+TEST(UnitArray, ACoordinateFrontEndFeedsEveryUnit) {
   TempDir dir("unit_array");
-  RunOptions opt;
-  opt.scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/coords.toml";
-  opt.reference = "none";
-  opt.out = dir.file("") + "/out";
-  opt.overrides = {"pipeline.units=2"};
-  std::ostringstream log;
-  const std::string e = error_of([&] { run_simulation(opt, log); });
-  EXPECT_NE(e.find("coords.toml"), std::string::npos) << e;
-  EXPECT_NE(e.find("units = 2"), std::string::npos) << e;
+  const std::string scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/coords.toml";
+  const Outcome one = run_units(scene, 1, dir.file("one"));
+  const Outcome four = run_units(scene, 4, dir.file("four"));
+  EXPECT_EQ(four.capture.image->rgb, one.capture.image->rgb);
+  EXPECT_EQ(four.report["front_end"], one.report["front_end"]);
+  EXPECT_EQ(four.report["fragments"], one.report["fragments"]);
+  for (const auto& u : four.report["units"]) EXPECT_GT(u["fragments"].get<uint64_t>(), 0u);
+  EXPECT_LT(four.capture.cycles, one.capture.cycles);
+  EXPECT_EQ(four.report["scheduler"]["late_items"].get<uint64_t>(), 0u);
 }
 
 }  // namespace

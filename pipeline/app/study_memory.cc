@@ -1,4 +1,4 @@
-#include "pipeline/studies/study_memory.h"
+#include "pipeline/app/study_memory.h"
 
 #include <chrono>
 #include <cstdio>
