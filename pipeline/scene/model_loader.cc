@@ -23,8 +23,10 @@ namespace {
 class CheckedIoSystem : public Assimp::DefaultIOSystem {
  public:
   explicit CheckedIoSystem(bool allow_disk) : allow_disk_(allow_disk) {}
+  // Assimp's own Exists opens the file, which blocks on a FIFO: stat it instead.
   bool Exists(const char* file) const override {
-    return allow_disk_ && Assimp::DefaultIOSystem::Exists(file);
+    std::error_code ec;
+    return allow_disk_ && std::filesystem::exists(file, ec);
   }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
     if (!allow_disk_ || mode == nullptr || mode[0] != 'r') return nullptr;

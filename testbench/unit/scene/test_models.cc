@@ -3,6 +3,7 @@
 // texsim material; and bad inputs (missing file, not a model, too many triangles, over the
 // memory limit) end in errors naming the file and the entry.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <fstream>
@@ -194,6 +195,16 @@ TEST_F(Models, BadInputsNameTheFileAndTheEntry) {
   EXPECT_NE(error("[[models]]\npath = \"bare.obj\"\nuv = \"planar\"\n")
                 .find("the file's material 'DefaultMaterial' has no diffuse texture file"),
             std::string::npos);
+}
+
+TEST_F(Models, AFileTheModelNamesIsOpenedAsAnInput) {
+  // An MTL that is a FIFO with no writer: refused at once, never waited on.
+  ASSERT_EQ(::mkfifo(dir.file("f.mtl").c_str(), 0600), 0);
+  std::ofstream(dir.file("f.obj"), std::ios::binary)
+      << "mtllib f.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n";
+  const std::string e = error_of([&] { (void)load_model(dir.file("f.obj"), ""); });
+  EXPECT_NE(e.find(dir.file("f.mtl")), std::string::npos) << e;
+  EXPECT_NE(e.find("FIFO"), std::string::npos) << e;
 }
 
 TEST_F(Models, TooManyTrianglesOrTooMuchMemoryIsRefused) {
