@@ -27,7 +27,9 @@
 #
 # The game writes its config into $HOME, so every capture gets a fresh $HOME. The HUD, the
 # weapon and the 2-D overlays are hidden (cg_draw2D 0, cg_drawgun 0), so the frames hold the
-# world only. A camera placed with `setviewpos` needs cheats (a devmap).
+# world only. A camera placed with `setviewpos` needs cheats (a devmap). `r_clear 1` clears the
+# colour buffer to (1, 0, 0.5) before each frame, so the images show which pixels the frame
+# itself drew (without it the back buffer keeps earlier frames where the game draws nothing).
 set -euo pipefail
 
 map=aggressor
@@ -107,7 +109,7 @@ start=$(date +%s)
 xvfb-run -a -s "-screen 0 ${width}x${height}x24" apitrace trace -o "$trace" \
   /usr/games/openarena +set r_mode -1 +set r_customwidth "$width" +set r_customheight "$height" \
   +set r_fullscreen 0 +set s_initsound 0 +set cl_renderer opengl1 +set sv_pure 0 \
-  +set cg_draw2D 0 +set cg_drawgun 0 +devmap "$map" +exec cap.cfg > "$out/game.log" 2>&1 ||
+  +set cg_draw2D 0 +set cg_drawgun 0 +set r_clear 1 +devmap "$map" +exec cap.cfg > "$out/game.log" 2>&1 ||
   die "the game failed (see $out/game.log)"
 [[ -s $trace ]] || die "no capture written (see $out/game.log)"
 mid=$(date +%s)

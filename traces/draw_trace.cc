@@ -288,7 +288,7 @@ void DrawTraceWriter::add_draw(const Draw& d) {
   const DrawState& s = d.state;
   const auto units = static_cast<uint32_t>(d.units.size());
   std::vector<uint8_t> p;
-  p.reserve(kDrawStateBytes + kDrawCountsBytes + units * kUnitBytes +
+  p.reserve(kDrawStateBytes + kDrawCountsBytes + size_t{units} * kUnitBytes +
             size_t{d.vertex_count} * vertex_bytes(units, d.has_color) + 4 * d.indices.size());
   append_le<int32_t>(p, s.viewport_x);
   append_le<int32_t>(p, s.viewport_y);
@@ -321,7 +321,7 @@ void DrawTraceWriter::add_draw(const Draw& d) {
     append_le<float>(p, u.lod_bias);
     append_le<uint32_t>(p, u.env_mode);
   }
-  for (uint32_t v = 0; v < d.vertex_count; ++v) {
+  for (size_t v = 0; v < d.vertex_count; ++v) {
     for (int c = 0; c < 4; ++c) append_le<float>(p, d.position[4 * v + c]);
     for (uint32_t i = 0; i < units; ++i) {
       append_le<float>(p, d.st[i][2 * v]);
@@ -566,7 +566,7 @@ DrawRecordKind DrawTraceReader::next() {
     if (nidx > kDrawMaxIndices || nidx % 3 != 0)
       throw InputError(at, std::to_string(nidx) + " indices: not a multiple of 3 up to " +
                                std::to_string(kDrawMaxIndices));
-    const uint64_t want = uint64_t{kDrawStateBytes} + kDrawCountsBytes + units * kUnitBytes +
+    const uint64_t want = uint64_t{kDrawStateBytes} + kDrawCountsBytes + uint64_t{units} * kUnitBytes +
                           uint64_t{verts} * vertex_bytes(units, color) + uint64_t{nidx} * 4;
     if (want != p.size())
       throw InputError(at, "record is " + std::to_string(p.size()) + " bytes, its counts (" +
@@ -590,7 +590,7 @@ DrawRecordKind DrawTraceReader::next() {
     d.position.resize(size_t{4} * verts);
     for (uint32_t i = 0; i < kDrawMaxUnits; ++i) d.st[i].resize(i < units ? size_t{2} * verts : 0);
     d.color.resize(d.has_color ? size_t{4} * verts : 0);
-    for (uint32_t v = 0; v < verts; ++v) {
+    for (size_t v = 0; v < verts; ++v) {
       for (int k = 0; k < 4; ++k) d.position[4 * v + k] = c.get<float>();
       for (uint32_t i = 0; i < units; ++i) {
         d.st[i][2 * v] = c.get<float>();

@@ -16,6 +16,7 @@
 #include "blocks/base/version.h"
 #include "pipeline/app/cosim.h"
 #include "pipeline/app/run.h"
+#include "pipeline/app/run_draws.h"
 #include "pipeline/app/sweep.h"
 #include "pipeline/app/tuner.h"
 #include "pipeline/capture/apitrace_import.h"
@@ -123,6 +124,7 @@ struct RunCli {
   std::string max_memory = "4G";
   bool no_progress = false;
   std::string error_scale = "auto";
+  std::string draws, compare;  // run --draws FILE [--compare PNG]
   CLI::App* cmd = nullptr;
 };
 
@@ -137,6 +139,17 @@ void add_run_command(CLI::App& app, RunCli& r) {
                       "scene and --trace are omitted)");
   run_cmd->add_option("--trace", run.trace,
                       "Fragment trace (.trc binary or .csv) to drive the texture unit");
+  run_cmd
+      ->add_option("--draws", r.draws,
+                   "Draw trace (.draws, traces/DRAWS.md): render one frame (--frame, "
+                   "default the first) through the texture unit and the fixed-function "
+                   "colour stage")
+      ->excludes("--trace");
+  run_cmd
+      ->add_option("--compare", r.compare,
+                   "With --draws: the application's own image of the frame (PNG) to compare "
+                   "with (pixels drawn, PSNR, difference.png)")
+      ->needs("--draws");
   run_cmd->add_option("--out", run.out, "Output directory")->capture_default_str();
   run_cmd->add_flag("--functional", run.functional,
                     "Functional only: colours and op counts, no cache or clock");
@@ -426,7 +439,13 @@ int run_cli(int argc, char** argv) {
         throw texsim::InputError("--ledger",
                                  "the error ledger needs the ground truth: drop "
                                  "--reference none");
-      run_simulation(run.opt, std::cout);
+      if (!run.draws.empty()) {
+        for (const char* o : {"--ledger", "--ledger-maps", "--timeline", "--reference"})
+          if (run.cmd->count(o) > 0) throw texsim::InputError(o, "not available with --draws");
+        run_draws({run.opt, run.draws, run.compare}, std::cout);
+      } else {
+        run_simulation(run.opt, std::cout);
+      }
     } else if (*gen) {
       const uint64_t n =
           generate_scene_trace(gen_scene == "default" ? "" : gen_scene, gen_out, gen_overrides);

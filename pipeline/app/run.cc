@@ -421,6 +421,120 @@ class QuadFeed {
   std::vector<Entry> open_;
 };
 
+// Fragments on their way to the texture units: one unit (batched), or several (each to the
+// unit of its tile); through their quads when [pipeline] derivatives come from quads; an
+// object-space material's pixel takes its resolved colour, after every earlier fragment.
+class FragmentRouter {
+ public:
+  FragmentRouter(UnitArray& units, const PipelineSetup& setup, ObjectSpaceFrame& os,
+                 UnitArray::Record record, bool one_by_one)
+      : units_(units),
+        os_(os),
+        record_(std::move(record)),
+        batch_(units.unit(0), one_by_one ? 1 : LinearBatch::kMax) {
+    if (setup.derivatives != QuadDerivatives::Own)
+      quads_ = std::make_unique<QuadFeed>(setup.derivatives);
+  }
+  // QuadFeed's send: to send().
+  struct Sender {
+    FragmentRouter* r;
+    void operator()(const Fragment& a, const Fragment& b, const Fragment& c, int m,
+                    uint64_t i) const {
+      r->send(a, b, c, m, i);
+    }
+  };
+  Sender sender() { return {this}; }
+  // f as given, g with its loaded texture's id.
+  void add(const Fragment& f, const Fragment& g, int material, uint64_t index) {
+    if (!os_.drawn_by(material)) {
+      if (quads_) {
+        quads_->add(f, g, material, index, sender());
+      } else {
+        send(f, g, g, material, index);
+      }
+      return;
+    }
+    flush();  // in arrival order
+    const Rgba c = os_.shade(material, f.x, f.y);
+    record_(f, g, material, &c, index);
+  }
+  // Everything added so far through the units.
+  void flush() {
+    if (quads_) quads_->flush(sender());
+    batch_.flush(record_);
+  }
+  const QuadFeed* quads() const { return quads_.get(); }
+
+ private:
+  // To the fragment's unit; u is what the unit filters (g, or g with its quad's derivatives).
+  void send(const Fragment& f, const Fragment& g, const Fragment& u, int material, uint64_t index) {
+    if (units_.several()) {
+      units_.add(f, g, u, material, index);
+    } else {
+      batch_.add(f, g, u, material, index, record_);
+    }
+  }
+  UnitArray& units_;
+  ObjectSpaceFrame& os_;
+  UnitArray::Record record_;
+  UnitBatch batch_;
+  std::unique_ptr<QuadFeed> quads_;
+};
+
+// A scene whose materials compute their own coordinates: planes drawn one by one through the
+// front end (unit 0 runs the coordinate units; with several units each fragment is textured
+// by its tile's unit).
+void draw_front_end(const Scene& scene, const std::vector<PlaneProjection>& maps, UnitArray& units,
+                    const RunTextures& textures, const UnitArray::Record& record, uint64_t& index) {
+  auto loaded = [&](const Fragment& f) {
+    Fragment g = f;
+    g.tex = static_cast<uint32_t>(textures.index.at(f.tex));
+    return g;
+  };
+  if (!units.several()) {
+    draw_scene_front_end(scene, maps, units.unit(0),
+                         [&](const Fragment& f, int material, const Rgba* c) {
+                           record(f, loaded(f), material, c, index++);
+                         });
+    return;
+  }
+  FrontEndTarget target;
+  target.texture = [&](const Fragment& f, int m, const ItemCost* front) {
+    const Fragment g = loaded(f);
+    units.add(f, g, g, m, index++, front);
+  };
+  target.drop = [&](int m, const ItemCost* front, bool rejected, int32_t x, int32_t y) {
+    units.drop(m, front, rejected, x, y);
+  };
+  target.untextured = [&](const Fragment& f, int m) { record(f, loaded(f), m, nullptr, index++); };
+  draw_scene_front_end(scene, maps, units.unit(0), target);
+}
+
+// Quad derivatives replace the fragment's own; a coordinate unit computes them itself.
+void refuse_quad_derivatives_with_coords(const PipelineSetup& setup,
+                                         const std::vector<MaterialSetup>& mats,
+                                         const std::string& scene_path) {
+  if (setup.derivatives == QuadDerivatives::Own) return;
+  for (const MaterialSetup& m : mats) {
+    if (m.coords) {
+      throw InputError(scene_path, "[pipeline] derivatives: material '" + m.name +
+                                       "' computes its own coordinates and derivatives "
+                                       "(coords); set derivatives = \"fragment\"");
+    }
+  }
+}
+
+// The report's quads section, when the run has one.
+void quad_info(RunInfo& info, const PipelineSetup& setup, const QuadFeed* quads,
+               const UnitArray& units) {
+  if (!quads && !setup.quad_merge) return;
+  QuadInfo& q = info.quads;
+  q.derivatives = setup.derivatives;
+  q.merge = setup.quad_merge;
+  if (quads) q.counts = quads->counts();
+  q.merged_lookups = units.quad_merged_lookups();
+}
+
 // Fragments waiting for their ground truth, computed in parallel a batch at a time and then
 // recorded in arrival order. Each truth depends on its fragment alone, so every thread count
 // gives the same bits.
@@ -779,15 +893,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     for (const auto& p : scene.primitives) maps.emplace_back(scene, p);
   }
   const ImageLayout layout = run_layout(opt, scene, use_scene, trace_sum.get(), maps, textures.set);
-  if (setup.derivatives != QuadDerivatives::Own) {
-    for (const MaterialSetup& m : mats) {
-      if (m.coords) {
-        throw InputError(scene.path, "[pipeline] derivatives: material '" + m.name +
-                                         "' computes its own coordinates and derivatives "
-                                         "(coords); set derivatives = \"fragment\"");
-      }
-    }
-  }
+  refuse_quad_derivatives_with_coords(setup, mats, scene.path);
   UnitArray units(textures.set, mats, setup, scene.tech, !opt.functional);
   TextureUnit& unit = units.unit(0);
   // Materials with `object_space`: drawn first, their pixels then take the resolved colours.
@@ -813,67 +919,20 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   if (timeline && units.several()) {
     units.set_commit_observer([&](int u, const ClockedPipeline& p) { timeline->observe(p, u); });
   }
+  if (units.several()) units.set_record(record);
   // The unit's timeline observes the pipeline after every fragment: no batching then.
-  UnitBatch unit_batch(unit, timeline ? 1 : LinearBatch::kMax);
-  const UnitArray::Record to_record = record;
-  auto to_unit = [&](const Fragment& f, const Fragment& g, const Fragment& u, int material,
-                     uint64_t index) {
-    if (units.several()) {
-      units.add(f, g, u, material, index, to_record);  // to the unit of its screen tile
-    } else {
-      unit_batch.add(f, g, u, material, index, record);
-    }
-  };
-  std::unique_ptr<QuadFeed> quads;
-  if (setup.derivatives != QuadDerivatives::Own)
-    quads = std::make_unique<QuadFeed>(setup.derivatives);
+  FragmentRouter router(units, setup, os, record, timeline != nullptr);
   auto handle = [&](const Fragment& f, uint64_t index) {
     Fragment g = f;
     g.tex = loaded_texture(f, index, textures, input, opt.trace);
-    const int material = truth.exact() ? primitive_material(f, index, scene, opt.trace) : 0;
-    if (!os.drawn_by(material)) {
-      if (quads) {
-        quads->add(f, g, material, index, to_unit);
-      } else {
-        to_unit(f, g, g, material, index);
-      }
-      return;
-    }
-    if (quads) quads->flush(to_unit);
-    unit_batch.flush(record);  // in arrival order
-    const Rgba c = os.shade(material, f.x, f.y);
-    record(f, g, material, &c, index);
+    router.add(f, g, truth.exact() ? primitive_material(f, index, scene, opt.trace) : 0, index);
   };
   uint64_t index = 0;
   std::vector<RasterCounters> raster;
   if (reader) {
     stream_trace(*reader, opt.threads, [&](const Fragment& f) { handle(f, index++); });
   } else if (unit.front_stages() > 0) {
-    // Some material computes its own coordinates: planes drawn one by one through the front end.
-    auto loaded = [&](const Fragment& f) {
-      Fragment g = f;
-      g.tex = static_cast<uint32_t>(textures.index.at(f.tex));
-      return g;
-    };
-    if (units.several()) {
-      // Unit 0 runs the coordinate units; each fragment is textured by its tile's unit.
-      FrontEndTarget target;
-      target.texture = [&](const Fragment& f, int m, const ItemCost* front) {
-        const Fragment g = loaded(f);
-        units.add(f, g, g, m, index++, to_record, front);
-      };
-      target.drop = [&](int m, const ItemCost* front, bool rejected, int32_t x, int32_t y) {
-        units.drop(m, front, rejected, x, y);
-      };
-      target.untextured = [&](const Fragment& f, int m) {
-        record(f, loaded(f), m, nullptr, index++);
-      };
-      draw_scene_front_end(scene, maps, unit, target);
-    } else {
-      draw_scene_front_end(scene, maps, unit, [&](const Fragment& f, int material, const Rgba* c) {
-        record(f, loaded(f), material, c, index++);
-      });
-    }
+    draw_front_end(scene, maps, units, textures, record, index);
   } else {
     check_scene_frames(scene, unit.front_stages() > 0, os.active(), surf.active(), units.several());
     scene_frames(
@@ -884,8 +943,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
           batch.flush();
         });
   }
-  if (quads) quads->flush(to_unit);
-  unit_batch.flush(record);
+  router.flush();
   units.finish();
   batch.flush();
   images.finish();
@@ -907,13 +965,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   info.has_truth = opt.reference != "none";
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);
   finish_object_space(os, units.cycles(), raster, sum, info);
-  if (quads || setup.quad_merge) {
-    QuadInfo& q = info.quads;
-    q.derivatives = setup.derivatives;
-    q.merge = setup.quad_merge;
-    if (quads) q.counts = quads->counts();
-    q.merged_lookups = units.quad_merged_lookups();
-  }
+  quad_info(info, setup, router.quads(), units);
   info.provenance =
       run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech, digest);
   info.provenance.energy = scene.energy;

@@ -127,6 +127,7 @@ std::vector<SceneRef> scenes_of(const StudyMemoryOptions& opt) {
     }
   }
   std::vector<SceneRef> out;
+  out.reserve(paths.size());
   for (const std::string& p : paths) {
     out.push_back({p == "default" ? "default" : std::filesystem::path(p).stem().string(), p});
   }
@@ -379,13 +380,19 @@ PlotSpec units_plot(const std::vector<MemoryStudyRow>& rows, bool dram) {
       for (const MemoryStudyRow& r : rows) {
         if (r.scene != scene || r.sweep != "units" || r.behind != behind) continue;
         const double y = static_cast<double>(dram ? r.dram_bytes : r.cycles);
-        std::string label = dram ? (r.has_l2 ? "L2 " + fmt(100 * r.l2_hit_rate, 3) + "%" : "")
-                                 : "L1 " + fmt(100 * r.l1_hit_rate, 3) + "%";
+        std::string label;
+        if (!dram) {
+          label.append("L1 ").append(fmt(100 * r.l1_hit_rate, 3)).append("%");
+        } else if (r.has_l2) {
+          label.append("L2 ").append(fmt(100 * r.l2_hit_rate, 3)).append("%");
+        }
         pts.push_back({static_cast<double>(r.units), r.per_fragment(y), label});
       }
       if (pts.empty()) continue;
       if (dram && pts.back().label.empty()) pts.back().label = scene;
-      p.series.push_back(labelled_series(scene + ", " + behind, pts));
+      std::string name = scene;
+      name.append(", ").append(behind);
+      p.series.push_back(labelled_series(name, pts));
     }
   }
   return p;
@@ -396,7 +403,7 @@ std::string markdown(const std::vector<MemoryStudyRow>& rows, const StudyMemoryO
       "# Study memory: the texture memory hierarchy on the shipped scenes\n\n"
       "Each row is one timed run (`texsim run SCENE --reference none`) with the `--set` "
       "overrides of its row (memory.csv, last column) on top of a fixed base: ";
-  for (const auto& [k, v] : base_set()) s += "`" + k + "=" + v + "` ";
+  for (const auto& [k, v] : base_set()) s.append("`").append(k).append("=").append(v).append("` ");
   s += "(the scenes' own [pipeline] choices are replaced). Rows of a tiled raster order use "
        "16-pixel tiles with the same curve for tiles and quads. The L2 rows use the L2's defaults "
        "(16 ways, 128-byte lines, 1 port, hit latency 20, 16 MSHRs per slice) and the gddr6 "
@@ -428,7 +435,12 @@ std::string markdown(const std::vector<MemoryStudyRow>& rows, const StudyMemoryO
 
 std::vector<std::string> MemoryStudyRow::overrides() const {
   std::vector<std::string> o;
-  for (const auto& [k, v] : set) o.push_back(k + "=" + v);
+  o.reserve(set.size());
+  for (const auto& [k, v] : set) {
+    std::string e = k;
+    e.append("=").append(v);
+    o.push_back(std::move(e));
+  }
   return o;
 }
 

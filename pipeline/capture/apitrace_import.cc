@@ -986,8 +986,8 @@ void Interpreter::draw(uint32_t mode, std::vector<uint32_t> idx) {
   d.has_color = true;
   d.color.resize(size_t{4} * nv);
   for (size_t i = 0; i < d.units.size(); ++i) d.st[i].resize(size_t{2} * nv);
-  for (uint32_t v = 0; v < nv; ++v) {
-    const uint32_t src = lo + v;
+  for (size_t v = 0; v < nv; ++v) {
+    const uint32_t src = lo + static_cast<uint32_t>(v);
     double p[4] = {0, 0, 0, 1};
     for (uint32_t k = 0; k < vertex_.size; ++k) p[k] = fetch(vertex_, "vertex", src, k);
     for (int row = 0; row < 4; ++row) {

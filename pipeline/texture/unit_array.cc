@@ -34,7 +34,7 @@ uint64_t UnitArray::Hooks::begin(int u, Item& it) {
   const Rgba c = unit.process(it.u, it.material, it.has_front ? it.front.data() : nullptr);
   Fragment g = it.f;
   g.tex = it.g_tex;
-  (*a->record_)(it.f, g, it.material, &c, it.index);
+  a->record_(it.f, g, it.material, &c, it.index);
   return unit.pending_start();
 }
 
@@ -45,8 +45,7 @@ void UnitArray::Hooks::commit(int u, Item& /*it*/) {
 }
 
 void UnitArray::add(const Fragment& f, const Fragment& g, const Fragment& u, int material,
-                    uint64_t index, const Record& record, const ItemCost* front) {
-  record_ = &record;
+                    uint64_t index, const ItemCost* front) {
   const int unit = setup_.unit_of_pixel(f.x, f.y);
   // g differs from f in its texture id only (run.cc's loaded texture), never elsewhere.
   Item it{f, u, g.tex, material, index, false, {}, {}};

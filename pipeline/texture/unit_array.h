@@ -40,10 +40,12 @@ class UnitArray {
 
   // Several units: fragment g (f as given) of `material` to the unit of its pixel; `record`
   // gets its colour. finish() drains the units (call once, after the last fragment).
-  // The unit filters u (g, or g with its quad's derivatives); record gets f and g. `front`:
+  // Several units: what gets each fragment's colour (set before the first add()).
+  void set_record(Record record) { record_ = std::move(record); }
+  // The unit filters u (g, or g with its quad's derivatives); the record gets f and g. `front`:
   // the fragment's front-end costs (material's front_count of them), or null.
   void add(const Fragment& f, const Fragment& g, const Fragment& u, int material, uint64_t index,
-           const Record& record, const ItemCost* front = nullptr);
+           const ItemCost* front = nullptr);
   // A fragment the coordinate front end generated that leaves after it, at pixel (x, y) (x < 0:
   // off the image, charged to unit 0): its unit takes it before its next fragment.
   void drop(int material, const ItemCost* front, bool rejected, int32_t x, int32_t y);
@@ -111,7 +113,7 @@ class UnitArray {
   std::vector<std::unique_ptr<TextureUnit>> units_;
   Hooks hooks_{this};
   std::unique_ptr<UnitScheduler<Item, Hooks>> sched_;
-  const Record* record_ = nullptr;
+  Record record_;
   mutable std::vector<FrameStats> frames_;
   mutable FrontEndStats front_stats_;
   std::vector<std::vector<Drop>> drops_;  // by unit: drops waiting for its next fragment

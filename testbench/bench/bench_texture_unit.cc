@@ -88,10 +88,11 @@ void run_units(benchmark::State& state, bool shared) {
                                        uint64_t) { sink += c->r; };
   for (auto _ : state) {
     UnitArray units(fx.textures, {m}, setup, TechTable::defaults(), true);
+    units.set_record(record);
     uint64_t i = 0;
     for (const Fragment& f : fx.frags) {
       if (units.several()) {
-        units.add(f, f, f, 0, i++, record);
+        units.add(f, f, f, 0, i++);
       } else {
         sink += units.unit(0).process(f, 0).r;
       }

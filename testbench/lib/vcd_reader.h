@@ -64,8 +64,10 @@ inline Vcd parse(const std::string& text) {
       in >> type >> bits >> id >> name;
       until_end(in);
       // "stage.name"; under a unit's scope (texsim_pipeline.unitN.stage) "unitN.stage.name".
-      std::string full = (scope.empty() ? "" : scope.back() + ".") + name;
-      if (scope.size() >= 3) full = scope[scope.size() - 2] + "." + full;
+      std::string full;
+      if (scope.size() >= 3) full.append(scope[scope.size() - 2]).append(".");
+      if (!scope.empty()) full.append(scope.back()).append(".");
+      full += name;
       v.width[full] = bits;
       by_id[id] = full;
     } else if (w == "$enddefinitions") {

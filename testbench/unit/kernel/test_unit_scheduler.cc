@@ -99,6 +99,7 @@ std::vector<std::vector<uint64_t>> run_kernel(std::vector<UnitSpec>& units, Line
 std::vector<std::vector<uint64_t>> run_stepped(const std::vector<UnitSpec>& units,
                                                LineMemory& mem) {
   std::vector<SteppedPipeline> pipes;
+  pipes.reserve(units.size());
   for (const auto& s : units) pipes.emplace_back(s.cfg, std::vector<uint64_t>(s.items.size(), 0));
   auto all_done = [&] {
     return std::all_of(pipes.begin(), pipes.end(), [](const auto& p) { return p.finished(); });
@@ -119,6 +120,7 @@ std::vector<std::vector<uint64_t>> run_stepped(const std::vector<UnitSpec>& unit
     }
   }
   std::vector<std::vector<uint64_t>> out;
+  out.reserve(pipes.size());
   for (const auto& p : pipes) out.push_back(p.done());
   return out;
 }

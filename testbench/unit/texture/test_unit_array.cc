@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -21,7 +22,7 @@ namespace texsim {
 namespace {
 
 struct Outcome {
-  RunCapture capture;
+  std::unique_ptr<RunCapture> capture = std::make_unique<RunCapture>();
   nlohmann::json report;
 };
 
@@ -35,8 +36,8 @@ Outcome run_units(const std::string& scene, int units, const std::string& dir,
   opt.overrides = std::move(extra);
   opt.overrides.push_back("pipeline.units=" + std::to_string(units));
   Outcome o;
-  o.capture.write_outputs = true;
-  opt.capture = &o.capture;
+  o.capture->write_outputs = true;
+  opt.capture = o.capture.get();
   std::ostringstream log;
   run_simulation(opt, log);
   std::ifstream in(opt.out + "/report.json");
@@ -48,10 +49,10 @@ TEST(UnitArray, ImageIsTheSameAndTheWorkIsSharedByTile) {
   TempDir dir("unit_array");
   const Outcome one = run_units("default", 1, dir.file(""));
   EXPECT_FALSE(one.report.contains("units"));
-  uint64_t last_cycles = one.capture.cycles;
+  uint64_t last_cycles = one.capture->cycles;
   for (int n : {2, 4, 16}) {
     const Outcome o = run_units("default", n, dir.file(""));
-    EXPECT_EQ(o.capture.image->rgb, one.capture.image->rgb) << n << " units";
+    EXPECT_EQ(o.capture->image->rgb, one.capture->image->rgb) << n << " units";
     EXPECT_EQ(o.report["fragments"], one.report["fragments"]);
     const auto& units = o.report["units"];
     ASSERT_EQ(units.size(), static_cast<size_t>(n));
@@ -64,12 +65,12 @@ TEST(UnitArray, ImageIsTheSameAndTheWorkIsSharedByTile) {
     }
     EXPECT_EQ(sum, o.report["fragments"].get<uint64_t>());
     EXPECT_EQ(l1, o.report["cache"]["accesses"].get<uint64_t>());
-    EXPECT_EQ(most, o.capture.cycles);  // the frame ends with the last unit
+    EXPECT_EQ(most, o.capture->cycles);  // the frame ends with the last unit
     EXPECT_EQ(o.report["scheduler"]["late_items"].get<uint64_t>(), 0u);
     // Each block's operations are the same work shared out: equal totals.
     EXPECT_EQ(o.report["blocks"]["lod"]["ops"], one.report["blocks"]["lod"]["ops"]);
-    EXPECT_LT(o.capture.cycles, last_cycles) << n << " units are not faster";
-    last_cycles = o.capture.cycles;
+    EXPECT_LT(o.capture->cycles, last_cycles) << n << " units are not faster";
+    last_cycles = o.capture->cycles;
   }
 }
 
@@ -83,7 +84,7 @@ TEST(UnitArray, QuadMergingSavesLookupsAndKeepsTheImage) {
     merged.push_back("pipeline.quad_merge=true");
     const Outcome off = run_units("default", units, dir.file("off"), tiled);
     const Outcome on = run_units("default", units, dir.file("on"), merged);
-    EXPECT_EQ(on.capture.image->rgb, off.capture.image->rgb);
+    EXPECT_EQ(on.capture->image->rgb, off.capture->image->rgb);
     const auto saved = on.report["quads"]["merged_lookups"].get<uint64_t>();
     EXPECT_GT(saved, on.report["fragments"].get<uint64_t>() / 4) << units << " units";
     EXPECT_EQ(on.report["cache"]["accesses"].get<uint64_t>() + saved,
@@ -109,9 +110,9 @@ TEST(UnitArray, QuadDerivativesUseTheRasterisersQuads) {
     EXPECT_EQ(q.report["quads"]["quads"].get<uint64_t>(), raster_quads) << mode;
     // A LOD step at a checker edge can move one pixel far; on average the image barely moves.
     double sum = 0;
-    for (size_t i = 0; i < own.capture.image->rgb.size(); ++i)
-      sum += std::abs(double(q.capture.image->rgb[i]) - own.capture.image->rgb[i]);
-    const double mean = sum / static_cast<double>(own.capture.image->rgb.size());
+    for (size_t i = 0; i < own.capture->image->rgb.size(); ++i)
+      sum += std::abs(double(q.capture->image->rgb[i]) - own.capture->image->rgb[i]);
+    const double mean = sum / static_cast<double>(own.capture->image->rgb.size());
     EXPECT_GT(mean, 0.0) << mode;
     EXPECT_LT(mean, 0.005) << mode;
   }
@@ -143,7 +144,7 @@ std::string scene_error(const std::string& pipeline_lines) {
   opt.reference = "none";
   opt.out = dir.file("") + "/out";
   std::ostringstream log;
-  const std::string e = error_of([&] { run_simulation(opt, log); });
+  std::string e = error_of([&] { run_simulation(opt, log); });
   EXPECT_FALSE(std::filesystem::exists(opt.out + "/report.json"));
   return e;
 }
@@ -178,11 +179,11 @@ TEST(UnitArray, ACoordinateFrontEndFeedsEveryUnit) {
   const std::string scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/coords.toml";
   const Outcome one = run_units(scene, 1, dir.file("one"));
   const Outcome four = run_units(scene, 4, dir.file("four"));
-  EXPECT_EQ(four.capture.image->rgb, one.capture.image->rgb);
+  EXPECT_EQ(four.capture->image->rgb, one.capture->image->rgb);
   EXPECT_EQ(four.report["front_end"], one.report["front_end"]);
   EXPECT_EQ(four.report["fragments"], one.report["fragments"]);
   for (const auto& u : four.report["units"]) EXPECT_GT(u["fragments"].get<uint64_t>(), 0u);
-  EXPECT_LT(four.capture.cycles, one.capture.cycles);
+  EXPECT_LT(four.capture->cycles, one.capture->cycles);
   EXPECT_EQ(four.report["scheduler"]["late_items"].get<uint64_t>(), 0u);
 }
 

@@ -1,0 +1,221 @@
+#include "pipeline/app/run_draws.h"
+
+#include <chrono>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <sstream>
+
+#include "blocks/base/atomic_file.h"
+#include "blocks/base/input_error.h"
+#include "blocks/base/output_set.h"
+#include "blocks/base/version.h"
+#include "pipeline/render/colour_stage.h"
+#include "pipeline/report/image_metrics.h"
+#include "pipeline/report/run_report.h"
+#include "pipeline/scene/scene.h"
+
+namespace texsim {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// The trace's frame `number`, or the first with number < 0.
+size_t pick_frame(const DrawTrace& t, int64_t number, const std::string& file) {
+  if (t.frames.empty()) throw InputError(file, "no frames to render");
+  if (number < 0) return 0;
+  std::string have;
+  for (size_t i = 0; i < t.frames.size(); ++i) {
+    if (t.frames[i].number == number) return i;
+    if (have.size() < 60) have += (have.empty() ? "" : ", ") + std::to_string(t.frames[i].number);
+  }
+  throw InputError(file, "--frame " + std::to_string(number) +
+                             ": the trace has no such frame (its frames: " + have + ")");
+}
+
+Json counts_json(const DrawRenderCounts& c) {
+  Json j = {{"draws", c.draws},
+            {"draws_refused", c.draws_refused},
+            {"triangles", c.triangles},
+            {"clipped_away", c.clipped_away},
+            {"culled", c.culled},
+            {"fragments", c.fragments},
+            {"depth_killed", c.depth_killed},
+            {"alpha_killed", c.alpha_killed},
+            {"blended", c.blended},
+            {"written", c.written},
+            {"texture_lookups", c.lookups}};
+  j["refused"] = Json::object();
+  for (const auto& [why, n] : c.refused) j["refused"][why] = n;
+  j["approximated"] = Json::object();
+  for (const auto& [what, n] : c.approximated) j["approximated"][what] = n;
+  return j;
+}
+
+Json comparison_json(const FrameComparison& c, const std::string& path) {
+  return {{"reference", path},
+          {"pixels", c.pixels},
+          {"drawn_both", c.drawn_both},
+          {"drawn_texsim_only", c.drawn_texsim_only},
+          {"drawn_reference_only", c.drawn_reference_only},
+          {"drawn_agreement_pct", c.drawn_agreement_pct},
+          {"psnr_db", c.psnr_db},
+          {"mse", c.mse},
+          {"mean_abs_8bit", c.mean_abs},
+          {"max_abs_8bit", c.max_abs},
+          {"pixels_equal", c.equal},
+          {"pixels_off_by_more_than_8", c.off_by_more_than_8}};
+}
+
+std::string draws_markdown(const DrawRunSummary& s, const DrawRunOptions& opt,
+                           const std::vector<std::string>& notes) {
+  const DrawRenderCounts& c = s.frame.counts;
+  std::ostringstream md;
+  md << "\n## Draws (frame " << s.frame.number << " of `" << opt.draws << "`)\n\n"
+     << "Rendered by the draw renderer and the fixed-function colour stage, which are outside "
+        "the texture unit (no cycles, operations or area of theirs are counted above).\n\n"
+     << "| draws | refused | triangles | clipped away | culled | fragments | depth-killed | "
+        "alpha-killed | blended | written | texture look-ups |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|\n"
+     << "| " << c.draws << " | " << c.draws_refused << " | " << c.triangles << " | "
+     << c.clipped_away << " | " << c.culled << " | " << c.fragments << " | " << c.depth_killed
+     << " | " << c.alpha_killed << " | " << c.blended << " | " << c.written << " | " << c.lookups
+     << " |\n\n";
+  for (const auto& [why, n] : c.refused) md << "- refused: " << why << ": " << n << " draws\n";
+  for (const auto& [what, n] : c.approximated)
+    md << "- approximated: " << what << ": " << n << " draw units\n";
+  md << "\nMaterials (one per texture and sampler state):\n\n";
+  for (const auto& n : notes) md << "- " << n << "\n";
+  if (s.compared) {
+    const FrameComparison& k = s.comparison;
+    md << "\n## Against the application's image\n\n`" << opt.compare
+       << "`; a reference pixel counts as drawn when it is not the colour the window was cleared "
+          "to "
+          "(255, 0, 128: ioquake3's `r_clear 1`). Drawn by texsim only: "
+       << k.drawn_texsim_only << " pixels; by the reference only: " << k.drawn_reference_only
+       << ".\n\n"
+       << "| pixels drawn agree | PSNR over pixels drawn by both (dB) | mean abs (8-bit) | max "
+          "abs (8-bit) | pixels off by > 8 |\n|---|---|---|---|---|\n"
+       << "| " << k.drawn_agreement_pct << " % | " << k.psnr_db << " | " << k.mean_abs << " | "
+       << k.max_abs << " | " << k.off_by_more_than_8 << " of " << k.drawn_both << " |\n\n"
+       << "`difference.png`: the largest channel's absolute difference × 8 where both drew, "
+          "white where only one drew.\n";
+  }
+  return md.str();
+}
+
+}  // namespace
+
+DrawRunSummary run_draws(const DrawRunOptions& opt, std::ostream& log) {
+  const RunOptions& ro = opt.run;
+  ensure_dir(ro.out);
+  const Scene scene = (ro.scene.empty() || ro.scene == "default")
+                          ? default_scene(ro.overrides)
+                          : load_scene(ro.scene, ro.overrides);
+  static const toml::table kNoPipeline;
+  const PipelineSetup setup =
+      PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : kNoPipeline, scene.path);
+  if (setup.derivatives != QuadDerivatives::Own) {
+    throw InputError(scene.path,
+                     "[pipeline] derivatives: a draw trace's fragments carry their exact "
+                     "derivatives; quad derivatives are not available with --draws (set "
+                     "derivatives = \"fragment\")");
+  }
+  const DrawTrace trace = read_draw_trace(opt.draws);
+  const size_t index = pick_frame(trace, ro.frame, opt.draws);
+
+  DrawRunSummary s;
+  const auto t0 = std::chrono::steady_clock::now();
+  DrawRenderer renderer(trace, {index}, setup, scene.tech, !ro.functional, opt.draws);
+  s.frame = renderer.render(index);
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const UnitArray& units = renderer.units();
+  if (units.fragments() > 0) units.check_timing_invariants();
+  s.unit_fragments = units.fragments();
+  s.cycles = units.cycles();
+
+  Rgb8Image ref;
+  if (!opt.compare.empty()) {
+    ref = read_rgb8_image(opt.compare);
+    s.comparison = compare_frame(s.frame, ref, opt.compare);
+    s.compared = true;
+  }
+
+  OutputSet outputs(ro.out);
+  ImageRgb img(s.frame.width, s.frame.height, glm::dvec3(0));
+  for (int y = 0; y < s.frame.height; ++y) {
+    for (int x = 0; x < s.frame.width; ++x) {
+      const size_t p =
+          static_cast<size_t>(y) * static_cast<size_t>(s.frame.width) + static_cast<size_t>(x);
+      if (!s.frame.drawn[p]) continue;
+      const uint8_t* c = s.frame.rgba.data() + 4 * p;
+      img.set(x, y, glm::vec4(c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f, 1.0f));
+    }
+  }
+  write_image(outputs.path("image.png"), img);
+  if (s.compared) {
+    const std::vector<uint8_t> diff = difference_image(s.frame, ref, 8);
+    ImageRgb d(s.frame.width, s.frame.height, glm::dvec3(0));
+    for (size_t p = 0; p < diff.size(); ++p) {
+      const float g = diff[p] / 255.0f;
+      d.set(static_cast<int>(p % static_cast<size_t>(s.frame.width)),
+            static_cast<int>(p / static_cast<size_t>(s.frame.width)), glm::vec4(g, g, g, 1));
+    }
+    write_image(outputs.path("difference.png"), d);
+  }
+
+  RunInfo info;
+  info.scene = scene.path;
+  info.trace = opt.draws;
+  info.has_truth = false;
+  info.reference =
+      "A draw trace has no ground truth of texsim's kind; the frame can be compared with the "
+      "application's own image (--compare), below.";
+  info.width = s.frame.width;
+  info.height = s.frame.height;
+  info.textures = renderer.texture_names();
+  info.provenance.version = kTexsimVersion;
+  info.provenance.command = ro.command;
+  if (!ro.scene.empty() && ro.scene != "default")
+    info.provenance.inputs.push_back(digest_file("scene", ro.scene));
+  info.provenance.inputs.push_back(digest_file("draw trace", opt.draws));
+  if (s.compared) info.provenance.inputs.push_back(digest_file("reference image", opt.compare));
+  info.provenance.setup = setup;
+  info.provenance.tech = scene.tech;
+  info.provenance.energy = scene.energy;
+  write_run_reports(outputs.staging(), info, units, AccuracyMetrics{});
+  // The draw-level figures beside the texture unit's.
+  const std::string json_path = outputs.staging() + "/report.json";
+  Json j = Json::parse(std::ifstream(json_path));
+  j["draws"] = counts_json(s.frame.counts);
+  j["draws"]["frame"] = s.frame.number;
+  j["draws"]["materials"] = renderer.material_notes();
+  if (s.compared) j["comparison"] = comparison_json(s.comparison, opt.compare);
+  write_file_atomic(json_path,
+                    j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  const std::string md_path = outputs.staging() + "/report.md";
+  std::ostringstream md;
+  md << std::ifstream(md_path).rdbuf() << draws_markdown(s, opt, renderer.material_notes());
+  write_file_atomic(md_path, md.str());
+  outputs.commit();
+
+  const DrawRenderCounts& c = s.frame.counts;
+  log << "texsim run: frame " << s.frame.number << " of " << opt.draws << ": " << c.draws
+      << " draws (" << c.draws_refused << " refused), " << c.triangles << " triangles, "
+      << c.fragments << " fragments (" << c.depth_killed << " depth-killed, " << c.alpha_killed
+      << " alpha-killed, " << c.blended << " blended), " << s.unit_fragments
+      << " texture look-ups, " << s.cycles << " cycles\n";
+  for (const auto& [why, n] : c.refused)
+    log << "  refused: " << n << " draws with " << why << " (not reproduced by the colour stage)\n";
+  if (s.compared) {
+    log << "  against " << opt.compare << ": pixels drawn agree on "
+        << s.comparison.drawn_agreement_pct << " %, PSNR " << s.comparison.psnr_db
+        << " dB over the " << s.comparison.drawn_both << " pixels both drew\n";
+  }
+  log << "  report: " << ro.out << "/report.json, " << ro.out << "/report.md\n  images: " << ro.out
+      << "/image.png" << (s.compared ? ", " + ro.out + "/difference.png" : "") << "\n";
+  return s;
+}
+
+}  // namespace texsim

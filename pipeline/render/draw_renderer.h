@@ -1,0 +1,107 @@
+#pragma once
+// Renders the frames of a draw trace (traces/DRAWS.md) through texsim: per draw, triangles are
+// clipped in clip space, projected, culled, rasterised with the edge rasteriser (top-left rule
+// at pixel centres), depth-tested, textured through the texsim texture unit with exact
+// derivatives, and coloured by the fixed-function colour stage (colour_stage.h).
+// docs/architecture.md, "Draw traces". Arithmetic: clipping, projection and attribute planes
+// in double; coverage in the edge rasteriser's fixed point (8 sub-pixel bits); depth as a
+// 24-bit unsigned integer (round to nearest); colour as colour_stage.h says.
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "blocks/base/tech_table.h"
+#include "blocks/raster/edge_rasterizer.h"
+#include "pipeline/texture/pipeline_setup.h"
+#include "pipeline/texture/unit_array.h"
+#include "traces/draw_trace.h"
+
+namespace texsim {
+
+// What became of a frame's draws, triangles and fragments.
+struct DrawRenderCounts {
+  uint64_t draws = 0;                       // draws rendered
+  uint64_t draws_refused = 0;               // draws left out (state the colour stage lacks)
+  std::map<std::string, uint64_t> refused;  // why -> draws
+  // Sampler states texsim approximates (what -> draw units), e.g. GL_CLAMP as clamp to edge.
+  std::map<std::string, uint64_t> approximated;
+  uint64_t triangles = 0;     // triangles of the rendered draws
+  uint64_t clipped_away = 0;  // wholly outside the clip volume
+  uint64_t culled = 0;        // faces culled
+  uint64_t fragments = 0;     // pixels covered by the rasteriser
+  uint64_t depth_killed = 0;  // failed the depth test (before texturing: early depth test)
+  uint64_t alpha_killed = 0;  // failed the alpha test
+  uint64_t blended = 0;       // written with blending
+  uint64_t written = 0;       // reached the framebuffer
+  uint64_t lookups = 0;       // fragments sent to the texture unit (one per enabled unit)
+  void add(const DrawRenderCounts& o);
+};
+
+struct RenderedFrame {
+  uint32_t number = 0;
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgba;   // RGBA8, the top row first
+  std::vector<uint8_t> drawn;  // 1 where a fragment was written
+  DrawRenderCounts counts;
+};
+
+class DrawRenderer {
+ public:
+  // The texture unit holds every texture of `trace` (with its levels) and one material per
+  // distinct (texture, sampler state) the frames `frames` (indices into trace.frames) use;
+  // `file` names the trace in messages. With `timing` the unit is clocked (cycles, cache, DRAM).
+  DrawRenderer(const DrawTrace& trace, const std::vector<size_t>& frames,
+               const PipelineSetup& setup, const TechTable& tech, bool timing, std::string file);
+  ~DrawRenderer();
+  DrawRenderer(const DrawRenderer&) = delete;
+  DrawRenderer& operator=(const DrawRenderer&) = delete;
+
+  // Renders trace.frames[index] (one of the frames given to the constructor, in increasing
+  // order) into a framebuffer cleared to black with depth 1. The window is the union of the
+  // draws' viewports.
+  RenderedFrame render(size_t index);
+
+  const UnitArray& units() const { return *units_; }
+  // "name (W×H, L levels)" of each texture, for reports.
+  std::vector<std::string> texture_names() const;
+  // What each material is: its texture and GL sampler state mapped to texsim's.
+  const std::vector<std::string>& material_notes() const { return notes_; }
+
+ private:
+  struct Tri;
+  void render_draw(const Draw& d, uint32_t frame, size_t draw_index, RenderedFrame& out);
+  void raster_triangle(const Draw& d, const Tri& t, uint32_t frame, RenderedFrame& out);
+
+  const DrawTrace& trace_;
+  std::string file_;
+  TextureSet textures_;
+  std::map<uint32_t, int> tex_index_;  // texture id -> index in textures_
+  // (texture id, sampler) -> material; one map key per distinct DrawUnit sampler state.
+  std::map<std::vector<uint32_t>, int> materials_;
+  std::vector<std::string> notes_;
+  std::unique_ptr<UnitArray> units_;
+  EdgeRasterizer raster_;
+  // The frame in flight.
+  std::vector<uint32_t> depth_;
+  int win_x0_ = 0, win_y0_ = 0;
+  uint32_t prim_ = 0;
+  // Per triangle: the fragments that passed the depth test, and their texture look-ups.
+  struct Frag {
+    int x, y;  // window pixel (GL: y up)
+    uint32_t z;
+    Rgba colour;
+  };
+  std::vector<Frag> frags_;
+  std::vector<Fragment> look_[kDrawMaxUnits];
+  std::vector<Rgba> texel_[kDrawMaxUnits];
+  DrawRenderCounts* counts_ = nullptr;
+};
+
+// The texsim material of one GL texture unit's sampler state, and what texsim approximates
+// ("" when exact): texsim has one filter for magnification and minification, and no
+// nearest-texel + linear-mip filter.
+MaterialSetup material_for_sampler(const DrawUnit& u, int texture, std::string& approximation);
+
+}  // namespace texsim

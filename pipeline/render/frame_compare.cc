@@ -1,0 +1,91 @@
+#include "pipeline/render/frame_compare.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+#include "blocks/base/input_error.h"
+
+namespace texsim {
+
+Rgb8Image read_rgb8_image(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw InputError(path, "cannot read image: " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.width > 16384 || spec.height > 16384 ||
+      spec.nchannels < 3 || spec.nchannels > 64) {
+    throw InputError(path, "not an RGB image of at most 16384 x 16384 pixels");
+  }
+  Rgb8Image img;
+  img.width = spec.width;
+  img.height = spec.height;
+  img.rgb.resize(static_cast<size_t>(img.width) * static_cast<size_t>(img.height) * 3);
+  if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, img.rgb.data()))
+    throw InputError(path, "cannot decode image: " + in->geterror());
+  return img;
+}
+
+FrameComparison compare_frame(const RenderedFrame& f, const Rgb8Image& ref,
+                              const std::string& ref_path, const uint8_t clear[3]) {
+  if (f.width != ref.width || f.height != ref.height) {
+    throw InputError(ref_path, "is " + std::to_string(ref.width) + " x " +
+                                   std::to_string(ref.height) + " but frame " +
+                                   std::to_string(f.number) + " was rendered at " +
+                                   std::to_string(f.width) + " x " + std::to_string(f.height));
+  }
+  FrameComparison c;
+  c.pixels = static_cast<uint64_t>(f.width) * static_cast<uint64_t>(f.height);
+  double se = 0, sabs = 0;
+  for (size_t p = 0; p < c.pixels; ++p) {
+    const uint8_t* r = ref.rgb.data() + 3 * p;
+    const uint8_t* s = f.rgba.data() + 4 * p;
+    const bool ref_drawn = r[0] != clear[0] || r[1] != clear[1] || r[2] != clear[2];
+    const bool sim_drawn = f.drawn[p] != 0;
+    c.drawn_agree += ref_drawn == sim_drawn;
+    c.drawn_texsim_only += sim_drawn && !ref_drawn;
+    c.drawn_reference_only += ref_drawn && !sim_drawn;
+    if (!(ref_drawn && sim_drawn)) continue;
+    ++c.drawn_both;
+    int worst = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int d = std::abs(static_cast<int>(s[k]) - static_cast<int>(r[k]));
+      worst = std::max(worst, d);
+      se += (d / 255.0) * (d / 255.0);
+      sabs += d;
+    }
+    c.max_abs = std::max<uint64_t>(c.max_abs, static_cast<uint64_t>(worst));
+    c.off_by_more_than_8 += worst > 8;
+    c.equal += worst == 0;
+  }
+  c.drawn_agreement_pct =
+      c.pixels ? 100.0 * static_cast<double>(c.drawn_agree) / static_cast<double>(c.pixels) : 0;
+  if (c.drawn_both > 0) {
+    const double n = 3.0 * static_cast<double>(c.drawn_both);
+    c.mse = se / n;
+    c.mean_abs = sabs / n;
+    c.psnr_db = c.mse > 0 ? 10 * std::log10(1 / c.mse) : 999;
+  }
+  return c;
+}
+
+std::vector<uint8_t> difference_image(const RenderedFrame& f, const Rgb8Image& ref, double gain,
+                                      const uint8_t clear[3]) {
+  const size_t n = static_cast<size_t>(f.width) * static_cast<size_t>(f.height);
+  std::vector<uint8_t> out(n, 0);
+  for (size_t p = 0; p < n && p * 3 + 2 < ref.rgb.size(); ++p) {
+    const uint8_t* r = ref.rgb.data() + 3 * p;
+    const bool ref_drawn = r[0] != clear[0] || r[1] != clear[1] || r[2] != clear[2];
+    if (ref_drawn != (f.drawn[p] != 0)) out[p] = 255;  // drawn by one only
+    if (!ref_drawn || !f.drawn[p]) continue;
+    int worst = 0;
+    for (int k = 0; k < 3; ++k)
+      worst = std::max(worst, std::abs(static_cast<int>(f.rgba[4 * p + static_cast<size_t>(k)]) -
+                                       static_cast<int>(ref.rgb[3 * p + static_cast<size_t>(k)])));
+    out[p] = static_cast<uint8_t>(std::min(255.0, worst * gain));
+  }
+  return out;
+}
+
+}  // namespace texsim
