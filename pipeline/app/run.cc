@@ -802,19 +802,19 @@ RunInfo images_info(const RunOptions& opt, const ImageLayout& layout, const RunT
 
 // A scene with a camera path renders its frames one after another through the fragment
 // generator; what builds per-primitive state once for one camera cannot follow it.
-void check_scene_frames(const Scene& scene, bool front_end, bool object_space, bool surfaces,
-                        bool several_units) {
+void check_scene_frames(const Scene& scene, UnitArray& units, const ObjectSpaceFrame& os,
+                        const SurfaceSetup& surf) {
   if (scene.frames == 1) return;
-  if (several_units) {
+  if (units.several()) {
     // Their fragments wait per tile: a frame's would be judged through the next frame's maps.
     throw InputError(scene.path, "output.frames = " + std::to_string(scene.frames) +
                                      ": a camera path runs on one texture unit ([pipeline] units "
                                      "= 1); render one frame for several units");
   }
-  const char* what = front_end      ? "coordinates of their own (coords)"
-                     : object_space ? "object_space"
-                     : surfaces     ? "relief or lighting"
-                                    : nullptr;
+  const char* what = units.front_stages() > 0 ? "coordinates of their own (coords)"
+                     : os.active()            ? "object_space"
+                     : surf.active()          ? "relief or lighting"
+                                              : nullptr;
   if (what == nullptr) return;
   throw InputError(scene.path, "output.frames = " + std::to_string(scene.frames) +
                                    ": materials with " + what +
@@ -822,15 +822,16 @@ void check_scene_frames(const Scene& scene, bool front_end, bool object_space, b
 }
 
 // The scene's fragments frame after frame (one frame without a camera path). Before frame k's
-// camera replaces frame k-1's, `drain` finishes what is in flight, so that every fragment is
+// camera replaces frame k-1's, what is in flight is finished, so that every fragment is
 // judged through its own frame's projective maps (`maps`, which the ground truth reads).
-template <class Emit, class Drain>
+template <class Emit>
 void scene_frames(Scene& scene, std::vector<PlaneProjection>& maps,
                   const std::vector<MaterialSetup>& mats, std::vector<RasterCounters>& raster,
-                  Emit&& emit, Drain&& drain) {
+                  FragmentRouter& router, TruthBatch& batch, Emit&& emit) {
   for (int k = 0; k < scene.frames; ++k) {
     if (k > 0) {
-      drain();
+      router.flush();
+      batch.flush();
       scene.camera = frame_camera(scene, k);
       for (size_t i = 0; i < maps.size(); ++i)
         maps[i] = PlaneProjection(scene, scene.primitives[i]);
@@ -929,19 +930,14 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   };
   uint64_t index = 0;
   std::vector<RasterCounters> raster;
+  if (!reader) check_scene_frames(scene, units, os, surf);
   if (reader) {
     stream_trace(*reader, opt.threads, [&](const Fragment& f) { handle(f, index++); });
   } else if (unit.front_stages() > 0) {
     draw_front_end(scene, maps, units, textures, record, index);
   } else {
-    check_scene_frames(scene, unit.front_stages() > 0, os.active(), surf.active(), units.several());
-    scene_frames(
-        scene, maps, mats, raster, [&](const Fragment& f) { handle(f, index++); },
-        [&] {
-          if (quads) quads->flush(to_unit);
-          unit_batch.flush(record);
-          batch.flush();
-        });
+    scene_frames(scene, maps, mats, raster, router, batch,
+                 [&](const Fragment& f) { handle(f, index++); });
   }
   router.flush();
   units.finish();
