@@ -8,6 +8,8 @@ find_package(Threads REQUIRED)
 find_package(ZLIB REQUIRED)
 find_package(nlohmann_json REQUIRED)
 find_package(tinyobjloader REQUIRED)
+# Assimp: the 3-D model formats of [[models]] (glTF, 3DS, OBJ+MTL, MD3; libassimp-dev).
+find_package(assimp REQUIRED)
 pkg_check_modules(HIDAPI REQUIRED IMPORTED_TARGET hidapi-hidraw)
 pkg_check_modules(MPFR REQUIRED IMPORTED_TARGET mpfr)
 find_package(SQLite3 REQUIRED)
@@ -30,4 +32,4 @@ add_library(texsim::deps ALIAS texsim_deps)
 # SYSTEM include paths keep third-party headers out of -Werror.
 target_link_libraries(texsim_deps INTERFACE glm::glm OpenImageIO::OpenImageIO CLI11::CLI11
   tomlplusplus::tomlplusplus PkgConfig::HIDAPI PkgConfig::MPFR ZLIB::ZLIB nlohmann_json::nlohmann_json Threads::Threads
-  tinyobjloader::tinyobjloader_double SQLite::SQLite3)
+  tinyobjloader::tinyobjloader_double SQLite::SQLite3 assimp::assimp)

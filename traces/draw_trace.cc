@@ -327,7 +327,10 @@ void DrawTraceWriter::add_draw(const Draw& d) {
       append_le<float>(p, d.st[i][2 * v]);
       append_le<float>(p, d.st[i][2 * v + 1]);
     }
-    if (d.has_color) p.insert(p.end(), d.color.begin() + 4 * v, d.color.begin() + 4 * v + 4);
+    if (d.has_color) {
+      const auto off = static_cast<ptrdiff_t>(4 * v);
+      p.insert(p.end(), d.color.begin() + off, d.color.begin() + off + 4);
+    }
   }
   for (uint32_t i : d.indices) append_le<uint32_t>(p, i);
   put_record(kDrawTag, p);
@@ -451,6 +454,33 @@ struct Cursor {
   }
 };
 
+// The fixed-size render state at the start of a DRAW payload.
+void read_draw_state(Cursor& c, DrawState& s) {
+  s.viewport_x = c.get<int32_t>();
+  s.viewport_y = c.get<int32_t>();
+  s.viewport_w = c.get<uint32_t>();
+  s.viewport_h = c.get<uint32_t>();
+  s.depth_near = c.get<float>();
+  s.depth_far = c.get<float>();
+  const auto flags = c.get<uint32_t>();
+  if (flags & ~kAllFlags) throw InputError(c.where, "unknown state flag bits " + hex(flags));
+  s.depth_test = flags & kDepthTest;
+  s.depth_write = flags & kDepthWrite;
+  s.cull = flags & kCull;
+  s.polygon_offset = flags & kPolygonOffset;
+  s.alpha_test = flags & kAlphaTest;
+  s.blend = flags & kBlend;
+  s.depth_func = c.get<uint32_t>();
+  s.cull_face = c.get<uint32_t>();
+  s.front_face = c.get<uint32_t>();
+  s.offset_factor = c.get<float>();
+  s.offset_units = c.get<float>();
+  s.alpha_func = c.get<uint32_t>();
+  s.alpha_ref = c.get<float>();
+  s.blend_src = c.get<uint32_t>();
+  s.blend_dst = c.get<uint32_t>();
+}
+
 }  // namespace
 
 DrawRecordKind DrawTraceReader::next() {
@@ -476,184 +506,19 @@ DrawRecordKind DrawTraceReader::next() {
   if (in_frame_) at += ", frame " + std::to_string(frame_);
   DrawRecordKind kind;
   if (std::memcmp(h, kTexTag, 4) == 0) {
-    Cursor c{p, 0, at};
-    texture_ = DrawTexture{};
-    texture_.id = c.get<uint32_t>();
-    texture_.width = c.get<uint32_t>();
-    texture_.height = c.get<uint32_t>();
-    texture_.format = c.get<uint32_t>();
-    const auto levels = c.get<uint32_t>();
-    const auto name_len = c.get<uint32_t>();
-    if (name_len > kDrawMaxNameBytes)
-      throw InputError(at, "texture name length " + std::to_string(name_len) + " exceeds " +
-                               std::to_string(kDrawMaxNameBytes));
-    texture_.name = c.text(name_len);
-    const std::string bad = check_texture_header(texture_.id, texture_.width, texture_.height,
-                                                 texture_.format, levels, texture_.name);
-    if (!bad.empty()) throw InputError(at, bad);
-    if (texture_.id < defined_.size() && defined_[texture_.id])
-      throw InputError(at, "texture id " + std::to_string(texture_.id) + " defined twice");
-    for (uint32_t l = 0; l < levels; ++l) {
-      const uint64_t n = draw_level_bytes(texture_.width, texture_.height, l);
-      c.need(n);
-      texture_.levels.emplace_back(p.begin() + static_cast<ptrdiff_t>(c.at),
-                                   p.begin() + static_cast<ptrdiff_t>(c.at + n));
-      c.at += n;
-    }
-    c.done();
-    if (defined_.size() <= texture_.id) defined_.resize(texture_.id + 1, false);
-    defined_[texture_.id] = true;
-    ++textures_;
+    read_texture(p, at);
     kind = DrawRecordKind::Texture;
   } else if (std::memcmp(h, kFrameTag, 4) == 0) {
-    Cursor c{p, 0, at};
-    const auto number = c.get<uint32_t>();
-    c.done();
-    if (in_frame_) throw InputError(at, "frame begins inside frame " + std::to_string(frame_));
-    if (any_frame_ && number <= frame_)
-      throw InputError(at, "frame " + std::to_string(number) + " after frame " +
-                               std::to_string(frame_) + ": numbers must increase");
-    if (frames_ >= kDrawMaxFrames)
-      throw InputError(at, "more than " + std::to_string(kDrawMaxFrames) + " frames");
-    frame_ = number;
-    in_frame_ = any_frame_ = true;
-    frame_draws_ = 0;
-    ++frames_;
+    read_frame_start(p, at);
     kind = DrawRecordKind::Frame;
   } else if (std::memcmp(h, kDrawTag, 4) == 0) {
-    if (!in_frame_) throw InputError(at, "draw outside a frame");
-    at += ", draw " + std::to_string(frame_draws_);
-    if (frame_draws_ >= kDrawMaxDrawsPerFrame)
-      throw InputError(
-          at, "more than " + std::to_string(kDrawMaxDrawsPerFrame) + " draws in the frame");
-    Cursor c{p, 0, at};
-    Draw& d = draw_;
-    DrawState& s = d.state;
-    s.viewport_x = c.get<int32_t>();
-    s.viewport_y = c.get<int32_t>();
-    s.viewport_w = c.get<uint32_t>();
-    s.viewport_h = c.get<uint32_t>();
-    s.depth_near = c.get<float>();
-    s.depth_far = c.get<float>();
-    const auto flags = c.get<uint32_t>();
-    if (flags & ~kAllFlags) throw InputError(at, "unknown state flag bits " + hex(flags));
-    s.depth_test = flags & kDepthTest;
-    s.depth_write = flags & kDepthWrite;
-    s.cull = flags & kCull;
-    s.polygon_offset = flags & kPolygonOffset;
-    s.alpha_test = flags & kAlphaTest;
-    s.blend = flags & kBlend;
-    s.depth_func = c.get<uint32_t>();
-    s.cull_face = c.get<uint32_t>();
-    s.front_face = c.get<uint32_t>();
-    s.offset_factor = c.get<float>();
-    s.offset_units = c.get<float>();
-    s.alpha_func = c.get<uint32_t>();
-    s.alpha_ref = c.get<float>();
-    s.blend_src = c.get<uint32_t>();
-    s.blend_dst = c.get<uint32_t>();
-    const auto units = c.get<uint32_t>();
-    const auto color = c.get<uint32_t>();
-    const auto verts = c.get<uint32_t>();
-    const auto nidx = c.get<uint32_t>();
-    if (units > kDrawMaxUnits)
-      throw InputError(
-          at, std::to_string(units) + " texture units, more than " + std::to_string(kDrawMaxUnits));
-    if (color > 1) throw InputError(at, "colour flag " + std::to_string(color) + " is not 0 or 1");
-    if (verts > kDrawMaxVertices)
-      throw InputError(
-          at, std::to_string(verts) + " vertices, more than " + std::to_string(kDrawMaxVertices));
-    if (nidx > kDrawMaxIndices || nidx % 3 != 0)
-      throw InputError(at, std::to_string(nidx) + " indices: not a multiple of 3 up to " +
-                               std::to_string(kDrawMaxIndices));
-    const uint64_t want = uint64_t{kDrawStateBytes} + kDrawCountsBytes + uint64_t{units} * kUnitBytes +
-                          uint64_t{verts} * vertex_bytes(units, color) + uint64_t{nidx} * 4;
-    if (want != p.size())
-      throw InputError(at, "record is " + std::to_string(p.size()) + " bytes, its counts (" +
-                               std::to_string(verts) + " vertices, " + std::to_string(nidx) +
-                               " indices, " + std::to_string(units) + " units) need " +
-                               std::to_string(want));
-    d.units.assign(units, DrawUnit{});
-    for (DrawUnit& u : d.units) {
-      u.unit = c.get<uint32_t>();
-      u.texture = c.get<uint32_t>();
-      u.min_filter = c.get<uint32_t>();
-      u.mag_filter = c.get<uint32_t>();
-      u.wrap_s = c.get<uint32_t>();
-      u.wrap_t = c.get<uint32_t>();
-      u.max_anisotropy = c.get<float>();
-      u.lod_bias = c.get<float>();
-      u.env_mode = c.get<uint32_t>();
-    }
-    d.vertex_count = verts;
-    d.has_color = color != 0;
-    d.position.resize(size_t{4} * verts);
-    for (uint32_t i = 0; i < kDrawMaxUnits; ++i) d.st[i].resize(i < units ? size_t{2} * verts : 0);
-    d.color.resize(d.has_color ? size_t{4} * verts : 0);
-    for (size_t v = 0; v < verts; ++v) {
-      for (int k = 0; k < 4; ++k) d.position[4 * v + k] = c.get<float>();
-      for (uint32_t i = 0; i < units; ++i) {
-        d.st[i][2 * v] = c.get<float>();
-        d.st[i][2 * v + 1] = c.get<float>();
-      }
-      if (d.has_color) {
-        c.need(4);
-        std::memcpy(&d.color[4 * v], p.data() + c.at, 4);
-        c.at += 4;
-      }
-    }
-    d.indices.resize(nidx);
-    for (uint32_t i = 0; i < nidx; ++i) d.indices[i] = c.get<uint32_t>();
-    c.done();
-    const std::string bad = check_draw(d, defined_);
-    if (!bad.empty()) throw InputError(at, bad);
-    ++frame_draws_;
-    ++draws_;
+    read_draw(p, at);
     kind = DrawRecordKind::Draw;
   } else if (std::memcmp(h, kFrameEndTag, 4) == 0) {
-    if (!in_frame_) throw InputError(at, "frame end outside a frame");
-    Cursor c{p, 0, at};
-    const auto draws = c.get<uint32_t>();
-    const auto names = c.get<uint32_t>();
-    if (draws != frame_draws_)
-      throw InputError(at, "frame end counts " + std::to_string(draws) + " draws, the frame has " +
-                               std::to_string(frame_draws_));
-    if (names > kDrawMaxCallNames)
-      throw InputError(at, std::to_string(names) + " uninterpreted call names, more than " +
-                               std::to_string(kDrawMaxCallNames));
-    calls_.clear();
-    for (uint32_t i = 0; i < names; ++i) {
-      const auto n = c.get<uint32_t>();
-      if (n < 1 || n > kDrawMaxNameBytes)
-        throw InputError(at, "call name " + std::to_string(i) + ": length " + std::to_string(n) +
-                                 " is outside 1.." + std::to_string(kDrawMaxNameBytes));
-      std::string name = c.text(n);
-      if (has_control(name))
-        throw InputError(at, "call name " + std::to_string(i) + " has a control character");
-      const auto count = c.get<uint64_t>();
-      if (!calls_.emplace(std::move(name), count).second)
-        throw InputError(at, "call name " + std::to_string(i) + " appears twice");
-    }
-    c.done();
-    in_frame_ = false;
+    read_frame_end(p, at);
     kind = DrawRecordKind::FrameEnd;
   } else if (std::memcmp(h, kEndTag, 4) == 0) {
-    if (in_frame_) throw InputError(at, "end marker inside frame " + std::to_string(frame_));
-    Cursor c{p, 0, at};
-    const auto frames = c.get<uint64_t>();
-    const auto draws = c.get<uint64_t>();
-    const auto textures = c.get<uint64_t>();
-    const auto records = c.get<uint64_t>();
-    c.done();
-    if (frames != frames_ || draws != draws_ || textures != textures_ || records != records_)
-      throw InputError(at, "end marker counts " + std::to_string(frames) + " frames, " +
-                               std::to_string(draws) + " draws, " + std::to_string(textures) +
-                               " textures, " + std::to_string(records) +
-                               " records; the file holds " + std::to_string(frames_) + ", " +
-                               std::to_string(draws_) + ", " + std::to_string(textures_) + ", " +
-                               std::to_string(records_) + " (records lost)");
-    if (pos_ != size_)
-      throw InputError(at, std::to_string(size_ - pos_) + " unexpected bytes after the end marker");
+    read_end(p, at);
     done_ = true;
     return DrawRecordKind::End;
   } else {
@@ -661,6 +526,175 @@ DrawRecordKind DrawTraceReader::next() {
   }
   ++records_;
   return kind;
+}
+
+// A TEXR payload: header, name and every level; the id must be new.
+void DrawTraceReader::read_texture(const std::vector<uint8_t>& p, const std::string& at) {
+  Cursor c{p, 0, at};
+  texture_ = DrawTexture{};
+  texture_.id = c.get<uint32_t>();
+  texture_.width = c.get<uint32_t>();
+  texture_.height = c.get<uint32_t>();
+  texture_.format = c.get<uint32_t>();
+  const auto levels = c.get<uint32_t>();
+  const auto name_len = c.get<uint32_t>();
+  if (name_len > kDrawMaxNameBytes)
+    throw InputError(at, "texture name length " + std::to_string(name_len) + " exceeds " +
+                             std::to_string(kDrawMaxNameBytes));
+  texture_.name = c.text(name_len);
+  const std::string bad = check_texture_header(texture_.id, texture_.width, texture_.height,
+                                               texture_.format, levels, texture_.name);
+  if (!bad.empty()) throw InputError(at, bad);
+  if (texture_.id < defined_.size() && defined_[texture_.id])
+    throw InputError(at, "texture id " + std::to_string(texture_.id) + " defined twice");
+  for (uint32_t l = 0; l < levels; ++l) {
+    const uint64_t n = draw_level_bytes(texture_.width, texture_.height, l);
+    c.need(n);
+    texture_.levels.emplace_back(p.begin() + static_cast<ptrdiff_t>(c.at),
+                                 p.begin() + static_cast<ptrdiff_t>(c.at + n));
+    c.at += n;
+  }
+  c.done();
+  if (defined_.size() <= texture_.id) defined_.resize(texture_.id + 1, false);
+  defined_[texture_.id] = true;
+  ++textures_;
+}
+
+// A FRAM payload: the frame number, which must increase.
+void DrawTraceReader::read_frame_start(const std::vector<uint8_t>& p, const std::string& at) {
+  Cursor c{p, 0, at};
+  const auto number = c.get<uint32_t>();
+  c.done();
+  if (in_frame_) throw InputError(at, "frame begins inside frame " + std::to_string(frame_));
+  if (any_frame_ && number <= frame_)
+    throw InputError(at, "frame " + std::to_string(number) + " after frame " +
+                             std::to_string(frame_) + ": numbers must increase");
+  if (frames_ >= kDrawMaxFrames)
+    throw InputError(at, "more than " + std::to_string(kDrawMaxFrames) + " frames");
+  frame_ = number;
+  in_frame_ = any_frame_ = true;
+  frame_draws_ = 0;
+  ++frames_;
+}
+
+// A DRAW payload: state, counts (checked against the length before filling), units,
+// vertices and indices, then the whole draw is validated.
+void DrawTraceReader::read_draw(const std::vector<uint8_t>& p, std::string at) {
+  if (!in_frame_) throw InputError(at, "draw outside a frame");
+  at += ", draw " + std::to_string(frame_draws_);
+  if (frame_draws_ >= kDrawMaxDrawsPerFrame)
+    throw InputError(at,
+                     "more than " + std::to_string(kDrawMaxDrawsPerFrame) + " draws in the frame");
+  Cursor c{p, 0, at};
+  Draw& d = draw_;
+  read_draw_state(c, d.state);
+  const auto units = c.get<uint32_t>();
+  const auto color = c.get<uint32_t>();
+  const auto verts = c.get<uint32_t>();
+  const auto nidx = c.get<uint32_t>();
+  if (units > kDrawMaxUnits)
+    throw InputError(
+        at, std::to_string(units) + " texture units, more than " + std::to_string(kDrawMaxUnits));
+  if (color > 1) throw InputError(at, "colour flag " + std::to_string(color) + " is not 0 or 1");
+  if (verts > kDrawMaxVertices)
+    throw InputError(
+        at, std::to_string(verts) + " vertices, more than " + std::to_string(kDrawMaxVertices));
+  if (nidx > kDrawMaxIndices || nidx % 3 != 0)
+    throw InputError(at, std::to_string(nidx) + " indices: not a multiple of 3 up to " +
+                             std::to_string(kDrawMaxIndices));
+  const uint64_t want = uint64_t{kDrawStateBytes} + kDrawCountsBytes +
+                        uint64_t{units} * kUnitBytes +
+                        uint64_t{verts} * vertex_bytes(units, color) + uint64_t{nidx} * 4;
+  if (want != p.size())
+    throw InputError(at, "record is " + std::to_string(p.size()) + " bytes, its counts (" +
+                             std::to_string(verts) + " vertices, " + std::to_string(nidx) +
+                             " indices, " + std::to_string(units) + " units) need " +
+                             std::to_string(want));
+  d.units.assign(units, DrawUnit{});
+  for (DrawUnit& u : d.units) {
+    u.unit = c.get<uint32_t>();
+    u.texture = c.get<uint32_t>();
+    u.min_filter = c.get<uint32_t>();
+    u.mag_filter = c.get<uint32_t>();
+    u.wrap_s = c.get<uint32_t>();
+    u.wrap_t = c.get<uint32_t>();
+    u.max_anisotropy = c.get<float>();
+    u.lod_bias = c.get<float>();
+    u.env_mode = c.get<uint32_t>();
+  }
+  d.vertex_count = verts;
+  d.has_color = color != 0;
+  d.position.resize(size_t{4} * verts);
+  for (uint32_t i = 0; i < kDrawMaxUnits; ++i) d.st[i].resize(i < units ? size_t{2} * verts : 0);
+  d.color.resize(d.has_color ? size_t{4} * verts : 0);
+  for (size_t v = 0; v < verts; ++v) {
+    for (int k = 0; k < 4; ++k) d.position[4 * v + k] = c.get<float>();
+    for (uint32_t i = 0; i < units; ++i) {
+      d.st[i][2 * v] = c.get<float>();
+      d.st[i][2 * v + 1] = c.get<float>();
+    }
+    if (d.has_color) {
+      c.need(4);
+      std::memcpy(&d.color[4 * v], p.data() + c.at, 4);
+      c.at += 4;
+    }
+  }
+  d.indices.resize(nidx);
+  for (uint32_t i = 0; i < nidx; ++i) d.indices[i] = c.get<uint32_t>();
+  c.done();
+  const std::string bad = check_draw(d, defined_);
+  if (!bad.empty()) throw InputError(at, bad);
+  ++frame_draws_;
+  ++draws_;
+}
+
+// A FEND payload: the frame's draw count and its uninterpreted call names.
+void DrawTraceReader::read_frame_end(const std::vector<uint8_t>& p, const std::string& at) {
+  if (!in_frame_) throw InputError(at, "frame end outside a frame");
+  Cursor c{p, 0, at};
+  const auto draws = c.get<uint32_t>();
+  const auto names = c.get<uint32_t>();
+  if (draws != frame_draws_)
+    throw InputError(at, "frame end counts " + std::to_string(draws) + " draws, the frame has " +
+                             std::to_string(frame_draws_));
+  if (names > kDrawMaxCallNames)
+    throw InputError(at, std::to_string(names) + " uninterpreted call names, more than " +
+                             std::to_string(kDrawMaxCallNames));
+  calls_.clear();
+  for (uint32_t i = 0; i < names; ++i) {
+    const auto n = c.get<uint32_t>();
+    if (n < 1 || n > kDrawMaxNameBytes)
+      throw InputError(at, "call name " + std::to_string(i) + ": length " + std::to_string(n) +
+                               " is outside 1.." + std::to_string(kDrawMaxNameBytes));
+    std::string name = c.text(n);
+    if (has_control(name))
+      throw InputError(at, "call name " + std::to_string(i) + " has a control character");
+    const auto count = c.get<uint64_t>();
+    if (!calls_.emplace(std::move(name), count).second)
+      throw InputError(at, "call name " + std::to_string(i) + " appears twice");
+  }
+  c.done();
+  in_frame_ = false;
+}
+
+// A TEND payload: its totals must match what was read, and nothing may follow it.
+void DrawTraceReader::read_end(const std::vector<uint8_t>& p, const std::string& at) const {
+  if (in_frame_) throw InputError(at, "end marker inside frame " + std::to_string(frame_));
+  Cursor c{p, 0, at};
+  const auto frames = c.get<uint64_t>();
+  const auto draws = c.get<uint64_t>();
+  const auto textures = c.get<uint64_t>();
+  const auto records = c.get<uint64_t>();
+  c.done();
+  if (frames != frames_ || draws != draws_ || textures != textures_ || records != records_)
+    throw InputError(at, "end marker counts " + std::to_string(frames) + " frames, " +
+                             std::to_string(draws) + " draws, " + std::to_string(textures) +
+                             " textures, " + std::to_string(records) + " records; the file holds " +
+                             std::to_string(frames_) + ", " + std::to_string(draws_) + ", " +
+                             std::to_string(textures_) + ", " + std::to_string(records_) +
+                             " (records lost)");
+  if (pos_ != size_)
+    throw InputError(at, std::to_string(size_ - pos_) + " unexpected bytes after the end marker");
 }
 
 bool is_draw_trace(const std::string& path) {

@@ -153,10 +153,12 @@ class DrawTraceReader {
  private:
   void read_exact(void* dst, size_t n, const std::string& where, const char* what);
   std::string where() const;
-  void parse_texture(const std::vector<uint8_t>& p);
-  void parse_draw(const std::vector<uint8_t>& p);
-  void parse_frame_end(const std::vector<uint8_t>& p);
-  void check_end(const std::vector<uint8_t>& p);
+  // One per record kind: p is the CRC-checked payload, at names it in errors.
+  void read_texture(const std::vector<uint8_t>& p, const std::string& at);
+  void read_frame_start(const std::vector<uint8_t>& p, const std::string& at);
+  void read_draw(const std::vector<uint8_t>& p, std::string at);
+  void read_frame_end(const std::vector<uint8_t>& p, const std::string& at);
+  void read_end(const std::vector<uint8_t>& p, const std::string& at) const;
 
   std::string path_, source_;
   TraceFilePtr file_;

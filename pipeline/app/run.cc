@@ -17,6 +17,7 @@
 #include "blocks/base/output_set.h"
 #include "blocks/base/version.h"
 #include "pipeline/app/error_ledger.h"
+#include "pipeline/app/fragment_router.h"
 #include "pipeline/app/run_images.h"
 #include "pipeline/app/run_object_space.h"
 #include "pipeline/geometry/geometry_unit.h"
@@ -343,144 +344,6 @@ void stream_trace(TraceReader& reader, int threads, Handle&& handle) {
   }
 }
 
-// Fragments of one material gathered for the texture unit's batched datapath
-// (TextureUnit::process_batch: the same colours, counts and cycles as one by one), then passed
-// on in arrival order. A batch of one processes each fragment as it comes.
-class UnitBatch {
- public:
-  UnitBatch(TextureUnit& unit, size_t size) : unit_(unit), size_(size) {}
-  // The unit filters u (g, or g with derivatives from its quad); record gets f and g.
-  template <class Record>
-  void add(const Fragment& f, const Fragment& g, const Fragment& u, int material, uint64_t index,
-           Record& record) {
-    if (size_ <= 1) {
-      const Rgba c = unit_.process(u, material);
-      record(f, g, material, &c, index);
-      return;
-    }
-    if (!g_.empty() && material != material_) flush(record);
-    material_ = material;
-    f_.push_back(f);
-    g_.push_back(g);
-    u_.push_back(u);
-    index_.push_back(index);
-    if (g_.size() == size_) flush(record);
-  }
-  template <class Record>
-  void flush(Record& record) {
-    out_.resize(g_.size());
-    unit_.process_batch(u_.data(), u_.size(), material_, out_.data());
-    for (size_t i = 0; i < g_.size(); ++i) record(f_[i], g_[i], material_, &out_[i], index_[i]);
-    f_.clear();
-    g_.clear();
-    u_.clear();
-    index_.clear();
-  }
-
- private:
-  TextureUnit& unit_;
-  size_t size_;
-  int material_ = 0;
-  std::vector<Fragment> f_, g_, u_;
-  std::vector<uint64_t> index_;
-  std::vector<Rgba> out_;
-};
-
-// [pipeline] derivatives = "coarse" | "fine": fragments grouped into quads (QuadAssembler's
-// rule) go on, in arrival order, once their quad is complete, with derivatives from the quad's
-// differences for the unit; the ground truth keeps each fragment's own.
-class QuadFeed {
- public:
-  explicit QuadFeed(QuadDerivatives mode) : quads_(mode) {}
-  // send(f, g, u, material, index), u: g with the quad's derivatives.
-  template <class Send>
-  void add(const Fragment& f, const Fragment& g, int material, uint64_t index, Send&& send) {
-    if (const Quad* q = quads_.push(g)) release(*q, send);
-    open_.push_back({f, g, material, index});
-  }
-  template <class Send>
-  void flush(Send&& send) {
-    if (const Quad* q = quads_.flush()) release(*q, send);
-  }
-  const QuadCounts& counts() const { return quads_.counts(); }
-
- private:
-  struct Entry {
-    Fragment f, g;
-    int material;
-    uint64_t index;
-  };
-  template <class Send>
-  void release(const Quad& q, Send& send) {
-    for (const Entry& e : open_)
-      send(e.f, e.g, q.lane[static_cast<size_t>((e.g.x & 1) | (e.g.y & 1) << 1)], e.material,
-           e.index);
-    open_.clear();
-  }
-  QuadAssembler quads_;
-  std::vector<Entry> open_;
-};
-
-// Fragments on their way to the texture units: one unit (batched), or several (each to the
-// unit of its tile); through their quads when [pipeline] derivatives come from quads; an
-// object-space material's pixel takes its resolved colour, after every earlier fragment.
-class FragmentRouter {
- public:
-  FragmentRouter(UnitArray& units, const PipelineSetup& setup, ObjectSpaceFrame& os,
-                 UnitArray::Record record, bool one_by_one)
-      : units_(units),
-        os_(os),
-        record_(std::move(record)),
-        batch_(units.unit(0), one_by_one ? 1 : LinearBatch::kMax) {
-    if (setup.derivatives != QuadDerivatives::Own)
-      quads_ = std::make_unique<QuadFeed>(setup.derivatives);
-  }
-  // QuadFeed's send: to send().
-  struct Sender {
-    FragmentRouter* r;
-    void operator()(const Fragment& a, const Fragment& b, const Fragment& c, int m,
-                    uint64_t i) const {
-      r->send(a, b, c, m, i);
-    }
-  };
-  Sender sender() { return {this}; }
-  // f as given, g with its loaded texture's id.
-  void add(const Fragment& f, const Fragment& g, int material, uint64_t index) {
-    if (!os_.drawn_by(material)) {
-      if (quads_) {
-        quads_->add(f, g, material, index, sender());
-      } else {
-        send(f, g, g, material, index);
-      }
-      return;
-    }
-    flush();  // in arrival order
-    const Rgba c = os_.shade(material, f.x, f.y);
-    record_(f, g, material, &c, index);
-  }
-  // Everything added so far through the units.
-  void flush() {
-    if (quads_) quads_->flush(sender());
-    batch_.flush(record_);
-  }
-  const QuadFeed* quads() const { return quads_.get(); }
-
- private:
-  // To the fragment's unit; u is what the unit filters (g, or g with its quad's derivatives).
-  void send(const Fragment& f, const Fragment& g, const Fragment& u, int material, uint64_t index) {
-    if (units_.several()) {
-      units_.add(f, g, u, material, index);
-    } else {
-      batch_.add(f, g, u, material, index, record_);
-    }
-  }
-  UnitArray& units_;
-  ObjectSpaceFrame& os_;
-  UnitArray::Record record_;
-  UnitBatch batch_;
-  std::unique_ptr<QuadFeed> quads_;
-};
-
 // A scene whose materials compute their own coordinates: planes drawn one by one through the
 // front end (unit 0 runs the coordinate units; with several units each fragment is textured
 // by its tile's unit).
@@ -698,11 +561,17 @@ ImageLayout run_layout(const RunOptions& opt, const Scene& scene, bool use_scene
                      ", " + std::to_string(l.extent.y1 - 1) + ")");
     return l;
   }
-  if (opt.frame > 0) {
+  if (opt.frame >= scene.frames) {
     throw InputError(scene.path,
-                     "--frame " + std::to_string(opt.frame) + ": a scene renders frame 0 only");
+                     "--frame " + std::to_string(opt.frame) + ": the scene renders " +
+                         (scene.frames == 1 ? std::string("frame 0 only")
+                                            : "frames 0 to " + std::to_string(scene.frames - 1)));
   }
   ImageLayout l{scene.width, scene.height, scene_extent(scene, maps), 1};
+  if (scene.frames > 1) {  // a camera path: every frame may cover any pixel
+    l.extent = {0, 0, scene.width, scene.height};
+    l.pairs = 2;
+  }
   l.scene_bytes = sat_add(sat_mul(l.extent.pixels(), kDepthTestBytesPerPixel),
                           sat_mul(maps.size(), sizeof(PlaneProjection) * 2));  // run's, generator's
   l.object_space_bytes = object_space_bytes(scene);
@@ -792,6 +661,49 @@ RunInfo images_info(const RunOptions& opt, const ImageLayout& layout, const RunT
   info.error_scale = info.error_scale_auto ? images.kept_accuracy().max_abs : opt.error_scale;
   info.error_bar_rows = colour_bar_rows(layout.canvas_h);
   return info;
+}
+
+// A scene with a camera path renders its frames one after another through the fragment
+// generator; what builds per-primitive state once for one camera cannot follow it.
+void check_scene_frames(const Scene& scene, UnitArray& units, const ObjectSpaceFrame& os,
+                        const SurfaceSetup& surf) {
+  if (scene.frames == 1) return;
+  if (units.several()) {
+    // Their fragments wait per tile: a frame's would be judged through the next frame's maps.
+    throw InputError(scene.path, "output.frames = " + std::to_string(scene.frames) +
+                                     ": a camera path runs on one texture unit ([pipeline] units "
+                                     "= 1); render one frame for several units");
+  }
+  const char* what = units.front_stages() > 0 ? "coordinates of their own (coords)"
+                     : os.active()            ? "object_space"
+                     : surf.active()          ? "relief or lighting"
+                                              : nullptr;
+  if (what == nullptr) return;
+  throw InputError(scene.path, "output.frames = " + std::to_string(scene.frames) +
+                                   ": materials with " + what +
+                                   " are drawn for one camera only; render one frame (frames = 1)");
+}
+
+// The scene's fragments frame after frame (one frame without a camera path). Before frame k's
+// camera replaces frame k-1's, what is in flight is finished, so that every fragment is
+// judged through its own frame's projective maps (`maps`, which the ground truth reads).
+template <class Emit>
+void scene_frames(Scene& scene, std::vector<PlaneProjection>& maps,
+                  const std::vector<MaterialSetup>& mats, std::vector<RasterCounters>& raster,
+                  FragmentRouter& router, TruthBatch& batch, Emit&& emit) {
+  for (int k = 0; k < scene.frames; ++k) {
+    if (k > 0) {
+      router.flush();
+      batch.flush();
+      scene.camera = frame_camera(scene, k);
+      for (size_t i = 0; i < maps.size(); ++i)
+        maps[i] = PlaneProjection(scene, scene.primitives[i]);
+    }
+    std::vector<RasterCounters> frame_raster;
+    generate_fragments(scene, static_cast<uint32_t>(k), emit, &frame_raster, &mats);
+    raster.resize(std::max(raster.size(), frame_raster.size()));
+    for (size_t m = 0; m < frame_raster.size(); ++m) raster[m] += frame_raster[m];
+  }
 }
 
 // The run's ground truth: the scene's pixel model; relief and lighting have only the box.
@@ -888,13 +800,14 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   };
   uint64_t index = 0;
   std::vector<RasterCounters> raster;
+  if (!reader) check_scene_frames(scene, units, os, surf);
   if (reader) {
     stream_trace(*reader, opt.threads, [&](const Fragment& f) { handle(f, index++); });
   } else if (unit.front_stages() > 0) {
     draw_front_end(scene, maps, units, textures, record, index);
   } else {
-    generate_fragments(
-        scene, 0, [&](const Fragment& f) { handle(f, index++); }, &raster, &mats);
+    scene_frames(scene, maps, mats, raster, router, batch,
+                 [&](const Fragment& f) { handle(f, index++); });
   }
   router.flush();
   units.finish();
@@ -942,8 +855,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
 }
 uint64_t generate_scene_trace(const std::string& scene_path, const std::string& out_path,
                               const std::vector<std::string>& overrides) {
-  const Scene scene =
-      scene_path.empty() ? default_scene(overrides) : load_scene(scene_path, overrides);
+  Scene scene = scene_path.empty() ? default_scene(overrides) : load_scene(scene_path, overrides);
   TraceHeader h;
   for (size_t i = 0; i < scene.textures.size(); ++i) {
     const Texture t = load_scene_texture(scene, i);
@@ -959,21 +871,25 @@ uint64_t generate_scene_trace(const std::string& scene_path, const std::string& 
   const std::vector<MaterialSetup> mats = build_materials(scene);  // checks the effects too
   h.has_view = std::any_of(mats.begin(), mats.end(),
                            [](const MaterialSetup& m) { return m.relief || m.lighting; });
-  std::vector<SurfaceFrame> frames;
-  if (h.has_view) {
-    for (const auto& p : scene.primitives) frames.emplace_back(scene, p);
-  }
+  // A camera path: one frame after another, each with its own camera (and view vectors).
   return write_trace(out_path, h, [&](auto& w) {
-    generate_fragments(scene, 0, [&](const Fragment& f) {
-      if (!h.has_view) return w.write(f);
-      const SurfaceFrame& sf = frames[f.prim];
-      const glm::dvec3 v = sf.to_tangent(sf.view(f.x + 0.5, f.y + 0.5));
-      Fragment g = f;
-      g.view_x = static_cast<float>(v.x);
-      g.view_y = static_cast<float>(v.y);
-      g.view_z = static_cast<float>(v.z);
-      w.write(g);
-    });
+    for (int k = 0; k < scene.frames; ++k) {
+      scene.camera = frame_camera(scene, k);
+      std::vector<SurfaceFrame> frames;
+      if (h.has_view) {
+        for (const auto& p : scene.primitives) frames.emplace_back(scene, p);
+      }
+      generate_fragments(scene, static_cast<uint32_t>(k), [&](const Fragment& f) {
+        if (!h.has_view) return w.write(f);
+        const SurfaceFrame& sf = frames[f.prim];
+        const glm::dvec3 v = sf.to_tangent(sf.view(f.x + 0.5, f.y + 0.5));
+        Fragment g = f;
+        g.view_x = static_cast<float>(v.x);
+        g.view_y = static_cast<float>(v.y);
+        g.view_z = static_cast<float>(v.z);
+        w.write(g);
+      });
+    }
   });
 }
 

@@ -152,7 +152,9 @@ DrawRunSummary run_draws(const DrawRunOptions& opt, std::ostream& log) {
           static_cast<size_t>(y) * static_cast<size_t>(s.frame.width) + static_cast<size_t>(x);
       if (!s.frame.drawn[p]) continue;
       const uint8_t* c = s.frame.rgba.data() + 4 * p;
-      img.set(x, y, glm::vec4(c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f, 1.0f));
+      img.set(x, y,
+              glm::vec4(static_cast<float>(c[0]) / 255.0f, static_cast<float>(c[1]) / 255.0f,
+                        static_cast<float>(c[2]) / 255.0f, 1.0f));
     }
   }
   write_image(outputs.path("image.png"), img);
@@ -160,7 +162,7 @@ DrawRunSummary run_draws(const DrawRunOptions& opt, std::ostream& log) {
     const std::vector<uint8_t> diff = difference_image(s.frame, ref, 8);
     ImageRgb d(s.frame.width, s.frame.height, glm::dvec3(0));
     for (size_t p = 0; p < diff.size(); ++p) {
-      const float g = diff[p] / 255.0f;
+      const float g = static_cast<float>(diff[p]) / 255.0f;
       d.set(static_cast<int>(p % static_cast<size_t>(s.frame.width)),
             static_cast<int>(p / static_cast<size_t>(s.frame.width)), glm::vec4(g, g, g, 1));
     }

@@ -198,6 +198,59 @@ std::vector<std::string_view> split_args(std::string_view s) {
   return out;
 }
 
+// The triangle list of primitive `mode` over idx, in the application's winding; false for the
+// modes it does not turn into triangles (points and lines).
+bool triangle_list(uint32_t mode, const std::vector<uint32_t>& idx, std::vector<uint32_t>& tri) {
+  const size_t n = idx.size();
+  switch (mode) {
+    case 4:
+      for (size_t k = 0; k + 2 < n; k += 3) tri.insert(tri.end(), {idx[k], idx[k + 1], idx[k + 2]});
+      break;
+    case 5:
+      for (size_t k = 0; k + 2 < n; ++k) {
+        if (k % 2 == 0)
+          tri.insert(tri.end(), {idx[k], idx[k + 1], idx[k + 2]});
+        else
+          tri.insert(tri.end(), {idx[k + 1], idx[k], idx[k + 2]});
+      }
+      break;
+    case 6:
+    case 9:
+      for (size_t k = 1; k + 1 < n; ++k) tri.insert(tri.end(), {idx[0], idx[k], idx[k + 1]});
+      break;
+    case 7:
+      for (size_t k = 0; k + 3 < n; k += 4)
+        tri.insert(tri.end(), {idx[k], idx[k + 1], idx[k + 2], idx[k], idx[k + 2], idx[k + 3]});
+      break;
+    case 8:
+      for (size_t k = 0; k + 3 < n; k += 2)
+        tri.insert(tri.end(), {idx[k], idx[k + 1], idx[k + 3], idx[k], idx[k + 3], idx[k + 2]});
+      break;
+    default:
+      return false;
+  }
+  return true;
+}
+
+// State the format cannot hold (an enum it does not know) leaves the draw out.
+bool state_interpreted(const Draw& d) {
+  const DrawState& s = d.state;
+  bool unknown = s.depth_func == kUnknown || s.cull_face == kUnknown || s.front_face == kUnknown ||
+                 s.alpha_func == kUnknown || s.blend_src == kUnknown || s.blend_dst == kUnknown ||
+                 s.viewport_w == 0 || s.viewport_h == 0;
+  for (const DrawUnit& u : d.units)
+    unknown = unknown || u.min_filter == kUnknown || u.mag_filter == kUnknown ||
+              u.wrap_s == kUnknown || u.wrap_t == kUnknown || u.env_mode == kUnknown ||
+              u.env_mode == 0x8570;
+  return !unknown;
+}
+
+// A client array whose data this importer can read (float or double; bytes where allowed).
+bool usable_array(const ClientArray& a, bool bytes_ok) {
+  return !a.buffer && a.size >= 1 && a.size <= 4 && a.stride < 65536 &&
+         (a.type == 0x1406 || a.type == 0x140A || (bytes_ok && a.type == 0x1401));
+}
+
 class Interpreter {
  public:
   Interpreter(std::string name, std::string blob_dir, bool remove_blobs, uint32_t first,
@@ -389,11 +442,23 @@ class Interpreter {
   }
 
   bool dispatch();
+  bool texture_object_call(const std::string& c);
+  bool texture_unit_call(const std::string& c);
+  bool matrix_call(const std::string& c);
+  bool client_array_call(const std::string& c);
+  bool state_call(const std::string& c);
+  bool draw_call(const std::string& c);
   void tex_image();
   void tex_parameter();
   void set_pointer(ClientArray& a, size_t size_arg);
   ClientArray* client_array(std::string_view which);
-  void draw(uint32_t mode, std::vector<uint32_t> idx);
+  void draw(uint32_t mode, const std::vector<uint32_t>& idx);
+  bool write_units(const std::string& c, Draw& d);
+  bool arrays_usable(const std::string& c, const Draw& d);
+  double fetch(const ClientArray& a, const char* what, uint32_t v, uint32_t k);
+  bool gather_vertices(const std::string& c, uint32_t lo, uint32_t nv, Draw& d);
+  void transform_vertex(const Mat& mvp, uint32_t src, float* out);
+  void vertex_colour(uint32_t src, uint8_t* out);
   bool set_cap(std::string_view cap, bool on);
   std::optional<uint32_t> write_texture(GlTexture& t, uint32_t gl_name, std::string& why);
 
@@ -493,7 +558,15 @@ bool Interpreter::dispatch() {
                                           "glGetTexLevelParameteriv"};
   for (const char* n : kNoEffect)
     if (c == n) return true;
+  if (texture_object_call(c) || texture_unit_call(c) || matrix_call(c) || client_array_call(c) ||
+      state_call(c) || draw_call(c))
+    return true;
+  count(c);
+  return true;
+}
 
+// Texture names, uploads, parameters and unpacking. False when the call is not one of them.
+bool Interpreter::texture_object_call(const std::string& c) {
   if (c == "glBindTexture") {
     need_args(2);
     if (args_[0] != "GL_TEXTURE_2D") return count(c + "(" + std::string(args_[0]) + ")"), true;
@@ -525,8 +598,24 @@ bool Interpreter::dispatch() {
     tex_image();
   } else if (c == "glTexParameterf" || c == "glTexParameteri") {
     tex_parameter();
-  } else if (c == "glActiveTexture" || c == "glActiveTextureARB" || c == "glClientActiveTexture" ||
-             c == "glClientActiveTextureARB") {
+  } else if (c == "glPixelStorei") {
+    need_args(2);
+    const double v = num(1);
+    if (args_[0] == "GL_UNPACK_ALIGNMENT" && (v == 1 || v == 2 || v == 4 || v == 8))
+      unpack_alignment_ = static_cast<uint32_t>(v);
+    else
+      count(c + "(" + std::string(args_[0]) + ")");
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The active units, their environment and current coordinates. False when the call is not one of
+// them.
+bool Interpreter::texture_unit_call(const std::string& c) {
+  if (c == "glActiveTexture" || c == "glActiveTextureARB" || c == "glClientActiveTexture" ||
+      c == "glClientActiveTextureARB") {
     need_args(1);
     const std::string_view a = args_[0];
     const int u = unit_of(a);
@@ -542,7 +631,27 @@ bool Interpreter::dispatch() {
     } else {
       count(c + "(" + std::string(args_[1]) + ")");
     }
-  } else if (c == "glMatrixMode") {
+  } else if (c == "glTexCoord2f") {
+    need_args(2);
+    units_[0].s = f32(0);
+    units_[0].t = f32(1);
+    count(c);  // immediate mode: the current value is kept, the vertex it feeds is not
+  } else if (c == "glMultiTexCoord2f" || c == "glMultiTexCoord2fARB") {
+    need_args(3);
+    const std::string_view a = args_[0];
+    const int u = unit_of(a);
+    if (u < 0) throw InputError(where(), "bad texture unit " + std::string(a));
+    units_[u].s = f32(1);
+    units_[u].t = f32(2);
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The matrix stacks. False when the call is not one of them.
+bool Interpreter::matrix_call(const std::string& c) {
+  if (c == "glMatrixMode") {
     need_args(1);
     if (args_[0] == "GL_MODELVIEW")
       matrix_mode_ = 0x1700;
@@ -620,7 +729,16 @@ bool Interpreter::dispatch() {
     Stack& s = stack();
     if (s.m.size() <= 1) throw InputError(where(), "matrix stack underflow");
     s.m.pop_back();
-  } else if (c == "glVertexPointer") {
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The client-side vertex, colour and texture coordinate arrays. False when the call is not one of
+// them.
+bool Interpreter::client_array_call(const std::string& c) {
+  if (c == "glVertexPointer") {
     set_pointer(vertex_, 4);
   } else if (c == "glColorPointer") {
     set_pointer(color_, 4);
@@ -632,7 +750,16 @@ bool Interpreter::dispatch() {
       a->enabled = c == "glEnableClientState";
     else
       count(c + "(" + std::string(args_[0]) + ")");
-  } else if (c == "glEnable" || c == "glDisable") {
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// Fixed-function state: capabilities, depth, culling, offset, alpha, blend, viewport, colour. False
+// when the call is not one of them.
+bool Interpreter::state_call(const std::string& c) {
+  if (c == "glEnable" || c == "glDisable") {
     need_args(1);
     if (!set_cap(args_[0], c == "glEnable")) count(c + "(" + std::string(args_[0]) + ")");
   } else if (c == "glDepthFunc") {
@@ -679,26 +806,15 @@ bool Interpreter::dispatch() {
       color_now_[k] = static_cast<uint8_t>(ub ? std::lround(std::clamp(v, 0.0, 255.0))
                                               : std::lround(std::clamp(v, 0.0, 1.0) * 255));
     }
-  } else if (c == "glTexCoord2f") {
-    need_args(2);
-    units_[0].s = f32(0);
-    units_[0].t = f32(1);
-    count(c);  // immediate mode: the current value is kept, the vertex it feeds is not
-  } else if (c == "glMultiTexCoord2f" || c == "glMultiTexCoord2fARB") {
-    need_args(3);
-    const std::string_view a = args_[0];
-    const int u = unit_of(a);
-    if (u < 0) throw InputError(where(), "bad texture unit " + std::string(a));
-    units_[u].s = f32(1);
-    units_[u].t = f32(2);
-  } else if (c == "glPixelStorei") {
-    need_args(2);
-    const double v = num(1);
-    if (args_[0] == "GL_UNPACK_ALIGNMENT" && (v == 1 || v == 2 || v == 4 || v == 8))
-      unpack_alignment_ = static_cast<uint32_t>(v);
-    else
-      count(c + "(" + std::string(args_[0]) + ")");
-  } else if (c == "glDrawElements" || c == "glDrawRangeElements") {
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// Draw calls: their indices, then draw(). False when the call is not one of them.
+bool Interpreter::draw_call(const std::string& c) {
+  if (c == "glDrawElements" || c == "glDrawRangeElements") {
     const bool range = c == "glDrawRangeElements";
     need_args(range ? 6 : 4);
     const size_t base = range ? 2 : 0;
@@ -726,7 +842,7 @@ bool Interpreter::dispatch() {
                : tb == 2 ? uint32_t(p[0] | p[1] << 8)
                          : uint32_t(p[0] | p[1] << 8 | p[2] << 16 | uint32_t(p[3]) << 24);
     }
-    draw(mode, std::move(idx));
+    draw(mode, idx);
   } else if (c == "glDrawArrays") {
     need_args(3);
     const double f = num(1), n = num(2);
@@ -735,13 +851,12 @@ bool Interpreter::dispatch() {
     std::vector<uint32_t> idx(static_cast<size_t>(n));
     for (size_t k = 0; k < idx.size(); ++k)
       idx[k] = static_cast<uint32_t>(f) + static_cast<uint32_t>(k);
-    draw(gl_enum(0), std::move(idx));
+    draw(gl_enum(0), idx);
   } else {
-    count(c);
+    return false;
   }
   return true;
 }
-
 void Interpreter::tex_parameter() {
   need_args(3);
   if (args_[0] != "GL_TEXTURE_2D") return count(call_ + "(" + std::string(args_[0]) + ")");
@@ -869,39 +984,11 @@ std::optional<uint32_t> Interpreter::write_texture(GlTexture& t, uint32_t gl_nam
   return d.id;
 }
 
-void Interpreter::draw(uint32_t mode, std::vector<uint32_t> idx) {
+void Interpreter::draw(uint32_t mode, const std::vector<uint32_t>& idx) {
   if (!in_range()) return;
   const std::string c = call_;
-  // The triangle list of the primitive, in the application's winding.
   std::vector<uint32_t> tri;
-  const size_t n = idx.size();
-  switch (mode) {
-    case 4:
-      for (size_t k = 0; k + 2 < n; k += 3) tri.insert(tri.end(), {idx[k], idx[k + 1], idx[k + 2]});
-      break;
-    case 5:
-      for (size_t k = 0; k + 2 < n; ++k) {
-        if (k % 2 == 0)
-          tri.insert(tri.end(), {idx[k], idx[k + 1], idx[k + 2]});
-        else
-          tri.insert(tri.end(), {idx[k + 1], idx[k], idx[k + 2]});
-      }
-      break;
-    case 6:
-    case 9:
-      for (size_t k = 1; k + 1 < n; ++k) tri.insert(tri.end(), {idx[0], idx[k], idx[k + 1]});
-      break;
-    case 7:
-      for (size_t k = 0; k + 3 < n; k += 4)
-        tri.insert(tri.end(), {idx[k], idx[k + 1], idx[k + 2], idx[k], idx[k + 2], idx[k + 3]});
-      break;
-    case 8:
-      for (size_t k = 0; k + 3 < n; k += 2)
-        tri.insert(tri.end(), {idx[k], idx[k + 1], idx[k + 3], idx[k], idx[k + 3], idx[k + 2]});
-      break;
-    default:
-      return count(c + "[points or lines]");
-  }
+  if (!triangle_list(mode, idx, tri)) return count(c + "[points or lines]");
   if (tri.empty()) return;
   if (tri.size() > kDrawMaxIndices) return count(c + "[too many indices]");
   const auto [lo_it, hi_it] = std::minmax_element(tri.begin(), tri.end());
@@ -912,15 +999,38 @@ void Interpreter::draw(uint32_t mode, std::vector<uint32_t> idx) {
   Draw d;
   d.state = st_;
   if (!viewport_set_) return count(c + "[viewport not set]");
+  if (!write_units(c, d)) return;
+  if (!state_interpreted(d)) return count(c + "[state not interpreted]");
+  if (!arrays_usable(c, d)) return;
+
+  const uint32_t nv = hi - lo + 1;
+  if (!gather_vertices(c, lo, nv, d)) return;
+  d.indices.resize(tri.size());
+  for (size_t k = 0; k < tri.size(); ++k) d.indices[k] = tri[k] - lo;
+  w_.add_draw(d);
+  ImportFrameSummary& fs = s_.frames[frame_];
+  ++fs.draws;
+  fs.vertices += nv;
+  fs.triangles += tri.size() / 3;
+}
+
+// The enabled texture units of the draw, writing each one's texture on first use; false (and
+// counted) when a unit cannot be expressed.
+bool Interpreter::write_units(const std::string& c, Draw& d) {
   for (uint32_t u = 0; u < kUnitsTracked; ++u) {
     Unit& unit = units_[u];
     if (!unit.tex2d) continue;
-    if (u >= kDrawMaxUnits) return count(c + "[more than 2 units]");
-    if (unit.texture.m.back() != identity()) return count(c + "[texture matrix]");
+    if (u >= kDrawMaxUnits) return count(c + "[more than 2 units]"), false;
+    if (unit.texture.m.back() != identity()) return count(c + "[texture matrix]"), false;
     GlTexture& t = textures_[unit.bound];
     std::string why;
     const auto id = write_texture(t, unit.bound, why);
-    if (!id) return count(c + "[" + why + "]");
+    if (!id) {
+      std::string what = c;
+      what.append("[").append(why).append("]");
+      count(what);
+      return false;
+    }
     DrawUnit du;
     du.unit = u;
     du.texture = *id;
@@ -933,54 +1043,50 @@ void Interpreter::draw(uint32_t mode, std::vector<uint32_t> idx) {
     du.env_mode = unit.env;
     d.units.push_back(du);
   }
-  // State the format cannot hold (an enum it does not know) leaves the draw out.
-  const DrawState& s = d.state;
-  bool unknown = s.depth_func == kUnknown || s.cull_face == kUnknown || s.front_face == kUnknown ||
-                 s.alpha_func == kUnknown || s.blend_src == kUnknown || s.blend_dst == kUnknown ||
-                 s.viewport_w == 0 || s.viewport_h == 0;
-  for (const DrawUnit& u : d.units)
-    unknown = unknown || u.min_filter == kUnknown || u.mag_filter == kUnknown ||
-              u.wrap_s == kUnknown || u.wrap_t == kUnknown || u.env_mode == kUnknown ||
-              u.env_mode == 0x8570;
-  if (unknown) return count(c + "[state not interpreted]");
+  return true;
+}
 
-  // Fetches component k (of `size`) of element v of an array, as a double.
-  auto fetch = [&](const ClientArray& a, const char* what, uint32_t v, uint32_t k) -> double {
-    const uint32_t tb = type_bytes(a.type);
-    const uint64_t stride = a.stride ? a.stride : uint64_t{a.size} * tb;
-    const uint64_t at = uint64_t{v} * stride + uint64_t{k} * tb;
-    if (at + tb > a.data.size())
-      throw InputError(where(), std::string(what) + " array of " + std::to_string(a.data.size()) +
-                                    " bytes ends before vertex " + std::to_string(v));
-    const uint8_t* p = a.data.data() + at;
-    if (a.type == 0x1406) {
-      float f;
-      std::memcpy(&f, p, 4);
-      return f;
-    }
-    if (a.type == 0x140A) {
-      double f;
-      std::memcpy(&f, p, 8);
-      return f;
-    }
-    return p[0];  // GL_UNSIGNED_BYTE (colours)
-  };
-  auto usable = [](const ClientArray& a, bool bytes_ok) {
-    return !a.buffer && a.size >= 1 && a.size <= 4 && a.stride < 65536 &&
-           (a.type == 0x1406 || a.type == 0x140A || (bytes_ok && a.type == 0x1401));
-  };
-  if (vertex_.buffer || color_.buffer) return count(c + "[buffer object]");
-  if (!usable(vertex_, false) || vertex_.size < 2) return count(c + "[vertex array type]");
-  if (color_.enabled && (!usable(color_, true) || color_.size < 3))
-    return count(c + "[colour array type]");
+// Whether the arrays the draw reads hold client data of a readable type; counted when not.
+bool Interpreter::arrays_usable(const std::string& c, const Draw& d) {
+  if (vertex_.buffer || color_.buffer) return count(c + "[buffer object]"), false;
+  if (!usable_array(vertex_, false) || vertex_.size < 2)
+    return count(c + "[vertex array type]"), false;
+  if (color_.enabled && (!usable_array(color_, true) || color_.size < 3))
+    return count(c + "[colour array type]"), false;
   for (const DrawUnit& u : d.units) {
     const ClientArray& a = units_[u.unit].coords;
-    if (a.enabled && (a.buffer || !usable(a, false)))
-      return count(c + "[texture coordinate array type]");
+    if (a.enabled && (a.buffer || !usable_array(a, false)))
+      return count(c + "[texture coordinate array type]"), false;
   }
+  return true;
+}
 
+// Component k (of `size`) of element v of an array, as a double.
+double Interpreter::fetch(const ClientArray& a, const char* what, uint32_t v, uint32_t k) {
+  const uint32_t tb = type_bytes(a.type);
+  const uint64_t stride = a.stride ? a.stride : uint64_t{a.size} * tb;
+  const uint64_t at = uint64_t{v} * stride + uint64_t{k} * tb;
+  if (at + tb > a.data.size())
+    throw InputError(where(), std::string(what) + " array of " + std::to_string(a.data.size()) +
+                                  " bytes ends before vertex " + std::to_string(v));
+  const uint8_t* p = a.data.data() + at;
+  if (a.type == 0x1406) {
+    float f;
+    std::memcpy(&f, p, 4);
+    return f;
+  }
+  if (a.type == 0x140A) {
+    double f;
+    std::memcpy(&f, p, 8);
+    return f;
+  }
+  return p[0];  // GL_UNSIGNED_BYTE (colours)
+}
+
+// Vertices lo..lo+nv-1 of the draw: clip-space positions, texture coordinates and colours; false
+// (and counted) for projective texture coordinates.
+bool Interpreter::gather_vertices(const std::string& c, uint32_t lo, uint32_t nv, Draw& d) {
   const Mat mvp = mul(projection_.m.back(), modelview_.m.back());
-  const uint32_t nv = hi - lo + 1;
   d.vertex_count = nv;
   d.position.resize(size_t{4} * nv);
   d.has_color = true;
@@ -988,14 +1094,7 @@ void Interpreter::draw(uint32_t mode, std::vector<uint32_t> idx) {
   for (size_t i = 0; i < d.units.size(); ++i) d.st[i].resize(size_t{2} * nv);
   for (size_t v = 0; v < nv; ++v) {
     const uint32_t src = lo + static_cast<uint32_t>(v);
-    double p[4] = {0, 0, 0, 1};
-    for (uint32_t k = 0; k < vertex_.size; ++k) p[k] = fetch(vertex_, "vertex", src, k);
-    for (int row = 0; row < 4; ++row) {
-      const double x =
-          mvp[row] * p[0] + mvp[4 + row] * p[1] + mvp[8 + row] * p[2] + mvp[12 + row] * p[3];
-      d.position[4 * v + row] =
-          to_f32(x, "vertex " + std::to_string(src) + ": clip-space position");
-    }
+    transform_vertex(mvp, src, &d.position[4 * v]);
     for (size_t i = 0; i < d.units.size(); ++i) {
       const Unit& unit = units_[d.units[i].unit];
       const ClientArray& a = unit.coords;
@@ -1004,35 +1103,46 @@ void Interpreter::draw(uint32_t mode, std::vector<uint32_t> idx) {
         cs = fetch(a, "texture coordinate", src, 0);
         ct = a.size >= 2 ? fetch(a, "texture coordinate", src, 1) : 0;
         if (a.size == 4 && fetch(a, "texture coordinate", src, 3) != 1)
-          return count(c + "[projective texture coordinates]");
+          return count(c + "[projective texture coordinates]"), false;
       }
       d.st[i][2 * v] = to_f32(cs, "vertex " + std::to_string(src) + ": texture coordinate");
       d.st[i][2 * v + 1] = to_f32(ct, "vertex " + std::to_string(src) + ": texture coordinate");
     }
-    for (uint32_t k = 0; k < 4; ++k) {
-      uint8_t col = color_now_[k];
-      if (color_.enabled) {
-        if (k < color_.size) {
-          const double x = fetch(color_, "colour", src, k);
-          if (!std::isfinite(x))
-            throw InputError(where(), "vertex " + std::to_string(src) + ": colour is not finite");
-          col = color_.type == 0x1401
-                    ? static_cast<uint8_t>(x)
-                    : static_cast<uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255));
-        } else {
-          col = 255;
-        }
-      }
-      d.color[4 * v + k] = col;
-    }
+    vertex_colour(src, &d.color[4 * v]);
   }
-  d.indices.resize(tri.size());
-  for (size_t k = 0; k < tri.size(); ++k) d.indices[k] = tri[k] - lo;
-  w_.add_draw(d);
-  ImportFrameSummary& fs = s_.frames[frame_];
-  ++fs.draws;
-  fs.vertices += nv;
-  fs.triangles += tri.size() / 3;
+  return true;
+}
+
+// The clip-space position of vertex src under mvp.
+void Interpreter::transform_vertex(const Mat& mvp, uint32_t src, float* out) {
+  double p[4] = {0, 0, 0, 1};
+  for (uint32_t k = 0; k < vertex_.size; ++k) p[k] = fetch(vertex_, "vertex", src, k);
+  for (int row = 0; row < 4; ++row) {
+    const double x =
+        mvp[row] * p[0] + mvp[4 + row] * p[1] + mvp[8 + row] * p[2] + mvp[12 + row] * p[3];
+    out[row] = to_f32(x, "vertex " + std::to_string(src) + ": clip-space position");
+  }
+}
+
+// The RGBA colour of vertex src: the colour array where enabled (missing components 255), else
+// the current colour.
+void Interpreter::vertex_colour(uint32_t src, uint8_t* out) {
+  for (uint32_t k = 0; k < 4; ++k) {
+    uint8_t col = color_now_[k];
+    if (color_.enabled) {
+      if (k < color_.size) {
+        const double x = fetch(color_, "colour", src, k);
+        if (!std::isfinite(x))
+          throw InputError(where(), "vertex " + std::to_string(src) + ": colour is not finite");
+        col = color_.type == 0x1401
+                  ? static_cast<uint8_t>(x)
+                  : static_cast<uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255));
+      } else {
+        col = 255;
+      }
+    }
+    out[k] = col;
+  }
 }
 
 // Bounded line reader over a file descriptor.

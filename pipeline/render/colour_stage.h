@@ -5,6 +5,7 @@
 // frame can be compared with the application's own image. Arithmetic: float32 on [0, 1]
 // (OpenGL's fixed-function equations, each result clamped to [0, 1]); the framebuffer is RGBA8,
 // written rounded to nearest.
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -62,7 +63,8 @@ Rgba blend(uint32_t sf, uint32_t df, const Rgba& src, const Rgba& dst);
 // A [0, 1] channel as RGBA8: round to nearest (clamped first).
 inline uint8_t to_unorm8(float c) {
   const float k = c <= 0 ? 0 : (c >= 1 ? 1 : c);
-  return static_cast<uint8_t>(k * 255.0f + 0.5f);
+  // floor of the float sum, not lround(x): the two differ where the sum rounds up to a whole.
+  return static_cast<uint8_t>(std::floor(k * 255.0f + 0.5f));
 }
 
 }  // namespace texsim

@@ -393,7 +393,14 @@ void DrawRenderer::raster_triangle(const Draw& d, const Tri& t, uint32_t frame,
   });
   if (frags_.empty()) return;
 
-  // Texturing through the texsim unit: each enabled unit's fragments of the triangle, in turn.
+  texture_fragments(d);
+  shade_fragments(d, out);
+}
+
+// Texturing through the texsim unit: each enabled unit's fragments of the triangle, in turn.
+void DrawRenderer::texture_fragments(const Draw& d) {
+  DrawRenderCounts& c = *counts_;
+  const size_t nu = d.units.size();
   TextureUnit& unit = units_->unit(0);
   for (size_t u = 0; u < nu; ++u) {
     const DrawUnit& du = d.units[u];
@@ -416,8 +423,13 @@ void DrawRenderer::raster_triangle(const Draw& d, const Tri& t, uint32_t frame,
     }
     c.lookups += look_[u].size();
   }
+}
 
-  // The colour stage, fragment by fragment in rasterisation order.
+// The colour stage, fragment by fragment in rasterisation order.
+void DrawRenderer::shade_fragments(const Draw& d, RenderedFrame& out) {
+  DrawRenderCounts& c = *counts_;
+  const DrawState& s = d.state;
+  const size_t nu = d.units.size();
   for (size_t i = 0; i < frags_.size(); ++i) {
     const Frag& f = frags_[i];
     Rgba col = f.colour;
@@ -434,7 +446,8 @@ void DrawRenderer::raster_triangle(const Draw& d, const Tri& t, uint32_t frame,
                        4;
     uint8_t* p = out.rgba.data() + img;
     if (s.blend) {
-      const Rgba dst(p[0] / 255.0f, p[1] / 255.0f, p[2] / 255.0f, p[3] / 255.0f);
+      const Rgba dst(static_cast<float>(p[0]) / 255.0f, static_cast<float>(p[1]) / 255.0f,
+                     static_cast<float>(p[2]) / 255.0f, static_cast<float>(p[3]) / 255.0f);
       col = blend(s.blend_src, s.blend_dst, col, dst);
       ++c.blended;
     }

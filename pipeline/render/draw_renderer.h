@@ -80,6 +80,9 @@ class DrawRenderer {
   struct Tri;
   void render_draw(const Draw& d, uint32_t frame, size_t draw_index, RenderedFrame& out);
   void raster_triangle(const Draw& d, const Tri& t, uint32_t frame, RenderedFrame& out);
+  // The triangle's fragments (frags_, look_) through the texture unit, then the colour stage.
+  void texture_fragments(const Draw& d);
+  void shade_fragments(const Draw& d, RenderedFrame& out);
 
   const DrawTrace& trace_;
   std::string file_;
@@ -92,7 +95,6 @@ class DrawRenderer {
   EdgeRasterizer raster_;
   // The frame in flight.
   std::vector<uint32_t> depth_;
-  int win_x0_ = 0, win_y0_ = 0;
   uint32_t prim_ = 0;
   // Per triangle: the fragments that passed the depth test, and their texture look-ups.
   struct Frag {

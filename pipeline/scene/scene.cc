@@ -11,6 +11,7 @@
 #include "blocks/geometry/aviation_camera.h"
 #include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene_meshes.h"
+#include "pipeline/scene/scene_models.h"
 #include "pipeline/scene/scene_overrides.h"
 #include "pipeline/scene/scene_values.h"
 
@@ -22,7 +23,8 @@ std::string at(const std::string& src, const toml::node& n) { return source_at(s
 
 void parse_output(const ConfigReader& top, Scene& s) {
   const ConfigReader out = top.sub("output");
-  out.reject_unknown({"width", "height", "background"});
+  out.reject_unknown({"width", "height", "background", "frames"});
+  s.frames = static_cast<int>(out.get_int("frames", 1, 1, 10000));
   s.width = static_cast<int>(out.get_int("width", s.width, 1, 16384));
   s.height = static_cast<int>(out.get_int("height", s.height, 1, 16384));
   s.background = read_vec<3>(out, "background", s.background);
@@ -41,17 +43,32 @@ void aviation_pose(const ConfigReader& cam, Camera& c) {
 }
 
 // The camera, imaging the output's width × height.
-void parse_camera(const ConfigReader& top, const Scene& s, Camera& c) {
+void parse_camera(const ConfigReader& top, Scene& s, Camera& c) {
   const ConfigReader cam = top.sub("camera");
   cam.reject_unknown({"position", "look_at", "up", "yaw", "pitch", "roll", "projection", "fov_y",
-                      "height", "near"});
-  c.position = read_vec<3>(cam, "position", c.position);
-  if (cam.table().contains("yaw") || cam.table().contains("pitch") ||
-      cam.table().contains("roll")) {
-    aviation_pose(cam, c);
+                      "height", "near", "path"});
+  s.camera_path = read_camera_path(cam);
+  if (!s.camera_path.empty()) {
+    // Each key was checked on its own; frame 0 takes the first.
+    for (const char* k : {"position", "look_at", "up", "yaw", "pitch", "roll"}) {
+      if (cam.table().contains(k)) cam.fail(k, "not together with path (each key has its pose)");
+    }
+    c.position = s.camera_path.front().position;
+    c.look_at = s.camera_path.front().look_at;
+    c.up = s.camera_path.front().up;
+  } else if (s.frames > 1) {
+    throw InputError(at(s.path, *top.table().get("output")),
+                     "output.frames = " + std::to_string(s.frames) +
+                         ": several frames need a [camera] path to move along");
   } else {
-    c.look_at = read_vec<3>(cam, "look_at", c.look_at);
-    c.up = read_vec<3>(cam, "up", c.up);
+    c.position = read_vec<3>(cam, "position", c.position);
+    if (cam.table().contains("yaw") || cam.table().contains("pitch") ||
+        cam.table().contains("roll")) {
+      aviation_pose(cam, c);
+    } else {
+      c.look_at = read_vec<3>(cam, "look_at", c.look_at);
+      c.up = read_vec<3>(cam, "up", c.up);
+    }
   }
   c.orthographic = cam.get_choice("projection", 0, {"perspective", "orthographic"}) == 1;
   const double fov_y_deg = cam.get_double("fov_y", 60.0);
@@ -210,14 +227,15 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   apply_overrides(*s.root, overrides);
   const toml::table& root = *s.root;
   const ConfigReader top(root, source_name, "scene");
-  top.reject_unknown({"output", "camera", "textures", "materials", "planes", "meshes", "pipeline",
-                      "tech", "reference", "raster"});
+  top.reject_unknown({"output", "camera", "textures", "materials", "planes", "meshes", "models",
+                      "pipeline", "tech", "reference", "raster"});
   parse_output(top, s);
   parse_camera(top, s, s.camera);
   parse_textures(top, s);
   parse_materials(top, s);
   parse_planes(root, s);
   parse_meshes(root, s);
+  parse_models(root, s);
   const ConfigReader ref = top.sub("reference");
   ref.reject_unknown({"samples", "supersamples", "pixel"});
   parse_reference_samples(ref, s);
@@ -229,6 +247,10 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
     s.energy = EnergyTable::from_toml(*t, source_name);
   }
   return s;
+}
+
+Camera frame_camera(const Scene& s, int k) {
+  return camera_at(s.camera, s.camera_path, frame_time(s.camera_path, s.frames, k));
 }
 
 const char* to_string(TruthPixel p) { return p == TruthPixel::Box ? "box" : "gaussian"; }

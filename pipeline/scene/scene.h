@@ -14,6 +14,7 @@
 #include "blocks/base/energy_table.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/geometry/camera.h"
+#include "pipeline/scene/camera_path.h"
 #include "pipeline/scene/object_space_config.h"
 #include "pipeline/scene/raster_order_config.h"
 
@@ -61,9 +62,10 @@ struct ScenePrimitive {
   int mesh = -1;  // index into Scene::meshes; -1 for a [[planes]] entry
 };
 
-// A [[meshes]] entry: its faces are Scene::primitives[first, first + count).
+// A [[meshes]] or [[models]] entry: its faces are Scene::primitives[first, first + count).
 struct SceneMesh {
   std::string source;  // file path as given, or "box" / "grid"
+  bool model = false;  // a [[models]] entry (read through Assimp)
   std::string uv;      // "file", "planar", "box" or "spherical"
   int material = 0;
   size_t first = 0, count = 0;
@@ -81,7 +83,11 @@ struct Scene {
   std::string base_dir;  // relative texture paths resolve here
   int width = 320, height = 240;
   glm::dvec3 background{0, 0, 0};
-  Camera camera;  // its image is the output's width × height
+  Camera camera;  // its image is the output's width × height (with a path: frame 0's)
+  // [camera] path: keys the camera moves through; [output] frames: how many frames a run
+  // renders along it (1 without a path).
+  std::vector<CameraKey> camera_path;
+  int frames = 1;
   std::vector<SceneTexture> textures;
   std::vector<SceneMaterial> materials;
   // [[planes]] first, in order, then every mesh's faces: a fragment's `prim` indexes this.
@@ -95,7 +101,13 @@ struct Scene {
   TechTable tech = TechTable::defaults();
   EnergyTable energy = EnergyTable::defaults();  // [tech.energy]
   std::shared_ptr<toml::table> root;             // the parsed document (keeps source positions)
+  // Effect tables of the materials made from a [[models]] file's own materials (they have no
+  // table in the document); SceneMaterial::effects points into them.
+  std::vector<std::shared_ptr<const toml::table>> model_effects;
 };
+
+// The camera of frame k (0 <= k < s.frames): s.camera, or posed along the path at frame k's time.
+Camera frame_camera(const Scene& s, int k);
 
 // Parses a scene file; throws InputError "file:line:column: what" on syntax, type, range and
 // reference errors (unknown texture or material names, unknown keys, malformed procedural

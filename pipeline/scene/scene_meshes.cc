@@ -19,7 +19,14 @@ namespace {
 
 std::string at(const std::string& src, const toml::node& n) { return source_at(src, n); }
 
-int material_of(const Scene& s, const ConfigReader& r) {
+// Per face: the scene's primitive and two projections of it (the run's and the generator's).
+constexpr uint64_t kBytesPerFace = sizeof(ScenePrimitive) + 2 * kPlaneProjectionBytes;
+// Placed vertices beyond this magnitude overflow the projections' products.
+constexpr double kMaxWorldCoordinate = 1e15;
+
+}  // namespace
+
+int read_material(const Scene& s, const ConfigReader& r) {
   const toml::node* n = r.table().get("material");
   if (!n || !n->is_string()) r.fail("material", "expected a material name");
   const std::string name = *n->value<std::string>();
@@ -28,13 +35,7 @@ int material_of(const Scene& s, const ConfigReader& r) {
   throw InputError(at(s.path, *n), "unknown material '" + name + "'");
 }
 
-// Per face: the scene's primitive and two projections of it (the run's and the generator's).
-constexpr uint64_t kBytesPerFace = sizeof(ScenePrimitive) + 2 * kPlaneProjectionBytes;
-// Placed vertices beyond this magnitude overflow the projections' products.
-constexpr double kMaxWorldCoordinate = 1e15;
-
-// What the scene's faces so far leave of the memory limit for the next mesh.
-MeshBudget budget_of(const Scene& s) {
+MeshBudget scene_mesh_budget(const Scene& s) {
   MeshBudget b;
   b.bytes_per_triangle = kBytesPerFace;
   b.max_triangles = kMaxScenePrimitives - std::min(s.primitives.size(), kMaxScenePrimitives);
@@ -43,6 +44,59 @@ MeshBudget budget_of(const Scene& s) {
   b.max_bytes = used >= limit ? 0 : limit - used;
   return b;
 }
+
+MeshPlacement read_placement(const ConfigReader& r) {
+  MeshPlacement pl;
+  pl.position = read_vec<3>(r, "position", pl.position);
+  const glm::dvec3 rot = read_vec<3>(r, "rotation", glm::dvec3(0));
+  pl.rotation = aviation_rotation(rot.x, rot.y, rot.z);
+  pl.scale = r.get_double("scale", 1);
+  if (!(pl.scale > 0) || !std::isfinite(pl.scale)) r.fail("scale", "must be a finite number > 0");
+  pl.uv_scale = read_vec<2>(r, "uv_scale", glm::dvec2(1));
+  pl.cull = r.get_choice("cull", 0, {"none", "back"}) == 1;
+  return pl;
+}
+
+void append_mesh(const Mesh& mesh, const MeshPlacement& pl, const std::vector<int>* materials,
+                 SceneMesh sm, const toml::node& e, Scene& s) {
+  if (s.primitives.size() + mesh.triangles.size() > kMaxScenePrimitives) {
+    throw InputError(at(s.path, e), sm.source + ": the scene would hold more than " +
+                                        std::to_string(kMaxScenePrimitives) + " primitives");
+  }
+  std::vector<glm::dvec3> world(mesh.positions.size());
+  for (size_t i = 0; i < world.size(); ++i) {
+    world[i] = pl.apply(mesh.positions[i]);
+    for (int k = 0; k < 3; ++k) {
+      if (!(std::fabs(world[i][k]) <= kMaxWorldCoordinate)) {
+        throw InputError(at(s.path, e), sm.source + ": vertex " + std::to_string(i + 1) +
+                                            " placed at a coordinate beyond ±1e15 (position, "
+                                            "scale and the mesh's coordinates together)");
+      }
+    }
+  }
+  s.primitives.reserve(s.primitives.size() + mesh.triangles.size());
+  sm.first = s.primitives.size();
+  sm.vertices = world.size();
+  for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const MeshTriangle& t = mesh.triangles[i];
+    ScenePrimitive p;
+    p.shape = ScenePrimitive::Shape::Triangle;
+    p.material = materials ? (*materials)[i] : sm.material;
+    p.origin = world[static_cast<size_t>(t.v[0])];
+    p.edge_u = world[static_cast<size_t>(t.v[1])] - p.origin;
+    p.edge_v = world[static_cast<size_t>(t.v[2])] - p.origin;
+    p.uv_origin = t.uv[0] * pl.uv_scale;
+    p.uv_edge_u = (t.uv[1] - t.uv[0]) * pl.uv_scale;
+    p.uv_edge_v = (t.uv[2] - t.uv[0]) * pl.uv_scale;
+    p.cull_back = pl.cull;
+    p.mesh = static_cast<int>(s.meshes.size());
+    s.primitives.push_back(p);
+  }
+  sm.count = s.primitives.size() - sm.first;
+  s.meshes.push_back(std::move(sm));
+}
+
+namespace {
 
 Mesh build_grid(const ConfigReader& r, const Scene& s) {
   const glm::dvec2 size = read_vec<2>(r, "size", glm::dvec2(1));
@@ -53,7 +107,7 @@ Mesh build_grid(const ConfigReader& r, const Scene& s) {
       r.fail("cells", "must be whole numbers in 1..1024");
   }
   const auto nx = static_cast<uint64_t>(cells.x), ny = static_cast<uint64_t>(cells.y);
-  const MeshBudget b = budget_of(s);
+  const MeshBudget b = scene_mesh_budget(s);
   const uint64_t bytes = mesh_bytes((nx + 1) * (ny + 1), 0, 2 * nx * ny, b);
   if (bytes > b.max_bytes) {
     r.fail("cells", "a grid of " + std::to_string(nx) + " x " + std::to_string(ny) +
@@ -75,25 +129,7 @@ Mesh build_mesh(const ConfigReader& r, const Scene& s, const std::string& source
   for (const char* k : {"size", "cells"}) {
     if (r.table().contains(k)) r.fail(k, "box and grid only");
   }
-  return load_obj(source, s.base_dir, proj, budget_of(s));
-}
-
-// The model transform: p' = position + A·(scale·p), A from aviation angles (degrees).
-struct Placement {
-  glm::dvec3 position{0};
-  glm::dmat3 rotation{1.0};
-  double scale = 1;
-  glm::dvec3 apply(const glm::dvec3& p) const { return position + rotation * (scale * p); }
-};
-
-Placement placement(const ConfigReader& r) {
-  Placement pl;
-  pl.position = read_vec<3>(r, "position", pl.position);
-  const glm::dvec3 rot = read_vec<3>(r, "rotation", glm::dvec3(0));
-  pl.rotation = aviation_rotation(rot.x, rot.y, rot.z);
-  pl.scale = r.get_double("scale", 1);
-  if (!(pl.scale > 0) || !std::isfinite(pl.scale)) r.fail("scale", "must be a finite number > 0");
-  return pl;
+  return load_obj(source, s.base_dir, proj, scene_mesh_budget(s));
 }
 
 void parse_mesh(const toml::node& e, Scene& s) {
@@ -102,7 +138,7 @@ void parse_mesh(const toml::node& e, Scene& s) {
   r.reject_unknown({"material", "source", "uv", "size", "cells", "position", "rotation", "scale",
                     "uv_scale", "cull"});
   SceneMesh sm;
-  sm.material = material_of(s, r);
+  sm.material = read_material(s, r);
   sm.source = r.get_string("source", "");
   if (sm.source.empty()) r.fail("source", "expected \"box\", \"grid\" or an OBJ file");
   static const std::vector<std::string_view> kUv = {"file", "planar", "box", "spherical"};
@@ -114,43 +150,8 @@ void parse_mesh(const toml::node& e, Scene& s) {
                                       : UvProjection::Spherical;
   Mesh mesh = build_mesh(r, s, sm.source, proj);
   project_uvs(mesh, proj);  // procedural meshes carry their own; a projection replaces them
-  const Placement pl = placement(r);
-  const glm::dvec2 uv_scale = read_vec<2>(r, "uv_scale", glm::dvec2(1));
-  const bool cull = r.get_choice("cull", 0, {"none", "back"}) == 1;
-  if (s.primitives.size() + mesh.triangles.size() > kMaxScenePrimitives) {
-    throw InputError(at(s.path, e), sm.source + ": the scene would hold more than " +
-                                        std::to_string(kMaxScenePrimitives) + " primitives");
-  }
-  std::vector<glm::dvec3> world(mesh.positions.size());
-  for (size_t i = 0; i < world.size(); ++i) {
-    world[i] = pl.apply(mesh.positions[i]);
-    for (int k = 0; k < 3; ++k) {
-      if (!(std::fabs(world[i][k]) <= kMaxWorldCoordinate)) {
-        throw InputError(at(s.path, e), sm.source + ": vertex " + std::to_string(i + 1) +
-                                            " placed at a coordinate beyond ±1e15 (position, "
-                                            "scale and the mesh's coordinates together)");
-      }
-    }
-  }
-  s.primitives.reserve(s.primitives.size() + mesh.triangles.size());
-  sm.first = s.primitives.size();
-  sm.vertices = world.size();
-  for (const MeshTriangle& t : mesh.triangles) {
-    ScenePrimitive p;
-    p.shape = ScenePrimitive::Shape::Triangle;
-    p.material = sm.material;
-    p.origin = world[static_cast<size_t>(t.v[0])];
-    p.edge_u = world[static_cast<size_t>(t.v[1])] - p.origin;
-    p.edge_v = world[static_cast<size_t>(t.v[2])] - p.origin;
-    p.uv_origin = t.uv[0] * uv_scale;
-    p.uv_edge_u = (t.uv[1] - t.uv[0]) * uv_scale;
-    p.uv_edge_v = (t.uv[2] - t.uv[0]) * uv_scale;
-    p.cull_back = cull;
-    p.mesh = static_cast<int>(s.meshes.size());
-    s.primitives.push_back(p);
-  }
-  sm.count = s.primitives.size() - sm.first;
-  s.meshes.push_back(std::move(sm));
+  const MeshPlacement pl = read_placement(r);
+  append_mesh(mesh, pl, nullptr, std::move(sm), e, s);
 }
 
 }  // namespace

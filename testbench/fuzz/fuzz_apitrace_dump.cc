@@ -11,7 +11,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const std::string dir = [] {
-    const std::string d = "/tmp/texsim-fuzz-dump-" + std::to_string(static_cast<long>(::getpid()));
+    std::string d = "/tmp/texsim-fuzz-dump-" + std::to_string(static_cast<long>(::getpid()));
     std::filesystem::create_directories(d);
     return d;
   }();
