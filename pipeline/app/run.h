@@ -39,10 +39,11 @@ struct RunOptions {
   uint64_t max_memory = uint64_t{4} << 30;  // refuse runs estimated to need more (bytes)
   std::string timeline;                     // VCD of the pipeline's stage activity; "" = none
   uint64_t timeline_limit = 10000;          // fragments recorded in the timeline (the first ones)
-  bool workload = true;           // the report's workload characterisation (--no-workload: off)
-  bool ledger = false;            // per-block error ledger in the report (docs/ledger.md)
-  bool ledger_maps = false;       // with the ledger: one error map per block
-  RunCapture* capture = nullptr;  // set: filled with the run's images and figures
+  bool ledger = false;                      // per-block error ledger in the report (docs/ledger.md)
+  bool ledger_maps = false;                 // with the ledger: one error map per block
+  RunCapture* capture = nullptr;            // set: filled with the run's images and figures
+  // The report's workload characterisation (--no-workload: off).
+  bool workload = true;
 };
 
 struct RunSummary {
