@@ -90,8 +90,8 @@ class FlatTable {
 };
 
 // One bit per granule of the textures' address space: distinct texels (4-byte granules) and
-// lines (a granule per line) are counted by direct indexing, 1/32 of the texture memory at
-// most, faster than any hash set.
+// lines (a granule per line) are counted by direct indexing (a texel set: 1/32 of the textures'
+// bytes), faster than any hash set.
 class Bitmap {
  public:
   void resize(uint64_t bits) { words_.assign((bits + 63) / 64, 0); }
