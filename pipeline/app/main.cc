@@ -397,6 +397,25 @@ int run_study_command(StudyCli& s) {
 }
 
 // Parses the command line and runs the subcommand; returns the exit status (docs/cli.md).
+// `texsim run`: a scene or trace run, or a draw trace's frame with --draws.
+void run_run_command(RunCli& run, int argc, char** argv) {
+  using namespace texsim;  // NOLINT(google-build-using-namespace)
+  run.opt.progress = !run.no_progress && ::isatty(STDERR_FILENO);
+  run.opt.command = command_line(argc, argv);
+  run.opt.max_memory = parse_byte_size(run.max_memory, "--max-memory");
+  run.opt.error_scale = parse_error_scale(run.error_scale);
+  run.opt.ledger = run.opt.ledger || run.opt.ledger_maps;
+  if (run.opt.ledger && run.opt.reference == "none")
+    throw InputError("--ledger", "the error ledger needs the ground truth: drop --reference none");
+  if (!run.draws.empty()) {
+    for (const char* o : {"--ledger", "--ledger-maps", "--timeline", "--reference"})
+      if (run.cmd->count(o) > 0) throw InputError(o, "not available with --draws");
+    run_draws({run.opt, run.draws, run.compare}, std::cout);
+  } else {
+    run_simulation(run.opt, std::cout);
+  }
+}
+
 int run_cli(int argc, char** argv) {
   using namespace texsim;
   CLI::App app{"texsim: cycle-approximate simulator of a hardware texture unit"};
@@ -455,22 +474,7 @@ int run_cli(int argc, char** argv) {
   if (const int status = parse_command_line(app, argc, argv); status >= 0) return status;
   try {
     if (*run.cmd) {
-      run.opt.progress = !run.no_progress && ::isatty(STDERR_FILENO);
-      run.opt.command = command_line(argc, argv);
-      run.opt.max_memory = parse_byte_size(run.max_memory, "--max-memory");
-      run.opt.error_scale = parse_error_scale(run.error_scale);
-      run.opt.ledger = run.opt.ledger || run.opt.ledger_maps;
-      if (run.opt.ledger && run.opt.reference == "none")
-        throw texsim::InputError("--ledger",
-                                 "the error ledger needs the ground truth: drop "
-                                 "--reference none");
-      if (!run.draws.empty()) {
-        for (const char* o : {"--ledger", "--ledger-maps", "--timeline", "--reference"})
-          if (run.cmd->count(o) > 0) throw texsim::InputError(o, "not available with --draws");
-        run_draws({run.opt, run.draws, run.compare}, std::cout);
-      } else {
-        run_simulation(run.opt, std::cout);
-      }
+      run_run_command(run, argc, argv);
     } else if (*gen) {
       const uint64_t n =
           generate_scene_trace(gen_scene == "default" ? "" : gen_scene, gen_out, gen_overrides);

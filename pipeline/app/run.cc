@@ -724,6 +724,30 @@ GroundTruth ground_truth(const Scene& scene, const TextureSet& set,
           &surf.frames, PixelIntegrator(scene.reference_pixel, {scene.reference_samples})};
 }
 
+// The scene's [pipeline] (or the defaults).
+PipelineSetup pipeline_setup(const Scene& scene) {
+  // Both branches lvalues: a conditional with a temporary would copy the table, and a copied
+  // toml table loses the line:column its messages name.
+  static const toml::table kNoPipeline;
+  return PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : kNoPipeline, scene.path);
+}
+
+// The projective map of each primitive of a scene run (none for a trace alone).
+std::vector<PlaneProjection> plane_maps(const Scene& scene, bool use_scene) {
+  std::vector<PlaneProjection> maps;
+  if (!use_scene) return maps;
+  maps.reserve(scene.primitives.size());
+  for (const auto& p : scene.primitives) maps.emplace_back(scene, p);
+  return maps;
+}
+
+// Several units: each unit's timeline tracks, observed as each fragment leaves its unit.
+void observe_units(StageTimeline* timeline, UnitArray& units) {
+  if (!timeline || !units.several()) return;
+  units.set_commit_observer(
+      [timeline](int u, const ClockedPipeline& p) { timeline->observe(p, u); });
+}
+
 }  // namespace
 
 RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
@@ -746,16 +770,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   RunTextures textures =
       reader ? load_trace_textures(*reader, opt.trace) : load_scene_textures(scene);
   const std::vector<MaterialSetup> mats = run_materials(scene, use_scene, textures, opt.trace, log);
-  // Both branches lvalues: a conditional with a temporary would copy the table, and a copied
-  // toml table loses the line:column its messages name.
-  static const toml::table kNoPipeline;
-  const PipelineSetup setup =
-      PipelineSetup::from_toml(scene.pipeline ? *scene.pipeline : kNoPipeline, scene.path);
-  std::vector<PlaneProjection> maps;
-  if (use_scene) {
-    maps.reserve(scene.primitives.size());
-    for (const auto& p : scene.primitives) maps.emplace_back(scene, p);
-  }
+  const PipelineSetup setup = pipeline_setup(scene);
+  std::vector<PlaneProjection> maps = plane_maps(scene, use_scene);
   const ImageLayout layout = run_layout(opt, scene, use_scene, trace_sum.get(), maps, textures.set);
   refuse_quad_derivatives_with_coords(setup, mats, scene.path);
   UnitArray units(textures.set, mats, setup, scene.tech, !opt.functional);
@@ -783,10 +799,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     if (timeline && !units.several()) timeline->observe(*unit.pipeline());
     batch.add(f, g, material, colour, index);
   };
-  // Several units: each unit's tracks, observed as each fragment leaves its unit.
-  if (timeline && units.several()) {
-    units.set_commit_observer([&](int u, const ClockedPipeline& p) { timeline->observe(p, u); });
-  }
+  observe_units(timeline.get(), units);
   if (units.several()) units.set_record(record);
   // The unit's timeline observes the pipeline after every fragment: no batching then.
   FragmentRouter router(units, setup, os, record, timeline != nullptr);

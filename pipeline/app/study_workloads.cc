@@ -219,6 +219,7 @@ int run_study_workloads(const std::string& out_dir, std::ostream& log,
       for (const char* s : kScenes)
         scenes.push_back(std::string(TEXSIM_SCENES_DIR) + "/" + s + ".toml");
   }
+  rows.reserve(rows.size() + scenes.size() + opt.traces.size() + opt.draws.size());
   for (const std::string& s : scenes) {
     rows.push_back(
         {s == "default" ? "default" : std::filesystem::path(s).stem().string(), s, "scene", 0, {}});

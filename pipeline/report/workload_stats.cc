@@ -62,6 +62,7 @@ std::vector<WorkloadTexture> place_workload_textures(const std::vector<std::arra
 
 std::vector<WorkloadTexture> workload_textures(const TextureSet& set) {
   std::vector<WorkloadTexture> out;
+  out.reserve(static_cast<size_t>(set.size()));
   for (int i = 0; i < set.size(); ++i) out.push_back(WorkloadTexture::of(set[i]));
   return out;
 }

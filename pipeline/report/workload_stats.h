@@ -176,7 +176,7 @@ class WorkloadStats {
   std::vector<FrameWorkload> frames_;
   FrameWorkload cur_;
   bool open_ = false;
-  uint32_t qframe_ = 0, qprim_ = 0, qx_ = 0, qy_ = 0;
+  uint32_t qprim_ = 0, qx_ = 0, qy_ = 0;  // the open quad (a new frame opens one too)
   std::vector<uint8_t> touched_;
   Bitmap texels0_, texels_, lines_[3];
   ReuseDistance reuse_;

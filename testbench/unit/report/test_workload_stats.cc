@@ -38,8 +38,8 @@ TEST(WorkloadStats, PlacementFollowsTheTextureSet) {
   EXPECT_EQ(t[0].address(0, 1, 1), 36u);
   EXPECT_EQ(t[1].base, 4096u);
   TextureSet set;
-  set.add(
-      Texture::from_rgba("a", 8, 8, std::vector<float>(8 * 8 * 4, 0.5f), TexelFormat::Rgba8, true));
+  set.add(Texture::from_rgba("a", 8, 8, std::vector<float>(size_t{8} * 8 * 4, 0.5f),
+                             TexelFormat::Rgba8, true));
   set.place(TexelLayout::Tiled4x4);
   const WorkloadTexture w = workload_textures(set)[0];
   const auto p = place_workload_textures(Sizes{{8, 8}}, TexelLayout::Tiled4x4);
