@@ -10,6 +10,7 @@
 #include "blocks/base/input_error.h"
 #include "pipeline/app/run.h"
 #include "pipeline/kernel/parallel_range.h"
+#include "pipeline/report/number_text.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/studies/study_table.h"
 
@@ -18,12 +19,6 @@ namespace texsim {
 namespace {
 
 using Set = std::map<std::string, std::string>;
-
-std::string fmt(double v, int prec = 4) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*g", prec, v);
-  return b;
-}
 
 std::string kib(uint64_t bytes) {
   return bytes % 1024 == 0 ? std::to_string(bytes / 1024) + "K" : std::to_string(bytes) + "B";

@@ -12,6 +12,7 @@
 #include "pipeline/app/run.h"
 #include "pipeline/kernel/parallel_range.h"
 #include "pipeline/render/draw_renderer.h"
+#include "pipeline/report/number_text.h"
 #include "pipeline/report/workload_report.h"
 #include "pipeline/studies/study_table.h"
 
@@ -20,12 +21,6 @@ namespace texsim {
 namespace {
 
 using Json = nlohmann::json;
-
-std::string fmt(double v, int prec = 4) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*g", prec, v);
-  return b;
-}
 
 const char* const kScenes[] = {"photo",       "flight",          "bunny",
                                "relief_wall", "terrain_flyover", "cube"};

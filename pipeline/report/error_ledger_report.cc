@@ -2,15 +2,11 @@
 
 #include <cstdio>
 
+#include "pipeline/report/number_text.h"
+
 namespace texsim {
 
 namespace {
-
-std::string fmt(double v, int prec = 4) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-  return buf;
-}
 
 nlohmann::ordered_json delta_json(const LedgerDelta& d) {
   return {{"psnr_db", d.psnr_db},

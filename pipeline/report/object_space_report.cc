@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "pipeline/report/number_text.h"
 #include "pipeline/report/subsystems_report.h"
 
 namespace texsim {
@@ -9,12 +10,6 @@ namespace texsim {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-std::string fmt(double v, int prec = 4) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-  return buf;
-}
 
 double ratio(uint64_t a, uint64_t b) {
   return b > 0 ? static_cast<double>(a) / static_cast<double>(b) : 0.0;

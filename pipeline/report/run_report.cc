@@ -5,17 +5,12 @@
 #include <sstream>
 
 #include "blocks/base/atomic_file.h"
+#include "pipeline/report/number_text.h"
 #include "pipeline/report/workload_report.h"
 
 namespace texsim {
 
 namespace {
-
-std::string fmt(double v, int prec = 4) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-  return buf;
-}
 
 // One material's method and what it cost: its blocks' operations and texels over its fragments.
 struct MaterialRow {

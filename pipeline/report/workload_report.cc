@@ -5,6 +5,7 @@
 #include <map>
 #include <vector>
 
+#include "pipeline/report/number_text.h"
 #include "traces/trace_file.h"
 
 namespace texsim {
@@ -12,12 +13,6 @@ namespace texsim {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-std::string fmt(double v, int prec = 4) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-  return buf;
-}
 
 template <size_t N>
 Json array_json(const std::array<uint64_t, N>& a) {

@@ -9,6 +9,7 @@
 #include "blocks/raster/edge_rasterizer.h"
 #include "blocks/raster/rect_scan/rect_scan_rasterizer.h"
 #include "blocks/texture/coords/uv_constant_depth.h"
+#include "pipeline/report/number_text.h"
 #include "pipeline/studies/study_table.h"
 
 namespace texsim {
@@ -19,12 +20,6 @@ constexpr int kSize = 512;
 // Pixels nearer the horizon than q = 1/64 (a pixel spanning > 64× the texels of the nearest
 // one) are left out: there both methods' texel positions are dominated by the map's pole.
 constexpr long double kMinQ = 1.0L / 64;
-
-std::string fmt(double v, int prec = 4) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*g", prec, v);
-  return b;
-}
 
 struct Accumulator {
   double sum = 0, max = 0, sum_px = 0, max_px = 0;

@@ -14,6 +14,7 @@
 #include "blocks/texture/relief/parallax_mapper.h"
 #include "blocks/texture/relief/sphere_tracer.h"
 #include "blocks/texture/relief/visibility_aware_filter.h"
+#include "pipeline/report/number_text.h"
 #include "pipeline/scene/texture_loader.h"
 #include "pipeline/studies/study_table.h"
 
@@ -28,12 +29,6 @@ constexpr int32_t kLayers = 16;     // distance-map layers (height 1 = 16 layers
 constexpr int32_t kFullCap = 32;    // the loose sphere-tracing cap (the claims table)
 const char* const kAsteroid = "/usr/share/glmark2/textures/asteroid-height-map.png";
 const char* const kCrate = "/usr/share/glmark2/textures/crate-base.png";
-
-std::string fmt(double v, int prec = 4) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*g", prec, v);
-  return b;
-}
 
 struct StudyMap {
   std::string name;
