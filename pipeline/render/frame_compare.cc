@@ -7,10 +7,14 @@
 #include <cstdlib>
 
 #include "blocks/base/input_error.h"
+#include "blocks/base/input_file.h"
 
 namespace texsim {
 
 Rgb8Image read_rgb8_image(const std::string& path) {
+  // A regular file of a reference image's size, before OpenImageIO opens it: a FIFO or device
+  // would never end, and the run's outputs must not replace it.
+  check_input_file(path, "reference image", 256 * kMiB);
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw InputError(path, "cannot read image: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();

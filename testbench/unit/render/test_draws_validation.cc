@@ -3,12 +3,15 @@
 // against glretrace's image of the same frame of the same capture (Mesa llvmpipe), shipped
 // beside it (traces/samples/README.md).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 #include "pipeline/render/draw_renderer.h"
 #include "pipeline/render/frame_compare.h"
+#include "testbench/lib/error_of.h"
 #include "traces/draw_trace.h"
 
 namespace texsim {
@@ -53,6 +56,20 @@ TEST(DrawsValidation, EveryShippedFrameMatchesTheGamesImage) {
   }
   EXPECT_GT(r.units().cycles(), r.units().fragments());  // timed: cycles and cache figures
   EXPECT_GT(r.units().l1_totals().misses, 0u);
+}
+
+// The reference image of --compare is opened like every input: a FIFO or a directory is a
+// clear error at once, never a hang.
+TEST(DrawsValidation, AReferenceImageThatIsNotARegularFileIsRefused) {
+  const auto dir = std::filesystem::temp_directory_path() / "texsim_compare_inputs";
+  std::filesystem::create_directories(dir);
+  const std::string fifo = (dir / "ref.png").string();
+  std::filesystem::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string e = error_of([&] { read_rgb8_image(fifo); });
+  EXPECT_NE(e.find("FIFO"), std::string::npos) << e;
+  EXPECT_NE(error_of([&] { read_rgb8_image(dir.string()); }).find("directory"), std::string::npos);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
