@@ -18,7 +18,7 @@
 #                glXSwapBuffers), capture.txt (the settings, frame count, sizes, times)
 #   --no-install do not apt-get install the packages
 #
-# Measured on a 2-core AMD EPYC, x86-64 with AVX-512 ( packages already installed; `scripts/capture-openarena.sh
+# Measured on a 2-core AMD EPYC, x86-64 with AVX-512; packages already installed; `scripts/capture-openarena.sh
 # --no-install --frames 30`, 640x480, aggressor): 4 s in all (game 2 s, 5 images 2 s); the
 # capture holds 113 frames (the level load included) and is 13.7 MB. capture.txt of a run has
 # its own figures.

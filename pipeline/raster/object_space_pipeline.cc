@@ -344,7 +344,7 @@ ObjectSpaceResult Renderer::run() {
     r_.texels += b.texels;
   }
   r_.cache = unit_.cache().stats();
-  r_.dram_bytes = unit_.dram().stats().bytes;
+  r_.dram_bytes = unit_.memory().dram_totals().bytes;
   const TechTable& t = scene_.tech;
   auto stage = [&](const TimingSpec& ts, uint64_t items) {
     return items * ts.ii / std::max<uint32_t>(1, ts.lanes);

@@ -94,7 +94,7 @@ ScreenRun run_screen(const Scene& scene, TextureSet& set, const std::vector<Mate
     r.ops += b.ops;
     r.texels += b.texels;
   }
-  r.dram_bytes = unit.dram().stats().bytes;
+  r.dram_bytes = unit.memory().dram_totals().bytes;
   return r;
 }
 

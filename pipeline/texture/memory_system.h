@@ -25,8 +25,6 @@ class MemorySystem {
   const TextureCache& l1(int unit) const { return *l1_[static_cast<size_t>(unit)]; }
   // Where an L1 miss goes.
   LineMemory& behind_l1() { return *behind_l1_; }
-  // The flat DRAM (its counters stay zero when the DRAM is banked).
-  const DramModel& dram() const { return dram_; }
   const L2Cache* l2() const { return l2_.get(); }
   const BankedDram* banked() const { return banked_.get(); }
   // The L1s' counters summed.

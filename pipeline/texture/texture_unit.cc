@@ -236,11 +236,11 @@ uint64_t TextureUnit::access_lines(const uint64_t* lines, int n, uint64_t texels
     rec_lines_.insert(rec_lines_.end(), lines, lines + n);
     return 0;
   }
+  if (quad_merge_) return access_quad_lines(lines, n, texels, start);
   const uint64_t hit_ready = start + setup_.cache.hit_latency;
   uint64_t ready = hit_ready;
   const uint32_t line_bytes = setup_.cache.line_bytes;
   const uint32_t shift = cache_.line_shift();
-  if (quad_merge_) return access_quad_lines(lines, n, texels, start);
   for (int k = 0; k < n; ++k) {
     if (!cache_.access_line(lines[k]))
       ready = std::max(ready, next_->read_line(start, lines[k] << shift, line_bytes, unit_));

@@ -132,7 +132,6 @@ class TextureUnit {
   int material_count() const { return static_cast<int>(mats_.size()); }
   const ClockedPipeline* pipeline() const { return pipe_.get(); }
   const TextureCache& cache() const { return cache_; }
-  const DramModel& dram() const { return mem_->dram(); }
   const MemorySystem& memory() const { return *mem_; }
   // Tag look-ups quad merging saved: lines a quad's earlier lane had looked up.
   uint64_t quad_merged_lookups() const { return quad_merged_; }

@@ -1053,6 +1053,20 @@ TEST_F(ReportFigures, ObjectSpace) {
   EXPECT_TRUE(r.contains("object_space"));
 }
 
+// The object-space pipeline's DRAM bytes come from whichever DRAM model the scene sets (the
+// banked one's counters, not the flat one's, which stay zero).
+TEST_F(ReportFigures, ObjectSpaceOnBankedDram) {
+  const Json r = run_scene(kScenes + "object_space.toml", {"pipeline.dram.model=banked"});
+  check_report(r, kW, kH);
+  bool checked = false;
+  for (const auto& [name, m] : r["materials"].items()) {
+    if (!m.contains("object_space")) continue;
+    EXPECT_GT(u(m["object_space"]["dram_bytes"]), 0u) << name;
+    checked = true;
+  }
+  EXPECT_TRUE(checked);
+}
+
 TEST_F(ReportFigures, ErrorLedger) {
   texsim::RunOptions opt;
   opt.ledger = true;

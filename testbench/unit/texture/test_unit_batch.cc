@@ -62,7 +62,7 @@ Figures run(const MaterialSetup& m, TexelLayout layout, bool timing, size_t batc
   out.fragments = unit.fragments();
   out.cycles = unit.cycles();
   out.cache = unit.cache().stats();
-  out.dram = unit.dram().stats();
+  out.dram = unit.memory().dram_totals();
   if (unit.pipeline()) {
     for (int s = 0; s < unit.pipeline()->stage_count(); ++s)
       out.stages.push_back(unit.pipeline()->stats(s));
