@@ -18,6 +18,7 @@
 #include "pipeline/app/run.h"
 #include "pipeline/app/run_draws.h"
 #include "pipeline/app/study_memory.h"
+#include "pipeline/app/study_frames.h"
 #include "pipeline/app/study_workloads.h"
 #include "pipeline/app/sweep.h"
 #include "pipeline/app/tuner.h"
@@ -282,7 +283,8 @@ CLI::App* add_tune_command(CLI::App& app, texsim::TuneOptions& t, std::string& s
 struct StudyCli {
   CLI::App *cmd = nullptr, *vd = nullptr, *coords = nullptr, *filters = nullptr, *raster = nullptr,
            *objspace = nullptr, *rtl = nullptr, *thesis = nullptr, *relief = nullptr,
-           *terrain = nullptr, *memory = nullptr, *workloads = nullptr;
+           *terrain = nullptr, *memory = nullptr, *workloads = nullptr,
+           *frames = nullptr;
   std::string out = "out/study";
   int threads = 0;
   texsim::StudyRtlOptions rtl_opt;
@@ -290,6 +292,8 @@ struct StudyCli {
   texsim::StudyThesisOptions thesis_opt;
   texsim::StudyMemoryOptions memory_opt;
   texsim::StudyWorkloadsOptions workloads_opt;
+  texsim::StudyFramesOptions frames_opt;
+  std::string frames_reference = "scene";
 };
 
 void add_study_commands(CLI::App& app, StudyCli& s) {
@@ -341,14 +345,31 @@ void add_study_commands(CLI::App& app, StudyCli& s) {
   s.workloads->add_option("--draws", s.workloads_opt.draws,
                           "Draw trace of real frames to put beside the scenes (repeatable; "
                           "default: traces/samples/openarena-aggressor.draws)");
+  s.frames = c.add_subcommand(
+      "frames",
+      "Every frame of a draw trace (a real application's capture) through the clocked unit, "
+      "one frame per worker: cycles, L1 and DRAM, error vs the ground truth and vs the "
+      "application's own images");
+  s.frames->add_option("--draws", s.frames_opt.draws,
+                       "Draw trace (default: traces/samples/openarena-aggressor.draws)");
+  s.frames->add_option("--frames", s.frames_opt.frames,
+                       "Frames to render, A-B or A (the capture's numbers; default: all)");
+  s.frames->add_option("--images", s.frames_opt.images,
+                       "Folder of the application's images frame_NNNN.png (default: the folder "
+                       "named like the trace, if any)");
+  s.frames
+      ->add_option("--reference", s.frames_reference,
+                   "'scene' (ground truth per look-up) or 'none' (faster, no accuracy figures)")
+      ->check(CLI::IsMember({"scene", "none"}))
+      ->capture_default_str();
   for (auto* sub : {s.vd, s.coords, s.filters, s.raster, s.objspace, s.rtl, s.thesis, s.relief,
-                    s.terrain, s.memory, s.workloads})
+                    s.terrain, s.memory, s.workloads, s.frames})
     sub->add_option("--out", s.out, "Output directory")->capture_default_str();
   s.memory->add_flag("--quick", s.memory_opt.quick, "A few rows on the built-in scene (seconds)");
   s.memory->add_option("--scene", s.memory_opt.scenes,
                        "Scene file or 'default' (repeatable; default: the built-in scene, "
                        "photo, flight and bunny)");
-  for (auto* sub : {s.vd, s.coords, s.filters, s.memory, s.workloads}) {
+  for (auto* sub : {s.vd, s.coords, s.filters, s.memory, s.workloads, s.frames}) {
     sub->add_option("--threads", s.threads,
                     "Worker threads (0: one per core); the outputs do not depend on it")
         ->check(CLI::Range(0, 1024))
@@ -387,6 +408,11 @@ int run_study_command(StudyCli& s) {
     s.workloads_opt.threads = s.threads;
     return run_study_workloads(s.out, std::cout, s.workloads_opt);
   }
+  if (*s.frames) {
+    s.frames_opt.threads = s.threads;
+    s.frames_opt.truth = s.frames_reference != "none";
+    return run_study_frames(s.out, std::cout, s.frames_opt);
+  }
   if (*s.memory) {
     s.memory_opt.threads = s.threads;
     return run_study_memory(s.out, std::cout, s.memory_opt);
@@ -408,7 +434,7 @@ void run_run_command(RunCli& run, int argc, char** argv) {
   if (run.opt.ledger && run.opt.reference == "none")
     throw InputError("--ledger", "the error ledger needs the ground truth: drop --reference none");
   if (!run.draws.empty()) {
-    for (const char* o : {"--ledger", "--ledger-maps", "--timeline", "--reference"})
+    for (const char* o : {"--ledger", "--ledger-maps", "--timeline"})
       if (run.cmd->count(o) > 0) throw InputError(o, "not available with --draws");
     run_draws({run.opt, run.draws, run.compare}, std::cout);
   } else {

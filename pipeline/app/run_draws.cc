@@ -12,6 +12,7 @@
 #include "blocks/base/version.h"
 #include "pipeline/render/colour_stage.h"
 #include "pipeline/report/image_metrics.h"
+#include "pipeline/report/number_text.h"
 #include "pipeline/report/run_report.h"
 #include "pipeline/scene/scene.h"
 
@@ -32,6 +33,23 @@ size_t pick_frame(const DrawTrace& t, int64_t number, const std::string& file) {
   }
   throw InputError(file, "--frame " + std::to_string(number) +
                              ": the trace has no such frame (its frames: " + have + ")");
+}
+
+// A frame's RGBA8 pixels where drawn (black elsewhere) as an image file.
+void write_frame_image(const std::string& path, const RenderedFrame& f,
+                       const std::vector<uint8_t>& rgba, const std::vector<uint8_t>& drawn) {
+  ImageRgb img(f.width, f.height, glm::dvec3(0));
+  for (int y = 0; y < f.height; ++y) {
+    for (int x = 0; x < f.width; ++x) {
+      const size_t p = static_cast<size_t>(y) * static_cast<size_t>(f.width) + static_cast<size_t>(x);
+      if (!drawn[p]) continue;
+      const uint8_t* c = rgba.data() + 4 * p;
+      img.set(x, y,
+              glm::vec4(static_cast<float>(c[0]) / 255.0f, static_cast<float>(c[1]) / 255.0f,
+                        static_cast<float>(c[2]) / 255.0f, 1.0f));
+    }
+  }
+  write_image(path, img);
 }
 
 Json counts_json(const DrawRenderCounts& c) {
@@ -68,6 +86,18 @@ Json comparison_json(const FrameComparison& c, const std::string& path) {
           {"pixels_off_by_more_than_8", c.off_by_more_than_8}};
 }
 
+// The look-ups against their truth, and the frame against the frame shaded with the truth.
+Json truth_json(const DrawRunSummary& s) {
+  const LookupAccuracy& a = s.frame.accuracy;
+  return {{"lookups", a.lookups},
+          {"lookup_psnr_db", a.psnr_db()},
+          {"lookup_mse", a.mse()},
+          {"lookup_max_abs", a.max_abs},
+          {"mean_truth_samples",
+           a.lookups ? static_cast<double>(a.samples) / static_cast<double>(a.lookups) : 0},
+          {"frame", comparison_json(s.truth, "reference.png")}};
+}
+
 std::string draws_markdown(const DrawRunSummary& s, const DrawRunOptions& opt,
                            const std::vector<std::string>& notes) {
   const DrawRenderCounts& c = s.frame.counts;
@@ -87,6 +117,20 @@ std::string draws_markdown(const DrawRunSummary& s, const DrawRunOptions& opt,
     md << "- approximated: " << what << ": " << n << " draw units\n";
   md << "\nMaterials (one per texture and sampler state):\n\n";
   for (const auto& n : notes) md << "- " << n << "\n";
+  if (s.frame.has_truth()) {
+    const LookupAccuracy& a = s.frame.accuracy;
+    const FrameComparison& t = s.truth;
+    md << "\n## Against the ground truth\n\nEach texture look-up's texel against its truth ("
+       << s.truth_text << "); `reference.png` is the frame shaded with the truth's texels "
+          "(same fragments and depth decisions as `image.png`).\n\n"
+       << "| look-ups | look-up PSNR (dB) | look-up max abs | truth samples per look-up | "
+          "frame PSNR vs truth (dB) | pixels drawn agree | frame pixels off by > 8 |\n"
+          "|---|---|---|---|---|---|---|\n"
+       << "| " << a.lookups << " | " << fmt(a.psnr_db(), 4) << " | " << fmt(a.max_abs, 4) << " | "
+       << fmt(a.lookups ? static_cast<double>(a.samples) / static_cast<double>(a.lookups) : 0, 4)
+       << " | " << fmt(t.psnr_db, 4) << " | " << fmt(t.drawn_agreement_pct, 6) << " % | "
+       << t.off_by_more_than_8 << " of " << t.drawn_both << " |\n";
+  }
   if (s.compared) {
     const FrameComparison& k = s.comparison;
     md << "\n## Against the application's image\n\n`" << opt.compare
@@ -128,9 +172,12 @@ DrawRunSummary run_draws(const DrawRunOptions& opt, std::ostream& log) {
   DrawRunSummary s;
   const auto t0 = std::chrono::steady_clock::now();
   DrawRenderer renderer(trace, {index}, setup, scene.tech, !ro.functional, opt.draws);
+  const PixelIntegrator integrate(scene.reference_pixel, {scene.reference_samples});
+  if (ro.reference != "none") renderer.set_truth(integrate, ro.threads);
   WorkloadStats workload(workload_textures(renderer.textures()));
   if (ro.workload) renderer.set_lookup_observer([&](const Fragment& f) { workload.add(f, f.tex); });
   s.frame = renderer.render(index);
+  s.truth = compare_with_truth(s.frame);
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const UnitArray& units = renderer.units();
   if (units.fragments() > 0) units.check_timing_invariants();
@@ -145,19 +192,10 @@ DrawRunSummary run_draws(const DrawRunOptions& opt, std::ostream& log) {
   }
 
   OutputSet outputs(ro.out);
-  ImageRgb img(s.frame.width, s.frame.height, glm::dvec3(0));
-  for (int y = 0; y < s.frame.height; ++y) {
-    for (int x = 0; x < s.frame.width; ++x) {
-      const size_t p =
-          static_cast<size_t>(y) * static_cast<size_t>(s.frame.width) + static_cast<size_t>(x);
-      if (!s.frame.drawn[p]) continue;
-      const uint8_t* c = s.frame.rgba.data() + 4 * p;
-      img.set(x, y,
-              glm::vec4(static_cast<float>(c[0]) / 255.0f, static_cast<float>(c[1]) / 255.0f,
-                        static_cast<float>(c[2]) / 255.0f, 1.0f));
-    }
-  }
-  write_image(outputs.path("image.png"), img);
+  write_frame_image(outputs.path("image.png"), s.frame, s.frame.rgba, s.frame.drawn);
+  if (s.frame.has_truth())
+    write_frame_image(outputs.path("reference.png"), s.frame, s.frame.truth_rgba,
+                      s.frame.truth_drawn);
   if (s.compared) {
     const std::vector<uint8_t> diff = difference_image(s.frame, ref, 8);
     ImageRgb d(s.frame.width, s.frame.height, glm::dvec3(0));
@@ -174,10 +212,17 @@ DrawRunSummary run_draws(const DrawRunOptions& opt, std::ostream& log) {
   if (ro.workload) info.workload = &workload;
   info.scene = scene.path;
   info.trace = opt.draws;
+  // The texture unit's accuracy is that of its look-ups against their exact truth (the
+  // "draws" section); RunInfo's per-pixel accuracy is a scene's and is not filled here.
   info.has_truth = false;
+  s.truth_text = integrate.sampling().describe(integrate.pixel());
   info.reference =
-      "A draw trace has no ground truth of texsim's kind; the frame can be compared with the "
-      "application's own image (--compare), below.";
+      ro.reference == "none"
+          ? "No ground truth (--reference none). The frame can be compared with the "
+            "application's own image (--compare), below."
+          : "Ground truth per texture look-up: " + s.truth_text +
+                ", through its triangle's exact screen-to-texture map; reference.png is the frame "
+                "shaded with the truth's texels (the draws section has the figures).";
   info.width = s.frame.width;
   info.height = s.frame.height;
   info.textures = renderer.texture_names();
@@ -198,6 +243,7 @@ DrawRunSummary run_draws(const DrawRunOptions& opt, std::ostream& log) {
   j["draws"]["frame"] = s.frame.number;
   j["draws"]["materials"] = renderer.material_notes();
   if (s.compared) j["comparison"] = comparison_json(s.comparison, opt.compare);
+  if (s.frame.has_truth()) j["truth"] = truth_json(s);
   write_file_atomic(json_path,
                     j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   const std::string md_path = outputs.staging() + "/report.md";
@@ -219,8 +265,13 @@ DrawRunSummary run_draws(const DrawRunOptions& opt, std::ostream& log) {
         << s.comparison.drawn_agreement_pct << " %, PSNR " << s.comparison.psnr_db
         << " dB over the " << s.comparison.drawn_both << " pixels both drew\n";
   }
+  if (s.frame.has_truth()) {
+    log << "  against the ground truth: look-ups PSNR " << fmt(s.frame.accuracy.psnr_db(), 4)
+        << " dB; frame PSNR " << fmt(s.truth.psnr_db, 4) << " dB\n";
+  }
   log << "  report: " << ro.out << "/report.json, " << ro.out << "/report.md\n  images: " << ro.out
-      << "/image.png" << (s.compared ? ", " + ro.out + "/difference.png" : "") << "\n";
+      << "/image.png" << (s.frame.has_truth() ? ", " + ro.out + "/reference.png" : "")
+      << (s.compared ? ", " + ro.out + "/difference.png" : "") << "\n";
   return s;
 }
 

@@ -22,6 +22,8 @@ struct DrawRunSummary {
   uint64_t unit_fragments = 0, cycles = 0;
   bool compared = false;
   FrameComparison comparison;
+  FrameComparison truth;   // the frame against the frame shaded with the truth's texels
+  std::string truth_text;  // how the truth samples each pixel
   double seconds = 0;  // rendering the frame (wall clock)
 };
 

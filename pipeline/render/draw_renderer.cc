@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "blocks/base/input_error.h"
+#include "pipeline/kernel/parallel_range.h"
 #include "pipeline/render/colour_stage.h"
 
 namespace texsim {
@@ -240,10 +241,16 @@ RenderedFrame DrawRenderer::render(size_t index) {
   for (size_t i = 3; i < out.rgba.size(); i += 4) out.rgba[i] = 255;
   out.drawn.assign(px, 0);
   depth_.assign(px, kDepthMax);
+  if (truth_) {
+    out.truth_rgba = out.rgba;
+    out.truth_drawn = out.drawn;
+  }
   prim_ = 0;
   counts_ = &out.counts;
+  accuracy_ = &out.accuracy;
   for (size_t i = 0; i < fr.draws.size(); ++i) render_draw(fr.draws[i], fr.number, i, out);
   counts_ = nullptr;
+  accuracy_ = nullptr;
   return out;
 }
 
@@ -350,6 +357,22 @@ void DrawRenderer::raster_triangle(const Draw& d, const Tri& t, uint32_t frame,
   Plane pa[kMaxAttrs];
   const int na = 8 + 2 * static_cast<int>(nu);
   for (int a = 4; a < na; ++a) pa[a] = plane(t.v[0][a] * q[0], t.v[1][a] * q[1], t.v[2][a] * q[2]);
+  if (truth_) {
+    // Each unit's s/q, t/q and 1/q planes as one projective map in image pixel coordinates
+    // (pixel centres at +0.5, rows down): x = X − 0.5, y = H − Y − 0.5 in the planes' terms.
+    const double yt = out.height - 0.5 - y0;
+    auto row = [&](const Plane& p, long double& a, long double& b, long double& c0) {
+      a = p.ax;
+      b = -p.ay;
+      c0 = p.a0 - p.ax * (0.5 + x0) + p.ay * yt;
+    };
+    for (size_t u = 0; u < nu; ++u) {
+      ProjectiveMap& m = map_[u];
+      row(pa[8 + 2 * u], m.A, m.B, m.C);
+      row(pa[9 + 2 * u], m.D, m.E, m.F);
+      row(pq, m.G, m.H, m.I);
+    }
+  }
   // Polygon offset: factor · max |∂z/∂x|, |∂z/∂y| + units · the 24-bit buffer's resolution.
   double offset = 0;
   if (s.polygon_offset) {
@@ -421,40 +444,103 @@ void DrawRenderer::texture_fragments(const Draw& d) {
       const size_t n = std::min<size_t>(LinearBatch::kMax, look_[u].size() - i);
       unit.process_batch(look_[u].data() + i, n, m, texel_[u].data() + i);
     }
+    if (truth_) truth_lookups(u, m);
     c.lookups += look_[u].size();
   }
 }
 
-// The colour stage, fragment by fragment in rasterisation order.
+// The colour stage, fragment by fragment in rasterisation order: the truth's frame first (it
+// writes no depth), then the unit's.
 void DrawRenderer::shade_fragments(const Draw& d, RenderedFrame& out) {
-  DrawRenderCounts& c = *counts_;
+  if (out.has_truth())
+    shade_into(d, truth_texel_, out.width, out.height, out.truth_rgba, out.truth_drawn, nullptr);
+  shade_into(d, texel_, out.width, out.height, out.rgba, out.drawn, counts_);
+}
+
+void DrawRenderer::shade_into(const Draw& d, const std::vector<Rgba>* texels, int width,
+                              int height, std::vector<uint8_t>& rgba, std::vector<uint8_t>& drawn,
+                              DrawRenderCounts* counts) {
   const DrawState& s = d.state;
   const size_t nu = d.units.size();
   for (size_t i = 0; i < frags_.size(); ++i) {
     const Frag& f = frags_[i];
     Rgba col = f.colour;
-    for (size_t u = 0; u < nu; ++u) col = texture_env(d.units[u].env_mode, col, texel_[u][i]);
+    for (size_t u = 0; u < nu; ++u) col = texture_env(d.units[u].env_mode, col, texels[u][i]);
     if (s.alpha_test && !gl_compare(s.alpha_func, col.a, s.alpha_ref)) {
-      ++c.alpha_killed;
+      if (counts) ++counts->alpha_killed;
       continue;
     }
-    const size_t pix = static_cast<size_t>(f.y) * static_cast<size_t>(out.width) + f.x;
-    if (s.depth_test && s.depth_write) depth_[pix] = f.z;
+    const size_t pix = static_cast<size_t>(f.y) * static_cast<size_t>(width) + f.x;
+    if (counts && s.depth_test && s.depth_write) depth_[pix] = f.z;
     // Framebuffer rows run down (image order).
-    const size_t img = (static_cast<size_t>(out.height - 1 - f.y) * static_cast<size_t>(out.width) +
-                        static_cast<size_t>(f.x)) *
-                       4;
-    uint8_t* p = out.rgba.data() + img;
+    const size_t img =
+        (static_cast<size_t>(height - 1 - f.y) * static_cast<size_t>(width) +
+         static_cast<size_t>(f.x)) *
+        4;
+    uint8_t* p = rgba.data() + img;
     if (s.blend) {
       const Rgba dst(static_cast<float>(p[0]) / 255.0f, static_cast<float>(p[1]) / 255.0f,
                      static_cast<float>(p[2]) / 255.0f, static_cast<float>(p[3]) / 255.0f);
       col = blend(s.blend_src, s.blend_dst, col, dst);
-      ++c.blended;
+      if (counts) ++counts->blended;
     }
     for (int k = 0; k < 4; ++k) p[k] = to_unorm8(col[k]);
-    out.drawn[img / 4] = 1;
-    ++c.written;
+    drawn[img / 4] = 1;
+    if (counts) ++counts->written;
   }
+}
+
+// Each look-up's truth through the triangle's exact map, and its error against the unit's
+// texel.
+void DrawRenderer::truth_lookups(size_t u, int m) {
+  const std::vector<Fragment>& look = look_[u];
+  std::vector<Rgba>& out = truth_texel_[u];
+  out.resize(look.size());
+  truth_samples_.resize(look.size());
+  if (look.empty()) return;
+  const MaterialSetup& ms = units_->unit(0).material(m);
+  const Texture& tex = textures_[static_cast<int>(look.front().tex)];
+  // Each truth depends on its look-up alone: computed on the threads, then summed in order, so
+  // every thread count gives the same figures. A triangle's look-ups are split only when there
+  // are enough of them to pay for starting threads.
+  constexpr size_t kPerThread = 64;
+  const int threads = look.size() >= 2 * kPerThread ? truth_threads_ : 1;
+  parallel_range(look.size(), threads, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      int samples = 0;
+      const glm::dvec4 t =
+          ground_truth_exact(tex, ms.address_u(), ms.address_v(), map_[u],
+                             static_cast<int>(look[i].x), static_cast<int>(look[i].y), *truth_,
+                             &samples);
+      out[i] = Rgba(static_cast<float>(t.r), static_cast<float>(t.g), static_cast<float>(t.b),
+                    static_cast<float>(t.a));
+      truth_samples_[i] = samples;
+    }
+  });
+  LookupAccuracy& acc = *accuracy_;
+  for (size_t i = 0; i < look.size(); ++i) {
+    const Rgba& c = texel_[u][i];
+    for (int k = 0; k < 4; ++k) {
+      // Against the truth as the colour stage takes it (rounded to float).
+      const double e = static_cast<double>(c[k]) - static_cast<double>(out[i][k]);
+      acc.sum_sq += e * e;
+      acc.max_abs = std::max(acc.max_abs, std::fabs(e));
+    }
+    acc.samples += static_cast<uint64_t>(truth_samples_[i]);
+    ++acc.lookups;
+  }
+}
+
+double LookupAccuracy::psnr_db() const {
+  const double e = mse();
+  return e > 0 ? 10 * std::log10(1 / e) : 999;
+}
+
+void LookupAccuracy::add(const LookupAccuracy& o) {
+  lookups += o.lookups;
+  samples += o.samples;
+  sum_sq += o.sum_sq;
+  max_abs = std::max(max_abs, o.max_abs);
 }
 
 }  // namespace texsim

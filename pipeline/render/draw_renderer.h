@@ -10,11 +10,14 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "blocks/base/tech_table.h"
+#include "blocks/geometry/projective_map.h"
 #include "blocks/raster/edge_rasterizer.h"
+#include "pipeline/reference/ground_truth.h"
 #include "pipeline/texture/pipeline_setup.h"
 #include "pipeline/texture/unit_array.h"
 #include "traces/draw_trace.h"
@@ -40,12 +43,30 @@ struct DrawRenderCounts {
   void add(const DrawRenderCounts& o);
 };
 
+// The texture unit's look-ups against their ground truth (DrawRenderer::set_truth), per
+// channel R, G, B, A on [0, 1], in double.
+struct LookupAccuracy {
+  uint64_t lookups = 0;
+  uint64_t samples = 0;  // points the truth evaluated
+  double sum_sq = 0;     // Σ (unit − truth)² over the look-ups' four channels
+  double max_abs = 0;
+  double mse() const { return lookups ? sum_sq / (4.0 * static_cast<double>(lookups)) : 0; }
+  double psnr_db() const;  // 10 log10(1 / mse); 999 when equal
+  void add(const LookupAccuracy& o);
+};
+
 struct RenderedFrame {
   uint32_t number = 0;
   int width = 0, height = 0;
   std::vector<uint8_t> rgba;   // RGBA8, the top row first
   std::vector<uint8_t> drawn;  // 1 where a fragment was written
   DrawRenderCounts counts;
+  // With a ground truth: the frame shaded with the truth's texels instead of the unit's (the
+  // same fragments and depth decisions as the unit's frame: its visibility), and the look-ups'
+  // error. Empty without one.
+  std::vector<uint8_t> truth_rgba, truth_drawn;
+  LookupAccuracy accuracy;
+  bool has_truth() const { return !truth_rgba.empty(); }
 };
 
 class DrawRenderer {
@@ -71,6 +92,16 @@ class DrawRenderer {
   void set_lookup_observer(std::function<void(const Fragment&)> observer) {
     observer_ = std::move(observer);
   }
+  // Computes each look-up's ground truth too: the level-0 texture reconstructed bilinearly in
+  // double, integrated over the pixel through its triangle's exact screen→texture map (the
+  // perspective-correct attribute planes as a projective map) by `integrate`; render() then
+  // fills RenderedFrame's truth figures.
+  // The truth runs on `threads` threads (0: one per hardware thread); the figures do not depend
+  // on the count.
+  void set_truth(const PixelIntegrator& integrate, int threads) {
+    truth_.emplace(integrate);
+    truth_threads_ = threads;
+  }
   // "name (W×H, L levels)" of each texture, for reports.
   std::vector<std::string> texture_names() const;
   // What each material is: its texture and GL sampler state mapped to texsim's.
@@ -83,6 +114,13 @@ class DrawRenderer {
   // The triangle's fragments (frags_, look_) through the texture unit, then the colour stage.
   void texture_fragments(const Draw& d);
   void shade_fragments(const Draw& d, RenderedFrame& out);
+  // The colour stage into one framebuffer with the given texels; `counts` (null: the truth's
+  // frame) receives the counts, and only then is depth written.
+  void shade_into(const Draw& d, const std::vector<Rgba>* texels, int width, int height,
+                  std::vector<uint8_t>& rgba, std::vector<uint8_t>& drawn,
+                  DrawRenderCounts* counts);
+  // The truth of unit u's look-ups of the current triangle (look_[u]) with material m.
+  void truth_lookups(size_t u, int m);
 
   const DrawTrace& trace_;
   std::string file_;
@@ -105,6 +143,14 @@ class DrawRenderer {
   std::vector<Frag> frags_;
   std::vector<Fragment> look_[kDrawMaxUnits];
   std::vector<Rgba> texel_[kDrawMaxUnits];
+  // Ground truth (set_truth): the triangle's screen→texture map per unit (image pixel
+  // coordinates, pixel centres at +0.5), and its look-ups' truth texels.
+  std::optional<PixelIntegrator> truth_;
+  ProjectiveMap map_[kDrawMaxUnits];
+  std::vector<Rgba> truth_texel_[kDrawMaxUnits];
+  std::vector<int> truth_samples_;
+  int truth_threads_ = 1;
+  LookupAccuracy* accuracy_ = nullptr;
   DrawRenderCounts* counts_ = nullptr;
   std::function<void(const Fragment&)> observer_;
 };

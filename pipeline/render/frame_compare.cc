@@ -31,27 +31,25 @@ Rgb8Image read_rgb8_image(const std::string& path) {
   return img;
 }
 
-FrameComparison compare_frame(const RenderedFrame& f, const Rgb8Image& ref,
-                              const std::string& ref_path, const uint8_t clear[3]) {
-  if (f.width != ref.width || f.height != ref.height) {
-    throw InputError(ref_path, "is " + std::to_string(ref.width) + " x " +
-                                   std::to_string(ref.height) + " but frame " +
-                                   std::to_string(f.number) + " was rendered at " +
-                                   std::to_string(f.width) + " x " + std::to_string(f.height));
-  }
+namespace {
+
+// The comparison over every pixel p: ref_drawn(p) and ref_rgb(p) give the other image's
+// coverage and colour.
+template <class Drawn, class Colour>
+FrameComparison compare_pixels(const RenderedFrame& f, Drawn&& ref_drawn, Colour&& ref_rgb) {
   FrameComparison c;
   c.pixels = static_cast<uint64_t>(f.width) * static_cast<uint64_t>(f.height);
   double se = 0, sabs = 0;
   for (size_t p = 0; p < c.pixels; ++p) {
-    const uint8_t* r = ref.rgb.data() + 3 * p;
-    const uint8_t* s = f.rgba.data() + 4 * p;
-    const bool ref_drawn = r[0] != clear[0] || r[1] != clear[1] || r[2] != clear[2];
+    const bool rd = ref_drawn(p);
     const bool sim_drawn = f.drawn[p] != 0;
-    c.drawn_agree += ref_drawn == sim_drawn;
-    c.drawn_texsim_only += sim_drawn && !ref_drawn;
-    c.drawn_reference_only += ref_drawn && !sim_drawn;
-    if (!(ref_drawn && sim_drawn)) continue;
+    c.drawn_agree += rd == sim_drawn;
+    c.drawn_texsim_only += sim_drawn && !rd;
+    c.drawn_reference_only += rd && !sim_drawn;
+    if (!(rd && sim_drawn)) continue;
     ++c.drawn_both;
+    const uint8_t* r = ref_rgb(p);
+    const uint8_t* s = f.rgba.data() + 4 * p;
     int worst = 0;
     for (int k = 0; k < 3; ++k) {
       const int d = std::abs(static_cast<int>(s[k]) - static_cast<int>(r[k]));
@@ -72,6 +70,32 @@ FrameComparison compare_frame(const RenderedFrame& f, const Rgb8Image& ref,
     c.psnr_db = c.mse > 0 ? 10 * std::log10(1 / c.mse) : 999;
   }
   return c;
+}
+
+}  // namespace
+
+FrameComparison compare_frame(const RenderedFrame& f, const Rgb8Image& ref,
+                              const std::string& ref_path, const uint8_t clear[3]) {
+  if (f.width != ref.width || f.height != ref.height) {
+    throw InputError(ref_path, "is " + std::to_string(ref.width) + " x " +
+                                   std::to_string(ref.height) + " but frame " +
+                                   std::to_string(f.number) + " was rendered at " +
+                                   std::to_string(f.width) + " x " + std::to_string(f.height));
+  }
+  return compare_pixels(
+      f,
+      [&](size_t p) {
+        const uint8_t* r = ref.rgb.data() + 3 * p;
+        return r[0] != clear[0] || r[1] != clear[1] || r[2] != clear[2];
+      },
+      [&](size_t p) { return ref.rgb.data() + 3 * p; });
+}
+
+FrameComparison compare_with_truth(const RenderedFrame& f) {
+  if (!f.has_truth()) return {};
+  return compare_pixels(
+      f, [&](size_t p) { return f.truth_drawn[p] != 0; },
+      [&](size_t p) { return f.truth_rgba.data() + 4 * p; });
 }
 
 std::vector<uint8_t> difference_image(const RenderedFrame& f, const Rgb8Image& ref, double gain,

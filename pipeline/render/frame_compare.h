@@ -43,6 +43,10 @@ inline constexpr uint8_t kClearPink[3] = {255, 0, 128};
 FrameComparison compare_frame(const RenderedFrame& f, const Rgb8Image& ref,
                               const std::string& ref_path, const uint8_t clear[3] = kClearPink);
 
+// The frame against its own ground truth's frame (RenderedFrame::truth_rgba, truth_drawn): the
+// same figures; all zero without a truth.
+FrameComparison compare_with_truth(const RenderedFrame& f);
+
 // |texsim − reference| per pixel drawn by both, the largest channel scaled by `gain`; 255 where
 // only one drew, 0 where neither did (grey, the top row first).
 std::vector<uint8_t> difference_image(const RenderedFrame& f, const Rgb8Image& ref, double gain,
