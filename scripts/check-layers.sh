@@ -18,7 +18,7 @@ layer() {
     pipeline/geometry/*) echo "5 geometry" ;;
     pipeline/texture/*) echo "6 texture" ;;
     pipeline/raster/*) echo "7 raster" ;;
-    pipeline/render/*) echo "7 render" ;;
+    pipeline/render/*) echo "9 render" ;;
     pipeline/reference/*) echo "8 reference" ;;
     pipeline/report/*) echo "9 report" ;;
     pipeline/studies/*) echo "10 studies" ;;

@@ -19,6 +19,7 @@
 #include "pipeline/app/run_draws.h"
 #include "pipeline/app/study_memory.h"
 #include "pipeline/app/study_frames.h"
+#include "pipeline/render/draw_fragment_trace.h"
 #include "pipeline/app/study_workloads.h"
 #include "pipeline/app/sweep.h"
 #include "pipeline/app/tuner.h"
@@ -456,7 +457,15 @@ int run_cli(int argc, char** argv) {
   std::string gen_scene, gen_out;
   auto* gen = trace_cmd->add_subcommand(
       "gen", "Write a scene's reference fragments (exact double coordinates)");
-  gen->add_option("scene", gen_scene, "Scene file; 'default' for the built-in scene")->required();
+  gen->add_option("scene", gen_scene, "Scene file; 'default' for the built-in scene");
+  std::string gen_draws, gen_frames;
+  gen->add_option("--draws", gen_draws,
+                  "Instead of a scene: a draw trace (traces/DRAWS.md), whose texture look-ups "
+                  "are written")
+      ->excludes("scene");
+  gen->add_option("--frames", gen_frames,
+                  "With --draws: frames A-B or A (the capture's numbers; default: all)")
+      ->needs("--draws");
   gen->add_option("-o,--output", gen_out, "Output trace (.trc binary, .csv text)")->required();
   std::vector<std::string> gen_overrides;
   gen->add_option("--set", gen_overrides,
@@ -502,8 +511,15 @@ int run_cli(int argc, char** argv) {
     if (*run.cmd) {
       run_run_command(run, argc, argv);
     } else if (*gen) {
+      if (gen_scene.empty() && gen_draws.empty())
+        throw InputError("trace gen", "give a scene file (or 'default') or --draws FILE");
+      uint32_t first = 0, last = UINT32_MAX;
+      if (!gen_frames.empty()) parse_frame_range(gen_frames, first, last);
       const uint64_t n =
-          generate_scene_trace(gen_scene == "default" ? "" : gen_scene, gen_out, gen_overrides);
+          gen_draws.empty()
+              ? generate_scene_trace(gen_scene == "default" ? "" : gen_scene, gen_out,
+                                     gen_overrides)
+              : generate_draws_trace(gen_draws, first, last, gen_out);
       // With -o - the trace itself is on standard output: the summary goes to stderr.
       (gen_out == "-" ? std::cerr : std::cout)
           << "texsim trace gen: wrote " << n << " fragments to " << gen_out << "\n";

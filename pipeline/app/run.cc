@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <future>
 #include <map>
+#include <set>
 #include <ostream>
 
 #include "blocks/base/atomic_file.h"
@@ -27,6 +28,7 @@
 #include "pipeline/raster/fragment_generator.h"
 #include "pipeline/raster/scene_front_end.h"
 #include "pipeline/reference/ground_truth.h"
+#include "pipeline/render/draw_fragment_trace.h"
 #include "pipeline/reference/surface_reference.h"
 #include "pipeline/report/run_report.h"
 #include "pipeline/scene/procedural_texture.h"
@@ -76,6 +78,7 @@ struct RunTextures {
 InputDigest texture_digest(const std::string& name, const std::string& source,
                            const std::string& dir) {
   if (is_procedural_source(source)) return {"texture " + name, source, "", 0};
+
   return digest_file("texture " + name, resolve_texture_path(source, dir));
 }
 
@@ -84,9 +87,12 @@ InputDigest texture_digest(const std::string& name, const std::string& source,
 RunTextures load_trace_textures(const TraceReader& reader, const std::string& trace_path) {
   RunTextures t;
   const std::string dir = std::filesystem::path(trace_path).parent_path().string();
+  DrawTextureCache draws;  // textures of draw traces ("draws:PATH#ID", from trace gen --draws)
+  std::set<std::string> draw_files;
   for (const auto& e : reader.header().textures) {
     Texture tex = [&] {
       try {
+        if (is_draws_source(e.source)) return draws.load(e.source, dir);
         return load_texture(e.source, dir);
       } catch (const InputError& err) {
         // Name the trace and its table entry as well as the file.
@@ -106,7 +112,12 @@ RunTextures load_trace_textures(const TraceReader& reader, const std::string& tr
     t.index[e.id] = id;
     t.by_name[e.name] = id;
     t.names.push_back(e.name + " = " + e.source);
-    t.digests.push_back(texture_digest(e.name, e.source, dir));
+    if (!is_draws_source(e.source)) {
+      t.digests.push_back(texture_digest(e.name, e.source, dir));
+    } else if (const std::string p = DrawTextureCache::path_of(e.source, dir);
+               draw_files.insert(p).second) {
+      t.digests.push_back(digest_file("textures of draw trace", p));  // once per file
+    }
   }
   return t;
 }

@@ -143,25 +143,26 @@ struct DrawRenderer::Tri {
   std::array<ClipVertex, 3> v;  // after projection: x y = window (GL, y up), z = depth, w
 };
 
+Texture texture_of_draw(const DrawTexture& t) {
+  std::vector<int> ws, hs;
+  std::vector<std::vector<float>> levels;
+  for (size_t l = 0; l < t.levels.size(); ++l) {
+    ws.push_back(static_cast<int>(std::max<uint32_t>(1, t.width >> l)));
+    hs.push_back(static_cast<int>(std::max<uint32_t>(1, t.height >> l)));
+    std::vector<float> f(t.levels[l].size());
+    for (size_t i = 0; i < f.size(); ++i) f[i] = static_cast<float>(t.levels[l][i]) / 255.0f;
+    levels.push_back(std::move(f));
+  }
+  // Rows in GL order: texsim's row 0 is at v = 0 too, so no flip.
+  return Texture::from_levels("texture " + std::to_string(t.id) + " (" + t.name + ")", ws, hs,
+                              levels, TexelFormat::Rgba8);
+}
+
 DrawRenderer::DrawRenderer(const DrawTrace& trace, const std::vector<size_t>& frames,
                            const PipelineSetup& setup, const TechTable& tech, bool timing,
                            std::string file)
     : trace_(trace), file_(std::move(file)) {
-  for (const DrawTexture& t : trace.textures) {
-    std::vector<int> ws, hs;
-    std::vector<std::vector<float>> levels;
-    for (size_t l = 0; l < t.levels.size(); ++l) {
-      ws.push_back(static_cast<int>(std::max<uint32_t>(1, t.width >> l)));
-      hs.push_back(static_cast<int>(std::max<uint32_t>(1, t.height >> l)));
-      std::vector<float> f(t.levels[l].size());
-      for (size_t i = 0; i < f.size(); ++i) f[i] = static_cast<float>(t.levels[l][i]) / 255.0f;
-      levels.push_back(std::move(f));
-    }
-    // Rows in GL order: texsim's row 0 is at v = 0 too, so no flip.
-    tex_index_[t.id] =
-        textures_.add(Texture::from_levels("texture " + std::to_string(t.id) + " (" + t.name + ")",
-                                           ws, hs, levels, TexelFormat::Rgba8));
-  }
+  for (const DrawTexture& t : trace.textures) tex_index_[t.id] = textures_.add(texture_of_draw(t));
   std::vector<MaterialSetup> mats;
   for (size_t fi : frames) {
     if (fi >= trace.frames.size())

@@ -155,6 +155,9 @@ class DrawRenderer {
   std::function<void(const Fragment&)> observer_;
 };
 
+// A draw trace's texture with its own levels (RGBA8), as the renderer's unit holds it.
+Texture texture_of_draw(const DrawTexture& t);
+
 // The texsim material of one GL texture unit's sampler state, and what texsim approximates
 // ("" when exact): texsim has one filter for magnification and minification, and no
 // nearest-texel + linear-mip filter.

@@ -10,6 +10,11 @@
 
 #include "pipeline/render/colour_stage.h"
 #include "pipeline/render/draw_renderer.h"
+#include "blocks/base/input_error.h"
+#include "pipeline/render/draw_fragment_trace.h"
+#include "pipeline/render/frame_compare.h"
+#include "testbench/lib/temp_dir.h"
+#include "traces/trace_file.h"
 
 namespace texsim {
 namespace {
@@ -221,6 +226,139 @@ TEST(DrawRenderer, SamplerStateMapsToTexsimFilters) {
   m = material_for_sampler(u, 0, approx);
   EXPECT_EQ(m.lod.aniso, AnisoMode::Vulkan);
   EXPECT_EQ(m.lod.max_aniso, 8);
+}
+
+}  // namespace
+}  // namespace texsim
+
+namespace texsim {
+namespace {
+
+// A 64x64 ramp, R = 4x and G = 4y at texel (x, y), every level by 2x2 averages (still ramps).
+// Any symmetric filter reproduces a linear function, so the unit's texels and the truth agree
+// wherever the map is near-affine over a pixel, and only if the truth follows the same map.
+DrawTexture ramp_texture() {
+  DrawTexture t;
+  t.id = 0;
+  t.width = t.height = 64;
+  t.name = "ramp";
+  for (uint32_t s = 64; s >= 1; s /= 2) {
+    std::vector<uint8_t> px;
+    const uint32_t k = 64 / s;
+    for (uint32_t y = 0; y < s; ++y)
+      for (uint32_t x = 0; x < s; ++x)
+        px.insert(px.end(), {static_cast<uint8_t>(4 * (x * k) + 2 * (k - 1)),
+                             static_cast<uint8_t>(4 * (y * k) + 2 * (k - 1)), 0, 255});
+    t.levels.push_back(px);
+  }
+  return t;
+}
+
+// The quad tilted away from the viewer (w = 1 at the bottom, 3 at the top), 16 x 16 pixels
+// over s, t in [0.25, 0.75]: a perspective map, texels about a pixel.
+DrawTrace tilted_trace(uint32_t min_filter) {
+  constexpr int kView = 16;
+  Draw d;
+  d.state.viewport_w = d.state.viewport_h = kView;
+  const double xs[4] = {-1, 1, 1, -1}, ys[4] = {-1, -1, 1, 1};
+  const float ws[4] = {1, 1, 3, 3}, ss[4] = {0.25f, 0.75f, 0.75f, 0.25f},
+              ts[4] = {0.25f, 0.25f, 0.75f, 0.75f};
+  d.vertex_count = 4;
+  for (int i = 0; i < 4; ++i) {
+    d.position.insert(d.position.end(), {static_cast<float>(xs[i]) * ws[i],
+                                         static_cast<float>(ys[i]) * ws[i], 0, ws[i]});
+    d.st[0].insert(d.st[0].end(), {ss[i], ts[i]});
+  }
+  d.indices = {0, 1, 2, 0, 2, 3};
+  DrawUnit u;
+  u.min_filter = min_filter;
+  u.wrap_s = u.wrap_t = 0x812F;  // CLAMP_TO_EDGE
+  u.env_mode = 0x1E01;           // REPLACE
+  d.units.push_back(u);
+  DrawTrace t;
+  t.frames.push_back({3, {d}, {}});
+  t.textures.push_back(ramp_texture());
+  return t;
+}
+
+RenderedFrame tilted(bool truth, uint32_t min_filter) {
+  const DrawTrace t = tilted_trace(min_filter);
+  static const toml::table kNone;
+  DrawRenderer r(t, {0}, PipelineSetup::from_toml(kNone, "test"), TechTable::defaults(), false,
+                 "test.draws");
+  if (truth) r.set_truth(PixelIntegrator(TruthPixel::Box, TruthSampling{}), 2);
+  return r.render(0);
+}
+
+TEST(DrawRendererTruth, FollowsTheTrianglesPerspectiveMap) {
+  const RenderedFrame f = tilted(true, 0x2703);
+  ASSERT_TRUE(f.has_truth());
+  EXPECT_EQ(f.accuracy.lookups, f.counts.lookups);
+  EXPECT_GT(f.accuracy.lookups, 200u);
+  // The unit's trilinear texel against the box integral of the ramp: a few 8-bit steps at
+  // most (its 8-bit weights, the map's curvature over a pixel). A truth through a wrong map
+  // (rows flipped, half a pixel off) is off by 4 or more steps per pixel of the ramp.
+  EXPECT_LT(f.accuracy.max_abs, 3.0 / 255) << f.accuracy.max_abs * 255;
+  EXPECT_GT(f.accuracy.psnr_db(), 50);
+  EXPECT_GT(f.accuracy.samples, f.accuracy.lookups);  // the integral took several points
+  EXPECT_EQ(f.truth_drawn, f.drawn);
+  const FrameComparison c = compare_with_truth(f);
+  EXPECT_EQ(c.drawn_both, f.counts.written);
+  EXPECT_GT(c.psnr_db, 45);
+}
+
+TEST(DrawRendererTruth, MeasuresTheErrorOfACoarseFilter) {
+  // Nearest texel, level 0 only: the truth (the same map) stays the ramp's integral, so the
+  // error is that of nearest sampling, up to half a texel step (2 of 8-bit) and clearly above
+  // the trilinear unit's.
+  const RenderedFrame lin = tilted(true, 0x2703);
+  const RenderedFrame nn = tilted(true, 0x2600);
+  EXPECT_GT(nn.accuracy.mse(), 2 * lin.accuracy.mse());
+  EXPECT_LT(nn.accuracy.psnr_db(), lin.accuracy.psnr_db());
+}
+
+TEST(DrawRendererTruth, OffLeavesTheFrameAsItWas) {
+  const RenderedFrame with = tilted(true, 0x2703), without = tilted(false, 0x2703);
+  EXPECT_FALSE(without.has_truth());
+  EXPECT_EQ(without.accuracy.lookups, 0u);
+  EXPECT_EQ(with.rgba, without.rgba);
+  EXPECT_EQ(with.drawn, without.drawn);
+}
+
+TEST(DrawFragmentTrace, HoldsTheLookUpsTheUnitGetsAndItsTextures) {
+  const TempDir dir("draw_fragment_trace");
+  const std::string draws = dir.file("tilted.draws"), trc = dir.file("tilted.trc");
+  DrawTrace t = tilted_trace(0x2703);
+  write_draw_trace(draws, t);
+  std::vector<Fragment> seen;
+  {
+    static const toml::table kNone;
+    DrawRenderer r(t, {0}, PipelineSetup::from_toml(kNone, "test"), TechTable::defaults(), false,
+                   "test.draws");
+    r.set_lookup_observer([&](const Fragment& f) { seen.push_back(f); });
+    r.render(0);
+  }
+  EXPECT_EQ(generate_draws_trace(draws, 0, 100, trc), seen.size());
+  TraceHeader h;
+  const std::vector<Fragment> got = read_trace(trc, &h);
+  ASSERT_EQ(got.size(), seen.size());
+  for (size_t i = 0; i < got.size(); ++i) {
+    EXPECT_EQ(got[i].frame, 3u);
+    EXPECT_EQ(got[i].x, seen[i].x);
+    EXPECT_EQ(got[i].y, seen[i].y);
+    EXPECT_EQ(got[i].u, seen[i].u);
+    EXPECT_EQ(got[i].dvdy, seen[i].dvdy);
+  }
+  ASSERT_EQ(h.textures.size(), 1u);
+  ASSERT_TRUE(is_draws_source(h.textures[0].source));
+  // The table's source loads the draw trace's own texture, levels included.
+  DrawTextureCache cache;
+  const Texture tex = cache.load(h.textures[0].source, "");
+  EXPECT_EQ(tex.levels(), 7);
+  EXPECT_EQ(tex.texel(1, 3, 0).r, texture_of_draw(t.textures[0]).texel(1, 3, 0).r);
+  EXPECT_THROW(cache.load("draws:" + draws + "#9", ""), InputError);
+  EXPECT_THROW(cache.load("draws:" + draws, ""), InputError);
+  EXPECT_THROW(generate_draws_trace(draws, 4, 9, trc), InputError);  // no such frames
 }
 
 }  // namespace
