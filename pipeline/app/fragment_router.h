@@ -4,7 +4,9 @@
 // through quads when [pipeline] derivatives come from quad differences; an object-space
 // material's pixels take their resolved colours in arrival order.
 #include <functional>
+#include <map>
 #include <memory>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -152,6 +154,78 @@ class FragmentRouter {
   UnitArray::Record record_;
   UnitBatch batch_;
   std::unique_ptr<QuadFeed> quads_;
+};
+
+// A camera path on several units: the units record fragments in their commit order, which may
+// reach a frame's last fragments after the next frame's first. The records are passed on frame
+// by frame (each frame's in the order they came), as the images and the ground truth take them;
+// the simulation itself runs on across frames, untouched.
+class FrameOrder {
+ public:
+  explicit FrameOrder(UnitArray::Record next) : next_(std::move(next)) {}
+  // One more fragment of `frame` goes to the units (frames in increasing order), before it can
+  // be recorded.
+  void emitted(uint32_t frame) {
+    ++emitted_[frame];
+    if (!started_) {
+      started_ = true;
+      current_ = frame;
+    }
+    advance();
+  }
+  void record(const Fragment& f, const Fragment& g, int material, const Rgba* colour,
+              uint64_t index) {
+    if (f.frame != current_) {
+      held_[f.frame].push_back({f, g, material, colour != nullptr, colour ? *colour : Rgba{}, index});
+      return;
+    }
+    next_(f, g, material, colour, index);
+    ++recorded_;
+    advance();
+  }
+  UnitArray::Record recorder() {
+    return [this](const Fragment& f, const Fragment& g, int m, const Rgba* c, uint64_t i) {
+      record(f, g, m, c, i);
+    };
+  }
+  // After the units have finished: every record passed on (a defect of the model otherwise).
+  void check_drained() const {
+    if (!held_.empty()) throw std::logic_error("FrameOrder: records of later frames left held");
+  }
+
+ private:
+  struct Held {
+    Fragment f, g;
+    int material;
+    bool has_colour;
+    Rgba colour;
+    uint64_t index;
+  };
+  // While the current frame is complete and a later one has begun: move on, and pass the
+  // later frame's held records.
+  void advance() {
+    for (;;) {
+      const auto next = emitted_.upper_bound(current_);
+      if (next == emitted_.end() || recorded_ < emitted_[current_]) return;
+      current_ = next->first;
+      recorded_ = 0;
+      emitted_.erase(emitted_.begin(), next);
+      const auto it = held_.find(current_);
+      if (it == held_.end()) continue;
+      const std::vector<Held> held = std::move(it->second);
+      held_.erase(it);
+      for (const Held& h : held) {
+        next_(h.f, h.g, h.material, h.has_colour ? &h.colour : nullptr, h.index);
+        ++recorded_;
+      }
+    }
+  }
+  UnitArray::Record next_;
+  std::map<uint32_t, uint64_t> emitted_;  // fragments sent to the units, by frame
+  std::map<uint32_t, std::vector<Held>> held_;
+  uint32_t current_ = 0;
+  uint64_t recorded_ = 0;  // of the current frame
+  bool started_ = false;
 };
 
 }  // namespace texsim

@@ -188,8 +188,14 @@ struct GroundTruth {
   const std::vector<SurfaceFrame>* frames = nullptr;
   PixelIntegrator integrate;  // the pixel model and how it is sampled ([reference])
   bool none = false;          // --reference none: black, nothing evaluated
+  // A camera path: every frame's maps, by frame number (null: `maps` serve every fragment).
+  // Several units record a frame's last fragments after the next frame has begun.
+  const std::vector<std::vector<PlaneProjection>>* frame_maps = nullptr;
 
   bool exact() const { return !maps.empty(); }
+  const PlaneProjection& map_of(const Fragment& f) const {
+    return frame_maps ? (*frame_maps)[f.frame][f.prim] : maps[f.prim];
+  }
   // f: the fragment as given; g: the same with its texture id mapped to the loaded texture;
   // *samples: the points the truth evaluated.
   glm::dvec4 operator()(const Fragment& f, const Fragment& g, int material, int* samples) const {
@@ -198,11 +204,11 @@ struct GroundTruth {
     const MaterialSetup& ms = mats[static_cast<size_t>(material)];
     const int x = static_cast<int>(f.x), y = static_cast<int>(f.y);
     if (exact() && surface && (*surface)[static_cast<size_t>(material)].active()) {
-      return (*surface)[static_cast<size_t>(material)](tex, maps[f.prim], (*frames)[f.prim], x, y,
+      return (*surface)[static_cast<size_t>(material)](tex, map_of(f), (*frames)[f.prim], x, y,
                                                        integrate, samples);
     }
     return exact()
-               ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), maps[f.prim], x, y,
+               ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), map_of(f), x, y,
                                     integrate, samples)
                : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, integrate, samples);
   }
@@ -584,7 +590,9 @@ ImageLayout run_layout(const RunOptions& opt, const Scene& scene, bool use_scene
     l.pairs = 2;
   }
   l.scene_bytes = sat_add(sat_mul(l.extent.pixels(), kDepthTestBytesPerPixel),
-                          sat_mul(maps.size(), sizeof(PlaneProjection) * 2));  // run's, generator's
+                          sat_mul(maps.size(), sizeof(PlaneProjection) *
+                                                   (2 + (scene.frames > 1 ? scene.frames : 0))));
+  // The run's maps and the generator's, and with a camera path every frame's (for the truth).
   l.object_space_bytes = object_space_bytes(scene);
   check_memory(opt, l, textures, scene.path,
                "[output] width = " + std::to_string(scene.width) +
@@ -676,15 +684,9 @@ RunInfo images_info(const RunOptions& opt, const ImageLayout& layout, const RunT
 
 // A scene with a camera path renders its frames one after another through the fragment
 // generator; what builds per-primitive state once for one camera cannot follow it.
-void check_scene_frames(const Scene& scene, UnitArray& units, const ObjectSpaceFrame& os,
+void check_scene_frames(const Scene& scene, const UnitArray& units, const ObjectSpaceFrame& os,
                         const SurfaceSetup& surf) {
   if (scene.frames == 1) return;
-  if (units.several()) {
-    // Their fragments wait per tile: a frame's would be judged through the next frame's maps.
-    throw InputError(scene.path, "output.frames = " + std::to_string(scene.frames) +
-                                     ": a camera path runs on one texture unit ([pipeline] units "
-                                     "= 1); render one frame for several units");
-  }
   const char* what = units.front_stages() > 0 ? "coordinates of their own (coords)"
                      : os.active()            ? "object_space"
                      : surf.active()          ? "relief or lighting"
@@ -695,11 +697,12 @@ void check_scene_frames(const Scene& scene, UnitArray& units, const ObjectSpaceF
                                    " are drawn for one camera only; render one frame (frames = 1)");
 }
 
-// The scene's fragments frame after frame (one frame without a camera path). Before frame k's
-// camera replaces frame k-1's, what is in flight is finished, so that every fragment is
-// judged through its own frame's projective maps (`maps`, which the ground truth reads).
+// The scene's fragments frame after frame (one frame without a camera path). Frame k's maps
+// are kept in frame_maps[k] (a camera path), so that every fragment is judged through its own
+// frame's projective maps whenever it is recorded; `maps` follow the current frame.
 template <class Emit>
 void scene_frames(Scene& scene, std::vector<PlaneProjection>& maps,
+                  std::vector<std::vector<PlaneProjection>>& frame_maps,
                   const std::vector<MaterialSetup>& mats, std::vector<RasterCounters>& raster,
                   FragmentRouter& router, TruthBatch& batch, Emit&& emit) {
   for (int k = 0; k < scene.frames; ++k) {
@@ -710,6 +713,7 @@ void scene_frames(Scene& scene, std::vector<PlaneProjection>& maps,
       for (size_t i = 0; i < maps.size(); ++i)
         maps[i] = PlaneProjection(scene, scene.primitives[i]);
     }
+    if (scene.frames > 1) frame_maps.push_back(maps);
     std::vector<RasterCounters> frame_raster;
     generate_fragments(scene, static_cast<uint32_t>(k), emit, &frame_raster, &mats);
     raster.resize(std::max(raster.size(), frame_raster.size()));
@@ -793,8 +797,12 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
       object_space_frame(scene, use_scene && !reader, textures.set, mats, setup, log);
   const SurfaceSetup surf = surface_setup(scene, mats, textures.set);
   if (surf.active()) units.set_surfaces(surf.frames);
-  const GroundTruth truth =
-      ground_truth(scene, textures.set, mats, maps, surf, opt.reference == "none");
+  GroundTruth truth = ground_truth(scene, textures.set, mats, maps, surf, opt.reference == "none");
+  std::vector<std::vector<PlaneProjection>> frame_maps;  // a camera path's, by frame
+  if (use_scene && !reader && scene.frames > 1) {
+    frame_maps.reserve(static_cast<size_t>(scene.frames));
+    truth.frame_maps = &frame_maps;
+  }
   RunImages images(layout.extent, layout.canvas_w, layout.canvas_h, scene.background,
                    unit.material_count(), opt.frame);
   Progress progress(opt.progress);
@@ -811,7 +819,10 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     batch.add(f, g, material, colour, index);
   };
   observe_units(timeline.get(), units);
-  if (units.several()) units.set_record(record);
+  // A camera path on several units: records put back in frame order.
+  std::unique_ptr<FrameOrder> order;
+  if (units.several() && !reader && scene.frames > 1) order = std::make_unique<FrameOrder>(record);
+  if (units.several()) units.set_record(order ? order->recorder() : UnitArray::Record(record));
   // The unit's timeline observes the pipeline after every fragment: no batching then.
   FragmentRouter router(units, setup, os, record, timeline != nullptr);
   auto handle = [&](const Fragment& f, uint64_t index) {
@@ -820,6 +831,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     const int material = truth.exact() ? primitive_material(f, index, scene, opt.trace) : 0;
     // The screen-space texture unit's stream (materials drawn object-space are not in it).
     if (opt.workload && !os.drawn_by(material)) workload.add(f, g.tex);
+    if (order) order->emitted(f.frame);
     router.add(f, g, material, index);
   };
   uint64_t index = 0;
@@ -830,11 +842,12 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   } else if (unit.front_stages() > 0) {
     draw_front_end(scene, maps, units, textures, record, index);
   } else {
-    scene_frames(scene, maps, mats, raster, router, batch,
+    scene_frames(scene, maps, frame_maps, mats, raster, router, batch,
                  [&](const Fragment& f) { handle(f, index++); });
   }
   router.flush();
   units.finish();
+  if (order) order->check_drained();
   batch.flush();
   images.finish();
   if (images.count() == 0) throw InputError(input, "no fragments to render");
