@@ -757,8 +757,17 @@ std::vector<PlaneProjection> plane_maps(const Scene& scene, bool use_scene) {
 }
 
 // Several units: each unit's timeline tracks, observed as each fragment leaves its unit.
+// The timeline's tracks: every unit's stages (several units: at each commit), and the memory
+// levels behind the L1s.
 void observe_units(StageTimeline* timeline, UnitArray& units) {
-  if (!timeline || !units.several()) return;
+  if (!timeline) return;
+  std::vector<int> tracks;
+  for (const std::string& level : units.memory().levels())
+    tracks.push_back(timeline->memory_track(level));
+  units.memory().observe([timeline, tracks](int level, uint64_t now, uint64_t ready, int) {
+    timeline->observe_request(tracks[static_cast<size_t>(level)], now, ready);
+  });
+  if (!units.several()) return;
   units.set_commit_observer(
       [timeline](int u, const ClockedPipeline& p) { timeline->observe(p, u); });
 }

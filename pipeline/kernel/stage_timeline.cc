@@ -64,7 +64,8 @@ void StageTimeline::record(const ClockedPipeline& pipe, int unit) {
 void StageTimeline::write_vcd(const std::string& path) const {
   AtomicTextFile file(path);
   std::ostream& o = file.out();
-  // Tracks by unit, then stage (a unit's tracks were made together, in stage order).
+  // Tracks by unit, then stage (a unit's tracks were made together, in stage order), then the
+  // memory levels' (their requests sorted: a level's answers do not come in order).
   std::vector<const Track*> order;
   for (const int first : first_track_) {
     if (first < 0) continue;
@@ -72,20 +73,33 @@ void StageTimeline::write_vcd(const std::string& path) const {
          k < tracks_.size() && tracks_[k].unit == tracks_[static_cast<size_t>(first)].unit; ++k)
       order.push_back(&tracks_[k]);
   }
+  std::vector<Track> memory;
+  for (const Track& t : tracks_) {
+    if (t.unit >= 0 || t.starts.empty()) continue;
+    memory.push_back(t);
+    std::sort(memory.back().starts.begin(), memory.back().starts.end());
+    std::sort(memory.back().leaves.begin(), memory.back().leaves.end());
+  }
+  for (const Track& t : memory) order.push_back(&t);
   const size_t n = order.size();
   const bool units =
       std::count_if(first_track_.begin(), first_track_.end(), [](int f) { return f >= 0; }) > 1;
   o << "$version texsim run --timeline $end\n"
     << "$comment the clocked pipeline's stages: busy = an item in the stage, items = items "
-       "issued to it, inflight = items in it; one time unit = one clock cycle; "
+       "issued to it, inflight = items in it; memory levels: requests made and outstanding; "
+       "one time unit = one clock cycle; "
     << recorded_ << " of " << seen_ << " items recorded $end\n"
     << "$timescale 1ns $end\n"
     << "$scope module texsim_pipeline $end\n";
+  // Each unit's stages in a scope unitN when there are several units; the levels in `memory`.
+  auto group = [&](const Track* t) {
+    return t->unit < 0 ? std::string("memory") : units ? "unit" + std::to_string(t->unit) : "";
+  };
   for (size_t s = 0; s < n; ++s) {
-    const bool first_of_unit = s == 0 || order[s - 1]->unit != order[s]->unit;
-    if (units && first_of_unit) {
-      if (s > 0) o << "$upscope $end\n";
-      o << "$scope module unit" << order[s]->unit << " $end\n";
+    const std::string g = group(order[s]);
+    if (s == 0 || g != group(order[s - 1])) {
+      if (s > 0 && !group(order[s - 1]).empty()) o << "$upscope $end\n";
+      if (!g.empty()) o << "$scope module " << g << " $end\n";
     }
     o << "$scope module " << vcd_name(order[s]->stage) << " $end\n"
       << "$var wire 1 " << vcd_id(3 * s) << " busy $end\n"
@@ -95,7 +109,7 @@ void StageTimeline::write_vcd(const std::string& path) const {
       << kInflightBits - 1 << ":0] $end\n"
       << "$upscope $end\n";
   }
-  if (units) o << "$upscope $end\n";
+  if (n > 0 && !group(order[n - 1]).empty()) o << "$upscope $end\n";
   o << "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n";
   for (size_t s = 0; s < n; ++s) {
     o << "0" << vcd_id(3 * s) << "\nb0 " << vcd_id(3 * s + 1) << "\nb0 " << vcd_id(3 * s + 2)

@@ -32,6 +32,22 @@ class StageTimeline {
     record(pipe, unit);
   }
 
+  // A memory level's track ("l2", "dram"): in the VCD's scope `memory`, busy while a request
+  // is outstanding, items = requests made, inflight = requests outstanding. Returns its index
+  // for observe_request.
+  int memory_track(const std::string& level) {
+    tracks_.push_back({-1, level, {}, {}});
+    return static_cast<int>(tracks_.size()) - 1;
+  }
+  // A request to the level made at `now`, its data there at `ready`; recorded while the
+  // fragments are (the first `limit`).
+  void observe_request(int track, uint64_t now, uint64_t ready) {
+    if (recorded_ >= limit_) return;
+    Track& t = tracks_[static_cast<size_t>(track)];
+    t.starts.push_back(now);
+    t.leaves.push_back(ready);
+  }
+
   uint64_t recorded() const { return recorded_; }
   uint64_t seen() const { return seen_; }
   // " (R of N fragments)", for the run's log.
@@ -46,7 +62,7 @@ class StageTimeline {
   void record(const ClockedPipeline& pipe, int unit);
 
   // One stage of one unit: its recorded items' start and leave cycles (in order: a stage
-  // takes its items in order).
+  // takes its items in order); or a memory level's requests (unit -1; not in order).
   struct Track {
     int unit;
     std::string stage;

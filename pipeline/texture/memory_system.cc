@@ -15,12 +15,25 @@ MemorySystem::MemorySystem(const PipelineSetup& setup, int units) : dram_(setup.
     banked_->validate(setup.has_l2 ? setup.l2.line_bytes : setup.cache.line_bytes);
     dram = banked_.get();
   }
-  behind_l1_ = dram;
+  to_next_.set_next(dram);
   if (setup.has_l2) {
-    l2_ = std::make_unique<L2Cache>(setup.l2, *dram);
+    to_dram_.set_next(dram);
+    l2_ = std::make_unique<L2Cache>(setup.l2, to_dram_);
     l2_->validate(setup.cache.line_bytes);
-    behind_l1_ = l2_.get();
+    to_next_.set_next(l2_.get());
   }
+}
+
+std::vector<std::string> MemorySystem::levels() const {
+  if (l2_) return {"l2", "dram"};
+  return {"dram"};
+}
+
+void MemorySystem::observe(
+    const std::function<void(int level, uint64_t now, uint64_t ready, int unit)>& f) {
+  to_next_.set_observer([f](uint64_t now, uint64_t ready, int unit) { f(0, now, ready, unit); });
+  if (l2_)
+    to_dram_.set_observer([f](uint64_t now, uint64_t ready, int unit) { f(1, now, ready, unit); });
 }
 
 DramModel::Stats MemorySystem::dram_totals() const {

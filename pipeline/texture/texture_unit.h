@@ -133,6 +133,7 @@ class TextureUnit {
   const ClockedPipeline* pipeline() const { return pipe_.get(); }
   const TextureCache& cache() const { return cache_; }
   const MemorySystem& memory() const { return *mem_; }
+  MemorySystem& memory() { return *mem_; }
   // Tag look-ups quad merging saved: lines a quad's earlier lane had looked up.
   uint64_t quad_merged_lookups() const { return quad_merged_; }
   const std::vector<FrameStats>& frames() const {

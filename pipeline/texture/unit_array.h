@@ -73,6 +73,7 @@ class UnitArray {
   TextureCache::Stats l1_totals() const { return memory().l1_totals(); }
   const TextureCache::Config& l1_config() const { return units_[0]->cache().config(); }
   const MemorySystem& memory() const { return units_[0]->memory(); }
+  MemorySystem& memory() { return units_[0]->memory(); }
   // Stage s's counters summed over the units (each unit has the same stages).
   StageStats stage_totals(int s) const;
   // Stage s's busy issue slots ÷ (the run's cycles × lanes × units).

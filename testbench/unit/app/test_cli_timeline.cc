@@ -68,4 +68,27 @@ TEST_F(Cli, TimelineLimitAndErrors) {
   EXPECT_FALSE(fs::exists(path("c") + "/report.json"));
 }
 
+TEST_F(Cli, TimelineHasEveryUnitAndMemoryLevel) {
+  // Four units, an L2 over banked DRAM: a scope per unit, and one per level with its requests.
+  const std::string vcd = path("t.vcd");
+  const Result r = sh("run" + kSmall +
+                      " --set pipeline.units=4 --set pipeline.l2.size_bytes=65536"
+                      " --set pipeline.dram.model=banked --out " +
+                      path("a") + " --timeline " + vcd);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const vcd_reader::Vcd v = vcd_reader::parse(slurp(vcd));
+  const Json j = load_json(path("a") + "/report.json");
+  uint64_t items = 0;
+  for (int u = 0; u < 4; ++u) items += v.at("unit" + std::to_string(u) + ".blend.items", UINT64_MAX);
+  EXPECT_EQ(items, static_cast<uint64_t>(num(j, "fragments")));
+  // Every request the L2 and the DRAM received, and none outstanding at the end.
+  EXPECT_EQ(v.at("memory.l2.items", UINT64_MAX), j["l2"]["accesses"].get<uint64_t>());
+  EXPECT_EQ(v.at("memory.dram.items", UINT64_MAX), j["dram"]["requests"].get<uint64_t>());
+  EXPECT_GT(j["dram"]["requests"].get<uint64_t>(), 0u);
+  for (const char* level : {"memory.l2", "memory.dram"}) {
+    EXPECT_EQ(v.at(std::string(level) + ".inflight", UINT64_MAX), 0u) << level;
+    EXPECT_GE(v.changes.at(std::string(level) + ".busy").size(), 2u) << level;
+  }
+}
+
 }  // namespace
