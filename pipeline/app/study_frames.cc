@@ -96,10 +96,8 @@ StudyTable table(const std::vector<FrameStudyRow>& rows) {
 }
 
 PlotSpec psnr_plot(const std::vector<FrameStudyRow>& rows) {
-  PlotSpec p;
-  p.title = "Frames of a real application: PSNR per frame";
-  p.xlabel = "frame (capture number)";
-  p.ylabel = "PSNR (dB)";
+  PlotSpec p{"Frames of a real application: PSNR per frame", "frame (capture number)",
+             "PSNR (dB)", false, false, 1200, 800, {}};
   PlotSeries lookups{"texture look-ups vs ground truth", {}, {}, true, {}};
   PlotSeries frame{"frame vs frame shaded with the truth", {}, {}, true, {}};
   PlotSeries app{"frame vs the application's image", {}, {}, false, {}};
@@ -122,10 +120,9 @@ PlotSpec psnr_plot(const std::vector<FrameStudyRow>& rows) {
 }
 
 PlotSpec cycles_plot(const std::vector<FrameStudyRow>& rows) {
-  PlotSpec p;
-  p.title = "Frames of a real application: texture-unit cycles per look-up and L1 hit rate";
-  p.xlabel = "frame (capture number)";
-  p.ylabel = "cycles per look-up; L1 hit rate (%) / 10";
+  PlotSpec p{"Frames of a real application: texture-unit cycles per look-up and L1 hit rate",
+             "frame (capture number)", "cycles per look-up; L1 hit rate (%) / 10", false, false,
+             1200, 800, {}};
   PlotSeries cyc{"cycles per look-up", {}, {}, true, {}};
   PlotSeries hit{"L1 hit rate (%) / 10", {}, {}, true, {}};
   for (const FrameStudyRow& r : rows) {
