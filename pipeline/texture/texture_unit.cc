@@ -13,8 +13,7 @@ namespace texsim {
 namespace {
 // The sampler slots after the front end, as the fixed kernels see them.
 enum Stage { kLod, kAddress, kCache, kBlend, kStages };
-constexpr int kMaxFront =
-    2;  // coordinate and derivative slots (a constant bound for the compiler)
+constexpr int kMaxFront = 2;  // coordinate and derivative slots (a constant bound for the compiler)
 // The kernels' kFront for a timed unit with other slots or timed in two steps: slots by index.
 constexpr int kAnyStages = 1000;
 }  // namespace
@@ -84,7 +83,7 @@ void TextureUnit::choose_batch(Path& p, const MaterialSetup& m) {
   // The batched datapath: a plain bilinear or trilinear material (LOD, address and blend
   // stages only), on a unit without other slots.
   const MaterialStages& st = p.stages;
-  if (!st.address || st.all.size() != 3) return;
+  if (!st.address || st.front || !st.surface.empty()) return;
   const FilterMode filter = st.address->filter();
   const bool plain = filter != FilterMode::Nearest &&
                      st.blend->blend().quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);

@@ -123,7 +123,6 @@ class TextureUnit {
     return frames_;
   }
 
-
  private:
   // One material: its stages, the kernels chosen for them, and the fragments it textured.
   struct Path;

@@ -40,7 +40,7 @@ class FetchStage {
   // Tag look-ups of lines[0 .. n) (distinct) at cycle `start`, for `texels` texels; returns
   // the cycles the fragment waits beyond the hit latency (the misses' refills).
   [[gnu::always_inline]] inline uint64_t access_lines(const uint64_t* lines, int n, uint64_t texels,
-                                               uint64_t start) {
+                                                      uint64_t start) {
     if (recording_) return record(lines, n, texels);
     if (quad_merge_) return access_quad_lines(lines, n, texels, start);
     const uint64_t hit_ready = start + hit_latency_;
@@ -59,7 +59,7 @@ class FetchStage {
   // lookup_taps() finds for the taps the quads stand for, in the same order.
   template <TexelLayout L>
   [[gnu::always_inline]] inline uint64_t lookup_quads(const TexelQuad* q, int n, const Texture& tex,
-                                               uint64_t start);
+                                                      uint64_t start);
 
   // Reads an earlier stage made for the current fragment (lines distinct): looked up in the
   // cache slot before the filter's own, as the cache and DRAM see requests in time order.
@@ -159,7 +159,8 @@ namespace fetch_detail {
 }  // namespace fetch_detail
 
 template <TexelLayout L>
-inline uint64_t FetchStage::lookup_quads(const TexelQuad* q, int n, const Texture& tex, uint64_t start) {
+inline uint64_t FetchStage::lookup_quads(const TexelQuad* q, int n, const Texture& tex,
+                                         uint64_t start) {
   const uint32_t shift = l1_.line_shift();
   const auto bpt = static_cast<uint64_t>(tex.bytes_per_texel());
   uint64_t lines[8];

@@ -18,7 +18,8 @@ FilterStage::Result FootprintStage::filter(const Fragment& f, const Texture& tex
   if (timed) {
     r.address_cycles = std::max<uint32_t>(1, filter_.issue_cycles(out.stats));
     lines_.clear();
-    for (const TexelRef& t : fetched_) lines_.push_back(fetch.line_of(tex.address(t.level, t.x, t.y)));
+    for (const TexelRef& t : fetched_)
+      lines_.push_back(fetch.line_of(tex.address(t.level, t.x, t.y)));
     std::sort(lines_.begin(), lines_.end());
     lines_.erase(std::unique(lines_.begin(), lines_.end()), lines_.end());
     r.lines = &lines_;

@@ -20,8 +20,7 @@ struct FrontEndStats {
 
 class FrontEndStage final : public UnitStage {
  public:
-  explicit FrontEndStage(const CoordUnit& unit)
-      : unit_(unit), count_(unit.has_derivs() ? 2 : 1) {}
+  explicit FrontEndStage(const CoordUnit& unit) : unit_(unit), count_(unit.has_derivs() ? 2 : 1) {}
   void declare(SlotPlan& plan, const TechTable& tech) const override;
   void bind(const SlotPlan& plan, const TechTable& tech) override;
   void rows(StageReport& r, std::vector<BlockUse>& out) const override;

@@ -1,6 +1,7 @@
 #include "pipeline/texture/stages/material_stages.h"
 
 #include <stdexcept>
+#include <utility>
 
 #include "pipeline/texture/stages/footprint_stage.h"
 #include "pipeline/texture/stages/lighting_stage.h"

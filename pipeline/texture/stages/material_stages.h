@@ -24,11 +24,11 @@ struct MaterialStages {
   // stages' and the front end's methods directly (non-virtual, inlined: the per-fragment cost
   // of the classic path stays that of the blocks alone); a filter stage and the surface
   // stages, whose work per fragment is far larger, are called through their base classes.
-  FrontEndStage* front = nullptr;     // null: fragments arrive with their coordinates
-  LodStage* lod = nullptr;            // always set (a bypassed one beside a filter stage)
-  AddressStage* address = nullptr;    // null when a filter stage takes the address slot
-  BlendStage* blend = nullptr;        // always set
-  FilterStage* filter = nullptr;      // footprint or visibility-aware filter, or null
+  FrontEndStage* front = nullptr;      // null: fragments arrive with their coordinates
+  LodStage* lod = nullptr;             // always set (a bypassed one beside a filter stage)
+  AddressStage* address = nullptr;     // null when a filter stage takes the address slot
+  BlendStage* blend = nullptr;         // always set
+  FilterStage* filter = nullptr;       // footprint or visibility-aware filter, or null
   std::vector<SurfaceStage*> surface;  // relief, lighting: in order
 };
 
