@@ -6,14 +6,15 @@
 
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
+#include "pipeline/texture/stages/relief_stage.h"
 
 namespace texsim {
 
 namespace {
+// The sampler slots after the front end, as the fixed kernels see them.
 enum Stage { kLod, kAddress, kCache, kBlend, kStages };
-constexpr int kMaxFront =
-    2;  // coordinate and derivative stages (a constant bound for the compiler)
-// The kernels' kFront for a timed unit with relief or lighting stages: stages by index.
+constexpr int kMaxFront = 2;  // coordinate and derivative slots (a constant bound for the compiler)
+// The kernels' kFront for a timed unit with other slots or timed in two steps: slots by index.
 constexpr int kAnyStages = 1000;
 }  // namespace
 
@@ -37,306 +38,60 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
       setup_(setup),
       tech_(tech),
       timing_(timing),
-      blend_(setup.blend),
       own_memory_(std::move(own)),
       mem_(shared ? shared : own_memory_.get()),
-      cache_(mem_->l1(unit)),
-      next_(&mem_->behind_l1()),
-      unit_(unit),
-      quad_merge_(setup.quad_merge),
+      fetch_(mem_->l1(unit), mem_->behind_l1(), unit, setup.cache, setup.quad_merge),
       defer_(shared != nullptr) {
   if (mats_.empty()) throw std::invalid_argument("texture unit: no materials");
   textures_.place(setup.layout);
+  int reliefs = 0;
   for (const auto& m : mats_) {
     Path p;
-    p.lod = LodUnit(m.lod);
-    p.addr = TexelAddressGen(m.filter);
-    p.footprint = m.footprint.get();
-    p.coords = m.coords.get();
-    if (p.coords) {
-      p.front_count = p.coords->has_derivs() ? 2 : 1;
-      front_ = std::max(front_, p.front_count);
-    }
-    if (m.relief) {
-      if (m.relief->height_tex < 0 || m.relief->height_tex >= textures_.size())
-        throw std::invalid_argument("texture unit: material '" + m.name +
-                                    "': relief height texture is not bound");
-      p.relief_height = &textures_[m.relief->height_tex];
-      p.relief_colour = &textures_[m.texture];
-      // Each distance map in a region of its own, far above the textures.
-      p.volume_base = (uint64_t{1} << 40) + (static_cast<uint64_t>(reliefs_.size()) << 32);
-      reliefs_.push_back(
-          std::make_unique<ReliefEffect>(*m.relief, *p.relief_height, p.relief_colour));
-      p.relief = reliefs_.back().get();
-      p.relief_step_ii = p.relief->timing(tech_).ii;
-      if (p.relief->has_visibility_filter())
-        p.vis_ii = std::max<uint32_t>(1, p.relief->visibility_filter().timing(tech_).ii);
-    }
-    if (m.lighting) {
-      const int nt = m.lighting->normal_tex;
-      if (m.lighting->normal != LightingSetup::Normal::Flat && (nt < 0 || nt >= textures_.size()))
-        throw std::invalid_argument("texture unit: material '" + m.name +
-                                    "': lighting normal texture is not bound");
-      lightings_.push_back(
-          std::make_unique<LightingEffect>(*m.lighting, nt >= 0 ? &textures_[nt] : nullptr));
-      p.lighting = lightings_.back().get();
-      p.light_extra_ii = p.lighting->timing(tech_).ii - 1;
-    }
-    const uint32_t tpc = setup.cache.texels_per_cycle;
-    for (int n = 1; n <= 16; ++n) {
-      FilterTaps t;
-      t.count = n * p.addr.taps_per_probe();
-      p.blend_extra_ii[n] = blend_.issue_cycles(t) - 1;
-      p.cache_extra_ii[n] = (static_cast<uint32_t>(t.count) + tpc - 1) / tpc - 1;
-    }
-    paths_.push_back(p);
+    p.stages = assemble_stages(m, textures_, setup_, tech_, reliefs);
+    paths_.push_back(std::move(p));
   }
-  // Relief and lighting stages exist only when some material uses them.
-  const bool any_relief =
-      std::any_of(paths_.begin(), paths_.end(), [](const Path& p) { return p.relief; });
-  const bool any_light =
-      std::any_of(paths_.begin(), paths_.end(), [](const Path& p) { return p.lighting; });
-  relief_stage_ = any_relief ? front_ : -1;
-  base_ = front_ + (any_relief ? 1 : 0);
-  light_stage_ = any_light ? base_ + kStages : -1;
-  if (timing_) {
-    // One stage per hardware unit; a unit serving several materials is sized for the slowest.
-    TimingSpec lod_t{}, addr_t{};
-    for (const auto& p : paths_) {
-      const TimingSpec l = p.lod.timing(tech_);
-      const TimingSpec a = p.footprint ? p.footprint->timing(tech_)
-                           : p.relief && p.relief->has_visibility_filter()
-                               ? p.relief->visibility_filter().timing(tech_)
-                               : p.addr.timing(tech_);
-      lod_t.latency = std::max(lod_t.latency, l.latency);
-      addr_t.latency = std::max(addr_t.latency, a.latency);
-    }
-    TimingSpec cache_t;
-    cache_t.latency = setup.cache.hit_latency;
-    std::vector<StageConfig> st(static_cast<size_t>(base_ + kStages + (any_light ? 1 : 0)));
-    // Front end: one stage per coordinate-unit stage, sized for the slowest and widest unit;
-    // each unit's own throughput comes back through front_extra (per-fragment issue cycles).
-    static const char* const front_names[2] = {"coords", "derivs"};
-    for (int s = 0; s < front_; ++s) {
-      TimingSpec t{};
-      for (const auto& p : paths_) {
-        if (p.front_count <= s) continue;
-        const TimingSpec u = p.coords->stages(tech_)[static_cast<size_t>(s)].timing;
-        t.latency = std::max(t.latency, u.latency);
-        t.lanes = std::max(t.lanes, u.lanes);
-      }
-      t.ii = 1;
-      for (auto& p : paths_) {
-        if (p.front_count <= s) continue;
-        const TimingSpec u = p.coords->stages(tech_)[static_cast<size_t>(s)].timing;
-        p.front_extra[s] = (u.ii * t.lanes + u.lanes - 1) / u.lanes - 1;
-      }
-      st[static_cast<size_t>(s)] = {front_names[s], t, setup.fifo_depth, 0};
-    }
-    const auto at = [&](int stage) -> StageConfig& {
-      return st[static_cast<size_t>(base_) + static_cast<size_t>(stage)];
-    };
-    // Relief: a loop issuing one step per step ii; lighting: normal unit then shader. Both
-    // sized for the slowest material (issue cycles per fragment come per item).
-    TimingSpec relief_t{}, light_t{};
-    for (const auto& p : paths_) {
-      if (p.relief) relief_t.latency = std::max(relief_t.latency, p.relief->timing(tech_).latency);
-      if (p.lighting)
-        light_t.latency = std::max(light_t.latency, p.lighting->timing(tech_).latency);
-    }
-    if (any_relief)
-      st[static_cast<size_t>(relief_stage_)] = {"relief", relief_t, setup.fifo_depth, 0};
-    if (any_light)
-      st[static_cast<size_t>(light_stage_)] = {"lighting", light_t, setup.fifo_depth, 0};
-    at(kLod) = {"lod", lod_t, setup.fifo_depth, 0};
-    at(kAddress) = {"address", addr_t, setup.fifo_depth, 0};
-    at(kCache) = {"cache", cache_t, setup.fifo_depth, setup.cache.miss_queue};
-    at(kBlend) = {"blend", blend_.timing(tech_), setup.fifo_depth, 0};
-    pipe_ = std::make_unique<ClockedPipeline>(std::move(st));
-    defer_costs_.resize(static_cast<size_t>(pipe_->stage_count()));
-  }
+  plan_pipeline();
   for (size_t m = 0; m < paths_.size(); ++m) {
     paths_[m].kernel = choose_kernel(paths_[m]);
     choose_batch(paths_[m], mats_[m]);
   }
 }
 
+void TextureUnit::plan_pipeline() {
+  // One pipeline stage per slot some material occupies; a slot serving several materials is
+  // sized for the slowest (the stages' bind() takes each material's own throughput back).
+  SlotPlan plan(setup_.fifo_depth);
+  for (const Path& p : paths_) {
+    for (const auto& s : p.stages.all) s->declare(plan, tech_);
+  }
+  fetch_.declare(plan);
+  plan.finish();
+  for (Path& p : paths_) {
+    for (const auto& s : p.stages.all) s->bind(plan, tech_);
+  }
+  front_ = plan.front_slots();
+  address_ = plan.index(Slot::Address);
+  cache_slot_ = plan.index(Slot::Cache);
+  blend_ = plan.index(Slot::Blend);
+  sampler_only_ = plan.sampler_only();
+  if (!timing_) return;
+  pipe_ = std::make_unique<ClockedPipeline>(plan.stages());
+  defer_costs_.resize(static_cast<size_t>(pipe_->stage_count()));
+}
+
 void TextureUnit::choose_batch(Path& p, const MaterialSetup& m) {
-  // The batched datapath: a plain bilinear or trilinear material, on a unit without
-  // front-end, relief or lighting stages.
-  const FilterMode filter = p.addr.config().filter;
-  const bool plain = !p.footprint && !p.coords && !p.relief && !p.lighting &&
-                     filter != FilterMode::Nearest &&
-                     blend_.quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
-  if (!plain || front_ != 0 || relief_stage_ >= 0 || light_stage_ >= 0 || defer_) return;
+  // The batched datapath: a plain bilinear or trilinear material (LOD, address and blend
+  // stages only), on a unit without other slots.
+  const MaterialStages& st = p.stages;
+  if (!st.address || st.front || !st.surface.empty()) return;
+  const FilterMode filter = st.address->filter();
+  const bool plain = filter != FilterMode::Nearest &&
+                     st.blend->blend().quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
+  if (!plain || front_ != 0 || !sampler_only_ || defer_) return;
   p.batch = std::make_shared<LinearBatchSampler>(m.lod, m.filter);
   p.batch_kernel = pipe_ ? pick_batch_kernel<0>(filter, textures_.layout())
                          : pick_batch_kernel<-1>(filter, textures_.layout());
   if (!batch_out_) batch_out_ = std::make_unique<LinearBatch>();
-}
-
-namespace {
-
-// Adds `line` to lines[0 .. n) unless present (order of first use kept).
-inline void add_line(uint64_t line, uint64_t* lines, int& n) {
-  int k = 0;
-  while (k < n && lines[k] != line) ++k;
-  if (k == n) lines[n++] = line;
-}
-
-// Distinct cache lines of a fragment's taps, in order of first use, under layout L (a
-// template argument, so the address arithmetic has no layout switch per texel). A linear
-// filter's taps come in 2x2 quads (x0,y0) (x1,y0) (x0,y1) (x1,y1) on one level: their
-// addresses are level base + row part + column part, two of each per quad.
-template <TexelLayout L>
-int distinct_lines(const FilterTaps& taps, const Texture& tex, uint32_t shift, uint64_t* lines) {
-  const auto bpt = static_cast<uint64_t>(tex.bytes_per_texel());
-  int n = 0;
-  int i = 0;
-  for (; i + 4 <= taps.count; i += 4) {
-    const TexelTap* q = &taps.tap[static_cast<size_t>(i)];
-    const bool quad = q[1].level == q[0].level && q[2].level == q[0].level &&
-                      q[3].level == q[0].level && q[1].y == q[0].y && q[2].x == q[0].x &&
-                      q[3].x == q[1].x && q[3].y == q[2].y;
-    if (!quad) break;
-    const Texture::Level& lv = tex.level(q[0].level);
-    const uint64_t base = tex.base() + lv.offset;
-    const uint64_t r0 = Texture::row_index(L, lv, q[0].y), r1 = Texture::row_index(L, lv, q[2].y);
-    const uint64_t c0 = Texture::col_index(L, q[0].x), c1 = Texture::col_index(L, q[1].x);
-    const uint64_t l00 = (base + (r0 + c0) * bpt) >> shift, l10 = (base + (r0 + c1) * bpt) >> shift;
-    const uint64_t l01 = (base + (r1 + c0) * bpt) >> shift, l11 = (base + (r1 + c1) * bpt) >> shift;
-    if (n == 0) {
-      // First quad: its distinct lines without a search.
-      lines[n++] = l00;
-      if (l10 != l00) lines[n++] = l10;
-      if (l01 != l00 && l01 != l10) lines[n++] = l01;
-      if (l11 != l00 && l11 != l10 && l11 != l01) lines[n++] = l11;
-    } else {
-      add_line(l00, lines, n);
-      add_line(l10, lines, n);
-      add_line(l01, lines, n);
-      add_line(l11, lines, n);
-    }
-  }
-  for (; i < taps.count; ++i) {  // nearest taps, or anything not in quads
-    const TexelTap& t = taps.tap[static_cast<size_t>(i)];
-    const Texture::Level& lv = tex.level(t.level);
-    add_line((tex.base() + lv.offset + Texture::texel_index(L, lv, t.x, t.y) * bpt) >> shift, lines,
-             n);
-  }
-  return n;
-}
-
-}  // namespace
-
-uint64_t TextureUnit::access_lines(const uint64_t* lines, int n, uint64_t texels, uint64_t start) {
-  if (recording_) {
-    // Two-step timing: the look-ups are made at commit(), at the cycle the scheduler allows.
-    rec_groups_.push_back({rec_lines_.size(), static_cast<size_t>(n), texels});
-    rec_lines_.insert(rec_lines_.end(), lines, lines + n);
-    return 0;
-  }
-  if (quad_merge_) return access_quad_lines(lines, n, texels, start);
-  const uint64_t hit_ready = start + setup_.cache.hit_latency;
-  uint64_t ready = hit_ready;
-  const uint32_t line_bytes = setup_.cache.line_bytes;
-  const uint32_t shift = cache_.line_shift();
-  for (int k = 0; k < n; ++k) {
-    if (!cache_.access_line(lines[k]))
-      ready = std::max(ready, next_->read_line(start, lines[k] << shift, line_bytes, unit_));
-  }
-  cache_.count_texels(texels);
-  return ready - hit_ready;
-}
-
-uint64_t TextureUnit::access_quad_lines(const uint64_t* lines, int n, uint64_t texels,
-                                        uint64_t start) {
-  const uint64_t hit_ready = start + setup_.cache.hit_latency;
-  uint64_t ready = hit_ready;
-  for (int k = 0; k < n; ++k) {
-    const auto it = std::find_if(quad_lines_.begin(), quad_lines_.end(),
-                                 [&](const auto& e) { return e.first == lines[k]; });
-    if (it != quad_lines_.end()) {
-      // The quad's earlier lane looked it up: its data comes with that read (or its fill).
-      ++quad_merged_;
-      ready = std::max(ready, it->second);
-      continue;
-    }
-    uint64_t r = hit_ready;
-    if (!cache_.access_line(lines[k])) {
-      r = std::max(r, next_->read_line(start, lines[k] << cache_.line_shift(),
-                                       setup_.cache.line_bytes, unit_));
-    }
-    quad_lines_.emplace_back(lines[k], r);
-    ready = std::max(ready, r);
-  }
-  cache_.count_texels(texels);
-  return ready - hit_ready;
-}
-
-void TextureUnit::note_quad(const Fragment& f) {
-  const uint32_t lane = 1u << ((f.x & 1) | (f.y & 1) << 1);
-  const bool same = quad_open_ && f.frame == quad_frame_ && f.prim == quad_prim_ &&
-                    f.x >> 1 == quad_x_ && f.y >> 1 == quad_y_ && (quad_mask_ & lane) == 0;
-  if (!same) {
-    // Every unit commits a fragment before it takes the next, so the quad's look-ups are done.
-    quad_lines_.clear();
-    quad_open_ = true;
-    quad_frame_ = f.frame;
-    quad_prim_ = f.prim;
-    quad_x_ = f.x >> 1;
-    quad_y_ = f.y >> 1;
-    quad_mask_ = 0;
-  }
-  quad_mask_ |= lane;
-}
-
-uint64_t TextureUnit::cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start) {
-  // Each distinct line of the fragment's taps is one tag look-up.
-  const uint32_t shift = cache_.line_shift();
-  uint64_t lines[128];
-  int n = 0;
-  switch (tex.layout()) {
-    case TexelLayout::Linear:
-      n = distinct_lines<TexelLayout::Linear>(taps, tex, shift, lines);
-      break;
-    case TexelLayout::Tiled4x4:
-      n = distinct_lines<TexelLayout::Tiled4x4>(taps, tex, shift, lines);
-      break;
-    case TexelLayout::Morton:
-      n = distinct_lines<TexelLayout::Morton>(taps, tex, shift, lines);
-      break;
-  }
-  return access_lines(lines, n, static_cast<uint64_t>(taps.count), start);
-}
-
-template <TexelLayout L>
-uint64_t TextureUnit::cache_lookups(const TexelQuad* q, int n, const Texture& tex, uint64_t start) {
-  // The lines distinct_lines() finds for the quads' taps, in the same order.
-  const uint32_t shift = cache_.line_shift();
-  const auto bpt = static_cast<uint64_t>(tex.bytes_per_texel());
-  uint64_t lines[8];
-  int k = 0;
-  for (int j = 0; j < n; ++j) {
-    const Texture::Level& lv = tex.level(q[j].level);
-    const uint64_t base = tex.base() + lv.offset;
-    const uint64_t r0 = Texture::row_index(L, lv, q[j].y0), r1 = Texture::row_index(L, lv, q[j].y1);
-    const uint64_t c0 = Texture::col_index(L, q[j].x0), c1 = Texture::col_index(L, q[j].x1);
-    const uint64_t l00 = (base + (r0 + c0) * bpt) >> shift, l10 = (base + (r0 + c1) * bpt) >> shift;
-    const uint64_t l01 = (base + (r1 + c0) * bpt) >> shift, l11 = (base + (r1 + c1) * bpt) >> shift;
-    if (j == 0) {
-      lines[k++] = l00;
-      if (l10 != l00) lines[k++] = l10;
-      if (l01 != l00 && l01 != l10) lines[k++] = l01;
-      if (l11 != l00 && l11 != l10 && l11 != l01) lines[k++] = l11;
-    } else {
-      add_line(l00, lines, k);
-      add_line(l10, lines, k);
-      add_line(l01, lines, k);
-      add_line(l11, lines, k);
-    }
-  }
-  return access_lines(lines, k, 4 * static_cast<uint64_t>(n), start);
 }
 
 void TextureUnit::new_frame(const Fragment& f) {
@@ -344,66 +99,47 @@ void TextureUnit::new_frame(const Fragment& f) {
   frames_.push_back({f.frame, 0, 0});
 }
 
-uint64_t TextureUnit::cache_lookups(const std::vector<TexelRef>& texels, const Texture& tex,
-                                    uint64_t start) {
-  lines_.clear();
-  for (const TexelRef& t : texels) lines_.push_back(cache_.line_of(tex.address(t.level, t.x, t.y)));
-  std::sort(lines_.begin(), lines_.end());
-  lines_.erase(std::unique(lines_.begin(), lines_.end()), lines_.end());
-  return access_lines(lines_.data(), static_cast<int>(lines_.size()), texels.size(), start);
-}
-
-// A footprint filter is one block that scans, weights and accumulates: it occupies the address
-// stage for its issue cycles, its texels go through the cache, and the blend stage normalises.
-Rgba TextureUnit::process_footprint(const Fragment& f, Path& p, const Texture& tex,
-                                    const ItemCost* front) {
-  fetched_.clear();
-  const FilterOutput out = p.footprint->filter(tex, f, &fetched_, p.footprint_ops);
-  ++p.fragments;
-  p.footprint_texels += fetched_.size();
-  count_frame(f);
-  if (pipe_) {
-    const auto n = static_cast<uint32_t>(fetched_.size());
-    const uint32_t tpc = setup_.cache.texels_per_cycle;
-    const uint32_t scan = p.footprint->issue_cycles(out.stats);
-    const int addr = base_ + kAddress, cache = base_ + kCache;
-    issue_any([&](int s, uint64_t start) {
-      if (s < kMaxFront && s < front_) return front_cost(p, front, s);
-      ItemCost c;
-      add_effect_costs(s, c);
-      if (s == addr) c.extra_ii = scan > 0 ? scan - 1 : 0;
-      if (s == cache) {
-        c.extra_ii = n > 0 ? (n + tpc - 1) / tpc - 1 : 0;
-        const uint64_t relief_wait = relief_lookups(start);
-        c.extra_latency = std::max(relief_wait, cache_lookups(fetched_, tex, start));
-      }
-      return c;
-    });
-  }
-  return out.colour;
-}
-
 void TextureUnit::generate_coords(int material, const CoordTriangle& tri,
                                   std::vector<CoordUnitFragment>& out,
                                   std::vector<ItemCost>& costs) {
-  Path& p = paths_[static_cast<size_t>(material)];
-  if (!p.coords) throw std::logic_error("generate_coords: material has no coordinate unit");
-  const size_t before = out.size();
-  p.coords->generate(tri, tech_, out, costs, p.coord_ops, p.deriv_ops);
-  front_stats_.generated += out.size() - before;
+  FrontEndStage* fe = paths_[static_cast<size_t>(material)].stages.front;
+  if (!fe) throw std::logic_error("generate_coords: material has no coordinate unit");
+  fe->generate(tri, tech_, out, costs);
 }
 
 void TextureUnit::drop(int material, const ItemCost* front, bool rejected) {
-  const Path& p = paths_[static_cast<size_t>(material)];
-  ++(rejected ? front_stats_.rejected : front_stats_.occluded);
-  if (!pipe_ || !front) return;
-  for (int s = 0; s < p.front_count; ++s)
-    pending_front_[s] += 1 + p.front_extra[s] + front[s].extra_ii;
+  FrontEndStage* fe = paths_[static_cast<size_t>(material)].stages.front;
+  if (!fe) throw std::logic_error("drop: material has no coordinate unit");
+  fe->drop(pipe_ ? front : nullptr, rejected, owed_);
 }
+
+const FrontEndStats& TextureUnit::front_end_stats() const {
+  front_stats_ = {};
+  for (const Path& p : paths_) {
+    if (!p.stages.front) continue;
+    const FrontEndStats& s = p.stages.front->stats();
+    front_stats_.generated += s.generated;
+    front_stats_.occluded += s.occluded;
+    front_stats_.rejected += s.rejected;
+  }
+  return front_stats_;
+}
+
+uint64_t TextureUnit::material_relief_steps(int m) const {
+  const ReliefStage* r = find_stage<ReliefStage>(m);
+  return r ? r->steps() : 0;
+}
+
+uint64_t TextureUnit::material_relief_fetches(int m) const {
+  const ReliefStage* r = find_stage<ReliefStage>(m);
+  return r ? r->fetches() : 0;
+}
+
+bool TextureUnit::material_has_relief(int m) const { return find_stage<ReliefStage>(m) != nullptr; }
 
 Rgba TextureUnit::process(const Fragment& f, int material, const ItemCost* front) {
   Path& p = paths_[static_cast<size_t>(material)];
-  if (p.relief || p.lighting) return process_surface(f, p, material, front);
+  if (!p.stages.surface.empty()) return process_surface(f, p, material, front);
   return filter_fragment(f, p, front);
 }
 
@@ -437,95 +173,30 @@ Rgba TextureUnit::process_surface(const Fragment& f, Path& p, int material, cons
   // carries it), else through the pixel's centre from the scene's camera.
   const glm::dvec3 view_ts = f.has_view() ? glm::normalize(glm::dvec3(f.view_x, f.view_y, f.view_z))
                                           : sf.to_tangent(sf.view(f.x + 0.5, f.y + 0.5));
-  Fragment g = f;
-  cur_relief_ii_ = 0;
-  cur_relief_texels_ = 0;
-  if (p.relief) {
-    relief_reads_.clear();
-    const ReliefEffect::Shift sh = p.relief->shift(f.u, f.v, view_ts, sf.u_length(), sf.v_length(),
-                                                   p.relief_ops, pipe_ ? &relief_reads_ : nullptr);
-    g.u = sh.u;
-    g.v = sh.v;
-    p.relief_steps += sh.steps;
-    p.relief_fetches += sh.fetches;
-    cur_relief_ii_ = sh.steps > 0 ? sh.steps * p.relief_step_ii - 1 : 0;
-    if (pipe_ && !relief_reads_.empty()) {
-      relief_lines(p, relief_reads_, relief_lines_);
-      cur_relief_texels_ = relief_reads_.size();
-    }
-  }
-  cur_light_ii_ = p.lighting ? p.light_extra_ii : 0;
-  Rgba c = p.relief && p.relief->has_visibility_filter() ? process_visible(g, p, view_ts, sf, front)
-                                                         : filter_fragment(g, p, front);
-  cur_relief_ii_ = cur_light_ii_ = 0;
-  cur_relief_texels_ = 0;
-  if (p.lighting) {
-    const glm::dvec3 light_ts = sf.to_tangent(p.lighting->setup().light_dir);
-    c = p.lighting->shade(c, g.u, g.v, view_ts, light_ts, p.normal_ops, p.shader_ops);
-  }
+  SurfaceItem it{f, sf, view_ts, pipe_ != nullptr, item_extra_};
+  for (SurfaceStage* s : p.stages.surface) s->enter(it, fetch_);
+  surface_ = &it;
+  Rgba c = filter_fragment(it.g, p, front);
+  surface_ = nullptr;
+  std::fill(std::begin(item_extra_), std::end(item_extra_), 0u);
+  fetch_.clear_staged();
+  for (SurfaceStage* s : p.stages.surface) c = s->leave(it, c);
   return c;
 }
 
-void TextureUnit::relief_lines(const Path& p, const std::vector<ReliefRead>& reads,
-                               std::vector<uint64_t>& lines) const {
-  lines.clear();
-  const Texture& h = *p.relief_height;
-  const Texture& c = *p.relief_colour;
-  const ReliefHeightMap& hm = p.relief->height_map();
-  const DistanceMap& dm = p.relief->distance_map();
-  for (const ReliefRead& r : reads) {
-    uint64_t addr = 0;
-    if (r.z == ReliefRead::kHeightRead) {
-      addr = h.address(0, r.x, r.y);
-    } else if (r.z == ReliefRead::kColourRead) {
-      // The filter's colour grid is the height map's: texel (x, y) is the colour texel it
-      // was resampled from.
-      addr = c.address(0, static_cast<int>(int64_t{r.x} * c.width(0) / hm.width),
-                       static_cast<int>(int64_t{r.y} * c.height(0) / hm.height));
-    } else {
-      addr = p.volume_base + dm.index(r.x, r.y, r.z);
-    }
-    lines.push_back(cache_.line_of(addr));
-  }
-  std::sort(lines.begin(), lines.end());
-  lines.erase(std::unique(lines.begin(), lines.end()), lines.end());
-}
-
-uint64_t TextureUnit::relief_lookups(uint64_t start) {
-  if (cur_relief_texels_ == 0) return 0;
-  return access_lines(relief_lines_.data(), static_cast<int>(relief_lines_.size()),
-                      cur_relief_texels_, start);
-}
-
-Rgba TextureUnit::process_visible(const Fragment& g, Path& p, const glm::dvec3& view_ts,
-                                  const SurfaceFrame& sf, const ItemCost* front) {
-  fetched_reads_.clear();
-  const VisibilityAwareFilter::Result r = p.relief->filter_visible(
-      g, view_ts, sf.u_length(), sf.v_length(), p.vis_ops, pipe_ ? &fetched_reads_ : nullptr);
+Rgba TextureUnit::process_filter(const Fragment& f, Path& p, const Texture& tex,
+                                 const ItemCost* front) {
+  const FilterStage::Result r = p.stages.filter->filter(f, tex, surface_, pipe_ != nullptr, fetch_);
   ++p.fragments;
-  count_frame(g);
-  const uint32_t n = r.stats.colour_reads + r.stats.trace_reads;
-  p.vis_texels += n;
+  count_frame(f);
   if (pipe_) {
-    relief_lines(p, fetched_reads_, lines_);
-    const uint32_t tpc = setup_.cache.texels_per_cycle;
-    const uint32_t scan = std::max<uint32_t>(1, n * p.vis_ii);
-    const int addr = base_ + kAddress, cache = base_ + kCache;
-    issue_any([&](int s, uint64_t start) {
-      if (s < kMaxFront && s < front_) return front_cost(p, front, s);
-      ItemCost c;
-      add_effect_costs(s, c);
-      if (s == addr) c.extra_ii = scan - 1;
-      if (s == cache) {
-        c.extra_ii = n > 0 ? (n + tpc - 1) / tpc - 1 : 0;
-        const uint64_t relief_wait = relief_lookups(start);
-        c.extra_latency = std::max(
-            relief_wait, access_lines(lines_.data(), static_cast<int>(lines_.size()), n, start));
-      }
-      return c;
-    });
+    issue_general(p, front, r.address_cycles - 1, fetch_.extra_ii(r.texels), 0,
+                  [&](uint64_t start) {
+                    return fetch_.access_lines(r.lines->data(), static_cast<int>(r.lines->size()),
+                                               r.texels, start);
+                  });
   }
-  return {r.colour.x, r.colour.y, r.colour.z, r.colour.w};
+  return r.colour;
 }
 
 Rgba TextureUnit::filter_fragment(const Fragment& f, Path& p, const ItemCost* front) {
@@ -544,61 +215,62 @@ void TextureUnit::issue_any(CostFn&& cost_at) {
     pipe_->issue_with(0, cost_at);
     return;
   }
-  // Every stage's cost now (only the cache stage's wait depends on the cycle, and its
+  // Every stage's cost now (only the cache slot's wait depends on the cycle, and its
   // look-ups are recorded, not made); the stages in front of the cache now, the rest at commit.
-  rec_groups_.clear();
-  rec_lines_.clear();
-  recording_ = true;
+  fetch_.begin_recording();
   for (int s = 0; s < pipe_->stage_count(); ++s)
     defer_costs_[static_cast<size_t>(s)] = cost_at(s, 0);
-  recording_ = false;
-  const int k = base_ + kCache;
+  fetch_.end_recording();
+  const int k = cache_slot_;
   defer_arrival_ = pipe_->issue_head(
       0, k, [&](int s, uint64_t) { return defer_costs_[static_cast<size_t>(s)]; });
   defer_start_ = pipe_->start_at(k, defer_arrival_);
 }
 
 void TextureUnit::commit() {
-  const int k = base_ + kCache;
-  uint64_t wait = 0;
-  recording_ = false;
-  for (const LineGroup& g : rec_groups_) {
-    wait = std::max(wait, access_lines(rec_lines_.data() + g.first, static_cast<int>(g.count),
-                                       g.texels, defer_start_));
-  }
-  defer_costs_[static_cast<size_t>(k)].extra_latency = wait;
+  const int k = cache_slot_;
+  defer_costs_[static_cast<size_t>(k)].extra_latency = fetch_.commit_lookups(defer_start_);
   pipe_->issue_tail(k, defer_arrival_,
                     [&](int s, uint64_t) { return defer_costs_[static_cast<size_t>(s)]; });
 }
 
+template <class Lookups>
+void TextureUnit::issue_general(Path& p, const ItemCost* front, uint32_t address_ii,
+                                uint32_t cache_ii, uint32_t blend_ii, Lookups&& lookups) {
+  const int addr = address_, cache = cache_slot_, blend = blend_;
+  issue_any([&](int s, uint64_t start) {
+    if (s < kMaxFront && s < front_) return front_cost(p, front, s);
+    ItemCost c;
+    c.extra_ii = item_extra_[s];
+    if (s == addr) c.extra_ii += address_ii;
+    if (s == cache) {
+      c.extra_ii += cache_ii;
+      // The reads earlier stages made (relief) first: the cache sees requests in time order.
+      const uint64_t staged = fetch_.staged_lookups(start);
+      c.extra_latency = std::max(staged, lookups(start));
+    }
+    if (s == blend) c.extra_ii += blend_ii;
+    return c;
+  });
+}
+
 template <int kFront, class Lookups>
-void TextureUnit::issue_timed(Path& p, const ItemCost* front, uint32_t probes, Lookups&& lookups) {
-  // Per-stage costs: the address stage issues one probe per cycle, cache and blend take
-  // their texels in groups, and a miss in the cache stage waits for DRAM.
+void TextureUnit::issue_timed(Path& p, const ItemCost* front, uint32_t probes, uint64_t texels,
+                              Lookups&& lookups) {
+  // Per-slot costs: the address slot issues one probe per cycle, cache and blend take
+  // their texels in groups, and a miss in the cache slot waits for the memory behind it.
   if constexpr (kFront == kAnyStages) {
-    // A unit with relief or lighting stages: every stage by index, the effects' extra cycles.
-    const int addr = base_ + kAddress, cache = base_ + kCache, blend = base_ + kBlend;
-    issue_any([&](int s, uint64_t start) {
-      if (s < kMaxFront && s < front_) return front_cost(p, front, s);
-      ItemCost c;
-      add_effect_costs(s, c);
-      if (s == addr) c.extra_ii = probes - 1;
-      if (s == cache) {
-        c.extra_ii = p.cache_extra_ii[probes];
-        const uint64_t relief_wait = relief_lookups(start);
-        c.extra_latency = std::max(relief_wait, lookups(start));
-      }
-      if (s == blend) c.extra_ii = p.blend_extra_ii[probes];
-      return c;
-    });
+    issue_general(p, front, probes - 1, fetch_.extra_ii(texels), p.stages.blend->extra_ii(probes),
+                  lookups);
   } else {
-    issue_fixed_stages<kFront>(p, front, probes, lookups);
+    issue_fixed_stages<kFront>(p, front, probes, texels, lookups);
   }
 }
 
 template <int kFront, class Lookups>
 void TextureUnit::issue_fixed_stages(Path& p, const ItemCost* front, uint32_t probes,
-                                     Lookups& lookups) {
+                                     uint64_t texels, Lookups& lookups) {
+  const MaterialStages& st = p.stages;
   pipe_->issue_fixed<kFront + kStages>(
       0, [&](auto stage, uint64_t start) __attribute__((always_inline)) {
         constexpr int s = decltype(stage)::value;
@@ -608,10 +280,10 @@ void TextureUnit::issue_fixed_stages(Path& p, const ItemCost* front, uint32_t pr
         } else if constexpr (s == kFront + kAddress) {
           c.extra_ii = probes - 1;
         } else if constexpr (s == kFront + kCache) {
-          c.extra_ii = p.cache_extra_ii[probes];
+          c.extra_ii = fetch_.extra_ii(texels);
           c.extra_latency = lookups(start);
         } else if constexpr (s == kFront + kBlend) {
-          c.extra_ii = p.blend_extra_ii[probes];
+          c.extra_ii = st.blend->extra_ii(probes);
         }
         return c;
       });
@@ -620,13 +292,14 @@ void TextureUnit::issue_fixed_stages(Path& p, const ItemCost* front, uint32_t pr
 template <int kFront>
 Rgba TextureUnit::process_taps(const Fragment& f, Path& p, const Texture& tex,
                                const ItemCost* front, const LodResult& lod) {
-  p.addr.taps(tex, f.u, f.v, lod, taps_);
-  const Rgba colour = blend_.blend(taps_, tex);
+  const MaterialStages& st = p.stages;
+  st.address->gen().taps(tex, f.u, f.v, lod, taps_);
+  const Rgba colour = st.blend->blend().blend(taps_, tex);
   const uint32_t probes = TexelAddressGen::issue_cycles(lod);
   count_fragment(f, p, probes);
   if constexpr (kFront >= 0) {
-    issue_timed<kFront>(p, front, probes,
-                        [&](uint64_t start) { return cache_lookups(taps_, tex, start); });
+    issue_timed<kFront>(p, front, probes, probes * st.address->taps_per_probe(),
+                        [&](uint64_t start) { return fetch_.lookup_taps(taps_, tex, start); });
   }
   return colour;
 }
@@ -634,34 +307,35 @@ Rgba TextureUnit::process_taps(const Fragment& f, Path& p, const Texture& tex,
 template <int kFront>
 Rgba TextureUnit::process_any(const Fragment& f, Path& p, const Texture& tex,
                               const ItemCost* front) {
-  if (p.footprint) return process_footprint(f, p, tex, front);
-  return process_taps<kFront>(f, p, tex, front, p.lod.eval(f, tex.width(0), tex.height(0)));
+  return process_taps<kFront>(f, p, tex, front, p.stages.lod->eval(f, tex));
 }
 
 template <FilterMode kFilter, TexelLayout L, int kFront>
 Rgba TextureUnit::process_linear(const Fragment& f, Path& p, const Texture& tex,
                                  const ItemCost* front) {
-  const LodResult lod = p.lod.eval(f, tex.width(0), tex.height(0));
+  const MaterialStages& st = p.stages;
+  const LodResult lod = st.lod->eval(f, tex);
   if (TexelAddressGen::issue_cycles(lod) != 1 || tex.layout() != L)
     return process_taps<kFront>(f, p, tex, front, lod);
   // One probe at (u, v): the taps TexelAddressGen::taps() gives, as quads.
   using texel_address_detail::finite_or_zero;
-  const TexelAddressGen::LevelSelect sel = p.addr.select_levels(lod.lambda, tex.levels());
+  const TexelAddressGen& addr = st.address->gen();
+  const TexelAddressGen::LevelSelect sel = addr.select_levels(lod.lambda, tex.levels());
   const float uf = finite_or_zero(static_cast<float>(f.u));
   const float vf = finite_or_zero(static_cast<float>(f.v));
   TexelQuad q[2];
   constexpr int n = kFilter == FilterMode::Trilinear ? 2 : 1;
   if constexpr (n == 1) {
-    q[0] = p.addr.linear_quad(tex, sel.d_hi, uf, vf, 1.0f);
+    q[0] = addr.linear_quad(tex, sel.d_hi, uf, vf, 1.0f);
   } else {
-    q[0] = p.addr.linear_quad(tex, sel.d_hi, uf, vf, 1.0f - sel.delta);
-    q[1] = p.addr.linear_quad(tex, sel.d_lo, uf, vf, sel.delta);
+    q[0] = addr.linear_quad(tex, sel.d_hi, uf, vf, 1.0f - sel.delta);
+    q[1] = addr.linear_quad(tex, sel.d_lo, uf, vf, sel.delta);
   }
-  const Rgba colour = blend_.blend_quads(q, n, tex);
+  const Rgba colour = st.blend->blend().blend_quads(q, n, tex);
   count_fragment(f, p, 1);
   if constexpr (kFront >= 0) {
-    issue_timed<kFront>(p, front, 1,
-                        [&](uint64_t start) { return cache_lookups<L>(q, n, tex, start); });
+    issue_timed<kFront>(p, front, 1, 4 * n,
+                        [&](uint64_t start) { return fetch_.lookup_quads<L>(q, n, tex, start); });
   }
   return colour;
 }
@@ -674,7 +348,7 @@ void TextureUnit::batch_linear(const Fragment* f, size_t n, Path& p, const Textu
     return;
   }
   LinearBatch& b = *batch_out_;
-  p.batch->filter(f, n, tex, b, kFront >= 0 ? cache_.line_shift() : 0);
+  p.batch->filter(f, n, tex, b, kFront >= 0 ? fetch_.line_shift() : 0);
   constexpr int nq = kFilter == FilterMode::Trilinear ? 2 : 1;
   for (size_t i = 0; i < n; ++i) {
     if (!b.done[i]) {
@@ -684,14 +358,14 @@ void TextureUnit::batch_linear(const Fragment* f, size_t n, Path& p, const Textu
     count_fragment(f[i], p, 1);
     if constexpr (kFront >= 0) {
       if (b.has_lines) {
-        // The batch's distinct lines, in order of first use (as cache_lookups<L> finds them).
-        issue_timed<kFront>(p, nullptr, 1, [&](uint64_t start) {
+        // The batch's distinct lines, in order of first use (as lookup_quads<L> finds them).
+        issue_timed<kFront>(p, nullptr, 1, 4 * nq, [&](uint64_t start) {
           uint64_t lines[4 * nq];
           int k = 0;
           for (int t = 0; t < 4 * nq; ++t) {
             if (b.first_use[i] & (1 << t)) lines[k++] = static_cast<uint64_t>(b.line[t][i]);
           }
-          return access_lines(lines, k, 4 * nq, start);
+          return fetch_.access_lines(lines, k, 4 * nq, start);
         });
         out[i] = b.colour(i);
         continue;
@@ -704,8 +378,9 @@ void TextureUnit::batch_linear(const Fragment* f, size_t n, Path& p, const Textu
         q[j].y0 = b.y0[j][i];
         q[j].y1 = b.y1[j][i];
       }
-      issue_timed<kFront>(p, nullptr, 1,
-                          [&](uint64_t start) { return cache_lookups<L>(q, nq, tex, start); });
+      issue_timed<kFront>(p, nullptr, 1, 4 * nq, [&](uint64_t start) {
+        return fetch_.lookup_quads<L>(q, nq, tex, start);
+      });
     }
     out[i] = b.colour(i);
   }
@@ -749,14 +424,15 @@ TextureUnit::Kernel TextureUnit::pick_kernel(FilterMode filter, TexelLayout layo
 }
 
 TextureUnit::Kernel TextureUnit::choose_kernel(const Path& p) const {
-  const FilterMode filter = p.addr.config().filter;
+  const MaterialStages& st = p.stages;
+  if (st.filter) return &TextureUnit::process_filter;
+  const FilterMode filter = st.address->filter();
   const bool linear = filter != FilterMode::Nearest;
   const bool quads =
-      !p.footprint && linear && blend_.quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
+      linear && st.blend->blend().quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
   const TexelLayout layout = textures_.layout();
   if (!pipe_) return pick_kernel<-1>(filter, layout, quads);
-  if (relief_stage_ >= 0 || light_stage_ >= 0 || defer_)
-    return pick_kernel<kAnyStages>(filter, layout, quads);
+  if (!sampler_only_ || defer_) return pick_kernel<kAnyStages>(filter, layout, quads);
   switch (front_) {
     case 0:
       return pick_kernel<0>(filter, layout, quads);
@@ -789,58 +465,9 @@ void TextureUnit::check_timing_invariants() const {
 
 std::vector<BlockUse> TextureUnit::material_blocks(int material) const {
   const Path& p = paths_[static_cast<size_t>(material)];
-  const std::string& m = mats_[static_cast<size_t>(material)].name;
+  StageReport r{mats_[static_cast<size_t>(material)].name, tech_, p.fragments};
   std::vector<BlockUse> out;
-  auto add = [&](const std::string& name, const std::string& arith, const TimingSpec& t,
-                 const OpCounts& ops, uint64_t texels = 0) {
-    out.push_back({name, arith, t, ops, texels, {m}});
-  };
-  if (p.coords) {
-    const CoordUnitConfig& cc = p.coords->config();
-    const std::vector<StageConfig> st = p.coords->stages(tech_);
-    const std::string arith = cc.format + ", " + datapath_name(cc.datapath) + " datapath";
-    // The format is part of the name: two materials with one method in two formats are two units.
-    add("coords." + cc.coords + "[" + cc.format + "]", arith, st[0].timing, p.coord_ops);
-    if (p.coords->has_derivs())
-      add("derivs." + cc.derivs + "[" + cc.format + "]", arith, st[1].timing, p.deriv_ops);
-  }
-  if (p.relief) {
-    add(p.relief->name(), p.relief->arithmetic(), p.relief->timing(tech_), p.relief_ops,
-        p.relief_fetches);
-  }
-  // Lighting comes after the blend (its blocks last).
-  const auto add_lighting = [&] {
-    if (!p.lighting) return;
-    if (p.lighting->has_normal_unit()) {
-      const NormalUnit& n = p.lighting->normal_unit();
-      add(n.name(), n.arithmetic(), n.timing(tech_), p.normal_ops);
-    }
-    const BlinnPhongShader& sh = p.lighting->shader();
-    add(sh.name(), sh.arithmetic(), sh.timing(tech_), p.shader_ops);
-  };
-  if (p.relief && p.relief->has_visibility_filter()) {
-    const VisibilityAwareFilter& vf = p.relief->visibility_filter();
-    add(vf.name(), vf.arithmetic(), vf.timing(tech_), p.vis_ops, p.vis_texels);
-    add_lighting();
-    return out;
-  }
-  if (p.footprint) {
-    add(p.footprint->name(), p.footprint->arithmetic(), p.footprint->timing(tech_), p.footprint_ops,
-        p.footprint_texels);
-    add_lighting();
-    return out;
-  }
-  // Per-fragment and per-probe counts times the fragments and probes seen (see Path).
-  const uint64_t iso = p.fragments - p.aniso_fragments;  // one probe each
-  const uint64_t aniso_probes = p.probes - iso;
-  const uint64_t taps = p.probes * static_cast<uint64_t>(p.addr.taps_per_probe());
-  const OpCounts addr_ops =
-      p.addr.ops_setup(false) * iso + p.addr.ops_setup(true) * p.aniso_fragments +
-      p.addr.ops_per_item(false) * iso + p.addr.ops_per_item(true) * aniso_probes;
-  add(p.lod.name(), p.lod.arithmetic(), p.lod.timing(tech_), p.lod.ops_per_item() * p.fragments);
-  add(p.addr.name(), p.addr.arithmetic(), p.addr.timing(tech_), addr_ops, taps);
-  add(blend_.name(), blend_.arithmetic(), blend_.timing(tech_), TexelBlend::ops_per_item() * taps);
-  add_lighting();
+  for (const auto& s : p.stages.all) s->rows(r, out);
   return out;
 }
 
@@ -875,14 +502,9 @@ std::vector<BlockUse> TextureUnit::blocks() const {
     }
     out.push_back(v);
   }
-  BlockUse c;
-  c.name = TextureCache::name();
-  c.arithmetic = TextureCache::arithmetic();
-  c.timing.latency = setup_.cache.hit_latency;
-  c.ops.mem = texels;  // every texel a filter fetched is one read through the cache
-  c.texels = texels;
-  for (const auto& m : mats_) c.materials.push_back(m.name);
-  out.push_back(c);
+  std::vector<std::string> all;
+  for (const auto& m : mats_) all.push_back(m.name);
+  out.push_back(fetch_.row(texels, std::move(all)));
   // Measured areas (e.g. LUTs of the real RTL) replace derived ones, by the reported name.
   for (BlockUse& b : out) b.timing.area = tech_.block_area_or(b.name, b.timing.area);
   return out;

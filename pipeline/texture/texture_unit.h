@@ -1,8 +1,9 @@
 #pragma once
-// The clocked texture unit (ПНТ, first slice): [coordinates → derivatives, when a material has a
-// coordinate unit] → LOD → texel address generation → texture cache + DRAM → blend, built from
-// a scene's materials. Only the blocks some material needs are
-// instantiated. docs/architecture.md describes the stages; docs/timing-model.md the timing.
+// The clocked texture unit (ПНТ, first slice), assembled from the stages its materials need
+// (stages/material_stages.h): [coordinates → derivatives] [relief] → LOD → texel address
+// generation (or a footprint filter) → texel fetch (cache + the memory behind it) → blend
+// [→ lighting]. The unit clocks them; the stages own their blocks, counters and report rows.
+// docs/architecture.md describes the stages; docs/timing-model.md the timing.
 #include <toml++/toml.h>
 
 #include <map>
@@ -11,40 +12,21 @@
 #include <vector>
 
 #include "blocks/base/fragment.h"
-#include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
-#include "blocks/texture/memory/dram_model.h"
 #include "blocks/texture/memory/texture_cache.h"
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/sampler/linear_batch.h"
-#include "blocks/texture/sampler/lod_unit.h"
-#include "blocks/texture/sampler/texel_address_gen.h"
-#include "blocks/texture/sampler/texel_blend.h"
 #include "pipeline/geometry/surface_frame.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/texture/coord_method.h"
 #include "pipeline/texture/effect_registry.h"
-#include "pipeline/texture/footprint_filter.h"
 #include "pipeline/texture/memory_system.h"
 #include "pipeline/texture/pipeline_setup.h"
+#include "pipeline/texture/stages/fetch_stage.h"
+#include "pipeline/texture/stages/material_stages.h"
+#include "pipeline/texture/stages/unit_stage.h"
 
 namespace texsim {
-
-struct BlockUse {
-  std::string name;        // e.g. "lod", "filter.trilinear", "blend", "cache"
-  std::string arithmetic;  // which number format the datapath uses
-  TimingSpec timing;
-  OpCounts ops;                        // total over the run
-  uint64_t texels = 0;                 // texels it fetched through the cache over the run
-  std::vector<std::string> materials;  // materials that use it
-};
-
-// Fragments a coordinate front end produced and what became of them.
-struct FrontEndStats {
-  uint64_t generated = 0;  // pixels the coordinate units computed
-  uint64_t occluded = 0;   // left after the front end: hidden by a nearer plane, or covered twice
-  uint64_t rejected = 0;   // coordinates rejected by the block (not textured)
-};
 
 struct FrameStats {
   uint32_t frame = 0;
@@ -89,18 +71,17 @@ class TextureUnit {
   // present only when some material has a coordinate unit.
   int front_stages() const { return front_; }
   // Front-end stages of material m's coordinate unit (costs per fragment; 0 without one).
-  int front_count(int m) const { return paths_[static_cast<size_t>(m)].front_count; }
+  int front_count(int m) const {
+    const FrontEndStage* fe = paths_[static_cast<size_t>(m)].stages.front;
+    return fe ? fe->count() : 0;
+  }
   // The shading frames of the scene's primitives (indexed by Fragment::prim), which relief and
   // lighting need for the view vector. Without them a material with either effect is refused.
   void set_surfaces(std::vector<SurfaceFrame> frames) { surfaces_ = std::move(frames); }
   // Relief loop steps and height reads of material m over the run (0 without relief).
-  uint64_t material_relief_steps(int m) const {
-    return paths_[static_cast<size_t>(m)].relief_steps;
-  }
-  uint64_t material_relief_fetches(int m) const {
-    return paths_[static_cast<size_t>(m)].relief_fetches;
-  }
-  bool material_has_relief(int m) const { return paths_[static_cast<size_t>(m)].relief != nullptr; }
+  uint64_t material_relief_steps(int m) const;
+  uint64_t material_relief_fetches(int m) const;
+  bool material_has_relief(int m) const;
   const MaterialSetup& material(int m) const { return mats_[static_cast<size_t>(m)]; }
   const Texture& texture_of(int m) const {
     return textures_[mats_[static_cast<size_t>(m)].texture];
@@ -114,7 +95,8 @@ class TextureUnit {
   // coordinates rejected): its front-end issue cycles are charged to the next fragment in those
   // stages; it costs nothing further.
   void drop(int material, const ItemCost* front, bool rejected);
-  const FrontEndStats& front_end_stats() const { return front_stats_; }
+  // Summed over the materials' front ends.
+  const FrontEndStats& front_end_stats() const;
 
   bool timing() const { return timing_; }
   // Checks what every timed run must satisfy: the total cycles, or a stage's last issue slot
@@ -131,11 +113,11 @@ class TextureUnit {
   uint64_t material_fragments(int m) const { return paths_[static_cast<size_t>(m)].fragments; }
   int material_count() const { return static_cast<int>(mats_.size()); }
   const ClockedPipeline* pipeline() const { return pipe_.get(); }
-  const TextureCache& cache() const { return cache_; }
+  const TextureCache& cache() const { return fetch_.cache(); }
   const MemorySystem& memory() const { return *mem_; }
   MemorySystem& memory() { return *mem_; }
   // Tag look-ups quad merging saved: lines a quad's earlier lane had looked up.
-  uint64_t quad_merged_lookups() const { return quad_merged_; }
+  uint64_t quad_merged_lookups() const { return fetch_.merged_lookups(); }
   const std::vector<FrameStats>& frames() const {
     // The current frame's cycles are the pipeline's so far (set here, not per fragment).
     if (pipe_ && !frames_.empty()) frames_.back().cycles = pipe_->run_end();
@@ -143,15 +125,13 @@ class TextureUnit {
   }
 
  private:
-  // One material's blocks. Op counts depend only on the probe number N of each fragment, so
-  // the hot path counts fragments and probes and blocks() multiplies the per-fragment and
-  // per-probe counts of the blocks: exact, and three increments instead of three OpCounts sums.
+  // One material: its stages, the kernels chosen for them, and the fragments it textured.
   struct Path;
   TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
               const PipelineSetup& setup, const TechTable& tech, bool timing,
               std::unique_ptr<MemorySystem> own, MemorySystem* shared, int unit);
   // The per-fragment datapath of one material, chosen at construction (filter, layout, the
-  // number of front-end stages, functional or timed) so the hot path has no run-time switches
+  // number of front-end slots, functional or timed) so the hot path has no run-time switches
   // on the configuration.
   using Kernel = Rgba (TextureUnit::*)(const Fragment&, Path&, const Texture&, const ItemCost*);
   using BatchKernel = void (TextureUnit::*)(const Fragment*, size_t, Path&, const Texture&, Rgba*);
@@ -160,60 +140,16 @@ class TextureUnit {
     // The batched datapath (null: fragments go one by one) and the sampler it runs.
     BatchKernel batch_kernel = nullptr;
     std::shared_ptr<const LinearBatchSampler> batch;
-    LodUnit lod;
-    TexelAddressGen addr;
+    MaterialStages stages;
     uint64_t fragments = 0;
-    uint64_t aniso_fragments = 0;  // fragments with N > 1
-    uint64_t probes = 0;           // Σ N over all fragments
-    // Extra issue cycles in the blend and cache stages for N = 1..16 probes (N × taps per
-    // probe taps at taps_per_cycle and texels_per_cycle): a table instead of two divisions.
-    uint32_t blend_extra_ii[17] = {};
-    const FootprintFilter* footprint = nullptr;  // set: this path is one footprint filter block
-    OpCounts footprint_ops;                      // counted per call (data-dependent)
-    uint64_t footprint_texels = 0;
-    uint32_t cache_extra_ii[17] = {};
-    // Coordinate front end of this material (null: none).
-    const CoordUnit* coords = nullptr;
-    OpCounts coord_ops, deriv_ops;
-    int front_count = 0;  // its unit's stages (costs per fragment)
-    // Added issue cycles per front-end stage so the shared stage (sized for the widest unit)
-    // gives this unit its own throughput: ceil(ii × lanes_stage / lanes_unit) − 1.
-    uint32_t front_extra[2] = {};
-    // Relief and lighting of this material (null: none), their operations and the relief's
-    // loop steps and height reads (data-dependent, counted per call).
-    const ReliefEffect* relief = nullptr;
-    const LightingEffect* lighting = nullptr;
-    OpCounts relief_ops, normal_ops, shader_ops;
-    uint64_t relief_steps = 0, relief_fetches = 0;
-    uint32_t relief_step_ii = 1, light_extra_ii = 0;
-    // Where the relief's reads lie in memory: the height texture, the colour texture (read by
-    // the visibility-aware filter) and the distance map's volume (one byte per voxel).
-    const Texture* relief_height = nullptr;
-    const Texture* relief_colour = nullptr;
-    uint64_t volume_base = 0;
-    // The visibility-aware filter (when the relief has one): its operations, texels read
-    // (colours and trace heights) and issue cycles per read.
-    OpCounts vis_ops;
-    uint64_t vis_texels = 0;
-    uint32_t vis_ii = 1;
   };
-  // Tag look-ups of the fragment's distinct lines at cycle `start`; returns the cycles the
-  // cache stage waits beyond its hit latency (DRAM refills).
-  uint64_t cache_lookups(const FilterTaps& taps, const Texture& tex, uint64_t start);
-  // The same for the quads of a linear probe (one or two levels), under layout L.
-  template <TexelLayout L>
-  [[gnu::always_inline]] inline uint64_t cache_lookups(const TexelQuad* q, int n,
-                                                       const Texture& tex, uint64_t start);
-  // access_lines with quad merging: a line the open quad already looked up is not looked up
-  // again.
-  uint64_t access_quad_lines(const uint64_t* lines, int n, uint64_t texels, uint64_t start);
-  // Charges the DRAM refills of lines[0 .. n) looked up at `start`; returns the extra wait.
-  [[gnu::always_inline]] inline uint64_t access_lines(const uint64_t* lines, int n, uint64_t texels,
-                                                      uint64_t start);
-  // Kernels: kFront is the number of front-end stages of a timed unit, -1 for a functional
-  // one. process_any handles every filter with the general tap list; process_linear a
-  // bilinear or trilinear material with quads in registers (falling back to process_any for
-  // anisotropic fragments or a texture not in layout L).
+  // Sizes the pipeline's slots from every material's stages and builds it (timed).
+  void plan_pipeline();
+  // Kernels: kFront is the number of front-end slots of a timed unit, -1 for a functional
+  // one, kAnyStages for a unit with other slots (relief, lighting) or timed in two steps.
+  // process_any handles LOD → address → blend with the general tap list; process_linear a
+  // bilinear or trilinear material with quads in registers (falling back to process_taps for
+  // anisotropic fragments or a texture not in layout L); process_filter a filter stage.
   template <int kFront>
   Rgba process_any(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
   template <FilterMode kFilter, TexelLayout L, int kFront>
@@ -221,6 +157,7 @@ class TextureUnit {
   template <int kFront>
   Rgba process_taps(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front,
                     const LodResult& lod);
+  Rgba process_filter(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
   // A batch of fragments on one texture (n <= LinearBatch::kMax) through the batched sampler;
   // the fragments it leaves undone through process_linear.
   template <FilterMode kFilter, TexelLayout L, int kFront>
@@ -232,60 +169,51 @@ class TextureUnit {
   template <int kFront>
   static Kernel pick_kernel(FilterMode filter, TexelLayout layout, bool quads);
   Kernel choose_kernel(const Path& p) const;
-  // Sends the fragment through the clocked pipeline; `lookups(start)` does its cache look-ups.
+  // Sends a fragment of the LOD → address → blend path through the clocked pipeline;
+  // `lookups(start)` does its cache look-ups.
   template <int kFront, class Lookups>
   [[gnu::always_inline]] inline void issue_timed(Path& p, const ItemCost* front, uint32_t probes,
-                                                 Lookups&& lookups);
-  // The fixed stage sequence of a unit without relief or lighting stages.
+                                                 uint64_t texels, Lookups&& lookups);
+  // The fixed slot sequence of a unit without relief or lighting slots.
   template <int kFront, class Lookups>
   [[gnu::always_inline]] inline void issue_fixed_stages(Path& p, const ItemCost* front,
-                                                        uint32_t probes, Lookups& lookups);
+                                                        uint32_t probes, uint64_t texels,
+                                                        Lookups& lookups);
+  // Any slot sequence, by index: the extra issue cycles of the address, cache and blend slots,
+  // those the surface stages added, and the reads they staged before the cache look-ups.
+  template <class Lookups>
+  void issue_general(Path& p, const ItemCost* front, uint32_t address_ii, uint32_t cache_ii,
+                     uint32_t blend_ii, Lookups&& lookups);
   void count_fragment(const Fragment& f, Path& p, uint32_t probes) {
     ++p.fragments;
-    p.aniso_fragments += probes > 1;
-    p.probes += probes;
+    p.stages.address->count(probes);
     count_frame(f);
   }
-  uint64_t cache_lookups(const std::vector<TexelRef>& texels, const Texture& tex, uint64_t start);
-  Rgba process_footprint(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
   Rgba filter_fragment(const Fragment& f, Path& p, const ItemCost* front);
-  // Relief → filter → lighting for a material with either effect.
+  // The surface stages' enter(), the filter, their leave() for a material with any.
   Rgba process_surface(const Fragment& f, Path& p, int material, const ItemCost* front);
-  // The visibility-aware filter of a relief material in place of its filter: the filter's
-  // reads occupy the address stage (one per issue cycle) and go through the cache.
-  Rgba process_visible(const Fragment& g, Path& p, const glm::dvec3& view_ts,
-                       const SurfaceFrame& sf, const ItemCost* front);
-  // The distinct cache lines of a relief block's reads, sorted.
-  void relief_lines(const Path& p, const std::vector<ReliefRead>& reads,
-                    std::vector<uint64_t>& lines) const;
-  // Extra issue cycles of the relief and lighting stages for the current fragment.
-  void add_effect_costs(int s, ItemCost& c) const {
-    if (s == relief_stage_) c.extra_ii += cur_relief_ii_;
-    if (s == light_stage_) c.extra_ii += cur_light_ii_;
-  }
-  // The current fragment's relief reads looked up in the cache at `start` (the cache stage,
-  // before the filter's: the cache and DRAM see requests in time order); returns the wait
-  // beyond the hit latency (0 without relief reads). Their issue cycles are the relief
-  // stage's steps (one bilinear read per step), not the cache stage's.
-  uint64_t relief_lookups(uint64_t start);
-  // Cost of front-end stage s for a fragment of path p (with the dropped fragments' cycles).
+  // Cost of front-end slot s for a fragment of path p (with the dropped fragments' cycles).
   ItemCost front_cost(const Path& p, const ItemCost* front, int s) {
-    ItemCost c;
-    if (front && s < p.front_count) c = front[s];
-    c.extra_ii += p.front_extra[s] + pending_front_[s];
-    pending_front_[s] = 0;
+    ItemCost c = p.stages.front ? p.stages.front->cost(front, s) : ItemCost{};
+    c.extra_ii += owed_[s];
+    owed_[s] = 0;
     return c;
   }
   void count_frame(const Fragment& f) {
-    if (quad_merge_) note_quad(f);
+    if (fetch_.quad_merge()) fetch_.note_quad(f);
     if (frames_.empty() || frames_.back().frame != f.frame) new_frame(f);
     ++frames_.back().fragments;
     ++fragments_;
   }
   void new_frame(const Fragment& f);
-  // Quad merging: whether f opens a new quad (QuadAssembler's rule: same frame, primitive and
-  // 2x2 square as the previous fragment, and a lane not yet taken, continue it).
-  void note_quad(const Fragment& f);
+  // The first stage of type S of material m, or null (report time).
+  template <class S>
+  const S* find_stage(int m) const {
+    for (const auto& s : paths_[static_cast<size_t>(m)].stages.all) {
+      if (const auto* t = dynamic_cast<const S*>(s.get())) return t;
+    }
+    return nullptr;
+  }
 
   TextureSet& textures_;
   std::vector<MaterialSetup> mats_;
@@ -293,30 +221,14 @@ class TextureUnit {
   PipelineSetup setup_;
   TechTable tech_;
   bool timing_;
-  TexelBlend blend_;
   std::unique_ptr<MemorySystem> own_memory_;  // set: a unit on its own (first constructor)
   MemorySystem* mem_;
-  TextureCache& cache_;  // this unit's L1
-  LineMemory* next_;     // where its misses go
-  int unit_ = 0;
-  // Quad merging ([pipeline] quad_merge): the open quad, and the lines its lanes looked up
-  // with the cycle each is ready; a later lane reading one of them makes no look-up.
-  bool quad_merge_ = false;
-  uint32_t quad_frame_ = 0, quad_prim_ = 0, quad_x_ = 0, quad_y_ = 0, quad_mask_ = 0;
-  bool quad_open_ = false;
-  std::vector<std::pair<uint64_t, uint64_t>> quad_lines_;  // (line, ready)
-  uint64_t quad_merged_ = 0;                               // look-ups saved
+  FetchStage fetch_;  // the cache slot: this unit's L1 and the memory behind it
   // Two-step timing: the costs of the fragment in flight, its arrival and start at the cache
-  // stage, and its recorded look-ups (groups of lines, each with its texels).
-  bool defer_ = false, recording_ = false;
+  // slot.
+  bool defer_ = false;
   std::vector<ItemCost> defer_costs_;
   uint64_t defer_arrival_ = 0, defer_start_ = 0;
-  struct LineGroup {
-    size_t first, count;
-    uint64_t texels;
-  };
-  std::vector<LineGroup> rec_groups_;
-  std::vector<uint64_t> rec_lines_;
   // Runs the fragment through the pipeline with cost_at(stage, start) — at once, or in two
   // steps in a unit of several.
   template <class CostFn>
@@ -324,22 +236,19 @@ class TextureUnit {
   std::unique_ptr<ClockedPipeline> pipe_;
   FilterTaps taps_;
   std::unique_ptr<LinearBatch> batch_out_;  // the batched sampler's results
-  std::vector<TexelRef> fetched_;           // texels of the current footprint-filter fragment
-  std::vector<uint64_t> lines_;
   uint64_t fragments_ = 0;
-  int front_ = 0;
-  int base_ = 0;  // index of the LOD stage: after the front end and the relief stage
-  int relief_stage_ = -1, light_stage_ = -1;  // -1: no material needs the stage
-  uint32_t cur_relief_ii_ = 0, cur_light_ii_ = 0;
-  uint64_t cur_relief_texels_ = 0;         // the current fragment's relief reads (timed)
-  std::vector<ReliefRead> relief_reads_;   // the current fragment's relief reads
-  std::vector<ReliefRead> fetched_reads_;  // its visibility-aware filter's reads
-  std::vector<uint64_t> relief_lines_;     // their distinct cache lines
-  std::vector<std::unique_ptr<ReliefEffect>> reliefs_;
-  std::vector<std::unique_ptr<LightingEffect>> lightings_;
+  int front_ = 0;  // front-end slots
+  // Pipeline stages of the address, cache and blend slots, and whether the pipeline is the
+  // front end and those four sampler slots only (the fixed kernels).
+  int address_ = 0, cache_slot_ = 0, blend_ = 0;
+  bool sampler_only_ = true;
+  // The current fragment's surface (process_surface), and the issue cycles its surface stages
+  // add per pipeline stage (zero outside process_surface).
+  const SurfaceItem* surface_ = nullptr;
+  uint32_t item_extra_[kSlots] = {};
   std::vector<SurfaceFrame> surfaces_;
-  uint32_t pending_front_[2] = {};  // issue cycles of dropped fragments, per front-end stage
-  FrontEndStats front_stats_;
+  uint32_t owed_[2] = {};  // issue cycles of dropped fragments, per front-end slot
+  mutable FrontEndStats front_stats_;
   mutable std::vector<FrameStats> frames_;
 };
 

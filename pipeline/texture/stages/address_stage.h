@@ -1,0 +1,38 @@
+#pragma once
+// A material's texel address generator (its `filter` table: nearest, bilinear, trilinear,
+// anisotropic probes), in the address slot: one probe per issue cycle. Operations depend only
+// on the probes N of each fragment, so it counts fragments with N > 1 and probes, and its row
+// multiplies the per-fragment and per-probe counts: exact, and two increments per fragment.
+#include <cstdint>
+
+#include "blocks/texture/sampler/texel_address_gen.h"
+#include "pipeline/texture/stages/unit_stage.h"
+
+namespace texsim {
+
+class AddressStage final : public UnitStage {
+ public:
+  explicit AddressStage(const TexelAddressGen::Config& c)
+      : addr_(c), taps_(static_cast<uint32_t>(addr_.taps_per_probe())) {}
+  void declare(SlotPlan& plan, const TechTable& tech) const override {
+    plan.occupy(Slot::Address, addr_.timing(tech).latency);
+  }
+  // Sets r.taps, which the blend after it blends.
+  void rows(StageReport& r, std::vector<BlockUse>& out) const override;
+
+  const TexelAddressGen& gen() const { return addr_; }
+  FilterMode filter() const { return addr_.config().filter; }
+  uint32_t taps_per_probe() const { return taps_; }
+  void count(uint32_t probes) {
+    aniso_fragments_ += probes > 1;
+    probes_ += probes;
+  }
+
+ private:
+  TexelAddressGen addr_;
+  uint32_t taps_;
+  uint64_t aniso_fragments_ = 0;  // fragments with N > 1
+  uint64_t probes_ = 0;           // Σ N over all fragments
+};
+
+}  // namespace texsim

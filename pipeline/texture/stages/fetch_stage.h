@@ -1,0 +1,177 @@
+#pragma once
+// The texel fetch stage of a texture unit: the tag look-ups of a fragment's distinct cache
+// lines in the unit's L1, its misses sent to the level behind it, with quad merging (one
+// look-up per distinct line of a 2x2 quad) and the two-step timing of a unit of several (the
+// look-ups recorded when the fragment is issued, made when the scheduler commits it). One per
+// unit: every material's fetches share the L1. The look-ups are non-virtual and inline: the
+// templated kernels of the texture unit call them once per fragment.
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "blocks/base/fragment.h"
+#include "blocks/base/tech_table.h"
+#include "blocks/texture/memory/line_memory.h"
+#include "blocks/texture/memory/texture_cache.h"
+#include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/sampler/texel_address_gen.h"
+#include "pipeline/texture/stages/unit_stage.h"
+
+namespace texsim {
+
+class FetchStage {
+ public:
+  // l1: the unit's cache; next: where its misses go; unit: the unit's index there.
+  FetchStage(TextureCache& l1, LineMemory& next, int unit, const TextureCache::Config& cfg,
+             bool quad_merge);
+
+  // Sizes the cache slot: the hit latency, and the miss queue as its in-flight limit.
+  void declare(SlotPlan& plan) const;
+  const TextureCache& cache() const { return l1_; }
+  uint32_t line_shift() const { return l1_.line_shift(); }
+  uint64_t line_of(uint64_t addr) const { return l1_.line_of(addr); }
+  // Extra issue cycles of a fragment of `texels` texels (texels_per_cycle a cycle).
+  uint32_t extra_ii(uint64_t texels) const {
+    return texels < kTable ? extra_ii_[texels] : group_cycles(texels);
+  }
+
+  // Tag look-ups of lines[0 .. n) (distinct) at cycle `start`, for `texels` texels; returns
+  // the cycles the fragment waits beyond the hit latency (the misses' refills).
+  [[gnu::always_inline]] inline uint64_t access_lines(const uint64_t* lines, int n, uint64_t texels,
+                                                      uint64_t start) {
+    if (recording_) return record(lines, n, texels);
+    if (quad_merge_) return access_quad_lines(lines, n, texels, start);
+    const uint64_t hit_ready = start + hit_latency_;
+    uint64_t ready = hit_ready;
+    const uint32_t shift = l1_.line_shift();
+    for (int k = 0; k < n; ++k) {
+      if (!l1_.access_line(lines[k]))
+        ready = std::max(ready, next_.read_line(start, lines[k] << shift, line_bytes_, unit_));
+    }
+    l1_.count_texels(texels);
+    return ready - hit_ready;
+  }
+  // The distinct lines of a fragment's taps, looked up.
+  uint64_t lookup_taps(const FilterTaps& taps, const Texture& tex, uint64_t start);
+  // The same for the quads of a linear probe (one or two levels) under layout L: the lines
+  // lookup_taps() finds for the taps the quads stand for, in the same order.
+  template <TexelLayout L>
+  [[gnu::always_inline]] inline uint64_t lookup_quads(const TexelQuad* q, int n, const Texture& tex,
+                                                      uint64_t start);
+
+  // Reads an earlier stage made for the current fragment (lines distinct): looked up in the
+  // cache slot before the filter's own, as the cache and DRAM see requests in time order.
+  void stage_reads(const std::vector<uint64_t>& lines, uint64_t texels) {
+    staged_lines_ = &lines;
+    staged_texels_ = texels;
+  }
+  void clear_staged() { staged_texels_ = 0; }
+  uint64_t staged_lookups(uint64_t start) {
+    if (staged_texels_ == 0) return 0;
+    return access_lines(staged_lines_->data(), static_cast<int>(staged_lines_->size()),
+                        staged_texels_, start);
+  }
+
+  // Quad merging: whether f opens a new quad (QuadAssembler's rule: same frame, primitive and
+  // 2x2 square as the previous fragment, and a lane not yet taken, continue it).
+  bool quad_merge() const { return quad_merge_; }
+  void note_quad(const Fragment& f);
+  uint64_t merged_lookups() const { return quad_merged_; }
+
+  // Two-step timing: between begin_recording() and end_recording() look-ups are recorded and
+  // return no wait; commit_lookups(start) makes them at `start` and returns the wait.
+  void begin_recording() {
+    rec_groups_.clear();
+    rec_lines_.clear();
+    recording_ = true;
+  }
+  void end_recording() { recording_ = false; }
+  uint64_t commit_lookups(uint64_t start);
+
+  // The cache's report row: every texel a filter fetched is one read through it.
+  BlockUse row(uint64_t texels, std::vector<std::string> materials) const;
+
+ private:
+  static constexpr uint64_t kTable = 129;  // up to 16 probes of 8 taps
+  uint32_t group_cycles(uint64_t texels) const {
+    return texels > 0 ? static_cast<uint32_t>((texels + tpc_ - 1) / tpc_ - 1) : 0;
+  }
+  uint64_t record(const uint64_t* lines, int n, uint64_t texels) {
+    rec_groups_.push_back({rec_lines_.size(), static_cast<size_t>(n), texels});
+    rec_lines_.insert(rec_lines_.end(), lines, lines + n);
+    return 0;
+  }
+  uint64_t access_quad_lines(const uint64_t* lines, int n, uint64_t texels, uint64_t start);
+
+  TextureCache& l1_;
+  LineMemory& next_;
+  int unit_;
+  uint32_t hit_latency_, line_bytes_, miss_queue_;
+  uint64_t tpc_;
+  uint32_t extra_ii_[kTable] = {};
+  bool quad_merge_;
+  // The open quad, and the lines its lanes looked up with the cycle each is ready; a later
+  // lane reading one of them makes no look-up.
+  uint32_t quad_frame_ = 0, quad_prim_ = 0, quad_x_ = 0, quad_y_ = 0, quad_mask_ = 0;
+  bool quad_open_ = false;
+  std::vector<std::pair<uint64_t, uint64_t>> quad_lines_;  // (line, ready)
+  uint64_t quad_merged_ = 0;                               // look-ups saved
+  // Two-step timing: the recorded look-ups (groups of lines, each with its texels).
+  bool recording_ = false;
+  struct LineGroup {
+    size_t first, count;
+    uint64_t texels;
+  };
+  std::vector<LineGroup> rec_groups_;
+  std::vector<uint64_t> rec_lines_;
+  const std::vector<uint64_t>* staged_lines_ = nullptr;
+  uint64_t staged_texels_ = 0;
+};
+
+namespace fetch_detail {
+// Adds `line` to lines[0 .. n) unless present (order of first use kept).
+[[gnu::always_inline]] inline void add_line(uint64_t line, uint64_t* lines, int& n) {
+  int k = 0;
+  while (k < n && lines[k] != line) ++k;
+  if (k == n) lines[n++] = line;
+}
+// The distinct lines of one 2x2 quad at rows r0, r1 and columns c0, c1 of a level at `base`:
+// the first quad's without a search.
+[[gnu::always_inline]] inline void add_quad(uint64_t base, uint64_t r0, uint64_t r1, uint64_t c0,
+                                            uint64_t c1, uint64_t bpt, uint32_t shift,
+                                            uint64_t* lines, int& n) {
+  const uint64_t l00 = (base + (r0 + c0) * bpt) >> shift, l10 = (base + (r0 + c1) * bpt) >> shift;
+  const uint64_t l01 = (base + (r1 + c0) * bpt) >> shift, l11 = (base + (r1 + c1) * bpt) >> shift;
+  if (n == 0) {
+    lines[n++] = l00;
+    if (l10 != l00) lines[n++] = l10;
+    if (l01 != l00 && l01 != l10) lines[n++] = l01;
+    if (l11 != l00 && l11 != l10 && l11 != l01) lines[n++] = l11;
+  } else {
+    add_line(l00, lines, n);
+    add_line(l10, lines, n);
+    add_line(l01, lines, n);
+    add_line(l11, lines, n);
+  }
+}
+}  // namespace fetch_detail
+
+template <TexelLayout L>
+inline uint64_t FetchStage::lookup_quads(const TexelQuad* q, int n, const Texture& tex,
+                                         uint64_t start) {
+  const uint32_t shift = l1_.line_shift();
+  const auto bpt = static_cast<uint64_t>(tex.bytes_per_texel());
+  uint64_t lines[8];
+  int k = 0;
+  for (int j = 0; j < n; ++j) {
+    const Texture::Level& lv = tex.level(q[j].level);
+    fetch_detail::add_quad(tex.base() + lv.offset, Texture::row_index(L, lv, q[j].y0),
+                           Texture::row_index(L, lv, q[j].y1), Texture::col_index(L, q[j].x0),
+                           Texture::col_index(L, q[j].x1), bpt, shift, lines, k);
+  }
+  return access_lines(lines, k, 4 * static_cast<uint64_t>(n), start);
+}
+
+}  // namespace texsim

@@ -1,0 +1,53 @@
+#pragma once
+// A material's relief (its `relief` table, surface_effects.h), in the relief slot in front of
+// LOD: shifts the fragment's (u, v) over the height map, one loop step per step ii; in a timed
+// unit its height (or distance-map) reads go through the cache before the filter's.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "pipeline/texture/stages/unit_stage.h"
+#include "pipeline/texture/surface_effects.h"
+
+namespace texsim {
+
+class ReliefStage final : public SurfaceStage {
+ public:
+  // height: the height texture; colour: the material's texture (read by the visibility-aware
+  // filter); volume_base: where the distance map's volume lies in memory (one byte a voxel).
+  ReliefStage(const ReliefSetup& s, const Texture& height, const Texture& colour,
+              uint64_t volume_base, const TechTable& tech);
+  void declare(SlotPlan& plan, const TechTable& tech) const override {
+    plan.occupy(Slot::Relief, effect_.timing(tech).latency);
+  }
+  void bind(const SlotPlan& plan, const TechTable& /*tech*/) override {
+    slot_ = plan.index(Slot::Relief);
+  }
+  void rows(StageReport& r, std::vector<BlockUse>& out) const override {
+    r.add(out, effect_.name(), effect_.arithmetic(), effect_.timing(r.tech), ops_, fetches_);
+  }
+  void enter(SurfaceItem& it, FetchStage& fetch) override;
+  Rgba leave(const SurfaceItem& /*it*/, const Rgba& c) override { return c; }
+
+  const ReliefEffect& effect() const { return effect_; }
+  // The distinct cache lines of reads of this relief's height map, distance map or colour
+  // texture, sorted.
+  void lines(const std::vector<ReliefRead>& reads, const FetchStage& fetch,
+             std::vector<uint64_t>& out) const;
+  uint64_t steps() const { return steps_; }
+  uint64_t fetches() const { return fetches_; }
+
+ private:
+  ReliefEffect effect_;
+  const Texture& height_;
+  const Texture& colour_;
+  uint64_t volume_base_;
+  uint32_t step_ii_;
+  int slot_ = -1;
+  OpCounts ops_;
+  uint64_t steps_ = 0, fetches_ = 0;  // loop steps and height reads (data-dependent)
+  std::vector<ReliefRead> reads_;     // the current fragment's reads (timed)
+  std::vector<uint64_t> lines_;       // their distinct cache lines
+};
+
+}  // namespace texsim
