@@ -176,7 +176,8 @@ class FrameOrder {
   void record(const Fragment& f, const Fragment& g, int material, const Rgba* colour,
               uint64_t index) {
     if (f.frame != current_) {
-      held_[f.frame].push_back({f, g, material, colour != nullptr, colour ? *colour : Rgba{}, index});
+      held_[f.frame].push_back(
+          {f, g, material, colour != nullptr, colour ? *colour : Rgba{}, index});
       return;
     }
     next_(f, g, material, colour, index);

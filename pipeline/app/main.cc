@@ -17,14 +17,14 @@
 #include "pipeline/app/cosim.h"
 #include "pipeline/app/run.h"
 #include "pipeline/app/run_draws.h"
-#include "pipeline/app/study_memory.h"
 #include "pipeline/app/study_frames.h"
-#include "pipeline/render/draw_fragment_trace.h"
+#include "pipeline/app/study_memory.h"
 #include "pipeline/app/study_workloads.h"
 #include "pipeline/app/sweep.h"
 #include "pipeline/app/tuner.h"
 #include "pipeline/capture/apitrace_import.h"
 #include "pipeline/kernel/clocked_pipeline.h"
+#include "pipeline/render/draw_fragment_trace.h"
 #include "pipeline/report/provenance.h"
 #include "pipeline/report/workload_report.h"
 #include "pipeline/studies/study_coords.h"
@@ -284,8 +284,7 @@ CLI::App* add_tune_command(CLI::App& app, texsim::TuneOptions& t, std::string& s
 struct StudyCli {
   CLI::App *cmd = nullptr, *vd = nullptr, *coords = nullptr, *filters = nullptr, *raster = nullptr,
            *objspace = nullptr, *rtl = nullptr, *thesis = nullptr, *relief = nullptr,
-           *terrain = nullptr, *memory = nullptr, *workloads = nullptr,
-           *frames = nullptr;
+           *terrain = nullptr, *memory = nullptr, *workloads = nullptr, *frames = nullptr;
   std::string out = "out/study";
   int threads = 0;
   texsim::StudyRtlOptions rtl_opt;
@@ -515,11 +514,10 @@ int run_cli(int argc, char** argv) {
         throw InputError("trace gen", "give a scene file (or 'default') or --draws FILE");
       uint32_t first = 0, last = UINT32_MAX;
       if (!gen_frames.empty()) parse_frame_range(gen_frames, first, last);
-      const uint64_t n =
-          gen_draws.empty()
-              ? generate_scene_trace(gen_scene == "default" ? "" : gen_scene, gen_out,
-                                     gen_overrides)
-              : generate_draws_trace(gen_draws, first, last, gen_out);
+      const uint64_t n = gen_draws.empty()
+                             ? generate_scene_trace(gen_scene == "default" ? "" : gen_scene,
+                                                    gen_out, gen_overrides)
+                             : generate_draws_trace(gen_draws, first, last, gen_out);
       // With -o - the trace itself is on standard output: the summary goes to stderr.
       (gen_out == "-" ? std::cerr : std::cout)
           << "texsim trace gen: wrote " << n << " fragments to " << gen_out << "\n";

@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <future>
 #include <map>
-#include <set>
 #include <ostream>
+#include <set>
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
@@ -28,8 +28,8 @@
 #include "pipeline/raster/fragment_generator.h"
 #include "pipeline/raster/scene_front_end.h"
 #include "pipeline/reference/ground_truth.h"
-#include "pipeline/render/draw_fragment_trace.h"
 #include "pipeline/reference/surface_reference.h"
+#include "pipeline/render/draw_fragment_trace.h"
 #include "pipeline/report/run_report.h"
 #include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene.h"
@@ -208,8 +208,8 @@ struct GroundTruth {
                                                        integrate, samples);
     }
     return exact()
-               ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), map_of(f), x, y,
-                                    integrate, samples)
+               ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), map_of(f), x, y, integrate,
+                                    samples)
                : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, integrate, samples);
   }
 };
@@ -589,9 +589,9 @@ ImageLayout run_layout(const RunOptions& opt, const Scene& scene, bool use_scene
     l.extent = {0, 0, scene.width, scene.height};
     l.pairs = 2;
   }
-  l.scene_bytes = sat_add(sat_mul(l.extent.pixels(), kDepthTestBytesPerPixel),
-                          sat_mul(maps.size(), sizeof(PlaneProjection) *
-                                                   (2 + (scene.frames > 1 ? scene.frames : 0))));
+  l.scene_bytes = sat_add(
+      sat_mul(l.extent.pixels(), kDepthTestBytesPerPixel),
+      sat_mul(maps.size(), sizeof(PlaneProjection) * (2 + (scene.frames > 1 ? scene.frames : 0))));
   // The run's maps and the generator's, and with a camera path every frame's (for the truth).
   l.object_space_bytes = object_space_bytes(scene);
   check_memory(opt, l, textures, scene.path,

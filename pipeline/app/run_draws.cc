@@ -41,7 +41,8 @@ void write_frame_image(const std::string& path, const RenderedFrame& f,
   ImageRgb img(f.width, f.height, glm::dvec3(0));
   for (int y = 0; y < f.height; ++y) {
     for (int x = 0; x < f.width; ++x) {
-      const size_t p = static_cast<size_t>(y) * static_cast<size_t>(f.width) + static_cast<size_t>(x);
+      const size_t p =
+          static_cast<size_t>(y) * static_cast<size_t>(f.width) + static_cast<size_t>(x);
       if (!drawn[p]) continue;
       const uint8_t* c = rgba.data() + 4 * p;
       img.set(x, y,
@@ -121,7 +122,8 @@ std::string draws_markdown(const DrawRunSummary& s, const DrawRunOptions& opt,
     const LookupAccuracy& a = s.frame.accuracy;
     const FrameComparison& t = s.truth;
     md << "\n## Against the ground truth\n\nEach texture look-up's texel against its truth ("
-       << s.truth_text << "); `reference.png` is the frame shaded with the truth's texels "
+       << s.truth_text
+       << "); `reference.png` is the frame shaded with the truth's texels "
           "(same fragments and depth decisions as `image.png`).\n\n"
        << "| look-ups | look-up PSNR (dB) | look-up max abs | truth samples per look-up | "
           "frame PSNR vs truth (dB) | pixels drawn agree | frame pixels off by > 8 |\n"

@@ -24,7 +24,7 @@ struct DrawRunSummary {
   FrameComparison comparison;
   FrameComparison truth;   // the frame against the frame shaded with the truth's texels
   std::string truth_text;  // how the truth samples each pixel
-  double seconds = 0;  // rendering the frame (wall clock)
+  double seconds = 0;      // rendering the frame (wall clock)
 };
 
 DrawRunSummary run_draws(const DrawRunOptions& opt, std::ostream& log);

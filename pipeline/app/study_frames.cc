@@ -96,8 +96,14 @@ StudyTable table(const std::vector<FrameStudyRow>& rows) {
 }
 
 PlotSpec psnr_plot(const std::vector<FrameStudyRow>& rows) {
-  PlotSpec p{"Frames of a real application: PSNR per frame", "frame (capture number)",
-             "PSNR (dB)", false, false, 1200, 800, {}};
+  PlotSpec p{"Frames of a real application: PSNR per frame",
+             "frame (capture number)",
+             "PSNR (dB)",
+             false,
+             false,
+             1200,
+             800,
+             {}};
   PlotSeries lookups{"texture look-ups vs ground truth", {}, {}, true, {}};
   PlotSeries frame{"frame vs frame shaded with the truth", {}, {}, true, {}};
   PlotSeries app{"frame vs the application's image", {}, {}, false, {}};
@@ -121,16 +127,20 @@ PlotSpec psnr_plot(const std::vector<FrameStudyRow>& rows) {
 
 PlotSpec cycles_plot(const std::vector<FrameStudyRow>& rows) {
   PlotSpec p{"Frames of a real application: texture-unit cycles per look-up and L1 hit rate",
-             "frame (capture number)", "cycles per look-up; L1 hit rate (%) / 10", false, false,
-             1200, 800, {}};
+             "frame (capture number)",
+             "cycles per look-up; L1 hit rate (%) / 10",
+             false,
+             false,
+             1200,
+             800,
+             {}};
   PlotSeries cyc{"cycles per look-up", {}, {}, true, {}};
   PlotSeries hit{"L1 hit rate (%) / 10", {}, {}, true, {}};
   for (const FrameStudyRow& r : rows) {
     cyc.x.push_back(r.frame);
     cyc.y.push_back(ratio(static_cast<double>(r.cycles), static_cast<double>(r.lookups)));
     hit.x.push_back(r.frame);
-    hit.y.push_back(
-        10 * ratio(static_cast<double>(r.l1_hits), static_cast<double>(r.l1_accesses)));
+    hit.y.push_back(10 * ratio(static_cast<double>(r.l1_hits), static_cast<double>(r.l1_accesses)));
   }
   p.series = {cyc, hit};
   return p;
@@ -139,7 +149,8 @@ PlotSpec cycles_plot(const std::vector<FrameStudyRow>& rows) {
 std::string markdown(const std::vector<FrameStudyRow>& rows, const std::string& draws,
                      const std::string& images, bool truth, double seconds, int threads) {
   std::string s = "# Study: frames of a real application\n\n";
-  s += "Every frame of `" + draws + "` rendered by `texsim study frames`: the draw renderer, the "
+  s += "Every frame of `" + draws +
+       "` rendered by `texsim study frames`: the draw renderer, the "
        "clocked texture unit (default `[pipeline]`, one unit; its caches start cold in every "
        "frame, as each frame is a task of its own) and the fixed-function colour stage. ";
   s += truth ? "Ground truth per look-up: the level-0 texture, bilinear in double, integrated "
@@ -185,8 +196,7 @@ int run_study_frames(const std::string& out_dir, std::ostream& log, const StudyF
   files.plot("frames_psnr.png", psnr_plot(rows));
   files.plot("frames_cycles.png", cycles_plot(rows));
   log << "study frames: wrote " << out_dir
-      << "/frames.csv, frames.md, frames_psnr.png, frames_cycles.png in " << fmt(secs, 3)
-      << " s\n";
+      << "/frames.csv, frames.md, frames_psnr.png, frames_cycles.png in " << fmt(secs, 3) << " s\n";
   if (out_rows) *out_rows = std::move(rows);
   return 0;
 }

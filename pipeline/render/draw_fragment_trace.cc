@@ -17,8 +17,8 @@ constexpr std::string_view kPrefix = "draws:";
 void split_source(const std::string& source, std::string& path, uint32_t& id) {
   const size_t hash = source.rfind('#');
   const std::string digits = hash == std::string::npos ? "" : source.substr(hash + 1);
-  if (!is_draws_source(source) || hash <= kPrefix.size() || digits.empty() ||
-      digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) {
+  if (!is_draws_source(source) || hash <= kPrefix.size() || digits.empty() || digits.size() > 9 ||
+      digits.find_first_not_of("0123456789") != std::string::npos) {
     throw InputError(source, "not a draw-trace texture source \"draws:PATH#ID\"");
   }
   path = source.substr(kPrefix.size(), hash - kPrefix.size());
@@ -46,8 +46,7 @@ Texture DrawTextureCache::load(const std::string& source, const std::string& dir
   if (!trace) trace = std::make_unique<DrawTrace>(read_draw_trace(path));
   for (const DrawTexture& t : trace->textures)
     if (t.id == id) return texture_of_draw(t);
-  throw InputError(path, "has no texture " + std::to_string(id) + " (named by \"" + source +
-                             "\")");
+  throw InputError(path, "has no texture " + std::to_string(id) + " (named by \"" + source + "\")");
 }
 
 uint64_t generate_draws_trace(const std::string& draws, uint32_t first, uint32_t last,
@@ -57,8 +56,8 @@ uint64_t generate_draws_trace(const std::string& draws, uint32_t first, uint32_t
   for (size_t i = 0; i < trace.frames.size(); ++i)
     if (trace.frames[i].number >= first && trace.frames[i].number <= last) frames.push_back(i);
   if (frames.empty()) {
-    throw InputError(draws, "no frame numbered " + std::to_string(first) + ".." +
-                                std::to_string(last));
+    throw InputError(draws,
+                     "no frame numbered " + std::to_string(first) + ".." + std::to_string(last));
   }
   static const toml::table kNoPipeline;
   const PipelineSetup setup = PipelineSetup::from_toml(kNoPipeline, draws);

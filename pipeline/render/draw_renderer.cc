@@ -458,8 +458,8 @@ void DrawRenderer::shade_fragments(const Draw& d, RenderedFrame& out) {
   shade_into(d, texel_, out.width, out.height, out.rgba, out.drawn, counts_);
 }
 
-void DrawRenderer::shade_into(const Draw& d, const std::vector<Rgba>* texels, int width,
-                              int height, std::vector<uint8_t>& rgba, std::vector<uint8_t>& drawn,
+void DrawRenderer::shade_into(const Draw& d, const std::vector<Rgba>* texels, int width, int height,
+                              std::vector<uint8_t>& rgba, std::vector<uint8_t>& drawn,
                               DrawRenderCounts* counts) {
   const DrawState& s = d.state;
   const size_t nu = d.units.size();
@@ -474,10 +474,9 @@ void DrawRenderer::shade_into(const Draw& d, const std::vector<Rgba>* texels, in
     const size_t pix = static_cast<size_t>(f.y) * static_cast<size_t>(width) + f.x;
     if (counts && s.depth_test && s.depth_write) depth_[pix] = f.z;
     // Framebuffer rows run down (image order).
-    const size_t img =
-        (static_cast<size_t>(height - 1 - f.y) * static_cast<size_t>(width) +
-         static_cast<size_t>(f.x)) *
-        4;
+    const size_t img = (static_cast<size_t>(height - 1 - f.y) * static_cast<size_t>(width) +
+                        static_cast<size_t>(f.x)) *
+                       4;
     uint8_t* p = rgba.data() + img;
     if (s.blend) {
       const Rgba dst(static_cast<float>(p[0]) / 255.0f, static_cast<float>(p[1]) / 255.0f,
@@ -509,10 +508,9 @@ void DrawRenderer::truth_lookups(size_t u, int m) {
   parallel_range(look.size(), threads, [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
       int samples = 0;
-      const glm::dvec4 t =
-          ground_truth_exact(tex, ms.address_u(), ms.address_v(), map_[u],
-                             static_cast<int>(look[i].x), static_cast<int>(look[i].y), *truth_,
-                             &samples);
+      const glm::dvec4 t = ground_truth_exact(tex, ms.address_u(), ms.address_v(), map_[u],
+                                              static_cast<int>(look[i].x),
+                                              static_cast<int>(look[i].y), *truth_, &samples);
       out[i] = Rgba(static_cast<float>(t.r), static_cast<float>(t.g), static_cast<float>(t.b),
                     static_cast<float>(t.a));
       truth_samples_[i] = samples;

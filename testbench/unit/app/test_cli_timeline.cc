@@ -79,7 +79,8 @@ TEST_F(Cli, TimelineHasEveryUnitAndMemoryLevel) {
   const vcd_reader::Vcd v = vcd_reader::parse(slurp(vcd));
   const Json j = load_json(path("a") + "/report.json");
   uint64_t items = 0;
-  for (int u = 0; u < 4; ++u) items += v.at("unit" + std::to_string(u) + ".blend.items", UINT64_MAX);
+  for (int u = 0; u < 4; ++u)
+    items += v.at("unit" + std::to_string(u) + ".blend.items", UINT64_MAX);
   EXPECT_EQ(items, static_cast<uint64_t>(num(j, "fragments")));
   // Every request the L2 and the DRAM received, and none outstanding at the end.
   EXPECT_EQ(v.at("memory.l2.items", UINT64_MAX), j["l2"]["accesses"].get<uint64_t>());

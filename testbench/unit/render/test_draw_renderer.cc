@@ -8,10 +8,10 @@
 #include <cmath>
 #include <vector>
 
-#include "pipeline/render/colour_stage.h"
-#include "pipeline/render/draw_renderer.h"
 #include "blocks/base/input_error.h"
+#include "pipeline/render/colour_stage.h"
 #include "pipeline/render/draw_fragment_trace.h"
+#include "pipeline/render/draw_renderer.h"
 #include "pipeline/render/frame_compare.h"
 #include "testbench/lib/temp_dir.h"
 #include "traces/trace_file.h"
