@@ -151,6 +151,31 @@ std::string draws_markdown(const DrawRunSummary& s, const DrawRunOptions& opt,
   return md.str();
 }
 
+// The run's summary on the terminal.
+void log_draw_run(const DrawRunSummary& s, const DrawRunOptions& opt, std::ostream& log) {
+  const RunOptions& ro = opt.run;
+  const DrawRenderCounts& c = s.frame.counts;
+  log << "texsim run: frame " << s.frame.number << " of " << opt.draws << ": " << c.draws
+      << " draws (" << c.draws_refused << " refused), " << c.triangles << " triangles, "
+      << c.fragments << " fragments (" << c.depth_killed << " depth-killed, " << c.alpha_killed
+      << " alpha-killed, " << c.blended << " blended), " << s.unit_fragments
+      << " texture look-ups, " << s.cycles << " cycles\n";
+  for (const auto& [why, n] : c.refused)
+    log << "  refused: " << n << " draws with " << why << " (not reproduced by the colour stage)\n";
+  if (s.compared) {
+    log << "  against " << opt.compare << ": pixels drawn agree on "
+        << s.comparison.drawn_agreement_pct << " %, PSNR " << s.comparison.psnr_db
+        << " dB over the " << s.comparison.drawn_both << " pixels both drew\n";
+  }
+  if (s.frame.has_truth()) {
+    log << "  against the ground truth: look-ups PSNR " << fmt(s.frame.accuracy.psnr_db(), 4)
+        << " dB; frame PSNR " << fmt(s.truth.psnr_db, 4) << " dB\n";
+  }
+  log << "  report: " << ro.out << "/report.json, " << ro.out << "/report.md\n  images: " << ro.out
+      << "/image.png" << (s.frame.has_truth() ? ", " + ro.out + "/reference.png" : "")
+      << (s.compared ? ", " + ro.out + "/difference.png" : "") << "\n";
+}
+
 }  // namespace
 
 DrawRunSummary run_draws(const DrawRunOptions& opt, std::ostream& log) {
@@ -254,26 +279,7 @@ DrawRunSummary run_draws(const DrawRunOptions& opt, std::ostream& log) {
   write_file_atomic(md_path, md.str());
   outputs.commit();
 
-  const DrawRenderCounts& c = s.frame.counts;
-  log << "texsim run: frame " << s.frame.number << " of " << opt.draws << ": " << c.draws
-      << " draws (" << c.draws_refused << " refused), " << c.triangles << " triangles, "
-      << c.fragments << " fragments (" << c.depth_killed << " depth-killed, " << c.alpha_killed
-      << " alpha-killed, " << c.blended << " blended), " << s.unit_fragments
-      << " texture look-ups, " << s.cycles << " cycles\n";
-  for (const auto& [why, n] : c.refused)
-    log << "  refused: " << n << " draws with " << why << " (not reproduced by the colour stage)\n";
-  if (s.compared) {
-    log << "  against " << opt.compare << ": pixels drawn agree on "
-        << s.comparison.drawn_agreement_pct << " %, PSNR " << s.comparison.psnr_db
-        << " dB over the " << s.comparison.drawn_both << " pixels both drew\n";
-  }
-  if (s.frame.has_truth()) {
-    log << "  against the ground truth: look-ups PSNR " << fmt(s.frame.accuracy.psnr_db(), 4)
-        << " dB; frame PSNR " << fmt(s.truth.psnr_db, 4) << " dB\n";
-  }
-  log << "  report: " << ro.out << "/report.json, " << ro.out << "/report.md\n  images: " << ro.out
-      << "/image.png" << (s.frame.has_truth() ? ", " + ro.out + "/reference.png" : "")
-      << (s.compared ? ", " + ro.out + "/difference.png" : "") << "\n";
+  log_draw_run(s, opt, log);
   return s;
 }
 
