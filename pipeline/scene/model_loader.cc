@@ -149,7 +149,8 @@ Model convert(const aiScene& sc, const std::string& file, const std::string& dir
           throw InputError(file, "mesh " + std::to_string(m) + ", face " + std::to_string(f) +
                                      ": vertex index out of range");
         t.v[c] = base + static_cast<int>(idx);
-        if (uv != nullptr) t.uv[c] = {uv[idx].x, uv[idx].y};
+        // Without coordinates, zero (glm leaves them undefined): a projection replaces them.
+        t.uv[c] = uv != nullptr ? glm::dvec2(uv[idx].x, uv[idx].y) : glm::dvec2(0.0);
       }
       out.mesh.triangles.push_back(t);
       out.triangle_material.push_back(mat);
