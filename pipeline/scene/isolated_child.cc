@@ -169,9 +169,10 @@ void die_by_abort() {
 [[noreturn]] void run_child(int fd, const std::function<void(ByteSink&)>& child,
                             uint64_t address_cap) {
   // Crash signals take their default action (the host may have handlers: texsim's, a
-  // fuzzer's), so the parent sees which signal it was.
-  for (const int sig :
-       {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS, SIGPIPE, SIGXCPU, SIGXFSZ})
+  // fuzzer's), so the parent sees which signal it was; so do SIGINT, SIGTERM and SIGHUP, whose
+  // texsim handler would remove the parent's temporary files (temp_registry.h).
+  for (const int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS, SIGPIPE, SIGXCPU,
+                        SIGXFSZ, SIGINT, SIGTERM, SIGHUP})
     ::signal(sig, SIG_DFL);
   sigset_t none;
   sigemptyset(&none);
@@ -215,6 +216,8 @@ std::string signal_text(int sig) {
       {SIGPIPE, "SIGPIPE", "broken pipe"},
       {SIGXCPU, "SIGXCPU", "CPU time limit"},
       {SIGTERM, "SIGTERM", "terminated"},
+      {SIGINT, "SIGINT", "interrupted"},
+      {SIGHUP, "SIGHUP", "hangup"},
       {SIGKILL, "SIGKILL", "killed, e.g. by the kernel when memory ran out"},
   };
   for (const Name& n : kNames)

@@ -1,8 +1,9 @@
 // Assimp in a child process (isolated_child.h, model_stream.h): the input on which Assimp
 // crashes (testbench/fuzz/known-crashes) ends in an error naming the file; the shipped models
 // and a textured OBJ load exactly as in-process; a child that is killed, exits non-zero, hangs,
-// over-allocates or sends bad bytes is an error, never a crash or a hang; and the stream's reader
-// refuses every malformed count, index and number.
+// over-allocates or sends bad bytes is an error, never a crash or a hang (nor the removal of the
+// parent's temporary files); and the stream's reader refuses every malformed count, index and
+// number.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <unistd.h>
@@ -10,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <memory>
@@ -21,6 +23,7 @@
 #include <vector>
 
 #include "blocks/base/input_file.h"
+#include "blocks/base/temp_registry.h"
 #include "pipeline/scene/isolated_child.h"
 #include "pipeline/scene/model_loader.h"
 #include "pipeline/scene/model_stream.h"
@@ -154,6 +157,17 @@ TEST(IsolatedChild, ADeadHangingOrFailingChildIsAnError) {
                 quick),
             "in.x: the reader timed out after 300 ms and was killed");
   EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(10));
+}
+
+TEST(IsolatedChild, AChildEndedBySigtermLeavesTheParentsTemporaryFiles) {
+  TempDir dir("isolated_child");
+  const std::string tmp = dir.file("out.tmp.1");
+  std::ofstream(tmp) << "x";
+  install_temp_cleanup();
+  track_temp(tmp);
+  EXPECT_EQ(run([](ByteSink&) { ::raise(SIGTERM); }).find("in.x: the reader crashed (SIGTERM"), 0u);
+  EXPECT_TRUE(std::filesystem::exists(tmp));  // texsim's handler would have removed it
+  remove_temp(tmp);
 }
 
 TEST(IsolatedChild, TheChildsAddressSpaceIsCapped) {
