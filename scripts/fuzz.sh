@@ -7,7 +7,8 @@
 # their round trip through both writers), fuzz_scene (scene TOML through the materials, the
 # texture unit and a tiny render), fuzz_obj (OBJ text and an MTL through the mesh loader),
 # fuzz_model (OBJ, 3DS, glTF, MD3, PLY and STL bytes through Assimp and texsim's model
-# conversion), fuzz_npz (.npz archives and .npy arrays through the DEM reader), fuzz_sweep (sweep files
+# conversion, in the import's child process and then in-process; also the child's stream through
+# the parent's reader; seeded with Assimp's known crash too), fuzz_npz (.npz archives and .npy arrays through the DEM reader), fuzz_sweep (sweep files
 # through the grid's expansion, the job list and the Slurm script), fuzz_merge_json (job.json
 # and report.json through merge), fuzz_tune_shard (tune_shard.json as `tune --merge` reads it)
 # and fuzz_link_host (the input plays the board behind LinkHost; -timeout=5 catches a host
@@ -34,8 +35,11 @@ run() {  # run NAME CORPUS [ENV=VALUE]
   [[ -f testbench/fuzz/${name#fuzz_}.dict ]] && dict=(-dict="../testbench/fuzz/${name#fuzz_}.dict")
   local limits=()  # the link host must end every input quickly, whatever the board sends
   [[ $name == fuzz_link_host ]] && limits=(-timeout=5)
+  local extra=()  # inputs that crash Assimp: the model import must survive them every run
+  [[ $name == fuzz_model ]] && extra=(../testbench/fuzz/known-crashes)
   (cd "$build" && env "$@" "./testbench/$name" -max_total_time="$secs" -rss_limit_mb=2048 \
-     -max_len=65536 -print_final_stats=1 "${dict[@]}" "${limits[@]}" "../$work" "../$seeds" 2>&1 | tail -n 12)
+     -max_len=65536 -print_final_stats=1 "${dict[@]}" "${limits[@]}" "../$work" "../$seeds" \
+     "${extra[@]}" 2>&1 | tail -n 12)
 }
 run fuzz_trace_reader testbench/fuzz/corpus/trace
 run fuzz_trace_reader testbench/fuzz/corpus/trace TEXSIM_FUZZ_FIX_CRC=1
@@ -49,9 +53,6 @@ run fuzz_merge_json testbench/fuzz/corpus/merge_json
 run fuzz_tune_shard testbench/fuzz/corpus/tune_shard
 run fuzz_link_host testbench/fuzz/corpus/link_host
 run fuzz_obj testbench/fuzz/corpus/obj
-# fuzz_model is built but not in this run: Assimp 5.2 (Debian) itself crashes (SEGV in
-# libassimp's OBJ importer) on testbench/fuzz/known-crashes/assimp-obj-segv-*, found in 10 s.
-# Until the import runs isolated from texsim's process, `FUZZ_MODEL=1 scripts/fuzz.sh` runs it.
-[[ ${FUZZ_MODEL:-0} == 1 ]] && run fuzz_model testbench/fuzz/corpus/model
+run fuzz_model testbench/fuzz/corpus/model
 run fuzz_npz testbench/fuzz/corpus/npz
 echo "fuzz: no findings in ${secs} s per harness"

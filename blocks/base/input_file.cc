@@ -1,6 +1,7 @@
 #include "blocks/base/input_file.h"
 
 #include <fcntl.h>
+#include <pthread.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -29,6 +30,11 @@ std::map<FileKey, FileTime>& inputs_read() {
   static std::map<FileKey, FileTime> m;
   return m;
 }
+// A model import's child process (pipeline/scene/isolated_child.h) opens inputs: the lock is
+// held across fork, so the child never starts with it held by a thread it does not have.
+[[maybe_unused]] const int g_fork_safe =
+    ::pthread_atfork([] { g_inputs_mutex.lock(); }, [] { g_inputs_mutex.unlock(); },
+                     [] { g_inputs_mutex.unlock(); });
 
 const char* kind_of(mode_t m) {
   if (S_ISDIR(m)) return "is a directory";

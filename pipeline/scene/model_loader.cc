@@ -9,9 +9,13 @@
 #include <cmath>
 #include <exception>
 #include <filesystem>
+#include <functional>
+#include <new>
 
 #include "blocks/base/input_error.h"
 #include "blocks/base/input_file.h"
+#include "pipeline/scene/isolated_child.h"
+#include "pipeline/scene/model_stream.h"
 
 namespace texsim {
 
@@ -20,6 +24,7 @@ namespace {
 // Assimp's file access with texsim's checks: a file that is there but is not regular or is over
 // the limit is not opened (the error is kept and thrown after Assimp returns, as Assimp would
 // otherwise report only "cannot open"). `allow_disk` false: nothing is opened (a model in memory).
+// The files opened are kept: a child process's inputs become its parent's (model_stream.h).
 class CheckedIoSystem : public Assimp::DefaultIOSystem {
  public:
   explicit CheckedIoSystem(bool allow_disk) : allow_disk_(allow_disk) {}
@@ -36,6 +41,7 @@ class CheckedIoSystem : public Assimp::DefaultIOSystem {
     if (!std::filesystem::exists(file, ec)) return nullptr;
     try {
       (void)check_input_file(file, "model file", kMaxModelBytes);
+      note_opened(file);
     } catch (const InputError&) {
       if (!error) error = std::current_exception();
       return nullptr;
@@ -43,8 +49,19 @@ class CheckedIoSystem : public Assimp::DefaultIOSystem {
     return Assimp::DefaultIOSystem::Open(file, mode);
   }
   std::exception_ptr error;
+  std::vector<std::string> opened;
 
  private:
+  void note_opened(const std::string& file) {
+    if (std::find(opened.begin(), opened.end(), file) != opened.end()) return;
+    if (file.size() > kMaxModelPathBytes)
+      throw InputError(file, "a path longer than " + std::to_string(kMaxModelPathBytes) + " bytes");
+    if (opened.size() >= kMaxModelOpenedFiles) {
+      throw InputError(file, "the model opens more than " + std::to_string(kMaxModelOpenedFiles) +
+                                 " files, the limit");
+    }
+    opened.push_back(file);
+  }
   bool allow_disk_;
 };
 
@@ -60,29 +77,13 @@ void configure(Assimp::Importer& imp) {
 
 std::string count_text(uint64_t n) { return std::to_string(n); }
 
-Model convert(const aiScene& sc, const std::string& file, const std::string& dir,
-              const MeshBudget& budget) {
-  uint64_t vertices = 0, triangles = 0;
-  for (unsigned m = 0; m < sc.mNumMeshes; ++m) {
-    vertices += sc.mMeshes[m]->mNumVertices;
-    triangles += sc.mMeshes[m]->mNumFaces;
-  }
-  if (triangles == 0) throw InputError(file, "the model has no triangles");
-  if (vertices > kMaxModelVertices)
-    throw InputError(file, count_text(vertices) + " vertices, over the limit of " +
-                               count_text(kMaxModelVertices));
-  if (triangles > kMaxModelTriangles || triangles > budget.max_triangles)
-    throw InputError(file, count_text(triangles) + " triangles, over the limit of " +
-                               count_text(std::min(kMaxModelTriangles, budget.max_triangles)) +
-                               " (with the scene's faces before it)");
-  const uint64_t bytes = mesh_bytes(vertices, 3 * triangles, triangles, budget);
-  if (bytes > budget.max_bytes)
-    throw InputError(file, "the model would take an estimated " + count_text(bytes >> 20) +
-                               " MiB, over the memory limit (--max-memory) with the faces "
-                               "before it");
-  Model out;
-  out.mesh.source = file;
-  out.mesh.has_uvs = true;
+// The file's materials, each name and diffuse texture within the limits.
+std::vector<ModelMaterial> read_materials(const aiScene& sc, const std::string& file,
+                                          const std::string& dir) {
+  if (sc.mNumMaterials > kMaxModelMaterials)
+    throw InputError(file, count_text(sc.mNumMaterials) + " materials, over the limit of " +
+                               count_text(kMaxModelMaterials));
+  std::vector<ModelMaterial> out;
   for (unsigned i = 0; i < sc.mNumMaterials; ++i) {
     ModelMaterial mm;
     aiString s;
@@ -92,9 +93,28 @@ Model convert(const aiScene& sc, const std::string& file, const std::string& dir
       std::filesystem::path p(s.C_Str());
       mm.texture = (p.is_absolute() || dir.empty() ? p : std::filesystem::path(dir) / p).string();
     }
-    out.materials.push_back(std::move(mm));
+    if (mm.name.size() > kMaxModelNameBytes || mm.texture.size() > kMaxModelPathBytes)
+      throw InputError(file, "material " + count_text(i) + ": a name over " +
+                                 count_text(kMaxModelNameBytes) + " bytes or a texture path over " +
+                                 count_text(kMaxModelPathBytes));
+    out.push_back(std::move(mm));
   }
-  if (out.materials.empty()) out.materials.push_back({});
+  if (out.empty()) out.push_back({});
+  return out;
+}
+
+Model convert(const aiScene& sc, const std::string& file, const std::string& dir,
+              const MeshBudget& budget) {
+  uint64_t vertices = 0, triangles = 0;
+  for (unsigned m = 0; m < sc.mNumMeshes; ++m) {
+    vertices += sc.mMeshes[m]->mNumVertices;
+    triangles += sc.mMeshes[m]->mNumFaces;
+  }
+  check_model_counts(vertices, triangles, file, budget);
+  Model out;
+  out.mesh.source = file;
+  out.mesh.has_uvs = true;
+  out.materials = read_materials(sc, file, dir);
   out.mesh.positions.reserve(vertices);
   out.mesh.triangles.reserve(triangles);
   out.triangle_material.reserve(triangles);
@@ -129,7 +149,8 @@ Model convert(const aiScene& sc, const std::string& file, const std::string& dir
           throw InputError(file, "mesh " + std::to_string(m) + ", face " + std::to_string(f) +
                                      ": vertex index out of range");
         t.v[c] = base + static_cast<int>(idx);
-        if (uv != nullptr) t.uv[c] = {uv[idx].x, uv[idx].y};
+        // Without coordinates, zero (glm leaves them undefined): a projection replaces them.
+        t.uv[c] = uv != nullptr ? glm::dvec2(uv[idx].x, uv[idx].y) : glm::dvec2(0.0);
       }
       out.mesh.triangles.push_back(t);
       out.triangle_material.push_back(mat);
@@ -140,17 +161,15 @@ Model convert(const aiScene& sc, const std::string& file, const std::string& dir
 }
 
 std::string assimp_error(const Assimp::Importer& imp) {
-  const std::string e = imp.GetErrorString();
+  std::string e = imp.GetErrorString();
+  if (e.size() > 1024) e = e.substr(0, 1024) + "…";  // it may quote the file
   return e.empty() ? "Assimp cannot read it as a model" : "not a model Assimp reads: " + e;
 }
 
-}  // namespace
+const char* const kImporter = "the model importer (Assimp)";
 
-Model load_model(const std::string& path, const std::string& base_dir, const MeshBudget& budget) {
-  std::filesystem::path p(path);
-  if (!p.is_absolute() && !base_dir.empty()) p = std::filesystem::path(base_dir) / p;
-  const std::string file = p.string();
-  (void)check_input_file(file, "model file", kMaxModelBytes);
+Model import_file(const std::string& file, const std::string& dir, const MeshBudget& budget,
+                  std::vector<std::string>* opened) {
   Assimp::Importer imp;
   configure(imp);
   auto* io = new CheckedIoSystem(true);  // the importer owns it
@@ -158,12 +177,12 @@ Model load_model(const std::string& path, const std::string& base_dir, const Mes
   const aiScene* sc = imp.ReadFile(file, kImportFlags);
   if (io->error) std::rethrow_exception(io->error);
   if (sc == nullptr) throw InputError(file, assimp_error(imp));
-  return convert(*sc, file, p.parent_path().string(), budget);
+  if (opened != nullptr) *opened = io->opened;
+  return convert(*sc, file, dir, budget);
 }
 
-Model parse_model(const std::string& bytes, const std::string& hint, const std::string& file,
-                  const MeshBudget& budget) {
-  if (bytes.size() > kMaxModelBytes) throw InputError(file, "over the size limit");
+Model import_bytes(const std::string& bytes, const std::string& hint, const std::string& file,
+                   const MeshBudget& budget) {
   Assimp::Importer imp;
   configure(imp);
   imp.SetIOHandler(new CheckedIoSystem(false));
@@ -171,6 +190,86 @@ Model parse_model(const std::string& bytes, const std::string& hint, const std::
       imp.ReadFileFromMemory(bytes.data(), bytes.size(), kImportFlags, hint.c_str());
   if (sc == nullptr) throw InputError(file, assimp_error(imp));
   return convert(*sc, file, "", budget);
+}
+
+// The child's error as the InputError it was: its message is "WHERE: WHAT", and splitting it at
+// any ": " rebuilds the same text.
+[[noreturn]] void throw_message(const std::string& message, const std::string& file) {
+  const size_t k = message.find(": ");
+  if (k == std::string::npos) throw InputError(file, message);
+  throw InputError(message.substr(0, k), message.substr(k + 2));
+}
+
+// `import` (Assimp and the conversion) in a child process; its inputs become this process's.
+Model import_isolated(const std::string& file, const MeshBudget& budget,
+                      const std::function<Model(std::vector<std::string>*)>& import) {
+  ModelMessage got;
+  run_isolated(
+      file, kImporter,
+      [&](ByteSink& out) {
+        ModelMessage m;
+        try {
+          m.model = import(&m.opened);
+        } catch (const InputError& e) {
+          m.failed = true;
+          m.error = e.what();
+        } catch (const std::bad_alloc&) {
+          m.failed = true;
+          m.error = file + ": " + kImporter +
+                    " ran out of memory (its limit: " + count_text(kModelImportMemory >> 20) +
+                    " MiB over texsim's own)";
+        }
+        write_model_message(out, m);
+      },
+      [&](ByteSource& in) {
+        got = read_model_message(in, file, kImporter, budget);
+        if (got.failed) throw_message(got.error, file);
+      },
+      ChildLimits{kModelImportTimeoutMs, kModelImportMemory});
+  for (const std::string& f : got.opened) (void)check_input_file(f, "model file", kMaxModelBytes);
+  got.model.mesh.source = file;
+  return std::move(got.model);
+}
+
+}  // namespace
+
+void check_model_counts(uint64_t vertices, uint64_t triangles, const std::string& file,
+                        const MeshBudget& budget) {
+  if (triangles == 0) throw InputError(file, "the model has no triangles");
+  if (vertices > kMaxModelVertices)
+    throw InputError(file, count_text(vertices) + " vertices, over the limit of " +
+                               count_text(kMaxModelVertices));
+  if (triangles > kMaxModelTriangles || triangles > budget.max_triangles)
+    throw InputError(file, count_text(triangles) + " triangles, over the limit of " +
+                               count_text(std::min(kMaxModelTriangles, budget.max_triangles)) +
+                               " (with the scene's faces before it)");
+  const uint64_t bytes = mesh_bytes(vertices, 3 * triangles, triangles, budget);
+  if (bytes > budget.max_bytes)
+    throw InputError(file, "the model would take an estimated " + count_text(bytes >> 20) +
+                               " MiB, over the memory limit (--max-memory) with the faces "
+                               "before it");
+}
+
+Model load_model(const std::string& path, const std::string& base_dir, const MeshBudget& budget,
+                 ImportIn where) {
+  std::filesystem::path p(path);
+  if (!p.is_absolute() && !base_dir.empty()) p = std::filesystem::path(base_dir) / p;
+  const std::string file = p.string();
+  (void)check_input_file(file, "model file", kMaxModelBytes);
+  const std::string dir = p.parent_path().string();
+  if (where == ImportIn::ThisProcess) return import_file(file, dir, budget, nullptr);
+  return import_isolated(file, budget, [&](std::vector<std::string>* opened) {
+    return import_file(file, dir, budget, opened);
+  });
+}
+
+Model parse_model(const std::string& bytes, const std::string& hint, const std::string& file,
+                  const MeshBudget& budget, ImportIn where) {
+  if (bytes.size() > kMaxModelBytes) throw InputError(file, "over the size limit");
+  if (where == ImportIn::ThisProcess) return import_bytes(bytes, hint, file, budget);
+  return import_isolated(file, budget, [&](std::vector<std::string>*) {
+    return import_bytes(bytes, hint, file, budget);
+  });
 }
 
 }  // namespace texsim

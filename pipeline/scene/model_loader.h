@@ -6,7 +6,9 @@
 // Assimp triangulates, joins identical vertices and applies the node transforms
 // (aiProcess_PreTransformVertices); points and lines are dropped. Texture coordinates are
 // flipped to texsim's convention (v = 0 on the image's first row); Assimp's own is v = 0 on
-// the last. docs/cli.md#input-limits lists the limits below.
+// the last. Assimp runs in a child process (isolated_child.h) that sends the converted model
+// back (model_stream.h): a file on which Assimp crashes, hangs or runs out of memory is an
+// InputError naming it. docs/cli.md#input-limits lists the limits below.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -21,6 +23,12 @@ inline constexpr uint64_t kMaxModelVertices = uint64_t{1} << 22;
 inline constexpr uint64_t kMaxModelTriangles = uint64_t{1} << 22;
 inline constexpr double kMaxModelCoordinate = 1e12;  // |x|, |y|, |z| of a vertex
 inline constexpr double kMaxModelTexcoord = 1e6;     // |u|, |v|
+inline constexpr uint64_t kMaxModelMaterials = 4096;
+inline constexpr uint64_t kMaxModelNameBytes = 1024;  // a material's name (Assimp's own cap)
+inline constexpr uint64_t kMaxModelPathBytes = 4096;  // a texture's path (PATH_MAX)
+// The child process of an import: its time, and its address space over texsim's.
+inline constexpr int kModelImportTimeoutMs = 30'000;
+inline constexpr uint64_t kModelImportMemory = uint64_t{4} << 30;
 
 struct ModelMaterial {
   std::string name;     // the file's name for it (may be empty)
@@ -34,13 +42,24 @@ struct Model {
   std::vector<int> triangle_material;  // per mesh.triangles entry: index into materials
 };
 
+// Where Assimp runs: in a child process (texsim's way), or in this one (the child itself, and
+// the fuzz harness, which compares the two).
+enum class ImportIn { Child, ThisProcess };
+
 // `path` relative to `base_dir` unless absolute. Throws InputError "FILE: what" (Assimp's own
-// message when it cannot read the file).
+// message when it cannot read the file), ChildFailure (an InputError) when the import crashed,
+// timed out or sent malformed data.
 Model load_model(const std::string& path, const std::string& base_dir,
-                 const MeshBudget& budget = {});
+                 const MeshBudget& budget = {}, ImportIn where = ImportIn::Child);
 // The same from bytes in memory (`hint`: the format's file extension, e.g. "obj", "3ds"):
 // the fuzz harness's entry. Files it refers to are not opened.
 Model parse_model(const std::string& bytes, const std::string& hint, const std::string& file,
-                  const MeshBudget& budget = {});
+                  const MeshBudget& budget = {}, ImportIn where = ImportIn::Child);
+
+// Throws InputError "FILE: …" when a model of these counts is over the limits above or
+// `budget` (no triangles, too many vertices or triangles, too much memory). Both ends of the
+// import check them: the child before it copies Assimp's data, the parent before it reads.
+void check_model_counts(uint64_t vertices, uint64_t triangles, const std::string& file,
+                        const MeshBudget& budget);
 
 }  // namespace texsim
