@@ -280,6 +280,46 @@ CLI::App* add_tune_command(CLI::App& app, texsim::TuneOptions& t, std::string& s
   return cmd;
 }
 
+// `trace gen` and its options.
+struct GenCli {
+  std::string scene, out, draws, frames;
+  std::vector<std::string> overrides;
+  CLI::App* cmd = nullptr;
+};
+
+void add_gen_command(CLI::App& trace_cmd, GenCli& g) {
+  g.cmd = trace_cmd.add_subcommand(
+      "gen", "Write a scene's reference fragments (exact double coordinates)");
+  g.cmd->add_option("scene", g.scene, "Scene file; 'default' for the built-in scene");
+  g.cmd
+      ->add_option("--draws", g.draws,
+                   "Instead of a scene: a draw trace (traces/DRAWS.md), whose texture look-ups "
+                   "are written")
+      ->excludes("scene");
+  g.cmd
+      ->add_option("--frames", g.frames,
+                   "With --draws: frames A-B or A (the capture's numbers; default: all)")
+      ->needs("--draws");
+  g.cmd->add_option("-o,--output", g.out, "Output trace (.trc binary, .csv text)")->required();
+  g.cmd->add_option("--set", g.overrides,
+                    "KEY=VALUE: change one scene key before the scene is read, as for run "
+                    "(repeatable)");
+}
+
+void run_gen_command(const GenCli& g) {
+  using namespace texsim;  // NOLINT(google-build-using-namespace)
+  if (g.scene.empty() && g.draws.empty())
+    throw InputError("trace gen", "give a scene file (or 'default') or --draws FILE");
+  uint32_t first = 0, last = UINT32_MAX;
+  if (!g.frames.empty()) parse_frame_range(g.frames, first, last);
+  const uint64_t n = g.draws.empty() ? generate_scene_trace(g.scene == "default" ? "" : g.scene,
+                                                            g.out, g.overrides)
+                                     : generate_draws_trace(g.draws, first, last, g.out);
+  // With -o - the trace itself is on standard output: the summary goes to stderr.
+  (g.out == "-" ? std::cerr : std::cout)
+      << "texsim trace gen: wrote " << n << " fragments to " << g.out << "\n";
+}
+
 // `texsim study …`: every study subcommand and its options.
 struct StudyCli {
   CLI::App *cmd = nullptr, *vd = nullptr, *coords = nullptr, *filters = nullptr, *raster = nullptr,
@@ -453,23 +493,8 @@ int run_cli(int argc, char** argv) {
 
   auto* trace_cmd = app.add_subcommand("trace", "Make, inspect and convert fragment traces");
   trace_cmd->require_subcommand(1);
-  std::string gen_scene, gen_out;
-  auto* gen = trace_cmd->add_subcommand(
-      "gen", "Write a scene's reference fragments (exact double coordinates)");
-  gen->add_option("scene", gen_scene, "Scene file; 'default' for the built-in scene");
-  std::string gen_draws, gen_frames;
-  gen->add_option("--draws", gen_draws,
-                  "Instead of a scene: a draw trace (traces/DRAWS.md), whose texture look-ups "
-                  "are written")
-      ->excludes("scene");
-  gen->add_option("--frames", gen_frames,
-                  "With --draws: frames A-B or A (the capture's numbers; default: all)")
-      ->needs("--draws");
-  gen->add_option("-o,--output", gen_out, "Output trace (.trc binary, .csv text)")->required();
-  std::vector<std::string> gen_overrides;
-  gen->add_option("--set", gen_overrides,
-                  "KEY=VALUE: change one scene key before the scene is read, as for run "
-                  "(repeatable)");
+  GenCli gen;
+  add_gen_command(*trace_cmd, gen);
   std::string info_in;
   auto* info =
       trace_cmd->add_subcommand("info", "Print a trace's header, texture table and statistics");
@@ -509,18 +534,8 @@ int run_cli(int argc, char** argv) {
   try {
     if (*run.cmd) {
       run_run_command(run, argc, argv);
-    } else if (*gen) {
-      if (gen_scene.empty() && gen_draws.empty())
-        throw InputError("trace gen", "give a scene file (or 'default') or --draws FILE");
-      uint32_t first = 0, last = UINT32_MAX;
-      if (!gen_frames.empty()) parse_frame_range(gen_frames, first, last);
-      const uint64_t n = gen_draws.empty()
-                             ? generate_scene_trace(gen_scene == "default" ? "" : gen_scene,
-                                                    gen_out, gen_overrides)
-                             : generate_draws_trace(gen_draws, first, last, gen_out);
-      // With -o - the trace itself is on standard output: the summary goes to stderr.
-      (gen_out == "-" ? std::cerr : std::cout)
-          << "texsim trace gen: wrote " << n << " fragments to " << gen_out << "\n";
+    } else if (*gen.cmd) {
+      run_gen_command(gen);
     } else if (*imp) {
       uint32_t first = 0, last = 0;
       parse_frame_range(imp_frames, first, last);

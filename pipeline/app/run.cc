@@ -759,6 +759,16 @@ std::vector<PlaneProjection> plane_maps(const Scene& scene, bool use_scene) {
 // Several units: each unit's timeline tracks, observed as each fragment leaves its unit.
 // The timeline's tracks: every unit's stages (several units: at each commit), and the memory
 // levels behind the L1s.
+// Several units record through `record`; on a camera path put back in frame order (returned).
+std::unique_ptr<FrameOrder> set_unit_record(UnitArray& units, bool camera_path,
+                                            const UnitArray::Record& record) {
+  if (!units.several()) return nullptr;
+  std::unique_ptr<FrameOrder> order;
+  if (camera_path) order = std::make_unique<FrameOrder>(record);
+  units.set_record(order ? order->recorder() : record);
+  return order;
+}
+
 void observe_units(StageTimeline* timeline, UnitArray& units) {
   if (!timeline) return;
   std::vector<int> tracks;
@@ -807,11 +817,9 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   const SurfaceSetup surf = surface_setup(scene, mats, textures.set);
   if (surf.active()) units.set_surfaces(surf.frames);
   GroundTruth truth = ground_truth(scene, textures.set, mats, maps, surf, opt.reference == "none");
+  const bool camera_path = use_scene && !reader && scene.frames > 1;
   std::vector<std::vector<PlaneProjection>> frame_maps;  // a camera path's, by frame
-  if (use_scene && !reader && scene.frames > 1) {
-    frame_maps.reserve(static_cast<size_t>(scene.frames));
-    truth.frame_maps = &frame_maps;
-  }
+  if (camera_path) truth.frame_maps = &frame_maps;
   RunImages images(layout.extent, layout.canvas_w, layout.canvas_h, scene.background,
                    unit.material_count(), opt.frame);
   Progress progress(opt.progress);
@@ -828,10 +836,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     batch.add(f, g, material, colour, index);
   };
   observe_units(timeline.get(), units);
-  // A camera path on several units: records put back in frame order.
-  std::unique_ptr<FrameOrder> order;
-  if (units.several() && !reader && scene.frames > 1) order = std::make_unique<FrameOrder>(record);
-  if (units.several()) units.set_record(order ? order->recorder() : UnitArray::Record(record));
+  const std::unique_ptr<FrameOrder> order = set_unit_record(units, camera_path, record);
   // The unit's timeline observes the pipeline after every fragment: no batching then.
   FragmentRouter router(units, setup, os, record, timeline != nullptr);
   auto handle = [&](const Fragment& f, uint64_t index) {
