@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -26,13 +27,10 @@ class UnitScheduler {
   // Unit: `uint64_t begin(int unit, Item&)`, `void commit(int unit, Item&)`.
   UnitScheduler(int units, Unit& hooks, size_t window)
       : hooks_(hooks), window_(window), units_(static_cast<size_t>(units)) {
-    size_t leaves = 1;
-    while (leaves < units_.size()) leaves *= 2;
-    leaves_ = leaves;
-    key_.assign(leaves, kIdle);
-    tree_.assign(2 * leaves, 0);
-    for (size_t i = 0; i < leaves; ++i) tree_[leaves + i] = static_cast<uint32_t>(i);
-    for (size_t i = leaves - 1; i >= 1; --i) tree_[i] = winner(tree_[2 * i], tree_[2 * i + 1]);
+    while ((size_t{1} << shift_) < units_.size()) ++shift_;
+    max_start_ = (~uint64_t{0} >> shift_) - 1;
+    // Padded to whole groups of 8 keys (idle), so the scan has no remainder loop.
+    key_.assign((units_.size() + 7) / 8 * 8, kIdle);
   }
   // The next item of unit u (items of one unit in their order).
   void add(int u, Item item) {
@@ -68,6 +66,14 @@ class UnitScheduler {
    public:
     bool empty() const { return head_ == tail_; }
     Item& front() { return blocks_[head_ / kBlock][head_ % kBlock]; }
+    // Asks for the item k after the front in the cache (held items are read long after they
+    // were written).
+    void prefetch(size_t k) const {
+      const size_t i = head_ + k;
+      if (i >= tail_) return;
+      const char* p = reinterpret_cast<const char*>(&blocks_[i / kBlock][i % kBlock]);
+      for (size_t b = 0; b < sizeof(Item); b += 64) __builtin_prefetch(p + b);
+    }
     void pop_front() {
       if (++head_ % kBlock == 0) {
         // The first block is spent: move it to the back for reuse.
@@ -94,33 +100,35 @@ class UnitScheduler {
     bool begun = false;
   };
   static constexpr uint64_t kIdle = ~uint64_t{0};  // key of a unit without a begun item
-  // The earlier of units a and b by their begun items' cycles (the lower index on a tie).
-  uint32_t winner(uint32_t a, uint32_t b) const {
-    return key_[b] < key_[a] || (key_[b] == key_[a] && b < a) ? b : a;
-  }
-  // Unit u's key changed: replay its matches up the tree (the root holds the earliest).
-  void update(size_t u) {
-    for (size_t i = (leaves_ + u) / 2; i >= 1; i /= 2)
-      tree_[i] = winner(tree_[2 * i], tree_[2 * i + 1]);
+  // The earliest begun item: the least key, (start << shift_) | unit, so the lower unit index
+  // wins a tie. A scan: at most 64 units (PipelineSetup::kMaxUnits).
+  uint64_t least_key() const {
+    uint64_t m[8] = {kIdle, kIdle, kIdle, kIdle, kIdle, kIdle, kIdle, kIdle};
+    for (size_t i = 0; i < key_.size(); i += 8) {
+      for (size_t j = 0; j < 8; ++j) m[j] = std::min(m[j], key_[i + j]);
+    }
+    for (size_t j = 1; j < 8; ++j) m[0] = std::min(m[0], m[j]);
+    return m[0];
   }
   void begin_next(int u) {
     Lane& l = units_[static_cast<size_t>(u)];
     if (l.queue.empty()) return;
+    l.queue.prefetch(2);
     const uint64_t start = hooks_.begin(u, l.queue.front());
     l.begun = true;
     ++begun_;
     if (committed_ > 0 && start < last_cycle_) ++late_;
-    key_[static_cast<size_t>(u)] = start;
-    update(static_cast<size_t>(u));
+    if (start > max_start_) throw std::overflow_error("UnitScheduler: cycle out of range");
+    key_[static_cast<size_t>(u)] = start << shift_ | static_cast<uint64_t>(u);
   }
   void drain(bool all) {
     while (begun_ > 0) {
       const bool exact = all || begun_ == units_.size();
       if (!exact && waiting_ <= window_) return;
-      const uint32_t u = tree_[1];
+      const uint64_t key = least_key();
+      const size_t u = key & ((uint64_t{1} << shift_) - 1);
       if (!exact) ++forced_;
       Lane& l = units_[u];
-      const uint64_t start = key_[u];
       hooks_.commit(static_cast<int>(u), l.queue.front());
       l.queue.pop_front();
       l.begun = false;
@@ -128,20 +136,18 @@ class UnitScheduler {
       key_[u] = kIdle;
       --waiting_;
       ++committed_;
-      last_cycle_ = start;
+      last_cycle_ = key >> shift_;
       begin_next(static_cast<int>(u));
-      if (!units_[u].begun) update(u);
     }
   }
 
   Unit& hooks_;
   size_t window_;
   std::vector<Lane> units_;
-  // A tournament tree over the units' begun items: key_ by unit (kIdle: none begun), tree_[i]
-  // the winner of node i (leaves at leaves_ + u), so the earliest item is tree_[1].
-  size_t leaves_ = 1;
+  // By unit: its begun item's key (least_key), or kIdle.
   std::vector<uint64_t> key_;
-  std::vector<uint32_t> tree_;
+  int shift_ = 0;          // bits of a unit index
+  uint64_t max_start_ = 0;  // the latest cycle a key holds
   size_t begun_ = 0;
   size_t waiting_ = 0;
   uint64_t forced_ = 0, late_ = 0, committed_ = 0, last_cycle_ = 0;
