@@ -111,7 +111,15 @@ class ClockedPipeline {
     for (size_t s = 0; s < static_cast<size_t>(k); ++s) arrival = step(c, s, arrival, cost_at);
     return arrival;
   }
-  uint64_t start_at(int k, uint64_t arrival) const;
+  uint64_t start_at(int k, uint64_t arrival) const {
+    // step()'s start, without its side effects (inline: once per item of a unit of several).
+    const uint64_t p = ring_mask_ + 1, iw = items_ * kEntry, mask = ring_mask_ * kEntry;
+    const Hot& st = hot_[static_cast<size_t>(k)];
+    const uint64_t* const e = ring_.data() + static_cast<uint64_t>(k) * p * kEntry;
+    const uint64_t free_at = e[((iw - st.lanes_w) & mask) + kLaneFree];
+    const uint64_t slot_free = e[((iw - st.cap_w) & mask) + kLeave];
+    return std::max({free_at, arrival, slot_free, st.last_start});
+  }
   // issue_head(ready, kHead, ..) and issue_tail(kHead, ..) for a pipeline of exactly kStages
   // stages, unrolled as issue_fixed (cost_at gets the stage as std::integral_constant).
   template <int kHead, class CostFn>

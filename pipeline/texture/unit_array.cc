@@ -42,16 +42,22 @@ uint64_t UnitArray::Hooks::begin(int u, Item& it) {
     front = lane.fronts.front();
     lane.fronts.pop_front();
   }
-  Fragment g = it.f;
-  g.tex = it.g_tex;
+  // g is f itself unless the loaded texture's id differs (no copy then).
+  Fragment own_g;
+  const Fragment* g = &it.f;
+  if (it.g_tex != it.f.tex) {
+    own_g = it.f;
+    own_g.tex = it.g_tex;
+    g = &own_g;
+  }
   Rgba c;
   if (it.own_u) {
     c = unit.process(lane.quads.front(), it.material, it.front ? front.data() : nullptr);
     lane.quads.pop_front();
   } else {
-    c = unit.process(g, it.material, it.front ? front.data() : nullptr);
+    c = unit.process(*g, it.material, it.front ? front.data() : nullptr);
   }
-  a->record_(it.f, g, it.material, &c, it.index);
+  a->record_(it.f, *g, it.material, &c, it.index);
   return unit.pending_start();
 }
 
