@@ -146,7 +146,7 @@ class UnitScheduler {
   std::vector<Lane> units_;
   // By unit: its begun item's key (least_key), or kIdle.
   std::vector<uint64_t> key_;
-  int shift_ = 0;          // bits of a unit index
+  int shift_ = 0;           // bits of a unit index
   uint64_t max_start_ = 0;  // the latest cycle a key holds
   size_t begun_ = 0;
   size_t waiting_ = 0;

@@ -256,8 +256,8 @@ void TextureUnit::commit() {
 }
 
 template <int kFront, class Lookups>
-void TextureUnit::issue_two_step(Path& p, const ItemCost* front, uint32_t probes,
-                                 uint64_t texels, Lookups& lookups) {
+void TextureUnit::issue_two_step(Path& p, const ItemCost* front, uint32_t probes, uint64_t texels,
+                                 Lookups& lookups) {
   // issue_any's first step for the fixed slots: every stage's cost now, the look-ups
   // recorded, the stages in front of the cache slot issued.
   ItemCost* c = defer_costs_.data();

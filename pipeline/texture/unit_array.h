@@ -102,9 +102,9 @@ class UnitArray {
     uint64_t index = 0;
     uint32_t g_tex = 0;
     int32_t material = 0;
-    uint32_t drops = 0;   // front-end drops of this unit since its previous fragment
-    bool own_u = false;   // u differs from g (quad derivatives): in Lane::quads
-    bool front = false;   // front-end costs: in Lane::fronts
+    uint32_t drops = 0;  // front-end drops of this unit since its previous fragment
+    bool own_u = false;  // u differs from g (quad derivatives): in Lane::quads
+    bool front = false;  // front-end costs: in Lane::fronts
   };
   // Unit u's side queues, in its items' order.
   struct Lane {
