@@ -79,16 +79,6 @@ void ClockedPipeline::report_stuck(uint64_t item, int stage) {
   throw DeadlockError(os.str());
 }
 
-uint64_t ClockedPipeline::start_at(int k, uint64_t arrival) const {
-  // step()'s start, without its side effects.
-  const uint64_t p = ring_mask_ + 1, iw = items_ * kEntry, mask = ring_mask_ * kEntry;
-  const Hot& st = hot_[static_cast<size_t>(k)];
-  const uint64_t* const e = ring_.data() + static_cast<uint64_t>(k) * p * kEntry;
-  const uint64_t free_at = e[((iw - st.lanes_w) & mask) + kLaneFree];
-  const uint64_t slot_free = e[((iw - st.cap_w) & mask) + kLeave];
-  return std::max({free_at, arrival, slot_free, st.last_start});
-}
-
 uint64_t ClockedPipeline::run_end() const {
   uint64_t end = cycles_;
   for (int s = 0; s < stage_count(); ++s) end = std::max(end, issue_end(s));

@@ -111,7 +111,28 @@ class ClockedPipeline {
     for (size_t s = 0; s < static_cast<size_t>(k); ++s) arrival = step(c, s, arrival, cost_at);
     return arrival;
   }
-  uint64_t start_at(int k, uint64_t arrival) const;
+  uint64_t start_at(int k, uint64_t arrival) const {
+    // step()'s start, without its side effects (inline: once per item of a unit of several).
+    const uint64_t p = ring_mask_ + 1, iw = items_ * kEntry, mask = ring_mask_ * kEntry;
+    const Hot& st = hot_[static_cast<size_t>(k)];
+    const uint64_t* const e = ring_.data() + static_cast<uint64_t>(k) * p * kEntry;
+    const uint64_t free_at = e[((iw - st.lanes_w) & mask) + kLaneFree];
+    const uint64_t slot_free = e[((iw - st.cap_w) & mask) + kLeave];
+    return std::max({free_at, arrival, slot_free, st.last_start});
+  }
+  // issue_head(ready, kHead, ..) and issue_tail(kHead, ..) for a pipeline of exactly kStages
+  // stages, unrolled as issue_fixed (cost_at gets the stage as std::integral_constant).
+  template <int kHead, class CostFn>
+  [[gnu::always_inline]] uint64_t issue_head_fixed(uint64_t ready, CostFn&& cost_at) {
+    return steps_fixed<0>(item_ctx(), ready, cost_at, std::make_integer_sequence<int, kHead>{});
+  }
+  template <int kHead, int kStages, class CostFn>
+  [[gnu::always_inline]] uint64_t issue_tail_fixed(uint64_t arrival, CostFn&& cost_at) {
+    if (stages_.size() != static_cast<size_t>(kStages))
+      throw std::logic_error("ClockedPipeline::issue_tail_fixed: wrong stage count");
+    return retire(steps_fixed<kHead>(item_ctx(), arrival, cost_at,
+                                     std::make_integer_sequence<int, kStages - kHead>{}));
+  }
   template <class CostFn>
   uint64_t issue_tail(int k, uint64_t arrival, CostFn&& cost_at) {
     const ItemCtx c = item_ctx();
@@ -238,6 +259,18 @@ class ClockedPipeline {
     uint64_t arrival = ready;
     ((arrival = step(c, kStage, arrival, cost_at)), ...);
     return retire(arrival);
+  }
+  // Stages kFirst + i, i in kI..., unrolled.
+  template <int kFirst, class CostFn, int... kI>
+  [[gnu::always_inline]] uint64_t steps_fixed(const ItemCtx& c, uint64_t arrival, CostFn& cost_at,
+                                              std::integer_sequence<int, kI...>) {
+    ((arrival = step(
+          c, static_cast<size_t>(kFirst + kI), arrival,
+          [&](int, uint64_t start) __attribute__((always_inline)) {
+            return cost_at(std::integral_constant<int, kFirst + kI>{}, start);
+          })),
+     ...);
+    return arrival;
   }
   uint64_t retire(uint64_t leave) {
     ++items_;

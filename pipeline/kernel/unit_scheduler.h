@@ -14,7 +14,8 @@
 // measure of how far the order was from exact; 0 whenever no commit was forced).
 #include <algorithm>
 #include <cstdint>
-#include <queue>
+#include <memory>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -24,15 +25,30 @@ template <class Item, class Unit>
 class UnitScheduler {
  public:
   // Unit: `uint64_t begin(int unit, Item&)`, `void commit(int unit, Item&)`.
-  UnitScheduler(int units, Unit& hooks, size_t window) : hooks_(hooks), window_(window) {
-    units_.resize(static_cast<size_t>(units));
+  UnitScheduler(int units, Unit& hooks, size_t window)
+      : hooks_(hooks), window_(window), units_(static_cast<size_t>(units)) {
+    while ((size_t{1} << shift_) < units_.size()) ++shift_;
+    max_start_ = (~uint64_t{0} >> shift_) - 1;
+    // Padded to whole groups of 8 keys (idle), so the scan has no remainder loop.
+    key_.assign((units_.size() + 7) / 8 * 8, kIdle);
   }
   // The next item of unit u (items of one unit in their order).
   void add(int u, Item item) {
+    add_with(u, [&](Item& slot) { slot = std::move(item); });
+  }
+  // The same, with the item written in place by fill(Item&) (no copy of a large item).
+  template <class Fill>
+  void add_with(int u, Fill&& fill) {
     Lane& l = units_[static_cast<size_t>(u)];
-    l.queue.push_back(std::move(item));
+    fill(l.queue.push_slot());
     ++waiting_;
-    if (!l.begun) begin_next(u);
+    if (!l.begun) {
+      begin_next(u);
+      // Nothing can be committed until every unit has begun an item (or the window is full).
+      if (begun_ < units_.size() && waiting_ <= window_) return;
+    } else if (waiting_ <= window_) {
+      return;  // the begun items did not change
+    }
     drain(false);
   }
   // No more items: commit everything in cycle order.
@@ -44,73 +60,95 @@ class UnitScheduler {
   uint64_t last_commit_cycle() const { return last_cycle_; }
 
  private:
-  // A unit's waiting items: a ring of a power-of-two size that grows when full (a deque
-  // allocated and freed a block every few items).
+  // A unit's waiting items, in blocks of kBlock (a run may hold every item until its end, so
+  // growing never moves the items held); emptied blocks are reused.
   class Ring {
    public:
     bool empty() const { return head_ == tail_; }
-    Item& front() { return items_[head_ & mask_]; }
-    void pop_front() { ++head_; }
-    void push_back(Item&& it) {
-      if (tail_ - head_ == items_.size()) grow();
-      items_[tail_++ & mask_] = std::move(it);
+    Item& front() { return blocks_[head_ / kBlock][head_ % kBlock]; }
+    // Asks for the item k after the front in the cache (held items are read long after they
+    // were written).
+    void prefetch(size_t k) const {
+      const size_t i = head_ + k;
+      if (i >= tail_) return;
+      const char* p = reinterpret_cast<const char*>(&blocks_[i / kBlock][i % kBlock]);
+      for (size_t b = 0; b < sizeof(Item); b += 64) __builtin_prefetch(p + b);
+    }
+    void pop_front() {
+      if (++head_ % kBlock == 0) {
+        // The first block is spent: move it to the back for reuse.
+        std::rotate(blocks_.begin(), blocks_.begin() + 1, blocks_.end());
+        head_ -= kBlock;
+        tail_ -= kBlock;
+      }
+    }
+    // The slot of a new last item.
+    Item& push_slot() {
+      if (tail_ == blocks_.size() * kBlock) blocks_.push_back(std::make_unique<Item[]>(kBlock));
+      Item& it = blocks_[tail_ / kBlock][tail_ % kBlock];
+      ++tail_;
+      return it;
     }
 
    private:
-    void grow() {
-      std::vector<Item> bigger(std::max<size_t>(16, items_.size() * 2));
-      for (size_t i = head_; i != tail_; ++i) bigger[i - head_] = std::move(items_[i & mask_]);
-      tail_ -= head_;
-      head_ = 0;
-      items_ = std::move(bigger);
-      mask_ = items_.size() - 1;
-    }
-    std::vector<Item> items_;
-    size_t head_ = 0, tail_ = 0, mask_ = 0;
+    static constexpr size_t kBlock = 512;
+    std::vector<std::unique_ptr<Item[]>> blocks_;
+    size_t head_ = 0, tail_ = 0;
   };
   struct Lane {
     Ring queue;  // front: the begun item, when begun
     bool begun = false;
-    uint64_t start = 0;  // begun item's cycle at the memory stage
   };
-  struct Key {
-    uint64_t start;
-    int unit;
-    bool operator>(const Key& o) const {
-      return start != o.start ? start > o.start : unit > o.unit;
+  static constexpr uint64_t kIdle = ~uint64_t{0};  // key of a unit without a begun item
+  // The earliest begun item: the least key, (start << shift_) | unit, so the lower unit index
+  // wins a tie. A scan: at most 64 units (PipelineSetup::kMaxUnits).
+  uint64_t least_key() const {
+    uint64_t m[8] = {kIdle, kIdle, kIdle, kIdle, kIdle, kIdle, kIdle, kIdle};
+    for (size_t i = 0; i < key_.size(); i += 8) {
+      for (size_t j = 0; j < 8; ++j) m[j] = std::min(m[j], key_[i + j]);
     }
-  };
+    for (size_t j = 1; j < 8; ++j) m[0] = std::min(m[0], m[j]);
+    return m[0];
+  }
   void begin_next(int u) {
     Lane& l = units_[static_cast<size_t>(u)];
     if (l.queue.empty()) return;
-    l.start = hooks_.begin(u, l.queue.front());
+    l.queue.prefetch(2);
+    const uint64_t start = hooks_.begin(u, l.queue.front());
     l.begun = true;
-    if (committed_ > 0 && l.start < last_cycle_) ++late_;
-    ready_.push({l.start, u});
+    ++begun_;
+    if (committed_ > 0 && start < last_cycle_) ++late_;
+    if (start > max_start_) throw std::overflow_error("UnitScheduler: cycle out of range");
+    key_[static_cast<size_t>(u)] = start << shift_ | static_cast<uint64_t>(u);
   }
   void drain(bool all) {
-    for (;;) {
-      if (ready_.empty()) return;
-      const bool exact = all || ready_.size() == units_.size();
+    while (begun_ > 0) {
+      const bool exact = all || begun_ == units_.size();
       if (!exact && waiting_ <= window_) return;
-      const Key k = ready_.top();
-      ready_.pop();
+      const uint64_t key = least_key();
+      const size_t u = key & ((uint64_t{1} << shift_) - 1);
       if (!exact) ++forced_;
-      Lane& l = units_[static_cast<size_t>(k.unit)];
-      hooks_.commit(k.unit, l.queue.front());
+      Lane& l = units_[u];
+      hooks_.commit(static_cast<int>(u), l.queue.front());
       l.queue.pop_front();
       l.begun = false;
+      --begun_;
+      key_[u] = kIdle;
       --waiting_;
       ++committed_;
-      last_cycle_ = k.start;
-      begin_next(k.unit);
+      last_cycle_ = key >> shift_;
+      begin_next(static_cast<int>(u));
     }
   }
 
   Unit& hooks_;
   size_t window_;
   std::vector<Lane> units_;
-  std::priority_queue<Key, std::vector<Key>, std::greater<Key>> ready_;
+  // By unit: its begun item's key (least_key), or kIdle.
+  std::vector<uint64_t> key_;
+  int shift_ = 0;           // bits of a unit index
+  uint64_t max_start_ = 0;  // the latest cycle a key holds
+  size_t begun_ = 0;
   size_t waiting_ = 0;
   uint64_t forced_ = 0, late_ = 0, committed_ = 0, last_cycle_ = 0;
 };

@@ -16,6 +16,8 @@ enum Stage { kLod, kAddress, kCache, kBlend, kStages };
 constexpr int kMaxFront = 2;  // coordinate and derivative slots (a constant bound for the compiler)
 // The kernels' kFront for a timed unit with other slots or timed in two steps: slots by index.
 constexpr int kAnyStages = 1000;
+// The kernels' kFront for a unit of several with the fixed slots: kTwoStep + its front slots.
+constexpr int kTwoStep = 100;
 }  // namespace
 
 TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
@@ -77,6 +79,8 @@ void TextureUnit::plan_pipeline() {
   if (!timing_) return;
   pipe_ = std::make_unique<ClockedPipeline>(plan.stages());
   defer_costs_.resize(static_cast<size_t>(pipe_->stage_count()));
+  two_step_fixed_ = defer_ && sampler_only_ && pipe_->stage_count() == front_ + kStages &&
+                    cache_slot_ == front_ + kCache;
 }
 
 void TextureUnit::choose_batch(Path& p, const MaterialSetup& m) {
@@ -230,8 +234,45 @@ void TextureUnit::issue_any(CostFn&& cost_at) {
 void TextureUnit::commit() {
   const int k = cache_slot_;
   defer_costs_[static_cast<size_t>(k)].extra_latency = fetch_.commit_lookups(defer_start_);
-  pipe_->issue_tail(k, defer_arrival_,
-                    [&](int s, uint64_t) { return defer_costs_[static_cast<size_t>(s)]; });
+  if (!two_step_fixed_) {
+    pipe_->issue_tail(k, defer_arrival_,
+                      [&](int s, uint64_t) { return defer_costs_[static_cast<size_t>(s)]; });
+    return;
+  }
+  // The same steps unrolled for the fixed slot sequences.
+  const ItemCost* c = defer_costs_.data();
+  auto cost = [c](auto s, uint64_t) { return c[decltype(s)::value]; };
+  switch (front_) {
+    case 0:
+      pipe_->issue_tail_fixed<kCache, kStages>(defer_arrival_, cost);
+      break;
+    case 1:
+      pipe_->issue_tail_fixed<1 + kCache, 1 + kStages>(defer_arrival_, cost);
+      break;
+    default:
+      pipe_->issue_tail_fixed<kMaxFront + kCache, kMaxFront + kStages>(defer_arrival_, cost);
+      break;
+  }
+}
+
+template <int kFront, class Lookups>
+void TextureUnit::issue_two_step(Path& p, const ItemCost* front, uint32_t probes, uint64_t texels,
+                                 Lookups& lookups) {
+  // issue_any's first step for the fixed slots: every stage's cost now, the look-ups
+  // recorded, the stages in front of the cache slot issued.
+  ItemCost* c = defer_costs_.data();
+  for (int s = 0; s < kFront; ++s) c[s] = front_cost(p, front, s);
+  c[kFront + kLod] = {};
+  c[kFront + kAddress] = {0, probes - 1};
+  c[kFront + kCache] = {0, fetch_.extra_ii(texels)};
+  c[kFront + kBlend] = {0, p.stages.blend->extra_ii(probes)};
+  fetch_.begin_recording();
+  lookups(0);
+  fetch_.end_recording();
+  constexpr int k = kFront + kCache;
+  defer_arrival_ = pipe_->issue_head_fixed<k>(
+      0, [c](auto s, uint64_t) __attribute__((always_inline)) { return c[decltype(s)::value]; });
+  defer_start_ = pipe_->start_at(k, defer_arrival_);
 }
 
 template <class Lookups>
@@ -262,6 +303,8 @@ void TextureUnit::issue_timed(Path& p, const ItemCost* front, uint32_t probes, u
   if constexpr (kFront == kAnyStages) {
     issue_general(p, front, probes - 1, fetch_.extra_ii(texels), p.stages.blend->extra_ii(probes),
                   lookups);
+  } else if constexpr (kFront >= kTwoStep) {
+    issue_two_step<kFront - kTwoStep>(p, front, probes, texels, lookups);
   } else {
     issue_fixed_stages<kFront>(p, front, probes, texels, lookups);
   }
@@ -432,6 +475,16 @@ TextureUnit::Kernel TextureUnit::choose_kernel(const Path& p) const {
       linear && st.blend->blend().quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
   const TexelLayout layout = textures_.layout();
   if (!pipe_) return pick_kernel<-1>(filter, layout, quads);
+  if (two_step_fixed_) {
+    switch (front_) {
+      case 0:
+        return pick_kernel<kTwoStep>(filter, layout, quads);
+      case 1:
+        return pick_kernel<kTwoStep + 1>(filter, layout, quads);
+      default:
+        return pick_kernel<kTwoStep + kMaxFront>(filter, layout, quads);
+    }
+  }
   if (!sampler_only_ || defer_) return pick_kernel<kAnyStages>(filter, layout, quads);
   switch (front_) {
     case 0:

@@ -179,6 +179,11 @@ class TextureUnit {
   [[gnu::always_inline]] inline void issue_fixed_stages(Path& p, const ItemCost* front,
                                                         uint32_t probes, uint64_t texels,
                                                         Lookups& lookups);
+  // A unit of several with the fixed slot sequence: the first of its two steps (commit() the
+  // second), unrolled.
+  template <int kFront, class Lookups>
+  void issue_two_step(Path& p, const ItemCost* front, uint32_t probes, uint64_t texels,
+                      Lookups& lookups);
   // Any slot sequence, by index: the extra issue cycles of the address, cache and blend slots,
   // those the surface stages added, and the reads they staged before the cache look-ups.
   template <class Lookups>
@@ -229,6 +234,9 @@ class TextureUnit {
   bool defer_ = false;
   std::vector<ItemCost> defer_costs_;
   uint64_t defer_arrival_ = 0, defer_start_ = 0;
+  // Two-step timing of the fixed slot sequence (front end, LOD, address, cache, blend): the
+  // kernels and commit() unroll the stages.
+  bool two_step_fixed_ = false;
   // Runs the fragment through the pipeline with cost_at(stage, start) — at once, or in two
   // steps in a unit of several.
   template <class CostFn>

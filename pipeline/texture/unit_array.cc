@@ -1,6 +1,7 @@
 #include "pipeline/texture/unit_array.h"
 
 #include <algorithm>
+#include <bit>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -18,7 +19,7 @@ UnitArray::UnitArray(TextureSet& textures, const std::vector<MaterialSetup>& mat
   memory_ = std::make_unique<MemorySystem>(setup, n);
   for (int u = 0; u < n; ++u)
     units_.push_back(std::make_unique<TextureUnit>(textures, materials, setup, tech, *memory_, u));
-  drops_.resize(static_cast<size_t>(n));
+  lanes_.resize(static_cast<size_t>(n));
   sched_ = std::make_unique<UnitScheduler<Item, Hooks>>(n, hooks_, window);
 }
 
@@ -30,11 +31,33 @@ void UnitArray::set_surfaces(const std::vector<SurfaceFrame>& frames) {
 
 uint64_t UnitArray::Hooks::begin(int u, Item& it) {
   TextureUnit& unit = *a->units_[static_cast<size_t>(u)];
-  for (const Drop& d : it.drops) unit.drop(d.material, d.front.data(), d.rejected);
-  const Rgba c = unit.process(it.u, it.material, it.has_front ? it.front.data() : nullptr);
-  Fragment g = it.f;
-  g.tex = it.g_tex;
-  a->record_(it.f, g, it.material, &c, it.index);
+  Lane& lane = a->lanes_[static_cast<size_t>(u)];
+  for (uint32_t k = 0; k < it.drops; ++k) {
+    const Drop& d = lane.drops.front();
+    unit.drop(d.material, d.front.data(), d.rejected);
+    lane.drops.pop_front();
+  }
+  std::array<ItemCost, 2> front{};
+  if (it.front) {
+    front = lane.fronts.front();
+    lane.fronts.pop_front();
+  }
+  // g is f itself unless the loaded texture's id differs (no copy then).
+  Fragment own_g;
+  const Fragment* g = &it.f;
+  if (it.g_tex != it.f.tex) {
+    own_g = it.f;
+    own_g.tex = it.g_tex;
+    g = &own_g;
+  }
+  Rgba c;
+  if (it.own_u) {
+    c = unit.process(lane.quads.front(), it.material, it.front ? front.data() : nullptr);
+    lane.quads.pop_front();
+  } else {
+    c = unit.process(*g, it.material, it.front ? front.data() : nullptr);
+  }
+  a->record_(it.f, *g, it.material, &c, it.index);
   return unit.pending_start();
 }
 
@@ -44,18 +67,43 @@ void UnitArray::Hooks::commit(int u, Item& /*it*/) {
   if (a->observer_) a->observer_(u, *unit.pipeline());
 }
 
+namespace {
+// Whether a and b are the same fragment, bit for bit.
+bool same_fragment(const Fragment& a, const Fragment& b) {
+  auto bits = [](double d) { return std::bit_cast<uint64_t>(d); };
+  auto fbits = [](float d) { return std::bit_cast<uint32_t>(d); };
+  return a.frame == b.frame && a.prim == b.prim && a.x == b.x && a.y == b.y && a.tex == b.tex &&
+         bits(a.u) == bits(b.u) && bits(a.v) == bits(b.v) && bits(a.dudx) == bits(b.dudx) &&
+         bits(a.dvdx) == bits(b.dvdx) && bits(a.dudy) == bits(b.dudy) &&
+         bits(a.dvdy) == bits(b.dvdy) && fbits(a.lod_bias) == fbits(b.lod_bias) &&
+         fbits(a.view_x) == fbits(b.view_x) && fbits(a.view_y) == fbits(b.view_y) &&
+         fbits(a.view_z) == fbits(b.view_z);
+}
+}  // namespace
+
 void UnitArray::add(const Fragment& f, const Fragment& g, const Fragment& u, int material,
                     uint64_t index, const ItemCost* front) {
   const int unit = setup_.unit_of_pixel(f.x, f.y);
+  Lane& lane = lanes_[static_cast<size_t>(unit)];
   // g differs from f in its texture id only (run.cc's loaded texture), never elsewhere.
-  Item it{f, u, g.tex, material, index, false, {}, {}};
+  const bool own_u = &u != &g && !same_fragment(u, g);
+  if (own_u) lane.quads.push_back(u);
   if (front) {
-    it.has_front = true;
+    std::array<ItemCost, 2>& c = lane.fronts.emplace_back();
     const int n = units_[0]->front_count(material);
-    for (int s = 0; s < n; ++s) it.front[static_cast<size_t>(s)] = front[s];
+    for (int s = 0; s < n; ++s) c[static_cast<size_t>(s)] = front[s];
   }
-  it.drops.swap(drops_[static_cast<size_t>(unit)]);
-  sched_->add(unit, std::move(it));
+  const uint32_t drops = lane.new_drops;
+  lane.new_drops = 0;
+  sched_->add_with(unit, [&](Item& it) {
+    it.f = f;
+    it.index = index;
+    it.g_tex = g.tex;
+    it.material = material;
+    it.drops = drops;
+    it.own_u = own_u;
+    it.front = front != nullptr;
+  });
 }
 
 void UnitArray::drop(int material, const ItemCost* front, bool rejected, int32_t x, int32_t y) {
@@ -64,7 +112,9 @@ void UnitArray::drop(int material, const ItemCost* front, bool rejected, int32_t
   Drop d{material, {}, rejected};
   const int n = front ? units_[0]->front_count(material) : 0;
   for (int s = 0; s < n; ++s) d.front[static_cast<size_t>(s)] = front[s];
-  drops_[static_cast<size_t>(unit)].push_back(d);
+  Lane& lane = lanes_[static_cast<size_t>(unit)];
+  lane.drops.push_back(d);
+  ++lane.new_drops;
 }
 
 const FrontEndStats& UnitArray::front_end_stats() const {
@@ -80,9 +130,9 @@ const FrontEndStats& UnitArray::front_end_stats() const {
 void UnitArray::finish() {
   if (sched_) sched_->finish();
   // Drops after a unit's last fragment: counted; their cycles would go to a next fragment.
-  for (size_t u = 0; u < drops_.size(); ++u) {
-    for (const Drop& d : drops_[u]) units_[u]->drop(d.material, d.front.data(), d.rejected);
-    drops_[u].clear();
+  for (size_t u = 0; u < lanes_.size(); ++u) {
+    for (const Drop& d : lanes_[u].drops) units_[u]->drop(d.material, d.front.data(), d.rejected);
+    lanes_[u] = {};
   }
 }
 

@@ -5,6 +5,7 @@
 // (UnitScheduler orders their requests to the shared levels by cycle). Reports read the totals
 // from here. docs/timing-model.md#several-units.
 #include <array>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -93,15 +94,24 @@ class UnitArray {
     std::array<ItemCost, 2> front;
     bool rejected;
   };
-  // g is f with the loaded texture's id (g_tex): kept as that id, not a third fragment.
+  // A fragment waiting for its unit (a run may hold every fragment until its end, so kept
+  // small): g is f with the loaded texture's id (g_tex); what most fragments lack waits in
+  // its unit's side queues (Lane), taken in the same order.
   struct Item {
-    Fragment f, u;
-    uint32_t g_tex;
-    int material;
-    uint64_t index;
-    bool has_front = false;
-    std::array<ItemCost, 2> front{};
-    std::vector<Drop> drops;  // front-end drops of this unit since its previous fragment
+    Fragment f;
+    uint64_t index = 0;
+    uint32_t g_tex = 0;
+    int32_t material = 0;
+    uint32_t drops = 0;  // front-end drops of this unit since its previous fragment
+    bool own_u = false;  // u differs from g (quad derivatives): in Lane::quads
+    bool front = false;  // front-end costs: in Lane::fronts
+  };
+  // Unit u's side queues, in its items' order.
+  struct Lane {
+    std::deque<Drop> drops;
+    std::deque<Fragment> quads;
+    std::deque<std::array<ItemCost, 2>> fronts;
+    uint32_t new_drops = 0;  // drops not yet attached to an item
   };
   struct Hooks {
     UnitArray* a;
@@ -117,7 +127,7 @@ class UnitArray {
   Record record_;
   mutable std::vector<FrameStats> frames_;
   mutable FrontEndStats front_stats_;
-  std::vector<std::vector<Drop>> drops_;  // by unit: drops waiting for its next fragment
+  std::vector<Lane> lanes_;  // by unit
   std::function<void(int, const ClockedPipeline&)> observer_;
 };
 
