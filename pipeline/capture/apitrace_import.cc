@@ -587,8 +587,8 @@ bool Interpreter::buffer_call(const std::string& c) {
     if (!known_target(0)) return true;
     const uint32_t id = u32(1, 0xFFFFFFFFu);
     if (id != 0 && !buffers_.contains(id) && buffers_.size() >= kImportMaxTextureNames)
-      throw InputError(where(), "more than " + std::to_string(kImportMaxTextureNames) +
-                                    " buffer objects alive");
+      throw InputError(
+          where(), "more than " + std::to_string(kImportMaxTextureNames) + " buffer objects alive");
     if (id != 0) buffers_.try_emplace(id);
     buffer_binding(args_[0]) = id;
   } else if (n == "glBufferData") {
@@ -615,9 +615,8 @@ bool Interpreter::buffer_call(const std::string& c) {
     const auto size = static_cast<uint64_t>(whole(2, 0, int64_t{1} << 40));
     std::optional<std::vector<uint8_t>> data = blob(3);
     if (off + size > b.data.size() || !data || data->size() < size)
-      throw InputError(where(), "bytes " + std::to_string(off) + ".." +
-                                    std::to_string(off + size) + " are not inside the " +
-                                    std::to_string(b.data.size()) +
+      throw InputError(where(), "bytes " + std::to_string(off) + ".." + std::to_string(off + size) +
+                                    " are not inside the " + std::to_string(b.data.size()) +
                                     "-byte buffer, or the blob is short");
     std::copy_n(data->begin(), size, b.data.begin() + static_cast<std::ptrdiff_t>(off));
   } else if (n == "glMapBuffer" || n == "glMapBufferRange") {
@@ -988,9 +987,10 @@ bool Interpreter::element_indices(const std::string& c, size_t n, uint32_t tb, s
     bytes = &*blob_data;
   }
   if (bytes->size() < base || bytes->size() - base < n * tb)
-    throw InputError(where(), "indices of " + std::to_string(bytes->size() - std::min<uint64_t>(base, bytes->size())) +
-                                  " bytes, " + std::to_string(n) + " indices need " +
-                                  std::to_string(n * tb));
+    throw InputError(
+        where(), "indices of " +
+                     std::to_string(bytes->size() - std::min<uint64_t>(base, bytes->size())) +
+                     " bytes, " + std::to_string(n) + " indices need " + std::to_string(n * tb));
   idx.resize(n);
   for (size_t k = 0; k < n; ++k) {
     const uint8_t* p = bytes->data() + base + k * tb;
@@ -1165,7 +1165,6 @@ bool Interpreter::write_units(const std::string& c, Draw& d) {
     Unit& unit = units_[u];
     if (!unit.tex2d) continue;
     if (u >= kDrawMaxUnits) return count(c + "[more than 2 units]"), false;
-    if (unit.texture.m.back() != identity()) return count(c + "[texture matrix]"), false;
     GlTexture& t = textures_[unit.bound];
     std::string why;
     const auto id = write_texture(t, unit.bound, why);
@@ -1248,13 +1247,21 @@ bool Interpreter::gather_vertices(const std::string& c, uint32_t lo, uint32_t nv
     for (size_t i = 0; i < d.units.size(); ++i) {
       const Unit& unit = units_[d.units[i].unit];
       const ClientArray& a = unit.coords;
-      double cs = unit.s, ct = unit.t;
+      // (s, t, r, q) through the unit's texture matrix; the format holds s and t, so a q other
+      // than 1 (projective coordinates) leaves the draw out.
+      // An array's missing components are t = r = 0, q = 1; without one, the current values.
+      double tc[4] = {unit.s, unit.t, 0, 1};
       if (a.enabled) {
-        cs = fetch(a, "texture coordinate", src, 0);
-        ct = a.size >= 2 ? fetch(a, "texture coordinate", src, 1) : 0;
-        if (a.size == 4 && fetch(a, "texture coordinate", src, 3) != 1)
-          return count(c + "[projective texture coordinates]"), false;
+        tc[1] = 0;
+        for (uint32_t k = 0; k < a.size; ++k) tc[k] = fetch(a, "texture coordinate", src, k);
       }
+      if (const Mat& m = unit.texture.m.back(); m != identity()) {
+        const double in[4] = {tc[0], tc[1], tc[2], tc[3]};
+        for (int row = 0; row < 4; ++row)
+          tc[row] = m[row] * in[0] + m[4 + row] * in[1] + m[8 + row] * in[2] + m[12 + row] * in[3];
+      }
+      if (tc[3] != 1) return count(c + "[projective texture coordinates]"), false;
+      const double cs = tc[0], ct = tc[1];
       d.st[i][2 * v] = to_f32(cs, "vertex " + std::to_string(src) + ": texture coordinate");
       d.st[i][2 * v + 1] = to_f32(ct, "vertex " + std::to_string(src) + ": texture coordinate");
     }

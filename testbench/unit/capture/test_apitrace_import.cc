@@ -5,8 +5,8 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <iterator>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -207,7 +207,8 @@ class ApitraceBufferTest : public ApitraceImportTest {
          "246 glBindBufferARB(GL_ELEMENT_ARRAY_BUFFER, 4)\n"
          "247 glBufferDataARB(GL_ELEMENT_ARRAY_BUFFER, 10, blob(\"blob_call247.bin\"), "
          "GL_STATIC_DRAW)");
-    swap("GL_UNSIGNED_SHORT, blob(\"blob_call30.bin\"))", "GL_UNSIGNED_SHORT, " + draw_indices + ")");
+    swap("GL_UNSIGNED_SHORT, blob(\"blob_call30.bin\"))",
+         "GL_UNSIGNED_SHORT, " + draw_indices + ")");
     write_text(t);
     write_bytes(dir.file("blob_call243.bin"),
                 bytes_of<float>({0, 0, 0, 99, 1, 0, 0, 99, 1, 1, 0, 99, 0, 1, 0.5f}));
@@ -261,6 +262,26 @@ TEST_F(ApitraceBufferTest, MappedContentsAreCountedAndBadRangesAreErrors) {
   e = error_of(1, 1);
   EXPECT_NE(e.find("call 244 (glBufferSubData), frame 1"), std::string::npos) << e;
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// The texture matrix: frame 1's first draw with s, t scaled by 2 and shifted by (0.5, 0.25);
+// with a projective matrix (q = 2 s + 1) the draw is counted, not written.
+TEST_F(ApitraceImportTest, TextureMatrixMovesTheCoordinates) {
+  replace("29 glColor4f(1, 0.5, 0, 1)",
+          "290 glMatrixMode(GL_TEXTURE)\n291 glTranslatef(0.5, 0.25, 0)\n292 glScalef(2, 2, 1)\n"
+          "293 glMatrixMode(GL_MODELVIEW)\n29 glColor4f(1, 0.5, 0, 1)");
+  import_apitrace_dump(dump, dir.file("."), 1, 1, out, "cap.trace");
+  const DrawTrace t = read_draw_trace(out);
+  ASSERT_GE(t.frames[0].draws.size(), 1u);
+  EXPECT_EQ(t.frames[0].draws[0].st[0],
+            (std::vector<float>{0.5f, 0.25f, 2.5f, 0.25f, 2.5f, 2.25f, 0.5f, 2.25f}));
+  std::filesystem::remove(out);
+  replace(
+      "29 glColor4f(1, 0.5, 0, 1)",
+      "290 glMatrixMode(GL_TEXTURE)\n291 glLoadMatrixf({1, 0, 0, 2, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, "
+      "0, 1})\n293 glMatrixMode(GL_MODELVIEW)\n29 glColor4f(1, 0.5, 0, 1)");
+  const ImportSummary s = import_apitrace_dump(dump, dir.file("."), 1, 1, out, "cap.trace");
+  EXPECT_EQ(s.frames.at(1).uninterpreted.at("glDrawElements[projective texture coordinates]"), 1u);
 }
 
 TEST_F(ApitraceImportTest, FramesBeyondTheCaptureAreAnError) {
