@@ -151,8 +151,19 @@ struct GlTexture {
 struct ClientArray {
   bool enabled = false;
   uint32_t size = 4, type = 0x1406, stride = 0;
-  bool buffer = false;  // a buffer-object offset, not client memory
+  // In a buffer object: the buffer bound to GL_ARRAY_BUFFER when the pointer was set (0: an
+  // offset with no buffer bound, which the capture cannot resolve) and the byte offset in it.
+  bool buffer = false;
+  uint32_t buffer_id = 0;
+  uint64_t offset = 0;
+  std::vector<uint8_t> data;  // client memory, as captured
+};
+
+// One GL buffer object: its contents as uploaded by glBufferData / glBufferSubData. Mapped
+// (glMapBuffer*) its contents are written through memory the dump does not show: unknown.
+struct GlBuffer {
   std::vector<uint8_t> data;
+  bool unknown = false;
 };
 
 struct Unit {
@@ -245,9 +256,9 @@ bool state_interpreted(const Draw& d) {
   return !unknown;
 }
 
-// A client array whose data this importer can read (float or double; bytes where allowed).
+// An array of a type this importer can read (float or double; bytes where allowed).
 bool usable_array(const ClientArray& a, bool bytes_ok) {
-  return !a.buffer && a.size >= 1 && a.size <= 4 && a.stride < 65536 &&
+  return a.size >= 1 && a.size <= 4 && a.stride < 65536 &&
          (a.type == 0x1406 || a.type == 0x140A || (bytes_ok && a.type == 0x1401));
 }
 
@@ -446,6 +457,14 @@ class Interpreter {
   bool texture_unit_call(const std::string& c);
   bool matrix_call(const std::string& c);
   bool client_array_call(const std::string& c);
+  bool buffer_call(const std::string& c);
+  uint32_t& buffer_binding(std::string_view target);
+  GlBuffer& bound_buffer(uint32_t id);
+  // The bytes an array reads (client memory, or its buffer's contents) and where it starts in
+  // them; null when a buffer's contents are unknown or the buffer is gone.
+  const std::vector<uint8_t>* array_bytes(const ClientArray& a, uint64_t& base) const;
+  bool element_indices(const std::string& c, size_t n, uint32_t tb, size_t arg,
+                       std::vector<uint32_t>& idx);
   bool state_call(const std::string& c);
   bool draw_call(const std::string& c);
   void tex_image();
@@ -473,6 +492,9 @@ class Interpreter {
   uint32_t frame_ = 0;
 
   std::unordered_map<uint32_t, GlTexture> textures_{{0, GlTexture{}}};
+  std::unordered_map<uint32_t, GlBuffer> buffers_;
+  uint64_t buffer_bytes_ = 0;
+  uint32_t array_buffer_ = 0, element_buffer_ = 0;  // GL_ARRAY_BUFFER, GL_ELEMENT_ARRAY_BUFFER
   uint64_t texture_bytes_ = 0;
   uint32_t next_trace_id_ = 0;
   std::array<Unit, kUnitsTracked> units_;
@@ -516,10 +538,112 @@ void Interpreter::set_pointer(ClientArray& a, size_t n) {
   a.size = u32(0, 4);
   a.type = gl_enum(1);
   a.stride = u32(2, 65535);
+  a.data.clear();
+  a.buffer_id = 0;
+  a.offset = 0;
+  if (array_buffer_ != 0) {  // the pointer is an offset into the bound buffer
+    a.buffer = true;
+    a.buffer_id = array_buffer_;
+    if (args_[3] != "NULL") a.offset = static_cast<uint64_t>(whole(3, 0, int64_t{1} << 40));
+    return;
+  }
   bool offset = false;
   auto data = blob(3, &offset);
   a.buffer = offset;
-  a.data = data ? std::move(*data) : std::vector<uint8_t>{};
+  if (data) a.data = std::move(*data);
+}
+
+uint32_t& Interpreter::buffer_binding(std::string_view target) {
+  return target == "GL_ELEMENT_ARRAY_BUFFER" ? element_buffer_ : array_buffer_;
+}
+
+GlBuffer& Interpreter::bound_buffer(uint32_t id) {
+  if (id == 0) throw InputError(where(), "no buffer object is bound to the target");
+  return buffers_[id];
+}
+
+const std::vector<uint8_t>* Interpreter::array_bytes(const ClientArray& a, uint64_t& base) const {
+  base = 0;
+  if (!a.buffer) return &a.data;
+  const auto it = buffers_.find(a.buffer_id);
+  if (a.buffer_id == 0 || it == buffers_.end() || it->second.unknown) return nullptr;
+  base = a.offset;
+  return &it->second.data;
+}
+
+// Buffer objects: names, bindings, contents (glBufferData, glBufferSubData), mapping (contents
+// then unknown). False when the call is not one of them.
+bool Interpreter::buffer_call(const std::string& c) {
+  std::string n = c;
+  if (n.ends_with("ARB")) n.resize(n.size() - 3);
+  if (n == "glGenBuffers") return true;
+  const auto known_target = [&](size_t i) {
+    if (args_[i] == "GL_ARRAY_BUFFER" || args_[i] == "GL_ELEMENT_ARRAY_BUFFER") return true;
+    count(c + "(" + std::string(args_[i]) + ")");
+    return false;
+  };
+  if (n == "glBindBuffer") {
+    need_args(2);
+    if (!known_target(0)) return true;
+    const uint32_t id = u32(1, 0xFFFFFFFFu);
+    if (id != 0 && !buffers_.contains(id) && buffers_.size() >= kImportMaxTextureNames)
+      throw InputError(
+          where(), "more than " + std::to_string(kImportMaxTextureNames) + " buffer objects alive");
+    if (id != 0) buffers_.try_emplace(id);
+    buffer_binding(args_[0]) = id;
+  } else if (n == "glBufferData") {
+    need_args(4);
+    if (!known_target(0)) return true;
+    GlBuffer& b = bound_buffer(buffer_binding(args_[0]));
+    const auto size = static_cast<size_t>(whole(1, 0, static_cast<int64_t>(kImportMaxBlobBytes)));
+    std::optional<std::vector<uint8_t>> data = blob(2);
+    if (data && data->size() < size)
+      throw InputError(where(), "data blob of " + std::to_string(data->size()) + " bytes for a " +
+                                    std::to_string(size) + "-byte buffer");
+    buffer_bytes_ = buffer_bytes_ - b.data.size() + size;
+    if (buffer_bytes_ > kImportMaxTextureBytes)
+      throw InputError(where(), "buffer objects hold more than " +
+                                    std::to_string(kImportMaxTextureBytes) + " bytes");
+    b.data.assign(size, 0);
+    if (data) std::copy_n(data->begin(), size, b.data.begin());
+    b.unknown = false;
+  } else if (n == "glBufferSubData") {
+    need_args(4);
+    if (!known_target(0)) return true;
+    GlBuffer& b = bound_buffer(buffer_binding(args_[0]));
+    const auto off = static_cast<uint64_t>(whole(1, 0, int64_t{1} << 40));
+    const auto size = static_cast<uint64_t>(whole(2, 0, int64_t{1} << 40));
+    std::optional<std::vector<uint8_t>> data = blob(3);
+    if (off + size > b.data.size() || !data || data->size() < size)
+      throw InputError(where(), "bytes " + std::to_string(off) + ".." + std::to_string(off + size) +
+                                    " are not inside the " + std::to_string(b.data.size()) +
+                                    "-byte buffer, or the blob is short");
+    std::copy_n(data->begin(), size, b.data.begin() + static_cast<std::ptrdiff_t>(off));
+  } else if (n == "glMapBuffer" || n == "glMapBufferRange") {
+    if (args_.empty()) throw InputError(where(), "no arguments");
+    if (known_target(0)) bound_buffer(buffer_binding(args_[0])).unknown = true;
+    count(c);
+  } else if (n == "glUnmapBuffer") {
+    return true;
+  } else if (n == "glDeleteBuffers") {
+    need_args(2);
+    std::string_view a = args_[1];
+    if (a.starts_with("&")) a.remove_prefix(1);
+    std::string list(a);
+    if (list.starts_with("{")) list = list.substr(1, list.size() - 2);
+    for (std::string_view v : split_args(list)) {
+      const auto id = static_cast<uint32_t>(std::strtoul(std::string(v).c_str(), nullptr, 10));
+      if (auto it = buffers_.find(id); it != buffers_.end()) {
+        buffer_bytes_ -= it->second.data.size();
+        buffers_.erase(it);
+      }
+      if (array_buffer_ == id) array_buffer_ = 0;
+      if (element_buffer_ == id) element_buffer_ = 0;
+    }
+  } else {
+    return false;
+  }
+  return true;
 }
 
 bool Interpreter::dispatch() {
@@ -559,7 +683,7 @@ bool Interpreter::dispatch() {
   for (const char* n : kNoEffect)
     if (c == n) return true;
   if (texture_object_call(c) || texture_unit_call(c) || matrix_call(c) || client_array_call(c) ||
-      state_call(c) || draw_call(c))
+      buffer_call(c) || state_call(c) || draw_call(c))
     return true;
   count(c);
   return true;
@@ -827,22 +951,8 @@ bool Interpreter::draw_call(const std::string& c) {
         type == 0x1404)
       throw InputError(where(), "index type " + std::string(args_[base + 2]) +
                                     " is not an unsigned integer type");
-    bool offset = false;
-    auto data = blob(base + 3, &offset);
-    if (!data) return count(c + (offset ? "[buffer object]" : "[no indices]")), true;
-    const auto cnt = static_cast<size_t>(n);
-    if (data->size() < cnt * tb)
-      throw InputError(where(), "index blob of " + std::to_string(data->size()) + " bytes, " +
-                                    std::to_string(cnt) + " indices need " +
-                                    std::to_string(cnt * tb));
-    std::vector<uint32_t> idx(cnt);
-    for (size_t k = 0; k < cnt; ++k) {
-      const uint8_t* p = data->data() + k * tb;
-      idx[k] = tb == 1   ? p[0]
-               : tb == 2 ? uint32_t(p[0] | p[1] << 8)
-                         : uint32_t(p[0] | p[1] << 8 | p[2] << 16 | uint32_t(p[3]) << 24);
-    }
-    draw(mode, idx);
+    std::vector<uint32_t> idx;
+    if (element_indices(c, static_cast<size_t>(n), tb, base + 3, idx)) draw(mode, idx);
   } else if (c == "glDrawArrays") {
     need_args(3);
     const double f = num(1), n = num(2);
@@ -857,6 +967,40 @@ bool Interpreter::draw_call(const std::string& c) {
   }
   return true;
 }
+// The n indices of tb bytes each of a glDrawElements: from the blob of argument `arg`, or with a
+// buffer bound to GL_ELEMENT_ARRAY_BUFFER at the offset it gives; false (and counted) when they
+// cannot be read.
+bool Interpreter::element_indices(const std::string& c, size_t n, uint32_t tb, size_t arg,
+                                  std::vector<uint32_t>& idx) {
+  std::optional<std::vector<uint8_t>> blob_data;
+  const std::vector<uint8_t>* bytes = nullptr;
+  uint64_t base = 0;
+  if (element_buffer_ != 0) {
+    const GlBuffer& b = buffers_[element_buffer_];
+    if (b.unknown) return count(c + "[index buffer contents unknown]"), false;
+    if (args_[arg] != "NULL") base = static_cast<uint64_t>(whole(arg, 0, int64_t{1} << 40));
+    bytes = &b.data;
+  } else {
+    bool offset = false;
+    blob_data = blob(arg, &offset);
+    if (!blob_data) return count(c + (offset ? "[buffer object]" : "[no indices]")), false;
+    bytes = &*blob_data;
+  }
+  if (bytes->size() < base || bytes->size() - base < n * tb)
+    throw InputError(
+        where(), "indices of " +
+                     std::to_string(bytes->size() - std::min<uint64_t>(base, bytes->size())) +
+                     " bytes, " + std::to_string(n) + " indices need " + std::to_string(n * tb));
+  idx.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    const uint8_t* p = bytes->data() + base + k * tb;
+    idx[k] = tb == 1   ? p[0]
+             : tb == 2 ? uint32_t(p[0] | p[1] << 8)
+                       : uint32_t(p[0] | p[1] << 8 | p[2] << 16 | uint32_t(p[3]) << 24);
+  }
+  return true;
+}
+
 void Interpreter::tex_parameter() {
   need_args(3);
   if (args_[0] != "GL_TEXTURE_2D") return count(call_ + "(" + std::string(args_[0]) + ")");
@@ -1021,7 +1165,6 @@ bool Interpreter::write_units(const std::string& c, Draw& d) {
     Unit& unit = units_[u];
     if (!unit.tex2d) continue;
     if (u >= kDrawMaxUnits) return count(c + "[more than 2 units]"), false;
-    if (unit.texture.m.back() != identity()) return count(c + "[texture matrix]"), false;
     GlTexture& t = textures_[unit.bound];
     std::string why;
     const auto id = write_texture(t, unit.bound, why);
@@ -1048,14 +1191,18 @@ bool Interpreter::write_units(const std::string& c, Draw& d) {
 
 // Whether the arrays the draw reads hold client data of a readable type; counted when not.
 bool Interpreter::arrays_usable(const std::string& c, const Draw& d) {
-  if (vertex_.buffer || color_.buffer) return count(c + "[buffer object]"), false;
+  uint64_t base = 0;
+  const auto readable = [&](const ClientArray& a) { return array_bytes(a, base) != nullptr; };
+  if (!readable(vertex_) || (color_.enabled && !readable(color_)))
+    return count(c + "[buffer object contents unknown]"), false;
   if (!usable_array(vertex_, false) || vertex_.size < 2)
     return count(c + "[vertex array type]"), false;
   if (color_.enabled && (!usable_array(color_, true) || color_.size < 3))
     return count(c + "[colour array type]"), false;
   for (const DrawUnit& u : d.units) {
     const ClientArray& a = units_[u.unit].coords;
-    if (a.enabled && (a.buffer || !usable_array(a, false)))
+    if (a.enabled && !readable(a)) return count(c + "[buffer object contents unknown]"), false;
+    if (a.enabled && !usable_array(a, false))
       return count(c + "[texture coordinate array type]"), false;
   }
   return true;
@@ -1065,11 +1212,13 @@ bool Interpreter::arrays_usable(const std::string& c, const Draw& d) {
 double Interpreter::fetch(const ClientArray& a, const char* what, uint32_t v, uint32_t k) {
   const uint32_t tb = type_bytes(a.type);
   const uint64_t stride = a.stride ? a.stride : uint64_t{a.size} * tb;
-  const uint64_t at = uint64_t{v} * stride + uint64_t{k} * tb;
-  if (at + tb > a.data.size())
-    throw InputError(where(), std::string(what) + " array of " + std::to_string(a.data.size()) +
+  uint64_t base = 0;
+  const std::vector<uint8_t>& bytes = *array_bytes(a, base);  // arrays_usable checked it
+  const uint64_t at = base + uint64_t{v} * stride + uint64_t{k} * tb;
+  if (at + tb > bytes.size())
+    throw InputError(where(), std::string(what) + " array of " + std::to_string(bytes.size()) +
                                   " bytes ends before vertex " + std::to_string(v));
-  const uint8_t* p = a.data.data() + at;
+  const uint8_t* p = bytes.data() + at;
   if (a.type == 0x1406) {
     float f;
     std::memcpy(&f, p, 4);
@@ -1098,13 +1247,21 @@ bool Interpreter::gather_vertices(const std::string& c, uint32_t lo, uint32_t nv
     for (size_t i = 0; i < d.units.size(); ++i) {
       const Unit& unit = units_[d.units[i].unit];
       const ClientArray& a = unit.coords;
-      double cs = unit.s, ct = unit.t;
+      // (s, t, r, q) through the unit's texture matrix; the format holds s and t, so a q other
+      // than 1 (projective coordinates) leaves the draw out.
+      // An array's missing components are t = r = 0, q = 1; without one, the current values.
+      double tc[4] = {unit.s, unit.t, 0, 1};
       if (a.enabled) {
-        cs = fetch(a, "texture coordinate", src, 0);
-        ct = a.size >= 2 ? fetch(a, "texture coordinate", src, 1) : 0;
-        if (a.size == 4 && fetch(a, "texture coordinate", src, 3) != 1)
-          return count(c + "[projective texture coordinates]"), false;
+        tc[1] = 0;
+        for (uint32_t k = 0; k < a.size; ++k) tc[k] = fetch(a, "texture coordinate", src, k);
       }
+      if (const Mat& m = unit.texture.m.back(); m != identity()) {
+        const double in[4] = {tc[0], tc[1], tc[2], tc[3]};
+        for (int row = 0; row < 4; ++row)
+          tc[row] = m[row] * in[0] + m[4 + row] * in[1] + m[8 + row] * in[2] + m[12 + row] * in[3];
+      }
+      if (tc[3] != 1) return count(c + "[projective texture coordinates]"), false;
+      const double cs = tc[0], ct = tc[1];
       d.st[i][2 * v] = to_f32(cs, "vertex " + std::to_string(src) + ": texture coordinate");
       d.st[i][2 * v + 1] = to_f32(ct, "vertex " + std::to_string(src) + ": texture coordinate");
     }

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -179,6 +180,108 @@ TEST_F(ApitraceImportTest, ClipPositionsStateAndTexturesMatchHandComputation) {
   EXPECT_EQ(s.frames.at(1).uninterpreted, want);
   EXPECT_EQ(s.frames.at(1).draws, 2u);
   EXPECT_EQ(s.frames.at(1).triangles, 3u);
+}
+
+// Frame 1's arrays and indices in buffer objects instead of client memory: the same draws.
+// The vertex buffer is bound only while the pointers are set (GL takes the binding then); the
+// data arrives by glBufferSubData at offsets, the indices 2 bytes into an element buffer.
+class ApitraceBufferTest : public ApitraceImportTest {
+ protected:
+  void use_buffers(const std::string& draw_indices = "0x2") {
+    std::string t = kDump;
+    auto swap = [&](const std::string& from, const std::string& to) {
+      const size_t at = t.find(from);
+      ASSERT_NE(at, std::string::npos) << from;
+      t.replace(at, from.size(), to);
+    };
+    swap("25 glVertexPointer(3, GL_FLOAT, 16, blob(\"blob_call25.bin\")) // fake",
+         "240 glGenBuffers(2, {3, 4})\n"
+         "241 glBindBuffer(GL_ARRAY_BUFFER, 3)\n"
+         "242 glBufferData(GL_ARRAY_BUFFER, 128, NULL, GL_STATIC_DRAW)\n"
+         "243 glBufferSubData(GL_ARRAY_BUFFER, 16, 60, blob(\"blob_call243.bin\"))\n"
+         "244 glBufferSubData(GL_ARRAY_BUFFER, 80, 32, blob(\"blob_call244.bin\"))\n"
+         "25 glVertexPointer(3, GL_FLOAT, 16, 0x10)");
+    swap("28 glTexCoordPointer(2, GL_FLOAT, 0, blob(\"blob_call28.bin\")) // fake",
+         "28 glTexCoordPointer(2, GL_FLOAT, 0, 0x50)\n"
+         "245 glBindBuffer(GL_ARRAY_BUFFER, 0)\n"
+         "246 glBindBufferARB(GL_ELEMENT_ARRAY_BUFFER, 4)\n"
+         "247 glBufferDataARB(GL_ELEMENT_ARRAY_BUFFER, 10, blob(\"blob_call247.bin\"), "
+         "GL_STATIC_DRAW)");
+    swap("GL_UNSIGNED_SHORT, blob(\"blob_call30.bin\"))",
+         "GL_UNSIGNED_SHORT, " + draw_indices + ")");
+    write_text(t);
+    write_bytes(dir.file("blob_call243.bin"),
+                bytes_of<float>({0, 0, 0, 99, 1, 0, 0, 99, 1, 1, 0, 99, 0, 1, 0.5f}));
+    write_bytes(dir.file("blob_call244.bin"), bytes_of<float>({0, 0, 1, 0, 1, 1, 0, 1}));
+    write_bytes(dir.file("blob_call247.bin"), bytes_of<uint16_t>({77, 0, 1, 3, 2}));
+  }
+};
+
+TEST_F(ApitraceBufferTest, BufferObjectsGiveTheClientArraysDraws) {
+  import_apitrace_dump(dump, dir.file("."), 1, 1, out, "cap.trace");
+  const DrawTrace client = read_draw_trace(out);
+  use_buffers();
+  const std::string out2 = dir.file("buffered.draws");  // `out` is now an input of the test
+  const ImportSummary s = import_apitrace_dump(dump, dir.file("."), 1, 1, out2, "cap.trace");
+  const DrawTrace buffered = read_draw_trace(out2);
+  ASSERT_EQ(client.frames[0].draws.size(), 2u);
+  ASSERT_EQ(buffered.frames[0].draws.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    const Draw& a = client.frames[0].draws[i];
+    const Draw& b = buffered.frames[0].draws[i];
+    EXPECT_EQ(a.position, b.position) << i;
+    EXPECT_EQ(a.st[0], b.st[0]) << i;
+    EXPECT_EQ(a.indices, b.indices) << i;
+    EXPECT_EQ(a.color, b.color) << i;
+  }
+  EXPECT_EQ(s.frames.at(1).uninterpreted, client.frames[0].uninterpreted);
+}
+
+TEST_F(ApitraceBufferTest, MappedContentsAreCountedAndBadRangesAreErrors) {
+  use_buffers();  // then the vertex buffer mapped before its pointer is set
+  std::string t;
+  {
+    std::ifstream in(dump);
+    t.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  t.replace(t.find("25 glVertexPointer"), 0, "248 glMapBuffer(GL_ARRAY_BUFFER, GL_WRITE_ONLY)\n");
+  write_text(t);
+  const ImportSummary s = import_apitrace_dump(dump, dir.file("."), 1, 1, out, "cap.trace");
+  EXPECT_EQ(s.frames.at(1).draws, 0u);  // the contents written through the mapping are unknown
+  EXPECT_EQ(s.frames.at(1).uninterpreted.at("glMapBuffer"), 1u);
+  EXPECT_EQ(s.frames.at(1).uninterpreted.at("glDrawElements[buffer object contents unknown]"), 1u);
+
+  std::filesystem::remove(out);
+  use_buffers("0x6");  // 4 indices from byte 6 of a 10-byte buffer
+  std::string e = error_of(1, 1);
+  EXPECT_NE(e.find("call 30 (glDrawElements), frame 1: indices of 4 bytes, 4 indices need 8"),
+            std::string::npos)
+      << e;
+  use_buffers();
+  write_bytes(dir.file("blob_call244.bin"), bytes_of<float>({0, 0, 1, 0}));  // short blob
+  e = error_of(1, 1);
+  EXPECT_NE(e.find("call 244 (glBufferSubData), frame 1"), std::string::npos) << e;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// The texture matrix: frame 1's first draw with s, t scaled by 2 and shifted by (0.5, 0.25);
+// with a projective matrix (q = 2 s + 1) the draw is counted, not written.
+TEST_F(ApitraceImportTest, TextureMatrixMovesTheCoordinates) {
+  replace("29 glColor4f(1, 0.5, 0, 1)",
+          "290 glMatrixMode(GL_TEXTURE)\n291 glTranslatef(0.5, 0.25, 0)\n292 glScalef(2, 2, 1)\n"
+          "293 glMatrixMode(GL_MODELVIEW)\n29 glColor4f(1, 0.5, 0, 1)");
+  import_apitrace_dump(dump, dir.file("."), 1, 1, out, "cap.trace");
+  const DrawTrace t = read_draw_trace(out);
+  ASSERT_GE(t.frames[0].draws.size(), 1u);
+  EXPECT_EQ(t.frames[0].draws[0].st[0],
+            (std::vector<float>{0.5f, 0.25f, 2.5f, 0.25f, 2.5f, 2.25f, 0.5f, 2.25f}));
+  std::filesystem::remove(out);
+  replace(
+      "29 glColor4f(1, 0.5, 0, 1)",
+      "290 glMatrixMode(GL_TEXTURE)\n291 glLoadMatrixf({1, 0, 0, 2, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, "
+      "0, 1})\n293 glMatrixMode(GL_MODELVIEW)\n29 glColor4f(1, 0.5, 0, 1)");
+  const ImportSummary s = import_apitrace_dump(dump, dir.file("."), 1, 1, out, "cap.trace");
+  EXPECT_EQ(s.frames.at(1).uninterpreted.at("glDrawElements[projective texture coordinates]"), 1u);
 }
 
 TEST_F(ApitraceImportTest, FramesBeyondTheCaptureAreAnError) {
