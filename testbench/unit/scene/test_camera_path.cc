@@ -8,9 +8,9 @@
 #include <glm/geometric.hpp>
 #include <map>
 #include <sstream>
+#include <string>
 #include <utility>
 #include <vector>
-#include <string>
 
 #include "pipeline/app/fragment_router.h"
 #include "pipeline/app/run.h"
@@ -191,8 +191,8 @@ TEST(FrameOrder, PassesRecordsOnFrameByFrame) {
   order.record(frag(0), frag(0), 0, &c, 2);  // frame 0 complete: frame 1's held record follows
   order.record(frag(1), frag(1), 0, &c, 3);  // frame 1 complete: frame 3's
   order.check_drained();
-  const std::vector<std::pair<uint32_t, uint64_t>> want = {{0, 1}, {0, 0}, {0, 2}, {1, 4},
-                                                          {1, 3}, {3, 5}};
+  const std::vector<std::pair<uint32_t, uint64_t>> want = {{0, 1}, {0, 0}, {0, 2},
+                                                           {1, 4}, {1, 3}, {3, 5}};
   EXPECT_EQ(out, want);
 }
 
