@@ -400,6 +400,17 @@ class Interpreter {
     }
     return out;
   }
+  // The object names of argument i, a glDelete* list as the dump prints it: "&5" or "{3, 4}".
+  std::vector<uint32_t> names(size_t i) {
+    std::string_view a = args_.at(i);
+    if (a.starts_with("&")) a.remove_prefix(1);
+    std::string list(a);
+    if (list.starts_with("{") && list.size() >= 2) list = list.substr(1, list.size() - 2);
+    std::vector<uint32_t> out;
+    for (std::string_view v : split_args(list))
+      out.push_back(static_cast<uint32_t>(std::strtoul(std::string(v).c_str(), nullptr, 10)));
+    return out;
+  }
   // The blob of argument i: its bytes; nullopt for NULL or a buffer offset (a number).
   std::optional<std::vector<uint8_t>> blob(size_t i, bool* is_offset = nullptr) {
     const std::string_view a = args_.at(i);
@@ -627,12 +638,7 @@ bool Interpreter::buffer_call(const std::string& c) {
     return true;
   } else if (n == "glDeleteBuffers") {
     need_args(2);
-    std::string_view a = args_[1];
-    if (a.starts_with("&")) a.remove_prefix(1);
-    std::string list(a);
-    if (list.starts_with("{")) list = list.substr(1, list.size() - 2);
-    for (std::string_view v : split_args(list)) {
-      const auto id = static_cast<uint32_t>(std::strtoul(std::string(v).c_str(), nullptr, 10));
+    for (const uint32_t id : names(1)) {
       if (auto it = buffers_.find(id); it != buffers_.end()) {
         buffer_bytes_ -= it->second.data.size();
         buffers_.erase(it);
@@ -704,12 +710,7 @@ bool Interpreter::texture_object_call(const std::string& c) {
     units_[active_].bound = t;
   } else if (c == "glDeleteTextures") {
     need_args(2);
-    std::string_view a = args_[1];
-    if (a.starts_with("&")) a.remove_prefix(1);
-    std::string list(a);
-    if (list.starts_with("{")) list = list.substr(1, list.size() - 2);
-    for (std::string_view v : split_args(list)) {
-      const auto t = static_cast<uint32_t>(std::strtoul(std::string(v).c_str(), nullptr, 10));
+    for (const uint32_t t : names(1)) {
       if (t == 0) continue;
       if (auto it = textures_.find(t); it != textures_.end()) {
         for (auto& l : it->second.levels) texture_bytes_ -= l.rgba.size();

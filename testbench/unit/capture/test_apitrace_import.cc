@@ -264,6 +264,29 @@ TEST_F(ApitraceBufferTest, MappedContentsAreCountedAndBadRangesAreErrors) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+// Deleted names: a draw reading a deleted buffer, or with its texture deleted, is counted.
+TEST_F(ApitraceBufferTest, DeletedBuffersAndTexturesLeaveTheDrawOut) {
+  use_buffers();
+  std::string t;
+  {
+    std::ifstream in(dump);
+    t.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  t.replace(t.find("29 glColor4f"), 0, "249 glDeleteBuffers(1, &3)\n");
+  write_text(t);
+  ImportSummary s = import_apitrace_dump(dump, dir.file("."), 1, 1, out, "cap.trace");
+  EXPECT_EQ(s.frames.at(1).draws, 0u);
+  EXPECT_EQ(s.frames.at(1).uninterpreted.at("glDrawElements[buffer object contents unknown]"), 1u);
+  std::filesystem::remove(out);
+  replace("29 glColor4f", "249 glDeleteTextures(2, {7, 5})\n29 glColor4f");
+  s = import_apitrace_dump(dump, dir.file("."), 1, 1, out, "cap.trace");
+  EXPECT_EQ(s.frames.at(1).draws, 0u);
+  uint64_t left_out = 0;
+  for (const auto& [name, n] : s.frames.at(1).uninterpreted)
+    if (name.starts_with("glDrawElements[")) left_out += n;
+  EXPECT_EQ(left_out, 1u);
+}
+
 // The texture matrix: frame 1's first draw with s, t scaled by 2 and shifted by (0.5, 0.25);
 // with a projective matrix (q = 2 s + 1) the draw is counted, not written.
 TEST_F(ApitraceImportTest, TextureMatrixMovesTheCoordinates) {
