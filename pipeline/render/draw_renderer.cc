@@ -158,6 +158,16 @@ Texture texture_of_draw(const DrawTexture& t) {
                               levels, TexelFormat::Rgba8);
 }
 
+DrawRenderer::SamplerKey DrawRenderer::sampler_key(const DrawUnit& u) {
+  return {u.texture,
+          u.min_filter,
+          u.mag_filter,
+          u.wrap_s,
+          u.wrap_t,
+          std::bit_cast<uint32_t>(u.max_anisotropy),
+          std::bit_cast<uint32_t>(u.lod_bias)};
+}
+
 DrawRenderer::DrawRenderer(const DrawTrace& trace, const std::vector<size_t>& frames,
                            const PipelineSetup& setup, const TechTable& tech, bool timing,
                            std::string file)
@@ -169,13 +179,7 @@ DrawRenderer::DrawRenderer(const DrawTrace& trace, const std::vector<size_t>& fr
       throw InputError(file_, "no frame of index " + std::to_string(fi));
     for (const Draw& d : trace.frames[fi].draws) {
       for (const DrawUnit& u : d.units) {
-        const std::vector<uint32_t> key = {u.texture,
-                                           u.min_filter,
-                                           u.mag_filter,
-                                           u.wrap_s,
-                                           u.wrap_t,
-                                           std::bit_cast<uint32_t>(u.max_anisotropy),
-                                           std::bit_cast<uint32_t>(u.lod_bias)};
+        const SamplerKey key = sampler_key(u);
         if (materials_.count(key)) continue;
         const auto it = tex_index_.find(u.texture);
         if (it == tex_index_.end())
@@ -428,14 +432,7 @@ void DrawRenderer::texture_fragments(const Draw& d) {
   TextureUnit& unit = units_->unit(0);
   for (size_t u = 0; u < nu; ++u) {
     const DrawUnit& du = d.units[u];
-    const std::vector<uint32_t> key = {du.texture,
-                                       du.min_filter,
-                                       du.mag_filter,
-                                       du.wrap_s,
-                                       du.wrap_t,
-                                       std::bit_cast<uint32_t>(du.max_anisotropy),
-                                       std::bit_cast<uint32_t>(du.lod_bias)};
-    const int m = materials_.at(key);
+    const int m = materials_.at(sampler_key(du));
     const uint32_t tex = static_cast<uint32_t>(tex_index_.at(du.texture));
     for (Fragment& g : look_[u]) g.tex = tex;
     if (observer_)

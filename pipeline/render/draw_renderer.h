@@ -6,6 +6,7 @@
 // docs/architecture.md, "Draw traces". Arithmetic: clipping, projection and attribute planes
 // in double; coverage in the edge rasteriser's fixed point (8 sub-pixel bits); depth as a
 // 24-bit unsigned integer (round to nearest); colour as colour_stage.h says.
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -127,7 +128,9 @@ class DrawRenderer {
   TextureSet textures_;
   std::map<uint32_t, int> tex_index_;  // texture id -> index in textures_
   // (texture id, sampler) -> material; one map key per distinct DrawUnit sampler state.
-  std::map<std::vector<uint32_t>, int> materials_;
+  using SamplerKey = std::array<uint32_t, 7>;
+  static SamplerKey sampler_key(const DrawUnit& u);
+  std::map<SamplerKey, int> materials_;
   std::vector<std::string> notes_;
   std::unique_ptr<UnitArray> units_;
   EdgeRasterizer raster_;
