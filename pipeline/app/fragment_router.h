@@ -166,7 +166,14 @@ class FrameOrder {
   // One more fragment of `frame` goes to the units (frames in increasing order), before it can
   // be recorded.
   void emitted(uint32_t frame) {
-    ++emitted_[frame];
+    // Most fragments continue the newest frame: one increment, nothing can move on.
+    if (started_ && frame == newest_) {
+      ++*newest_count_;
+      return;
+    }
+    newest_count_ = &emitted_[frame];
+    ++*newest_count_;
+    newest_ = frame;
     if (!started_) {
       started_ = true;
       current_ = frame;
@@ -225,7 +232,9 @@ class FrameOrder {
   std::map<uint32_t, uint64_t> emitted_;  // fragments sent to the units, by frame
   std::map<uint32_t, std::vector<Held>> held_;
   uint32_t current_ = 0;
-  uint64_t recorded_ = 0;  // of the current frame
+  uint32_t newest_ = 0;               // the frame emitted last, and its count in emitted_
+  uint64_t* newest_count_ = nullptr;  // (map nodes never move; advance() never erases it)
+  uint64_t recorded_ = 0;             // of the current frame
   bool started_ = false;
 };
 
