@@ -1,11 +1,13 @@
 // libFuzzer harness: the streaming trace reader on arbitrary bytes, as a binary trace and as
-// CSV. With TEXSIM_FUZZ_FIX_CRC=1 in the environment, the binary form first gets every CRC it
-// can locate recomputed, so mutations reach the parser behind the checksums.
+// CSV, and the draw-trace texture sources of its texture table. With TEXSIM_FUZZ_FIX_CRC=1 in the
+// environment, the binary form first gets every CRC it can locate recomputed, so mutations reach
+// the parser behind the checksums.
 #include <zlib.h>
 
 #include <cstring>
 #include <vector>
 
+#include "pipeline/render/draw_fragment_trace.h"
 #include "testbench/fuzz/fuzz_crc.h"
 #include "testbench/fuzz/fuzz_input.h"
 #include "traces/trace_file.h"
@@ -35,6 +37,10 @@ void fix_crcs(std::vector<uint8_t>& b) {
 
 void read_all(const std::string& path) {
   texsim::TraceReader r(path);
+  // A texture table source "draws:PATH#ID" (trace gen --draws) is parsed as a run of the trace
+  // parses it; the draw trace it names has a harness of its own (fuzz_draw_trace).
+  for (const texsim::TraceTexture& t : r.header().textures)
+    if (texsim::is_draws_source(t.source)) texsim::DrawTextureCache::path_of(t.source, "");
   std::vector<texsim::Fragment> chunk;
   while (r.next_chunk(chunk) > 0) {
   }
