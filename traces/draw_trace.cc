@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <string_view>
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
@@ -695,6 +696,27 @@ void DrawTraceReader::read_end(const std::vector<uint8_t>& p, const std::string&
                              " (records lost)");
   if (pos_ != size_)
     throw InputError(at, std::to_string(size_ - pos_) + " unexpected bytes after the end marker");
+}
+
+namespace {
+constexpr std::string_view kDrawsPrefix = "draws:";
+}  // namespace
+
+std::string draws_source(const std::string& path, uint32_t id) {
+  return std::string(kDrawsPrefix) + path + "#" + std::to_string(id);
+}
+
+bool is_draws_source(const std::string& source) { return source.starts_with(kDrawsPrefix); }
+
+void split_draws_source(const std::string& source, std::string& path, uint32_t& id) {
+  const size_t hash = source.rfind('#');
+  const std::string digits = hash == std::string::npos ? "" : source.substr(hash + 1);
+  if (!is_draws_source(source) || hash <= kDrawsPrefix.size() || digits.empty() ||
+      digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) {
+    throw InputError(source, "not a draw-trace texture source \"draws:PATH#ID\"");
+  }
+  path = source.substr(kDrawsPrefix.size(), hash - kDrawsPrefix.size());
+  id = static_cast<uint32_t>(std::stoul(digits));
 }
 
 bool is_draw_trace(const std::string& path) {

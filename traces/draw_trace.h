@@ -177,6 +177,13 @@ DrawTrace read_draw_trace(const std::string& path);
 
 // True when the file at `path` starts with the draw trace magic (false if it cannot be read).
 bool is_draw_trace(const std::string& path);
+
+// A fragment trace's texture source naming texture ID of the draw trace PATH: "draws:PATH#ID"
+// (written by `texsim trace gen --draws`, traces/FORMAT.md's table stores it verbatim).
+std::string draws_source(const std::string& path, uint32_t id);
+bool is_draws_source(const std::string& source);
+// Its PATH and ID; an InputError naming the source when it is not of that form.
+void split_draws_source(const std::string& source, std::string& path, uint32_t& id);
 // `texsim trace info` for a draw trace, in one streaming pass: the frames with their draws,
 // vertices, triangles and uninterpreted calls, and the textures with their sizes; returns 0.
 int draw_trace_info(const std::string& path, std::ostream& out);

@@ -11,37 +11,24 @@ namespace texsim {
 
 namespace {
 
-constexpr std::string_view kPrefix = "draws:";
-
-// PATH and ID of "draws:PATH#ID"; an InputError naming the source otherwise.
-void split_source(const std::string& source, std::string& path, uint32_t& id) {
-  const size_t hash = source.rfind('#');
-  const std::string digits = hash == std::string::npos ? "" : source.substr(hash + 1);
-  if (!is_draws_source(source) || hash <= kPrefix.size() || digits.empty() || digits.size() > 9 ||
-      digits.find_first_not_of("0123456789") != std::string::npos) {
-    throw InputError(source, "not a draw-trace texture source \"draws:PATH#ID\"");
-  }
-  path = source.substr(kPrefix.size(), hash - kPrefix.size());
-  id = static_cast<uint32_t>(std::stoul(digits));
-}
-
-}  // namespace
-
-bool is_draws_source(const std::string& source) { return source.starts_with(kPrefix); }
-
-std::string DrawTextureCache::path_of(const std::string& source, const std::string& dir) {
+// PATH resolved against dir (relative to the fragment trace), and ID.
+std::string resolve(const std::string& source, const std::string& dir, uint32_t& id) {
   std::string path;
-  uint32_t id = 0;
-  split_source(source, path, id);
+  split_draws_source(source, path, id);
   const std::filesystem::path p(path);
   return p.is_absolute() || dir.empty() ? path : (std::filesystem::path(dir) / p).string();
 }
 
-Texture DrawTextureCache::load(const std::string& source, const std::string& dir) {
-  std::string path;
+}  // namespace
+
+std::string DrawTextureCache::path_of(const std::string& source, const std::string& dir) {
   uint32_t id = 0;
-  split_source(source, path, id);
-  path = path_of(source, dir);
+  return resolve(source, dir, id);
+}
+
+Texture DrawTextureCache::load(const std::string& source, const std::string& dir) {
+  uint32_t id = 0;
+  const std::string path = resolve(source, dir, id);
   auto& trace = traces_[path];
   if (!trace) trace = std::make_unique<DrawTrace>(read_draw_trace(path));
   for (const DrawTexture& t : trace->textures)
@@ -69,8 +56,7 @@ uint64_t generate_draws_trace(const std::string& draws, uint32_t first, uint32_t
   for (size_t i = 0; i < trace.textures.size(); ++i) {
     const DrawTexture& t = trace.textures[i];
     h.textures.push_back({static_cast<uint32_t>(i), t.name.empty() ? "texture" : t.name,
-                          std::string(kPrefix) + abs + "#" + std::to_string(t.id), t.width,
-                          t.height});
+                          draws_source(abs, t.id), t.width, t.height});
   }
   return write_trace(out, h, [&](auto& w) {
     renderer.set_lookup_observer([&](const Fragment& f) { w.write(f); });

@@ -21,9 +21,6 @@ namespace texsim {
 uint64_t generate_draws_trace(const std::string& draws, uint32_t first, uint32_t last,
                               const std::string& out);
 
-// Whether a texture source is "draws:PATH#ID".
-bool is_draws_source(const std::string& source);
-
 // Loads "draws:PATH#ID" textures; each draw trace is read once. PATH relative to `dir`.
 class DrawTextureCache {
  public:

@@ -7,9 +7,9 @@
 #include <cstring>
 #include <vector>
 
-#include "pipeline/render/draw_fragment_trace.h"
 #include "testbench/fuzz/fuzz_crc.h"
 #include "testbench/fuzz/fuzz_input.h"
+#include "traces/draw_trace.h"
 #include "traces/trace_file.h"
 
 namespace {
@@ -39,8 +39,11 @@ void read_all(const std::string& path) {
   texsim::TraceReader r(path);
   // A texture table source "draws:PATH#ID" (trace gen --draws) is parsed as a run of the trace
   // parses it; the draw trace it names has a harness of its own (fuzz_draw_trace).
-  for (const texsim::TraceTexture& t : r.header().textures)
-    if (texsim::is_draws_source(t.source)) texsim::DrawTextureCache::path_of(t.source, "");
+  for (const texsim::TraceTexture& t : r.header().textures) {
+    std::string path;
+    uint32_t id = 0;
+    if (texsim::is_draws_source(t.source)) texsim::split_draws_source(t.source, path, id);
+  }
   std::vector<texsim::Fragment> chunk;
   while (r.next_chunk(chunk) > 0) {
   }
