@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 namespace texsim {
 
@@ -115,6 +119,130 @@ glm::dvec4 reference_bilinear(const Texture& tex, AddressMode au, AddressMode av
   return bilinear_sample(tex, au, av, u, v);
 }
 
+namespace {
+
+void exact_points_portable(const Texture& tex, AddressMode au, AddressMode av, const PixelMap& pm,
+                           const double* dx, const double* dy, size_t n, glm::dvec4* out) {
+  for (size_t k = 0; k < n; ++k) {
+    double u = 0, v = 0;
+    pm.uv(dx[k], dy[k], u, v);
+    out[k] = bilinear_sample(tex, au, av, u, v);
+  }
+}
+
+#if defined(__x86_64__)
+// Four points at a time: the map and the bilinear weights in 4-wide double vectors, each
+// texel's four bytes widened to a vector of its channels. Every operation is the portable
+// path's own IEEE operation in the same order (no fused multiply-add: AVX2 without FMA), and
+// the addressing is the portable path's own code, so the results are equal bit for bit.
+[[gnu::target("avx2")]] __m256d texel_channels(const uint8_t* p) {
+  int32_t bytes = 0;
+  std::memcpy(&bytes, p, 4);
+  const __m128 c = _mm_mul_ps(_mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(bytes))),
+                              _mm_set1_ps(1.0f / 255.0f));  // float b · (1/255), as fetch()
+  return _mm256_cvtps_pd(c);
+}
+
+[[gnu::target("avx2")]] void exact_points_avx2(const Texture& tex, AddressMode au, AddressMode av,
+                                               const PixelMap& pm, const double* dx,
+                                               const double* dy, size_t n, glm::dvec4* out) {
+  const int w = tex.width(0), h = tex.height(0);
+  const uint8_t* base = tex.rgba8(0);
+  const size_t row = static_cast<size_t>(tex.level(0).width) * 4;
+  const __m256d one = _mm256_set1_pd(1.0), half = _mm256_set1_pd(0.5), zero = _mm256_setzero_pd();
+  const __m256d wd = _mm256_set1_pd(w), hd = _mm256_set1_pd(h);
+  const __m256d sign = _mm256_set1_pd(-0.0);
+  size_t k = 0;
+  for (; k + 4 <= n; k += 4) {
+    const __m256d x_ = _mm256_loadu_pd(dx + k), y_ = _mm256_loadu_pd(dy + k);
+    const __m256d den =
+        _mm256_add_pd(_mm256_add_pd(_mm256_set1_pd(pm.q), _mm256_mul_pd(_mm256_set1_pd(pm.G), x_)),
+                      _mm256_mul_pd(_mm256_set1_pd(pm.H), y_));
+    const __m256d nu =
+        _mm256_add_pd(_mm256_add_pd(_mm256_set1_pd(pm.nu), _mm256_mul_pd(_mm256_set1_pd(pm.A), x_)),
+                      _mm256_mul_pd(_mm256_set1_pd(pm.B), y_));
+    const __m256d nv =
+        _mm256_add_pd(_mm256_add_pd(_mm256_set1_pd(pm.nv), _mm256_mul_pd(_mm256_set1_pd(pm.D), x_)),
+                      _mm256_mul_pd(_mm256_set1_pd(pm.E), y_));
+    const __m256d no_map = _mm256_cmp_pd(den, zero, _CMP_EQ_OQ);
+    alignas(32) double u[4], v[4];
+    _mm256_store_pd(u, _mm256_blendv_pd(_mm256_div_pd(nu, den), zero, no_map));
+    _mm256_store_pd(v, _mm256_blendv_pd(_mm256_div_pd(nv, den), zero, no_map));
+    const __m256d x = _mm256_sub_pd(_mm256_mul_pd(_mm256_load_pd(u), wd), half);
+    const __m256d y = _mm256_sub_pd(_mm256_mul_pd(_mm256_load_pd(v), hd), half);
+    const __m256d fx0 = _mm256_floor_pd(x), fy0 = _mm256_floor_pd(y);
+    const __m256d a = _mm256_sub_pd(x, fx0), b = _mm256_sub_pd(y, fy0);
+    // Lanes whose texel indices fit an int32 (NaN compares false; so does ±inf): the others
+    // (no finite map there, or u·w overflowed) take the portable path.
+    const __m256d lim = _mm256_set1_pd(0x1p30);
+    const __m256d fits = _mm256_and_pd(_mm256_cmp_pd(_mm256_andnot_pd(sign, fx0), lim, _CMP_LT_OQ),
+                                       _mm256_cmp_pd(_mm256_andnot_pd(sign, fy0), lim, _CMP_LT_OQ));
+    const int fit_mask = _mm256_movemask_pd(fits);
+    const __m256d ia = _mm256_sub_pd(one, a), ib = _mm256_sub_pd(one, b);
+    alignas(32) double w00[4], w10[4], w01[4], w11[4];
+    _mm256_store_pd(w00, _mm256_mul_pd(ia, ib));
+    _mm256_store_pd(w10, _mm256_mul_pd(a, ib));
+    _mm256_store_pd(w01, _mm256_mul_pd(ia, b));
+    _mm256_store_pd(w11, _mm256_mul_pd(a, b));
+    alignas(16) int32_t ix[4], iy[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(ix),
+                    _mm256_cvttpd_epi32(_mm256_blendv_pd(zero, fx0, fits)));
+    _mm_store_si128(reinterpret_cast<__m128i*>(iy),
+                    _mm256_cvttpd_epi32(_mm256_blendv_pd(zero, fy0, fits)));
+    for (int l = 0; l < 4; ++l) {
+      if (!(fit_mask & (1 << l))) {
+        out[k + l] = bilinear_sample(tex, au, av, u[l], v[l]);
+        continue;
+      }
+      int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+      address_pair(ix[l], w, au, x0, x1);
+      address_pair(iy[l], h, av, y0, y1);
+      const uint8_t* r0 = base + static_cast<size_t>(y0) * row;
+      const uint8_t* r1 = base + static_cast<size_t>(y1) * row;
+      __m256d c = _mm256_mul_pd(_mm256_set1_pd(w00[l]), texel_channels(r0 + x0 * 4));
+      c = _mm256_add_pd(c, _mm256_mul_pd(_mm256_set1_pd(w10[l]), texel_channels(r0 + x1 * 4)));
+      c = _mm256_add_pd(c, _mm256_mul_pd(_mm256_set1_pd(w01[l]), texel_channels(r1 + x0 * 4)));
+      c = _mm256_add_pd(c, _mm256_mul_pd(_mm256_set1_pd(w11[l]), texel_channels(r1 + x1 * 4)));
+      _mm256_storeu_pd(&out[k + l].x, c);
+    }
+  }
+  if (k == n) return;
+  // The last one to three points: padded to four with copies of the last point.
+  alignas(32) double px[4], py[4];
+  glm::dvec4 c[4];
+  for (size_t l = 0; l < 4; ++l) {
+    px[l] = dx[std::min(k + l, n - 1)];
+    py[l] = dy[std::min(k + l, n - 1)];
+  }
+  exact_points_avx2(tex, au, av, pm, px, py, 4, c);
+  std::copy(c, c + (n - k), out + k);
+}
+#endif
+
+}  // namespace
+
+bool exact_points_avx2_available() {
+#if defined(__x86_64__)
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+#else
+  return false;
+#endif
+}
+
+void sample_exact_points(const Texture& tex, AddressMode au, AddressMode av, const PixelMap& pm,
+                         const double* dx, const double* dy, size_t n, glm::dvec4* out,
+                         ExactKernel kernel) {
+#if defined(__x86_64__)
+  if (tex.format() == TexelFormat::Rgba8 && kernel != ExactKernel::Portable &&
+      exact_points_avx2_available()) {
+    exact_points_avx2(tex, au, av, pm, dx, dy, n, out);
+    return;
+  }
+#endif
+  exact_points_portable(tex, au, av, pm, dx, dy, n, out);
+}
+
 PixelSamples PixelSamples::make(TruthPixel p, int n) {
   PixelSamples s;
   if (p == TruthPixel::Box) {
@@ -166,6 +294,76 @@ std::string TruthSampling::describe(TruthPixel p) const {
          "level-0 texels or 81 points, then one Richardson step; at most 64x64 intervals)";
 }
 
+int AdaptiveGrid::shape_index(int ax, int ay) {
+  const int a = ay == 1 ? ax : ay;
+  int l = 0;
+  while ((1 << l) < a) ++l;
+  return ay == 1 ? l : 6 + l;
+}
+
+namespace {
+
+// The points of the grid kx : ky = ax : ay over [origin, origin + size]², level by level,
+// refined until kx·ky ≥ kMaxGrid² (the integral may stop at any level before).
+AdaptiveGrid make_grid(int ax, int ay, double origin, double size, bool box,
+                       const PixelModel& gauss) {
+  AdaptiveGrid grid;
+  double wsum = 0;
+  // The point (i, j) of the level with kx × ky intervals (trapezoid weights: ½ on each edge of
+  // the square, so a point keeps its weight at every level).
+  auto add = [&](int i, int j, int kx, int ky) {
+    const double dx = origin + size * (static_cast<double>(i) / kx),
+                 dy = origin + size * (static_cast<double>(j) / ky);
+    double w = (i == 0 || i == kx ? 0.5 : 1.0) * (j == 0 || j == ky ? 0.5 : 1.0);
+    if (!box) {
+      const double cx = dx - 0.5, cy = dy - 0.5;
+      w *= gauss.weight(cx * cx + cy * cy);
+      if (w == 0) return;  // outside the truncated Gaussian
+    }
+    grid.dx.push_back(dx);
+    grid.dy.push_back(dy);
+    grid.w.push_back(w);
+    wsum += w;
+  };
+  auto close_level = [&](int kx, int ky) {
+    grid.levels.push_back({kx, ky, static_cast<uint32_t>(grid.w.size()), wsum});
+  };
+  int kx = ax, ky = ay;
+  for (int j = 0; j <= ky; ++j)
+    for (int i = 0; i <= kx; ++i) add(i, j, kx, ky);
+  close_level(kx, ky);
+  while (kx * ky < TruthSampling::kMaxGrid * TruthSampling::kMaxGrid) {
+    kx *= 2;
+    ky *= 2;
+    for (int j = 0; j <= ky; ++j) {
+      // Rows of the previous level gain their odd columns; new rows gain every column.
+      const bool old_row = j % 2 == 0;
+      for (int i = old_row ? 1 : 0; i <= kx; i += old_row ? 2 : 1) add(i, j, kx, ky);
+    }
+    close_level(kx, ky);
+  }
+  return grid;
+}
+
+}  // namespace
+
+const PixelIntegrator::Grids& PixelIntegrator::grids(TruthPixel pixel) {
+  auto make = [](bool box) {
+    const PixelModel gauss;
+    const double origin = box ? 0.0 : 0.5 - gauss.radius_px;
+    const double size = box ? 1.0 : 2 * gauss.radius_px;
+    Grids g;
+    for (int a = 1; a <= TruthSampling::kMaxAspect; a *= 2) {
+      g[AdaptiveGrid::shape_index(a, 1)] = make_grid(a, 1, origin, size, box, gauss);
+      if (a > 1) g[AdaptiveGrid::shape_index(1, a)] = make_grid(1, a, origin, size, box, gauss);
+    }
+    return g;
+  };
+  static const Grids box = make(true);
+  static const Grids gaussian = make(false);
+  return pixel == TruthPixel::Box ? box : gaussian;
+}
+
 PixelIntegrator::PixelIntegrator(TruthPixel pixel, TruthSampling sampling)
     : pixel_(pixel), sampling_(sampling) {
   if (!sampling_.adaptive()) fixed_ = PixelSamples::make(pixel, sampling_.fixed);
@@ -173,6 +371,7 @@ PixelIntegrator::PixelIntegrator(TruthPixel pixel, TruthSampling sampling)
     origin_ = 0.5 - gauss_.radius_px;
     size_ = 2 * gauss_.radius_px;
   }
+  if (sampling_.adaptive()) grids_ = &grids(pixel);
 }
 
 PixelMap::PixelMap(const ProjectiveMap& m, int px, int py)
@@ -214,13 +413,20 @@ glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av
                               const ProjectiveMap& map, int px, int py,
                               const PixelIntegrator& integrate, int* samples) {
   const PixelMap pm(map, px, py);
-  return integrate(
-      [&](double dx, double dy) {
-        double u = 0, v = 0;
-        pm.uv(dx, dy, u, v);
-        return bilinear_sample(tex, au, av, u, v);
-      },
-      pm.texels_across(tex.width(0), tex.height(0)), samples);
+  struct Points {
+    const Texture& tex;
+    AddressMode au, av;
+    const PixelMap& pm;
+    glm::dvec4 operator()(double dx, double dy) const {
+      double u = 0, v = 0;
+      pm.uv(dx, dy, u, v);
+      return bilinear_sample(tex, au, av, u, v);
+    }
+    void operator()(const double* dx, const double* dy, size_t n, glm::dvec4* out) const {
+      sample_exact_points(tex, au, av, pm, dx, dy, n, out);
+    }
+  };
+  return integrate(Points{tex, au, av, pm}, pm.texels_across(tex.width(0), tex.height(0)), samples);
 }
 
 glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,

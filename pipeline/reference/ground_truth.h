@@ -5,8 +5,11 @@
 // adaptively (nested grids refined until the estimate settles, the default) or on a fixed n×n
 // stratified grid.
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <glm/common.hpp>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "blocks/base/fragment.h"
@@ -56,8 +59,28 @@ struct TruthSampling {
   std::string describe(TruthPixel p) const;
 };
 
+// The adaptive grid's points for one shape (kx : ky = ax : ay), in the order the integral adds
+// them: the first level's points, then each finer level's new points, with their weights
+// (trapezoid × pixel model; points outside the truncated Gaussian left out). Built once per
+// pixel model and shape, so a pixel's integral only maps and samples its points.
+struct AdaptiveGrid {
+  struct Level {
+    int kx = 0, ky = 0;
+    uint32_t end = 0;  // the level's points are [previous level's end, end)
+    double wsum = 0;   // the weights of every point up to end, summed in order
+  };
+  std::vector<double> dx, dy, w;
+  std::vector<Level> levels;
+  // The 13 shapes: ax = 1, 2, …, 64 with ay = 1 (index log2 ax), then ay = 2, …, 64 with
+  // ax = 1 (index 6 + log2 ay).
+  static constexpr int kShapes = 13;
+  static int shape_index(int ax, int ay);
+};
+
 // Integrates one pixel under a pixel model and a sampling: f(dx, dy) gives the colour at the
-// offset (dx, dy) from the pixel's corner (the pixel's square is [0, 1]²).
+// offset (dx, dy) from the pixel's corner (the pixel's square is [0, 1]²). An f that also takes
+// (const double* dx, const double* dy, size_t n, glm::dvec4* out) gets the points in batches
+// (the same values, summed in the same order).
 class PixelIntegrator {
  public:
   PixelIntegrator(TruthPixel pixel, TruthSampling sampling);
@@ -77,11 +100,14 @@ class PixelIntegrator {
     double min_kx = 0, min_ky = 0;
   };
   GridShape grid_shape(glm::dvec2 texels) const;
+  using Grids = std::array<AdaptiveGrid, AdaptiveGrid::kShapes>;
+  static const Grids& grids(TruthPixel pixel);  // built on first use, shared by all threads
   TruthPixel pixel_;
   TruthSampling sampling_;
   PixelSamples fixed_;
   double origin_ = 0, size_ = 1;  // the adaptive grid's square: [origin, origin + size]²
   PixelModel gauss_;
+  const Grids* grids_ = nullptr;
 };
 
 // The plane's projective map rebased at a pixel's corner and rounded to double: u, v at the
@@ -107,6 +133,16 @@ struct PixelMap {
 
 // The same from a fragment's derivatives.
 glm::dvec2 texels_across(const Fragment& f, int w, int h);
+
+// The exact truth's points in a batch: out[k] is the level-0 bilinear colour at the offset
+// (dx[k], dy[k]) from the pixel's corner through the map, as ground_truth_exact's integrand.
+// Auto takes the AVX2 kernel where the CPU has it (RGBA8 textures), Portable never; both give
+// the same values bit for bit (test_ground_truth checks).
+enum class ExactKernel : uint8_t { Auto, Portable };
+void sample_exact_points(const Texture& tex, AddressMode au, AddressMode av, const PixelMap& pm,
+                         const double* dx, const double* dy, size_t n, glm::dvec4* out,
+                         ExactKernel kernel = ExactKernel::Auto);
+bool exact_points_avx2_available();
 
 // Level-0 texel lookup with bilinear reconstruction at normalised (u, v), in double.
 glm::dvec4 reference_bilinear(const Texture& tex, AddressMode au, AddressMode av, double u,
@@ -143,40 +179,35 @@ glm::dvec4 PixelIntegrator::operator()(F&& f, glm::dvec2 texels, int* samples) c
     return sum / s.weight_sum;
   }
   const GridShape g = grid_shape(texels);
-  const bool box = pixel_ == TruthPixel::Box;
+  const AdaptiveGrid& grid = (*grids_)[AdaptiveGrid::shape_index(g.ax, g.ay)];
   glm::dvec4 sum(0);
-  double wsum = 0;
-  int evaluated = 0;
-  // Adds the point (i, j) of the level with kx × ky intervals (trapezoid weights: ½ on each
-  // edge of the square, so a point keeps its weight at every level).
-  auto add = [&](int i, int j, int kx, int ky) {
-    const double dx = origin_ + size_ * (static_cast<double>(i) / kx),
-                 dy = origin_ + size_ * (static_cast<double>(j) / ky);
-    double w = (i == 0 || i == kx ? 0.5 : 1.0) * (j == 0 || j == ky ? 0.5 : 1.0);
-    if (!box) {
-      const double cx = dx - 0.5, cy = dy - 0.5;
-      w *= gauss_.weight(cx * cx + cy * cy);
-      if (w == 0) return;  // outside the truncated Gaussian
+  uint32_t next = 0;  // the first point not yet added
+  // Adds the points up to a level's end: sum += w · f(point), in the grid's order.
+  auto add_level = [&](const AdaptiveGrid::Level& level) {
+    if constexpr (std::is_invocable_v<F&, const double*, const double*, size_t, glm::dvec4*>) {
+      constexpr uint32_t kBatch = 64;
+      glm::dvec4 c[kBatch];
+      while (next < level.end) {
+        const uint32_t n = std::min(kBatch, level.end - next);
+        f(grid.dx.data() + next, grid.dy.data() + next, size_t{n}, c);
+        for (uint32_t k = 0; k < n; ++k) sum += grid.w[next + k] * c[k];
+        next += n;
+      }
+    } else {
+      for (; next < level.end; ++next) sum += grid.w[next] * f(grid.dx[next], grid.dy[next]);
     }
-    sum += w * f(dx, dy);
-    wsum += w;
-    ++evaluated;
   };
-  int kx = g.ax, ky = g.ay;
-  for (int j = 0; j <= ky; ++j)
-    for (int i = 0; i <= kx; ++i) add(i, j, kx, ky);
+  add_level(grid.levels[0]);
+  double wsum = grid.levels[0].wsum;
   glm::dvec4 est = wsum > 0 ? sum / wsum : glm::dvec4(0);
   glm::dvec4 prev = est;
   bool have_prev = wsum > 0;
-  while (kx * ky < TruthSampling::kMaxGrid * TruthSampling::kMaxGrid) {
-    kx *= 2;
-    ky *= 2;
-    for (int j = 0; j <= ky; ++j) {
-      // Rows of the previous level gain their odd columns; new rows gain every column.
-      const bool old_row = j % 2 == 0;
-      for (int i = old_row ? 1 : 0; i <= kx; i += old_row ? 2 : 1) add(i, j, kx, ky);
-    }
+  for (size_t l = 1; l < grid.levels.size(); ++l) {
+    const AdaptiveGrid::Level& level = grid.levels[l];
+    add_level(level);
+    wsum = level.wsum;
     est = wsum > 0 ? sum / wsum : glm::dvec4(0);
+    const int kx = level.kx, ky = level.ky;
     const bool dense =
         (kx >= g.min_kx && ky >= g.min_ky) || (kx + 1) * (ky + 1) >= TruthSampling::kMinPointsCap;
     if (have_prev && dense) {
@@ -189,7 +220,7 @@ glm::dvec4 PixelIntegrator::operator()(F&& f, glm::dvec2 texels, int* samples) c
     prev = est;
     have_prev = wsum > 0;
   }
-  if (samples) *samples = evaluated;
+  if (samples) *samples = static_cast<int>(next);
   return est;
 }
 
