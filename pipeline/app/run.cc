@@ -363,9 +363,11 @@ void stream_trace(TraceReader& reader, int threads, Handle&& handle) {
 
 // A scene whose materials compute their own coordinates: planes drawn one by one through the
 // front end (unit 0 runs the coordinate units; with several units each fragment is textured
-// by its tile's unit).
+// by its tile's unit). `emitted` sees every fragment that leaves the front end, in the order it
+// leaves (units record theirs later, in an order that depends on the units' timing).
 void draw_front_end(const Scene& scene, const std::vector<PlaneProjection>& maps, UnitArray& units,
-                    const RunTextures& textures, const UnitArray::Record& record, uint64_t& index) {
+                    const RunTextures& textures, const UnitArray::Record& record, uint64_t& index,
+                    const std::function<void(const Fragment& f, const Fragment& g)>& emitted) {
   auto loaded = [&](const Fragment& f) {
     Fragment g = f;
     g.tex = static_cast<uint32_t>(textures.index.at(f.tex));
@@ -374,19 +376,26 @@ void draw_front_end(const Scene& scene, const std::vector<PlaneProjection>& maps
   if (!units.several()) {
     draw_scene_front_end(scene, maps, units.unit(0),
                          [&](const Fragment& f, int material, const Rgba* c) {
-                           record(f, loaded(f), material, c, index++);
+                           const Fragment g = loaded(f);
+                           emitted(f, g);
+                           record(f, g, material, c, index++);
                          });
     return;
   }
   FrontEndTarget target;
   target.texture = [&](const Fragment& f, int m, const ItemCost* front) {
     const Fragment g = loaded(f);
+    emitted(f, g);
     units.add(f, g, g, m, index++, front);
   };
   target.drop = [&](int m, const ItemCost* front, bool rejected, int32_t x, int32_t y) {
     units.drop(m, front, rejected, x, y);
   };
-  target.untextured = [&](const Fragment& f, int m) { record(f, loaded(f), m, nullptr, index++); };
+  target.untextured = [&](const Fragment& f, int m) {
+    const Fragment g = loaded(f);
+    emitted(f, g);
+    record(f, g, m, nullptr, index++);
+  };
   draw_scene_front_end(scene, maps, units.unit(0), target);
 }
 
@@ -831,7 +840,6 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   const bool front_workload = opt.workload && !reader && unit.front_stages() > 0;
   auto record = [&](const Fragment& f, const Fragment& g, int material, const Rgba* colour,
                     uint64_t index) {
-    if (front_workload) workload.add(f, g.tex);
     if (timeline && !units.several()) timeline->observe(*unit.pipeline());
     batch.add(f, g, material, colour, index);
   };
@@ -854,7 +862,10 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   if (reader) {
     stream_trace(*reader, opt.threads, [&](const Fragment& f) { handle(f, index++); });
   } else if (unit.front_stages() > 0) {
-    draw_front_end(scene, maps, units, textures, record, index);
+    draw_front_end(scene, maps, units, textures, record, index,
+                   [&](const Fragment& f, const Fragment& g) {
+                     if (front_workload) workload.add(f, g.tex);
+                   });
   } else {
     scene_frames(scene, maps, frame_maps, mats, raster, router, batch,
                  [&](const Fragment& f) { handle(f, index++); });

@@ -12,6 +12,13 @@
 // is committed anyway (counted: forced_commits), and a later item of an idle unit may then reach
 // the shared levels at an earlier cycle than requests already made (counted: late_items, the
 // measure of how far the order was from exact; 0 whenever no commit was forced).
+//
+// Items that make no request to the shared levels need no place in that order. Hooks that say
+// so (`bool local(int unit)`, asked after begin) get such an item committed at once, and the
+// unit begins its next: only items that reach the shared levels wait for the others. The
+// shared levels see the same requests in the same order (the earliest begun of those items
+// first, on the same condition), and each unit's items keep their order, so every result is
+// the same — while most items (texture look-ups that hit the L1) pass without being held.
 #include <algorithm>
 #include <cstdint>
 #include <memory>
@@ -56,6 +63,8 @@ class UnitScheduler {
   uint64_t forced_commits() const { return forced_; }
   uint64_t late_items() const { return late_; }
   uint64_t committed() const { return committed_; }
+  // Items committed at once because they stayed in their unit (Unit::local).
+  uint64_t local_commits() const { return local_; }
   // The cycle of the latest commit: commits never go back in time unless forced.
   uint64_t last_commit_cycle() const { return last_cycle_; }
 
@@ -112,9 +121,23 @@ class UnitScheduler {
   }
   void begin_next(int u) {
     Lane& l = units_[static_cast<size_t>(u)];
-    if (l.queue.empty()) return;
-    l.queue.prefetch(2);
-    const uint64_t start = hooks_.begin(u, l.queue.front());
+    uint64_t start = 0;
+    for (;;) {
+      if (l.queue.empty()) return;
+      l.queue.prefetch(2);
+      start = hooks_.begin(u, l.queue.front());
+      if constexpr (requires { hooks_.local(u); }) {
+        if (hooks_.local(u)) {  // stays in the unit: committed now, out of the global order
+          hooks_.commit(u, l.queue.front());
+          l.queue.pop_front();
+          --waiting_;
+          ++committed_;
+          ++local_;
+          continue;
+        }
+      }
+      break;
+    }
     l.begun = true;
     ++begun_;
     if (committed_ > 0 && start < last_cycle_) ++late_;
@@ -150,7 +173,7 @@ class UnitScheduler {
   uint64_t max_start_ = 0;  // the latest cycle a key holds
   size_t begun_ = 0;
   size_t waiting_ = 0;
-  uint64_t forced_ = 0, late_ = 0, committed_ = 0, last_cycle_ = 0;
+  uint64_t forced_ = 0, late_ = 0, committed_ = 0, local_ = 0, last_cycle_ = 0;
 };
 
 }  // namespace texsim

@@ -158,7 +158,9 @@ void add_memory_json(Json& j, const UnitArray& unit) {
             c.accesses ? static_cast<double>(c.hits) / static_cast<double>(c.accesses) : 0.0}}}});
   }
   j["units"] = units;
-  j["scheduler"] = {{"forced_commits", unit.forced_commits()}, {"late_items", unit.late_items()}};
+  j["scheduler"] = {{"forced_commits", unit.forced_commits()},
+                    {"late_items", unit.late_items()},
+                    {"local_commits", unit.local_commits()}};
 }
 
 Json accuracy_json(const AccuracyMetrics& a) {

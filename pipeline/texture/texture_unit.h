@@ -54,6 +54,9 @@ class TextureUnit {
   // before the next one).
   uint64_t pending_start() const { return defer_start_; }
   void commit();
+  // Whether the processed fragment's commit() stays in this unit (its look-ups all hit the L1,
+  // FetchStage::recorded_local), so it may be committed at once, out of the global order.
+  bool pending_local() const { return fetch_.recorded_local(); }
 
   // Filters one fragment with its material's blocks and the fragment's own texture (f.tex, an
   // index into the unit's TextureSet); in timing mode also sends it through the clocked

@@ -85,6 +85,9 @@ class UnitArray {
   // items that reached the shared levels later than a request of a later cycle.
   uint64_t forced_commits() const { return sched_ ? sched_->forced_commits() : 0; }
   uint64_t late_items() const { return sched_ ? sched_->late_items() : 0; }
+  // Fragments committed at once, without waiting for the other units: their look-ups all hit
+  // their unit's L1 (none with a timeline, which records items in the global order).
+  uint64_t local_commits() const { return sched_ ? sched_->local_commits() : 0; }
   // Every unit's invariants, and the shared DRAM's busy cycles within the run's.
   void check_timing_invariants() const;
 
@@ -116,6 +119,11 @@ class UnitArray {
   struct Hooks {
     UnitArray* a;
     uint64_t begin(int u, Item& it);
+    // The begun item makes no request behind the L1 (UnitScheduler commits it at once).
+    // Never with a commit observer: a timeline records the first items in commit order.
+    bool local(int u) const {
+      return !a->observer_ && a->units_[static_cast<size_t>(u)]->pending_local();
+    }
     void commit(int u, Item& it);
   };
 

@@ -71,7 +71,9 @@ void BM_Trilinear_Timing_Batch(benchmark::State& s) { run(s, FilterMode::Triline
 // Several units on one global clock (UnitArray, the scheduler in cycle order), trilinear,
 // timed, one by one: the simulator's cost per fragment as the unit count grows (argument: units;
 // 1 is the plain unit UnitArray wraps). `shared`: an L2 over banked DRAM behind the L1s.
-void run_units(benchmark::State& state, bool shared) {
+// `ordered`: every fragment committed in the global cycle order (a commit observer turns off
+// the early commit of fragments that hit their L1), the scheduler before that change.
+void run_units(benchmark::State& state, bool shared, bool ordered = false) {
   BenchFloor& fx = fixture();
   MaterialSetup m;
   m.name = "floor";
@@ -89,6 +91,7 @@ void run_units(benchmark::State& state, bool shared) {
   for (auto _ : state) {
     UnitArray units(fx.textures, {m}, setup, TechTable::defaults(), true);
     units.set_record(record);
+    if (ordered) units.set_commit_observer([](int, const ClockedPipeline&) {});
     uint64_t i = 0;
     for (const Fragment& f : fx.frags) {
       if (units.several()) {
@@ -108,8 +111,10 @@ void run_units(benchmark::State& state, bool shared) {
 }
 void BM_Units_FlatDram(benchmark::State& s) { run_units(s, false); }
 void BM_Units_L2_BankedDram(benchmark::State& s) { run_units(s, true); }
+void BM_Units_FlatDram_Ordered(benchmark::State& s) { run_units(s, false, true); }
 BENCHMARK(BM_Units_FlatDram)->Arg(1)->Arg(2)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Units_L2_BankedDram)->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Units_FlatDram_Ordered)->Arg(2)->Arg(16)->Unit(benchmark::kMillisecond);
 
 BENCHMARK(BM_Bilinear_Functional)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Bilinear_Timing)->Unit(benchmark::kMillisecond);

@@ -63,6 +63,15 @@ class TextureCache {
     mru_[set_index] = fill(set, line);
     return false;
   }
+  // Whether the line is cached (no look-up is made: nothing changes, nothing is counted).
+  bool contains(uint64_t line) const {
+    const size_t set_index = static_cast<size_t>(line & (sets_ - 1));
+    const Way* const set = ways_.data() + set_index * cfg_.ways;
+    for (uint32_t w = 0; w < cfg_.ways; ++w) {
+      if (set[w].tag == line) return true;
+    }
+    return false;
+  }
   uint32_t line_shift() const { return line_shift_; }
   uint64_t line_of(uint64_t addr) const { return addr >> line_shift_; }
   const Config& config() const { return cfg_; }

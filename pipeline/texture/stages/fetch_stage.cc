@@ -117,10 +117,21 @@ uint64_t FetchStage::commit_lookups(uint64_t start) {
   recording_ = false;
   uint64_t wait = 0;
   for (const LineGroup& g : rec_groups_) {
-    wait = std::max(wait, access_lines(rec_lines_.data() + g.first, static_cast<int>(g.count),
+    wait = std::max(wait, lookup_lines(rec_lines_.data() + g.first, static_cast<int>(g.count),
                                        g.texels, start));
   }
   return wait;
+}
+
+bool FetchStage::recorded_local() const {
+  if (!quad_merge_) return rec_groups_.empty();  // the hits were looked up as they came
+  for (const uint64_t line : rec_lines_) {
+    if (quad_merge_ && std::any_of(quad_lines_.begin(), quad_lines_.end(),
+                                   [&](const auto& e) { return e.first == line; }))
+      continue;
+    if (!l1_.contains(line)) return false;
+  }
+  return true;
 }
 
 BlockUse FetchStage::row(uint64_t texels, std::vector<std::string> materials) const {

@@ -41,7 +41,17 @@ class FetchStage {
   // the cycles the fragment waits beyond the hit latency (the misses' refills).
   [[gnu::always_inline]] inline uint64_t access_lines(const uint64_t* lines, int n, uint64_t texels,
                                                       uint64_t start) {
-    if (recording_) return record(lines, n, texels);
+    if (recording_) {
+      // Lines all in the L1 (without quad merging) are hits at any cycle: looked up now, as
+      // the unit's next look-ups (they would be, at commit), and nothing is left to record.
+      if (!quad_merge_ && all_cached(lines, n)) return lookup_lines(lines, n, texels, 0);
+      return record(lines, n, texels);
+    }
+    return lookup_lines(lines, n, texels, start);
+  }
+  // The look-ups themselves, at `start`.
+  [[gnu::always_inline]] inline uint64_t lookup_lines(const uint64_t* lines, int n, uint64_t texels,
+                                                      uint64_t start) {
     if (quad_merge_) return access_quad_lines(lines, n, texels, start);
     const uint64_t hit_ready = start + hit_latency_;
     uint64_t ready = hit_ready;
@@ -89,6 +99,13 @@ class FetchStage {
   }
   void end_recording() { recording_ = false; }
   uint64_t commit_lookups(uint64_t start);
+  // Whether the recorded look-ups are sure to stay in this unit: nothing was recorded (without
+  // quad merging a group whose lines are all in the L1 is looked up as it comes: each hits, a
+  // hit evicts nothing, and the L1's contents depend on its own look-ups only, never on the
+  // cycle), or every recorded line is in the L1 or in the open quad (merged, no look-up).
+  // False may also mean "not sure" (a line the fragment's own earlier group would bring): the
+  // caller then treats the fragment as one that misses.
+  bool recorded_local() const;
 
   // The cache's report row: every texel a filter fetched is one read through it.
   BlockUse row(uint64_t texels, std::vector<std::string> materials) const;
@@ -97,6 +114,12 @@ class FetchStage {
   static constexpr uint64_t kTable = 129;  // up to 16 probes of 8 taps
   uint32_t group_cycles(uint64_t texels) const {
     return texels > 0 ? static_cast<uint32_t>((texels + tpc_ - 1) / tpc_ - 1) : 0;
+  }
+  bool all_cached(const uint64_t* lines, int n) const {
+    for (int k = 0; k < n; ++k) {
+      if (!l1_.contains(lines[k])) return false;
+    }
+    return true;
   }
   uint64_t record(const uint64_t* lines, int n, uint64_t texels) {
     rec_groups_.push_back({rec_lines_.size(), static_cast<size_t>(n), texels});

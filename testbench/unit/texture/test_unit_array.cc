@@ -74,6 +74,48 @@ TEST(UnitArray, ImageIsTheSameAndTheWorkIsSharedByTile) {
   }
 }
 
+// Fragments whose look-ups all hit their unit's L1 are committed at once, out of the global
+// cycle order; a run with a timeline commits every fragment in that order. Both must give the
+// same report (every cycle, every unit's and level's counters) — with 16 units over an L2 and
+// banked DRAM, and with quad merging — and most fragments must have taken the short way.
+TEST(UnitArray, FragmentsThatHitTheirL1CommitAtOnceWithTheSameFigures) {
+  TempDir dir("unit_array");
+  const std::vector<std::vector<std::string>> setups = {
+      {"pipeline.l2.size_bytes=65536", "pipeline.dram.model=banked"},
+      {"raster.order=tiled", "pipeline.quad_merge=true"}};
+  for (const auto& extra : setups) {
+    const Outcome local = run_units("default", 16, dir.file("local"), extra);
+    RunOptions opt;
+    Outcome ordered;
+    {
+      opt.scene = "default";
+      opt.reference = "none";
+      opt.threads = 1;
+      opt.out = dir.file("ordered");
+      opt.timeline = dir.file("ordered.vcd");
+      opt.overrides = extra;
+      opt.overrides.emplace_back("pipeline.units=16");
+      ordered.capture->write_outputs = true;
+      opt.capture = ordered.capture.get();
+      std::ostringstream log;
+      run_simulation(opt, log);
+      std::ifstream in(opt.out + "/report.json");
+      ordered.report = nlohmann::json::parse(in);
+    }
+    const uint64_t fragments = local.report["fragments"].get<uint64_t>();
+    EXPECT_GT(local.report["scheduler"]["local_commits"].get<uint64_t>(), fragments * 9 / 10);
+    EXPECT_EQ(ordered.report["scheduler"]["local_commits"].get<uint64_t>(), 0u);
+    for (const char* key :
+         {"cycles", "units", "cache", "dram", "blocks", "stages", "frames", "energy", "raster"}) {
+      ASSERT_TRUE(local.report.contains(key)) << key;
+      EXPECT_EQ(local.report[key], ordered.report[key]) << key << " with " << extra[0];
+    }
+    EXPECT_EQ(local.report.value("l2", nlohmann::json()),
+              ordered.report.value("l2", nlohmann::json()));
+    EXPECT_EQ(local.capture->image->rgb, ordered.capture->image->rgb);
+  }
+}
+
 // Quad merging takes look-ups away, never colours: every look-up it saves is one the unit made
 // without it (a line an earlier lane of the same quad had looked up).
 TEST(UnitArray, QuadMergingSavesLookupsAndKeepsTheImage) {
