@@ -47,6 +47,28 @@ class UnitScheduler {
   template <class Fill>
   void add_with(int u, Fill&& fill) {
     Lane& l = units_[static_cast<size_t>(u)];
+    if constexpr (requires { hooks_.local(u); }) {
+      if (!l.begun && l.queue.empty()) {
+        // Nothing waits in the unit: the item begins at once from a local copy, and one that
+        // stays in its unit is committed without ever being stored (the queue's slots, one
+        // unit's of many, are seldom in the host's cache).
+        Item item;
+        fill(item);
+        const uint64_t start = hooks_.begin(u, item);
+        if (hooks_.local(u)) {
+          hooks_.commit(u, item);
+          ++committed_;
+          ++local_;
+          return;
+        }
+        l.queue.push_slot() = std::move(item);
+        ++waiting_;
+        mark_begun(u, start);
+        if (begun_ < units_.size() && waiting_ <= window_) return;
+        drain(false);
+        return;
+      }
+    }
     fill(l.queue.push_slot());
     ++waiting_;
     if (!l.begun) {
@@ -138,7 +160,11 @@ class UnitScheduler {
       }
       break;
     }
-    l.begun = true;
+    mark_begun(u, start);
+  }
+  // Unit u's front item has begun and starts its memory stage at `start`.
+  void mark_begun(int u, uint64_t start) {
+    units_[static_cast<size_t>(u)].begun = true;
     ++begun_;
     if (committed_ > 0 && start < last_cycle_) ++late_;
     if (start > max_start_) throw std::overflow_error("UnitScheduler: cycle out of range");

@@ -231,7 +231,7 @@ void TextureUnit::issue_any(CostFn&& cost_at) {
   defer_start_ = pipe_->start_at(k, defer_arrival_);
 }
 
-void TextureUnit::commit() {
+void TextureUnit::commit_deferred() {
   const int k = cache_slot_;
   defer_costs_[static_cast<size_t>(k)].extra_latency = fetch_.commit_lookups(defer_start_);
   if (!two_step_fixed_) {
@@ -269,6 +269,15 @@ void TextureUnit::issue_two_step(Path& p, const ItemCost* front, uint32_t probes
   fetch_.begin_recording();
   lookups(0);
   fetch_.end_recording();
+  if (early_ && !fetch_.quad_merge() && fetch_.recorded_local()) {
+    // Every look-up hit (the cache slot waits for nothing) and nothing behind the L1 is
+    // asked: the whole way now, as the unit would take it at commit (done_: commit() has
+    // nothing left to do).
+    pipe_->issue_fixed<kFront + kStages>(
+        0, [c](auto s, uint64_t) __attribute__((always_inline)) { return c[decltype(s)::value]; });
+    done_ = true;
+    return;
+  }
   constexpr int k = kFront + kCache;
   defer_arrival_ = pipe_->issue_head_fixed<k>(
       0, [c](auto s, uint64_t) __attribute__((always_inline)) { return c[decltype(s)::value]; });

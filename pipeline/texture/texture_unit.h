@@ -53,10 +53,20 @@ class TextureUnit {
   // fragment starts the cache stage, and the rest of its way (once per processed fragment,
   // before the next one).
   uint64_t pending_start() const { return defer_start_; }
-  void commit();
+  void commit() {
+    if (done_) {  // the fragment took its whole way in process()
+      done_ = false;
+      return;
+    }
+    commit_deferred();
+  }
   // Whether the processed fragment's commit() stays in this unit (its look-ups all hit the L1,
   // FetchStage::recorded_local), so it may be committed at once, out of the global order.
-  bool pending_local() const { return fetch_.recorded_local(); }
+  bool pending_local() const { return done_ || fetch_.recorded_local(); }
+  // Whether a fragment that stays in the unit may take its whole way at once, in process()
+  // (then commit() does nothing); off when the caller commits in the global order anyway
+  // (a timeline records the items in that order).
+  void set_early_commit(bool on) { early_ = on; }
 
   // Filters one fragment with its material's blocks and the fragment's own texture (f.tex, an
   // index into the unit's TextureSet); in timing mode also sends it through the clocked
@@ -240,6 +250,8 @@ class TextureUnit {
   // Two-step timing of the fixed slot sequence (front end, LOD, address, cache, blend): the
   // kernels and commit() unroll the stages.
   bool two_step_fixed_ = false;
+  bool early_ = true, done_ = false;  // set_early_commit; the fragment in flight is done
+  void commit_deferred();             // commit() of a fragment that waited for its turn
   // Runs the fragment through the pipeline with cost_at(stage, start) — at once, or in two
   // steps in a unit of several.
   template <class CostFn>

@@ -61,12 +61,6 @@ uint64_t UnitArray::Hooks::begin(int u, Item& it) {
   return unit.pending_start();
 }
 
-void UnitArray::Hooks::commit(int u, Item& /*it*/) {
-  TextureUnit& unit = *a->units_[static_cast<size_t>(u)];
-  unit.commit();
-  if (a->observer_) a->observer_(u, *unit.pipeline());
-}
-
 namespace {
 // Whether a and b are the same fragment, bit for bit.
 bool same_fragment(const Fragment& a, const Fragment& b) {

@@ -54,6 +54,7 @@ class UnitArray {
   // Several units: called after each fragment's last stage with its unit (for --timeline).
   void set_commit_observer(std::function<void(int unit, const ClockedPipeline& pipe)> f) {
     observer_ = std::move(f);
+    for (auto& u : units_) u->set_early_commit(!observer_);
   }
 
   // Totals over the units (with one unit, that unit's figures).
@@ -124,7 +125,11 @@ class UnitArray {
     bool local(int u) const {
       return !a->observer_ && a->units_[static_cast<size_t>(u)]->pending_local();
     }
-    void commit(int u, Item& it);
+    void commit(int u, Item& /*it*/) {
+      TextureUnit& unit = *a->units_[static_cast<size_t>(u)];
+      unit.commit();
+      if (a->observer_) a->observer_(u, *unit.pipeline());
+    }
   };
 
   PipelineSetup setup_;

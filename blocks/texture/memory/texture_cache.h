@@ -63,14 +63,28 @@ class TextureCache {
     mru_[set_index] = fill(set, line);
     return false;
   }
-  // Whether the line is cached (no look-up is made: nothing changes, nothing is counted).
-  bool contains(uint64_t line) const {
+  // Where the line is cached: its way's index in the cache (set · ways + way), or -1. No
+  // look-up is made: nothing changes, nothing is counted.
+  int64_t find(uint64_t line) const {
     const size_t set_index = static_cast<size_t>(line & (sets_ - 1));
-    const Way* const set = ways_.data() + set_index * cfg_.ways;
+    const size_t first = set_index * cfg_.ways;
+    const size_t mru = first + mru_[set_index];  // the likely way first, as access_line()
+    if (ways_[mru].tag == line) return static_cast<int64_t>(mru);
     for (uint32_t w = 0; w < cfg_.ways; ++w) {
-      if (set[w].tag == line) return true;
+      if (ways_[first + w].tag == line) return static_cast<int64_t>(first + w);
     }
-    return false;
+    return -1;
+  }
+  bool contains(uint64_t line) const { return find(line) >= 0; }
+  // The look-up of a line find() placed at `way`: the hit access_line() would make (the same
+  // stamp, counters and most recent way), without searching the set again.
+  void hit_at(int64_t way) {
+    ++stats_.accesses;
+    ++clock_;
+    ++stats_.hits;
+    const auto w = static_cast<size_t>(way);
+    ways_[w].stamp = clock_;
+    mru_[w / cfg_.ways] = static_cast<uint32_t>(w % cfg_.ways);
   }
   uint32_t line_shift() const { return line_shift_; }
   uint64_t line_of(uint64_t addr) const { return addr >> line_shift_; }

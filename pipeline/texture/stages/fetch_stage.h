@@ -44,7 +44,7 @@ class FetchStage {
     if (recording_) {
       // Lines all in the L1 (without quad merging) are hits at any cycle: looked up now, as
       // the unit's next look-ups (they would be, at commit), and nothing is left to record.
-      if (!quad_merge_ && all_cached(lines, n)) return lookup_lines(lines, n, texels, 0);
+      if (!quad_merge_ && hit_all(lines, n, texels)) return 0;
       return record(lines, n, texels);
     }
     return lookup_lines(lines, n, texels, start);
@@ -115,10 +115,17 @@ class FetchStage {
   uint32_t group_cycles(uint64_t texels) const {
     return texels > 0 ? static_cast<uint32_t>((texels + tpc_ - 1) / tpc_ - 1) : 0;
   }
-  bool all_cached(const uint64_t* lines, int n) const {
+  // If every line is in the L1: their look-ups (all hits, in order), and true.
+  [[gnu::always_inline]] inline bool hit_all(const uint64_t* lines, int n, uint64_t texels) {
+    constexpr int kMax = 16;  // a linear probe's lines (8); more (anisotropic taps): recorded
+    int64_t way[kMax];
+    if (n > kMax) return false;
     for (int k = 0; k < n; ++k) {
-      if (!l1_.contains(lines[k])) return false;
+      way[k] = l1_.find(lines[k]);
+      if (way[k] < 0) return false;
     }
+    for (int k = 0; k < n; ++k) l1_.hit_at(way[k]);
+    l1_.count_texels(texels);
     return true;
   }
   uint64_t record(const uint64_t* lines, int n, uint64_t texels) {
