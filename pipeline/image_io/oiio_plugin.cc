@@ -69,7 +69,11 @@ oiio::Plugin& oiio_plugin(const std::string& needed_for) {
       g_plugin.store(p, std::memory_order_release);
       return *p;
     }
-    tried += (tried.empty() ? "" : "; ") + path + " (" + why + ")";
+    if (!tried.empty()) tried += "; ";
+    tried += path;
+    tried += " (";
+    tried += why;
+    tried += ")";
   }
   throw InputError(needed_for,
                    std::string("needs OpenImageIO, which texsim loads from its plugin ") +

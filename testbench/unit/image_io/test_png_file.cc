@@ -71,8 +71,8 @@ void write_kind(const std::string& path, int w, int h, const PngKind& k) {
   std::vector<png_byte> alphas;
   if (k.colour == PNG_COLOR_TYPE_PALETTE) {
     channels = 1;
-    const std::vector<uint8_t> c = noise(3 * 256, 7);
-    for (int i = 0; i < (1 << k.depth); ++i)
+    const std::vector<uint8_t> c = noise(size_t{3} * 256, 7);
+    for (size_t i = 0; i < (size_t{1} << k.depth); ++i)
       palette.push_back({c[3 * i], c[3 * i + 1], c[3 * i + 2]});
     png_set_PLTE(png, info, palette.data(), static_cast<int>(palette.size()));
     if (k.trns) {
@@ -102,6 +102,7 @@ void write_kind(const std::string& path, int w, int h, const PngKind& k) {
     for (uint8_t& b : px) b = static_cast<uint8_t>(b % (1 << k.depth));
   }
   std::vector<png_bytep> rows;
+  rows.reserve(static_cast<size_t>(h));
   for (int y = 0; y < h; ++y) rows.push_back(px.data() + static_cast<size_t>(y) * row);
   png_write_image(png, rows.data());
   png_write_end(png, nullptr);
@@ -209,7 +210,7 @@ TEST(PngFile, ShippedReferenceFramesReadAsOpenImageIOReadThem) {
 
 TEST(PngFile, DamagedFilesAreErrorsNamingTheFile) {
   TempDir dir("texsim_png");
-  const std::vector<uint8_t> px = noise(40 * 30 * 3, 5);
+  const std::vector<uint8_t> px = noise(size_t{40} * 30 * 3, 5);
   ASSERT_EQ(write_png_rgb8(dir.file("good.png"), 40, 30, px.data(), false), "");
   std::vector<uint8_t> bytes = file_bytes(dir.file("good.png"));
   PngImage img;
