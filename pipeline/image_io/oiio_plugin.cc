@@ -2,6 +2,7 @@
 
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <filesystem>
@@ -53,8 +54,15 @@ std::vector<std::string> oiio_plugin_candidates() {
   if (const char* env = std::getenv("TEXSIM_OIIO_PLUGIN"); env && *env) return {env};
   std::error_code ec;
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec) out.push_back((exe.parent_path() / oiio::kLibraryName).string());
-  out.push_back((std::filesystem::path(TEXSIM_INSTALL_LIBDIR) / oiio::kLibraryName).string());
+  if (!ec) {
+    out.push_back((exe.parent_path() / oiio::kLibraryName).string());
+    out.push_back((exe.parent_path() / TEXSIM_BIN_TO_LIBDIR / oiio::kLibraryName)
+                      .lexically_normal()
+                      .string());
+  }
+  const std::string installed =
+      (std::filesystem::path(TEXSIM_INSTALL_LIBDIR) / oiio::kLibraryName).string();
+  if (std::find(out.begin(), out.end(), installed) == out.end()) out.push_back(installed);
   return out;
 }
 

@@ -1,9 +1,9 @@
 #pragma once
 // Finds and opens libtexsim_oiio.so (oiio_plugin_api.h) the first time OpenImageIO is needed,
 // so that a run that reads no texture file and writes only PNGs never loads OpenImageIO.
-// Searched, first found wins: the directory of the running executable, then the install
-// library directory; $TEXSIM_OIIO_PLUGIN, when set, names the library file and is the only
-// place looked at.
+// Searched, first found wins: the directory of the running executable, the install library
+// directory relative to it (bin/../lib), then the configured install library directory;
+// $TEXSIM_OIIO_PLUGIN, when set, names the library file and is the only place looked at.
 #include <string>
 #include <vector>
 
