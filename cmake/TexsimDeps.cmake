@@ -1,7 +1,23 @@
 # Every dependency comes from a Debian package (scripts/setup-debian.sh installs them).
 find_package(PkgConfig REQUIRED)
 find_package(glm REQUIRED)
+# OpenImageIO: texture files of every format and the OIIO peer, only in the plugin
+# libtexsim_oiio.so that texsim opens on first use (pipeline/image_io/oiio_plugin.h): linked,
+# its ~260 libraries would cost every process ~0.2 s and ~120 MB at start.
 find_package(OpenImageIO REQUIRED)
+# Debian's package names /usr/include/opencv4 among its include directories without needing
+# it; a target linking OpenImageIO directly is a configure error while that path is missing.
+get_target_property(_oiio_dirs OpenImageIO::OpenImageIO INTERFACE_INCLUDE_DIRECTORIES)
+set(_oiio_present "")
+foreach(_dir IN LISTS _oiio_dirs)
+  if(EXISTS "${_dir}")
+    list(APPEND _oiio_present "${_dir}")
+  endif()
+endforeach()
+set_target_properties(OpenImageIO::OpenImageIO PROPERTIES
+  INTERFACE_INCLUDE_DIRECTORIES "${_oiio_present}")
+# libpng: the PNGs texsim writes and the 8-bit RGB PNGs it reads back (libpng-dev).
+find_package(PNG REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(tomlplusplus REQUIRED)
 find_package(Threads REQUIRED)
@@ -30,6 +46,6 @@ endif()
 add_library(texsim_deps INTERFACE)
 add_library(texsim::deps ALIAS texsim_deps)
 # SYSTEM include paths keep third-party headers out of -Werror.
-target_link_libraries(texsim_deps INTERFACE glm::glm OpenImageIO::OpenImageIO CLI11::CLI11
+target_link_libraries(texsim_deps INTERFACE glm::glm CLI11::CLI11
   tomlplusplus::tomlplusplus PkgConfig::HIDAPI PkgConfig::MPFR ZLIB::ZLIB nlohmann_json::nlohmann_json Threads::Threads
   tinyobjloader::tinyobjloader_double SQLite::SQLite3 assimp::assimp)

@@ -13,6 +13,7 @@ layer() {
     traces/*) echo "1 traces" ;;
     rtl_model/*) echo "2 rtl" ;;
     pipeline/capture/*) echo "2 capture" ;;
+    pipeline/image_io/*) echo "2 image_io" ;;
     pipeline/kernel/*) echo "3 kernel" ;;
     pipeline/scene/*) echo "4 scene" ;;
     pipeline/geometry/*) echo "5 geometry" ;;

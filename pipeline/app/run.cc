@@ -1,6 +1,5 @@
 #include "pipeline/app/run.h"
 
-#include <OpenImageIO/parallel.h>
 #include <sys/stat.h>
 
 #include <algorithm>

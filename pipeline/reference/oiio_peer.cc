@@ -1,9 +1,5 @@
 #include "pipeline/reference/oiio_peer.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/oiioversion.h>
-#include <OpenImageIO/texture.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -12,37 +8,33 @@
 #include <vector>
 
 #include "blocks/base/input_error.h"
+#include "pipeline/image_io/oiio_plugin.h"
 
 namespace texsim {
 
 struct OiioPeer::Impl {
-  OIIO::TextureSystem* ts = nullptr;
-  OIIO::TextureSystem::TextureHandle* handle = nullptr;
-  OIIO::TextureSystem::Perthread* thread = nullptr;
-  mutable OIIO::TextureOpt opt;
+  oiio::Plugin* plugin = nullptr;
+  std::unique_ptr<oiio::TexturePeer> peer;
 };
 
 namespace {
 std::atomic<int> g_counter{0};
 
-OIIO::TextureOpt::Wrap to_oiio(AddressMode m) {
+const char* wrap_name(AddressMode m) {
   switch (m) {
     case AddressMode::Wrap:
-      return OIIO::TextureOpt::WrapPeriodic;
+      return "periodic";
     case AddressMode::Clamp:
-      return OIIO::TextureOpt::WrapClamp;
+      return "clamp";
     case AddressMode::Mirror:
-      return OIIO::TextureOpt::WrapMirror;
+      return "mirror";
   }
-  return OIIO::TextureOpt::WrapPeriodic;
+  return "periodic";
 }
 }  // namespace
 
 OiioPeer::OiioPeer(const Texture& tex, const Config& cfg) : impl_(std::make_unique<Impl>()) {
   const int w = tex.width(0), h = tex.height(0);
-  const bool u8 = tex.format() == TexelFormat::Rgba8;
-  OIIO::ImageSpec spec(w, h, 4, OIIO::TypeDesc::FLOAT);
-  OIIO::ImageBuf src(spec);
   std::vector<float> px(static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
@@ -55,56 +47,50 @@ OiioPeer::OiioPeer(const Texture& tex, const Config& cfg) : impl_(std::make_uniq
       px[i + 3] = c.a;
     }
   }
-  src.set_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, 4), OIIO::TypeDesc::FLOAT, px.data());
   const std::filesystem::path dir = cfg.tx_dir.empty() ? std::filesystem::temp_directory_path()
                                                        : std::filesystem::path(cfg.tx_dir);
-  path_ = (dir / ("texsim_oiio_peer_" + std::to_string(::getpid()) + "_" +
-                  std::to_string(g_counter++) + ".tx"))
-              .string();
-  OIIO::ImageSpec conf;
-  conf.tile_width = 64;
-  conf.tile_height = 64;
-  conf.format = u8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
-  conf.attribute("maketx:filtername", "box");
-  const char* wrap = cfg.address == AddressMode::Wrap
-                         ? "periodic"
-                         : (cfg.address == AddressMode::Clamp ? "clamp" : "mirror");
-  conf.attribute("wrapmodes", std::string(wrap) + "," + wrap);
-  if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, src, path_, conf)) {
-    throw InputError(path_, "OpenImageIO make_texture failed: " + OIIO::geterror());
+  const std::string path = (dir / ("texsim_oiio_peer_" + std::to_string(::getpid()) + "_" +
+                                   std::to_string(g_counter++) + ".tx"))
+                               .string();
+  impl_->plugin = &oiio_plugin("the OpenImageIO peer");
+  oiio::PeerSetup setup;
+  setup.width = w;
+  setup.height = h;
+  setup.rgba = px.data();
+  setup.uint8 = tex.format() == TexelFormat::Rgba8;
+  setup.wrap = wrap_name(cfg.address);
+  setup.aniso = cfg.aniso;
+  setup.max_aniso = cfg.max_aniso;
+  setup.tx_path = path;
+  path_ = path;  // removed by the destructor, whatever make_peer left there
+  std::string error;
+  impl_->peer = impl_->plugin->make_peer(setup, &error);
+  if (!impl_->peer) {
+    std::error_code ec;
+    std::filesystem::remove(path_, ec);  // a half-written .tx
+    throw InputError(path_, error);
   }
-  impl_->ts = OIIO::TextureSystem::create(false);
-  impl_->ts->attribute("automip", 0);
-  impl_->ts->attribute("max_memory_MB", 64.0f);
-  impl_->handle = impl_->ts->get_texture_handle(OIIO::ustring(path_));
-  impl_->thread = impl_->ts->get_perthread_info();
-  if (!impl_->handle) throw InputError(path_, "OpenImageIO TextureSystem cannot open the .tx");
-  OIIO::TextureOpt& o = impl_->opt;
-  o.mipmode = cfg.aniso ? OIIO::TextureOpt::MipModeAniso : OIIO::TextureOpt::MipModeTrilinear;
-  o.interpmode = OIIO::TextureOpt::InterpBilinear;
-  o.anisotropic = cfg.max_aniso;
-  o.swrap = o.twrap = to_oiio(cfg.address);
 }
 
 OiioPeer::~OiioPeer() {
-  if (impl_ && impl_->ts) OIIO::TextureSystem::destroy(impl_->ts);
+  impl_.reset();  // the TextureSystem first: it holds the .tx open
   std::error_code ec;
   if (!path_.empty()) std::filesystem::remove(path_, ec);
 }
 
 Rgba OiioPeer::lookup(const Fragment& f) const {
-  float r[4] = {0, 0, 0, 0};
   if (!std::isfinite(f.u) || !std::isfinite(f.v) || !std::isfinite(f.dudx) ||
       !std::isfinite(f.dvdx) || !std::isfinite(f.dudy) || !std::isfinite(f.dvdy)) {
     return {0, 0, 0, 0};
   }
-  impl_->ts->texture(impl_->handle, impl_->thread, impl_->opt, static_cast<float>(f.u),
-                     static_cast<float>(f.v), static_cast<float>(f.dudx),
-                     static_cast<float>(f.dvdx), static_cast<float>(f.dudy),
-                     static_cast<float>(f.dvdy), 4, r);
+  const float q[6] = {static_cast<float>(f.u),    static_cast<float>(f.v),
+                      static_cast<float>(f.dudx), static_cast<float>(f.dvdx),
+                      static_cast<float>(f.dudy), static_cast<float>(f.dvdy)};
+  float r[4] = {0, 0, 0, 0};
+  impl_->peer->lookup(q, r);
   return {r[0], r[1], r[2], r[3]};
 }
 
-std::string OiioPeer::version() const { return OIIO_VERSION_STRING; }
+std::string OiioPeer::version() const { return impl_->plugin->version(); }
 
 }  // namespace texsim

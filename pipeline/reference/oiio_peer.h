@@ -20,7 +20,8 @@ class OiioPeer {
     std::string tx_dir;                       // where the .tx goes (empty: system temp dir)
   };
   // Writes the texture's level 0 to a temporary .tx (OIIO builds its own MIP chain, box filter)
-  // and opens a private TextureSystem on it. Throws InputError if OIIO fails.
+  // and opens a private TextureSystem on it, through the OpenImageIO plugin (loaded on first
+  // use, pipeline/image_io/oiio_plugin.h). Throws InputError if the plugin or OIIO fails.
   OiioPeer(const Texture& tex, const Config& cfg);
   ~OiioPeer();
   OiioPeer(const OiioPeer&) = delete;
@@ -29,7 +30,7 @@ class OiioPeer {
   // One filtered lookup (RGBA). Non-finite inputs give (0, 0, 0, 0), as OIIO's own failure.
   Rgba lookup(const Fragment& f) const;
   const std::string& tx_path() const { return path_; }
-  std::string version() const;
+  std::string version() const;  // OpenImageIO's, from the plugin
 
  private:
   struct Impl;

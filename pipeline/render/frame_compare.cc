@@ -1,34 +1,58 @@
 #include "pipeline/render/frame_compare.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
 #include "blocks/base/input_error.h"
 #include "blocks/base/input_file.h"
+#include "pipeline/image_io/oiio_plugin.h"
+#include "pipeline/image_io/png_file.h"
 
 namespace texsim {
 
-Rgb8Image read_rgb8_image(const std::string& path) {
-  // A regular file of a reference image's size, before OpenImageIO opens it: a FIFO or device
-  // would never end, and the run's outputs must not replace it.
-  check_input_file(path, "reference image", 256 * kMiB);
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw InputError(path, "cannot read image: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.width > 16384 || spec.height > 16384 ||
-      spec.nchannels < 3 || spec.nchannels > 64) {
+namespace {
+constexpr int kMaxSide = 16384;
+constexpr uint64_t kMaxReferenceBytes = 256 * kMiB;
+
+// Any image OpenImageIO reads, through its plugin.
+Rgb8Image read_with_oiio(const std::string& path) {
+  std::string error;
+  const auto in = oiio_plugin(path).open(path, &error);
+  if (!in) throw InputError(path, "cannot read image: " + error);
+  const oiio::LevelSpec spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.width > kMaxSide || spec.height > kMaxSide ||
+      spec.channels < 3 || spec.channels > 64) {
     throw InputError(path, "not an RGB image of at most 16384 x 16384 pixels");
   }
   Rgb8Image img;
   img.width = spec.width;
   img.height = spec.height;
   img.rgb.resize(static_cast<size_t>(img.width) * static_cast<size_t>(img.height) * 3);
-  if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, img.rgb.data()))
-    throw InputError(path, "cannot decode image: " + in->geterror());
+  if (!in->read_uint8(3, img.rgb.data()))
+    throw InputError(path, "cannot decode image: " + in->error());
   return img;
+}
+}  // namespace
+
+Rgb8Image read_rgb8_image(const std::string& path) {
+  // A regular file of a reference image's size, before it is read: a FIFO or device would
+  // never end, and the run's outputs must not replace it.
+  const std::string bytes = read_input_file(path, "reference image", kMaxReferenceBytes);
+  // 8-bit RGB PNGs through libpng; whatever else, and the PNGs whose
+  // pixels OpenImageIO would convert (alpha, 16-bit), through OpenImageIO.
+  PngImage png;
+  std::string error;
+  const auto* data = reinterpret_cast<const uint8_t*>(bytes.data());
+  switch (read_png_rgb8(data, bytes.size(), kMaxSide, &png, &error)) {
+    case PngRead::Ok:
+      return {png.width, png.height, std::move(png.rgb)};
+    case PngRead::Failed:
+      throw InputError(path, "cannot decode image: " + error);
+    case PngRead::NotHandled:
+      break;
+  }
+  return read_with_oiio(path);
 }
 
 namespace {

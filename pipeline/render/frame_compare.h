@@ -16,8 +16,9 @@ struct Rgb8Image {
   std::vector<uint8_t> rgb;
 };
 
-// Reads a PNG (any 8-bit image OpenImageIO reads; alpha and further channels are ignored);
-// an unreadable file is an InputError naming it.
+// Reads a PNG (any 8-bit image OpenImageIO reads; alpha and further channels are ignored):
+// 8-bit RGB PNGs through libpng, anything else through OpenImageIO's plugin, the same pixels
+// either way. An unreadable file is an InputError naming it.
 Rgb8Image read_rgb8_image(const std::string& path);
 
 struct FrameComparison {

@@ -1,15 +1,14 @@
 #include "pipeline/report/image_metrics.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <array>
-#include <cerrno>
+#include <cctype>
 #include <cmath>
-#include <cstring>
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
+#include "pipeline/image_io/oiio_plugin.h"
+#include "pipeline/image_io/png_file.h"
 
 namespace texsim {
 
@@ -96,30 +95,35 @@ AccuracyMetrics compare_images(const ImageRgb& img, const ImageRgb& ref, int32_t
 }
 
 namespace {
+bool is_png_path(const std::string& path) {
+  const size_t dot = path.rfind('.');
+  if (dot == std::string::npos || path.find('/', dot) != std::string::npos) return false;
+  std::string ext = path.substr(dot + 1);
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext == "png";
+}
+
 void write_rgb8(const std::string& path, int w, int h, const std::vector<uint8_t>& px) {
+  // PNGs through libpng; other formats through OpenImageIO, loaded only for them.
+  oiio::Plugin* plugin = is_png_path(path) ? nullptr : &oiio_plugin(path);
   const std::string tmp = temp_path_for(path, ".png");
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) throw InputError(path, "no image writer for this file type: " + OIIO::geterror());
-  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
   // Very large images (up to 16384²) are written with fast compression: the default level
   // takes several seconds per image there.
-  if (static_cast<int64_t>(w) * h > (int64_t{1} << 24)) {
-    spec.attribute("png:compressionLevel", 1);
-    spec.attribute("png:filter", 8);  // PNG_FILTER_NONE: no per-row filter search
+  const bool fast = static_cast<int64_t>(w) * h > (int64_t{1} << 24);
+  std::string reason;
+  if (!plugin) {
+    reason = write_png_rgb8(tmp, w, h, px.data(), fast);
+  } else if (!plugin->write_uint8(tmp, path, w, h, 3, px.data(), fast, &reason)) {
+    // OpenImageIO picks the writer from `path` (the temporary name ends in .png).
+    if (reason.empty()) reason = "unknown error";
   }
-  // The temporary name keeps the real extension's writer (created above from `path`).
-  errno = 0;
-  if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()) ||
-      !out->close()) {
-    // The reason, in terms of the file asked for (the library's message names the temporary).
-    const std::string reason = errno ? std::strerror(errno) : out->geterror();
+  if (!reason.empty()) {
     discard_temp(tmp, path);
     throw InputError(path, "cannot write image: " + reason);
   }
   commit_temp(tmp, path);
 }
 
-// The buffer's 8-bit pixels placed on the canvas (outside the buffer: `fill`).
 // The buffer's 8-bit pixels placed on the canvas (outside the buffer: `fill`), with
 // `extra_rows` more rows below for the caller.
 std::vector<uint8_t> placed(const ImageRgb& img, std::vector<uint8_t> px,

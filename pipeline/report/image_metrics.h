@@ -1,5 +1,5 @@
 #pragma once
-// Rendered and reference images, their error metrics and PNG output (via OpenImageIO).
+// Rendered and reference images, their error metrics and PNG output (libpng).
 #include <array>
 #include <cstdint>
 #include <glm/vec3.hpp>
@@ -56,7 +56,8 @@ AccuracyMetrics compare_images(const ImageRgb& img, const ImageRgb& ref, int32_t
 // l < labels (one pass).
 std::vector<ErrorSums> error_sums(const ImageRgb& img, const ImageRgb& ref, int labels);
 
-// Writes an 8-bit PNG (or any OIIO format by extension) atomically; throws InputError.
+// Writes an 8-bit PNG through libpng (any other extension: the format OpenImageIO writes for
+// it, through its plugin) atomically; throws InputError naming the file and the reason.
 void write_image(const std::string& path, const ImageRgb& img);
 // Heat map of max-channel absolute error: black (0) through red and yellow to white (`scale`
 // and above). Below the image (which keeps its size and pixels) a colour bar of

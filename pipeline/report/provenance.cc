@@ -1,6 +1,5 @@
 #include "pipeline/report/provenance.h"
 
-#include <OpenImageIO/hash.h>
 #include <sys/stat.h>
 
 #include <cerrno>
@@ -9,6 +8,7 @@
 #include <vector>
 
 #include "blocks/base/input_error.h"
+#include "blocks/base/sha1.h"
 #include "blocks/base/shell_quote.h"
 #include "blocks/texture/memory/texture_memory.h"
 
@@ -22,7 +22,7 @@ InputDigest digest_file(const std::string& role, const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw InputError(path, std::string("cannot read for its digest: ") + std::strerror(errno));
-  OIIO::SHA1 sha;
+  Sha1 sha;
   std::vector<char> buf(1 << 20);
   while (in) {
     in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
@@ -31,8 +31,7 @@ InputDigest digest_file(const std::string& role, const std::string& path) {
     d.bytes += n;
   }
   if (in.bad()) throw InputError(path, "read error while computing its digest");
-  d.sha1 = sha.digest();
-  for (char& c : d.sha1) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  d.sha1 = sha.hex_digest();
   return d;
 }
 

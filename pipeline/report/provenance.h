@@ -30,7 +30,7 @@ struct Provenance {
   EnergyTable energy = EnergyTable::defaults();  // resolved [tech.energy]
 };
 
-// The file's SHA-1 (via OpenImageIO) and size; throws InputError if it cannot be read.
+// The file's SHA-1 and size; throws InputError if it cannot be read.
 InputDigest digest_file(const std::string& role, const std::string& path);
 
 // Joins argv into one line ("texsim" + arguments), quoting arguments that need it.

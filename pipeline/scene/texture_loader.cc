@@ -1,11 +1,10 @@
 #include "pipeline/scene/texture_loader.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <filesystem>
 
 #include "blocks/base/input_error.h"
 #include "blocks/base/input_file.h"
+#include "pipeline/image_io/oiio_plugin.h"
 #include "pipeline/scene/npz_height_field.h"
 #include "pipeline/scene/procedural_texture.h"
 
@@ -51,14 +50,16 @@ Texture load_texture(const std::string& source, const std::string& base_dir,
   if (is_npz_source(path)) return npz_height_texture(path);  // a DEM height field
   // Only regular files of at most 2 GiB: a device or FIFO (e.g. /dev/zero) would never end.
   check_input_file(path, "texture file", kMaxFileBytes);
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw InputError(path, "cannot read texture: " + OIIO::geterror());
+  // Texture files of every format are read by OpenImageIO, loaded here on first use.
+  std::string error;
+  const auto in = oiio_plugin(path).open(path, &error);
+  if (!in) throw InputError(path, "cannot read texture: " + error);
   std::vector<int> ws, hs;
   std::vector<std::vector<float>> levels;
   bool eight_bit = true;
-  for (int m = 0; in->seek_subimage(0, m); ++m) {
-    const OIIO::ImageSpec& spec = in->spec();
-    const int w = spec.width, h = spec.height, nch = spec.nchannels;
+  for (int m = 0; in->seek_level(m); ++m) {
+    const oiio::LevelSpec spec = in->spec();
+    const int w = spec.width, h = spec.height, nch = spec.channels;
     if (w <= 0 || h <= 0 || w > kMaxSize || h > kMaxSize || nch <= 0 || nch > 64 ||
         spec.depth > 1) {
       throw InputError(path, "unsupported texture size " + std::to_string(w) + "x" +
@@ -69,11 +70,10 @@ Texture load_texture(const std::string& source, const std::string& base_dir,
       throw InputError(path, "texture " + std::to_string(w) + "x" + std::to_string(h) +
                                  " has more than the 8192x8192 texels a texture may have");
     }
-    eight_bit = eight_bit && spec.format == OIIO::TypeDesc::UINT8;
+    eight_bit = eight_bit && spec.uint8;
     std::vector<float> px(static_cast<size_t>(w) * h * nch);
-    if (!in->read_image(0, m, 0, nch, OIIO::TypeDesc::FLOAT, px.data())) {
-      throw InputError(path,
-                       "cannot decode MIP level " + std::to_string(m) + ": " + in->geterror());
+    if (!in->read_float(nch, px.data())) {
+      throw InputError(path, "cannot decode MIP level " + std::to_string(m) + ": " + in->error());
     }
     ws.push_back(w);
     hs.push_back(h);
