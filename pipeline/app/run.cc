@@ -448,13 +448,13 @@ void quad_info(RunInfo& info, const PipelineSetup& setup, const QuadFeed* quads,
 class TruthBatch {
  public:
   TruthBatch(const GroundTruth& truth, RunImages& images, Progress& progress, std::string input,
-             int threads, TruthMemo* memo)
+             int threads, std::unique_ptr<TruthMemo> memo)
       : truth_(truth),
         images_(images),
         progress_(progress),
         input_(std::move(input)),
         threads_(threads),
-        memo_(memo) {
+        memo_(std::move(memo)) {
     items_.reserve(kSize);
   }
   // colour null: not textured.
@@ -484,6 +484,14 @@ class TruthBatch {
     }
     pixels_ += items_.size();
     items_.clear();
+  }
+  // The last batch; the truths computed are kept in the truth cache, and the log says where
+  // the truths came from.
+  void finish(std::ostream& log) {
+    flush();
+    if (!memo_) return;
+    log << memo_->summary();
+    memo_->store();
   }
   // Mean points evaluated per fragment so far.
   double mean_samples() const {
@@ -525,7 +533,7 @@ class TruthBatch {
   Progress& progress_;
   std::string input_;
   int threads_;
-  TruthMemo* memo_;  // null: no truth cache
+  std::unique_ptr<TruthMemo> memo_;  // null: no truth cache
   std::vector<Item> items_;
   uint64_t samples_ = 0, pixels_ = 0;
 };
@@ -899,14 +907,13 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   const bool camera_path = use_scene && !reader && scene.frames > 1;
   std::vector<std::vector<PlaneProjection>> frame_maps;  // a camera path's, by frame
   if (camera_path) truth.frame_maps = &frame_maps;
-  const std::unique_ptr<TruthMemo> memo =
-      truth_memo(opt, scene, truth, textures.set, mats, camera_path);
   RunImages images(layout.extent, layout.canvas_w, layout.canvas_h, scene.background,
                    unit.material_count(), opt.frame);
   Progress progress(opt.progress);
   const std::string& input = opt.trace.empty() ? scene.path : opt.trace;
   // Fragments are processed as they stream in. f: as given; g: texture id of the loaded texture.
-  TruthBatch batch(truth, images, progress, input, opt.threads, memo.get());
+  TruthBatch batch(truth, images, progress, input, opt.threads,
+                   truth_memo(opt, scene, truth, textures.set, mats, camera_path));
   const std::unique_ptr<StageTimeline> timeline = make_timeline(opt, units);
   // With a coordinate front end the workload is what leaves it (and reaches the units).
   const bool front_workload = opt.workload && !reader && unit.front_stages() > 0;
@@ -943,11 +950,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   router.flush();
   units.finish();
   if (order) order->check_drained();
-  batch.flush();
-  if (memo) {
-    log << memo->summary();
-    memo->store();
-  }
+  batch.finish(log);
   images.finish();
   if (images.count() == 0) throw InputError(input, "no fragments to render");
   if (!images.has_kept_frame()) {

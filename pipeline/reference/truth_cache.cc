@@ -145,20 +145,19 @@ std::string env(const char* name) {
 }  // namespace
 
 TruthTable::TruthTable(std::vector<TruthRecord> records) : records_(std::move(records)) {
-  std::stable_sort(records_.begin(), records_.end(),
-                   [](const TruthRecord& a, const TruthRecord& b) { return a.id < b.id; });
-  records_.erase(
-      std::unique(records_.begin(), records_.end(),
-                  [](const TruthRecord& a, const TruthRecord& b) { return a.id == b.id; }),
-      records_.end());
   size_t n = 16;
   while (n < 2 * records_.size()) n *= 2;
   slots_.assign(n, 0);
+  size_t kept = 0;
   for (size_t i = 0; i < records_.size(); ++i) {
     size_t s = id_hash(records_[i].id) & (n - 1);
-    while (slots_[s] != 0) s = (s + 1) & (n - 1);
-    slots_[s] = static_cast<uint32_t>(i + 1);
+    while (slots_[s] != 0 && records_[slots_[s] - 1].id != records_[i].id) s = (s + 1) & (n - 1);
+    if (slots_[s] != 0) continue;  // a repeat: the first record stands
+    records_[kept] = records_[i];
+    slots_[s] = static_cast<uint32_t>(++kept);
   }
+  repeats_ = records_.size() - kept;
+  records_.resize(kept);
 }
 
 const TruthRecord* TruthTable::find(const TruthId& id) const {
@@ -175,7 +174,9 @@ uint64_t TruthTable::bytes() const {
 }
 
 std::shared_ptr<const TruthTable> TruthTable::merged(const std::vector<TruthRecord>& more) const {
-  std::vector<TruthRecord> all = records_;
+  std::vector<TruthRecord> all;
+  all.reserve(records_.size() + more.size());
+  all = records_;
   all.insert(all.end(), more.begin(), more.end());
   return std::make_shared<const TruthTable>(std::move(all));
 }
@@ -184,61 +185,110 @@ uint64_t truth_payload_crc(const char* p, size_t n) {
   return crc64_ecma_refl(0, reinterpret_cast<const unsigned char*>(p), n);
 }
 
-std::string encode_truth_entry(const TruthKey& key, const std::vector<TruthRecord>& sorted) {
-  const size_t payload = sorted.size() * sizeof(TruthRecord);
-  std::string s;
-  s.reserve(kTruthHeaderBytes + payload);
-  s.append(kMagic, sizeof kMagic);
+namespace {
+
+std::string entry_header(const TruthKey& key, const std::vector<TruthRecord>& records) {
+  const size_t payload = records.size() * sizeof(TruthRecord);
+  std::string s(kMagic, sizeof kMagic);
   put_u32(s, kTruthEntryVersion);
   put_u32(s, sizeof(TruthRecord));
   s.append(reinterpret_cast<const char*>(key.data()), key.size());
   put_u64(s, payload);
-  const size_t crc_at = s.size();
-  put_u64(s, 0);
-  s.append(reinterpret_cast<const char*>(sorted.data()), payload);
-  const uint64_t crc = truth_payload_crc(s.data() + kTruthHeaderBytes, payload);
-  for (int i = 0; i < 8; ++i) s[crc_at + i] = static_cast<char>(crc >> (8 * i));
+  put_u64(s, truth_payload_crc(reinterpret_cast<const char*>(records.data()), payload));
   return s;
 }
 
-std::vector<TruthRecord> decode_truth_entry(std::string_view b, const std::string& path,
-                                            const TruthKey* expected) {
-  if (b.size() < kTruthHeaderBytes) {
-    throw InputError(path, "truncated: " + std::to_string(b.size()) + " bytes, less than the " +
+// Checks a header (kTruthHeaderBytes of `h`) against the file's size; returns the payload
+// size and its CRC.
+std::pair<uint64_t, uint64_t> check_header(std::string_view h, uint64_t file_bytes,
+                                           const std::string& path, const TruthKey* expected) {
+  if (file_bytes < kTruthHeaderBytes) {
+    throw InputError(path, "truncated: " + std::to_string(file_bytes) + " bytes, less than the " +
                                std::to_string(kTruthHeaderBytes) + "-byte header");
   }
-  if (std::memcmp(b.data(), kMagic, sizeof kMagic) != 0)
+  if (std::memcmp(h.data(), kMagic, sizeof kMagic) != 0)
     throw InputError(path, "not a truth cache entry (bad magic)");
-  if (const uint64_t v = get_le(b, 8, 4); v != kTruthEntryVersion) {
+  if (const uint64_t v = get_le(h, 8, 4); v != kTruthEntryVersion) {
     throw InputError(path, "entry format version " + std::to_string(v) + ", expected " +
                                std::to_string(kTruthEntryVersion));
   }
-  if (get_le(b, 12, 4) != sizeof(TruthRecord))
-    throw InputError(path, "record size " + std::to_string(get_le(b, 12, 4)) + ", expected 64");
+  if (get_le(h, 12, 4) != sizeof(TruthRecord))
+    throw InputError(path, "record size " + std::to_string(get_le(h, 12, 4)) + ", expected 64");
   TruthKey key;
-  std::memcpy(key.data(), b.data() + 16, key.size());
+  std::memcpy(key.data(), h.data() + 16, key.size());
   if (expected && key != *expected) {
     throw InputError(path, "header key " + Sha256::hex(key) + " is not the file's key " +
                                Sha256::hex(*expected));
   }
-  const uint64_t payload = get_le(b, 48, 8), have = b.size() - kTruthHeaderBytes;
+  const uint64_t payload = get_le(h, 48, 8), have = file_bytes - kTruthHeaderBytes;
   if (payload != have) {
     throw InputError(path, "truncated or extended: the header says " + std::to_string(payload) +
                                " payload bytes, the file has " + std::to_string(have));
   }
   if (payload % sizeof(TruthRecord) != 0)
     throw InputError(path, "payload of " + std::to_string(payload) + " bytes is not whole records");
-  if (truth_payload_crc(b.data() + kTruthHeaderBytes, payload) != get_le(b, 56, 8))
+  return {payload, get_le(h, 56, 8)};
+}
+
+// The records' checksum and pads.
+void check_records(const std::vector<TruthRecord>& r, uint64_t crc, const std::string& path) {
+  if (truth_payload_crc(reinterpret_cast<const char*>(r.data()), r.size() * sizeof(TruthRecord)) !=
+      crc)
     throw InputError(path, "payload checksum (CRC-64) does not match: the entry is corrupted");
+  for (size_t i = 0; i < r.size(); ++i) {
+    if (r[i].zero != 0) throw InputError(path, "record " + std::to_string(i) + ": non-zero pad");
+  }
+}
+
+}  // namespace
+
+std::shared_ptr<const TruthTable> truth_table_of(std::vector<TruthRecord> records,
+                                                 const std::string& path) {
+  auto t = std::make_shared<const TruthTable>(std::move(records));
+  if (t->repeats() > 0) {
+    throw InputError(path, std::to_string(t->repeats()) + " records repeat an earlier one's id");
+  }
+  return t;
+}
+
+std::string encode_truth_entry(const TruthKey& key, const std::vector<TruthRecord>& records) {
+  std::string s = entry_header(key, records);
+  s.append(reinterpret_cast<const char*>(records.data()), records.size() * sizeof(TruthRecord));
+  return s;
+}
+
+std::vector<TruthRecord> decode_truth_entry(std::string_view b, const std::string& path,
+                                            const TruthKey* expected) {
+  const auto [payload, crc] = check_header(b, b.size(), path, expected);
   std::vector<TruthRecord> r(payload / sizeof(TruthRecord));
   if (payload > 0) std::memcpy(r.data(), b.data() + kTruthHeaderBytes, payload);
-  for (size_t i = 0; i < r.size(); ++i) {
-    if (r[i].zero != 0 || (i > 0 && !(r[i - 1].id < r[i].id))) {
-      throw InputError(path, "record " + std::to_string(i) +
-                                 (r[i].zero != 0 ? ": non-zero padding" : ": out of order"));
-    }
-  }
+  check_records(r, crc, path);
   return r;
+}
+
+std::vector<TruthRecord> read_truth_entry(const std::string& path, const TruthKey& expected) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) throw InputError(path, "cannot be read");
+  const auto size = static_cast<uint64_t>(in.tellg());
+  std::string h(kTruthHeaderBytes, '\0');
+  in.seekg(0);
+  in.read(h.data(), static_cast<std::streamsize>(std::min<uint64_t>(size, kTruthHeaderBytes)));
+  const auto [payload, crc] = check_header(h, size, path, &expected);
+  std::vector<TruthRecord> r(payload / sizeof(TruthRecord));  // read in place: no copy
+  if (!in.read(reinterpret_cast<char*>(r.data()), static_cast<std::streamsize>(payload)))
+    throw InputError(path, "truncated while it was read");
+  check_records(r, crc, path);
+  return r;
+}
+
+bool write_truth_entry(const std::string& path, const TruthKey& key,
+                       const std::vector<TruthRecord>& records) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  const std::string h = entry_header(key, records);
+  out.write(h.data(), static_cast<std::streamsize>(h.size()));
+  out.write(reinterpret_cast<const char*>(records.data()),
+            static_cast<std::streamsize>(records.size() * sizeof(TruthRecord)));
+  return out.flush().good();
 }
 
 TruthCacheConfig TruthCacheConfig::from_env(bool enabled) {
@@ -279,19 +329,17 @@ std::shared_ptr<const TruthTable> TruthCache::find(const TruthKey& key) {
   }
   if (!disk()) return nullptr;
   const std::string path = entry_path(key);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return nullptr;  // no entry (or unreadable: then it is written anew)
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return nullptr;
   std::shared_ptr<const TruthTable> t;
   try {
-    t = std::make_shared<const TruthTable>(decode_truth_entry(bytes, path, &key));
+    t = truth_table_of(read_truth_entry(path, key), path);
   } catch (const InputError& e) {
     warn(std::string(e.what()) + "; entry removed, the truth is recomputed");
-    std::error_code ec;
     fs::remove(path, ec);
     return nullptr;
   }
-  std::error_code ec;  // a hit is recent use: the eviction keeps it longer
+  // A hit is recent use: the eviction keeps it longer.
   fs::last_write_time(path, fs::file_time_type::clock::now(), ec);
   memory().put(key, t);
   found_in_ = "disk";
@@ -302,8 +350,8 @@ void TruthCache::store(const TruthKey& key, const std::shared_ptr<const TruthTab
   if (!cfg_.enabled) return;
   memory().put(key, t);
   if (!disk()) return;
-  const std::string entry = encode_truth_entry(key, t->records());
-  if (entry.size() > cfg_.max_bytes) return;  // larger than the whole cache may be
+  const uint64_t size = kTruthHeaderBytes + t->records().size() * sizeof(TruthRecord);
+  if (size > cfg_.max_bytes) return;  // larger than the whole cache may be
   std::error_code ec;
   fs::create_directories(cfg_.dir, ec);
   static std::atomic<uint64_t> serial{0};
@@ -312,10 +360,7 @@ void TruthCache::store(const TruthKey& key, const std::shared_ptr<const TruthTab
                            std::to_string(static_cast<long>(::getpid())) + "." +
                            std::to_string(serial++);
   bool ok = !ec;
-  if (ok) {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    ok = out.write(entry.data(), static_cast<std::streamsize>(entry.size())).flush().good();
-  }
+  if (ok) ok = write_truth_entry(temp, key, t->records());
   if (ok) fs::rename(temp, path, ec);  // atomic: readers see the old entry or the new one
   if (!ok || ec) {
     const std::string why = ec ? ec.message() : std::string(std::strerror(errno));

@@ -43,11 +43,12 @@ struct TruthRecord {
   uint32_t zero = 0;    // padding, written as 0
 };
 
-// An immutable set of records with a hash index over their ids.
+// An immutable set of records (in the order given) with a hash index over their ids.
 class TruthTable {
  public:
-  // Sorted by id; a repeated id keeps its first record (the same inputs give the same truth).
+  // A repeated id keeps its first record (the same inputs give the same truth).
   explicit TruthTable(std::vector<TruthRecord> records);
+  size_t repeats() const { return repeats_; }  // records dropped as repeats
   const TruthRecord* find(const TruthId& id) const;
   const std::vector<TruthRecord>& records() const { return records_; }
   uint64_t bytes() const;
@@ -57,17 +58,27 @@ class TruthTable {
  private:
   std::vector<TruthRecord> records_;
   std::vector<uint32_t> slots_;  // open addressing: record index + 1, 0 = empty
+  size_t repeats_ = 0;
 };
 
 // The on-disk entry (format version kTruthEntryVersion, little-endian).
 inline constexpr uint32_t kTruthEntryVersion = 1;
 inline constexpr size_t kTruthHeaderBytes = 64;
-std::string encode_truth_entry(const TruthKey& key, const std::vector<TruthRecord>& sorted);
+std::string encode_truth_entry(const TruthKey& key, const std::vector<TruthRecord>& records);
 // The records of an entry; throws InputError naming `path` and what is wrong (bad magic or
 // version, a key other than *expected (when given), a size or checksum that does not match,
-// records out of order or with a non-zero pad).
+// a record with a non-zero pad).
 std::vector<TruthRecord> decode_truth_entry(std::string_view bytes, const std::string& path,
                                             const TruthKey* expected);
+// The same from the file `path`, read straight into the records.
+std::vector<TruthRecord> read_truth_entry(const std::string& path, const TruthKey& expected);
+// The records as a table; an id that repeats is an InputError naming `path`.
+std::shared_ptr<const TruthTable> truth_table_of(std::vector<TruthRecord> records,
+                                                 const std::string& path);
+// Writes the entry to `path` in place (the cache writes a temporary file and renames it);
+// false on failure.
+bool write_truth_entry(const std::string& path, const TruthKey& key,
+                       const std::vector<TruthRecord>& records);
 // CRC-64/XZ of the payload (ISA-L's crc64_ecma_refl), as the header stores it.
 uint64_t truth_payload_crc(const char* p, size_t n);
 

@@ -62,13 +62,15 @@ TEST(TruthCache, PayloadChecksumIsCrc64Xz) {
   EXPECT_EQ(truth_payload_crc("123456789", 9), 0x995dc9bbdf1939faULL);
 }
 
+constexpr size_t kTexels8 = 256, kTexels4 = 64;  // floats of an 8×8 and a 4×4 RGBA level
+
 // A small set of inputs of every class the key covers.
 struct KeyFixture {
   TextureSet set;
   std::vector<ScenePrimitive> prims{ScenePrimitive{}, ScenePrimitive{}};
   TruthKeyInputs in;
   KeyFixture() {
-    std::vector<float> px(8 * 8 * 4, 0.25f);
+    std::vector<float> px(kTexels8, 0.25f);
     set.add(Texture::from_rgba("a", 8, 8, px, TexelFormat::Rgba8, true));
     set.add(Texture::from_rgba("b", 8, 8, px, TexelFormat::Rgba32f, true));
     prims[1].origin = {1, 0, -2};
@@ -88,7 +90,7 @@ TEST(TruthKey, SameInputsSameKey) {
   EXPECT_EQ(a.key(), b.key());
   // Names are not content: a texture of the same texels under another name keeps the key.
   TextureSet renamed;
-  std::vector<float> px(8 * 8 * 4, 0.25f);
+  std::vector<float> px(kTexels8, 0.25f);
   renamed.add(Texture::from_rgba("other", 8, 8, px, TexelFormat::Rgba8, true));
   renamed.add(Texture::from_rgba("names", 8, 8, px, TexelFormat::Rgba32f, true));
   b.in.textures = &renamed;
@@ -123,17 +125,17 @@ TEST(TruthKey, EveryInputClassChangesTheKey) {
   EXPECT_TRUE(changed([](KeyFixture& f) { f.prims.pop_back(); }));
   // Texture content: one texel of level 0, one of a smaller level, the format.
   EXPECT_TRUE(changed([](KeyFixture& f) {
-    std::vector<float> px(8 * 8 * 4, 0.25f);
+    std::vector<float> px(kTexels8, 0.25f);
     px[4 * 9 + 1] = 0.5f;
     f.set[0] = Texture::from_rgba("a", 8, 8, px, TexelFormat::Rgba8, true);
   }));
   EXPECT_TRUE(changed([](KeyFixture& f) {
-    std::vector<std::vector<float>> lv = {std::vector<float>(8 * 8 * 4, 0.25f),
-                                          std::vector<float>(4 * 4 * 4, 0.3f)};
+    std::vector<std::vector<float>> lv = {std::vector<float>(kTexels8, 0.25f),
+                                          std::vector<float>(kTexels4, 0.3f)};
     f.set[1] = Texture::from_levels("b", {8, 4}, {8, 4}, lv, TexelFormat::Rgba32f);
   }));
   EXPECT_TRUE(changed([](KeyFixture& f) {
-    std::vector<float> px(8 * 8 * 4, 0.25f);
+    std::vector<float> px(kTexels8, 0.25f);
     f.set[1] = Texture::from_rgba("b", 8, 8, px, TexelFormat::Rgba8, true);
   }));
   // Materials: texture, address modes, relief or lighting.
@@ -156,7 +158,7 @@ std::vector<TruthRecord> some_records(int n, double salt = 0) {
     t.samples = i + 9;
     r.push_back(t);
   }
-  return TruthTable(r).records();  // sorted
+  return r;
 }
 
 TruthKey key_of(uint8_t b) {
@@ -195,6 +197,9 @@ TEST(TruthEntry, RoundTripAndEveryDamageIsFound) {
   EXPECT_NE(error(version, key).find("version"), std::string::npos);
   EXPECT_NE(error(e, key).find("(accepted)"), std::string::npos);
   EXPECT_NE(error(e, key_of(8)).find("x.truth"), std::string::npos);  // names the file
+  std::vector<TruthRecord> twice = recs;
+  twice.push_back(recs[3]);
+  EXPECT_THROW(truth_table_of(twice, "x.truth"), InputError);
 }
 
 TEST(TruthTable, FindsEveryRecordAndNothingElse) {
@@ -259,7 +264,7 @@ TEST(TruthCache, DamagedEntriesAreReportedRemovedAndNeverUsed) {
     EXPECT_NE(err.find("warning: truth cache: " + path), std::string::npos) << err;
     EXPECT_FALSE(fs::exists(path));
   };
-  damage([](std::string& b) { b[kTruthHeaderBytes + 64 * 5 + 30] ^= 0x10; });
+  damage([](std::string& b) { b[kTruthHeaderBytes + 350] ^= 0x10; });
   damage([](std::string& b) { b.resize(b.size() - 64); });
   damage([](std::string& b) { b.resize(40); });
   damage([](std::string& b) { b[16] ^= 1; });  // the header's key
@@ -300,6 +305,7 @@ TEST(TruthCache, ConcurrentWritersOfOneKeyLeaveOneWholeEntry) {
     ASSERT_GE(pid, 0);
     if (pid == 0) {
       std::vector<std::thread> th;
+      th.reserve(2);
       for (int i = 0; i < 2; ++i) {
         th.emplace_back([&] {
           TruthCache c(config_in(d));
