@@ -244,13 +244,16 @@ struct TruthMemo {
   std::vector<char> cached;                 // per material: its truths may be cached
   std::vector<TruthRecord> fresh;           // computed by this run
   uint64_t hits = 0;
+  std::future<void> writing;  // the entry being stored (awaited when the run ends)
 
   bool covers(int material) const { return cached[static_cast<size_t>(material)] != 0; }
-  // Keeps what the run computed (merged with what the cache had).
+  // Keeps what the run computed (merged with what the cache had), on a thread of its own: the
+  // entry is written while the run assembles and writes its outputs.
   void store() {
     if (fresh.empty()) return;
-    cache->store(
-        key, table ? table->merged(fresh) : std::make_shared<const TruthTable>(std::move(fresh)));
+    auto t = table ? table->merged(fresh) : std::make_shared<const TruthTable>(std::move(fresh));
+    writing = std::async(std::launch::async,
+                         [c = cache.get(), k = key, t = std::move(t)] { c->store(k, t); });
   }
   std::string summary() const {
     std::string s = "  truth cache: " + std::to_string(hits) + " of " +
@@ -459,8 +462,10 @@ class TruthBatch {
   }
   // colour null: not textured.
   void add(const Fragment& f, const Fragment& g, int material, const Rgba* colour, uint64_t index) {
+    // A cached fragment's likely place in the table: the cache's records are in arrival order.
+    const size_t hint = memo_ && memo_->covers(material) ? hint_++ : SIZE_MAX;
     items_.push_back(
-        {f, g, material, colour != nullptr, colour ? *colour : Rgba(0), index, {}, 0, false});
+        {f, g, material, colour != nullptr, colour ? *colour : Rgba(0), index, {}, 0, false, hint});
     if (items_.size() == kSize) flush();
   }
   void flush() {
@@ -509,6 +514,7 @@ class TruthBatch {
     glm::dvec4 truth;
     int samples;
     bool cached;  // taken from the truth cache
+    size_t hint;  // where the truth cache's table likely has it
   };
   static TruthId id_of(const Item& it) {
     return {it.f.frame, it.f.prim, it.f.x, it.f.y, static_cast<uint32_t>(it.material), it.g.tex};
@@ -519,7 +525,7 @@ class TruthBatch {
   // The item's truth: the cached one when the cache has it, else computed.
   void judge(Item& it) const {
     if (memo_ && memo_->table && memo_->covers(it.material)) {
-      if (const TruthRecord* r = memo_->table->find(id_of(it))) {
+      if (const TruthRecord* r = memo_->table->find(id_of(it), it.hint)) {
         it.truth = {r->rgba[0], r->rgba[1], r->rgba[2], r->rgba[3]};
         it.samples = r->samples;
         it.cached = true;
@@ -534,6 +540,7 @@ class TruthBatch {
   std::string input_;
   int threads_;
   std::unique_ptr<TruthMemo> memo_;  // null: no truth cache
+  size_t hint_ = 0;                  // cached fragments added so far
   std::vector<Item> items_;
   uint64_t samples_ = 0, pixels_ = 0;
 };
@@ -800,15 +807,17 @@ GroundTruth ground_truth(const Scene& scene, const TextureSet& set,
 
 // The run's truth cache, when its truth is the exact one and the cache is on (else null):
 // the key made of the truth's inputs, and what the cache holds under it.
+// trace: the run's trace, if any (its records: the fragments to expect).
 std::unique_ptr<TruthMemo> truth_memo(const RunOptions& opt, const Scene& scene,
                                       const GroundTruth& truth, const TextureSet& set,
-                                      const std::vector<MaterialSetup>& mats, bool camera_path) {
+                                      const std::vector<MaterialSetup>& mats,
+                                      const TraceSummary* trace) {
   if (!opt.truth_cache || truth.none || !truth.exact()) return nullptr;
   TruthKeyInputs in;
   in.width = scene.width;
   in.height = scene.height;
   in.cameras.push_back(scene.camera);  // the maps' camera; a path's frames have their own
-  for (int k = 0; camera_path && k < scene.frames; ++k)
+  for (int k = 0; truth.frame_maps && k < scene.frames; ++k)  // a camera path
     in.cameras.push_back(frame_camera(scene, k));
   in.primitives = &scene.primitives;
   in.textures = &set;
@@ -823,6 +832,7 @@ std::unique_ptr<TruthMemo> truth_memo(const RunOptions& opt, const Scene& scene,
   memo->key = truth_key(in);
   memo->cache = std::make_unique<TruthCache>(TruthCacheConfig::from_env(true));
   memo->table = memo->cache->find(memo->key);
+  if (!memo->table && trace) memo->fresh.reserve(trace->records);
   return memo;
 }
 
@@ -913,7 +923,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   const std::string& input = opt.trace.empty() ? scene.path : opt.trace;
   // Fragments are processed as they stream in. f: as given; g: texture id of the loaded texture.
   TruthBatch batch(truth, images, progress, input, opt.threads,
-                   truth_memo(opt, scene, truth, textures.set, mats, camera_path));
+                   truth_memo(opt, scene, truth, textures.set, mats, trace_sum.get()));
   const std::unique_ptr<StageTimeline> timeline = make_timeline(opt, units);
   // With a coordinate front end the workload is what leaves it (and reaches the units).
   const bool front_workload = opt.workload && !reader && unit.front_stages() > 0;

@@ -144,23 +144,20 @@ std::string env(const char* name) {
 
 }  // namespace
 
-TruthTable::TruthTable(std::vector<TruthRecord> records) : records_(std::move(records)) {
+void TruthTable::build_index() const {
   size_t n = 16;
   while (n < 2 * records_.size()) n *= 2;
   slots_.assign(n, 0);
-  size_t kept = 0;
   for (size_t i = 0; i < records_.size(); ++i) {
     size_t s = id_hash(records_[i].id) & (n - 1);
     while (slots_[s] != 0 && records_[slots_[s] - 1].id != records_[i].id) s = (s + 1) & (n - 1);
-    if (slots_[s] != 0) continue;  // a repeat: the first record stands
-    records_[kept] = records_[i];
-    slots_[s] = static_cast<uint32_t>(++kept);
+    if (slots_[s] == 0) slots_[s] = static_cast<uint32_t>(i + 1);  // a repeat: the first stands
   }
-  repeats_ = records_.size() - kept;
-  records_.resize(kept);
 }
 
-const TruthRecord* TruthTable::find(const TruthId& id) const {
+const TruthRecord* TruthTable::find(const TruthId& id, size_t hint) const {
+  if (hint < records_.size() && records_[hint].id == id) return &records_[hint];
+  std::call_once(indexed_, [this] { build_index(); });
   const size_t mask = slots_.size() - 1;
   for (size_t s = id_hash(id) & mask; slots_[s] != 0; s = (s + 1) & mask) {
     const TruthRecord& r = records_[slots_[s] - 1];
@@ -170,7 +167,7 @@ const TruthRecord* TruthTable::find(const TruthId& id) const {
 }
 
 uint64_t TruthTable::bytes() const {
-  return records_.size() * sizeof(TruthRecord) + slots_.size() * sizeof(uint32_t);
+  return records_.size() * (sizeof(TruthRecord) + 4 * sizeof(uint32_t));  // slots: under 4n
 }
 
 std::shared_ptr<const TruthTable> TruthTable::merged(const std::vector<TruthRecord>& more) const {
@@ -241,15 +238,6 @@ void check_records(const std::vector<TruthRecord>& r, uint64_t crc, const std::s
 }
 
 }  // namespace
-
-std::shared_ptr<const TruthTable> truth_table_of(std::vector<TruthRecord> records,
-                                                 const std::string& path) {
-  auto t = std::make_shared<const TruthTable>(std::move(records));
-  if (t->repeats() > 0) {
-    throw InputError(path, std::to_string(t->repeats()) + " records repeat an earlier one's id");
-  }
-  return t;
-}
 
 std::string encode_truth_entry(const TruthKey& key, const std::vector<TruthRecord>& records) {
   std::string s = entry_header(key, records);
@@ -333,7 +321,7 @@ std::shared_ptr<const TruthTable> TruthCache::find(const TruthKey& key) {
   if (!fs::exists(path, ec)) return nullptr;
   std::shared_ptr<const TruthTable> t;
   try {
-    t = truth_table_of(read_truth_entry(path, key), path);
+    t = std::make_shared<const TruthTable>(read_truth_entry(path, key));
   } catch (const InputError& e) {
     warn(std::string(e.what()) + "; entry removed, the truth is recomputed");
     fs::remove(path, ec);

@@ -20,6 +20,7 @@
 // directory that cannot be used gives a warning and a run without the disk layer.
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -43,22 +44,25 @@ struct TruthRecord {
   uint32_t zero = 0;    // padding, written as 0
 };
 
-// An immutable set of records (in the order given) with a hash index over their ids.
+// An immutable set of records, in the order given, with a hash index over their ids built on
+// the first look-up that needs it (thread-safe).
 class TruthTable {
  public:
-  // A repeated id keeps its first record (the same inputs give the same truth).
-  explicit TruthTable(std::vector<TruthRecord> records);
-  size_t repeats() const { return repeats_; }  // records dropped as repeats
-  const TruthRecord* find(const TruthId& id) const;
+  explicit TruthTable(std::vector<TruthRecord> records) : records_(std::move(records)) {}
+  // The record of `id` (if ids repeat, the first), or null. `hint`: where the record likely is;
+  // a run whose fragments arrive in the order the table was written finds each at its
+  // position, with no hash look-up and no index built.
+  const TruthRecord* find(const TruthId& id, size_t hint = SIZE_MAX) const;
   const std::vector<TruthRecord>& records() const { return records_; }
-  uint64_t bytes() const;
+  uint64_t bytes() const;  // with the index, built or not
   // This table's records and `more`, as a new table.
   std::shared_ptr<const TruthTable> merged(const std::vector<TruthRecord>& more) const;
 
  private:
+  void build_index() const;
   std::vector<TruthRecord> records_;
-  std::vector<uint32_t> slots_;  // open addressing: record index + 1, 0 = empty
-  size_t repeats_ = 0;
+  mutable std::once_flag indexed_;
+  mutable std::vector<uint32_t> slots_;  // open addressing: record index + 1, 0 = empty
 };
 
 // The on-disk entry (format version kTruthEntryVersion, little-endian).
@@ -72,9 +76,6 @@ std::vector<TruthRecord> decode_truth_entry(std::string_view bytes, const std::s
                                             const TruthKey* expected);
 // The same from the file `path`, read straight into the records.
 std::vector<TruthRecord> read_truth_entry(const std::string& path, const TruthKey& expected);
-// The records as a table; an id that repeats is an InputError naming `path`.
-std::shared_ptr<const TruthTable> truth_table_of(std::vector<TruthRecord> records,
-                                                 const std::string& path);
 // Writes the entry to `path` in place (the cache writes a temporary file and renames it);
 // false on failure.
 bool write_truth_entry(const std::string& path, const TruthKey& key,

@@ -2,7 +2,7 @@
 // as read (the CRC rejects almost every mutation) and again with the header's payload size
 // and CRC made to match, so mutations reach the record checks. Bad input must end in
 // InputError; an accepted entry must survive its round trip through the table and the
-// encoder byte for byte, and every record must be found under its id.
+// encoder byte for byte, and every record must be found under its id, by position and by index.
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -18,12 +18,15 @@ void check(const std::string& bytes) {
   TruthKey key{};
   if (bytes.size() >= 48) std::memcpy(key.data(), bytes.data() + 16, key.size());
   const std::vector<TruthRecord> r = decode_truth_entry(bytes, "fuzz.truth", &key);
-  const auto t = truth_table_of(r, "fuzz.truth");  // a repeated id is an InputError
-  if (t->records().size() != r.size()) std::abort();
-  for (const TruthRecord& x : r) {
-    if (t->find(x.id) == nullptr) std::abort();
+  const TruthTable t(r);
+  for (size_t i = 0; i < r.size(); ++i) {
+    // Found at its place, and through the index (with a repeated id: the first record's).
+    const TruthRecord* at = t.find(r[i].id, i);
+    const TruthRecord* indexed = t.find(r[i].id);
+    if (at != &t.records()[i] || indexed == nullptr || indexed > at || !(indexed->id == r[i].id))
+      std::abort();
   }
-  if (encode_truth_entry(key, t->records()) != bytes) std::abort();
+  if (encode_truth_entry(key, t.records()) != bytes) std::abort();
 }
 
 // The same bytes with the payload size and CRC rewritten to match the payload.

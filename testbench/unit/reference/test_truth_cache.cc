@@ -197,9 +197,6 @@ TEST(TruthEntry, RoundTripAndEveryDamageIsFound) {
   EXPECT_NE(error(version, key).find("version"), std::string::npos);
   EXPECT_NE(error(e, key).find("(accepted)"), std::string::npos);
   EXPECT_NE(error(e, key_of(8)).find("x.truth"), std::string::npos);  // names the file
-  std::vector<TruthRecord> twice = recs;
-  twice.push_back(recs[3]);
-  EXPECT_THROW(truth_table_of(twice, "x.truth"), InputError);
 }
 
 TEST(TruthTable, FindsEveryRecordAndNothingElse) {
@@ -211,8 +208,18 @@ TEST(TruthTable, FindsEveryRecordAndNothingElse) {
   }
   EXPECT_EQ(t.find({0, 0, 1, 7, 1, 0}), nullptr);  // prim 0 never has x = 1
   EXPECT_EQ(t.find({1, 0, 0, 7, 1, 0}), nullptr);  // another frame
+  // By position, and with a wrong hint through the index.
+  EXPECT_EQ(t.find(t.records()[5].id, 5), &t.records()[5]);
+  EXPECT_EQ(t.find(t.records()[5].id, 6), &t.records()[5]);
+  EXPECT_EQ(t.find(t.records()[5].id, 1u << 30), &t.records()[5]);
+  // A repeated id: the index gives the first record.
+  std::vector<TruthRecord> twice = some_records(10);
+  twice.push_back(twice[3]);
+  twice.back().samples = -1;
+  EXPECT_EQ(TruthTable(twice).find(twice[3].id)->samples, twice[3].samples);
   const auto m = t.merged(some_records(1001));
-  EXPECT_EQ(m->records().size(), 1001u);
+  EXPECT_EQ(m->records().size(), 2001u);
+  EXPECT_EQ(m->find(some_records(1001).back().id)->samples, 1009);
 }
 
 TruthCacheConfig config_in(const TempDir& d, uint64_t max_bytes = uint64_t{1} << 30) {
