@@ -13,7 +13,8 @@
 # through the grid's expansion, the job list and the Slurm script), fuzz_merge_json (job.json
 # and report.json through merge), fuzz_tune_shard (tune_shard.json as `tune --merge` reads it)
 # and fuzz_link_host (the input plays the board behind LinkHost; -timeout=5 catches a host
-# that loops). New inputs go to build-fuzz/corpus/.
+# that loops), fuzz_truth_entry (truth cache entries, also with the payload's size and CRC
+# made to match). New inputs go to build-fuzz/corpus/.
 # Exit 1 if any harness finds a crash, a leak, undefined behaviour or a non-InputError
 # exception (the reproducer is left in build-fuzz/).
 # Usage: scripts/fuzz.sh [SECONDS]
@@ -26,7 +27,7 @@ CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -D
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
   -DTEXSIM_BUILD_BENCH=OFF -DTEXSIM_WERROR=OFF > /dev/null
 cmake --build "$build" -j "$(nproc)" --target fuzz_trace_reader fuzz_draw_trace fuzz_apitrace_dump fuzz_csv_reader fuzz_scene \
-  fuzz_obj fuzz_model fuzz_npz fuzz_png fuzz_sweep fuzz_merge_json fuzz_tune_shard fuzz_link_host
+  fuzz_obj fuzz_model fuzz_npz fuzz_png fuzz_sweep fuzz_merge_json fuzz_tune_shard fuzz_link_host fuzz_truth_entry
 run() {  # run NAME CORPUS [ENV=VALUE]
   local name=$1 seeds=$2; shift 2
   local work="$build/corpus/$name${1:+-crc}"
@@ -57,4 +58,5 @@ run fuzz_obj testbench/fuzz/corpus/obj
 run fuzz_model testbench/fuzz/corpus/model
 run fuzz_npz testbench/fuzz/corpus/npz
 run fuzz_png testbench/fuzz/corpus/png
+run fuzz_truth_entry testbench/fuzz/corpus/truth_entry
 echo "fuzz: no findings in ${secs} s per harness"

@@ -17,7 +17,8 @@ if [[ ${1:-} == subset ]]; then
   tests=(test_input_file test_output_set test_shell_quote test_trace_file test_trace_csv
     test_trace_tools test_prefetch_reader test_mesh test_obj_inputs test_npz_height_field
     test_scene_overrides test_texture_loader test_sweep_inputs test_tune_inputs test_models
-    test_model_isolation test_link_protocol test_link_hostile test_png_file test_oiio_plugin)
+    test_model_isolation test_link_protocol test_link_hostile test_png_file test_oiio_plugin
+    test_truth_cache)
   # The CLI's bad-input tests (test_cli_run); its rendering tests take minutes under ASan.
   cli='UsageErrors|HelpAndVersion|TraceWritersKeep|SceneSyntax|SceneType|TimingParameters|NonUtf8'
   cli+='|SceneUnknown|MissingTexture|RunRefuses|TracePixelBeyond|TraceConvertOnto|SceneThatIsAFifo'
@@ -29,6 +30,7 @@ if [[ ${1:-} == subset ]]; then
     -DTEXSIM_BUILD_BENCH=OFF -DTEXSIM_WERROR=OFF > /dev/null
   cmake --build "$build" -j "$(nproc)" --target texsim test_cli_run "${tests[@]}"
   regex=$(printf '%s|' "${tests[@]}")
+  rm -rf "$build/test-cache"  # the tests' truth cache starts empty (scripts/test.sh)
   # Tests are labelled by their executable (testbench/CMakeLists.txt). A commit test that runs
   # a whole render is left to the full mode.
   ctest --test-dir "$build" --output-on-failure -j "$(nproc)" -L "^(${regex%|})\$" \
@@ -42,4 +44,5 @@ CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DTEXSIM_BUILD_BENCH=OFF -DTEXSIM_WERROR=OFF \
   -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" > /dev/null
 cmake --build "$build" -j "$(nproc)"
+rm -rf "$build/test-cache"
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)"

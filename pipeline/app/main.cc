@@ -201,6 +201,9 @@ void add_run_command(CLI::App& app, RunCli& r) {
                    "Fragments recorded in the --timeline VCD (the first ones)")
       ->check(CLI::Range(uint64_t{1}, uint64_t{100000000}))
       ->capture_default_str();
+  run_cmd->add_flag("--no-truth-cache{false}", run.truth_cache,
+                    "Compute the ground truth without the truth cache (docs/truth-cache.md): "
+                    "neither read nor written");
   run_cmd->add_flag("--ledger", run.ledger,
                     "Per-block error ledger in the report: each block made exact in turn, its "
                     "share of the error next to its cost (docs/ledger.md; repeats the run)");
@@ -230,6 +233,8 @@ void add_sweep_commands(CLI::App& app, SweepCli& s) {
   s.cmd->add_option("--job", s.job, "Run one job (a Slurm array task)");
   s.cmd->add_flag("--slurm", s.opt.slurm, "Write OUT/sweep.sbatch (a job array) instead");
   s.cmd->add_flag("--list", s.opt.list, "Print the jobs (JSON lines) and exit");
+  s.cmd->add_flag("--no-truth-cache{false}", s.opt.truth_cache,
+                  "Jobs compute their ground truths without the truth cache");
   s.merge = app.add_subcommand("merge", "Combine sweep outputs into merged.csv and merged.md");
   s.merge->add_option("dirs", s.merge_dirs, "Sweep output directories")->required();
   s.merge->add_option("--out", s.merge_out, "Output directory")->capture_default_str();
@@ -272,6 +277,9 @@ CLI::App* add_tune_command(CLI::App& app, texsim::TuneOptions& t, std::string& s
   cmd->add_option(
       "--shard", shard,
       "K/N: search only materials with index % N == K-1; writes tune_shard.json (GNU parallel)");
+  cmd->add_flag("--no-truth-cache{false}", t.truth_cache,
+                "Compute every candidate's ground truth without the truth cache (in memory or "
+                "on disk)");
   cmd->add_flag("--families", t.families,
                 "Also switch each material's filter family (classic, ewa, spaf, feline, "
                 "multi_probe)");

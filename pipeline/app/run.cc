@@ -28,6 +28,7 @@
 #include "pipeline/raster/scene_front_end.h"
 #include "pipeline/reference/ground_truth.h"
 #include "pipeline/reference/surface_reference.h"
+#include "pipeline/reference/truth_cache.h"
 #include "pipeline/render/draw_fragment_trace.h"
 #include "pipeline/report/run_report.h"
 #include "pipeline/scene/procedural_texture.h"
@@ -232,6 +233,35 @@ SurfaceSetup surface_setup(const Scene& scene, const std::vector<MaterialSetup>&
   return s;
 }
 
+// The run's link to the truth cache (truth_cache.h): the key, what the cache had and what the
+// run computed. Only the exact truth is cached: a trace without a scene judges each fragment
+// by its own derivatives, which its identity does not hold.
+struct TruthMemo {
+  std::unique_ptr<TruthCache> cache;
+  TruthKey key{};
+  std::shared_ptr<const TruthTable> table;  // null: the cache had nothing
+  std::vector<char> cached;                 // per material: its truths may be cached
+  std::vector<TruthRecord> fresh;           // computed by this run
+  uint64_t hits = 0;
+  std::future<void> writing;  // the entry being stored (awaited when the run ends)
+
+  bool covers(int material) const { return cached[static_cast<size_t>(material)] != 0; }
+  // Keeps what the run computed (merged with what the cache had), on a thread of its own: the
+  // entry is written while the run assembles and writes its outputs.
+  void store() {
+    if (fresh.empty()) return;
+    auto t = table ? table->merged(fresh) : std::make_shared<const TruthTable>(std::move(fresh));
+    writing = std::async(std::launch::async,
+                         [c = cache.get(), k = key, t = std::move(t)] { c->store(k, t); });
+  }
+  std::string summary() const {
+    std::string s = "  truth cache: " + std::to_string(hits) + " of " +
+                    std::to_string(hits + fresh.size()) + " fragment truths from ";
+    s += table ? std::string(cache->found_in()) : "nowhere (a miss)";
+    return s + ", key " + Sha256::hex(key).substr(0, 16) + "\n";
+  }
+};
+
 // The geometry and rasterisation sections of a scene run (raster: per material, empty when
 // the coordinate front end drew the scene).
 SubsystemsInfo scene_subsystems(const Scene& scene, const std::vector<PlaneProjection>& maps,
@@ -429,17 +459,21 @@ void quad_info(RunInfo& info, const PipelineSetup& setup, const QuadFeed* quads,
 class TruthBatch {
  public:
   TruthBatch(const GroundTruth& truth, RunImages& images, Progress& progress, std::string input,
-             int threads)
+             int threads, std::unique_ptr<TruthMemo> memo)
       : truth_(truth),
         images_(images),
         progress_(progress),
         input_(std::move(input)),
-        threads_(threads) {
+        threads_(threads),
+        memo_(std::move(memo)) {
     items_.reserve(kSize);
   }
   // colour null: not textured.
   void add(const Fragment& f, const Fragment& g, int material, const Rgba* colour, uint64_t index) {
-    items_.push_back({f, g, material, colour != nullptr, colour ? *colour : Rgba(0), index, {}, 0});
+    // A cached fragment's likely place in the table: the cache's records are in arrival order.
+    const size_t hint = memo_ && memo_->covers(material) ? hint_++ : SIZE_MAX;
+    items_.push_back(
+        {f, g, material, colour != nullptr, colour ? *colour : Rgba(0), index, {}, 0, false, hint});
     if (items_.size() == kSize) flush();
   }
   void flush() {
@@ -447,10 +481,12 @@ class TruthBatch {
     const size_t chunks = (items_.size() + kChunk - 1) / kChunk;
     parallel_tasks(chunks, threads_, [&](size_t c) {
       for (size_t i = c * kChunk; i < std::min(items_.size(), (c + 1) * kChunk); ++i)
-        items_[i].truth = truth_(items_[i].f, items_[i].g, items_[i].material, &items_[i].samples);
+        judge(items_[i]);
     });
     for (const Item& it : items_) {
       samples_ += static_cast<uint64_t>(it.samples);
+      if (it.cached) ++memo_->hits;
+      if (memo_ && !it.cached && memo_->covers(it.material)) memo_->fresh.push_back(record_of(it));
       try {
         images_.set(it.f.frame, static_cast<int>(it.f.x), static_cast<int>(it.f.y),
                     it.textured ? &it.colour : nullptr, it.material, it.truth);
@@ -461,6 +497,14 @@ class TruthBatch {
     }
     pixels_ += items_.size();
     items_.clear();
+  }
+  // The last batch; the truths computed are kept in the truth cache, and the log says where
+  // the truths came from.
+  void finish(std::ostream& log) {
+    flush();
+    if (!memo_) return;
+    log << memo_->summary();
+    memo_->store();
   }
   // Mean points evaluated per fragment so far.
   double mean_samples() const {
@@ -477,12 +521,34 @@ class TruthBatch {
     uint64_t index;
     glm::dvec4 truth;
     int samples;
+    bool cached;  // taken from the truth cache
+    size_t hint;  // where the truth cache's table likely has it
   };
+  static TruthId id_of(const Item& it) {
+    return {it.f.frame, it.f.prim, it.f.x, it.f.y, static_cast<uint32_t>(it.material), it.g.tex};
+  }
+  static TruthRecord record_of(const Item& it) {
+    return {id_of(it), {it.truth.r, it.truth.g, it.truth.b, it.truth.a}, it.samples, 0};
+  }
+  // The item's truth: the cached one when the cache has it, else computed.
+  void judge(Item& it) const {
+    if (memo_ && memo_->table && memo_->covers(it.material)) {
+      if (const TruthRecord* r = memo_->table->find(id_of(it), it.hint)) {
+        it.truth = {r->rgba[0], r->rgba[1], r->rgba[2], r->rgba[3]};
+        it.samples = r->samples;
+        it.cached = true;
+        return;
+      }
+    }
+    it.truth = truth_(it.f, it.g, it.material, &it.samples);
+  }
   const GroundTruth& truth_;
   RunImages& images_;
   Progress& progress_;
   std::string input_;
   int threads_;
+  std::unique_ptr<TruthMemo> memo_;  // null: no truth cache
+  size_t hint_ = 0;                  // cached fragments added so far
   std::vector<Item> items_;
   uint64_t samples_ = 0, pixels_ = 0;
 };
@@ -747,6 +813,37 @@ GroundTruth ground_truth(const Scene& scene, const TextureSet& set,
           &surf.frames, PixelIntegrator(scene.reference_pixel, {scene.reference_samples})};
 }
 
+// The run's truth cache, when its truth is the exact one and the cache is on (else null):
+// the key made of the truth's inputs, and what the cache holds under it.
+// trace: the run's trace, if any (its records: the fragments to expect).
+std::unique_ptr<TruthMemo> truth_memo(const RunOptions& opt, const Scene& scene,
+                                      const GroundTruth& truth, const TextureSet& set,
+                                      const std::vector<MaterialSetup>& mats,
+                                      const TraceSummary* trace) {
+  if (!opt.truth_cache || truth.none || !truth.exact()) return nullptr;
+  TruthKeyInputs in;
+  in.width = scene.width;
+  in.height = scene.height;
+  in.cameras.push_back(scene.camera);  // the maps' camera; a path's frames have their own
+  for (int k = 0; truth.frame_maps && k < scene.frames; ++k)  // a camera path
+    in.cameras.push_back(frame_camera(scene, k));
+  in.primitives = &scene.primitives;
+  in.textures = &set;
+  auto memo = std::make_unique<TruthMemo>();
+  for (const MaterialSetup& m : mats) {
+    const bool surface = m.relief.has_value() || m.lighting.has_value();
+    in.materials.push_back({m.texture, m.address_u(), m.address_v(), surface});
+    memo->cached.push_back(surface ? 0 : 1);
+  }
+  in.pixel = truth.integrate.pixel();
+  in.samples = truth.integrate.sampling().fixed;
+  memo->key = truth_key(in);
+  memo->cache = std::make_unique<TruthCache>(TruthCacheConfig::from_env(true));
+  memo->table = memo->cache->find(memo->key);
+  if (!memo->table && trace) memo->fresh.reserve(trace->records);
+  return memo;
+}
+
 // The scene's [pipeline] (or the defaults).
 PipelineSetup pipeline_setup(const Scene& scene) {
   // Both branches lvalues: a conditional with a temporary would copy the table, and a copied
@@ -833,7 +930,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   Progress progress(opt.progress);
   const std::string& input = opt.trace.empty() ? scene.path : opt.trace;
   // Fragments are processed as they stream in. f: as given; g: texture id of the loaded texture.
-  TruthBatch batch(truth, images, progress, input, opt.threads);
+  TruthBatch batch(truth, images, progress, input, opt.threads,
+                   truth_memo(opt, scene, truth, textures.set, mats, trace_sum.get()));
   const std::unique_ptr<StageTimeline> timeline = make_timeline(opt, units);
   // With a coordinate front end the workload is what leaves it (and reaches the units).
   const bool front_workload = opt.workload && !reader && unit.front_stages() > 0;
@@ -872,7 +970,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   router.flush();
   units.finish();
   if (order) order->check_drained();
-  batch.flush();
+  batch.finish(log);
   images.finish();
   if (images.count() == 0) throw InputError(input, "no fragments to render");
   if (!images.has_kept_frame()) {

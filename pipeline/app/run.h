@@ -44,6 +44,8 @@ struct RunOptions {
   RunCapture* capture = nullptr;            // set: filled with the run's images and figures
   // The report's workload characterisation (--no-workload: off).
   bool workload = true;
+  // Ground truths from and into the truth cache (docs/truth-cache.md; --no-truth-cache: off).
+  bool truth_cache = true;
 };
 
 struct RunSummary {

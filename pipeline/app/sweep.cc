@@ -227,8 +227,10 @@ Json job_json(const SweepJob& j) {
 }
 
 // One job into its own directory; its log lines go to `log` (a string per job).
-bool run_job(const SweepJob& j, const std::string& out, int threads, std::string& log) {
+bool run_job(const SweepJob& j, const std::string& out, int threads, bool truth_cache,
+             std::string& log) {
   RunOptions r;
+  r.truth_cache = truth_cache;
   r.scene = j.scene;
   r.trace = j.trace;
   r.overrides = j.overrides;
@@ -279,7 +281,7 @@ void write_slurm(const Sweep& sw, const SweepOptions& opt, const std::string& ou
     << "#SBATCH --cpus-per-task=1\n#SBATCH --output=" << sbatch_output(abs_out) << "\n"
     << "exec " << shell_quote(command, "texsim command") << " sweep "
     << shell_quote(abs_sweep, "sweep file") << " --out " << shell_quote(abs_out, "--out")
-    << " --job \"$SLURM_ARRAY_TASK_ID\"\n";
+    << (opt.truth_cache ? "" : " --no-truth-cache") << " --job \"$SLURM_ARRAY_TASK_ID\"\n";
   ensure_dir(out);
   write_file_atomic(out + "/sweep.sbatch", s.str());
   log << "texsim sweep: wrote " << printable(abs_out) << "/sweep.sbatch (" << sw.jobs.size()
@@ -318,7 +320,7 @@ int run_sweep(const std::string& sweep_path, const SweepOptions& opt, std::ostre
   std::atomic<size_t> next{0};
   parallel_range(static_cast<size_t>(pool), pool, [&](size_t, size_t) {
     for (size_t i = next++; i < todo.size(); i = next++)
-      ok[i] = run_job(todo[i], out, 1, logs[i]) ? 1 : 0;
+      ok[i] = run_job(todo[i], out, 1, opt.truth_cache, logs[i]) ? 1 : 0;
   });
   int failed = 0;
   for (size_t i = 0; i < todo.size(); ++i) {

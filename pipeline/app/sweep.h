@@ -48,10 +48,11 @@ struct SweepOptions {
   int jobs = 0;     // local pool size; 0 = one per hardware thread
   int shard = 0;    // 1-based shard of `shards`; 0 = all jobs
   int shards = 0;
-  int job = -1;         // run this job only
-  bool slurm = false;   // write OUT/sweep.sbatch instead of running
-  bool list = false;    // print the jobs
-  std::string command;  // how to call texsim again (argv[0]), for the Slurm script
+  int job = -1;             // run this job only
+  bool slurm = false;       // write OUT/sweep.sbatch instead of running
+  bool list = false;        // print the jobs
+  std::string command;      // how to call texsim again (argv[0]), for the Slurm script
+  bool truth_cache = true;  // --no-truth-cache: false
 };
 
 // Runs (or lists, or scripts) the sweep; returns the exit status (2 if any job failed).

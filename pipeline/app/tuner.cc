@@ -197,6 +197,7 @@ class Search {
     o.overrides = opt_.overrides;
     o.overrides.insert(o.overrides.end(), extra.begin(), extra.end());
     o.threads = opt_.threads;
+    o.truth_cache = opt_.truth_cache;
     o.out = out.empty() ? opt_.out : out;
     o.ledger = ledger;
     o.command = "texsim run " + opt_.scene;

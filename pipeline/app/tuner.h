@@ -30,6 +30,8 @@ struct TuneOptions {
   // descent from each other family (classic LOD + filter path, ewa, spaf, feline,
   // multi_probe, each footprint filter with its defaults); the choice is the best of all.
   bool families = false;
+  // Candidates share one ground truth through the truth cache (--no-truth-cache: false).
+  bool truth_cache = true;
   // Shard directories to assemble (instead of searching): the outputs of one unsharded run.
   std::vector<std::string> merge;
 };
