@@ -28,6 +28,8 @@ find_package(tinyobjloader REQUIRED)
 find_package(assimp REQUIRED)
 pkg_check_modules(HIDAPI REQUIRED IMPORTED_TARGET hidapi-hidraw)
 pkg_check_modules(MPFR REQUIRED IMPORTED_TARGET mpfr)
+# Nettle: SHA-1 of the provenance's input digests, SHA-256 of the truth cache's keys.
+pkg_check_modules(NETTLE REQUIRED IMPORTED_TARGET nettle)
 find_package(SQLite3 REQUIRED)
 # Google Highway: SIMD with run-time target dispatch (the batched sampler).
 find_package(hwy REQUIRED)

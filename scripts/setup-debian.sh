@@ -8,7 +8,7 @@ $SUDO apt-get update
 $SUDO apt-get install -y --no-install-recommends \
   build-essential cmake pkg-config git \
   libglm-dev libopenimageio-dev openimageio-tools libpng-dev libhidapi-dev \
-  ccache lld libcli11-dev libtomlplusplus-dev libtinyobjloader-dev libassimp-dev libsqlite3-dev libmpfr-dev zlib1g-dev libisal-dev libhwy-dev nlohmann-json3-dev \
+  ccache lld libcli11-dev libtomlplusplus-dev libtinyobjloader-dev libassimp-dev libsqlite3-dev libmpfr-dev zlib1g-dev libisal-dev nettle-dev libhwy-dev nlohmann-json3-dev \
   libgtest-dev libgmock-dev googletest libbenchmark-dev \
   clang clang-format clang-tidy libclang-rt-14-dev verilator yosys nextpnr-ice40 fpga-icestorm gnuplot-nox parallel sqlite3 bc slurm-wlm munge \
   glmark2-data python-matplotlib-data \

@@ -1,10 +1,10 @@
 #pragma once
 // SHA-1 (FIPS 180-4) of a byte stream, for the input digests of the reports' provenance (the
-// same hex digest sha1sum prints). Here rather than from an image library, so that digesting
-// the scene file loads nothing at start-up.
-#include <array>
+// same hex digest sha1sum prints), computed by Nettle (nettle-dev): a small library, so that
+// digesting the scene file loads nothing heavy at start-up.
+#include <nettle/sha1.h>
+
 #include <cstddef>
-#include <cstdint>
 #include <string>
 
 namespace texsim {
@@ -18,11 +18,10 @@ class Sha1 {
   std::string hex_digest();
 
  private:
-  void block(const uint8_t* p);  // one 64-byte block into the state
-  std::array<uint32_t, 5> h_;
-  std::array<uint8_t, 64> buf_{};
-  size_t used_ = 0;      // bytes in buf_
-  uint64_t length_ = 0;  // bytes appended
+  sha1_ctx ctx_{};
 };
+
+// Lower-case hex digits of n bytes.
+std::string hex_bytes(const unsigned char* p, size_t n);
 
 }  // namespace texsim

@@ -58,10 +58,11 @@ const std::set<std::string> kKnownKeys = {
     // several units, quads, energy
     "units", "units[].unit", "units[].fragments", "units[].cycles", "units[].l1",
     "units[].l1.accesses", "units[].l1.hits", "units[].l1.misses", "units[].l1.hit_rate",
-    "scheduler", "scheduler.forced_commits", "scheduler.late_items", "quads", "quads.derivatives",
-    "quads.merge", "quads.merged_lookups", "quads.quads", "quads.helper_lanes", "quads.own_x",
-    "quads.own_y", "energy", "energy.total_pj", "energy.per_fragment_pj", "energy.ops_pj",
-    "energy.l1_pj", "energy.l2_pj", "energy.dram_pj", "energy.blocks_pj", "energy.blocks_pj.*",
+    "scheduler", "scheduler.forced_commits", "scheduler.late_items", "scheduler.local_commits",
+    "quads", "quads.derivatives", "quads.merge", "quads.merged_lookups", "quads.quads",
+    "quads.helper_lanes", "quads.own_x", "quads.own_y", "energy", "energy.total_pj",
+    "energy.per_fragment_pj", "energy.ops_pj", "energy.l1_pj", "energy.l2_pj", "energy.dram_pj",
+    "energy.blocks_pj", "energy.blocks_pj.*",
     // frames and accuracy
     "frames", "frames[].frame", "frames[].fragments", "frames[].cycles_end", "frames[].time_us",
     "frames[].accuracy", "frames[].accuracy.psnr_db", "frames[].accuracy.nmse",
@@ -418,6 +419,13 @@ void check_units(const Json& r) {
   EXPECT_EQ(last, u(r["cycles"]));
   EXPECT_EQ(r["units"].size(), u(r["provenance"]["pipeline"]["units"]));
   EXPECT_EQ(u(r["scheduler"]["late_items"]), 0u);
+  // Local commits are fragments whose look-ups all hit: never more than the fragments, and a
+  // fragment with a miss is not one of them.
+  const uint64_t local = u(r["scheduler"]["local_commits"]);
+  EXPECT_LE(local, frags);
+  if (misses > 0) {
+    EXPECT_LT(local, frags);
+  }
 }
 
 void check_quads(const Json& r) {
