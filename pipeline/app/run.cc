@@ -392,11 +392,14 @@ void stream_trace(TraceReader& reader, int threads, Handle&& handle) {
 
 // A scene whose materials compute their own coordinates: planes drawn one by one through the
 // front end (unit 0 runs the coordinate units; with several units each fragment is textured
-// by its tile's unit). `emitted` sees every fragment that leaves the front end, in the order it
-// leaves (units record theirs later, in an order that depends on the units' timing).
+// by its tile's unit). `workload` (if not null) counts every fragment that leaves the front end,
+// in the order it leaves (units record theirs later, in an order that depends on their timing).
 void draw_front_end(const Scene& scene, const std::vector<PlaneProjection>& maps, UnitArray& units,
                     const RunTextures& textures, const UnitArray::Record& record, uint64_t& index,
-                    const std::function<void(const Fragment& f, const Fragment& g)>& emitted) {
+                    WorkloadStats* workload) {
+  auto emitted = [workload](const Fragment& f, const Fragment& g) {
+    if (workload) workload->add(f, g.tex);
+  };
   auto loaded = [&](const Fragment& f) {
     Fragment g = f;
     g.tex = static_cast<uint32_t>(textures.index.at(f.tex));
@@ -887,6 +890,22 @@ void observe_units(StageTimeline* timeline, UnitArray& units) {
       [timeline](int u, const ClockedPipeline& p) { timeline->observe(p, u); });
 }
 
+// A trace run's first pass, the digest of its file (computed meanwhile) and its reader; all
+// empty without a trace.
+struct TraceInput {
+  std::unique_ptr<TraceSummary> summary;
+  std::future<InputDigest> digest;
+  std::unique_ptr<TraceReader> reader;
+};
+TraceInput open_trace(const RunOptions& opt) {
+  TraceInput t;
+  if (opt.trace.empty()) return t;
+  t.summary = std::make_unique<TraceSummary>(first_pass(opt));
+  t.digest = trace_digest(opt);
+  t.reader = std::make_unique<TraceReader>(opt.trace);
+  return t;
+}
+
 }  // namespace
 
 RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
@@ -898,14 +917,9 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
                     ? default_scene(opt.overrides)
                     : load_scene(opt.scene, opt.overrides);
 
-  std::unique_ptr<TraceSummary> trace_sum;
-  std::future<InputDigest> digest;
-  std::unique_ptr<TraceReader> reader;
-  if (!opt.trace.empty()) {
-    trace_sum = std::make_unique<TraceSummary>(first_pass(opt));
-    digest = trace_digest(opt);
-    reader = std::make_unique<TraceReader>(opt.trace);
-  }
+  TraceInput trace = open_trace(opt);
+  std::unique_ptr<TraceSummary>& trace_sum = trace.summary;
+  std::unique_ptr<TraceReader>& reader = trace.reader;
   RunTextures textures =
       reader ? load_trace_textures(*reader, opt.trace) : load_scene_textures(scene);
   const std::vector<MaterialSetup> mats = run_materials(scene, use_scene, textures, opt.trace, log);
@@ -960,9 +974,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     stream_trace(*reader, opt.threads, [&](const Fragment& f) { handle(f, index++); });
   } else if (unit.front_stages() > 0) {
     draw_front_end(scene, maps, units, textures, record, index,
-                   [&](const Fragment& f, const Fragment& g) {
-                     if (front_workload) workload.add(f, g.tex);
-                   });
+                   front_workload ? &workload : nullptr);
   } else {
     scene_frames(scene, maps, frame_maps, mats, raster, router, batch,
                  [&](const Fragment& f) { handle(f, index++); });
@@ -994,7 +1006,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   finish_object_space(os, units.cycles(), raster, sum, info);
   quad_info(info, setup, router.quads(), units);
   info.provenance =
-      run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech, digest);
+      run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech, trace.digest);
   info.provenance.energy = scene.energy;
   if (opt.capture) {
     const bool write = opt.capture->write_outputs;

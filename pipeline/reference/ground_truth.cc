@@ -199,10 +199,11 @@ void exact_points_portable(const Texture& tex, AddressMode au, AddressMode av, c
       address_pair(iy[l], h, av, y0, y1);
       const uint8_t* r0 = base + static_cast<size_t>(y0) * row;
       const uint8_t* r1 = base + static_cast<size_t>(y1) * row;
-      __m256d c = _mm256_mul_pd(_mm256_set1_pd(w00[l]), texel_channels(r0 + x0 * 4));
-      c = _mm256_add_pd(c, _mm256_mul_pd(_mm256_set1_pd(w10[l]), texel_channels(r0 + x1 * 4)));
-      c = _mm256_add_pd(c, _mm256_mul_pd(_mm256_set1_pd(w01[l]), texel_channels(r1 + x0 * 4)));
-      c = _mm256_add_pd(c, _mm256_mul_pd(_mm256_set1_pd(w11[l]), texel_channels(r1 + x1 * 4)));
+      const size_t c0 = static_cast<size_t>(x0) * 4, c1 = static_cast<size_t>(x1) * 4;
+      __m256d c = _mm256_mul_pd(_mm256_set1_pd(w00[l]), texel_channels(r0 + c0));
+      c = _mm256_add_pd(c, _mm256_mul_pd(_mm256_set1_pd(w10[l]), texel_channels(r0 + c1)));
+      c = _mm256_add_pd(c, _mm256_mul_pd(_mm256_set1_pd(w01[l]), texel_channels(r1 + c0)));
+      c = _mm256_add_pd(c, _mm256_mul_pd(_mm256_set1_pd(w11[l]), texel_channels(r1 + c1)));
       _mm256_storeu_pd(&out[k + l].x, c);
     }
   }

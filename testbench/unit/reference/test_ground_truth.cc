@@ -6,9 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
@@ -207,7 +208,12 @@ TEST(GroundTruth, BatchedKernelEqualsPortableBitForBit) {
           sample_exact_points(t, au, av, pm, dx.data(), dy.data(), n, portable.data(),
                               ExactKernel::Portable);
           for (size_t k = 0; k < n; ++k, ++points) {
-            ASSERT_EQ(std::memcmp(&fast[k], &portable[k], sizeof(glm::dvec4)), 0)
+            auto bits = [](const glm::dvec4& c) {
+              return std::array<uint64_t, 4>{
+                  std::bit_cast<uint64_t>(c.r), std::bit_cast<uint64_t>(c.g),
+                  std::bit_cast<uint64_t>(c.b), std::bit_cast<uint64_t>(c.a)};
+            };
+            ASSERT_EQ(bits(fast[k]), bits(portable[k]))
                 << sz[0] << "x" << sz[1] << " trial " << trial << " point " << k << ": "
                 << fast[k].r << " against " << portable[k].r;
           }
