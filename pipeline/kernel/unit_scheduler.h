@@ -57,15 +57,11 @@ class UnitScheduler {
         const uint64_t start = hooks_.begin(u, item);
         if (hooks_.local(u)) {
           hooks_.commit(u, item);
-          ++committed_;
-          ++local_;
+          count_local();
           return;
         }
-        l.queue.push_slot() = std::move(item);
-        ++waiting_;
-        mark_begun(u, start);
-        if (begun_ < units_.size() && waiting_ <= window_) return;
-        drain(false);
+        add_begun(
+            u, [&](Item& slot) { slot = std::move(item); }, start);
         return;
       }
     }
@@ -78,6 +74,27 @@ class UnitScheduler {
     } else if (waiting_ <= window_) {
       return;  // the begun items did not change
     }
+    drain(false);
+  }
+  // Whether unit u has nothing begun and nothing waiting: an item of it may begin at once.
+  bool idle(int u) const {
+    const Lane& l = units_[static_cast<size_t>(u)];
+    return !l.begun && l.queue.empty();
+  }
+  // An item of an idle unit that the caller began and committed itself (it stayed in its unit:
+  // Unit::local), without handing it over.
+  void count_local() {
+    ++committed_;
+    ++local_;
+  }
+  // An item of an idle unit that the caller began (its memory stage starts at `start`) and that
+  // did not stay in its unit: it waits, begun, for its turn.
+  template <class Fill>
+  void add_begun(int u, Fill&& fill, uint64_t start) {
+    fill(units_[static_cast<size_t>(u)].queue.push_slot());
+    ++waiting_;
+    mark_begun(u, start);
+    if (begun_ < units_.size() && waiting_ <= window_) return;
     drain(false);
   }
   // No more items: commit everything in cycle order.

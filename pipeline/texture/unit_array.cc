@@ -89,7 +89,7 @@ void UnitArray::add(const Fragment& f, const Fragment& g, const Fragment& u, int
   }
   const uint32_t drops = lane.new_drops;
   lane.new_drops = 0;
-  sched_->add_with(unit, [&](Item& it) {
+  auto fill = [&](Item& it) {
     it.f = f;
     it.index = index;
     it.g_tex = g.tex;
@@ -97,7 +97,22 @@ void UnitArray::add(const Fragment& f, const Fragment& g, const Fragment& u, int
     it.drops = drops;
     it.own_u = own_u;
     it.front = front != nullptr;
-  });
+  };
+  if (!own_u && !front && drops == 0 && sched_->idle(unit)) {
+    // The common case: nothing waits in the unit, so g begins now as Hooks::begin would begin
+    // its item, without a copy; only a fragment that misses its L1 is handed over, begun.
+    TextureUnit& t = *units_[static_cast<size_t>(unit)];
+    const Rgba c = t.process(g, material, nullptr);
+    record_(f, g, material, &c, index);
+    if (hooks_.local(unit)) {  // (never with a commit observer)
+      t.commit();
+      sched_->count_local();
+    } else {
+      sched_->add_begun(unit, fill, t.pending_start());
+    }
+    return;
+  }
+  sched_->add_with(unit, fill);
 }
 
 void UnitArray::drop(int material, const ItemCost* front, bool rejected, int32_t x, int32_t y) {

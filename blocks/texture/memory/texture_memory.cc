@@ -68,8 +68,10 @@ void Texture::add_level(int w, int h, const std::vector<float>& rgba) {
     rgba8_.resize(rgba8_.size() + n);
     uint8_t* out = rgba8_.data() + lv.first * 4;
     for (size_t i = 0; i < n; ++i) {
-      const float c = std::clamp(rgba[i], 0.0f, 1.0f);
-      out[i] = static_cast<uint8_t>(std::lround(c * 255.0f));
+      const float c = std::clamp(rgba[i], 0.0f, 1.0f) * 255.0f;
+      // Nearest, halves up (std::lround for c in [0, 255], without the library call: c + ½
+      // is exact in double); NaN becomes 0, as lround's result cast to 8 bits did on x86-64.
+      out[i] = c == c ? static_cast<uint8_t>(static_cast<double>(c) + 0.5) : 0;
     }
   } else {
     rgba32f_.insert(rgba32f_.end(), rgba.begin(), rgba.begin() + static_cast<std::ptrdiff_t>(n));
@@ -83,12 +85,21 @@ Texture Texture::from_rgba(std::string name, int width, int height, const std::v
   Texture t;
   t.name_ = std::move(name);
   t.format_ = format;
-  std::vector<float> cur = rgba;
+  if (format == TexelFormat::Rgba8) {
+    // Every level's bytes in one allocation (the chain is at most 4/3 of level 0).
+    size_t total = 0;
+    for (int lw = width, lh = height;; lw = std::max(1, lw / 2), lh = std::max(1, lh / 2)) {
+      total += static_cast<size_t>(lw) * static_cast<size_t>(lh) * 4;
+      if (!build_mips || (lw == 1 && lh == 1)) break;
+    }
+    t.rgba8_.reserve(total);
+  }
   int w = width, h = height;
-  t.add_level(w, h, cur);
+  t.add_level(w, h, rgba);
+  std::vector<float> cur;  // the last level made (level 0 is read from rgba, not copied)
   while (build_mips && (w > 1 || h > 1)) {
     int nw = 0, nh = 0;
-    cur = downsample(cur, w, h, nw, nh);
+    cur = downsample(cur.empty() ? rgba : cur, w, h, nw, nh);
     w = nw;
     h = nh;
     t.add_level(w, h, cur);
