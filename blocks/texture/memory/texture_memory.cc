@@ -69,9 +69,14 @@ void Texture::add_level(int w, int h, const std::vector<float>& rgba) {
     uint8_t* out = rgba8_.data() + lv.first * 4;
     for (size_t i = 0; i < n; ++i) {
       const float c = std::clamp(rgba[i], 0.0f, 1.0f) * 255.0f;
-      // Nearest, halves up (std::lround for c in [0, 255], without the library call: c + ½
-      // is exact in double); NaN becomes 0, as lround's result cast to 8 bits did on x86-64.
-      out[i] = c == c ? static_cast<uint8_t>(static_cast<double>(c) + 0.5) : 0;
+      if (!(c == c)) {  // NaN: 0, as lround's result cast to 8 bits was on x86-64
+        out[i] = 0;
+        continue;
+      }
+      // Nearest, halves up: std::lround for c in [0, 255] without the library call (c minus
+      // its integer part is exact in float).
+      const int whole = static_cast<int>(c);
+      out[i] = static_cast<uint8_t>(whole + (c - static_cast<float>(whole) >= 0.5f ? 1 : 0));
     }
   } else {
     rgba32f_.insert(rgba32f_.end(), rgba.begin(), rgba.begin() + static_cast<std::ptrdiff_t>(n));
