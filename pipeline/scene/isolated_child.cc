@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -254,6 +255,7 @@ void run_isolated(const std::string& file, const std::string& who,
   const uint64_t now_size = limits.extra_address_space != 0 ? address_space_now() : 0;
   const uint64_t cap = now_size != 0 ? now_size + limits.extra_address_space : 0;
   const Clock::time_point deadline = Clock::now() + std::chrono::milliseconds(limits.timeout_ms);
+  const pid_t parent_pid = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     const int e = errno;
@@ -262,6 +264,10 @@ void run_isolated(const std::string& file, const std::string& who,
     throw InputError(file, who + " cannot start: fork: " + std::strerror(e));
   }
   if (pid == 0) {
+    // Killed if the thread that forked it goes (a parent that ends without reaping it, e.g. by
+    // std::terminate): an orphan would live on, holding whatever pipe its parent's output is.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent_pid) ::_exit(137);  // the parent went before prctl
     ::close(fds[0]);
     run_child(fds[1], child, cap);
   }

@@ -112,14 +112,20 @@ TEST(ModelIsolation, AnObjWithItsMaterialsLoadsAsInProcessAndItsFilesAreInputs) 
 
 TEST(ModelIsolation, ModelsLoadFromThreadsAtOnce) {
   std::vector<size_t> got(4);
+  std::vector<std::string> errors(4);
   std::vector<std::thread> threads;
   for (size_t i = 0; i < got.size(); ++i) {
-    threads.emplace_back([&got, i] {
-      got[i] = load_model("/usr/share/glmark2/models/horse.3ds", "").mesh.triangles.size();
+    threads.emplace_back([&got, &errors, i] {
+      // An error is this test's failure, not std::terminate (which would leave children behind).
+      try {
+        got[i] = load_model("/usr/share/glmark2/models/horse.3ds", "").mesh.triangles.size();
+      } catch (const std::exception& e) {
+        errors[i] = e.what();
+      }
     });
   }
   for (std::thread& t : threads) t.join();
-  for (const size_t n : got) EXPECT_EQ(n, 7172u);
+  for (size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i], 7172u) << errors[i];
 }
 
 // run_isolated with a child that does `f` and a parent that reads everything.

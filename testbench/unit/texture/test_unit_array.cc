@@ -27,12 +27,13 @@ struct Outcome {
 };
 
 Outcome run_units(const std::string& scene, int units, const std::string& dir,
-                  std::vector<std::string> extra = {}) {
+                  std::vector<std::string> extra = {}, const std::string& timeline = "") {
   RunOptions opt;
   opt.scene = scene;
   opt.reference = "none";
   opt.threads = 1;
   opt.out = dir + "/u" + std::to_string(units);
+  opt.timeline = timeline;
   opt.overrides = std::move(extra);
   opt.overrides.push_back("pipeline.units=" + std::to_string(units));
   Outcome o;
@@ -85,23 +86,8 @@ TEST(UnitArray, FragmentsThatHitTheirL1CommitAtOnceWithTheSameFigures) {
       {"raster.order=tiled", "pipeline.quad_merge=true"}};
   for (const auto& extra : setups) {
     const Outcome local = run_units("default", 16, dir.file("local"), extra);
-    RunOptions opt;
-    Outcome ordered;
-    {
-      opt.scene = "default";
-      opt.reference = "none";
-      opt.threads = 1;
-      opt.out = dir.file("ordered");
-      opt.timeline = dir.file("ordered.vcd");
-      opt.overrides = extra;
-      opt.overrides.emplace_back("pipeline.units=16");
-      ordered.capture->write_outputs = true;
-      opt.capture = ordered.capture.get();
-      std::ostringstream log;
-      run_simulation(opt, log);
-      std::ifstream in(opt.out + "/report.json");
-      ordered.report = nlohmann::json::parse(in);
-    }
+    const Outcome ordered =
+        run_units("default", 16, dir.file("ordered"), extra, dir.file("ordered.vcd"));
     const uint64_t fragments = local.report["fragments"].get<uint64_t>();
     EXPECT_GT(local.report["scheduler"]["local_commits"].get<uint64_t>(), fragments * 9 / 10);
     EXPECT_EQ(ordered.report["scheduler"]["local_commits"].get<uint64_t>(), 0u);
