@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstddef>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -24,6 +25,7 @@
 #include <utility>
 
 #include "blocks/base/input_error.h"
+#include "blocks/base/input_file.h"
 
 namespace texsim {
 
@@ -255,15 +257,16 @@ std::vector<TruthRecord> decode_truth_entry(std::string_view b, const std::strin
 }
 
 std::vector<TruthRecord> read_truth_entry(const std::string& path, const TruthKey& expected) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) throw InputError(path, "cannot be read");
-  const auto size = static_cast<uint64_t>(in.tellg());
-  std::string h(kTruthHeaderBytes, '\0');
-  in.seekg(0);
-  in.read(h.data(), static_cast<std::streamsize>(std::min<uint64_t>(size, kTruthHeaderBytes)));
+  // The common opener: a regular file only, opened without blocking.
+  uint64_t size = 0;
+  const InputFilePtr in = open_input_file(path, "truth cache entry", kNoSizeLimit, &size);
+  std::string h(static_cast<size_t>(std::min<uint64_t>(size, kTruthHeaderBytes)), '\0');
+  if (std::fread(h.data(), 1, h.size(), in.get()) != h.size())
+    throw InputError(path, "truncated while it was read");
+  h.resize(kTruthHeaderBytes, '\0');
   const auto [payload, crc] = check_header(h, size, path, &expected);
   std::vector<TruthRecord> r(payload / sizeof(TruthRecord));  // read in place: no copy
-  if (!in.read(reinterpret_cast<char*>(r.data()), static_cast<std::streamsize>(payload)))
+  if (std::fread(r.data(), 1, payload, in.get()) != payload)
     throw InputError(path, "truncated while it was read");
   check_records(r, crc, path);
   return r;

@@ -62,10 +62,11 @@ class TextureUnit {
   }
   // Whether the processed fragment's commit() stays in this unit (its look-ups all hit the L1,
   // FetchStage::recorded_local), so it may be committed at once, out of the global order.
-  bool pending_local() const { return done_ || fetch_.recorded_local(); }
+  bool pending_local() const { return early_ && (done_ || fetch_.recorded_local()); }
   // Whether a fragment that stays in the unit may take its whole way at once, in process()
-  // (then commit() does nothing); off when the caller commits in the global order anyway
-  // (a timeline records the items in that order).
+  // (then commit() does nothing), and be committed out of the global order (pending_local);
+  // off when every fragment must be committed in that order (a timeline records the items in
+  // commit order).
   void set_early_commit(bool on) { early_ = on; }
 
   // Filters one fragment with its material's blocks and the fragment's own texture (f.tex, an

@@ -121,10 +121,8 @@ class UnitArray {
     UnitArray* a;
     uint64_t begin(int u, Item& it);
     // The begun item makes no request behind the L1 (UnitScheduler commits it at once).
-    // Never with a commit observer: a timeline records the first items in commit order.
-    bool local(int u) const {
-      return !a->observer_ && a->units_[static_cast<size_t>(u)]->pending_local();
-    }
+    // Never with a commit observer (set_commit_observer turns the units' early commit off).
+    bool local(int u) const { return a->units_[static_cast<size_t>(u)]->pending_local(); }
     void commit(int u, Item& /*it*/) {
       TextureUnit& unit = *a->units_[static_cast<size_t>(u)];
       unit.commit();
