@@ -1,0 +1,22 @@
+#pragma once
+// What every block-compressed texel decoder (blocks/texture/decode/) returns: the texels of one
+// block, row-major, each RGBA as the Khronos Data Format Specification's decoding gives it,
+// rounded once to the nearest float (a UNORM/SNORM result is its exact value k / (2^n - 1)
+// in float; a channel the format lacks has the spec's default: 0 for colour, 1 for alpha).
+#include <array>
+#include <cstdint>
+
+#include <glm/vec4.hpp>
+
+namespace texsim {
+
+inline constexpr int kMaxBlockTexels = 12 * 12;  // ASTC 12x12, the largest 2-D block
+
+struct DecodedBlock {
+  int width = 0;   // texels per row of the block
+  int height = 0;  // rows of the block
+  std::array<glm::vec4, kMaxBlockTexels> texels{};
+  const glm::vec4& at(int x, int y) const { return texels[static_cast<size_t>(y * width + x)]; }
+};
+
+}  // namespace texsim
