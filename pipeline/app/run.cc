@@ -129,7 +129,9 @@ RunTextures load_scene_textures(const Scene& scene) {
     const int id = t.set.add(load_scene_texture(scene, i));
     t.index[static_cast<uint32_t>(i)] = id;
     t.by_name[scene.textures[i].name] = id;
-    t.names.push_back(scene.textures[i].name + " = " + scene.textures[i].source);
+    const SceneTexture& st = scene.textures[i];
+    t.names.push_back(st.name + " = " + st.source +
+                      (st.format ? " (" + std::string(to_string(*st.format)) + ")" : ""));
     t.digests.push_back(
         texture_digest(scene.textures[i].name, scene.textures[i].source, scene.base_dir));
   }
@@ -200,7 +202,7 @@ struct GroundTruth {
   // *samples: the points the truth evaluated.
   glm::dvec4 operator()(const Fragment& f, const Fragment& g, int material, int* samples) const {
     if (none) return glm::dvec4(0);
-    const Texture& tex = textures[static_cast<int>(g.tex)];
+    const Texture& tex = textures[static_cast<int>(g.tex)].reference();
     const MaterialSetup& ms = mats[static_cast<size_t>(material)];
     const int x = static_cast<int>(f.x), y = static_cast<int>(f.y);
     if (exact() && surface && (*surface)[static_cast<size_t>(material)].active()) {

@@ -50,9 +50,9 @@ glm::dvec3 blinn_phong(const glm::dvec3& base, const glm::dvec3& n, const glm::d
 SurfaceReference::SurfaceReference(const MaterialSetup& m, const TextureSet& textures)
     : au_(m.address_u()), av_(m.address_v()), relief_(m.relief), lighting_(m.lighting) {
   if (relief_ && relief_->height_tex >= 0)
-    relief_hm_ = height_map_of(textures[relief_->height_tex]);
+    relief_hm_ = height_map_of(textures[relief_->height_tex].reference());
   if (lighting_ && lighting_->normal_tex >= 0) {
-    normal_tex_ = &textures[lighting_->normal_tex];
+    normal_tex_ = &textures[lighting_->normal_tex].reference();
     if (lighting_->normal == LightingSetup::Normal::HeightMap)
       normal_hm_ = height_map_of(*normal_tex_);
   }

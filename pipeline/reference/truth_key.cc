@@ -134,7 +134,8 @@ TruthKey truth_key(const TruthKeyInputs& in) {
   for (size_t i = 0; i < prims; ++i) write_primitive(w, (*in.primitives)[i]);
   const int textures = in.textures ? in.textures->size() : 0;
   w.i64(textures);
-  for (int i = 0; i < textures; ++i) write_texture(w, (*in.textures)[i]);
+  // The truth samples each texture as loaded, before any storage format (Texture::reference).
+  for (int i = 0; i < textures; ++i) write_texture(w, (*in.textures)[i].reference());
   w.u64(in.materials.size());
   for (const TruthMaterialKey& m : in.materials) {
     w.tag("material");

@@ -92,7 +92,7 @@ void parse_camera(const ConfigReader& top, Scene& s, Camera& c) {
   }
 }
 
-// Textures: [textures.NAME] source = "..."
+// Textures: [textures.NAME] source = "...", format = "..." (optional, storage_format.h)
 void parse_textures(const ConfigReader& top, Scene& s) {
   const toml::table* t = top.subtable("textures");
   if (!t) return;
@@ -100,7 +100,7 @@ void parse_textures(const ConfigReader& top, Scene& s) {
     const std::string name(k.str());
     if (!v.is_table()) throw InputError(at(s.path, v), "textures." + name + ": expected a table");
     const ConfigReader tr(*v.as_table(), s.path, "textures." + name);
-    tr.reject_unknown({"source"});
+    tr.reject_unknown({"source", "format"});
     const std::string src = tr.get_string("source", "");
     if (src.empty()) throw InputError(at(s.path, v), "textures." + name + ": missing 'source'");
     const std::string where =
@@ -108,7 +108,14 @@ void parse_textures(const ConfigReader& top, Scene& s) {
     // A procedural spec is checked here, where its line:column is known; files are opened
     // only when the textures are loaded (a run with a trace uses the trace's instead).
     if (is_procedural_source(src)) (void)parse_procedural_source(src, where);
-    s.textures.push_back({name, src, where});
+    std::optional<StorageFormat> format;
+    if (tr.table().contains("format")) {
+      const std::string f = tr.get_string("format", "");
+      format = storage_format_from_name(f);
+      if (!format) tr.fail("format", "unknown texel format '" + f + "' (one of " +
+                                         storage_format_names() + ")");
+    }
+    s.textures.push_back({name, src, where, format});
   }
 }
 

@@ -13,6 +13,7 @@
 
 #include "blocks/base/energy_table.h"
 #include "blocks/base/tech_table.h"
+#include "blocks/texture/memory/storage_format.h"
 #include "blocks/geometry/camera.h"
 #include "pipeline/scene/camera_path.h"
 #include "pipeline/scene/object_space_config.h"
@@ -26,6 +27,9 @@ struct SceneTexture {
   // "file:line:column: textures.NAME.source" of the source value: messages about the texture
   // (a bad procedural spec, a missing or unreadable file) start with it.
   std::string where;
+  // `format = "…"`: the texture is stored in this format (converted when loaded); none: as
+  // the file or procedural source gives it (RGBA8 or RGBA32F).
+  std::optional<StorageFormat> format;
 };
 
 // A material's own error budget for `texsim tune` (docs/tune.md): `budget = { psnr = 35 }`

@@ -92,6 +92,7 @@ Texture load_texture(const std::string& source, const std::string& base_dir,
 Texture load_scene_texture(const Scene& scene, size_t index, TexelFormatChoice format) {
   const SceneTexture& t = scene.textures.at(index);
   try {
+    if (t.format) return load_texture(t.source, scene.base_dir, format).converted(*t.format);
     return load_texture(t.source, scene.base_dir, format);
   } catch (const InputError& e) {
     throw InputError(t.where, e.what());

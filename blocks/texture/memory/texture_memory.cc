@@ -89,7 +89,7 @@ Texture Texture::from_rgba(std::string name, int width, int height, const std::v
   if (width <= 0 || height <= 0) throw std::invalid_argument("texture size must be positive");
   Texture t;
   t.name_ = std::move(name);
-  t.format_ = format;
+  t.set_store(format);
   if (format == TexelFormat::Rgba8) {
     // Every level's bytes in one allocation (the chain is at most 4/3 of level 0).
     size_t total = 0;
@@ -121,12 +121,70 @@ Texture Texture::from_levels(std::string name, const std::vector<int>& widths,
   }
   Texture t;
   t.name_ = std::move(name);
-  t.format_ = format;
+  t.set_store(format);
   for (size_t i = 0; i < levels.size(); ++i) {
     if (widths[i] <= 0 || heights[i] <= 0) throw std::invalid_argument("bad level size");
     t.add_level(widths[i], heights[i], levels[i]);
   }
   t.place(0, TexelLayout::Linear);
+  return t;
+}
+
+void Texture::set_store(TexelFormat format) {
+  format_ = format;
+  storage_ = format == TexelFormat::Rgba8 ? StorageFormat::Rgba8Unorm : StorageFormat::Rgba32f;
+  bytes_per_texel_ = format_info(storage_).bytes;
+}
+
+Texture Texture::converted(StorageFormat storage) const {
+  Texture t;
+  t.name_ = name_;
+  t.set_store(decodes_to_bytes(storage) ? TexelFormat::Rgba8 : TexelFormat::Rgba32f);
+  t.storage_ = storage;
+  t.bytes_per_texel_ = format_info(storage).bytes;
+  std::vector<float> px;
+  for (int l = 0; l < levels(); ++l) {
+    const int w = width(l), h = height(l);
+    px.resize(static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const glm::vec4 c = convert_texel(storage, texel(l, x, y));
+        float* d = &px[(static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * 4];
+        for (int k = 0; k < 4; ++k) d[k] = c[k];
+      }
+    }
+    t.add_level(w, h, px);
+  }
+  if (format_info(storage).coding == ChannelCoding::Srgb) {
+    // The texels mean sRGB-encoded colours: the truth is their linear value, decoded without
+    // the format's 8-bit step.
+    t.reference_ = std::make_shared<const Texture>(reference().linearised());
+  } else {
+    t.reference_ = std::make_shared<const Texture>(reference());
+  }
+  t.place(base_, layout_);
+  return t;
+}
+
+Texture Texture::linearised() const {
+  Texture t;
+  t.name_ = name_;
+  t.set_store(TexelFormat::Rgba32f);
+  std::vector<float> px;
+  for (int l = 0; l < levels(); ++l) {
+    const int w = width(l), h = height(l);
+    px.resize(static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const glm::vec4 c = texel(l, x, y);
+        float* d = &px[(static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * 4];
+        for (int k = 0; k < 3; ++k) d[k] = srgb_eotf(c[k]);
+        d[3] = c[3];
+      }
+    }
+    t.add_level(w, h, px);
+  }
+  t.place(base_, layout_);
   return t;
 }
 

@@ -3,13 +3,18 @@
 // under a linear, 4x4-tiled or Morton layout (what the texture cache sees). docs/architecture.md.
 #include <cstdint>
 #include <glm/vec4.hpp>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "blocks/texture/memory/storage_format.h"
 
 namespace texsim {
 
 using Rgba = glm::vec4;  // colour in [0,1] (RGBA8) or any float (RGBA32F)
 
+// The store the unit reads texels from: 8-bit channels or floats. What a texel takes in
+// simulated memory is the texture's StorageFormat (storage_format.h).
 enum class TexelFormat { Rgba8, Rgba32f };
 enum class TexelLayout { Linear, Tiled4x4, Morton };
 enum class AddressMode { Wrap, Clamp, Mirror };  // Vulkan REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT
@@ -37,13 +42,22 @@ class Texture {
                              const std::vector<int>& heights,
                              const std::vector<std::vector<float>>& levels, TexelFormat format);
 
+  // The same texture stored in `storage` (storage_format.h): every texel of every level
+  // converted by the format's rules (mips as they were built, each texel converted once). The
+  // result keeps this texture as its reference(), the truth its accuracy is judged against.
+  Texture converted(StorageFormat storage) const;
+
   const std::string& name() const { return name_; }
   TexelFormat format() const { return format_; }
+  StorageFormat storage() const { return storage_; }
+  // The texture the ground truth samples: the one it was converted from, else itself.
+  const Texture& reference() const { return reference_ ? *reference_ : *this; }
   int levels() const { return static_cast<int>(levels_.size()); }
   int width(int level) const { return levels_[level].width; }
   int height(int level) const { return levels_[level].height; }
   const Level& level(int l) const { return levels_[l]; }
-  int bytes_per_texel() const { return format_ == TexelFormat::Rgba8 ? 4 : 16; }
+  // Bytes of one texel in simulated memory (its storage format's).
+  int bytes_per_texel() const { return bytes_per_texel_; }
   // The texels of every level in one store, level after level, each row-major with 4 channels
   // per texel (one store, so a gather with one base reaches every level). Only the store of
   // the texture's format is filled.
@@ -121,11 +135,19 @@ class Texture {
   uint64_t texel_index(const Level& lv, int x, int y) const {
     return texel_index(layout_, lv, x, y);
   }
+  // This texture with every colour channel taken through the sRGB EOTF (alpha kept), in
+  // floats: the linear colours an sRGB texture means.
+  Texture linearised() const;
+  // Sets the store, and the storage format that is that store's own (RGBA8 UNORM, RGBA32F).
+  void set_store(TexelFormat format);
   // Appends a level of w × h float RGBA texels (row-major) in the texture's format.
   void add_level(int w, int h, const std::vector<float>& rgba);
 
   std::string name_;
   TexelFormat format_ = TexelFormat::Rgba8;
+  StorageFormat storage_ = StorageFormat::Rgba8Unorm;
+  int bytes_per_texel_ = 4;
+  std::shared_ptr<const Texture> reference_;  // set by converted()
   TexelLayout layout_ = TexelLayout::Linear;
   uint64_t base_ = 0;
   std::vector<Level> levels_;
