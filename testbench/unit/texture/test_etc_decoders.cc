@@ -428,6 +428,15 @@ TEST(EtcDecoders, BlockCostsAndNames) {
     EXPECT_GE(t.latency, 1u);
     EXPECT_GT(t.area, 0.0);
   }
+  // The default table's figures in docs/derivations/etc2-eac.md §6.
+  EXPECT_EQ(kRgb.timing(tech).latency, 7u);
+  EXPECT_DOUBLE_EQ(kRgb.timing(tech).area, 279.0);
+  EXPECT_DOUBLE_EQ(kRgbA1.timing(tech).area, 287.0);
+  EXPECT_EQ(Etc2RgbaDecoder().timing(tech).latency, 8u);
+  EXPECT_DOUBLE_EQ(Etc2RgbaDecoder().timing(tech).area, 379.0);
+  EXPECT_EQ(kR11.timing(tech).latency, 8u);
+  EXPECT_DOUBLE_EQ(kR11.timing(tech).area, 100.5);
+  EXPECT_DOUBLE_EQ(EacRgDecoder({true, Datapath::Spatial}).timing(tech).area, 202.0);
   const EacDecoder shared({false, Datapath::Shared});
   EXPECT_EQ(shared.timing(tech).ii, 33u);  // the 33 compares through one comparator
   EXPECT_EQ(kRgb.name(), "texture.etc2_rgb8");
