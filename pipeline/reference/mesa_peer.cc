@@ -455,6 +455,32 @@ double MesaPeer::time_draws(const MesaView& view, int draws) const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+std::vector<uint8_t> MesaPeer::decode_compressed(uint32_t gl_format, int width, int height,
+                                                 std::span<const uint8_t> data,
+                                                 uint32_t read_format, uint32_t read_type,
+                                                 size_t texel_bytes) const {
+  if (!available()) throw InputError("Mesa peer", why_not_);
+  Session& s = session();
+  const std::lock_guard<std::mutex> hold(s.lock);
+  const std::string e = s.start(driver_);
+  if (!e.empty()) throw InputError("Mesa peer", "Mesa not available: " + e);
+  eglMakeCurrent(s.display, EGL_NO_SURFACE, EGL_NO_SURFACE, s.context);
+  while (glGetError() != GL_NO_ERROR) {
+  }
+  GlObjects g;
+  g.textures.push_back(0);
+  glGenTextures(1, g.textures.data());
+  glBindTexture(GL_TEXTURE_2D, g.textures[0]);
+  glCompressedTexImage2D(GL_TEXTURE_2D, 0, gl_format, width, height, 0,
+                         static_cast<GLsizei>(data.size()), data.data());
+  check("glCompressedTexImage2D");
+  std::vector<uint8_t> out(static_cast<size_t>(width) * static_cast<size_t>(height) * texel_bytes);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTexImage(GL_TEXTURE_2D, 0, read_format, read_type, out.data());
+  check("glGetTexImage of the compressed image");
+  return out;
+}
+
 #else  // built without EGL/OpenGL
 
 MesaPeer::MesaPeer(MesaDriver driver)
@@ -466,6 +492,11 @@ MesaPeer::MesaPeer(MesaDriver driver)
 MesaImage MesaPeer::render(const MesaView&) const { throw InputError("Mesa peer", why_not_); }
 
 double MesaPeer::time_draws(const MesaView&, int) const { throw InputError("Mesa peer", why_not_); }
+
+std::vector<uint8_t> MesaPeer::decode_compressed(uint32_t, int, int, std::span<const uint8_t>,
+                                                 uint32_t, uint32_t, size_t) const {
+  throw InputError("Mesa peer", why_not_);
+}
 
 #endif
 

@@ -8,7 +8,9 @@
 // The driver is chosen with GALLIUM_DRIVER and LIBGL_ALWAYS_SOFTWARE, set only around EGL's
 // initialisation; Mesa's surfaceless display is one per process, so a peer of the other driver
 // re-initialises it (a few ms for llvmpipe, ~60 ms for softpipe).
+#include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -70,6 +72,13 @@ class MesaPeer {
   // warmed the driver up (glFinish on both sides; depth test off so every draw shades every
   // pixel): the filtering rate, without set-up or read-back. Throws as render().
   double time_draws(const MesaView& view, int draws) const;
+  // Mesa's own decoding of a compressed image: `data` uploaded with glCompressedTexImage2D as
+  // `gl_format` (an OpenGL enum, e.g. GL_COMPRESSED_RGB8_ETC2), level 0 of width x height,
+  // read back with glGetTexImage as (`read_format`, `read_type`), `texel_bytes` per texel,
+  // row 0 the first row of blocks. Throws as render().
+  std::vector<uint8_t> decode_compressed(uint32_t gl_format, int width, int height,
+                                         std::span<const uint8_t> data, uint32_t read_format,
+                                         uint32_t read_type, size_t texel_bytes) const;
 
  private:
   MesaDriver driver_;
