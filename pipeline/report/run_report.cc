@@ -88,6 +88,32 @@ void add_stages_json(Json& j, const UnitArray& unit) {
   }
 }
 
+// Compressed textures: where they are decoded and the decoders' work.
+void add_decompress_json(Json& j, const UnitArray& unit) {
+  if (!unit.textures().any_compressed()) return;
+  static constexpr const char* kPlacement[] = {"before_l1", "after_l1", "after_l2"};
+  PerCompressedFormat n{};
+  for (int u = 0; u < unit.units(); ++u) {
+    const PerCompressedFormat d = unit.unit(u).decoded_blocks();
+    for (size_t f = 0; f < n.size(); ++f) n[f] += d[f];
+  }
+  Json formats = Json::object();
+  uint64_t total = 0;
+  for (size_t f = 0; f < n.size(); ++f) {
+    if (n[f] == 0) continue;
+    formats[std::string(to_string(static_cast<CompressedFormat>(f)))] = n[f];
+    total += n[f];
+  }
+  Json& e = j["decompress"];
+  e["placement"] = kPlacement[static_cast<int>(unit.setup().decompress)];
+  e["blocks_decoded"] = total;
+  e["blocks_by_format"] = formats;
+  if (const BlockDecompressor* d = unit.memory().decompressor()) {
+    e["decoded_lines"] = d->stats().lines;
+    e["compressed_reads"] = d->stats().compressed_reads;
+  }
+}
+
 // The texture cache's counters and geometry, then DRAM's.
 void add_memory_json(Json& j, const UnitArray& unit) {
   const TextureCache::Stats cs = unit.l1_totals();
@@ -140,6 +166,7 @@ void add_memory_json(Json& j, const UnitArray& unit) {
                {"line_bytes", l2->config().line_bytes},
                {"slices", l2->config().slices}};
   }
+  add_decompress_json(j, unit);
   if (!unit.several()) return;
   // Several units: each unit's share, and how exactly the scheduler kept cycle order.
   Json units = Json::array();

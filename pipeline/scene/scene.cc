@@ -1,5 +1,6 @@
 #include "pipeline/scene/scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -92,6 +93,51 @@ void parse_camera(const ConfigReader& top, Scene& s, Camera& c) {
   }
 }
 
+// `compress = { format, encoder, quality }`: the encoder defaults to the one Debian has for the
+// format (squish for BC1-BC3, nvtt for BC4/BC5, astcenc for ASTC); formats no encoder makes
+// (BC7, ETC2, EAC) come only from files.
+SceneTexture::Compress parse_compress(const ConfigReader& tr, const std::string& path,
+                                      const std::string& name) {
+  if (!tr.subtable("compress")) tr.fail("compress", "expected a table { format = \"…\", ... }");
+  const ConfigReader c = tr.sub("compress");
+  c.reject_unknown({"format", "encoder", "quality"});
+  SceneTexture::Compress out;
+  const std::string f = c.get_string("format", "");
+  const auto fmt = compressed_format_from_name(f);
+  if (!fmt) c.fail("format", "unknown compressed format '" + f + "' (one of " +
+                                 compressed_format_names() + ")");
+  out.format = *fmt;
+  const CodecFamily family = format_info(*fmt).family;
+  const bool bc13 = *fmt == CompressedFormat::Bc1Rgb || *fmt == CompressedFormat::Bc1Rgba ||
+                    *fmt == CompressedFormat::Bc2 || *fmt == CompressedFormat::Bc3;
+  const bool bc45 = *fmt == CompressedFormat::Bc4 || *fmt == CompressedFormat::Bc5;
+  const std::string def = bc13 ? "squish" : bc45 ? "nvtt" : family == CodecFamily::Astc ? "astcenc" : "";
+  out.encoder = c.get_string("encoder", def);
+  const bool ok = (out.encoder == "squish" && bc13) || (out.encoder == "nvtt" && (bc13 || bc45)) ||
+                  (out.encoder == "astcenc" && family == CodecFamily::Astc);
+  if (!ok) {
+    c.fail(def.empty() ? "format" : "encoder",
+           def.empty() ? "no encoder makes '" + f + "' (load it from a .dds or .astc file)"
+                       : "encoder '" + out.encoder + "' cannot make '" + f +
+                             "' (squish: bc1_rgb, bc1_rgba, bc2, bc3; nvtt: those and bc4, bc5; "
+                             "astcenc: astc_*)");
+  }
+  out.quality = c.get_string("quality", "");
+  const std::vector<std::string> levels =
+      out.encoder == "squish" ? std::vector<std::string>{"range", "cluster", "iterative-cluster"}
+      : out.encoder == "nvtt" ? std::vector<std::string>{"fastest", "normal", "production"}
+                              : std::vector<std::string>{"fastest", "fast", "medium", "thorough"};
+  if (!out.quality.empty() &&
+      std::find(levels.begin(), levels.end(), out.quality) == levels.end()) {
+    std::string list;
+    for (const auto& l : levels) list += (list.empty() ? "" : ", ") + l;
+    c.fail("quality", "unknown " + out.encoder + " quality '" + out.quality + "' (one of " + list +
+                          ")");
+  }
+  out.where = at(path, *tr.table().get("compress")) + ": textures." + name + ".compress";
+  return out;
+}
+
 // Textures: [textures.NAME] source = "...", format = "..." (optional, storage_format.h)
 void parse_textures(const ConfigReader& top, Scene& s) {
   const toml::table* t = top.subtable("textures");
@@ -100,7 +146,7 @@ void parse_textures(const ConfigReader& top, Scene& s) {
     const std::string name(k.str());
     if (!v.is_table()) throw InputError(at(s.path, v), "textures." + name + ": expected a table");
     const ConfigReader tr(*v.as_table(), s.path, "textures." + name);
-    tr.reject_unknown({"source", "format"});
+    tr.reject_unknown({"source", "format", "compress"});
     const std::string src = tr.get_string("source", "");
     if (src.empty()) throw InputError(at(s.path, v), "textures." + name + ": missing 'source'");
     const std::string where =
@@ -115,7 +161,11 @@ void parse_textures(const ConfigReader& top, Scene& s) {
       if (!format) tr.fail("format", "unknown texel format '" + f + "' (one of " +
                                          storage_format_names() + ")");
     }
-    s.textures.push_back({name, src, where, format});
+    std::optional<SceneTexture::Compress> compress;
+    if (tr.table().contains("compress")) compress = parse_compress(tr, s.path, name);
+    if (compress && format)
+      tr.fail("compress", "a texture is either compressed or stored in a 'format', not both");
+    s.textures.push_back({name, src, where, format, compress});
   }
 }
 

@@ -13,6 +13,7 @@
 
 #include "blocks/base/energy_table.h"
 #include "blocks/base/tech_table.h"
+#include "blocks/texture/decode/compressed_format.h"
 #include "blocks/texture/memory/storage_format.h"
 #include "blocks/geometry/camera.h"
 #include "pipeline/scene/camera_path.h"
@@ -30,6 +31,15 @@ struct SceneTexture {
   // `format = "…"`: the texture is stored in this format (converted when loaded); none: as
   // the file or procedural source gives it (RGBA8 or RGBA32F).
   std::optional<StorageFormat> format;
+  // `compress = { format = "…", encoder = "…", quality = "…" }`: the texture is encoded into
+  // blocks of a compressed format when loaded (docs/formats.md#block-compressed-formats).
+  struct Compress {
+    CompressedFormat format = CompressedFormat::Bc1Rgb;
+    std::string encoder;  // "squish", "nvtt" or "astcenc"
+    std::string quality;  // the encoder's own level names; empty: its default
+    std::string where;    // "file:line:column: textures.NAME.compress"
+  };
+  std::optional<Compress> compress;
 };
 
 // A material's own error budget for `texsim tune` (docs/tune.md): `budget = { psnr = 35 }`

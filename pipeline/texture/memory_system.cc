@@ -5,7 +5,8 @@
 
 namespace texsim {
 
-MemorySystem::MemorySystem(const PipelineSetup& setup, int units) : dram_(setup.dram) {
+MemorySystem::MemorySystem(const PipelineSetup& setup, int units)
+    : dram_(setup.dram), decompress_(setup.decompress) {
   if (units < 1 || units > static_cast<int>(PipelineSetup::kMaxUnits))
     throw std::invalid_argument("memory system: units must be in [1, 64]");
   for (int u = 0; u < units; ++u) l1_.push_back(std::make_unique<TextureCache>(setup.cache));
@@ -15,6 +16,7 @@ MemorySystem::MemorySystem(const PipelineSetup& setup, int units) : dram_(setup.
     banked_->validate(setup.has_l2 ? setup.l2.line_bytes : setup.cache.line_bytes);
     dram = banked_.get();
   }
+  dram_level_ = dram;
   to_next_.set_next(dram);
   if (setup.has_l2) {
     to_dram_.set_next(dram);
@@ -22,6 +24,21 @@ MemorySystem::MemorySystem(const PipelineSetup& setup, int units) : dram_(setup.
     l2_->validate(setup.cache.line_bytes);
     to_next_.set_next(l2_.get());
   }
+}
+
+void MemorySystem::attach_textures(
+    const TextureSet& textures, std::function<BlockDecompressor::Timing(CompressedFormat)> timing) {
+  if (decompressor_ || !textures.any_compressed() ||
+      decompress_ == PipelineSetup::Decompress::AfterL1)
+    return;
+  if (decompress_ == PipelineSetup::Decompress::AfterL2) {  // between the L1s and the L2
+    decompressor_ = std::make_unique<BlockDecompressor>(l2_.get(), &textures, std::move(timing));
+    to_next_.set_next(decompressor_.get());
+    return;
+  }
+  // Before the L1: in front of DRAM, so that every cache holds decoded texels.
+  decompressor_ = std::make_unique<BlockDecompressor>(dram_level_, &textures, std::move(timing));
+  (l2_ ? to_dram_ : to_next_).set_next(decompressor_.get());
 }
 
 std::vector<std::string> MemorySystem::levels() const {

@@ -14,6 +14,7 @@
 #include "blocks/texture/memory/level_probe.h"
 #include "blocks/texture/memory/line_memory.h"
 #include "blocks/texture/memory/texture_cache.h"
+#include "pipeline/texture/block_decompressor.h"
 #include "pipeline/texture/pipeline_setup.h"
 
 namespace texsim {
@@ -33,6 +34,12 @@ class MemorySystem {
   LineMemory& behind_l1() { return to_next_; }
   const L2Cache* l2() const { return l2_.get(); }
   const BankedDram* banked() const { return banked_.get(); }
+  // With block-compressed textures in `textures` and decompression before the L1 or after
+  // the L2: puts the decompressor in front of the level that holds decoded texels last.
+  // Once, after the textures are placed.
+  void attach_textures(const TextureSet& textures,
+                       std::function<BlockDecompressor::Timing(CompressedFormat)> timing);
+  const BlockDecompressor* decompressor() const { return decompressor_.get(); }
   // The L1s' counters summed.
   TextureCache::Stats l1_totals() const;
   // DRAM figures of either model: requests, bytes, and the busiest channel's busy cycles.
@@ -50,6 +57,9 @@ class MemorySystem {
   std::unique_ptr<L2Cache> l2_;
   // Requests into the level behind the L1s, and (with an L2) into the DRAM behind it.
   LevelProbe to_next_, to_dram_;
+  LineMemory* dram_level_ = nullptr;  // the flat or the banked DRAM
+  PipelineSetup::Decompress decompress_;
+  std::unique_ptr<BlockDecompressor> decompressor_;
 };
 
 }  // namespace texsim

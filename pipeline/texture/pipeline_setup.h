@@ -41,6 +41,11 @@ struct PipelineSetup {
   DramModel::Config dram;
   BankedDram::Config banked;
   TexelBlend::Config blend;
+  // Where block-compressed textures are decoded (docs/timing-model.md#decompression):
+  // before_l1: as blocks leave DRAM, every cache holds decoded texels; after_l1: between the
+  // L1 and the filter, every cache holds blocks; after_l2: between the L2 and the L1s.
+  enum class Decompress { BeforeL1, AfterL1, AfterL2 };
+  Decompress decompress = Decompress::AfterL1;
   // Reads [pipeline]; errors name file:line:col and the rule broken.
   static PipelineSetup from_toml(const toml::table& t, const std::string& source);
 

@@ -1,5 +1,7 @@
 #include "pipeline/texture/texture_unit.h"
 
+#include "blocks/texture/decode/block_decoder.h"
+
 #include <algorithm>
 #include <glm/geometric.hpp>
 #include <stdexcept>
@@ -32,6 +34,24 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
 
 TextureUnit::~TextureUnit() = default;
 
+PerCompressedFormat TextureUnit::decoded_blocks() const {
+  PerCompressedFormat n = fetch_.decoded_by_format();
+  if (const BlockDecompressor* d = mem_->decompressor(); d && unit_ == 0) {
+    for (size_t f = 0; f < n.size(); ++f) n[f] += d->stats().blocks_by_format[f];
+  }
+  return n;
+}
+
+void TextureUnit::attach_decoders() {
+  const TechTable tech = tech_;
+  mem_->attach_textures(textures_, [tech](CompressedFormat f) {
+    const TimingSpec t = decoder_timing(f, tech);
+    return BlockDecompressor::Timing{t.latency, t.ii};
+  });
+  if (setup_.decompress == PipelineSetup::Decompress::AfterL1)
+    fetch_.set_blocks_in_l1([tech](CompressedFormat f) { return decoder_timing(f, tech).latency; });
+}
+
 TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
                          const PipelineSetup& setup, const TechTable& tech, bool timing,
                          std::unique_ptr<MemorySystem> own, MemorySystem* shared, int unit)
@@ -43,9 +63,11 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
       own_memory_(std::move(own)),
       mem_(shared ? shared : own_memory_.get()),
       fetch_(mem_->l1(unit), mem_->behind_l1(), unit, setup.cache, setup.quad_merge),
-      defer_(shared != nullptr) {
+      defer_(shared != nullptr),
+      unit_(unit) {
   if (mats_.empty()) throw std::invalid_argument("texture unit: no materials");
   textures_.place(setup.layout);
+  if (textures_.any_compressed()) attach_decoders();
   int reliefs = 0;
   for (const auto& m : mats_) {
     Path p;
@@ -566,7 +588,21 @@ std::vector<BlockUse> TextureUnit::blocks() const {
   }
   std::vector<std::string> all;
   for (const auto& m : mats_) all.push_back(m.name);
-  out.push_back(fetch_.row(texels, std::move(all)));
+  out.push_back(fetch_.row(texels, all));
+  // The texel decoders: one block per compressed format decoded, its operations per block.
+  const PerCompressedFormat decoded = decoded_blocks();
+  for (int f = 0; f < kCompressedFormats; ++f) {
+    const uint64_t n = decoded[static_cast<size_t>(f)];
+    if (n == 0) continue;
+    const auto cf = static_cast<CompressedFormat>(f);
+    BlockUse b;
+    b.name = decoder_name(cf);
+    b.arithmetic = decoder_arithmetic(cf);
+    b.timing = decoder_timing(cf, tech_);
+    b.ops = decoder_ops(cf) * n;
+    b.materials = all;
+    out.push_back(std::move(b));
+  }
   // Measured areas (e.g. LUTs of the real RTL) replace derived ones, by the reported name.
   for (BlockUse& b : out) b.timing.area = tech_.block_area_or(b.name, b.timing.area);
   return out;

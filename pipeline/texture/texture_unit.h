@@ -121,6 +121,9 @@ class TextureUnit {
   uint64_t fragments() const { return fragments_; }
   uint64_t cycles() const { return pipe_ ? pipe_->run_end() : 0; }
   std::vector<BlockUse> blocks() const;
+  // Blocks of compressed textures decoded: in the fetch stage (decompression after the L1)
+  // or, counted by the first unit only, in the shared memory's decompressor.
+  PerCompressedFormat decoded_blocks() const;
   // The blocks material m used, with only its own operations and texels (cache excluded).
   std::vector<BlockUse> material_blocks(int m) const;
   // Fragments material m textured.
@@ -129,6 +132,7 @@ class TextureUnit {
   const ClockedPipeline* pipeline() const { return pipe_.get(); }
   const TextureCache& cache() const { return fetch_.cache(); }
   const MemorySystem& memory() const { return *mem_; }
+  const TextureSet& textures() const { return textures_; }
   MemorySystem& memory() { return *mem_; }
   // Tag look-ups quad merging saved: lines a quad's earlier lane had looked up.
   uint64_t quad_merged_lookups() const { return fetch_.merged_lookups(); }
@@ -240,12 +244,15 @@ class TextureUnit {
   PipelineSetup setup_;
   TechTable tech_;
   bool timing_;
+  // Compressed textures: the decompressor in the memory system, or the blocks in the L1.
+  void attach_decoders();
   std::unique_ptr<MemorySystem> own_memory_;  // set: a unit on its own (first constructor)
   MemorySystem* mem_;
   FetchStage fetch_;  // the cache slot: this unit's L1 and the memory behind it
   // Two-step timing: the costs of the fragment in flight, its arrival and start at the cache
   // slot.
   bool defer_ = false;
+  int unit_ = 0;  // index among the units sharing the memory system
   std::vector<ItemCost> defer_costs_;
   uint64_t defer_arrival_ = 0, defer_start_ = 0;
   // Two-step timing of the fixed slot sequence (front end, LOD, address, cache, blend): the

@@ -75,6 +75,8 @@ class UnitArray {
   TextureCache::Stats l1_totals() const { return memory().l1_totals(); }
   const TextureCache::Config& l1_config() const { return units_[0]->cache().config(); }
   const MemorySystem& memory() const { return units_[0]->memory(); }
+  const TextureSet& textures() const { return units_[0]->textures(); }
+  const PipelineSetup& setup() const { return setup_; }
   MemorySystem& memory() { return units_[0]->memory(); }
   // Stage s's counters summed over the units (each unit has the same stages).
   StageStats stage_totals(int s) const;

@@ -188,28 +188,102 @@ Texture Texture::linearised() const {
   return t;
 }
 
+void Texture::set_blocks(std::shared_ptr<const Blocks> blocks) {
+  blocks_ = std::move(blocks);
+  bytes_per_texel_ = format_info(blocks_->format).decoded_bytes;
+  block_levels_.clear();
+  const CompressedFormatInfo& f = format_info(blocks_->format);
+  for (const Level& lv : levels_) {
+    Level b;
+    b.width = (lv.width + f.block_w - 1) / f.block_w;
+    b.height = (lv.height + f.block_h - 1) / f.block_h;
+    block_levels_.push_back(b);
+  }
+  place(base_, layout_);
+}
+
+namespace {
+// Texels (or blocks) a level of w × h takes under `layout`, padding included.
+uint64_t stored_units(TexelLayout layout, uint64_t w, uint64_t h) {
+  switch (layout) {
+    case TexelLayout::Linear:
+      return w * h;
+    case TexelLayout::Tiled4x4:
+      return ((w + 3) / 4) * ((h + 3) / 4) * 16;
+    case TexelLayout::Morton: {
+      uint64_t s = 1;
+      while (s < std::max(w, h)) s <<= 1;
+      return s * s;
+    }
+  }
+  return 0;
+}
+
+// The (x, y) whose index under `layout` is `i` in a level of w × h; false in the padding.
+bool position_of(TexelLayout layout, uint64_t i, int w, int h, int& x, int& y) {
+  switch (layout) {
+    case TexelLayout::Linear:
+      x = static_cast<int>(i % static_cast<uint64_t>(w));
+      y = static_cast<int>(i / static_cast<uint64_t>(w));
+      break;
+    case TexelLayout::Tiled4x4: {
+      const uint64_t tiles_x = (static_cast<uint64_t>(w) + 3) / 4, tile = i / 16, in = i % 16;
+      x = static_cast<int>((tile % tiles_x) * 4 + (in & 3));
+      y = static_cast<int>((tile / tiles_x) * 4 + (in >> 2));
+      break;
+    }
+    case TexelLayout::Morton: {
+      auto squeeze = [](uint64_t v) {  // the even bits of v, packed
+        v &= 0x5555555555555555ULL;
+        v = (v | (v >> 1)) & 0x3333333333333333ULL;
+        v = (v | (v >> 2)) & 0x0f0f0f0f0f0f0f0fULL;
+        v = (v | (v >> 4)) & 0x00ff00ff00ff00ffULL;
+        v = (v | (v >> 8)) & 0x0000ffff0000ffffULL;
+        v = (v | (v >> 16)) & 0x00000000ffffffffULL;
+        return v;
+      };
+      x = static_cast<int>(squeeze(i));
+      y = static_cast<int>(squeeze(i >> 1));
+      break;
+    }
+  }
+  return x < w && y < h;
+}
+}  // namespace
+
+bool Texture::texel_at(uint64_t addr, int& level, int& x, int& y) const {
+  if (addr < base_) return false;
+  const uint64_t rel = addr - base_;
+  for (int l = levels() - 1; l >= 0; --l) {
+    const Level& lv = levels_[static_cast<size_t>(l)];
+    if (rel < lv.offset) continue;
+    level = l;
+    return position_of(layout_, (rel - lv.offset) / static_cast<uint64_t>(bytes_per_texel_),
+                       lv.width, lv.height, x, y);
+  }
+  return false;
+}
+
+uint64_t Texture::place_blocks(uint64_t base) {
+  block_base_ = base;
+  uint64_t off = 0;
+  const auto bytes = static_cast<uint64_t>(format_info(blocks_->format).block_bytes);
+  for (Level& b : block_levels_) {
+    b.offset = off;
+    off += (stored_units(layout_, static_cast<uint64_t>(b.width),
+                         static_cast<uint64_t>(b.height)) * bytes + 255) & ~uint64_t{255};
+  }
+  return off;
+}
+
 uint64_t Texture::place(uint64_t base, TexelLayout layout) {
   base_ = base;
   layout_ = layout;
   uint64_t off = 0;
   for (auto& lv : levels_) {
     lv.offset = off;
-    uint64_t texels = 0;
-    const auto w = static_cast<uint64_t>(lv.width), h = static_cast<uint64_t>(lv.height);
-    switch (layout) {
-      case TexelLayout::Linear:
-        texels = w * h;
-        break;
-      case TexelLayout::Tiled4x4:
-        texels = ((w + 3) / 4) * ((h + 3) / 4) * 16;
-        break;
-      case TexelLayout::Morton: {
-        uint64_t s = 1;
-        while (s < std::max(w, h)) s <<= 1;
-        texels = s * s;
-        break;
-      }
-    }
+    const uint64_t texels = stored_units(layout, static_cast<uint64_t>(lv.width),
+                                         static_cast<uint64_t>(lv.height));
     off += (texels * static_cast<uint64_t>(bytes_per_texel()) + 255) & ~uint64_t{255};
   }
   return off;
@@ -228,6 +302,23 @@ void TextureSet::place(TexelLayout layout) {
     const uint64_t used = t.place(base, layout);
     base += (used + 4095) & ~uint64_t{4095};  // each texture starts on a 4 KiB page
   }
+  // Compressed textures' blocks after every texture's texels: a cache holding blocks and one
+  // holding decoded texels never alias.
+  for (auto& t : textures_) {
+    if (!t.compressed()) continue;
+    const uint64_t used = t.place_blocks(base);
+    base += (used + 4095) & ~uint64_t{4095};
+  }
+}
+
+const Texture* TextureSet::holding(uint64_t addr) const {
+  // Textures are placed in order, so the last one starting at or below addr holds it.
+  const Texture* found = nullptr;
+  for (const auto& t : textures_) {
+    if (t.base() > addr) break;
+    found = &t;
+  }
+  return found;
 }
 
 }  // namespace texsim

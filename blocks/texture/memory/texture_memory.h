@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "blocks/texture/decode/compressed_format.h"
 #include "blocks/texture/memory/storage_format.h"
 
 namespace texsim {
@@ -75,6 +76,38 @@ class Texture {
     }
     return {rgba32f_[i], rgba32f_[i + 1], rgba32f_[i + 2], rgba32f_[i + 3]};
   }
+
+  // A block-compressed texture's blocks as memory holds them (compressed_texture.h builds
+  // such textures: the texel store then holds the decoded texels).
+  struct Blocks {
+    CompressedFormat format = CompressedFormat::Bc1Rgb;
+    // Per level, the blocks row by row (ceil(w / block_w) × ceil(h / block_h) blocks).
+    std::vector<std::vector<uint8_t>> levels;
+    std::string provenance;  // the encoder and its options, or the file the blocks came from
+  };
+  // Marks this texture as decoded from `blocks`: bytes_per_texel() becomes the decoded
+  // texel's bytes (what a cache holding decoded texels moves).
+  void set_blocks(std::shared_ptr<const Blocks> blocks);
+  // The texture the truth samples instead of this one (e.g. the texture a compressed one was
+  // encoded from).
+  void set_reference(std::shared_ptr<const Texture> reference) { reference_ = std::move(reference); }
+  const Blocks* blocks() const { return blocks_.get(); }
+  bool compressed() const { return blocks_ != nullptr; }
+  // The blocks' own place in memory (set by TextureSet::place: after every texture's texels).
+  uint64_t place_blocks(uint64_t base);
+  // Byte address of the block holding texel (x, y) of `level`, blocks laid out by the
+  // texture's layout over the level's grid of blocks.
+  uint64_t block_address(int level, int x, int y) const {
+    const CompressedFormatInfo& f = format_info(blocks_->format);
+    const Level& bl = block_levels_[static_cast<size_t>(level)];
+    return block_base_ + bl.offset +
+           texel_index(layout_, bl, x / f.block_w, y / f.block_h) *
+               static_cast<uint64_t>(f.block_bytes);
+  }
+  // The level holding byte `addr` of this texture's texel range and the texel there, or false
+  // (an address past the level's texels, in its padding); used to find the blocks a line of
+  // decoded texels needs.
+  bool texel_at(uint64_t addr, int& level, int& x, int& y) const;
 
   // Lays the levels out in memory at `base` with `layout`; returns the bytes used.
   uint64_t place(uint64_t base, TexelLayout layout);
@@ -148,6 +181,9 @@ class Texture {
   StorageFormat storage_ = StorageFormat::Rgba8Unorm;
   int bytes_per_texel_ = 4;
   std::shared_ptr<const Texture> reference_;  // set by converted()
+  std::shared_ptr<const Blocks> blocks_;      // set by set_blocks()
+  uint64_t block_base_ = 0;
+  std::vector<Level> block_levels_;  // each level's grid of blocks and its offset
   TexelLayout layout_ = TexelLayout::Linear;
   uint64_t base_ = 0;
   std::vector<Level> levels_;
@@ -164,6 +200,13 @@ class TextureSet {
   const Texture& operator[](int id) const { return textures_[id]; }
   Texture& operator[](int id) { return textures_[id]; }
   TexelLayout layout() const { return layout_; }
+  // The texture whose texel range starts at or below `addr` (the one holding it, if any).
+  const Texture* holding(uint64_t addr) const;
+  bool any_compressed() const {
+    for (const auto& t : textures_)
+      if (t.compressed()) return true;
+    return false;
+  }
 
  private:
   std::vector<Texture> textures_;

@@ -94,7 +94,41 @@ int distinct_lines(const FilterTaps& taps, const Texture& tex, uint32_t shift, u
 
 }  // namespace
 
+uint64_t FetchStage::lookup_blocks(const TexelTap* taps, int count, const Texture& tex,
+                                   uint64_t start) {
+  const uint32_t shift = l1_.line_shift();
+  uint64_t blocks[128], lines[128];
+  int nb = 0, n = 0;
+  for (int i = 0; i < count && nb < 128; ++i) {
+    const TexelTap& t = taps[i];
+    const uint64_t b = tex.block_address(t.level, t.x, t.y);
+    int k = 0;
+    while (k < nb && blocks[k] != b) ++k;
+    if (k < nb) continue;
+    blocks[nb++] = b;
+    fetch_detail::add_line(b >> shift, lines, n);
+  }
+  decoded_blocks_ += static_cast<uint64_t>(nb);
+  decoded_by_format_[static_cast<size_t>(tex.blocks()->format)] += static_cast<uint64_t>(nb);
+  return access_lines(lines, n, static_cast<uint64_t>(count), start) +
+         block_latency_(tex.blocks()->format);
+}
+
+uint64_t FetchStage::lookup_block_quads(const TexelQuad* q, int n, const Texture& tex,
+                                        uint64_t start) {
+  TexelTap taps[32];
+  int count = 0;
+  for (int j = 0; j < n && j < 8; ++j) {
+    for (const int y : {q[j].y0, q[j].y1}) {
+      for (const int x : {q[j].x0, q[j].x1}) taps[count++] = {q[j].level, x, y, 0.0f};
+    }
+  }
+  return lookup_blocks(taps, count, tex, start);
+}
+
 uint64_t FetchStage::lookup_taps(const FilterTaps& taps, const Texture& tex, uint64_t start) {
+  if (block_latency_ && tex.compressed())
+    return lookup_blocks(taps.tap.data(), taps.count, tex, start);
   // Each distinct line of the fragment's taps is one tag look-up.
   const uint32_t shift = l1_.line_shift();
   uint64_t lines[128];

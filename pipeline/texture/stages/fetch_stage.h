@@ -7,6 +7,7 @@
 // templated kernels of the texture unit call them once per fragment.
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -71,6 +72,16 @@ class FetchStage {
   [[gnu::always_inline]] inline uint64_t lookup_quads(const TexelQuad* q, int n, const Texture& tex,
                                                       uint64_t start);
 
+  // Decompression after the L1 (PipelineSetup::Decompress::AfterL1): the L1 holds the blocks
+  // of compressed textures, so their taps are looked up by block address, and each distinct
+  // block of a fragment is one decoder activation; `latency(format)` cycles of the decoder
+  // add to the fetch.
+  void set_blocks_in_l1(std::function<uint32_t(CompressedFormat)> latency) {
+    block_latency_ = std::move(latency);
+  }
+  uint64_t decoded_blocks() const { return decoded_blocks_; }
+  const PerCompressedFormat& decoded_by_format() const { return decoded_by_format_; }
+
   // Reads an earlier stage made for the current fragment (lines distinct): looked up in the
   // cache slot before the filter's own, as the cache and DRAM see requests in time order.
   void stage_reads(const std::vector<uint64_t>& lines, uint64_t texels) {
@@ -134,6 +145,9 @@ class FetchStage {
     return 0;
   }
   uint64_t access_quad_lines(const uint64_t* lines, int n, uint64_t texels, uint64_t start);
+  // Look-ups of a compressed texture's taps by block address (decompression after the L1).
+  uint64_t lookup_blocks(const TexelTap* taps, int count, const Texture& tex, uint64_t start);
+  uint64_t lookup_block_quads(const TexelQuad* q, int n, const Texture& tex, uint64_t start);
 
   TextureCache& l1_;
   LineMemory& next_;
@@ -158,6 +172,9 @@ class FetchStage {
   std::vector<uint64_t> rec_lines_;
   const std::vector<uint64_t>* staged_lines_ = nullptr;
   uint64_t staged_texels_ = 0;
+  std::function<uint32_t(CompressedFormat)> block_latency_;  // set: blocks in the L1
+  uint64_t decoded_blocks_ = 0;
+  PerCompressedFormat decoded_by_format_{};
 };
 
 namespace fetch_detail {
@@ -191,6 +208,7 @@ namespace fetch_detail {
 template <TexelLayout L>
 inline uint64_t FetchStage::lookup_quads(const TexelQuad* q, int n, const Texture& tex,
                                          uint64_t start) {
+  if (block_latency_ && tex.compressed()) return lookup_block_quads(q, n, tex, start);
   const uint32_t shift = l1_.line_shift();
   const auto bpt = static_cast<uint64_t>(tex.bytes_per_texel());
   uint64_t lines[8];

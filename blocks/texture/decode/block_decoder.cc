@@ -1,0 +1,65 @@
+#include "blocks/texture/decode/block_decoder.h"
+
+#include <span>
+#include <stdexcept>
+
+#include "blocks/texture/decode/eac_decoder.h"
+#include "blocks/texture/decode/eac_rg_decoder.h"
+#include "blocks/texture/decode/etc2_rgb_decoder.h"
+#include "blocks/texture/decode/etc2_rgba_decoder.h"
+
+namespace texsim {
+
+namespace {
+
+// Calls fn with the decoder block of format f.
+template <class Fn>
+auto with_decoder(CompressedFormat f, Fn&& fn) {
+  using CF = CompressedFormat;
+  switch (f) {
+    case CF::Etc2Rgb8:
+      return fn(Etc2RgbDecoder({false}));
+    case CF::Etc2Rgb8A1:
+      return fn(Etc2RgbDecoder({true}));
+    case CF::Etc2Rgba8:
+      return fn(Etc2RgbaDecoder());
+    case CF::EacR11:
+      return fn(EacDecoder({false}));
+    case CF::EacR11Snorm:
+      return fn(EacDecoder({true}));
+    case CF::EacRg11:
+      return fn(EacRgDecoder({false}));
+    case CF::EacRg11Snorm:
+      return fn(EacRgDecoder({true}));
+    default:
+      break;
+  }
+  throw std::logic_error("no decoder for " + std::string(to_string(f)));
+}
+
+}  // namespace
+
+std::string decoder_arithmetic(CompressedFormat f) {
+  return with_decoder(f, [](const auto& d) { return d.arithmetic(); });
+}
+
+DecodedBlock decode_block(CompressedFormat f, const uint8_t* block) {
+  return with_decoder(f, [block](const auto& d) {
+    using D = std::decay_t<decltype(d)>;
+    return d.decode(typename D::Block(block, D::kBlockBytes));
+  });
+}
+
+OpCounts decoder_ops(CompressedFormat f) {
+  return with_decoder(f, [](const auto& d) { return d.ops_per_item(); });
+}
+
+TimingSpec decoder_timing(CompressedFormat f, const TechTable& tech) {
+  return with_decoder(f, [&tech](const auto& d) { return d.timing(tech); });
+}
+
+std::string decoder_name(CompressedFormat f) {
+  return with_decoder(f, [](const auto& d) { return d.name(); });
+}
+
+}  // namespace texsim
