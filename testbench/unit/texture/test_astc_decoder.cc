@@ -7,9 +7,11 @@
 
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <numeric>
 #include <set>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "blocks/base/tech_table.h"
@@ -505,6 +507,29 @@ TEST(AstcDecoderBlock, FootprintsAndCosts) {
   EXPECT_EQ(t.ii, 1U);
   EXPECT_GT(t.area, 0.0);
   EXPECT_EQ(large.name(), "texture.astc_decoder");
+  // The cost table of docs/derivations/astc.md §8 (default technology table, spatial).
+  for (const auto& [w, h] : {std::pair{4, 4},
+                             {5, 4},
+                             {5, 5},
+                             {6, 5},
+                             {6, 6},
+                             {8, 5},
+                             {8, 6},
+                             {8, 8},
+                             {10, 5},
+                             {10, 6},
+                             {10, 8},
+                             {10, 10},
+                             {12, 10},
+                             {12, 12}}) {
+    const AstcDecoder d = decoder(w, h);
+    const OpCounts o = d.ops_per_item();
+    const TimingSpec s = d.timing(TechTable::defaults());
+    std::printf("| %dx%d | %llu | %llu | %llu | %llu | %u | %u | %.0f |\n", w, h,
+                static_cast<unsigned long long>(o.add), static_cast<unsigned long long>(o.mul),
+                static_cast<unsigned long long>(o.lut), static_cast<unsigned long long>(o.cmp),
+                s.latency, s.ii, s.area);
+  }
 }
 
 }  // namespace
