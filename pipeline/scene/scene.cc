@@ -104,14 +104,18 @@ SceneTexture::Compress parse_compress(const ConfigReader& tr, const std::string&
   SceneTexture::Compress out;
   const std::string f = c.get_string("format", "");
   const auto fmt = compressed_format_from_name(f);
-  if (!fmt) c.fail("format", "unknown compressed format '" + f + "' (one of " +
-                                 compressed_format_names() + ")");
+  if (!fmt)
+    c.fail("format",
+           "unknown compressed format '" + f + "' (one of " + compressed_format_names() + ")");
   out.format = *fmt;
   const CodecFamily family = format_info(*fmt).family;
   const bool bc13 = *fmt == CompressedFormat::Bc1Rgb || *fmt == CompressedFormat::Bc1Rgba ||
                     *fmt == CompressedFormat::Bc2 || *fmt == CompressedFormat::Bc3;
   const bool bc45 = *fmt == CompressedFormat::Bc4 || *fmt == CompressedFormat::Bc5;
-  const std::string def = bc13 ? "squish" : bc45 ? "nvtt" : family == CodecFamily::Astc ? "astcenc" : "";
+  const std::string def = bc13                          ? "squish"
+                          : bc45                        ? "nvtt"
+                          : family == CodecFamily::Astc ? "astcenc"
+                                                        : "";
   out.encoder = c.get_string("encoder", def);
   const bool ok = (out.encoder == "squish" && bc13) || (out.encoder == "nvtt" && (bc13 || bc45)) ||
                   (out.encoder == "astcenc" && family == CodecFamily::Astc);
@@ -131,8 +135,8 @@ SceneTexture::Compress parse_compress(const ConfigReader& tr, const std::string&
       std::find(levels.begin(), levels.end(), out.quality) == levels.end()) {
     std::string list;
     for (const auto& l : levels) list += (list.empty() ? "" : ", ") + l;
-    c.fail("quality", "unknown " + out.encoder + " quality '" + out.quality + "' (one of " + list +
-                          ")");
+    c.fail("quality",
+           "unknown " + out.encoder + " quality '" + out.quality + "' (one of " + list + ")");
   }
   out.where = at(path, *tr.table().get("compress")) + ": textures." + name + ".compress";
   return out;
@@ -158,8 +162,9 @@ void parse_textures(const ConfigReader& top, Scene& s) {
     if (tr.table().contains("format")) {
       const std::string f = tr.get_string("format", "");
       format = storage_format_from_name(f);
-      if (!format) tr.fail("format", "unknown texel format '" + f + "' (one of " +
-                                         storage_format_names() + ")");
+      if (!format)
+        tr.fail("format",
+                "unknown texel format '" + f + "' (one of " + storage_format_names() + ")");
     }
     std::optional<SceneTexture::Compress> compress;
     if (tr.table().contains("compress")) compress = parse_compress(tr, s.path, name);

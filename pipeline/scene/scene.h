@@ -13,9 +13,9 @@
 
 #include "blocks/base/energy_table.h"
 #include "blocks/base/tech_table.h"
+#include "blocks/geometry/camera.h"
 #include "blocks/texture/decode/compressed_format.h"
 #include "blocks/texture/memory/storage_format.h"
-#include "blocks/geometry/camera.h"
 #include "pipeline/scene/camera_path.h"
 #include "pipeline/scene/object_space_config.h"
 #include "pipeline/scene/raster_order_config.h"

@@ -29,7 +29,8 @@ uint64_t BlockDecompressor::read_line(uint64_t now, uint64_t addr, uint32_t byte
   ++stats_.lines;
   if (blocks.empty()) return next_->read_line(now, addr, bytes, unit);  // all padding
   uint64_t ready = now + 1;
-  for (const uint64_t l : lines) ready = std::max(ready, next_->read_line(now, l << shift, bytes, unit));
+  for (const uint64_t l : lines)
+    ready = std::max(ready, next_->read_line(now, l << shift, bytes, unit));
   stats_.compressed_reads += lines.size();
   stats_.blocks += blocks.size();
   stats_.blocks_by_format[static_cast<size_t>(t->blocks()->format)] += blocks.size();

@@ -43,8 +43,8 @@ PipelineSetup PipelineSetup::from_toml(const toml::table& t, const std::string& 
     if (!e.empty()) dram.fail("row_bytes", e);
   }
   p.blend = TexelBlend::Config::from_toml(r.sub("blend"));
-  p.decompress = static_cast<Decompress>(r.get_choice(
-      "decompress", static_cast<int>(p.decompress), {"before_l1", "after_l1", "after_l2"}));
+  p.decompress = static_cast<Decompress>(r.get_choice("decompress", static_cast<int>(p.decompress),
+                                                      {"before_l1", "after_l1", "after_l2"}));
   if (p.decompress == Decompress::AfterL2 && !p.has_l2)
     r.fail("decompress", "\"after_l2\" needs an L2 ([pipeline.l2])");
   return p;

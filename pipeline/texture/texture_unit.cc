@@ -1,13 +1,12 @@
 #include "pipeline/texture/texture_unit.h"
 
-#include "blocks/texture/decode/block_decoder.h"
-
 #include <algorithm>
 #include <glm/geometric.hpp>
 #include <stdexcept>
 
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
+#include "blocks/texture/decode/block_decoder.h"
 #include "pipeline/texture/stages/relief_stage.h"
 
 namespace texsim {

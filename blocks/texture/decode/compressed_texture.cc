@@ -17,21 +17,23 @@ Texture texture_from_blocks(std::string name, std::shared_ptr<const Texture::Blo
     const int w = widths[l], h = heights[l];
     const int bw = (w + f.block_w - 1) / f.block_w, bh = (h + f.block_h - 1) / f.block_h;
     const std::vector<uint8_t>& bytes = blocks->levels[l];
-    if (bytes.size() != static_cast<size_t>(bw) * static_cast<size_t>(bh) *
-                            static_cast<size_t>(f.block_bytes))
+    if (bytes.size() !=
+        static_cast<size_t>(bw) * static_cast<size_t>(bh) * static_cast<size_t>(f.block_bytes))
       throw std::invalid_argument("compressed texture: a level's blocks do not match its size");
     std::vector<float> px(static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
     for (int by = 0; by < bh; ++by) {
       for (int bx = 0; bx < bw; ++bx) {
-        const size_t at = (static_cast<size_t>(by) * static_cast<size_t>(bw) +
-                           static_cast<size_t>(bx)) * static_cast<size_t>(f.block_bytes);
+        const size_t at =
+            (static_cast<size_t>(by) * static_cast<size_t>(bw) + static_cast<size_t>(bx)) *
+            static_cast<size_t>(f.block_bytes);
         const DecodedBlock d = decode_block(blocks->format, bytes.data() + at);
         // Texels of edge blocks past the level's size are padding: dropped.
         for (int y = 0; y < f.block_h && by * f.block_h + y < h; ++y) {
           for (int x = 0; x < f.block_w && bx * f.block_w + x < w; ++x) {
             const glm::vec4& c = d.at(x, y);
             float* o = &px[(static_cast<size_t>(by * f.block_h + y) * static_cast<size_t>(w) +
-                            static_cast<size_t>(bx * f.block_w + x)) * 4];
+                            static_cast<size_t>(bx * f.block_w + x)) *
+                           4];
             for (int k = 0; k < 4; ++k) o[k] = c[k];
           }
         }

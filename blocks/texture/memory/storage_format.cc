@@ -88,9 +88,7 @@ float convert_channel(const StorageFormatInfo& info, int channel, float in) {
 
 }  // namespace
 
-const StorageFormatInfo& format_info(StorageFormat f) {
-  return kFormats[static_cast<size_t>(f)];
-}
+const StorageFormatInfo& format_info(StorageFormat f) { return kFormats[static_cast<size_t>(f)]; }
 
 std::optional<StorageFormat> storage_format_from_name(std::string_view name) {
   for (size_t i = 0; i < kFormats.size(); ++i) {

@@ -11,11 +11,10 @@
 //    halves exactly; each result rounded once to float. Channels a format lacks read as 0
 //    (colour) and 1 (alpha); a depth format's value is in red.
 #include <cstdint>
+#include <glm/vec4.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
-
-#include <glm/vec4.hpp>
 
 namespace texsim {
 

@@ -149,7 +149,8 @@ Texture Texture::converted(StorageFormat storage) const {
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) {
         const glm::vec4 c = convert_texel(storage, texel(l, x, y));
-        float* d = &px[(static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * 4];
+        float* d =
+            &px[(static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * 4];
         for (int k = 0; k < 4; ++k) d[k] = c[k];
       }
     }
@@ -177,7 +178,8 @@ Texture Texture::linearised() const {
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) {
         const glm::vec4 c = texel(l, x, y);
-        float* d = &px[(static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * 4];
+        float* d =
+            &px[(static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * 4];
         for (int k = 0; k < 3; ++k) d[k] = srgb_eotf(c[k]);
         d[3] = c[3];
       }
@@ -270,8 +272,10 @@ uint64_t Texture::place_blocks(uint64_t base) {
   const auto bytes = static_cast<uint64_t>(format_info(blocks_->format).block_bytes);
   for (Level& b : block_levels_) {
     b.offset = off;
-    off += (stored_units(layout_, static_cast<uint64_t>(b.width),
-                         static_cast<uint64_t>(b.height)) * bytes + 255) & ~uint64_t{255};
+    off += (stored_units(layout_, static_cast<uint64_t>(b.width), static_cast<uint64_t>(b.height)) *
+                bytes +
+            255) &
+           ~uint64_t{255};
   }
   return off;
 }
@@ -282,8 +286,8 @@ uint64_t Texture::place(uint64_t base, TexelLayout layout) {
   uint64_t off = 0;
   for (auto& lv : levels_) {
     lv.offset = off;
-    const uint64_t texels = stored_units(layout, static_cast<uint64_t>(lv.width),
-                                         static_cast<uint64_t>(lv.height));
+    const uint64_t texels =
+        stored_units(layout, static_cast<uint64_t>(lv.width), static_cast<uint64_t>(lv.height));
     off += (texels * static_cast<uint64_t>(bytes_per_texel()) + 255) & ~uint64_t{255};
   }
   return off;

@@ -90,7 +90,9 @@ class Texture {
   void set_blocks(std::shared_ptr<const Blocks> blocks);
   // The texture the truth samples instead of this one (e.g. the texture a compressed one was
   // encoded from).
-  void set_reference(std::shared_ptr<const Texture> reference) { reference_ = std::move(reference); }
+  void set_reference(std::shared_ptr<const Texture> reference) {
+    reference_ = std::move(reference);
+  }
   const Blocks* blocks() const { return blocks_.get(); }
   bool compressed() const { return blocks_ != nullptr; }
   // The blocks' own place in memory (set by TextureSet::place: after every texture's texels).

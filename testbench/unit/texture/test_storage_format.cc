@@ -108,14 +108,13 @@ TEST(Normalized, SnormMinusOneHasTwoCodesAndDecodesClamped) {
 TEST(Srgb, DecodesEveryCodeThroughTheEotfBeforeFiltering) {
   for (int code = 0; code < 256; ++code) {
     const long double c = code / 255.0L;
-    const long double exact =
-        c <= 0.04045L ? c / 12.92L : std::pow((c + 0.055L) / 1.055L, 2.4L);
+    const long double exact = c <= 0.04045L ? c / 12.92L : std::pow((c + 0.055L) / 1.055L, 2.4L);
     const float got = srgb_to_linear(static_cast<uint8_t>(code));
     // Rounded once to float: within half a float ulp of the long-double value (plus pow's).
     const float ulp = std::nextafter(got, 2.0f) - got;
     EXPECT_LE(std::fabs(static_cast<long double>(got) - exact), 0.5L * ulp + 1e-15L) << code;
-    const glm::vec4 t = convert_texel(StorageFormat::Srgb8A8,
-                                      glm::vec4(static_cast<float>(code) / 255.0f));
+    const glm::vec4 t =
+        convert_texel(StorageFormat::Srgb8A8, glm::vec4(static_cast<float>(code) / 255.0f));
     EXPECT_EQ(t.r, got);
     EXPECT_EQ(t.a, static_cast<float>(code) / 255.0f);  // alpha stays linear
   }
@@ -179,8 +178,9 @@ TEST(ConvertedTexture, KeepsItsSourceAsTheTruthAndMovesItsOwnBytes) {
 }
 
 std::string scene_error(const std::string& format) {
-  const std::string text = "[textures.floor]\nsource = \"procedural:checker?size=8\"\nformat = " +
-                           format + "\n[materials.m]\ntexture = \"floor\"\n";
+  const std::string text =
+      "[textures.floor]\nsource = \"procedural:checker?size=8\"\nformat = " + format +
+      "\n[materials.m]\ntexture = \"floor\"\n";
   try {
     const Scene sc = parse_scene(text, "s.toml", "");
     const Texture t = load_scene_texture(sc, 0);
