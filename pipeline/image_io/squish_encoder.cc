@@ -2,6 +2,8 @@
 
 #include <squish.h>
 
+#include <cstring>
+
 #include "blocks/base/input_error.h"
 
 #ifndef TEXSIM_SQUISH_VERSION
@@ -66,9 +68,27 @@ EncodedLevel squish_encode(const Rgba8Image& img, CompressedFormat format, Squis
   out.format = format;
   out.width = img.width;
   out.height = img.height;
-  out.bytes.resize(
-      static_cast<size_t>(squish::GetStorageRequirements(padded.width, padded.height, flags)));
-  squish::CompressImage(padded.rgba.data(), padded.width, padded.height, out.bytes.data(), flags);
+  const size_t block_bytes = static_cast<size_t>(format_block_bytes(format));
+  const int bx = padded.width / 4, by = padded.height / 4;
+  out.bytes.resize(static_cast<size_t>(bx) * static_cast<size_t>(by) * block_bytes);
+  // Block by block on the calling thread (CompressImage would start OpenMP's threads, which
+  // compete with the simulator's own).
+  uint8_t texels[64];
+  for (int y = 0; y < by; ++y) {
+    for (int x = 0; x < bx; ++x) {
+      for (int row = 0; row < 4; ++row) {
+        const size_t from = (static_cast<size_t>(y * 4 + row) * static_cast<size_t>(padded.width) +
+                             static_cast<size_t>(x) * 4) *
+                            4;
+        std::memcpy(texels + row * 16, padded.rgba.data() + from, 16);
+      }
+      squish::Compress(texels,
+                       out.bytes.data() + (static_cast<size_t>(y) * static_cast<size_t>(bx) +
+                                           static_cast<size_t>(x)) *
+                                              block_bytes,
+                       flags);
+    }
+  }
   out.provenance = std::string("libsquish ") + TEXSIM_SQUISH_VERSION + " (" + format_name(format) +
                    ", " + fit_flag_name(fit) + ")";
   return out;

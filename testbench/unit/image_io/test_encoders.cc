@@ -3,9 +3,11 @@
 // of its format for every quality option, including sizes that are not whole blocks; the
 // padding is the edge texels' (a padded image encodes to the same bytes); libsquish's own
 // decompressor gives back the input within a loose bound (a sanity check, not a conformance
-// test); the levels round-trip through the DDS and .astc writers; bad input, a missing
-// astcenc and a failing astcenc are InputErrors.
+// test); the levels round-trip through the DDS and .astc writers; DDS files that nvtt itself
+// writes, with full mip chains, pass the strict reader; bad input, a missing astcenc and a
+// failing astcenc are InputErrors.
 #include <gtest/gtest.h>
+#include <nvtt/nvtt.h>
 #include <squish.h>
 #include <unistd.h>
 
@@ -15,6 +17,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "blocks/base/input_error.h"
@@ -35,12 +38,15 @@ const char* const kTexture = "/usr/share/glmark2/textures/crate-base.png";
 
 // A w x h crop of crate-base.png at (x0, y0), alpha a ramp across it.
 Rgba8Image crate(int x0, int y0, int w, int h) {
-  std::ifstream in(kTexture, std::ios::binary);
-  const std::vector<uint8_t> file{std::istreambuf_iterator<char>(in),
-                                  std::istreambuf_iterator<char>()};
-  PngImage png;
-  std::string error;
-  EXPECT_EQ(read_png_rgb8(file.data(), file.size(), 4096, &png, &error), PngRead::Ok) << error;
+  static const PngImage png = [] {
+    std::ifstream in(kTexture, std::ios::binary);
+    const std::vector<uint8_t> file{std::istreambuf_iterator<char>(in),
+                                    std::istreambuf_iterator<char>()};
+    PngImage p;
+    std::string error;
+    EXPECT_EQ(read_png_rgb8(file.data(), file.size(), 4096, &p, &error), PngRead::Ok) << error;
+    return p;
+  }();
   Rgba8Image img;
   if (png.width < x0 + w || png.height < y0 + h) return img;
   img.width = w;
@@ -139,6 +145,11 @@ TEST(SquishEncoder, EdgeBlocksArePaddedWithTheEdgeTexels) {
   const EncodedLevel b = squish_encode(padded, CompressedFormat::Bc3Unorm, SquishFit::Cluster);
   EXPECT_EQ(a.bytes.size(), 8u * 16u);
   EXPECT_EQ(a.bytes, b.bytes);
+  // The encoder's block-by-block loop gives what libsquish's own CompressImage does.
+  std::vector<uint8_t> whole(a.bytes.size());
+  squish::CompressImage(padded.rgba.data(), 16, 8, whole.data(),
+                        squish::kDxt5 | squish::kColourClusterFit);
+  EXPECT_EQ(a.bytes, whole);
   EXPECT_EQ(a.width, 13);
   EXPECT_EQ(a.height, 6);
 }
@@ -299,6 +310,57 @@ TEST(Encoders, LevelsRoundTripThroughTheFileWriters) {
   const CompressedImage back = read_astc_file(dir.file("c.astc"));
   EXPECT_EQ(back.width, 30u);
   EXPECT_EQ(back.levels.at(0).bytes, astc.bytes);
+}
+
+// The DDS file nvtt writes itself (header and every mip level, made by nvtt from the image).
+std::string nvtt_dds_file(const Rgba8Image& img, nvtt::Format format) {
+  struct Sink : nvtt::OutputHandler {
+    std::string bytes;
+    void beginImage(int, int, int, int, int, int) override {}
+    bool writeData(const void* data, int size) override {
+      bytes.append(static_cast<const char*>(data), static_cast<size_t>(size));
+      return true;
+    }
+  } sink;
+  std::vector<uint8_t> bgra(img.rgba);
+  for (size_t i = 0; i + 3 < bgra.size(); i += 4) std::swap(bgra[i], bgra[i + 2]);
+  nvtt::InputOptions in;
+  in.setTextureLayout(nvtt::TextureType_2D, img.width, img.height);
+  in.setMipmapData(bgra.data(), img.width, img.height);
+  in.setMipmapGeneration(true);
+  nvtt::CompressionOptions co;
+  co.setFormat(format);
+  co.setQuality(nvtt::Quality_Normal);
+  nvtt::OutputOptions oo;
+  oo.setOutputHandler(&sink);
+  nvtt::Compressor c;
+  c.enableCudaAcceleration(false);
+  EXPECT_TRUE(c.process(in, co, oo));
+  return sink.bytes;
+}
+
+TEST(NvttEncoder, DdsFilesNvttWritesPassTheStrictReader) {
+  const struct {
+    nvtt::Format nvtt;
+    CompressedFormat format;
+  } formats[] = {{nvtt::Format_BC1, CompressedFormat::Bc1Unorm},
+                 {nvtt::Format_BC2, CompressedFormat::Bc2Unorm},
+                 {nvtt::Format_BC3, CompressedFormat::Bc3Unorm},
+                 {nvtt::Format_BC5, CompressedFormat::Bc5Unorm}};
+  const Rgba8Image odd = crate(60, 60, 50, 30), whole = opaque_copy(crate(60, 60, 48, 32));
+  for (const auto& f : formats) {
+    const std::string file = nvtt_dds_file(odd, f.nvtt);
+    const CompressedImage img =
+        parse_dds({reinterpret_cast<const uint8_t*>(file.data()), file.size()}, "nvtt's DDS");
+    EXPECT_EQ(img.format, f.format);
+    EXPECT_EQ(img.levels.size(), 6u);  // 50x30 ... 1x1
+    // Level 0 of whole blocks is what nvtt_encode gives for the same image.
+    const std::string file0 = nvtt_dds_file(whole, f.nvtt);
+    const CompressedImage img0 =
+        parse_dds({reinterpret_cast<const uint8_t*>(file0.data()), file0.size()}, "nvtt's DDS");
+    EXPECT_EQ(img0.levels.at(0).bytes, nvtt_encode(whole, f.format, NvttQuality::Normal).bytes)
+        << format_name(f.format);
+  }
 }
 
 }  // namespace
