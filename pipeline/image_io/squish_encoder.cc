@@ -2,6 +2,7 @@
 
 #include <squish.h>
 
+#include <array>
 #include <cstring>
 
 #include "blocks/base/input_error.h"
@@ -73,20 +74,18 @@ EncodedLevel squish_encode(const Rgba8Image& img, CompressedFormat format, Squis
   out.bytes.resize(static_cast<size_t>(bx) * static_cast<size_t>(by) * block_bytes);
   // Block by block on the calling thread (CompressImage would start OpenMP's threads, which
   // compete with the simulator's own).
-  uint8_t texels[64];
+  const auto row_bytes = static_cast<size_t>(padded.width) * 4;
+  std::array<uint8_t, 64> texels{};
+  uint8_t* block = out.bytes.data();
   for (int y = 0; y < by; ++y) {
     for (int x = 0; x < bx; ++x) {
-      for (int row = 0; row < 4; ++row) {
-        const size_t from = (static_cast<size_t>(y * 4 + row) * static_cast<size_t>(padded.width) +
-                             static_cast<size_t>(x) * 4) *
-                            4;
-        std::memcpy(texels + row * 16, padded.rgba.data() + from, 16);
+      for (size_t row = 0; row < 4; ++row) {
+        const size_t from =
+            (static_cast<size_t>(y) * 4 + row) * row_bytes + static_cast<size_t>(x) * 16;
+        std::memcpy(texels.data() + row * 16, padded.rgba.data() + from, 16);
       }
-      squish::Compress(texels,
-                       out.bytes.data() + (static_cast<size_t>(y) * static_cast<size_t>(bx) +
-                                           static_cast<size_t>(x)) *
-                                              block_bytes,
-                       flags);
+      squish::Compress(texels.data(), block, flags);
+      block += block_bytes;
     }
   }
   out.provenance = std::string("libsquish ") + TEXSIM_SQUISH_VERSION + " (" + format_name(format) +
