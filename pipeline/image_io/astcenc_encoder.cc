@@ -141,6 +141,9 @@ EncodedLevel astcenc_encode(const Rgba8Image& img, const AstcencOptions& o) {
   if (status != 0)
     throw InputError(
         bin, (status < 0 ? why : "exit status " + std::to_string(status)) + ": " + log_tail(log));
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(astc, ec))
+    throw InputError(bin, "exit status 0 but no .astc file written: " + log_tail(log));
   const CompressedImage got = read_astc_file(astc);
   if (got.block_w != o.block_w || got.block_h != o.block_h ||
       got.width != static_cast<uint32_t>(padded.width) ||
