@@ -116,14 +116,6 @@ TEST(SquishEncoder, EveryFormatAndFitGivesItsBlocksAndDecodesBackClosely) {
   EXPECT_NE(squish_encode(img, CompressedFormat::Bc1Unorm, SquishFit::IterativeCluster)
                 .provenance.find("kColourIterativeClusterFit"),
             std::string::npos);
-  // A better fit is never worse on the whole image.
-  const double range = squish_error(
-      opaque, squish_encode(opaque, CompressedFormat::Bc1Unorm, SquishFit::Range).bytes,
-      squish::kDxt1, 3);
-  const double iter = squish_error(
-      opaque, squish_encode(opaque, CompressedFormat::Bc1Unorm, SquishFit::IterativeCluster).bytes,
-      squish::kDxt1, 3);
-  EXPECT_LE(iter, range);
 }
 
 TEST(SquishEncoder, EdgeBlocksArePaddedWithTheEdgeTexels) {
