@@ -18,6 +18,26 @@ set_target_properties(OpenImageIO::OpenImageIO PROPERTIES
   INTERFACE_INCLUDE_DIRECTORIES "${_oiio_present}")
 # libpng: the PNGs texsim writes and the 8-bit RGB PNGs it reads back (libpng-dev).
 find_package(PNG REQUIRED)
+# The block encoders of pipeline/image_io (texsim_texture_encode): libsquish (libsquish-dev) and
+# NVIDIA Texture Tools (libnvtt-dev). libnvtt carries its own, older copy of squish's classes
+# under the same exported names (squish::ColourFit::Compress, ...): with libsquish.so in the
+# same process one library runs the other's code and crashes. So libsquish is linked from its
+# static archive with its symbols kept out of the dynamic symbol table (--exclude-libs), and
+# each library runs its own squish.
+find_library(TEXSIM_SQUISH_LIBRARY NAMES libsquish.a)
+find_path(TEXSIM_SQUISH_INCLUDE squish.h)
+find_library(TEXSIM_NVTT_LIBRARY nvtt)
+find_path(TEXSIM_NVTT_INCLUDE nvtt/nvtt.h)
+if(NOT TEXSIM_SQUISH_LIBRARY OR NOT TEXSIM_SQUISH_INCLUDE)
+  message(FATAL_ERROR "libsquish not found (squish.h, libsquish.a): install libsquish-dev "
+    "(scripts/setup-debian.sh)")
+endif()
+if(NOT TEXSIM_NVTT_LIBRARY OR NOT TEXSIM_NVTT_INCLUDE)
+  message(FATAL_ERROR "NVIDIA Texture Tools not found (nvtt/nvtt.h, -lnvtt): install "
+    "libnvtt-dev (scripts/setup-debian.sh)")
+endif()
+pkg_check_modules(TEXSIM_SQUISH_PC QUIET libsquish)  # only for its version, in provenance
+find_package(OpenMP REQUIRED COMPONENTS CXX)  # libsquish.a compresses images with OpenMP
 find_package(CLI11 REQUIRED)
 find_package(tomlplusplus REQUIRED)
 find_package(Threads REQUIRED)

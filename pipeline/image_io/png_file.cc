@@ -37,7 +37,8 @@ void read_from_memory(png_structp png, png_bytep out, png_size_t n) {
 }
 
 // Writes the PNG to an open file; false with the reason in c.message.
-bool encode(Context& c, std::FILE* f, int w, int h, const uint8_t* rgb, bool fast) {
+// `channels`: 3 (RGB) or 4 (RGBA).
+bool encode(Context& c, std::FILE* f, int w, int h, const uint8_t* rgb, bool fast, int channels) {
   std::snprintf(c.message, sizeof c.message, "out of memory");  // until libpng says more
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &c, on_error, on_warning);
   if (!png) return false;
@@ -48,12 +49,12 @@ bool encode(Context& c, std::FILE* f, int w, int h, const uint8_t* rgb, bool fas
   }
   png_init_io(png, f);
   png_set_IHDR(png, info, static_cast<png_uint_32>(w), static_cast<png_uint_32>(h), 8,
-               PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-               PNG_FILTER_TYPE_DEFAULT);
+               channels == 4 ? PNG_COLOR_TYPE_RGB_ALPHA : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_set_compression_level(png, fast ? 1 : 6);
   if (fast) png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
   png_write_info(png, info);
-  const size_t row = static_cast<size_t>(w) * 3;
+  const size_t row = static_cast<size_t>(w) * static_cast<size_t>(channels);
   for (int y = 0; y < h; ++y)
     png_write_row(png, const_cast<png_bytep>(rgb + static_cast<size_t>(y) * row));
   png_write_end(png, nullptr);
@@ -121,21 +122,31 @@ PngRead decode(Context& c, int max_side, PngImage* out) {
   return PngRead::Ok;
 }
 
-}  // namespace
-
-std::string write_png_rgb8(const std::string& path, int width, int height, const uint8_t* rgb,
-                           bool fast) {
+// The writers' common body: `channels` bytes per pixel.
+std::string write_png(const std::string& path, int width, int height, const uint8_t* pixels,
+                      bool fast, int channels) {
   errno = 0;
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) return std::strerror(errno);
   Context c;
-  const bool ok = encode(c, f, width, height, rgb, fast);
+  const bool ok = encode(c, f, width, height, pixels, fast, channels);
   errno = 0;
   // Data still buffered is written here: a full disk shows up now, not in encode.
   const bool closed = std::fclose(f) == 0;
   if (ok && closed) return "";
   if (!ok) return c.os_errno ? std::strerror(c.os_errno) : std::string(c.message);
   return errno ? std::strerror(errno) : "cannot close the file";
+}
+
+}  // namespace
+
+std::string write_png_rgb8(const std::string& path, int width, int height, const uint8_t* rgb,
+                           bool fast) {
+  return write_png(path, width, height, rgb, fast, 3);
+}
+
+std::string write_png_rgba8(const std::string& path, int width, int height, const uint8_t* rgba) {
+  return write_png(path, width, height, rgba, false, 4);
 }
 
 bool is_png(const uint8_t* data, size_t size) { return size >= 8 && png_sig_cmp(data, 0, 8) == 0; }

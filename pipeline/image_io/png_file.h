@@ -17,6 +17,10 @@ namespace texsim {
 std::string write_png_rgb8(const std::string& path, int width, int height, const uint8_t* rgb,
                            bool fast);
 
+// The same for `height` rows of `width` RGBA8 pixels (8-bit RGB with alpha, zlib level 6),
+// for tools that take RGBA images (the astcenc encoder's input).
+std::string write_png_rgba8(const std::string& path, int width, int height, const uint8_t* rgba);
+
 // Whether the bytes start with the PNG signature.
 bool is_png(const uint8_t* data, size_t size);
 

@@ -3,6 +3,7 @@
 #include <span>
 #include <stdexcept>
 
+#include "blocks/texture/decode/astc_decoder.h"
 #include "blocks/texture/decode/eac_decoder.h"
 #include "blocks/texture/decode/eac_rg_decoder.h"
 #include "blocks/texture/decode/etc2_rgb_decoder.h"
@@ -34,6 +35,13 @@ auto with_decoder(CompressedFormat f, Fn&& fn) {
     default:
       break;
   }
+  const CompressedFormatInfo& i = format_info(f);
+  if (i.family == CodecFamily::Astc) {
+    AstcDecoder::Config c;
+    c.block_width = i.block_w;
+    c.block_height = i.block_h;
+    return fn(AstcDecoder(c));
+  }
   throw std::logic_error("no decoder for " + std::string(to_string(f)));
 }
 
@@ -46,7 +54,7 @@ std::string decoder_arithmetic(CompressedFormat f) {
 DecodedBlock decode_block(CompressedFormat f, const uint8_t* block) {
   return with_decoder(f, [block](const auto& d) {
     using D = std::decay_t<decltype(d)>;
-    return d.decode(typename D::Block(block, D::kBlockBytes));
+    return d.decode(std::span<const uint8_t, D::kBlockBytes>(block, D::kBlockBytes));
   });
 }
 
@@ -59,7 +67,11 @@ TimingSpec decoder_timing(CompressedFormat f, const TechTable& tech) {
 }
 
 std::string decoder_name(CompressedFormat f) {
-  return with_decoder(f, [](const auto& d) { return d.name(); });
+  const std::string name = with_decoder(f, [](const auto& d) { return d.name(); });
+  // One ASTC decoder block per footprint: each its own row.
+  const CompressedFormatInfo& i = format_info(f);
+  if (i.family != CodecFamily::Astc) return name;
+  return name + "_" + std::to_string(i.block_w) + "x" + std::to_string(i.block_h);
 }
 
 }  // namespace texsim

@@ -1,0 +1,359 @@
+// Block encoders (pipeline/image_io/{squish,nvtt,astcenc}_encoder.h) on a real texture
+// (glmark2-data's crate-base.png, with a synthetic alpha ramp): each produces the block count
+// of its format for every quality option, including sizes that are not whole blocks; the
+// padding is the edge texels' (a padded image encodes to the same bytes); libsquish's own
+// decompressor gives back the input within a loose bound (a sanity check, not a conformance
+// test); the levels round-trip through the DDS and .astc writers; DDS files that nvtt itself
+// writes, with full mip chains, pass the strict reader; bad input, a missing astcenc and a
+// failing astcenc are InputErrors.
+#include <gtest/gtest.h>
+#include <nvtt/nvtt.h>
+#include <squish.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "blocks/base/input_error.h"
+#include "pipeline/image_io/astc_file.h"
+#include "pipeline/image_io/astcenc_encoder.h"
+#include "pipeline/image_io/dds_file.h"
+#include "pipeline/image_io/nvtt_encoder.h"
+#include "pipeline/image_io/png_file.h"
+#include "pipeline/image_io/squish_encoder.h"
+#include "testbench/lib/error_of.h"
+#include "testbench/lib/temp_dir.h"
+
+namespace {
+
+using namespace texsim;  // NOLINT(google-build-using-namespace)
+
+const char* const kTexture = "/usr/share/glmark2/textures/crate-base.png";
+
+// A w x h crop of crate-base.png at (x0, y0), alpha a ramp across it.
+Rgba8Image crate(int x0, int y0, int w, int h) {
+  static const PngImage png = [] {
+    std::ifstream in(kTexture, std::ios::binary);
+    const std::vector<uint8_t> file{std::istreambuf_iterator<char>(in),
+                                    std::istreambuf_iterator<char>()};
+    PngImage p;
+    std::string error;
+    EXPECT_EQ(read_png_rgb8(file.data(), file.size(), 4096, &p, &error), PngRead::Ok) << error;
+    return p;
+  }();
+  Rgba8Image img;
+  if (png.width < x0 + w || png.height < y0 + h) return img;
+  img.width = w;
+  img.height = h;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const uint8_t* p = png.rgb.data() + (static_cast<size_t>(y0 + y) * png.width + x0 + x) * 3;
+      img.rgba.insert(img.rgba.end(), {p[0], p[1], p[2], static_cast<uint8_t>(x * 255 / w)});
+    }
+  }
+  return img;
+}
+
+size_t blocks(const Rgba8Image& img, int bw, int bh) {
+  return static_cast<size_t>(level_block_count(static_cast<uint64_t>(img.width),
+                                               static_cast<uint64_t>(img.height), bw, bh));
+}
+
+// Mean absolute difference per channel between the image and squish's decoding of `bytes`
+// (`channels`: 3 ignores alpha).
+double squish_error(const Rgba8Image& img, const std::vector<uint8_t>& bytes, int flags,
+                    int channels) {
+  std::vector<uint8_t> back(img.rgba.size());
+  squish::DecompressImage(back.data(), img.width, img.height, bytes.data(), flags);
+  double sum = 0;
+  size_t n = 0;
+  for (size_t i = 0; i < back.size(); ++i) {
+    if (static_cast<int>(i % 4) >= channels) continue;
+    sum += std::abs(static_cast<int>(back[i]) - static_cast<int>(img.rgba[i]));
+    ++n;
+  }
+  return sum / static_cast<double>(n);
+}
+
+TEST(Encoders, RealTextureIsOnDisk) {
+  ASSERT_TRUE(std::ifstream(kTexture).good()) << kTexture << " (package glmark2-data)";
+}
+
+Rgba8Image opaque_copy(Rgba8Image img) {
+  for (size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
+  return img;
+}
+
+TEST(SquishEncoder, EveryFormatAndFitGivesItsBlocksAndDecodesBackClosely) {
+  const Rgba8Image img = crate(100, 200, 64, 48);
+  const Rgba8Image opaque = opaque_copy(img);
+  const struct {
+    FileBlockFormat format;
+    int flag, channels;
+    size_t block_bytes;
+  } formats[] = {{FileBlockFormat::Bc1Unorm, squish::kDxt1, 3, 8},
+                 {FileBlockFormat::Bc2Unorm, squish::kDxt3, 4, 16},
+                 {FileBlockFormat::Bc3Unorm, squish::kDxt5, 4, 16}};
+  for (const auto& f : formats) {
+    for (const SquishFit fit :
+         {SquishFit::Range, SquishFit::Cluster, SquishFit::IterativeCluster}) {
+      // BC1 gets the opaque image: below alpha 128 libsquish picks transparent black.
+      const Rgba8Image& in = f.channels == 3 ? opaque : img;
+      const EncodedLevel e = squish_encode(in, f.format, fit);
+      SCOPED_TRACE(e.provenance);
+      EXPECT_EQ(e.bytes.size(), blocks(img, 4, 4) * f.block_bytes);
+      EXPECT_LT(squish_error(in, e.bytes, f.flag, f.channels), 8.0);
+      EXPECT_NE(e.provenance.find("libsquish 1.15"), std::string::npos);
+      EXPECT_NE(e.provenance.find(format_name(f.format)), std::string::npos);
+    }
+  }
+  EXPECT_NE(squish_encode(img, FileBlockFormat::Bc1Unorm, SquishFit::IterativeCluster)
+                .provenance.find("kColourIterativeClusterFit"),
+            std::string::npos);
+}
+
+TEST(SquishEncoder, EdgeBlocksArePaddedWithTheEdgeTexels) {
+  const Rgba8Image img = crate(7, 9, 13, 6);  // 4 x 2 blocks, the last column and row partial
+  const Rgba8Image padded = padded_to_blocks(img, 4, 4);
+  ASSERT_EQ(padded.width, 16);
+  ASSERT_EQ(padded.height, 8);
+  for (int y = 0; y < 8; ++y) {
+    for (int x = 0; x < 16; ++x) {
+      const size_t sx = static_cast<size_t>(x < 13 ? x : 12),
+                   sy = static_cast<size_t>(y < 6 ? y : 5);
+      for (size_t c = 0; c < 4; ++c) {
+        ASSERT_EQ(padded.rgba[(static_cast<size_t>(y) * 16 + static_cast<size_t>(x)) * 4 + c],
+                  img.rgba[(sy * 13 + sx) * 4 + c]);
+      }
+    }
+  }
+  const EncodedLevel a = squish_encode(img, FileBlockFormat::Bc3Unorm, SquishFit::Cluster);
+  const EncodedLevel b = squish_encode(padded, FileBlockFormat::Bc3Unorm, SquishFit::Cluster);
+  EXPECT_EQ(a.bytes.size(), 8u * 16u);
+  EXPECT_EQ(a.bytes, b.bytes);
+  // The encoder's block-by-block loop gives what libsquish's own CompressImage does.
+  std::vector<uint8_t> whole(a.bytes.size());
+  squish::CompressImage(padded.rgba.data(), 16, 8, whole.data(),
+                        squish::kDxt5 | squish::kColourClusterFit);
+  EXPECT_EQ(a.bytes, whole);
+  EXPECT_EQ(a.width, 13);
+  EXPECT_EQ(a.height, 6);
+}
+
+TEST(NvttEncoder, EveryFormatAndQualityGivesItsBlocks) {
+  const Rgba8Image img = crate(300, 40, 50, 30);  // 13 x 8 blocks, partial edges
+  const Rgba8Image opaque = opaque_copy(img);
+  const struct {
+    FileBlockFormat format;
+    int squish_flag, channels;
+    size_t block_bytes;
+  } formats[] = {{FileBlockFormat::Bc1Unorm, squish::kDxt1, 3, 8},
+                 {FileBlockFormat::Bc2Unorm, squish::kDxt3, 4, 16},
+                 {FileBlockFormat::Bc3Unorm, squish::kDxt5, 4, 16},
+                 {FileBlockFormat::Bc4Unorm, 0, 0, 8},
+                 {FileBlockFormat::Bc5Unorm, 0, 0, 16}};
+  for (const auto& f : formats) {
+    for (const NvttQuality q :
+         {NvttQuality::Fastest, NvttQuality::Normal, NvttQuality::Production}) {
+      const Rgba8Image& in = f.channels == 3 ? opaque : img;
+      const EncodedLevel e = nvtt_encode(in, f.format, q);
+      SCOPED_TRACE(e.provenance);
+      EXPECT_EQ(e.bytes.size(), blocks(img, 4, 4) * f.block_bytes);
+      EXPECT_NE(e.provenance.find("NVIDIA Texture Tools 2.0."), std::string::npos);
+      if (f.squish_flag == 0) continue;
+      const Rgba8Image padded = padded_to_blocks(in, 4, 4);
+      EXPECT_LT(squish_error(padded, e.bytes, f.squish_flag, f.channels), 8.0);
+    }
+  }
+}
+
+// Per block of a padded image, whether a BC4 block's two endpoint bytes are near the block's
+// smallest and largest value of `channel` (the red channel for BC4 and BC5's first half, green
+// for BC5's second): a sanity check of which channel nvtt encodes, not a decoder.
+double endpoints_matching(const Rgba8Image& padded, const std::vector<uint8_t>& bytes,
+                          size_t stride, size_t offset, size_t channel) {
+  const int bx = padded.width / 4, by = padded.height / 4;
+  int good = 0;
+  for (int b = 0; b < bx * by; ++b) {
+    int lo = 255, hi = 0;
+    for (int t = 0; t < 16; ++t) {
+      const int x = (b % bx) * 4 + t % 4, y = (b / bx) * 4 + t / 4;
+      const int v = padded.rgba[static_cast<size_t>(y * padded.width + x) * 4 + channel];
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+    const int e0 = bytes[static_cast<size_t>(b) * stride + offset];
+    const int e1 = bytes[static_cast<size_t>(b) * stride + offset + 1];
+    if (std::abs(std::min(e0, e1) - lo) <= 24 && std::abs(std::max(e0, e1) - hi) <= 24) ++good;
+  }
+  return good / static_cast<double>(bx * by);
+}
+
+TEST(NvttEncoder, Bc4IsTheRedChannelAndBc5RedAndGreen) {
+  Rgba8Image img = crate(0, 0, 64, 64);
+  for (size_t i = 0; i < img.rgba.size(); i += 4) img.rgba[i + 2] = 0;  // blue unlike the others
+  const EncodedLevel bc4 = nvtt_encode(img, FileBlockFormat::Bc4Unorm, NvttQuality::Normal);
+  EXPECT_GT(endpoints_matching(img, bc4.bytes, 8, 0, 0), 0.9);
+  const EncodedLevel bc5 = nvtt_encode(img, FileBlockFormat::Bc5Unorm, NvttQuality::Normal);
+  EXPECT_GT(endpoints_matching(img, bc5.bytes, 16, 0, 0), 0.9);
+  EXPECT_GT(endpoints_matching(img, bc5.bytes, 16, 8, 1), 0.9);
+}
+
+TEST(AstcencEncoder, BlockSizesAndPresetsGiveTheirBlocks) {
+  if (::access("/usr/bin/astcenc", X_OK) != 0) GTEST_SKIP() << "/usr/bin/astcenc (package astcenc)";
+  const Rgba8Image img = crate(10, 10, 50, 37);
+  const struct {
+    int bw, bh;
+    AstcPreset preset;
+  } cases[] = {{4, 4, AstcPreset::Fastest},
+               {6, 6, AstcPreset::Fast},
+               {8, 5, AstcPreset::Medium},
+               {12, 12, AstcPreset::Thorough},
+               {10, 8, AstcPreset::Fastest}};
+  for (const auto& c : cases) {
+    AstcencOptions o;
+    o.block_w = c.bw;
+    o.block_h = c.bh;
+    o.preset = c.preset;
+    const EncodedLevel e = astcenc_encode(img, o);
+    SCOPED_TRACE(e.provenance);
+    EXPECT_EQ(e.format, FileBlockFormat::Astc);
+    EXPECT_EQ(e.block_w, c.bw);
+    EXPECT_EQ(e.block_h, c.bh);
+    EXPECT_EQ(e.bytes.size(), blocks(img, c.bw, c.bh) * 16);
+    EXPECT_NE(e.provenance.find("astcenc v4.2"), std::string::npos);
+    EXPECT_NE(e.provenance.find(std::string("-") + astc_preset_name(c.preset)), std::string::npos);
+  }
+  AstcencOptions srgb;
+  srgb.srgb = true;
+  EXPECT_NE(astcenc_encode(img, srgb).provenance.find("-cs 6x6"), std::string::npos);
+}
+
+TEST(AstcencEncoder, MissingOrFailingBinaryIsAClearError) {
+  const Rgba8Image img = crate(0, 0, 8, 8);
+  AstcencOptions o;
+  o.binary = "/nonexistent/astcenc";
+  const std::string missing = error_of([&] { astcenc_encode(img, o); });
+  EXPECT_NE(missing.find("/nonexistent/astcenc"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("install Debian's astcenc package"), std::string::npos) << missing;
+  o.binary = "/bin/false";  // runs, prints nothing, exits 1
+  const std::string failed = error_of([&] { astcenc_encode(img, o); });
+  EXPECT_NE(failed.find("/bin/false"), std::string::npos) << failed;
+  EXPECT_NE(failed.find("-version` failed"), std::string::npos) << failed;
+  o.binary = "/bin/true";  // "succeeds" without writing anything
+  const std::string empty = error_of([&] { astcenc_encode(img, o); });
+  EXPECT_NE(empty.find("/bin/true: exit status 0 but no .astc file written"), std::string::npos)
+      << empty;
+  o.binary = "/usr/bin/astcenc";
+  o.block_w = 7;
+  EXPECT_NE(error_of([&] { astcenc_encode(img, o); }).find("not an ASTC 2-D footprint"),
+            std::string::npos);
+}
+
+TEST(Encoders, BadInputIsAnInputError) {
+  Rgba8Image img = crate(0, 0, 8, 8);
+  img.rgba.pop_back();
+  EXPECT_NE(error_of([&] {
+              squish_encode(img, FileBlockFormat::Bc1Unorm, SquishFit::Cluster);
+            }).find("8 x 8 RGBA8 texels take 256"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              nvtt_encode(img, FileBlockFormat::Bc1Unorm, NvttQuality::Normal);
+            }).find("take 256"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { astcenc_encode(img, AstcencOptions{}); }).find("take 256"),
+            std::string::npos);
+  const Rgba8Image empty;
+  EXPECT_NE(error_of([&] {
+              squish_encode(empty, FileBlockFormat::Bc1Unorm, SquishFit::Range);
+            }).find("image size 0 x 0"),
+            std::string::npos);
+  const Rgba8Image ok = crate(0, 0, 8, 8);
+  EXPECT_NE(error_of([&] {
+              squish_encode(ok, FileBlockFormat::Bc4Unorm, SquishFit::Range);
+            }).find("BC4_UNORM is not encoded"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              nvtt_encode(ok, FileBlockFormat::Bc7Unorm, NvttQuality::Normal);
+            }).find("BC7_UNORM is not encoded"),
+            std::string::npos);
+}
+
+TEST(Encoders, LevelsRoundTripThroughTheFileWriters) {
+  TempDir dir("encoders_files");
+  const Rgba8Image img = crate(200, 200, 30, 22);
+  const EncodedLevel bc3 = squish_encode(img, FileBlockFormat::Bc3Unorm, SquishFit::Cluster);
+  write_dds_file(dir.file("a.dds"), as_compressed_image(bc3));
+  const CompressedImage dds = read_dds_file(dir.file("a.dds"));
+  EXPECT_EQ(dds.width, 30u);
+  EXPECT_EQ(dds.height, 22u);
+  EXPECT_EQ(dds.levels.at(0).bytes, bc3.bytes);
+  const EncodedLevel bc5 = nvtt_encode(img, FileBlockFormat::Bc5Unorm, NvttQuality::Fastest);
+  write_dds_file(dir.file("b.dds"), as_compressed_image(bc5), true);
+  EXPECT_EQ(read_dds_file(dir.file("b.dds")).levels.at(0).bytes, bc5.bytes);
+  if (::access("/usr/bin/astcenc", X_OK) != 0) return;
+  const EncodedLevel astc = astcenc_encode(img, AstcencOptions{});
+  write_astc_file(dir.file("c.astc"), as_compressed_image(astc));
+  const CompressedImage back = read_astc_file(dir.file("c.astc"));
+  EXPECT_EQ(back.width, 30u);
+  EXPECT_EQ(back.levels.at(0).bytes, astc.bytes);
+}
+
+// The DDS file nvtt writes itself (header and every mip level, made by nvtt from the image).
+std::string nvtt_dds_file(const Rgba8Image& img, nvtt::Format format) {
+  struct Sink : nvtt::OutputHandler {
+    std::string bytes;
+    void beginImage(int, int, int, int, int, int) override {}
+    bool writeData(const void* data, int size) override {
+      bytes.append(static_cast<const char*>(data), static_cast<size_t>(size));
+      return true;
+    }
+  } sink;
+  std::vector<uint8_t> bgra(img.rgba);
+  for (size_t i = 0; i + 3 < bgra.size(); i += 4) std::swap(bgra[i], bgra[i + 2]);
+  nvtt::InputOptions in;
+  in.setTextureLayout(nvtt::TextureType_2D, img.width, img.height);
+  in.setMipmapData(bgra.data(), img.width, img.height);
+  in.setMipmapGeneration(true);
+  nvtt::CompressionOptions co;
+  co.setFormat(format);
+  co.setQuality(nvtt::Quality_Normal);
+  nvtt::OutputOptions oo;
+  oo.setOutputHandler(&sink);
+  nvtt::Compressor c;
+  c.enableCudaAcceleration(false);
+  EXPECT_TRUE(c.process(in, co, oo));
+  return sink.bytes;
+}
+
+TEST(NvttEncoder, DdsFilesNvttWritesPassTheStrictReader) {
+  const struct {
+    nvtt::Format nvtt;
+    FileBlockFormat format;
+  } formats[] = {{nvtt::Format_BC1, FileBlockFormat::Bc1Unorm},
+                 {nvtt::Format_BC2, FileBlockFormat::Bc2Unorm},
+                 {nvtt::Format_BC3, FileBlockFormat::Bc3Unorm},
+                 {nvtt::Format_BC5, FileBlockFormat::Bc5Unorm}};
+  const Rgba8Image odd = crate(60, 60, 50, 30), whole = opaque_copy(crate(60, 60, 48, 32));
+  for (const auto& f : formats) {
+    const std::string file = nvtt_dds_file(odd, f.nvtt);
+    const CompressedImage img =
+        parse_dds({reinterpret_cast<const uint8_t*>(file.data()), file.size()}, "nvtt's DDS");
+    EXPECT_EQ(img.format, f.format);
+    EXPECT_EQ(img.levels.size(), 6u);  // 50x30 ... 1x1
+    // Level 0 of whole blocks is what nvtt_encode gives for the same image.
+    const std::string file0 = nvtt_dds_file(whole, f.nvtt);
+    const CompressedImage img0 =
+        parse_dds({reinterpret_cast<const uint8_t*>(file0.data()), file0.size()}, "nvtt's DDS");
+    EXPECT_EQ(img0.levels.at(0).bytes, nvtt_encode(whole, f.format, NvttQuality::Normal).bytes)
+        << format_name(f.format);
+  }
+}
+
+}  // namespace
