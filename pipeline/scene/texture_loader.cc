@@ -5,6 +5,7 @@
 #include "blocks/base/input_error.h"
 #include "blocks/base/input_file.h"
 #include "pipeline/image_io/oiio_plugin.h"
+#include "pipeline/scene/compressed_loader.h"
 #include "pipeline/scene/npz_height_field.h"
 #include "pipeline/scene/procedural_texture.h"
 
@@ -48,6 +49,7 @@ Texture load_texture(const std::string& source, const std::string& base_dir,
   if (is_procedural_source(source)) return make_procedural_texture(source, source);
   const std::string path = resolve_texture_path(source, base_dir);
   if (is_npz_source(path)) return npz_height_texture(path);  // a DEM height field
+  if (is_compressed_file(path)) return load_compressed_file(path);  // DDS or .astc blocks
   // Only regular files of at most 2 GiB: a device or FIFO (e.g. /dev/zero) would never end.
   check_input_file(path, "texture file", kMaxFileBytes);
   // Texture files of every format are read by OpenImageIO, loaded here on first use.
@@ -93,6 +95,13 @@ Texture load_scene_texture(const Scene& scene, size_t index, TexelFormatChoice f
   const SceneTexture& t = scene.textures.at(index);
   try {
     if (t.format) return load_texture(t.source, scene.base_dir, format).converted(*t.format);
+    if (t.compress) {
+      try {
+        return compress_texture(load_texture(t.source, scene.base_dir, format), *t.compress);
+      } catch (const InputError& e) {
+        throw InputError(t.compress->where, e.what());
+      }
+    }
     return load_texture(t.source, scene.base_dir, format);
   } catch (const InputError& e) {
     throw InputError(t.where, e.what());

@@ -47,6 +47,9 @@ class Texture {
   // converted by the format's rules (mips as they were built, each texel converted once). The
   // result keeps this texture as its reference(), the truth its accuracy is judged against.
   Texture converted(StorageFormat storage) const;
+  // This texture with every colour channel taken through the sRGB EOTF (alpha kept), in
+  // floats: the linear colours an sRGB texture means.
+  Texture linearised() const;
 
   const std::string& name() const { return name_; }
   TexelFormat format() const { return format_; }
@@ -170,9 +173,6 @@ class Texture {
   uint64_t texel_index(const Level& lv, int x, int y) const {
     return texel_index(layout_, lv, x, y);
   }
-  // This texture with every colour channel taken through the sRGB EOTF (alpha kept), in
-  // floats: the linear colours an sRGB texture means.
-  Texture linearised() const;
   // Sets the store, and the storage format that is that store's own (RGBA8 UNORM, RGBA32F).
   void set_store(TexelFormat format);
   // Appends a level of w × h float RGBA texels (row-major) in the texture's format.

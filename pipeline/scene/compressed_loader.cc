@@ -1,0 +1,164 @@
+#include "pipeline/scene/compressed_loader.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <memory>
+
+#include "blocks/base/input_error.h"
+#include "blocks/texture/decode/compressed_texture.h"
+#include "pipeline/image_io/astc_file.h"
+#include "pipeline/image_io/astcenc_encoder.h"
+#include "pipeline/image_io/dds_file.h"
+#include "pipeline/image_io/nvtt_encoder.h"
+#include "pipeline/image_io/squish_encoder.h"
+
+namespace texsim {
+
+namespace {
+
+// A level of `t` as 8-bit RGBA (the encoders' input): each channel clamped and rounded.
+Rgba8Image rgba8_level(const Texture& t, int level) {
+  Rgba8Image img;
+  img.width = t.width(level);
+  img.height = t.height(level);
+  img.rgba.resize(static_cast<size_t>(img.width) * static_cast<size_t>(img.height) * 4);
+  size_t i = 0;
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x) {
+      const Rgba c = t.texel(level, x, y);
+      for (int k = 0; k < 4; ++k) {
+        const float v = std::clamp(c[k], 0.0f, 1.0f) * 255.0f;
+        img.rgba[i++] = static_cast<uint8_t>(v == v ? static_cast<int>(v + 0.5f) : 0);
+      }
+    }
+  }
+  return img;
+}
+
+FileBlockFormat file_format(CompressedFormat f) {
+  switch (f) {
+    case CompressedFormat::Bc1Rgb:
+    case CompressedFormat::Bc1Rgba:
+      return FileBlockFormat::Bc1Unorm;
+    case CompressedFormat::Bc2:
+      return FileBlockFormat::Bc2Unorm;
+    case CompressedFormat::Bc3:
+      return FileBlockFormat::Bc3Unorm;
+    case CompressedFormat::Bc4:
+      return FileBlockFormat::Bc4Unorm;
+    case CompressedFormat::Bc5:
+      return FileBlockFormat::Bc5Unorm;
+    default:
+      return FileBlockFormat::Astc;
+  }
+}
+
+EncodedLevel encode_level(const Rgba8Image& img, const SceneTexture::Compress& c) {
+  const CompressedFormatInfo& info = format_info(c.format);
+  if (c.encoder == "squish") {
+    const SquishFit fit = c.quality == "range"               ? SquishFit::Range
+                          : c.quality == "iterative-cluster" ? SquishFit::IterativeCluster
+                                                             : SquishFit::Cluster;
+    return squish_encode(img, file_format(c.format), fit);
+  }
+  if (c.encoder == "nvtt") {
+    const NvttQuality q = c.quality == "fastest"      ? NvttQuality::Fastest
+                          : c.quality == "production" ? NvttQuality::Production
+                                                      : NvttQuality::Normal;
+    return nvtt_encode(img, file_format(c.format), q);
+  }
+  AstcencOptions o;
+  o.block_w = info.block_w;
+  o.block_h = info.block_h;
+  o.preset = c.quality == "fastest"    ? AstcPreset::Fastest
+             : c.quality == "fast"     ? AstcPreset::Fast
+             : c.quality == "thorough" ? AstcPreset::Thorough
+                                       : AstcPreset::Medium;
+  return astcenc_encode(img, o);
+}
+
+// The texsim format of a file's blocks, and whether its colours are sRGB.
+CompressedFormat texsim_format(const CompressedImage& img, bool& srgb, const std::string& path) {
+  using F = FileBlockFormat;
+  srgb = img.format == F::Bc1Srgb || img.format == F::Bc2Srgb || img.format == F::Bc3Srgb ||
+         img.format == F::Bc7Srgb;
+  switch (img.format) {
+    case F::Bc1Unorm:
+    case F::Bc1Srgb:
+      return CompressedFormat::Bc1Rgba;  // DDS BC1 has the 1-bit alpha of its 3-colour mode
+    case F::Bc2Unorm:
+    case F::Bc2Srgb:
+      return CompressedFormat::Bc2;
+    case F::Bc3Unorm:
+    case F::Bc3Srgb:
+      return CompressedFormat::Bc3;
+    case F::Bc4Unorm:
+      return CompressedFormat::Bc4;
+    case F::Bc4Snorm:
+      return CompressedFormat::Bc4Snorm;
+    case F::Bc5Unorm:
+      return CompressedFormat::Bc5;
+    case F::Bc5Snorm:
+      return CompressedFormat::Bc5Snorm;
+    case F::Bc7Unorm:
+    case F::Bc7Srgb:
+      return CompressedFormat::Bc7;
+    case F::Astc:
+      break;
+  }
+  const std::string name = "astc_" + std::to_string(img.block_w) + "x" + std::to_string(img.block_h);
+  const auto f = compressed_format_from_name(name);
+  if (!f) throw InputError(path, "unsupported ASTC footprint " + name);
+  return *f;
+}
+
+}  // namespace
+
+Texture compress_texture(const Texture& src, const SceneTexture::Compress& c) {
+  auto blocks = std::make_shared<Texture::Blocks>();
+  blocks->format = c.format;
+  std::vector<int> ws, hs;
+  for (int l = 0; l < src.levels(); ++l) {
+    EncodedLevel e = encode_level(rgba8_level(src, l), c);
+    if (l == 0) blocks->provenance = e.provenance;
+    blocks->levels.push_back(std::move(e.bytes));
+    ws.push_back(src.width(l));
+    hs.push_back(src.height(l));
+  }
+  return texture_from_blocks(src.name(), std::move(blocks), ws, hs,
+                             std::make_shared<const Texture>(src.reference()));
+}
+
+bool is_compressed_file(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return ext == ".dds" || ext == ".astc";
+}
+
+Texture load_compressed_file(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  const CompressedImage img = ext == ".dds" ? read_dds_file(path) : read_astc_file(path);
+  bool srgb = false;
+  auto blocks = std::make_shared<Texture::Blocks>();
+  blocks->format = texsim_format(img, srgb, path);
+  blocks->provenance = "file " + std::filesystem::path(path).filename().string() + " (" +
+                       img.format_label() + ")";
+  std::vector<int> ws, hs;
+  for (const CompressedLevel& l : img.levels) {
+    ws.push_back(static_cast<int>(l.width));
+    hs.push_back(static_cast<int>(l.height));
+    blocks->levels.push_back(l.bytes);
+  }
+  const std::string name = std::filesystem::path(path).filename().string();
+  Texture t = texture_from_blocks(name, blocks, ws, hs, nullptr);
+  if (!srgb) return t;
+  // sRGB blocks: the decoded colours taken to linear, before any filtering.
+  Texture linear = t.linearised();
+  linear.set_blocks(std::move(blocks));
+  return linear;
+}
+
+}  // namespace texsim
