@@ -5,7 +5,6 @@
 // in float; a channel the format lacks has the spec's default: 0 for colour, 1 for alpha).
 #include <array>
 #include <cstdint>
-
 #include <glm/vec4.hpp>
 
 namespace texsim {
