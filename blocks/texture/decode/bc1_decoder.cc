@@ -85,13 +85,13 @@ OpCounts Bc1Decoder::colour_ops(bool three_colour_mode, bool alpha_out) {
   OpCounts o;
   // Per channel: 2c0+c1 and c0+2c1 (the doubling is wiring), and c0+c1 in the three-colour
   // mode, then the mode's choice of entries 2 and 3.
-  o.add = 3 * (three_colour_mode ? 3 : 2);
+  o.add = uint64_t{3} * (three_colour_mode ? 3 : 2);
   if (three_colour_mode) {
     o.cmp = 1 + 3 * 2;  // colour0 > colour1, and the two entry selects per channel
   }
-  o.mul = 4 * 3;  // each palette channel times the constant reciprocal of its denominator
+  o.mul = uint64_t{4} * 3;  // each palette channel times the constant reciprocal of its denominator
   // Per texel, a 4:1 select of the palette per output channel (alpha only when it varies).
-  o.cmp += 16 * (alpha_out ? 4 : 3);
+  o.cmp += uint64_t{16} * (alpha_out ? 4 : 3);
   return o;
 }
 

@@ -25,8 +25,8 @@ std::array<float, 16> Bc4Decoder::decode_channel(std::span<const uint8_t, kBlock
   int32_t s0 = block[0];
   int32_t s1 = block[1];
   if (snorm) {
-    s0 = static_cast<int8_t>(block[0]);
-    s1 = static_cast<int8_t>(block[1]);
+    s0 = s0 >= 128 ? s0 - 256 : s0;  // two's complement
+    s1 = s1 >= 128 ? s1 - 256 : s1;
   }
   const int32_t e0 = std::max(s0, -127);
   const int32_t e1 = std::max(s1, -127);
@@ -38,13 +38,13 @@ std::array<float, 16> Bc4Decoder::decode_channel(std::span<const uint8_t, kBlock
   den[0] = den[1] = scale;
   if (s0 > s1) {
     for (int k = 1; k <= 6; ++k) {  // ((7 - k)·e0 + k·e1) / 7
-      num[static_cast<size_t>(k + 1)] = (7 - k) * e0 + k * e1;
-      den[static_cast<size_t>(k + 1)] = 7 * scale;
+      num[static_cast<size_t>(k) + 1] = (7 - k) * e0 + k * e1;
+      den[static_cast<size_t>(k) + 1] = 7 * scale;
     }
   } else {
     for (int k = 1; k <= 4; ++k) {  // ((5 - k)·e0 + k·e1) / 5
-      num[static_cast<size_t>(k + 1)] = (5 - k) * e0 + k * e1;
-      den[static_cast<size_t>(k + 1)] = 5 * scale;
+      num[static_cast<size_t>(k) + 1] = (5 - k) * e0 + k * e1;
+      den[static_cast<size_t>(k) + 1] = 5 * scale;
     }
     num[6] = snorm ? -1 : 0;  // min
     num[7] = 1;               // max
@@ -56,7 +56,7 @@ std::array<float, 16> Bc4Decoder::decode_channel(std::span<const uint8_t, kBlock
     pal[k] = static_cast<float>(num[k]) / static_cast<float>(den[k]);
   }
   uint64_t bits = 0;
-  for (int b = 5; b >= 0; --b) bits = (bits << 8) | block[static_cast<size_t>(2 + b)];
+  for (int b = 5; b >= 0; --b) bits = (bits << 8) | block[2 + static_cast<size_t>(b)];
   std::array<float, 16> out{};
   for (int t = 0; t < 16; ++t) out[static_cast<size_t>(t)] = pal[(bits >> (3 * t)) & 7U];
   return out;
@@ -77,7 +77,7 @@ OpCounts Bc4Decoder::channel_ops(bool snorm) {
   if (snorm) o.cmp += 2;  // -128 -> -127 on each endpoint
   // Weighted sums: each of the six sevenths and four fifths is a shift-add of two constant
   // multiples (2 adds), then the mode's choice of entries 2..7.
-  o.add = 2 * (6 + 4);
+  o.add = uint64_t{2} * (6 + 4);
   o.cmp += 6;
   o.mul = 8;    // each palette entry times the constant reciprocal of its denominator
   o.cmp += 16;  // per texel, an 8:1 select of the palette

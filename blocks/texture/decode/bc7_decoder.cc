@@ -95,7 +95,7 @@ Endpoints read_endpoints(const ModeInfo& m, BitReader& br) {
   } else if (m.shared_pbits != 0) {
     for (int s = 0; s < m.subsets; ++s) {
       const uint32_t p = br.read(1);  // subset s's two endpoints share it
-      pbit[static_cast<size_t>(2 * s)] = pbit[static_cast<size_t>(2 * s + 1)] = p;
+      pbit[2 * static_cast<size_t>(s)] = pbit[2 * static_cast<size_t>(s) + 1] = p;
     }
   }
   const bool has_pbit = m.endpoint_pbits != 0 || m.shared_pbits != 0;
@@ -194,8 +194,8 @@ DecodedBlock Bc7Decoder::decode(std::span<const uint8_t, kBlockBytes> block) con
         wa = w2;
       }
     }
-    const auto& e0 = e[static_cast<size_t>(2 * sub[t].subset)];
-    const auto& e1 = e[static_cast<size_t>(2 * sub[t].subset + 1)];
+    const auto& e0 = e[2 * static_cast<size_t>(sub[t].subset)];
+    const auto& e1 = e[2 * static_cast<size_t>(sub[t].subset) + 1];
     std::array<uint32_t, 4> v{};
     for (size_t c = 0; c < 4; ++c) v[c] = interpolate(e0[c], e1[c], c < 3 ? wc : wa);
     if (rotation != 0) std::swap(v[3], v[rotation - 1]);  // 1: A<->R, 2: A<->G, 3: A<->B
@@ -206,17 +206,19 @@ DecodedBlock Bc7Decoder::decode(std::span<const uint8_t, kBlockBytes> block) con
 }
 
 OpCounts Bc7Decoder::ops_per_item() const {
+  constexpr uint64_t kTexels = 16;
+  constexpr uint64_t kChannels = 4;
   OpCounts o;
-  o.lut = 1 + 1;        // mode (lowest set bit of byte 0), partition and anchor tables
-  o.cmp = 16 * 2;       // per texel, its position against the two anchors: the index's offset
-  o.lut += 16 * 2;      // per texel, the weights of its primary and secondary index
-  o.cmp += 16 * 2;      // per texel, the index selection bit's swap of the two weights
-  o.cmp += 16 * 4;      // per texel and channel, the endpoint pair of its subset
-  o.add += 16 * 2;      // 64 - w, colour and alpha weight
-  o.mul += 16 * 4 * 2;  // (64 - w)·E0 and w·E1 per channel
-  o.add += 16 * 4 * 2;  // their sum and the rounding 32
-  o.cmp += 16 * 4;      // rotation: per texel and channel, a 2:1 select
-  o.mul += 16 * 4;      // each 8-bit result times 1/255
+  o.lut = 1 + 1;                     // mode (lowest set bit of byte 0), partition and anchor tables
+  o.cmp = kTexels * 2;               // per texel, its position against the two anchors: its offset
+  o.lut += kTexels * 2;              // per texel, the weights of its primary and secondary index
+  o.cmp += kTexels * 2;              // per texel, the index selection bit's swap of the two weights
+  o.cmp += kTexels * kChannels;      // per texel and channel, the endpoint pair of its subset
+  o.add += kTexels * 2;              // 64 - w, colour and alpha weight
+  o.mul += kTexels * kChannels * 2;  // (64 - w)·E0 and w·E1 per channel
+  o.add += kTexels * kChannels * 2;  // their sum and the rounding 32
+  o.cmp += kTexels * kChannels;      // rotation: per texel and channel, a 2:1 select
+  o.mul += kTexels * kChannels;      // each 8-bit result times 1/255
   return o;
 }
 

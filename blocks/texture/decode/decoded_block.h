@@ -15,7 +15,9 @@ struct DecodedBlock {
   int width = 0;   // texels per row of the block
   int height = 0;  // rows of the block
   std::array<glm::vec4, kMaxBlockTexels> texels{};
-  const glm::vec4& at(int x, int y) const { return texels[static_cast<size_t>(y * width + x)]; }
+  const glm::vec4& at(int x, int y) const {
+    return texels[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)];
+  }
 };
 
 }  // namespace texsim

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <random>
 #include <utility>
 
@@ -381,8 +382,7 @@ TEST(Bc7Decoder, AnyBytesDecodeWithinRange) {
         const float v = d.texels[static_cast<size_t>(t)][c];
         ASSERT_TRUE(v >= 0.0F && v <= 1.0F);
         // Every value is k / 255.
-        const float k = v * 255.0F;
-        ASSERT_EQ(static_cast<float>(static_cast<int>(k + 0.5F)) / 255.0F, v);
+        ASSERT_EQ(static_cast<float>(std::lround(v * 255.0F)) / 255.0F, v);
       }
     }
   }

@@ -256,7 +256,8 @@ struct Rgba8Image {
   std::array<uint8_t, 64> block(int bx, int by) const {
     std::array<uint8_t, 64> b{};
     for (int y = 0; y < 4; ++y) {
-      const auto row = static_cast<size_t>((4 * by + y) * stride + 16 * bx);
+      const auto row = static_cast<size_t>(4 * by + y) * static_cast<size_t>(stride) +
+                       16 * static_cast<size_t>(bx);
       std::copy_n(px.begin() + static_cast<std::ptrdiff_t>(row), 16,
                   b.begin() + static_cast<std::ptrdiff_t>(16 * y));
     }
@@ -343,7 +344,7 @@ ChannelModel bc4_model(const uint8_t* b) {
   ch.ref[1] = a1;
   const int n = a0 > a1 ? 7 : 5;
   for (int k = 1; k < n; ++k) {
-    const auto i = static_cast<size_t>(k + 1);
+    const auto i = static_cast<size_t>(k) + 1;
     ch.spec[i] = ((n - k) * a0 + k * a1) / (255.0 * n);
     ch.ref[i] = ((n - k) * a0 + k * a1) / n;
   }
@@ -504,7 +505,7 @@ std::array<uint8_t, 64> squish_decode(const std::string& format, const uint8_t* 
   }
   for (int channel = 0; channel < (format == "BC5" ? 2 : 1); ++channel) {
     std::array<uint8_t, 16> bc3{};
-    std::copy_n(b + 8 * channel, 8, bc3.begin());
+    std::copy_n(b + 8 * static_cast<size_t>(channel), 8, bc3.begin());
     std::array<uint8_t, 64> out{};
     squish::Decompress(out.data(), bc3.data(), squish::kDxt5);
     for (size_t t = 0; t < 16; ++t) rgba[4 * t + static_cast<size_t>(channel)] = out[4 * t + 3];
@@ -531,7 +532,8 @@ TEST(BcDecoders, EveryBlockOfRealTexturesMatchesSquish) {
           count_mode(tally, fc.name, blk.data());
           compare_block(tally, fc.decode(blk.data()), squish_decode(fc.name, blk.data()),
                         fc.channels, fc.model(blk.data()),
-                        static_cast<size_t>(by * (img.width / 4) + bx));
+                        static_cast<size_t>(by) * static_cast<size_t>(img.width / 4) +
+                            static_cast<size_t>(bx));
         }
       }
       report(fc.name, "squish", path, tally);
@@ -555,7 +557,8 @@ std::vector<uint8_t> nvtt_compress(const Rgba8Image& img, nvtt::Format format) {
   std::vector<uint8_t> bgra(static_cast<size_t>(img.width) * static_cast<size_t>(img.height) * 4);
   for (int y = 0; y < img.height; ++y) {
     for (int x = 0; x < img.width; ++x) {
-      const auto s = static_cast<size_t>(y * img.stride + 4 * x);
+      const auto s =
+          static_cast<size_t>(y) * static_cast<size_t>(img.stride) + 4 * static_cast<size_t>(x);
       const auto d =
           (static_cast<size_t>(y) * static_cast<size_t>(img.width) + static_cast<size_t>(x)) * 4;
       bgra[d] = img.px[s + 2];
