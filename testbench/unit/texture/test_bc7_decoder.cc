@@ -391,11 +391,14 @@ TEST(Bc7Decoder, AnyBytesDecodeWithinRange) {
 TEST(Bc7Decoder, CostsAndTiming) {
   const Bc7Decoder dec;
   const OpCounts o = dec.ops_per_item();
-  EXPECT_EQ(o.mul, 16u * 4u * 3u);
-  EXPECT_GT(o.add, 0u);
+  EXPECT_EQ(o.mul, 192u);
+  EXPECT_EQ(o.add, 160u);
+  EXPECT_EQ(o.cmp, 192u);
+  EXPECT_EQ(o.lut, 34u);
   const TimingSpec t = dec.timing(TechTable::defaults());
   EXPECT_EQ(t.ii, 1u);
-  EXPECT_EQ(t.latency, 17u);  // lut 3·2 + cmp 3·1 + mul 2·3 + add 2·1 (critical_path())
+  EXPECT_EQ(t.latency, 17u);         // lut 3·2 + cmp 3·1 + mul 2·3 + add 2·1 (critical_path())
+  EXPECT_DOUBLE_EQ(t.area, 1928.0);  // docs/derivations/bc-formats.md §7
   EXPECT_EQ(dec.name(), "texture.decode.bc7");
 }
 

@@ -218,17 +218,43 @@ TEST(Bc5Decoder, TwoChannelsRedThenGreen) {
 }
 
 TEST(BcDecoders, CostsAndTiming) {
+  // The table of docs/derivations/bc-formats.md §7 (default technology table).
   const TechTable tech = TechTable::defaults();
-  const OpCounts bc1 = Bc1Decoder().ops_per_item();
-  EXPECT_EQ(bc1.add, 9u);
-  EXPECT_EQ(bc1.mul, 12u);
-  EXPECT_EQ(bc1.cmp, 7u + 48u);
-  EXPECT_GT(Bc3Decoder().ops_per_item().arithmetic(), Bc2Decoder().ops_per_item().arithmetic());
-  EXPECT_EQ(Bc5Decoder().ops_per_item(), Bc4Decoder().ops_per_item() * 2);
-  const TimingSpec t = Bc1Decoder().timing(tech);
-  EXPECT_EQ(t.ii, 1u);
-  EXPECT_EQ(t.latency, 6u);  // add 1 + cmp 2·1 + mul 3
-  EXPECT_GT(t.area, 0.0);
+  struct Row {
+    OpCounts ops;
+    TimingSpec t;
+    uint64_t add, mul, cmp;
+    uint32_t latency;
+    double area;
+  };
+  Bc1Decoder::Config bc1a;
+  bc1a.alpha = true;
+  Bc4Decoder::Config snorm4;
+  snorm4.snorm = true;
+  Bc5Decoder::Config snorm5;
+  snorm5.snorm = true;
+  const std::vector<Row> rows = {
+      {Bc1Decoder().ops_per_item(), Bc1Decoder().timing(tech), 9, 12, 55, 6, 132.5},
+      {Bc1Decoder(bc1a).ops_per_item(), Bc1Decoder(bc1a).timing(tech), 9, 12, 71, 6, 140.5},
+      {Bc2Decoder().ops_per_item(), Bc2Decoder().timing(tech), 6, 28, 48, 6, 254},
+      {Bc3Decoder().ops_per_item(), Bc3Decoder().timing(tech), 26, 20, 71, 7, 221.5},
+      {Bc4Decoder().ops_per_item(), Bc4Decoder().timing(tech), 20, 8, 23, 7, 95.5},
+      {Bc4Decoder(snorm4).ops_per_item(), Bc4Decoder(snorm4).timing(tech), 20, 8, 25, 8, 96.5},
+      {Bc5Decoder().ops_per_item(), Bc5Decoder().timing(tech), 40, 16, 46, 7, 191},
+      {Bc5Decoder(snorm5).ops_per_item(), Bc5Decoder(snorm5).timing(tech), 40, 16, 50, 8, 193},
+  };
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
+    EXPECT_EQ(r.ops.add, r.add) << i;
+    EXPECT_EQ(r.ops.mul, r.mul) << i;
+    EXPECT_EQ(r.ops.cmp, r.cmp) << i;
+    EXPECT_EQ(r.t.latency, r.latency) << i;
+    EXPECT_EQ(r.t.ii, 1u) << i;
+    EXPECT_DOUBLE_EQ(r.t.area, r.area) << i;
+  }
+  Bc4Decoder::Config shared;
+  shared.datapath = Datapath::Shared;  // one operator per kind: II = the most ops of a kind
+  EXPECT_EQ(Bc4Decoder(shared).timing(tech).ii, 23u);
   EXPECT_EQ(Bc4Decoder().name(), "texture.decode.bc4");
 }
 
