@@ -70,6 +70,16 @@ class MesaPeer {
   // warmed the driver up (glFinish on both sides; depth test off so every draw shades every
   // pixel): the filtering rate, without set-up or read-back. Throws as render().
   double time_draws(const MesaView& view, int draws) const;
+  // Mesa's own codec of a block-compressed format (an OpenGL internal format, e.g.
+  // GL_COMPRESSED_RGBA_BPTC_UNORM = 0x8E8C), an independent decoder for the tests of
+  // blocks/texture/decode/. decode_blocks uploads `blocks` of a width × height texture (both
+  // multiples of 4) with glCompressedTexImage2D and reads the texels back as RGBA8
+  // (glGetTexImage), rows in upload order; encode_blocks has Mesa compress an RGBA8 image
+  // (glTexImage2D into the format) and returns its blocks (glGetCompressedTexImage). Throw as
+  // render().
+  MesaImage decode_blocks(uint32_t gl_format, int width, int height,
+                          const std::vector<uint8_t>& blocks) const;
+  std::vector<uint8_t> encode_blocks(uint32_t gl_format, const MesaImage& image) const;
 
  private:
   MesaDriver driver_;
