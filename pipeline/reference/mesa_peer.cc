@@ -470,7 +470,7 @@ struct ScopedTexture {
 }  // namespace
 
 MesaImage MesaPeer::decode_blocks(uint32_t gl_format, int width, int height,
-                                  const std::vector<uint8_t>& blocks) const {
+                                  const std::vector<uint8_t>& blocks, uint32_t gl_type) const {
   if (!available()) throw InputError("Mesa peer", why_not_);
   if (width <= 0 || height <= 0 || width % 4 != 0 || height % 4 != 0)
     throw InputError("Mesa peer", "compressed texture size must be positive multiples of 4");
@@ -486,7 +486,7 @@ MesaImage MesaPeer::decode_blocks(uint32_t gl_format, int width, int height,
   MesaImage img{width, height,
                 std::vector<uint8_t>(static_cast<size_t>(width) * static_cast<size_t>(height) * 4)};
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
+  glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, gl_type, img.rgba.data());
   check("reading the decoded texels back");
   return img;
 }
@@ -523,7 +523,7 @@ MesaImage MesaPeer::render(const MesaView&) const { throw InputError("Mesa peer"
 
 double MesaPeer::time_draws(const MesaView&, int) const { throw InputError("Mesa peer", why_not_); }
 
-MesaImage MesaPeer::decode_blocks(uint32_t, int, int, const std::vector<uint8_t>&) const {
+MesaImage MesaPeer::decode_blocks(uint32_t, int, int, const std::vector<uint8_t>&, uint32_t) const {
   throw InputError("Mesa peer", why_not_);
 }
 
