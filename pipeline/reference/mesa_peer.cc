@@ -455,6 +455,62 @@ double MesaPeer::time_draws(const MesaView& view, int draws) const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+namespace {
+// A 2-D texture object bound for the duration of a codec call.
+struct ScopedTexture {
+  GLuint id = 0;
+  ScopedTexture() {
+    glGenTextures(1, &id);
+    glBindTexture(GL_TEXTURE_2D, id);
+  }
+  ~ScopedTexture() { glDeleteTextures(1, &id); }
+  ScopedTexture(const ScopedTexture&) = delete;
+  ScopedTexture& operator=(const ScopedTexture&) = delete;
+};
+}  // namespace
+
+MesaImage MesaPeer::decode_blocks(uint32_t gl_format, int width, int height,
+                                  const std::vector<uint8_t>& blocks, uint32_t gl_type) const {
+  if (!available()) throw InputError("Mesa peer", why_not_);
+  if (width <= 0 || height <= 0 || width % 4 != 0 || height % 4 != 0)
+    throw InputError("Mesa peer", "compressed texture size must be positive multiples of 4");
+  Session& s = session();
+  const std::lock_guard<std::mutex> hold(s.lock);
+  const std::string e = s.start(driver_);
+  if (!e.empty()) throw InputError("Mesa peer", "Mesa not available: " + e);
+  eglMakeCurrent(s.display, EGL_NO_SURFACE, EGL_NO_SURFACE, s.context);
+  const ScopedTexture tex;
+  glCompressedTexImage2D(GL_TEXTURE_2D, 0, gl_format, width, height, 0,
+                         static_cast<GLsizei>(blocks.size()), blocks.data());
+  check("uploading the compressed blocks");
+  MesaImage img{width, height,
+                std::vector<uint8_t>(static_cast<size_t>(width) * static_cast<size_t>(height) * 4)};
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, gl_type, img.rgba.data());
+  check("reading the decoded texels back");
+  return img;
+}
+
+std::vector<uint8_t> MesaPeer::encode_blocks(uint32_t gl_format, const MesaImage& image) const {
+  if (!available()) throw InputError("Mesa peer", why_not_);
+  Session& s = session();
+  const std::lock_guard<std::mutex> hold(s.lock);
+  const std::string e = s.start(driver_);
+  if (!e.empty()) throw InputError("Mesa peer", "Mesa not available: " + e);
+  eglMakeCurrent(s.display, EGL_NO_SURFACE, EGL_NO_SURFACE, s.context);
+  const ScopedTexture tex;
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, static_cast<GLint>(gl_format), image.width, image.height, 0,
+               GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
+  check("compressing the image");
+  GLint size = 0;
+  glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_COMPRESSED_IMAGE_SIZE, &size);
+  std::vector<uint8_t> blocks(static_cast<size_t>(std::max(size, 0)));
+  glGetCompressedTexImage(GL_TEXTURE_2D, 0, blocks.data());
+  check("reading the compressed blocks back");
+  return blocks;
+}
+
 std::vector<uint8_t> MesaPeer::decode_compressed(uint32_t gl_format, int width, int height,
                                                  std::span<const uint8_t> data,
                                                  uint32_t read_format, uint32_t read_type,
@@ -495,6 +551,14 @@ double MesaPeer::time_draws(const MesaView&, int) const { throw InputError("Mesa
 
 std::vector<uint8_t> MesaPeer::decode_compressed(uint32_t, int, int, std::span<const uint8_t>,
                                                  uint32_t, uint32_t, size_t) const {
+  throw InputError("Mesa peer", why_not_);
+}
+
+MesaImage MesaPeer::decode_blocks(uint32_t, int, int, const std::vector<uint8_t>&, uint32_t) const {
+  throw InputError("Mesa peer", why_not_);
+}
+
+std::vector<uint8_t> MesaPeer::encode_blocks(uint32_t, const MesaImage&) const {
   throw InputError("Mesa peer", why_not_);
 }
 

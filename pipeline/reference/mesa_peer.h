@@ -79,6 +79,17 @@ class MesaPeer {
   std::vector<uint8_t> decode_compressed(uint32_t gl_format, int width, int height,
                                          std::span<const uint8_t> data, uint32_t read_format,
                                          uint32_t read_type, size_t texel_bytes) const;
+  // Mesa's own codec of a block-compressed format (an OpenGL internal format, e.g.
+  // GL_COMPRESSED_RGBA_BPTC_UNORM = 0x8E8C), an independent decoder for the tests of
+  // blocks/texture/decode/. decode_blocks uploads `blocks` of a width × height texture (both
+  // multiples of 4) with glCompressedTexImage2D and reads the texels back as RGBA8
+  // (glGetTexImage; gl_type GL_UNSIGNED_BYTE = 0x1401, or GL_BYTE = 0x1400 for signed formats,
+  // the bytes then two's complement), rows in upload order; encode_blocks has Mesa compress an
+  // RGBA8 image (glTexImage2D into the format) and returns its blocks
+  // (glGetCompressedTexImage). Throw as render().
+  MesaImage decode_blocks(uint32_t gl_format, int width, int height,
+                          const std::vector<uint8_t>& blocks, uint32_t gl_type = 0x1401) const;
+  std::vector<uint8_t> encode_blocks(uint32_t gl_format, const MesaImage& image) const;
 
  private:
   MesaDriver driver_;

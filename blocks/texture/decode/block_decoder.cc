@@ -4,6 +4,12 @@
 #include <stdexcept>
 
 #include "blocks/texture/decode/astc_decoder.h"
+#include "blocks/texture/decode/bc1_decoder.h"
+#include "blocks/texture/decode/bc2_decoder.h"
+#include "blocks/texture/decode/bc3_decoder.h"
+#include "blocks/texture/decode/bc4_decoder.h"
+#include "blocks/texture/decode/bc5_decoder.h"
+#include "blocks/texture/decode/bc7_decoder.h"
 #include "blocks/texture/decode/eac_decoder.h"
 #include "blocks/texture/decode/eac_rg_decoder.h"
 #include "blocks/texture/decode/etc2_rgb_decoder.h"
@@ -18,6 +24,24 @@ template <class Fn>
 auto with_decoder(CompressedFormat f, Fn&& fn) {
   using CF = CompressedFormat;
   switch (f) {
+    case CF::Bc1Rgb:
+      return fn(Bc1Decoder({false}));
+    case CF::Bc1Rgba:
+      return fn(Bc1Decoder({true}));
+    case CF::Bc2:
+      return fn(Bc2Decoder());
+    case CF::Bc3:
+      return fn(Bc3Decoder());
+    case CF::Bc4:
+      return fn(Bc4Decoder({false}));
+    case CF::Bc4Snorm:
+      return fn(Bc4Decoder({true}));
+    case CF::Bc5:
+      return fn(Bc5Decoder({false}));
+    case CF::Bc5Snorm:
+      return fn(Bc5Decoder({true}));
+    case CF::Bc7:
+      return fn(Bc7Decoder());
     case CF::Etc2Rgb8:
       return fn(Etc2RgbDecoder({false}));
     case CF::Etc2Rgb8A1:
@@ -42,7 +66,7 @@ auto with_decoder(CompressedFormat f, Fn&& fn) {
     c.block_height = i.block_h;
     return fn(AstcDecoder(c));
   }
-  throw std::logic_error("no decoder for " + std::string(to_string(f)));
+  throw std::logic_error("no decoder for " + std::string(to_string(f)));  // unreachable
 }
 
 }  // namespace
@@ -67,11 +91,9 @@ TimingSpec decoder_timing(CompressedFormat f, const TechTable& tech) {
 }
 
 std::string decoder_name(CompressedFormat f) {
-  const std::string name = with_decoder(f, [](const auto& d) { return d.name(); });
-  // One ASTC decoder block per footprint: each its own row.
-  const CompressedFormatInfo& i = format_info(f);
-  if (i.family != CodecFamily::Astc) return name;
-  return name + "_" + std::to_string(i.block_w) + "x" + std::to_string(i.block_h);
+  // One row per format (a block's configurations, e.g. BC1 with alpha or an ASTC footprint,
+  // cost differently): "decode.bc1_rgb", "decode.astc_6x6".
+  return "decode." + std::string(to_string(f));
 }
 
 }  // namespace texsim

@@ -14,8 +14,8 @@ namespace texsim {
 
 // The texels of one block of `f` (format_info(f).block_bytes bytes at `block`).
 DecodedBlock decode_block(CompressedFormat f, const uint8_t* block);
-// The decoder block of `f`: its operations per block, timing and area, report name and
-// arithmetic.
+// The decoder block of `f`: its operations per block, timing and area, report name
+// ("decode.<format>") and arithmetic.
 OpCounts decoder_ops(CompressedFormat f);
 TimingSpec decoder_timing(CompressedFormat f, const TechTable& tech);
 std::string decoder_name(CompressedFormat f);
