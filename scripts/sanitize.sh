@@ -18,7 +18,7 @@ if [[ ${1:-} == subset ]]; then
     test_trace_tools test_prefetch_reader test_mesh test_obj_inputs test_npz_height_field
     test_scene_overrides test_texture_loader test_sweep_inputs test_tune_inputs test_models
     test_model_isolation test_link_protocol test_link_hostile test_png_file test_oiio_plugin
-    test_truth_cache)
+    test_truth_cache test_dds_file test_astc_file)
   # The CLI's bad-input tests (test_cli_run); its rendering tests take minutes under ASan.
   cli='UsageErrors|HelpAndVersion|TraceWritersKeep|SceneSyntax|SceneType|TimingParameters|NonUtf8'
   cli+='|SceneUnknown|MissingTexture|RunRefuses|TracePixelBeyond|TraceConvertOnto|SceneThatIsAFifo'
