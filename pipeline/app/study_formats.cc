@@ -48,20 +48,19 @@ struct Variant {
 };
 
 const std::vector<Variant>& all_variants() {
-  static const std::vector<Variant> v = {
-      {"rgba8", "", ""},
-      {"rgb565", "", ""},
-      {"rgba4444", "", ""},
-      {"srgb8_a8", "", ""},
-      {"rgba16f", "", ""},
-      {"bc1_rgb", "squish", "range"},
-      {"bc1_rgb", "squish", "cluster"},
-      {"bc1_rgb", "nvtt", "normal"},
-      {"bc3", "squish", "cluster"},
-      {"astc_4x4", "astcenc", "fast"},
-      {"astc_6x6", "astcenc", "fast"},
-      {"astc_8x8", "astcenc", "fast"},
-      {"astc_12x12", "astcenc", "fast"}};
+  static const std::vector<Variant> v = {{"rgba8", "", ""},
+                                         {"rgb565", "", ""},
+                                         {"rgba4444", "", ""},
+                                         {"srgb8_a8", "", ""},
+                                         {"rgba16f", "", ""},
+                                         {"bc1_rgb", "squish", "range"},
+                                         {"bc1_rgb", "squish", "cluster"},
+                                         {"bc1_rgb", "nvtt", "normal"},
+                                         {"bc3", "squish", "cluster"},
+                                         {"astc_4x4", "astcenc", "fast"},
+                                         {"astc_6x6", "astcenc", "fast"},
+                                         {"astc_8x8", "astcenc", "fast"},
+                                         {"astc_12x12", "astcenc", "fast"}};
   return v;
 }
 
@@ -216,12 +215,24 @@ void measure(FormatsStudyRow& r, const std::string& dir) {
 std::string opt_num(bool present, double v, int digits) { return present ? fmt(v, digits) : ""; }
 
 StudyTable table(const std::vector<FormatsStudyRow>& rows, bool csv) {
-  std::vector<std::string> head = {"scene",           "sweep",         "variant",
-                                   "decoder at",      "behind L1",     "fragments",
-                                   "PSNR dB",         "L1 hit rate",   "L1 fill B/frag",
-                                   "L2 hit rate",     "L2 fill B/frag", "DRAM B/frag",
-                                   "cycles/frag",     "energy pJ/frag", "blocks decoded/frag",
-                                   "decoder ops/block", "decoder latency/II", "decoder area",
+  std::vector<std::string> head = {"scene",
+                                   "sweep",
+                                   "variant",
+                                   "decoder at",
+                                   "behind L1",
+                                   "fragments",
+                                   "PSNR dB",
+                                   "L1 hit rate",
+                                   "L1 fill B/frag",
+                                   "L2 hit rate",
+                                   "L2 fill B/frag",
+                                   "DRAM B/frag",
+                                   "cycles/frag",
+                                   "energy pJ/frag",
+                                   "blocks decoded/frag",
+                                   "decoder ops/block",
+                                   "decoder latency/II",
+                                   "decoder area",
                                    "decoder pJ/frag"};
   if (csv) head.push_back("overrides");
   StudyTable t(head, "lllllrrrrrrrrrrrrrrl");
@@ -244,9 +255,7 @@ StudyTable table(const std::vector<FormatsStudyRow>& rows, bool csv) {
         fmt(r.energy_pj, 4),
         r.compressed ? pf(r.blocks_decoded) : "",
         opt_num(r.compressed, r.decoder_ops_per_block, 4),
-        r.compressed
-            ? std::to_string(r.decoder_latency) + "/" + std::to_string(r.decoder_ii)
-            : "",
+        r.compressed ? std::to_string(r.decoder_latency) + "/" + std::to_string(r.decoder_ii) : "",
         opt_num(r.compressed, r.decoder_area, 5),
         opt_num(r.compressed, r.decoder_pj, 4)};
     if (csv) {

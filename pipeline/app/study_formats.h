@@ -33,7 +33,7 @@ struct FormatsStudyRow {
   std::string variant;  // "rgba8", "rgb565", "bc1_rgb squish range", "astc_6x6 astcenc fast"
   std::string format;   // storage or compressed format name
   bool compressed = false;
-  std::string placement;  // [pipeline] decompress ("" for uncompressed rows)
+  std::string placement;                   // [pipeline] decompress ("" for uncompressed rows)
   std::map<std::string, std::string> set;  // every override of the run (base and row)
   // The run's figures (report.json).
   uint64_t fragments = 0, cycles = 0;
