@@ -17,6 +17,7 @@
 #include "pipeline/app/cosim.h"
 #include "pipeline/app/run.h"
 #include "pipeline/app/run_draws.h"
+#include "pipeline/app/study_formats.h"
 #include "pipeline/app/study_frames.h"
 #include "pipeline/app/study_memory.h"
 #include "pipeline/app/study_workloads.h"
@@ -332,13 +333,15 @@ void run_gen_command(const GenCli& g) {
 struct StudyCli {
   CLI::App *cmd = nullptr, *vd = nullptr, *coords = nullptr, *filters = nullptr, *raster = nullptr,
            *objspace = nullptr, *rtl = nullptr, *thesis = nullptr, *relief = nullptr,
-           *terrain = nullptr, *memory = nullptr, *workloads = nullptr, *frames = nullptr;
+           *terrain = nullptr, *memory = nullptr, *workloads = nullptr, *frames = nullptr,
+           *formats = nullptr;
   std::string out = "out/study";
   int threads = 0;
   texsim::StudyRtlOptions rtl_opt;
   std::vector<std::string> rtl_params;
   texsim::StudyThesisOptions thesis_opt;
   texsim::StudyMemoryOptions memory_opt;
+  texsim::StudyFormatsOptions formats_opt;
   texsim::StudyWorkloadsOptions workloads_opt;
   texsim::StudyFramesOptions frames_opt;
   std::string frames_reference = "scene";
@@ -379,6 +382,15 @@ void add_study_commands(CLI::App& app, StudyCli& s) {
       "memory",
       "Memory hierarchy on the shipped scenes: L1 size/ways/line, layout, raster order, units, "
       "L2, DRAM: hit rates, DRAM bytes, cycles and energy per fragment");
+  s.formats = c.add_subcommand(
+      "formats",
+      "Texel formats and block compression (BC1, BC3, ASTC) on photo and cube: PSNR vs bytes "
+      "per fragment at L1, L2 and DRAM, cycles, decoder area and energy, decoder placement");
+  s.formats->add_flag("--quick", s.formats_opt.quick, "A few rows on photo at 96x64 (seconds)");
+  s.formats->add_option("--scene", s.formats_opt.scenes,
+                        "Scene file (repeatable; default: photo and cube)");
+  s.formats->add_option("--width", s.formats_opt.width, "Output width (default 240)");
+  s.formats->add_option("--height", s.formats_opt.height, "Output height (default 160)");
   s.workloads = c.add_subcommand(
       "workloads",
       "Workload characterisation of the shipped scenes and of fragment traces side by side: "
@@ -411,13 +423,13 @@ void add_study_commands(CLI::App& app, StudyCli& s) {
       ->check(CLI::IsMember({"scene", "none"}))
       ->capture_default_str();
   for (auto* sub : {s.vd, s.coords, s.filters, s.raster, s.objspace, s.rtl, s.thesis, s.relief,
-                    s.terrain, s.memory, s.workloads, s.frames})
+                    s.terrain, s.memory, s.workloads, s.frames, s.formats})
     sub->add_option("--out", s.out, "Output directory")->capture_default_str();
   s.memory->add_flag("--quick", s.memory_opt.quick, "A few rows on the built-in scene (seconds)");
   s.memory->add_option("--scene", s.memory_opt.scenes,
                        "Scene file or 'default' (repeatable; default: the built-in scene, "
                        "photo, flight and bunny)");
-  for (auto* sub : {s.vd, s.coords, s.filters, s.memory, s.workloads, s.frames}) {
+  for (auto* sub : {s.vd, s.coords, s.filters, s.memory, s.workloads, s.frames, s.formats}) {
     sub->add_option("--threads", s.threads,
                     "Worker threads (0: one per core); the outputs do not depend on it")
         ->check(CLI::Range(0, 1024))
@@ -464,6 +476,10 @@ int run_study_command(StudyCli& s) {
   if (*s.memory) {
     s.memory_opt.threads = s.threads;
     return run_study_memory(s.out, std::cout, s.memory_opt);
+  }
+  if (*s.formats) {
+    s.formats_opt.threads = s.threads;
+    return run_study_formats(s.out, std::cout, s.formats_opt);
   }
   StudyFiltersOptions fo;
   fo.threads = s.threads;

@@ -63,6 +63,10 @@ const std::set<std::string> kKnownKeys = {
     "quads.helper_lanes", "quads.own_x", "quads.own_y", "energy", "energy.total_pj",
     "energy.per_fragment_pj", "energy.ops_pj", "energy.l1_pj", "energy.l2_pj", "energy.dram_pj",
     "energy.blocks_pj", "energy.blocks_pj.*",
+    // block-compressed textures
+    "decompress", "decompress.placement", "decompress.blocks_decoded",
+    "decompress.blocks_by_format", "decompress.blocks_by_format.*", "decompress.decoded_lines",
+    "decompress.compressed_reads",
     // frames and accuracy
     "frames", "frames[].frame", "frames[].fragments", "frames[].cycles_end", "frames[].time_us",
     "frames[].accuracy", "frames[].accuracy.psnr_db", "frames[].accuracy.nmse",
@@ -189,9 +193,10 @@ bool is_op_kind(const std::string& k) {
 }
 
 void key_patterns(const Json& j, const std::string& path, std::set<std::string>& out) {
-  static const std::set<std::string> named = {
-      "blocks",          "stages", "materials", "raster", "ledger", "materials.*.object_space.ops",
-      "energy.blocks_pj"};
+  static const std::set<std::string> named = {"blocks",           "stages",
+                                              "materials",        "raster",
+                                              "ledger",           "materials.*.object_space.ops",
+                                              "energy.blocks_pj", "decompress.blocks_by_format"};
   if (j.is_array()) {
     for (const Json& e : j) key_patterns(e, path + "[]", out);
     return;
@@ -820,6 +825,28 @@ void check_workload(const Json& r) {
     EXPECT_EQ(t[k], total[k]) << k;
 }
 
+// Compressed textures: the decoder's activations, per format and in all, and the decompressor
+// level's counters only where it exists (before the L1 or after the L2).
+void check_decompress(const Json& r) {
+  if (!r.contains("decompress")) return;
+  const Json& e = r["decompress"];
+  const std::string at = e["placement"].get<std::string>();
+  EXPECT_TRUE(at == "before_l1" || at == "after_l1" || at == "after_l2") << at;
+  uint64_t sum = 0;
+  for (const auto& [f, n] : e["blocks_by_format"].items()) {
+    sum += u(n);
+    EXPECT_TRUE(r["blocks"].contains("decode." + f)) << f;  // each format's decoder has a row
+  }
+  EXPECT_EQ(u(e["blocks_decoded"]), sum);
+  // The decompressor level sits in front of DRAM (before_l1) or of the L2 (after_l2).
+  EXPECT_EQ(e.contains("decoded_lines"), at != "after_l1");
+  EXPECT_EQ(e.contains("compressed_reads"), at != "after_l1");
+  // Every compressed line read brings at least one block to decode.
+  if (at != "after_l1") {
+    EXPECT_LE(u(e["compressed_reads"]), u(e["blocks_decoded"]));
+  }
+}
+
 void check_report(const Json& r, int width, int height) {
   expect_known_keys(r);
   check_summary(r, width, height);
@@ -841,6 +868,7 @@ void check_report(const Json& r, int width, int height) {
   check_ledger(r);
   check_provenance(r);
   check_workload(r);
+  check_decompress(r);
 }
 
 // The accuracy figures against the run's own float images: over covered pixels, per channel.
@@ -1106,6 +1134,28 @@ TEST_F(ReportFigures, FramesOfATrace) {
 }
 
 // Without a ground truth every accuracy figure is null and there is no error map.
+// A block-compressed texture with the decoder at each of its places (after the L2 over an L2).
+TEST_F(ReportFigures, CompressedTexture) {
+  for (const char* at : {"before_l1", "after_l1", "after_l2"}) {
+    const Json r = run_scene(
+        kScenes + "cube.toml",
+        {"textures.crate.compress={ format = \"bc1_rgb\", encoder = \"squish\", quality = "
+         "\"range\" }",
+         std::string("pipeline.decompress=") + at, "pipeline.l2.size_bytes=65536"});
+    // Not check_report: the decoders' operations are not in materials.*.ops (check_materials's
+    // sum leaves them out), so only the checks that hold for compressed textures run here.
+    expect_known_keys(r);
+    check_blocks(r);
+    check_memory(r);
+    check_hierarchy(r);
+    check_energy(r);
+    check_decompress(r);
+    ASSERT_TRUE(r.contains("decompress")) << at;
+    EXPECT_EQ(r["decompress"]["placement"], at);
+    EXPECT_GT(u(r["decompress"]["blocks_decoded"]), 0u) << at;
+  }
+}
+
 TEST_F(ReportFigures, NoGroundTruth) {
   texsim::RunOptions opt;
   opt.reference = "none";
