@@ -81,7 +81,7 @@ struct TraceTexture {
 struct TraceHeader {
   uint32_t version = kTraceVersion;  // read: the file's; write: ignored unless unknown
   bool has_lod_bias = false;
-  bool has_view = false;  // records carry the view vector (version 2)
+  bool has_view = false;  // records carry the view vector (version 2 or 3)
   std::vector<TraceTexture> textures;
   // Layout info, filled in by TraceReader. Writers always write the canonical layout for
   // has_lod_bias (canonical_fields()) and ignore these.
