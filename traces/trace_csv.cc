@@ -165,7 +165,8 @@ bool TraceCsvReader::next_line(std::string_view& line) {
 }
 
 void TraceCsvReader::parse_directive(std::string_view line) {
-  // "# texture <id> <name> <source> <width> <height>"; any other '#' line is a comment.
+  // "# texture <id> <name> <source> <width> <height> [<storage>]"; any other '#' line is a
+  // comment. The storage (version 3) is optional: without it, the texture is as loaded.
   size_t i = line.find('#') + 1;
   while (i < line.size() && is_space(line[i])) ++i;
   constexpr std::string_view kWord = "texture";
@@ -204,9 +205,11 @@ void TraceCsvReader::parse_directive(std::string_view line) {
     }
     tokens.push_back(std::move(tok));
   }
-  if (tokens.size() != 5) {
-    fail(i + 1, "texture directive needs 5 values <id> <name> <source> <width> <height>, found " +
-                    std::to_string(tokens.size()));
+  if (tokens.size() != 5 && tokens.size() != 6) {
+    fail(i + 1,
+         "texture directive needs 5 or 6 values <id> <name> <source> <width> <height> "
+         "[<storage>], found " +
+             std::to_string(tokens.size()));
   }
   TraceTexture t{};
   std::string err;
@@ -218,6 +221,7 @@ void TraceCsvReader::parse_directive(std::string_view line) {
     fail(tokens[3].column, "texture width: " + err);
   if (!(err = parse_u32(tokens[4].text, t.height)).empty())
     fail(tokens[4].column, "texture height: " + err);
+  if (tokens.size() == 6) t.storage = tokens[5].text;
   if (header_.find_texture(t.id) != nullptr) {
     fail(tokens[0].column,
          "texture id " + std::to_string(t.id) + " appears twice in the texture table");
@@ -274,7 +278,7 @@ void TraceCsvReader::parse_columns(std::string_view line) {
                 std::to_string(views) + " present)");
   }
   header_.has_view = views == 3;
-  header_.version = written_version(header_.has_view);
+  header_.version = written_version(header_.has_view, header_.textures);
 }
 
 void TraceCsvReader::parse_record(std::string_view line, Fragment& f) {
@@ -391,12 +395,14 @@ TraceCsvWriter::TraceCsvWriter(const std::string& path, const TraceHeader& heade
   check_writable_version(header.version, path_);
   validate_textures(header.textures, path_);
   ids_ = TextureIdSet(header.textures);
-  std::string h = "# texsim trace, format v" + std::to_string(written_version(has_view_)) +
+  std::string h = "# texsim trace, format v" +
+                  std::to_string(written_version(has_view_, header.textures)) +
                   ", CSV form (traces/FORMAT.md)\n";
   for (const TraceTexture& t : header.textures) {
     h += "# texture " + std::to_string(t.id) + " " + csv_quote_token(t.name) + " " +
-         csv_quote_token(t.source) + " " + std::to_string(t.width) + " " +
-         std::to_string(t.height) + "\n";
+         csv_quote_token(t.source) + " " + std::to_string(t.width) + " " + std::to_string(t.height);
+    if (!t.storage.empty()) h.append(" ").append(csv_quote_token(t.storage));
+    h += '\n';
   }
   bool first = true;
   for (const TraceField& f : canonical_fields(has_lod_bias_, has_view_)) {

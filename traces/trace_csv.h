@@ -1,7 +1,8 @@
 #pragma once
-// CSV form of trace format v1 (traces/FORMAT.md, "CSV form"): for small hand-written cases.
-// Texture table as `# texture <id> <name> <source> <width> <height>` directives, then a header
-// line naming the columns, then one fragment per line. Read line by line, never loaded whole.
+// CSV form of the trace format (traces/FORMAT.md, "CSV form"): for small hand-written cases.
+// Texture table as `# texture <id> <name> <source> <width> <height> [<storage>]` directives, then a
+// header line naming the columns, then one fragment per line. Read line by line, never loaded
+// whole.
 #include <cstdint>
 #include <cstdio>
 #include <string>

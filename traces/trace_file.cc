@@ -32,6 +32,7 @@ constexpr char kEndTag[4] = {'T', 'E', 'N', 'D'};
 constexpr uint32_t kFixedHeaderBytes = 32;
 constexpr uint32_t kFieldEntryBytes = 24;
 constexpr uint32_t kTextureEntryBytes = 20;  // without the name and source bytes
+constexpr uint32_t kStorageLenBytes = 4;     // version 3: storage_len after the source
 constexpr uint32_t kChunkHeaderBytes = 12;
 constexpr uint32_t kTrailerBytes = 24;
 
@@ -169,6 +170,12 @@ uint32_t canonical_record_size(bool has_lod_bias, bool has_view) {
   return size;
 }
 
+uint32_t written_version(bool has_view, const std::vector<TraceTexture>& textures) {
+  const bool storage = std::any_of(textures.begin(), textures.end(),
+                                   [](const TraceTexture& t) { return !t.storage.empty(); });
+  return storage ? 3 : has_view ? 2 : 1;
+}
+
 void check_writable_version(uint32_t version, const std::string& where) {
   if (version < 1 || version > kTraceVersion) {
     throw InputError(where, "cannot write trace version " + std::to_string(version) +
@@ -213,6 +220,20 @@ void validate_textures(const std::vector<TraceTexture>& textures, const std::str
     if (has_control(t.name)) throw InputError(where, entry + "name contains a control character");
     if (has_control(t.source))
       throw InputError(where, entry + "source contains a control character");
+    if (t.storage.size() > kTraceMaxStorageBytes) {
+      throw InputError(where, entry + "storage length " + std::to_string(t.storage.size()) +
+                                  " exceeds " + std::to_string(kTraceMaxStorageBytes));
+    }
+    if (has_control(t.storage))
+      throw InputError(where, entry + "storage contains a control character");
+    const std::string_view st = t.storage;
+    const bool kind_ok = st.empty() || (st.starts_with("format=") && st.size() > 7) ||
+                         (st.starts_with("compress=") && st.size() > 9);
+    if (!kind_ok) {
+      throw InputError(where, entry + "storage '" + t.storage +
+                                  "' is neither \"format=NAME\" nor "
+                                  "\"compress=FORMAT,ENCODER[,QUALITY]\"");
+    }
     ids.push_back(t.id);
   }
   std::sort(ids.begin(), ids.end());
@@ -298,7 +319,8 @@ TraceWriter::TraceWriter(const std::string& path, const TraceHeader& header,
 
   const std::vector<TraceField> fields = canonical_fields(has_lod_bias_, has_view_);
   std::vector<unsigned char> h(kTraceMagic, kTraceMagic + sizeof kTraceMagic);
-  append_le<uint32_t>(h, written_version(has_view_));
+  const uint32_t version = written_version(has_view_, header.textures);
+  append_le<uint32_t>(h, version);
   append_le<uint32_t>(h, 0);  // header size, patched below
   append_le<uint32_t>(h, record_size_);
   append_le<uint32_t>(h, records_per_chunk_);
@@ -320,6 +342,10 @@ TraceWriter::TraceWriter(const std::string& path, const TraceHeader& header,
     append_le<uint32_t>(h, static_cast<uint32_t>(t.source.size()));
     h.insert(h.end(), t.name.begin(), t.name.end());
     h.insert(h.end(), t.source.begin(), t.source.end());
+    if (version >= 3) {
+      append_le<uint32_t>(h, static_cast<uint32_t>(t.storage.size()));
+      h.insert(h.end(), t.storage.begin(), t.storage.end());
+    }
   }
   const auto header_size = static_cast<uint32_t>(h.size() + 4);
   if (header_size > kTraceMaxHeaderBytes) {
@@ -492,8 +518,9 @@ FixedHeader parse_fixed_header(const unsigned char* h, const std::string& where)
     throw InputError(where, "texture count " + std::to_string(fh.texture_count) +
                                 " exceeds the limit " + std::to_string(kTraceMaxTextures));
   }
+  const uint32_t entry_bytes = kTextureEntryBytes + (fh.version >= 3 ? kStorageLenBytes : 0);
   const uint64_t least = uint64_t{kFixedHeaderBytes} + uint64_t{fh.field_count} * kFieldEntryBytes +
-                         uint64_t{fh.texture_count} * kTextureEntryBytes + 4;
+                         uint64_t{fh.texture_count} * entry_bytes + 4;
   if (fh.header_size < least || fh.header_size > kTraceMaxHeaderBytes) {
     throw InputError(where, "header size " + std::to_string(fh.header_size) + " is outside " +
                                 std::to_string(least) + ".." +
@@ -543,8 +570,10 @@ std::vector<TraceField> parse_fields(const unsigned char*& p, const FixedHeader&
 }
 
 // Reads the texture table from p (advanced past it) to end, which it must fill exactly.
+// Version 3 entries end with the storage (u32 length, then its bytes).
 std::vector<TraceTexture> parse_textures(const unsigned char*& p, const unsigned char* end,
-                                         uint32_t count, const std::string& where) {
+                                         uint32_t count, uint32_t version,
+                                         const std::string& where) {
   std::vector<TraceTexture> textures;
   for (uint32_t i = 0; i < count; ++i) {
     const std::string tw = where + ", texture entry " + std::to_string(i);
@@ -571,6 +600,22 @@ std::vector<TraceTexture> parse_textures(const unsigned char*& p, const unsigned
     p += name_len;
     t.source.assign(reinterpret_cast<const char*>(p), source_len);
     p += source_len;
+    if (version >= 3) {
+      if (static_cast<size_t>(end - p) < kStorageLenBytes) {
+        throw InputError(tw, "storage length runs past the end of the header");
+      }
+      const auto storage_len = load_le<uint32_t>(p);
+      p += kStorageLenBytes;
+      if (storage_len > kTraceMaxStorageBytes) {
+        throw InputError(tw, "storage length " + std::to_string(storage_len) +
+                                 " exceeds the limit " + std::to_string(kTraceMaxStorageBytes));
+      }
+      if (static_cast<size_t>(end - p) < storage_len) {
+        throw InputError(tw, "storage runs past the end of the header");
+      }
+      t.storage.assign(reinterpret_cast<const char*>(p), storage_len);
+      p += storage_len;
+    }
     textures.push_back(std::move(t));
   }
   if (p != end) {
@@ -632,7 +677,8 @@ void TraceReader::open_binary() {
   header_.records_per_chunk = fh.records_per_chunk;
   const unsigned char* p = h.data() + kFixedHeaderBytes;
   header_.fields = parse_fields(p, fh, where);
-  header_.textures = parse_textures(p, h.data() + header_size - 4, fh.texture_count, where);
+  header_.textures =
+      parse_textures(p, h.data() + header_size - 4, fh.texture_count, fh.version, where);
   validate_textures(header_.textures, where);
   ids_ = TextureIdSet(header_.textures);
   offsets_ = known_field_offsets(header_.fields, fh.version, where);

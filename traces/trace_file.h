@@ -1,6 +1,6 @@
 #pragma once
-// Trace files, format v2 (traces/FORMAT.md; v1 files are read too): the binary writer and the
-// streaming reader that also opens the CSV form. The reader holds one chunk at a time, so its
+// Trace files, format v3 (traces/FORMAT.md; v1 and v2 files are read too): the binary writer and
+// the streaming reader that also opens the CSV form. The reader holds one chunk at a time, so its
 // memory does not depend on the length of the trace; every defect of the input is an InputError
 // naming file and record.
 #include <cstdint>
@@ -14,9 +14,10 @@
 
 namespace texsim {
 
-// The newest version: 2 adds the optional view vector (view_x, view_y, view_z). A writer
-// writes version 1 when the trace has no view vector, so such a file stays a version-1 file.
-inline constexpr uint32_t kTraceVersion = 2;
+// The newest version: 2 adds the optional view vector (view_x, view_y, view_z), 3 each
+// texture's storage. A writer writes the oldest version that holds the trace
+// (written_version), so a trace without either stays a version-1 file.
+inline constexpr uint32_t kTraceVersion = 3;
 inline constexpr char kTraceMagic[8] = {'T', 'E', 'X', 'S', 'I', 'M', 'T', 'R'};
 
 // Limits that a header must respect; anything beyond is treated as corruption, so a damaged
@@ -27,6 +28,7 @@ inline constexpr uint32_t kTraceMaxTextures = 65536;
 inline constexpr uint32_t kTraceMaxTextureSize = 65536;
 inline constexpr uint32_t kTraceMaxNameBytes = 256;
 inline constexpr uint32_t kTraceMaxSourceBytes = 4096;
+inline constexpr uint32_t kTraceMaxStorageBytes = 256;
 inline constexpr uint32_t kTraceMaxHeaderBytes = 16u << 20;
 inline constexpr uint32_t kTraceMaxRecordsPerChunk = 1u << 24;
 inline constexpr uint64_t kTraceMaxChunkBytes = 256u << 20;
@@ -70,12 +72,16 @@ struct TraceTexture {
   std::string name;
   std::string source;  // file path or procedural spec, e.g. "procedural:checker?size=512&cells=16"
   uint32_t width, height;
+  // How the texture is stored once loaded (version 3): "" as loaded, "format=NAME" or
+  // "compress=FORMAT,ENCODER[,QUALITY]". The trace checks only its kind (the prefix); the
+  // names are the scene's and are checked where the texture is loaded.
+  std::string storage = {};
 };
 
 struct TraceHeader {
   uint32_t version = kTraceVersion;  // read: the file's; write: ignored unless unknown
   bool has_lod_bias = false;
-  bool has_view = false;  // records carry the view vector (version 2)
+  bool has_view = false;  // records carry the view vector (version 2 or 3)
   std::vector<TraceTexture> textures;
   // Layout info, filled in by TraceReader. Writers always write the canonical layout for
   // has_lod_bias (canonical_fields()) and ignore these.
@@ -97,13 +103,14 @@ const std::vector<TraceFieldSpec>& trace_field_specs();
 // Canonical binary layout written by TraceWriter (packed, in trace_field_specs() order).
 std::vector<TraceField> canonical_fields(bool has_lod_bias, bool has_view = false);
 uint32_t canonical_record_size(bool has_lod_bias, bool has_view = false);
-// The version a writer writes for a trace with or without the view vector.
-inline uint32_t written_version(bool has_view) { return has_view ? 2 : 1; }
+// The version a writer writes: 3 when some texture has a storage, else 2 with the view vector,
+// else 1.
+uint32_t written_version(bool has_view, const std::vector<TraceTexture>& textures);
 // Throws InputError(where, ...) unless a writer can write `version` (1..kTraceVersion).
 void check_writable_version(uint32_t version, const std::string& where);
 
-// Checks a header's texture table (count, unique ids, sizes, name/source lengths and
-// characters); throws InputError(where, ...) naming the entry.
+// Checks a header's texture table (count, unique ids, sizes, name/source/storage lengths and
+// characters, the storage's kind); throws InputError(where, ...) naming the entry.
 void validate_textures(const std::vector<TraceTexture>& textures, const std::string& where);
 
 // Texture ids of a header, for the per-record "id is in the table" check.

@@ -100,8 +100,9 @@ int trace_info(const std::string& path, std::ostream& out) {
   out << "textures:   " << h.textures.size() << "\n";
   for (const TraceTexture& t : h.textures) {
     out << "  id " << t.id << "  " << t.name << "  " << t.width << "x" << t.height << "  "
-        << (t.source.empty() ? "(no source)" : t.source) << "  fragments " << s.per_texture.at(t.id)
-        << "\n";
+        << (t.source.empty() ? "(no source)" : t.source)
+        << (t.storage.empty() ? "" : "  stored " + t.storage) << "  fragments "
+        << s.per_texture.at(t.id) << "\n";
   }
   out << "records:    " << s.records << " in " << s.chunks << " chunks\n";
   if (s.records == 0) return 0;

@@ -82,22 +82,33 @@ InputDigest texture_digest(const std::string& name, const std::string& source,
   return digest_file("texture " + name, resolve_texture_path(source, dir));
 }
 
-// A trace's texture table: each texture loaded (relative to the trace) and checked against the
-// size the table declares.
+// The report's "name = source" of a texture, with its storage when it has one.
+std::string texture_label(const SceneTexture& t) {
+  const std::string spec = texture_storage_spec(t);
+  const std::string note =
+      t.format ? std::string(to_string(*t.format)) : spec.substr(spec.find('=') + 1);
+  return t.name + " = " + t.source + (spec.empty() ? "" : " (" + note + ")");
+}
+
+// A trace's texture table: each texture loaded (relative to the trace), stored as its entry
+// says (the scene run's conversion or encoder), and checked against the size the table declares.
 RunTextures load_trace_textures(const TraceReader& reader, const std::string& trace_path) {
   RunTextures t;
   const std::string dir = std::filesystem::path(trace_path).parent_path().string();
   DrawTextureCache draws;  // textures of draw traces ("draws:PATH#ID", from trace gen --draws)
   std::set<std::string> draw_files;
   for (const auto& e : reader.header().textures) {
+    // Name the trace and its table entry as well as the file.
+    const std::string entry = "texture table entry " + std::to_string(e.id) + " ('" + e.name + "')";
+    SceneTexture st{e.name, e.source, "", {}, {}};
+    set_texture_storage(st, e.storage, trace_path + ": " + entry);
     Texture tex = [&] {
       try {
-        if (is_draws_source(e.source)) return draws.load(e.source, dir);
-        return load_texture(e.source, dir);
+        return store_texture(
+            is_draws_source(e.source) ? draws.load(e.source, dir) : load_texture(e.source, dir),
+            st);
       } catch (const InputError& err) {
-        // Name the trace and its table entry as well as the file.
-        throw InputError(trace_path, "texture table entry " + std::to_string(e.id) + " ('" +
-                                         e.name + "'): " + err.what());
+        throw InputError(trace_path, entry + ": " + err.what());
       }
     }();
     if (static_cast<uint32_t>(tex.width(0)) != e.width ||
@@ -111,7 +122,7 @@ RunTextures load_trace_textures(const TraceReader& reader, const std::string& tr
     const int id = t.set.add(std::move(tex));
     t.index[e.id] = id;
     t.by_name[e.name] = id;
-    t.names.push_back(e.name + " = " + e.source);
+    t.names.push_back(texture_label(st));
     if (!is_draws_source(e.source)) {
       t.digests.push_back(texture_digest(e.name, e.source, dir));
     } else if (const std::string p = DrawTextureCache::path_of(e.source, dir);
@@ -130,8 +141,7 @@ RunTextures load_scene_textures(const Scene& scene) {
     t.index[static_cast<uint32_t>(i)] = id;
     t.by_name[scene.textures[i].name] = id;
     const SceneTexture& st = scene.textures[i];
-    t.names.push_back(st.name + " = " + st.source +
-                      (st.format ? " (" + std::string(to_string(*st.format)) + ")" : ""));
+    t.names.push_back(texture_label(st));
     t.digests.push_back(
         texture_digest(scene.textures[i].name, scene.textures[i].source, scene.base_dir));
   }
@@ -1037,8 +1047,10 @@ uint64_t generate_scene_trace(const std::string& scene_path, const std::string& 
       // Paths in the trace are absolute so the trace can be moved away from the scene.
       src = std::filesystem::absolute(resolve_texture_path(src, scene.base_dir)).string();
     }
+    // The storage too (version 3): a run of the trace converts or encodes it as the scene does.
     h.textures.push_back({static_cast<uint32_t>(i), scene.textures[i].name, src,
-                          static_cast<uint32_t>(t.width(0)), static_cast<uint32_t>(t.height(0))});
+                          static_cast<uint32_t>(t.width(0)), static_cast<uint32_t>(t.height(0)),
+                          texture_storage_spec(scene.textures[i])});
   }
   // Relief and lighting need the view vector: their scenes' traces carry it (version 2).
   const std::vector<MaterialSetup> mats = build_materials(scene);  // checks the effects too

@@ -106,13 +106,44 @@ CompressedFormat texsim_format(const CompressedImage& img, bool& srgb, const std
     case F::Astc:
       break;
   }
-  const std::string name = "astc_" + std::to_string(img.block_w) + "x" + std::to_string(img.block_h);
+  const std::string name =
+      "astc_" + std::to_string(img.block_w) + "x" + std::to_string(img.block_h);
   const auto f = compressed_format_from_name(name);
   if (!f) throw InputError(path, "unsupported ASTC footprint " + name);
   return *f;
 }
 
 }  // namespace
+
+namespace {
+bool made_by_squish(CompressedFormat f) {
+  return f == CompressedFormat::Bc1Rgb || f == CompressedFormat::Bc1Rgba ||
+         f == CompressedFormat::Bc2 || f == CompressedFormat::Bc3;
+}
+bool made_by_nvtt_only(CompressedFormat f) {
+  return f == CompressedFormat::Bc4 || f == CompressedFormat::Bc5;
+}
+}  // namespace
+
+std::string default_encoder(CompressedFormat f) {
+  if (made_by_squish(f)) return "squish";
+  if (made_by_nvtt_only(f)) return "nvtt";
+  return format_info(f).family == CodecFamily::Astc ? "astcenc" : "";
+}
+
+bool encoder_makes(const std::string& encoder, CompressedFormat f) {
+  if (encoder == "squish") return made_by_squish(f);
+  if (encoder == "nvtt") return made_by_squish(f) || made_by_nvtt_only(f);
+  if (encoder == "astcenc") return format_info(f).family == CodecFamily::Astc;
+  return false;
+}
+
+std::vector<std::string> encoder_qualities(const std::string& encoder) {
+  if (encoder == "squish") return {"range", "cluster", "iterative-cluster"};
+  if (encoder == "nvtt") return {"fastest", "normal", "production"};
+  if (encoder == "astcenc") return {"fastest", "fast", "medium", "thorough"};
+  return {};
+}
 
 Texture compress_texture(const Texture& src, const SceneTexture::Compress& c) {
   auto blocks = std::make_shared<Texture::Blocks>();
@@ -144,8 +175,8 @@ Texture load_compressed_file(const std::string& path) {
   bool srgb = false;
   auto blocks = std::make_shared<Texture::Blocks>();
   blocks->format = texsim_format(img, srgb, path);
-  blocks->provenance = "file " + std::filesystem::path(path).filename().string() + " (" +
-                       img.format_label() + ")";
+  blocks->provenance =
+      "file " + std::filesystem::path(path).filename().string() + " (" + img.format_label() + ")";
   std::vector<int> ws, hs;
   for (const CompressedLevel& l : img.levels) {
     ws.push_back(static_cast<int>(l.width));

@@ -3,11 +3,20 @@
 // texture encoded by one of Debian's encoders (`compress = { … }`), or blocks read from a DDS
 // or .astc file.
 #include <string>
+#include <vector>
 
 #include "blocks/texture/memory/texture_memory.h"
 #include "pipeline/scene/scene.h"
 
 namespace texsim {
+
+// The encoder a `compress` spec defaults to: the one Debian has for `f` (squish for BC1-BC3,
+// nvtt for BC4/BC5, astcenc for ASTC), or "" when none makes it (BC7, ETC2, EAC: files only).
+std::string default_encoder(CompressedFormat f);
+// Whether `encoder` ("squish", "nvtt", "astcenc") makes `f`.
+bool encoder_makes(const std::string& encoder, CompressedFormat f);
+// The quality levels `encoder` knows, fastest first (empty for an unknown encoder).
+std::vector<std::string> encoder_qualities(const std::string& encoder);
 
 // `src` (every level) encoded as `c` says; the result keeps `src` as the truth's texture and
 // the encoder's provenance in its blocks.

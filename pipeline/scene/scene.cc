@@ -10,6 +10,7 @@
 #include "blocks/base/input_error.h"
 #include "blocks/base/input_file.h"
 #include "blocks/geometry/aviation_camera.h"
+#include "pipeline/scene/compressed_loader.h"
 #include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene_meshes.h"
 #include "pipeline/scene/scene_models.h"
@@ -108,18 +109,9 @@ SceneTexture::Compress parse_compress(const ConfigReader& tr, const std::string&
     c.fail("format",
            "unknown compressed format '" + f + "' (one of " + compressed_format_names() + ")");
   out.format = *fmt;
-  const CodecFamily family = format_info(*fmt).family;
-  const bool bc13 = *fmt == CompressedFormat::Bc1Rgb || *fmt == CompressedFormat::Bc1Rgba ||
-                    *fmt == CompressedFormat::Bc2 || *fmt == CompressedFormat::Bc3;
-  const bool bc45 = *fmt == CompressedFormat::Bc4 || *fmt == CompressedFormat::Bc5;
-  const std::string def = bc13                          ? "squish"
-                          : bc45                        ? "nvtt"
-                          : family == CodecFamily::Astc ? "astcenc"
-                                                        : "";
+  const std::string def = default_encoder(*fmt);
   out.encoder = c.get_string("encoder", def);
-  const bool ok = (out.encoder == "squish" && bc13) || (out.encoder == "nvtt" && (bc13 || bc45)) ||
-                  (out.encoder == "astcenc" && family == CodecFamily::Astc);
-  if (!ok) {
+  if (!encoder_makes(out.encoder, *fmt)) {
     c.fail(def.empty() ? "format" : "encoder",
            def.empty() ? "no encoder makes '" + f + "' (load it from a .dds or .astc file)"
                        : "encoder '" + out.encoder + "' cannot make '" + f +
@@ -127,10 +119,7 @@ SceneTexture::Compress parse_compress(const ConfigReader& tr, const std::string&
                              "astcenc: astc_*)");
   }
   out.quality = c.get_string("quality", "");
-  const std::vector<std::string> levels =
-      out.encoder == "squish" ? std::vector<std::string>{"range", "cluster", "iterative-cluster"}
-      : out.encoder == "nvtt" ? std::vector<std::string>{"fastest", "normal", "production"}
-                              : std::vector<std::string>{"fastest", "fast", "medium", "thorough"};
+  const std::vector<std::string> levels = encoder_qualities(out.encoder);
   if (!out.quality.empty() &&
       std::find(levels.begin(), levels.end(), out.quality) == levels.end()) {
     std::string list;

@@ -1,6 +1,9 @@
 #include "pipeline/scene/texture_loader.h"
 
+#include <algorithm>
 #include <filesystem>
+#include <string_view>
+#include <vector>
 
 #include "blocks/base/input_error.h"
 #include "blocks/base/input_file.h"
@@ -48,7 +51,7 @@ Texture load_texture(const std::string& source, const std::string& base_dir,
                      TexelFormatChoice format) {
   if (is_procedural_source(source)) return make_procedural_texture(source, source);
   const std::string path = resolve_texture_path(source, base_dir);
-  if (is_npz_source(path)) return npz_height_texture(path);  // a DEM height field
+  if (is_npz_source(path)) return npz_height_texture(path);         // a DEM height field
   if (is_compressed_file(path)) return load_compressed_file(path);  // DDS or .astc blocks
   // Only regular files of at most 2 GiB: a device or FIFO (e.g. /dev/zero) would never end.
   check_input_file(path, "texture file", kMaxFileBytes);
@@ -91,21 +94,84 @@ Texture load_texture(const std::string& source, const std::string& base_dir,
   return Texture::from_rgba(name, ws[0], hs[0], levels[0], fmt, true);
 }
 
+Texture store_texture(Texture loaded, const SceneTexture& t) {
+  if (t.format) return loaded.converted(*t.format);
+  if (!t.compress) return loaded;
+  try {
+    return compress_texture(loaded, *t.compress);
+  } catch (const InputError& e) {
+    if (t.compress->where.empty()) throw;
+    throw InputError(t.compress->where, e.what());
+  }
+}
+
 Texture load_scene_texture(const Scene& scene, size_t index, TexelFormatChoice format) {
   const SceneTexture& t = scene.textures.at(index);
   try {
-    if (t.format) return load_texture(t.source, scene.base_dir, format).converted(*t.format);
-    if (t.compress) {
-      try {
-        return compress_texture(load_texture(t.source, scene.base_dir, format), *t.compress);
-      } catch (const InputError& e) {
-        throw InputError(t.compress->where, e.what());
-      }
-    }
-    return load_texture(t.source, scene.base_dir, format);
+    return store_texture(load_texture(t.source, scene.base_dir, format), t);
   } catch (const InputError& e) {
     throw InputError(t.where, e.what());
   }
+}
+
+std::string texture_storage_spec(const SceneTexture& t) {
+  if (t.format) return "format=" + std::string(to_string(*t.format));
+  if (!t.compress) return "";
+  const SceneTexture::Compress& c = *t.compress;
+  return "compress=" + std::string(to_string(c.format)) + "," + c.encoder +
+         (c.quality.empty() ? "" : "," + c.quality);
+}
+
+void set_texture_storage(SceneTexture& t, const std::string& spec, const std::string& where) {
+  t.format.reset();
+  t.compress.reset();
+  if (spec.empty()) return;
+  const std::string_view s = spec;
+  if (s.starts_with("format=")) {
+    const std::string name(s.substr(7));
+    t.format = storage_format_from_name(name);
+    if (!t.format) {
+      throw InputError(where, "storage '" + spec + "': unknown texel format '" + name +
+                                  "' (one of " + storage_format_names() + ")");
+    }
+    return;
+  }
+  if (!s.starts_with("compress=")) {
+    throw InputError(where, "storage '" + spec +
+                                "' is neither \"format=NAME\" nor "
+                                "\"compress=FORMAT,ENCODER[,QUALITY]\"");
+  }
+  std::vector<std::string> parts;  // FORMAT, ENCODER, QUALITY
+  for (size_t at = 9;;) {
+    const size_t comma = s.find(',', at);
+    parts.emplace_back(s.substr(at, comma == std::string_view::npos ? s.npos : comma - at));
+    if (comma == std::string_view::npos) break;
+    at = comma + 1;
+  }
+  const std::string bad = "storage '" + spec + "': ";
+  if (parts.size() > 3) throw InputError(where, bad + "more than FORMAT,ENCODER,QUALITY");
+  SceneTexture::Compress c;
+  const auto fmt = compressed_format_from_name(parts[0]);
+  if (!fmt) {
+    throw InputError(where, bad + "unknown compressed format '" + parts[0] + "' (one of " +
+                                compressed_format_names() + ")");
+  }
+  c.format = *fmt;
+  c.encoder = parts.size() > 1 ? parts[1] : default_encoder(*fmt);
+  if (!encoder_makes(c.encoder, *fmt)) {
+    throw InputError(where, bad + (c.encoder.empty() ? "no encoder makes '" + parts[0] + "'"
+                                                     : "encoder '" + c.encoder + "' cannot make '" +
+                                                           parts[0] + "'"));
+  }
+  c.quality = parts.size() > 2 ? parts[2] : "";
+  const std::vector<std::string> levels = encoder_qualities(c.encoder);
+  if (!c.quality.empty() && std::find(levels.begin(), levels.end(), c.quality) == levels.end()) {
+    std::string list;
+    for (const auto& l : levels) list += (list.empty() ? "" : ", ") + l;
+    throw InputError(
+        where, bad + "unknown " + c.encoder + " quality '" + c.quality + "' (one of " + list + ")");
+  }
+  t.compress = c;
 }
 
 }  // namespace texsim

@@ -48,7 +48,7 @@ bool same(const texsim::TraceHeader& a, const texsim::TraceHeader& b) {
   for (size_t i = 0; i < a.textures.size(); ++i) {
     const texsim::TraceTexture &s = a.textures[i], &t = b.textures[i];
     if (s.id != t.id || s.name != t.name || s.source != t.source || s.width != t.width ||
-        s.height != t.height)
+        s.height != t.height || s.storage != t.storage)
       return false;
   }
   return true;

@@ -9,6 +9,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "blocks/base/input_error.h"
@@ -115,14 +116,17 @@ edge_v = [0.0, 0.0, -16.0]
 uv_scale = [4.0, 4.0]
 )";
 
-Outcome run_scene(const std::string& text, const TempDir& dir, std::vector<std::string> sets) {
+// A run of the scene `text`, or with `trace` set, of that trace's fragments and textures.
+Outcome run_scene(const std::string& text, const TempDir& dir, std::vector<std::string> sets,
+                  const std::string& trace = "") {
   const std::string path = dir.file("s.toml");
   std::ofstream(path) << text;
   RunOptions opt;
   opt.scene = path;
+  opt.trace = trace;
   opt.reference = "none";
   opt.threads = 1;
-  opt.out = dir.file("out");
+  opt.out = dir.file(trace.empty() ? "out" : "out_trace");
   opt.overrides = std::move(sets);
   Outcome o;
   o.capture->write_outputs = true;
@@ -214,6 +218,75 @@ TEST(DecompressPlacement, BadKeysNameTheSceneLine) {
     return std::string();
   }();
   EXPECT_NE(l2.find("\"after_l2\" needs an L2"), std::string::npos) << l2;
+}
+
+// The covered pixels of `img` on its canvas (the buffers of a scene run and a trace run may
+// span different parts of it), -1 where no fragment wrote.
+std::vector<float> on_canvas(const ImageRgb& img) {
+  std::vector<float> out(static_cast<size_t>(img.canvas_width) * img.canvas_height * 3, -1.0f);
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x) {
+      const size_t i = static_cast<size_t>(y) * img.width + x;
+      if (img.covered[i] == 0) continue;
+      const size_t o = (static_cast<size_t>(img.y0 + y) * img.canvas_width + img.x0 + x) * 3;
+      for (size_t k = 0; k < 3; ++k) out[o + k] = img.rgb[i * 3 + k];
+    }
+  }
+  return out;
+}
+
+// A trace records each texture's storage (version 3): its run converts or encodes the textures
+// as the scene run does, so it gives the scene run's image and memory figures.
+TEST(DecompressPlacement, ATraceRunStoresTheTexturesAsTheSceneDoes) {
+  std::string converted = kScene;
+  const size_t at = converted.find("compress =");
+  converted.replace(at, converted.find('\n', at) - at, "format = \"rgb565\"");
+  for (const std::string& scene : {std::string(kScene), converted}) {
+    SCOPED_TRACE(scene.substr(scene.find("[textures")));
+    TempDir dir("decompress_trace");
+    const std::string path = dir.file("s.toml"), trc = dir.file("t.trc");
+    std::ofstream(path) << scene;
+    ASSERT_GT(generate_scene_trace(path, trc), 0u);
+    const Outcome a = run_scene(scene, dir, {});
+    const Outcome b = run_scene(scene, dir, {}, trc);
+    EXPECT_EQ(on_canvas(*a.capture->image), on_canvas(*b.capture->image));
+    EXPECT_EQ(a.report["fragments"], b.report["fragments"]);
+    EXPECT_EQ(a.report["cycles"], b.report["cycles"]);
+    for (const char* key : {"cache", "dram", "decompress"}) {
+      EXPECT_EQ(a.report.contains(key), b.report.contains(key)) << key;
+      if (a.report.contains(key)) {
+        EXPECT_EQ(a.report[key], b.report[key]) << key;
+      }
+    }
+    EXPECT_EQ(a.report["blocks"].contains("decode.bc1_rgb"), scene == kScene);
+    EXPECT_EQ(b.report["blocks"].contains("decode.bc1_rgb"), scene == kScene);
+  }
+}
+
+TEST(DecompressPlacement, AnUnknownStorageInATraceNamesTheFileAndTheEntry) {
+  TempDir dir("decompress_trace_err");
+  const std::string trc = dir.file("t.csv");
+  for (const auto& [storage, what] : std::vector<std::pair<std::string, std::string>>{
+           {"format=rgb999", "unknown texel format 'rgb999'"},
+           {"compress=bc9", "unknown compressed format 'bc9'"},
+           {"compress=bc4,squish", "encoder 'squish' cannot make 'bc4'"},
+           {"compress=etc2_rgb8", "no encoder makes 'etc2_rgb8'"},
+           {"compress=astc_4x4,astcenc,slow", "unknown astcenc quality 'slow'"},
+           {"compress=bc1_rgb,squish,range,x", "more than FORMAT,ENCODER,QUALITY"}}) {
+    std::ofstream(trc) << "# texture 0 floor procedural:checker?size=64&cells=8 64 64 " << storage
+                       << "\nframe,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy\n"
+                          "0,0,1,1,0,0.5,0.5,0.01,0,0,0.01\n";
+    std::string msg;
+    try {
+      (void)run_scene(kScene, dir, {}, trc);
+    } catch (const InputError& e) {
+      msg = e.what();
+    }
+    EXPECT_NE(msg.find(trc + ": texture table entry 0 ('floor'): storage '" + storage + "'"),
+              std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find(what), std::string::npos) << msg;
+  }
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -203,6 +204,34 @@ TEST(TraceCsv, HandWrittenLiberties) {
   EXPECT_EQ(frags[1].lod_bias, 0.0f);
 }
 
+TEST(TraceCsv, StorageIsAnOptionalSixthDirectiveValue) {
+  // Version 3: a directive may end with the texture's storage, quoted or not; the writer adds
+  // it only to textures that have one and the reader reports version 3.
+  TempDir dir("texsim_trace_csv");
+  const std::string path = dir.file("s.csv");
+  spit(path,
+       "# texture 0 a p.png 8 8 \"compress=bc1_rgb,squish,range\"\n"
+       "# texture 1 b q.png 8 8\tformat=rgb565\n"
+       "# texture 2 c r.png 8 8\n"
+       "frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy\n"
+       "0,0,0,0,2,0.5,0.5,0,0,0,0\n");
+  TraceHeader h;
+  const auto frags = read_trace(path, &h);
+  EXPECT_EQ(h.version, 3u);
+  ASSERT_EQ(h.textures.size(), 3u);
+  EXPECT_EQ(h.textures[0].storage, "compress=bc1_rgb,squish,range");
+  EXPECT_EQ(h.textures[1].storage, "format=rgb565");
+  EXPECT_EQ(h.textures[2].storage, "");
+  const std::string out = dir.file("out.csv");
+  write_trace(out, h, frags);
+  std::ifstream in(out);
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  EXPECT_NE(text.find("format v3"), std::string::npos) << text;
+  EXPECT_NE(text.find("# texture 0 a p.png 8 8 compress=bc1_rgb,squish,range\n"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("# texture 2 c r.png 8 8\n"), std::string::npos) << text;
+}
+
 TEST(TraceCsv, OpenedByExtensionOnlyWhenNotBinary) {
   // A binary trace named .csv is still binary (content wins); a CSV named .trc is bad magic.
   TempDir dir("texsim_trace_csv");
@@ -284,7 +313,11 @@ TEST(TraceCsvErrors, ColumnHeaderProblems) {
 
 TEST(TraceCsvErrors, DirectiveProblems) {
   const std::string cols = "frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy\n";
-  expect_csv_error("", "1:3", "texture directive needs 5 values", "# texture 0 t p 8\n" + cols);
+  expect_csv_error("", "1:3", "texture directive needs 5 or 6 values",
+                   "# texture 0 t p 8\n" + cols);
+  expect_csv_error("", "1:3", "found 7", "# texture 0 t p 8 8 format=r8 x\n" + cols);
+  expect_csv_error("", "1:3", "texture 0: storage 'rgb565' is neither",
+                   "# texture 0 t p 8 8 rgb565\n" + cols);
   expect_csv_error("", "1:11", "texture id: 'zero' is not an unsigned integer",
                    "# texture zero t p 8 8\n" + cols);
   expect_csv_error("", "1:17", "texture width: '-8'", "# texture 0 t p -8 8\n" + cols);

@@ -249,6 +249,10 @@ std::vector<unsigned char> build_header(const FileSpec& s) {
     h.u32(static_cast<uint32_t>(t.source.size()));
     h.raw(t.name);
     h.raw(t.source);
+    if (s.version >= 3) {  // version 3: the storage, length-prefixed
+      h.u32(static_cast<uint32_t>(t.storage.size()));
+      h.raw(t.storage);
+    }
   }
   const uint32_t size = s.header_size_override >= 0 ? static_cast<uint32_t>(s.header_size_override)
                                                     : static_cast<uint32_t>(h.b.size() + 4);
@@ -528,8 +532,8 @@ void expect_header_error(const FileSpec& s, const std::vector<std::string>& part
 
 TEST(TraceFileErrors, UnknownVersion) {
   FileSpec s;
-  s.version = 3;
-  expect_header_error(s, {"unknown version 3", "reads versions 1..2"});
+  s.version = 4;
+  expect_header_error(s, {"unknown version 4", "reads versions 1..3"});
   s.version = 0;
   expect_header_error(s, {"unknown version 0"});
 }
@@ -889,8 +893,8 @@ TEST(TraceWriterFailure, BadHeaderOrChunkSizeIsRejectedBeforeWriting) {
   h.textures[1].name = "a\nb";
   expect_input_error([&] { TraceWriter w(path, h); }, {path, "control character"});
   h = sample_header(true);
-  h.version = 3;
-  expect_input_error([&] { TraceWriter w(path, h); }, {path, "version 3"});
+  h.version = 4;
+  expect_input_error([&] { TraceWriter w(path, h); }, {path, "version 4"});
   expect_input_error([&] { TraceWriter w(path, sample_header(true), 0); },
                      {path, "records per chunk 0"});
   EXPECT_EQ(dir.entries(), 0u);
@@ -1020,6 +1024,102 @@ TEST(TraceViewVector, CsvViewColumnsComeTogetherAndMustBeFinite) {
   std::ofstream(path) << head << "frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy,view_x,view_y,view_z\n"
                       << "0,0,1,1,0,0.5,0.5,0,0,0,0,0,0,0\n";
   expect_input_error([&] { read_all(path); }, {path + ":3:", "is zero"});
+}
+
+// ---- version 3: each texture's storage -------------------------------------------------------
+
+TEST(TraceStorage, RoundTripsAsVersion3InBothForms) {
+  for (const bool view : {false, true}) {
+    for (const char* name : {"s.trc", "s.csv"}) {
+      SCOPED_TRACE(std::string(name) + (view ? " with the view vector" : ""));
+      TempDir dir("texsim_trace_file");
+      const std::string path = dir.file(name);
+      TraceHeader h = sample_header(true);
+      h.has_view = view;
+      h.textures[0].storage = "compress=bc1_rgb,squish,range";
+      h.textures[1].storage = "format=rgb565";  // texture 2 stays as loaded
+      const auto frags = with_views(random_fragments(50, true, {0, 7}, 11));
+      write_trace(path, h, view ? frags : random_fragments(50, true, {0, 7}, 11));
+      TraceHeader back;
+      const auto got = read_all(path, &back);
+      EXPECT_EQ(back.version, 3u);
+      EXPECT_EQ(back.has_view, view);
+      ASSERT_EQ(back.textures.size(), 3u);
+      EXPECT_EQ(back.textures[0].storage, "compress=bc1_rgb,squish,range");
+      EXPECT_EQ(back.textures[1].storage, "format=rgb565");
+      EXPECT_EQ(back.textures[2].storage, "");
+      EXPECT_EQ(back.textures[1].name, "bricks wall");
+      ASSERT_EQ(got.size(), 50u);
+      if (view) {
+        for (size_t i = 0; i < got.size(); ++i) ASSERT_TRUE(same_fragment(got[i], frags[i]));
+      }
+    }
+  }
+}
+
+TEST(TraceStorage, WrittenAsFormatSaysAndReadFromAnIndependentBuilder) {
+  // The writer's bytes are those FORMAT.md describes: the same as the byte builder's.
+  TempDir dir("texsim_trace_file");
+  FileSpec s;
+  s.version = 3;
+  s.textures[0].storage = "format=r8";
+  const auto frags = random_fragments(30, true, {0, 3}, 4);
+  const std::string built = dir.file("built.trc"), written = dir.file("written.trc");
+  spit(built, view_file(s, frags));
+  TraceHeader h;
+  h.has_lod_bias = true;
+  h.textures = s.textures;
+  write_trace(written, h, frags);
+  EXPECT_EQ(slurp(built), slurp(written));
+  TraceHeader back;
+  const auto got = read_all(built, &back);
+  EXPECT_EQ(back.version, 3u);
+  EXPECT_EQ(back.textures[0].storage, "format=r8");
+  EXPECT_EQ(back.textures[1].storage, "");
+  ASSERT_EQ(got.size(), frags.size());
+  // Without any storage the writer writes version 1, byte for byte the old form.
+  h.textures[0].storage.clear();
+  write_trace(written, h, frags);
+  s.version = 1;
+  s.textures[0].storage.clear();
+  spit(built, view_file(s, frags));
+  EXPECT_EQ(slurp(built), slurp(written));
+}
+
+TEST(TraceStorage, BadEntriesNameFileAndEntry) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("bad.trc");
+  FileSpec s;
+  s.version = 3;
+  const auto frags = random_fragments(3, true, {0}, 2);
+  s.textures[1].storage = "gzip=9";
+  spit(path, view_file(s, frags));
+  expect_input_error([&] { read_all(path); },
+                     {path, "header", "texture entry 1 (id 3)", "storage 'gzip=9' is neither"});
+  s.textures[1].storage = "format=";
+  spit(path, view_file(s, frags));
+  expect_input_error([&] { read_all(path); }, {path, "texture entry 1", "storage 'format='"});
+  s.textures[1].storage = "format=r8\x01";
+  spit(path, view_file(s, frags));
+  expect_input_error([&] { read_all(path); }, {path, "entry 1", "storage contains a control"});
+  s.textures[1].storage = std::string(257, 'f');
+  spit(path, view_file(s, frags));
+  expect_input_error([&] { read_all(path); }, {path, "texture entry 1", "storage length 257"});
+  // A version-2 table read as version 3: its entries lack the storage length.
+  s.textures[1].storage.clear();
+  s.version = 2;
+  auto bytes = view_file(s, frags);
+  bytes[8] = 3;
+  const size_t hs = bytes[12] | (size_t{bytes[13]} << 8);
+  const uint32_t c = crc(bytes.data(), hs - 4);
+  for (size_t i = 0; i < 4; ++i) bytes[hs - 4 + i] = static_cast<unsigned char>(c >> (8 * i));
+  spit(path, bytes);
+  expect_input_error([&] { read_all(path); }, {path, "header, texture entry"});
+  // The writer refuses what the reader would.
+  TraceHeader h = sample_header(false);
+  h.textures[2].storage = "compress";
+  const std::string out = dir.file("w.trc");
+  expect_input_error([&] { TraceWriter w(out, h); }, {out, "texture entry 2", "neither"});
 }
 
 }  // namespace
