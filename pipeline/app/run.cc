@@ -99,7 +99,8 @@ RunTextures load_trace_textures(const TraceReader& reader, const std::string& tr
   std::set<std::string> draw_files;
   for (const auto& e : reader.header().textures) {
     // Name the trace and its table entry as well as the file.
-    const std::string entry = "texture table entry " + std::to_string(e.id) + " ('" + e.name + "')";
+    std::string entry = "texture table entry " + std::to_string(e.id);
+    entry += " ('" + e.name + "')";
     SceneTexture st{e.name, e.source, "", {}, {}};
     set_texture_storage(st, e.storage, trace_path + ": " + entry);
     Texture tex = [&] {

@@ -100,8 +100,7 @@ std::string dxgi_refusal(uint32_t code) {
 
 // The format named by the pixel format and the DX10 header (when there is one); `data_at`
 // receives where the blocks start.
-FileBlockFormat read_format(std::span<const uint8_t> b, const std::string& where,
-                             size_t* data_at) {
+FileBlockFormat read_format(std::span<const uint8_t> b, const std::string& where, size_t* data_at) {
   if (get_u32(b, 76) != kPixelFormatBytes)
     throw InputError(where, "pixel format size is " + std::to_string(get_u32(b, 76)) + ", not " +
                                 std::to_string(kPixelFormatBytes));

@@ -27,8 +27,11 @@ Rgba8Image rgba8_level(const Texture& t, int level) {
     for (int x = 0; x < img.width; ++x) {
       const Rgba c = t.texel(level, x, y);
       for (int k = 0; k < 4; ++k) {
-        const float v = std::clamp(c[k], 0.0f, 1.0f) * 255.0f;
-        img.rgba[i++] = static_cast<uint8_t>(v == v ? static_cast<int>(v + 0.5f) : 0);
+        // Nearest, halves up (the 8-bit store's rule); NaN gives 0.
+        const float v = c[k] == c[k] ? std::clamp(c[k], 0.0f, 1.0f) * 255.0f : 0.0f;
+        const auto whole = static_cast<int>(v);
+        img.rgba[i++] =
+            static_cast<uint8_t>(whole + (v - static_cast<float>(whole) >= 0.5f ? 1 : 0));
       }
     }
   }

@@ -71,7 +71,7 @@ TEST(BlockDecompressor, ReadsTheBlocksOfTheLinesTexelsOnce) {
       return BlockDecompressor::Timing{3, 2};
     });
     // Line 5 of the decoded texels (64-byte lines, 16 texels of 4 bytes).
-    const uint64_t line = t.base() + 5 * 64;
+    const uint64_t line = t.base() + uint64_t{5} * 64;
     const uint64_t ready = d.read_line(100, line, 64, 0);
     // The blocks the line's texels need, found texel by texel from the texture's addresses.
     std::vector<uint64_t> want;
