@@ -100,9 +100,9 @@ RunTextures load_trace_textures(const TraceReader& reader, const std::string& tr
   for (const auto& e : reader.header().textures) {
     // Name the trace and its table entry as well as the file.
     std::string entry = "texture table entry " + std::to_string(e.id);
-    entry += " ('" + e.name + "')";
+    entry.append(" ('").append(e.name).append("')");
     SceneTexture st{e.name, e.source, "", {}, {}};
-    set_texture_storage(st, e.storage, trace_path + ": " + entry);
+    set_texture_storage(st, e.storage, std::string(trace_path).append(": ").append(entry));
     Texture tex = [&] {
       try {
         return store_texture(

@@ -282,9 +282,9 @@ TEST(DecompressPlacement, AnUnknownStorageInATraceNamesTheFileAndTheEntry) {
     } catch (const InputError& e) {
       msg = e.what();
     }
-    EXPECT_NE(msg.find(trc + ": texture table entry 0 ('floor'): storage '" + storage + "'"),
-              std::string::npos)
-        << msg;
+    std::string want = trc;
+    want.append(": texture table entry 0 ('floor'): storage '").append(storage).append("'");
+    EXPECT_NE(msg.find(want), std::string::npos) << msg;
     EXPECT_NE(msg.find(what), std::string::npos) << msg;
   }
 }
