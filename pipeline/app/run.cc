@@ -83,11 +83,16 @@ InputDigest texture_digest(const std::string& name, const std::string& source,
 }
 
 // The report's "name = source" of a texture, with its storage when it has one.
-std::string texture_label(const SceneTexture& t) {
+// "name = source", with the texture's storage and, for blocks, what produced them (the
+// encoder with its version and options, or the file's format): the report's record of it.
+std::string texture_label(const SceneTexture& t, const Texture& loaded) {
   const std::string spec = texture_storage_spec(t);
   const std::string note =
       t.format ? std::string(to_string(*t.format)) : spec.substr(spec.find('=') + 1);
-  return t.name + " = " + t.source + (spec.empty() ? "" : " (" + note + ")");
+  std::string label = t.name + " = " + t.source;
+  if (!spec.empty()) label.append(" (").append(note).append(")");
+  if (loaded.compressed()) label.append(" [").append(loaded.blocks()->provenance).append("]");
+  return label;
 }
 
 // A trace's texture table: each texture loaded (relative to the trace), stored as its entry
@@ -123,7 +128,7 @@ RunTextures load_trace_textures(const TraceReader& reader, const std::string& tr
     const int id = t.set.add(std::move(tex));
     t.index[e.id] = id;
     t.by_name[e.name] = id;
-    t.names.push_back(texture_label(st));
+    t.names.push_back(texture_label(st, t.set[id]));
     if (!is_draws_source(e.source)) {
       t.digests.push_back(texture_digest(e.name, e.source, dir));
     } else if (const std::string p = DrawTextureCache::path_of(e.source, dir);
@@ -142,7 +147,7 @@ RunTextures load_scene_textures(const Scene& scene) {
     t.index[static_cast<uint32_t>(i)] = id;
     t.by_name[scene.textures[i].name] = id;
     const SceneTexture& st = scene.textures[i];
-    t.names.push_back(texture_label(st));
+    t.names.push_back(texture_label(st, t.set[id]));
     t.digests.push_back(
         texture_digest(scene.textures[i].name, scene.textures[i].source, scene.base_dir));
   }

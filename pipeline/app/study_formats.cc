@@ -8,6 +8,7 @@
 
 #include "blocks/base/input_error.h"
 #include "pipeline/app/run.h"
+#include "pipeline/app/study_runs.h"
 #include "pipeline/kernel/parallel_range.h"
 #include "pipeline/report/number_text.h"
 #include "pipeline/scene/scene.h"
@@ -17,22 +18,11 @@ namespace texsim {
 
 namespace {
 
-using Set = std::map<std::string, std::string>;
+using Set = StudySet;
 
 // Every row starts from this (the memory study's base), so the scenes' own [pipeline] choices
 // (photo's morton layout and 32 KB L1) do not mix into the comparison.
-const Set& base_set() {
-  static const Set s = {{"pipeline.units", "1"},
-                        {"pipeline.layout", "tiled4x4"},
-                        {"pipeline.quad_merge", "false"},
-                        {"pipeline.cache.size_bytes", "16384"},
-                        {"pipeline.cache.ways", "4"},
-                        {"pipeline.cache.line_bytes", "64"},
-                        {"pipeline.cache.miss_queue", "32"},
-                        {"pipeline.dram.model", "flat"},
-                        {"raster.order", "rows"}};
-  return s;
-}
+const Set& base_set() { return study_base_set(); }
 
 constexpr uint32_t kL2Bytes = 262144;
 
@@ -83,11 +73,6 @@ Set variant_set(const Variant& v, const std::vector<std::string>& textures) {
       s["textures." + t + ".format"] = v.format;
     }
   }
-  return s;
-}
-
-Set with(Set s, const Set& more) {
-  for (const auto& [k, v] : more) s[k] = v;
   return s;
 }
 
@@ -195,21 +180,9 @@ void read_figures(const nlohmann::json& j, FormatsStudyRow& r) {
 void measure(FormatsStudyRow& r, const std::string& dir) {
   RunOptions o;
   o.scene = r.scene_path;
-  o.threads = 1;
-  o.out = dir;
   o.workload = false;
   o.overrides = r.overrides();
-  o.command = "texsim run " + r.scene_path + " --no-workload";
-  for (const std::string& s : o.overrides) o.command += " --set '" + s + "'";
-  std::ostringstream quiet;
-  run_simulation(o, quiet);
-  std::ifstream in(dir + "/report.json");
-  try {
-    read_figures(nlohmann::json::parse(in), r);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(dir + "/report.json", std::string("unexpected report: ") + e.what());
-  }
-  std::filesystem::remove_all(dir);
+  run_study_row(o, dir, " --no-workload", [&r](const nlohmann::json& j) { read_figures(j, r); });
 }
 
 std::string opt_num(bool present, double v, int digits) { return present ? fmt(v, digits) : ""; }
@@ -342,16 +315,7 @@ std::string markdown(const std::vector<FormatsStudyRow>& rows, const StudyFormat
 
 }  // namespace
 
-std::vector<std::string> FormatsStudyRow::overrides() const {
-  std::vector<std::string> o;
-  o.reserve(set.size());
-  for (const auto& [k, v] : set) {
-    std::string e = k;
-    e.append("=").append(v);
-    o.push_back(std::move(e));
-  }
-  return o;
-}
+std::vector<std::string> FormatsStudyRow::overrides() const { return overrides_of(set); }
 
 std::vector<FormatsStudyRow> formats_study_plan(const StudyFormatsOptions& opt) {
   std::vector<FormatsStudyRow> rows;

@@ -9,6 +9,7 @@
 
 #include "blocks/base/input_error.h"
 #include "pipeline/app/run.h"
+#include "pipeline/app/study_runs.h"
 #include "pipeline/kernel/parallel_range.h"
 #include "pipeline/report/number_text.h"
 #include "pipeline/scene/scene.h"
@@ -18,7 +19,7 @@ namespace texsim {
 
 namespace {
 
-using Set = std::map<std::string, std::string>;
+using Set = StudySet;
 
 std::string kib(uint64_t bytes) {
   return bytes % 1024 == 0 ? std::to_string(bytes / 1024) + "K" : std::to_string(bytes) + "B";
@@ -26,24 +27,7 @@ std::string kib(uint64_t bytes) {
 
 // Every row starts from this, so the scenes' own [pipeline] choices (photo's morton layout and
 // 32 KB L1) do not mix into the comparison.
-const Set& base_set() {
-  static const Set s = {{"pipeline.units", "1"},
-                        {"pipeline.unit_tile", "16"},
-                        {"pipeline.layout", "tiled4x4"},
-                        {"pipeline.quad_merge", "false"},
-                        {"pipeline.cache.size_bytes", "16384"},
-                        {"pipeline.cache.ways", "4"},
-                        {"pipeline.cache.line_bytes", "64"},
-                        {"pipeline.cache.miss_queue", "32"},
-                        {"pipeline.dram.model", "flat"},
-                        {"raster.order", "rows"}};
-  return s;
-}
-
-Set with(Set s, const Set& more) {
-  for (const auto& [k, v] : more) s[k] = v;
-  return s;
-}
+const Set& base_set() { return study_base_set(); }
 
 Set l1(uint32_t bytes, uint32_t ways, uint32_t line) {
   return {{"pipeline.cache.size_bytes", std::to_string(bytes)},
@@ -255,20 +239,8 @@ void measure(MemoryStudyRow& r, const std::string& dir) {
   RunOptions o;
   o.scene = r.scene_path;
   o.reference = "none";
-  o.threads = 1;
-  o.out = dir;
   o.overrides = r.overrides();
-  o.command = "texsim run " + r.scene_path + " --reference none";
-  for (const std::string& s : o.overrides) o.command += " --set " + s;
-  std::ostringstream quiet;
-  run_simulation(o, quiet);
-  std::ifstream in(dir + "/report.json");
-  try {
-    read_figures(nlohmann::json::parse(in), r);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(dir + "/report.json", std::string("unexpected report: ") + e.what());
-  }
-  std::filesystem::remove_all(dir);
+  run_study_row(o, dir, " --reference none", [&r](const nlohmann::json& j) { read_figures(j, r); });
 }
 
 std::string rate(bool present, double v) { return present ? fmt(v, 5) : ""; }
@@ -428,16 +400,7 @@ std::string markdown(const std::vector<MemoryStudyRow>& rows, const StudyMemoryO
 
 }  // namespace
 
-std::vector<std::string> MemoryStudyRow::overrides() const {
-  std::vector<std::string> o;
-  o.reserve(set.size());
-  for (const auto& [k, v] : set) {
-    std::string e = k;
-    e.append("=").append(v);
-    o.push_back(std::move(e));
-  }
-  return o;
-}
+std::vector<std::string> MemoryStudyRow::overrides() const { return overrides_of(set); }
 
 std::vector<MemoryStudyRow> memory_study_plan(const StudyMemoryOptions& opt) {
   std::vector<MemoryStudyRow> rows;

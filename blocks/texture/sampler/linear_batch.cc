@@ -565,7 +565,9 @@ LinearBatchSampler::LinearBatchSampler(const LodUnit::Config& lod,
 }
 
 bool LinearBatchSampler::serves(const Texture& tex) const {
-  if (tex.format() != TexelFormat::Rgba8) return false;
+  // 8-bit RGBA texels of 4 bytes in memory: the batch's lines are computed at 4 bytes a texel
+  // (an R8 or RG8 texture keeps the 8-bit store but takes 1 or 2 bytes in memory).
+  if (tex.format() != TexelFormat::Rgba8 || tex.bytes_per_texel() != 4) return false;
   if (tex.levels() < 1 || tex.levels() > static_cast<int>(linear_batch_detail::kMaxLevels))
     return false;
   uint64_t texels = 0;
