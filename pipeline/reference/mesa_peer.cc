@@ -471,24 +471,9 @@ struct ScopedTexture {
 
 MesaImage MesaPeer::decode_blocks(uint32_t gl_format, int width, int height,
                                   const std::vector<uint8_t>& blocks, uint32_t gl_type) const {
-  if (!available()) throw InputError("Mesa peer", why_not_);
   if (width <= 0 || height <= 0 || width % 4 != 0 || height % 4 != 0)
     throw InputError("Mesa peer", "compressed texture size must be positive multiples of 4");
-  Session& s = session();
-  const std::lock_guard<std::mutex> hold(s.lock);
-  const std::string e = s.start(driver_);
-  if (!e.empty()) throw InputError("Mesa peer", "Mesa not available: " + e);
-  eglMakeCurrent(s.display, EGL_NO_SURFACE, EGL_NO_SURFACE, s.context);
-  const ScopedTexture tex;
-  glCompressedTexImage2D(GL_TEXTURE_2D, 0, gl_format, width, height, 0,
-                         static_cast<GLsizei>(blocks.size()), blocks.data());
-  check("uploading the compressed blocks");
-  MesaImage img{width, height,
-                std::vector<uint8_t>(static_cast<size_t>(width) * static_cast<size_t>(height) * 4)};
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, gl_type, img.rgba.data());
-  check("reading the decoded texels back");
-  return img;
+  return {width, height, decode_compressed(gl_format, width, height, blocks, GL_RGBA, gl_type, 4)};
 }
 
 std::vector<uint8_t> MesaPeer::encode_blocks(uint32_t gl_format, const MesaImage& image) const {

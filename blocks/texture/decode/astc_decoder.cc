@@ -10,6 +10,7 @@
 #include "blocks/texture/decode/astc_integer_sequence.h"
 #include "blocks/texture/decode/astc_partition.h"
 #include "blocks/texture/decode/astc_weights.h"
+#include "blocks/texture/decode/compressed_format.h"
 
 namespace texsim {
 
@@ -98,22 +99,12 @@ AstcDecoder::AstcDecoder(const Config& c) : cfg_(c) {
 }
 
 bool AstcDecoder::valid_footprint(int width, int height) {
-  static constexpr std::array<std::array<int, 2>, 14> kFootprints = {{{4, 4},
-                                                                      {5, 4},
-                                                                      {5, 5},
-                                                                      {6, 5},
-                                                                      {6, 6},
-                                                                      {8, 5},
-                                                                      {8, 6},
-                                                                      {8, 8},
-                                                                      {10, 5},
-                                                                      {10, 6},
-                                                                      {10, 8},
-                                                                      {10, 10},
-                                                                      {12, 10},
-                                                                      {12, 12}}};
-  return std::any_of(kFootprints.begin(), kFootprints.end(),
-                     [&](const auto& f) { return f[0] == width && f[1] == height; });
+  // The 14 footprints are the ASTC rows of the compressed formats' table.
+  for (int f = 0; f < kCompressedFormats; ++f) {
+    const CompressedFormatInfo& i = format_info(static_cast<CompressedFormat>(f));
+    if (i.family == CodecFamily::Astc && i.block_w == width && i.block_h == height) return true;
+  }
+  return false;
 }
 
 float AstcDecoder::output(int c) const {

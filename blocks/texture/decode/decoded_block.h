@@ -20,4 +20,17 @@ struct DecodedBlock {
   }
 };
 
+// A 4x4 block of 8-bit RGBA results (texel (x, y) at y * 4 + x), each channel c / 255 rounded
+// once to float: the decoded block of the formats whose spec results are 8-bit codes.
+inline DecodedBlock decoded_from_rgba8(const std::array<std::array<uint8_t, 4>, 16>& t) {
+  DecodedBlock d;
+  d.width = 4;
+  d.height = 4;
+  for (size_t i = 0; i < t.size(); ++i) {
+    for (size_t c = 0; c < 4; ++c)
+      d.texels[i][static_cast<int>(c)] = static_cast<float>(t[i][c]) / 255.0F;
+  }
+  return d;
+}
+
 }  // namespace texsim

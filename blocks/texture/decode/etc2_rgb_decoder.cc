@@ -189,15 +189,7 @@ Etc2RgbDecoder::Texels8 Etc2RgbDecoder::decode_rgba8(Block block) const {
 }
 
 DecodedBlock Etc2RgbDecoder::decode(Block block) const {
-  const Texels8 t = decode_rgba8(block);
-  DecodedBlock d;
-  d.width = kBlockWidth;
-  d.height = kBlockHeight;
-  for (size_t i = 0; i < t.size(); ++i) {
-    for (int c = 0; c < 4; ++c)
-      d.texels[i][c] = static_cast<float>(t[i][static_cast<size_t>(c)]) / 255.0F;
-  }
-  return d;
+  return decoded_from_rgba8(decode_rgba8(block));
 }
 
 OpCounts Etc2RgbDecoder::ops_per_item() const {
