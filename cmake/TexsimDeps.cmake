@@ -38,6 +38,12 @@ if(NOT TEXSIM_NVTT_LIBRARY OR NOT TEXSIM_NVTT_INCLUDE)
 endif()
 pkg_check_modules(TEXSIM_SQUISH_PC QUIET libsquish)  # only for its version, in provenance
 find_package(OpenMP REQUIRED COMPONENTS CXX)  # libsquish.a compresses images with OpenMP
+# Arm's ASTC codec library (libastcenc-dev): the ASTC encoder, in process.
+find_package(astcenc CONFIG QUIET)
+if(NOT astcenc_FOUND)
+  message(FATAL_ERROR "astcenc's library not found (astcenc.h, astcencConfig.cmake): install "
+    "libastcenc-dev (scripts/setup-debian.sh)")
+endif()
 find_package(CLI11 REQUIRED)
 find_package(tomlplusplus REQUIRED)
 find_package(Threads REQUIRED)

@@ -1,9 +1,9 @@
 #pragma once
-// ASTC blocks from Arm's astcenc command-line encoder (Debian's astcenc 4.2, /usr/bin/astcenc):
-// the image is written to a temporary RGBA PNG, astcenc is run on it (posix_spawn, no shell:
-// every argument is one argv entry) and its .astc output is read back with the strict reader
-// (astc_file.h). Temporary files are removed afterwards, and by the signal handler if the
-// process is interrupted (temp_registry.h).
+// ASTC blocks from Arm's astcenc codec library (Debian's libastcenc-dev 4.2), in process: one
+// codec context per footprint, preset and colour profile, made on first use and kept for the
+// process's life (making a context builds astcenc's block-mode and partition tables, which
+// costs more than encoding a small mip level). The bytes equal those of the astcenc 4.2
+// command-line tool run with the same options (test_encoders checks it).
 #include <string>
 
 #include "pipeline/image_io/encoder_input.h"
@@ -18,14 +18,12 @@ const char* astc_preset_name(AstcPreset p);
 struct AstcencOptions {
   int block_w = 6, block_h = 6;  // one of ASTC's 14 2-D footprints, 4x4 to 12x12
   AstcPreset preset = AstcPreset::Medium;
-  bool srgb = false;  // -cs (sRGB colour profile) instead of -cl (linear LDR)
-  int threads = 1;    // -j: one thread by default, so tests share the machine politely
-  std::string binary = "/usr/bin/astcenc";
+  bool srgb = false;  // the LDR sRGB profile (astcenc -cs) instead of linear LDR (-cl)
 };
 
-// Encodes `img` (padded to whole blocks first, encoder_input.h). A missing binary, a run that
-// fails (its exit status and the last lines it printed in the message) or output that does not
-// match the request throws InputError naming the binary.
+// Encodes `img` (padded to whole blocks first, encoder_input.h) on one thread. A footprint
+// that is not ASTC's, an image too large, or an error from the codec throws InputError naming
+// "astcenc" and the codec's own message.
 EncodedLevel astcenc_encode(const Rgba8Image& img, const AstcencOptions& options);
 
 }  // namespace texsim
