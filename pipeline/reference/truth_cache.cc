@@ -24,6 +24,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "blocks/base/cache_dir.h"
 #include "blocks/base/input_error.h"
 #include "blocks/base/input_file.h"
 
@@ -115,33 +116,6 @@ void warn(const std::string& what) {
   std::ostringstream s;  // one write: lines of concurrent runs do not interleave
   s << "texsim: warning: truth cache: " << what << "\n";
   std::cerr << s.str() << std::flush;
-}
-
-uint64_t parse_max_bytes(const char* text) {
-  const std::string s(text);
-  size_t used = 0;
-  uint64_t v = 0;
-  try {
-    v = std::stoull(s, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  int shift = 0;
-  if (used > 0 && used + 1 == s.size()) {
-    const char u = s.back();
-    shift = u == 'K' || u == 'k' ? 10 : u == 'M' || u == 'm' ? 20 : u == 'G' || u == 'g' ? 30 : -1;
-    if (shift >= 0) ++used;
-  }
-  if (used == 0 || used != s.size() || s[0] == '-' || shift < 0 || v > (~uint64_t{0} >> shift)) {
-    throw InputError("TEXSIM_TRUTH_CACHE_MAX=" + s,
-                     "expected a size in bytes, optionally with a K, M or G suffix (e.g. 2G)");
-  }
-  return v << shift;
-}
-
-std::string env(const char* name) {
-  const char* v = std::getenv(name);
-  return v ? std::string(v) : std::string();
 }
 
 }  // namespace
@@ -286,15 +260,9 @@ TruthCacheConfig TruthCacheConfig::from_env(bool enabled) {
   TruthCacheConfig c;
   c.enabled = enabled;
   if (!enabled) return c;
-  if (const std::string d = env("TEXSIM_CACHE_DIR"); !d.empty()) {
-    c.dir = d + "/truth";
-  } else if (const std::string x = env("XDG_CACHE_HOME"); !x.empty() && x[0] == '/') {
-    c.dir = x + "/texsim/truth";  // relative values are invalid (XDG base directory spec)
-  } else if (const std::string h = env("HOME"); !h.empty()) {
-    c.dir = h + "/.cache/texsim/truth";
-  }
+  if (const std::string root = cache_root_from_env(); !root.empty()) c.dir = root + "/truth";
   if (const char* m = std::getenv("TEXSIM_TRUTH_CACHE_MAX"); m && *m)
-    c.max_bytes = parse_max_bytes(m);
+    c.max_bytes = parse_cache_max_bytes(m, "TEXSIM_TRUTH_CACHE_MAX");
   return c;
 }
 
@@ -345,11 +313,8 @@ void TruthCache::store(const TruthKey& key, const std::shared_ptr<const TruthTab
   if (size > cfg_.max_bytes) return;  // larger than the whole cache may be
   std::error_code ec;
   fs::create_directories(cfg_.dir, ec);
-  static std::atomic<uint64_t> serial{0};
   const std::string path = entry_path(key);
-  const std::string temp = cfg_.dir + "/." + Sha256::hex(key) + ".tmp." +
-                           std::to_string(static_cast<long>(::getpid())) + "." +
-                           std::to_string(serial++);
+  const std::string temp = cache_temp_path(cfg_.dir, Sha256::hex(key));
   bool ok = !ec;
   if (ok) ok = write_truth_entry(temp, key, t->records());
   if (ok) fs::rename(temp, path, ec);  // atomic: readers see the old entry or the new one
@@ -366,38 +331,7 @@ void TruthCache::store(const TruthKey& key, const std::shared_ptr<const TruthTab
 }
 
 void evict_truth_entries(const std::string& dir, uint64_t max_bytes) {
-  struct Entry {
-    fs::file_time_type mtime;
-    uint64_t size;
-    fs::path path;
-  };
-  std::vector<Entry> entries;
-  uint64_t total = 0;
-  std::error_code ec;
-  const auto stale = fs::file_time_type::clock::now() - std::chrono::hours(24);
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    std::error_code e1, e2;
-    const fs::path& p = it->path();
-    const uint64_t size = it->file_size(e1);
-    const fs::file_time_type mtime = it->last_write_time(e2);
-    if (e1 || e2) continue;  // vanished: another process evicted or renamed it
-    const std::string name = p.filename().string();
-    if (name.size() > 6 && name.ends_with(".truth")) {
-      entries.push_back({mtime, size, p});
-      total += size;
-    } else if (name.starts_with(".") && name.find(".tmp.") != std::string::npos && mtime < stale) {
-      fs::remove(p, e1);  // left by a process that died while writing
-    }
-  }
-  if (total <= max_bytes) return;
-  std::sort(entries.begin(), entries.end(),
-            [](const Entry& a, const Entry& b) { return a.mtime < b.mtime; });
-  for (const Entry& e : entries) {
-    if (total <= max_bytes) break;
-    std::error_code e1;
-    fs::remove(e.path, e1);  // gone already: someone else freed it
-    total -= e.size;
-  }
+  evict_cache_entries(dir, max_bytes, ".truth");
 }
 
 }  // namespace texsim

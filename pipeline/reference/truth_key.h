@@ -14,9 +14,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "blocks/base/sha256.h"
 #include "blocks/geometry/camera.h"
 #include "blocks/texture/memory/texture_memory.h"
-#include "pipeline/reference/sha256.h"
 #include "pipeline/scene/scene.h"
 
 namespace texsim {

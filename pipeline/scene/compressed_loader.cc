@@ -9,6 +9,7 @@
 #include "pipeline/image_io/astc_file.h"
 #include "pipeline/image_io/astcenc_encoder.h"
 #include "pipeline/image_io/dds_file.h"
+#include "pipeline/image_io/encoded_level_cache.h"
 #include "pipeline/image_io/nvtt_encoder.h"
 #include "pipeline/image_io/squish_encoder.h"
 
@@ -153,7 +154,11 @@ Texture compress_texture(const Texture& src, const SceneTexture::Compress& c) {
   blocks->format = c.format;
   std::vector<int> ws, hs;
   for (int l = 0; l < src.levels(); ++l) {
-    EncodedLevel e = encode_level(rgba8_level(src, l), c);
+    const Rgba8Image img = rgba8_level(src, l);
+    const std::string identity =
+        c.encoder + " " + c.quality + " " + std::string(to_string(c.format));
+    EncodedLevel e = EncodedLevelCache::process().get(encoded_level_key(identity, img),
+                                                      [&] { return encode_level(img, c); });
     if (l == 0) blocks->provenance = e.provenance;
     blocks->levels.push_back(std::move(e.bytes));
     ws.push_back(src.width(l));

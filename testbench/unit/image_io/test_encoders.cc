@@ -25,6 +25,7 @@
 #include "pipeline/image_io/astc_file.h"
 #include "pipeline/image_io/astcenc_encoder.h"
 #include "pipeline/image_io/dds_file.h"
+#include "pipeline/image_io/encoded_level_cache.h"
 #include "pipeline/image_io/nvtt_encoder.h"
 #include "pipeline/image_io/png_file.h"
 #include "pipeline/image_io/squish_encoder.h"
@@ -376,3 +377,108 @@ TEST(NvttEncoder, DdsFilesNvttWritesPassTheStrictReader) {
 }
 
 }  // namespace
+
+// The encoded-level cache (encoded_level_cache.h): an entry round-trips byte for byte; a
+// second cache over the same directory serves the level from disk without encoding, with the
+// same blocks and provenance; a damaged, truncated or foreign entry is refused with its reason,
+// removed and encoded again; the key changes with any texel, the identity and the size.
+namespace {
+
+EncodedLevel fake_level(int w, int h, uint8_t fill) {
+  EncodedLevel l;
+  l.format = FileBlockFormat::Bc1Unorm;
+  l.width = w;
+  l.height = h;
+  l.bytes.assign(static_cast<size_t>((w + 3) / 4) * static_cast<size_t>((h + 3) / 4) * 8, fill);
+  l.provenance = "test encoder (fill " + std::to_string(fill) + ")";
+  return l;
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void write_bytes(const std::string& path, const std::string& b) {
+  std::ofstream(path, std::ios::binary).write(b.data(), static_cast<std::streamsize>(b.size()));
+}
+
+}  // namespace
+
+TEST(EncodedLevelCache, EntriesRoundTripAndRefuseDamage) {
+  const Rgba8Image img = crate(0, 0, 9, 6);
+  const EncodedLevelKey key = encoded_level_key("squish range bc1_rgb", img);
+  const EncodedLevel l = fake_level(9, 6, 0x5A);
+  const std::string e = encode_level_entry(key, l);
+  const EncodedLevel back = decode_level_entry(e, "x.level", &key);
+  EXPECT_EQ(back.bytes, l.bytes);
+  EXPECT_EQ(back.provenance, l.provenance);
+  EXPECT_EQ(back.width, 9);
+  EXPECT_EQ(encode_level_entry(key, back), e);
+  std::string flipped = e;
+  flipped[e.size() - 1] ^= 1;
+  EXPECT_NE(error_of([&] { decode_level_entry(flipped, "x.level", &key); }).find("CRC-64"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              decode_level_entry(e.substr(0, e.size() - 8), "x.level", &key);
+            }).find("header says"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of([&] { decode_level_entry(e.substr(0, 40), "x.level", &key); }).find("shorter than"),
+      std::string::npos);
+  EncodedLevelKey other = key;
+  other[0] ^= 1;
+  EXPECT_NE(error_of([&] { decode_level_entry(e, "x.level", &other); }).find("key"),
+            std::string::npos);
+  // Keys: another texel, identity or size gives another key.
+  Rgba8Image img2 = img;
+  img2.rgba[17] ^= 1;
+  EXPECT_NE(encoded_level_key("squish range bc1_rgb", img2), key);
+  EXPECT_NE(encoded_level_key("squish cluster bc1_rgb", img), key);
+  Rgba8Image img3 = img;
+  img3.width = 6;
+  img3.height = 9;
+  EXPECT_NE(encoded_level_key("squish range bc1_rgb", img3), key);
+}
+
+TEST(EncodedLevelCache, DiskServesLaterProcessesAndDamageIsEncodedAgain) {
+  TempDir dir("encoded_cache");
+  const Rgba8Image img = crate(8, 8, 16, 12);
+  const EncodedLevelKey key = encoded_level_key("test", img);
+  int encodes = 0;
+  const auto encode = [&] {
+    ++encodes;
+    return squish_encode(img, FileBlockFormat::Bc1Unorm, SquishFit::Range);
+  };
+  EncodedLevelCache::forget_memory();
+  EncodedLevelCache cache(dir.file("encoded"), uint64_t{1} << 20);
+  const char* where = "?";
+  const EncodedLevel first = cache.get(key, encode, &where);
+  EXPECT_STREQ(where, "");
+  EXPECT_EQ(cache.get(key, encode, &where).bytes, first.bytes);
+  EXPECT_STREQ(where, "memory");
+  EncodedLevelCache::forget_memory();  // as a new process
+  const EncodedLevel again = cache.get(key, encode, &where);
+  EXPECT_STREQ(where, "disk");
+  EXPECT_EQ(again.bytes, first.bytes);
+  EXPECT_EQ(again.provenance, first.provenance);
+  EXPECT_EQ(encodes, 1);
+  // A damaged entry: refused, removed, encoded again, and stored whole.
+  std::string b = file_bytes(cache.entry_path(key));
+  b[b.size() / 2] ^= 0x10;
+  write_bytes(cache.entry_path(key), b);
+  EncodedLevelCache::forget_memory();
+  EXPECT_EQ(cache.get(key, encode, &where).bytes, first.bytes);
+  EXPECT_STREQ(where, "");
+  EXPECT_EQ(encodes, 2);
+  EncodedLevelCache::forget_memory();
+  cache.get(key, encode, &where);
+  EXPECT_STREQ(where, "disk");
+  // No disk layer: every new process encodes.
+  EncodedLevelCache none("", 0);
+  EncodedLevelCache::forget_memory();
+  none.get(key, encode, &where);
+  EXPECT_STREQ(where, "");
+  EXPECT_EQ(encodes, 3);
+  EncodedLevelCache::forget_memory();
+}

@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "blocks/base/input_error.h"
+#include "blocks/base/sha256.h"
 #include "pipeline/app/run.h"
-#include "pipeline/reference/sha256.h"
 #include "pipeline/reference/truth_cache.h"
 #include "pipeline/reference/truth_key.h"
 #include "testbench/lib/temp_dir.h"

@@ -1,4 +1,4 @@
-#include "pipeline/reference/sha256.h"
+#include "blocks/base/sha256.h"
 
 #include "blocks/base/sha1.h"
 
