@@ -11,5 +11,5 @@ $SUDO apt-get install -y --no-install-recommends \
   ccache lld libcli11-dev libtomlplusplus-dev libtinyobjloader-dev libassimp-dev libsqlite3-dev libmpfr-dev zlib1g-dev libisal-dev nettle-dev libhwy-dev nlohmann-json3-dev \
   libgtest-dev libgmock-dev googletest libbenchmark-dev \
   clang clang-format clang-tidy libclang-rt-14-dev verilator yosys nextpnr-ice40 fpga-icestorm gnuplot-nox parallel sqlite3 bc slurm-wlm munge \
-  libsquish-dev libnvtt-dev astcenc libastcenc-dev glmark2-data python-matplotlib-data \
+  python3 libsquish-dev libnvtt-dev astcenc libastcenc-dev glmark2-data python-matplotlib-data \
   libegl-dev libgl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
