@@ -412,6 +412,8 @@ const std::vector<Method<CoordGenerator>>& coord_methods() {
                   [](Inc::Config& c) { c.form = Inc::Form::KLane; }),
       coords<Inc>("incremental-bidir", "uv_incremental_adder", {"form"},
                   [](Inc::Config& c) { c.form = Inc::Form::Bidirectional; }),
+      coords<Inc>("incremental-direct", "uv_incremental_adder", {"form"},
+                  [](Inc::Config& c) { c.form = Inc::Form::DirectN; }),
       coords<Ap>("affine", "uv_approximation", {"order", "segment"},
                  [](Ap::Config& c) { c.order = Ap::Order::Affine; }),
       coords<Ap>("quadratic", "uv_approximation", {"order", "segment"},

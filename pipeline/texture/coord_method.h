@@ -54,10 +54,10 @@ const std::vector<std::string>& coord_format_names();
 class CoordGenerator {
  public:
   virtual ~CoordGenerator() = default;
-  // Methods: heckbert, heckbert-rcp, incremental, incremental-k4, incremental-bidir, affine,
-  // quadratic, cubic, biquadratic, bicubic, constant-depth, affine-16 and quadratic-32 (the
-  // row cut into 16- / 32-pixel segments, each with its own polynomial). Throws InputError naming
-  // the unknown method or format.
+  // Methods: heckbert, heckbert-rcp, incremental, incremental-k4, incremental-bidir,
+  // incremental-direct, affine, quadratic, cubic, biquadratic, bicubic, constant-depth, affine-16
+  // and quadratic-32 (the row cut into 16- / 32-pixel segments, each with its own polynomial).
+  // Throws InputError naming the unknown method or format.
   static std::unique_ptr<CoordGenerator> create(const std::string& method,
                                                 const std::string& format,
                                                 Datapath datapath = Datapath::Spatial);

@@ -14,7 +14,8 @@ static_assert(Block<UvIncrementalAdder>);
 UvIncrementalAdder::Config UvIncrementalAdder::Config::from_toml(const ConfigReader& r) {
   r.reject_unknown({"form", "lanes", "division", "datapath", "min_denominator"});
   Config c;
-  c.form = static_cast<Form>(r.get_choice("form", 0, {"sequential", "klane", "bidirectional"}));
+  c.form = static_cast<Form>(
+      r.get_choice("form", 0, {"sequential", "klane", "bidirectional", "direct"}));
   c.lanes = static_cast<int>(r.get_int("lanes", c.lanes, 1, 64));
   c.division = static_cast<Division>(r.get_choice("division", 0, {"divide", "reciprocal"}));
   c.datapath = parse_datapath(r, c.datapath);
@@ -28,6 +29,7 @@ uint32_t UvIncrementalAdder::lane_count() const {
     case Form::Sequential:
       return 1;
     case Form::KLane:
+    case Form::DirectN:
       return static_cast<uint32_t>(std::max(1, cfg_.lanes));
     case Form::Bidirectional:
       return 2;
@@ -36,27 +38,34 @@ uint32_t UvIncrementalAdder::lane_count() const {
 }
 
 OpCounts UvIncrementalAdder::ops_per_item() const {
-  // w += A, z += G, t += D; the q >= limit compare; the division pair.
+  // w += A, z += G, t += D (direct-n: w0 + A·n, z0 + G·n, t0 + D·n, 3 mul more); the
+  // q >= limit compare; the division pair.
   OpCounts o;
   o.add = 3;
+  if (cfg_.form == Form::DirectN) o.mul = 3;
   o.cmp = 1;
   if (cfg_.division == Division::Divide) {
     o.div = 2;
   } else {
     o.rcp = 1;
-    o.mul = 2;
+    o.mul += 2;
   }
   return o;
 }
 
 OpCounts UvIncrementalAdder::pixel_critical_path() const {
   // The adders feed the next pixel; the current pixel's path is the division (or rcp -> mul).
+  // Direct-n: the pixel's own A·n and w0 + A·n come first.
   OpCounts p;
+  if (cfg_.form == Form::DirectN) {
+    p.mul = 1;
+    p.add = 1;
+  }
   if (cfg_.division == Division::Divide) {
     p.div = 1;
   } else {
     p.rcp = 1;
-    p.mul = 1;
+    p.mul += 1;
   }
   return p;
 }
@@ -106,6 +115,9 @@ void UvIncrementalAdder::lane_history(const RowSpan& s, int32_t n, double& round
     const int32_t j = n % k;
     const int32_t steps = (n - j) / k;  // lane j's k-steps before pixel n (exact: n - j = steps·k)
     roundings = j + steps;
+  } else if (cfg_.form == Form::DirectN) {
+    roundings = n > 0 ? 1 : 0;  // one rounded sum w0 + A·n (the product's rounding is
+                                // within the bound's factor 2 on the increments)
   } else if (cfg_.form == Form::Bidirectional) {
     const int32_t mid = (s.n + 1) / 2;
     if (n >= mid) {

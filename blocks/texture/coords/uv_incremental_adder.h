@@ -1,8 +1,9 @@
 #pragma once
 // UvIncrementalAdder: the thesis's modified Heckbert: per raster row one set-up of the
 // numerators w, t and denominator z, then +A, +D, +G per pixel and a division pair; in the
-// sequential, k-lane (w_n = w_{n-k} + k·A) and bidirectional two-lane forms
-// (docs/derivations/coords-derivations.md §3, error bounds §3.3).
+// sequential, k-lane (w_n = w_{n-k} + k·A), bidirectional two-lane and direct-n
+// (w_n = w_0 + A·n, thesis fig. 7) forms (docs/derivations/coords-derivations.md §3, error
+// bounds §3.3).
 #include <algorithm>
 #include <cstdint>
 #include <string>
@@ -20,11 +21,11 @@ class ConfigReader;
 
 class UvIncrementalAdder {
  public:
-  enum class Form { Sequential, KLane, Bidirectional };
+  enum class Form { Sequential, KLane, Bidirectional, DirectN };
   enum class Division { Divide, Reciprocal };
   struct Config {
     Form form = Form::Sequential;
-    int lanes = 4;  // k of the k-lane form (ignored by the others)
+    int lanes = 4;  // k of the k-lane and direct-n forms (ignored by the others)
     Division division = Division::Divide;
     Datapath datapath = Datapath::Spatial;
     double min_denominator = 1.0 / 4096;  // as UvHeckbertDirect: q below it is rejected
@@ -34,7 +35,8 @@ class UvIncrementalAdder {
   UvIncrementalAdder() = default;
   explicit UvIncrementalAdder(const Config& c) : cfg_(c) {}
   const Config& config() const { return cfg_; }
-  // Parallel datapaths: k for the k-lane form, 2 for the bidirectional form, else 1.
+  // Parallel datapaths: k for the k-lane and direct-n forms, 2 for the bidirectional form,
+  // else 1.
   uint32_t lane_count() const;
 
   // Functional core in T. Every add and the division round to T; in Fixed<I,F> the adds are
@@ -88,6 +90,14 @@ class UvIncrementalAdder {
         }
         break;
       }
+      case Form::DirectN:
+        // Every pixel from the row's start values: a multiply by n instead of a running sum,
+        // so any lane computes any pixel. In fixed point n·A is exact and equals the sums.
+        for (int32_t n = 0; n < s.n; ++n) {
+          const T nt = static_cast<T>(n);
+          out[n] = divide(w + m.A * nt, z + m.G * nt, t + m.D * nt);
+        }
+        break;
       case Form::Bidirectional: {
         // Left lane: pixels 0 .. mid-1 with +A; right lane: pixels n-1 down to mid with -A,
         // started from its own exactly evaluated end values.

@@ -119,7 +119,7 @@ TEST(UvIncrementalAdder, FormsAgreeWithReferenceAndBound) {
   const ProjectiveMap m = tilted(75);
   const RowSpan s{3, 150, 500};
   for (auto form : {UvIncrementalAdder::Form::Sequential, UvIncrementalAdder::Form::KLane,
-                    UvIncrementalAdder::Form::Bidirectional}) {
+                    UvIncrementalAdder::Form::Bidirectional, UvIncrementalAdder::Form::DirectN}) {
     UvIncrementalAdder::Config c;
     c.form = form;
     c.lanes = 4;
@@ -172,6 +172,40 @@ TEST(UvIncrementalAdder, OpsAndTiming) {
   const UvIncrementalAdder kl(c);
   EXPECT_EQ(kl.timing(t).lanes, 4u);
   EXPECT_EQ(kl.row_setup_ops().add, 6u + 9u);
+}
+
+// Thesis fig. 7's direct-n form: in fixed point w0 + n·A_q is exact, so it equals the running
+// sums bit for bit; in float it rounds one product and one sum per pixel instead of n sums, so
+// at the end of a long row its error is well below the sequential form's; its cost is 3
+// multiplications per pixel more, and no pixel waits for another.
+TEST(UvIncrementalAdder, DirectNFormEqualsTheSumsInFixedPoint) {
+  const ProjectiveMap m = tilted(80);
+  const RowSpan s{0, 200, 4096};
+  UvIncrementalAdder::Config c;
+  const UvIncrementalAdder seq(c);
+  c.form = UvIncrementalAdder::Form::DirectN;
+  const UvIncrementalAdder direct(c);
+  std::vector<CoordSample> a(static_cast<size_t>(s.n)), b(a.size());
+  seq.eval_row(to_coeffs<Q20>(m), s, a.data());
+  direct.eval_row(to_coeffs<Q20>(m), s, b.data());
+  for (int32_t n = 0; n < s.n; ++n) {
+    ASSERT_EQ(a[n].valid, b[n].valid) << n;
+    ASSERT_EQ(a[n].u, b[n].u) << n;
+    ASSERT_EQ(a[n].v, b[n].v) << n;
+  }
+  seq.eval_row(to_coeffs<float>(m), s, a.data());
+  direct.eval_row(to_coeffs<float>(m), s, b.data());
+  const double e_seq = max_row_error<float>(m, s, a), e_direct = max_row_error<float>(m, s, b);
+  EXPECT_LT(e_direct, e_seq / 4) << "sequential " << e_seq << ", direct-n " << e_direct;
+  for (int32_t n = 0; n < s.n; ++n) {
+    const double e = std::max(std::fabs(b[n].u - static_cast<double>(m.u(s.x0 + n, s.y))),
+                              std::fabs(b[n].v - static_cast<double>(m.v(s.x0 + n, s.y))));
+    ASSERT_LE(e, direct.error_bound<float>(m, s, n)) << "n=" << n;
+  }
+  EXPECT_EQ(direct.ops_per_item().mul, seq.ops_per_item().mul + 3);
+  EXPECT_EQ(direct.ops_per_item().add, seq.ops_per_item().add);
+  EXPECT_EQ(direct.lane_count(), 4u);
+  EXPECT_EQ(direct.pixel_critical_path().mul, 1u);
 }
 
 }  // namespace
