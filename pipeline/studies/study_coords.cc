@@ -8,6 +8,7 @@
 #include <memory>
 #include <sstream>
 
+#include "blocks/base/config_reader.h"
 #include "blocks/base/tech_table.h"
 #include "pipeline/kernel/clocked_pipeline.h"
 #include "pipeline/kernel/parallel_range.h"
@@ -180,6 +181,55 @@ CoordStudyRow coord_method_costs(const StudyCoordsOptions& o, const StudyPlane& 
     }
   }
   return base;
+}
+
+double reference_tilt(const StudyCoordsOptions& o);  // below
+
+// The method's generator with `lanes` lanes, as a material's `coords = { method, lanes,
+// datapath }` table makes it.
+std::unique_ptr<CoordGenerator> lane_generator(const std::string& method, int lanes,
+                                               const std::string& format, Datapath dp) {
+  const toml::table t{
+      {"method", method}, {"lanes", lanes}, {"datapath", datapath_name(dp)}, {"format", format}};
+  const CoordUnitConfig c = CoordUnitConfig::from_toml(ConfigReader(t, "<lane sweep>", "coords"));
+  return c.coord_block(format);
+}
+
+// One row of the lane sweep on plane `sp`.
+LaneSweepRow lane_sweep_row(const StudyCoordsOptions& o, const StudyPlane& sp,
+                            const std::string& method, int lanes, const TechTable& tech) {
+  LaneSweepRow row;
+  row.method = method;
+  row.lanes = lanes;
+  for (Datapath dp : {Datapath::Spatial, Datapath::Shared}) {
+    const auto gen = lane_generator(method, lanes, "double", dp);
+    std::vector<CoordFragment> frags;
+    std::vector<ItemCost> costs;
+    OpCounts ops;
+    CoordGeneratorStats st;
+    for (const auto& tri : sp.tris) gen->generate(tri, tech, frags, costs, ops, st);
+    const double unit = run_cycles({gen->stage(tech)}, costs, costs.size());
+    (dp == Datapath::Spatial ? row.cpp_unit_spatial : row.cpp_unit_shared) = unit;
+    if (dp == Datapath::Shared) continue;
+    std::vector<ItemCost> c2(costs.size() * 2);
+    for (size_t i = 0; i < costs.size(); ++i) c2[2 * i] = costs[i];
+    row.cpp_spatial =
+        run_cycles({gen->stage(tech), filter_stage(o.filter_latency, 1)}, c2, costs.size());
+    row.area = gen->stage(tech).timing.area;
+  }
+  const auto gen = lane_generator(method, lanes, "float", Datapath::Spatial);
+  std::vector<CoordFragment> frags;
+  std::vector<ItemCost> costs;
+  OpCounts ops;
+  CoordGeneratorStats st;
+  for (const auto& tri : sp.tris) gen->generate(tri, tech, frags, costs, ops, st);
+  for (const auto& f : frags) {
+    if (!f.uv.valid) continue;
+    row.max_err_float = std::max(
+        row.max_err_float, std::max(std::fabs(f.uv.u - static_cast<double>(sp.map.u(f.x, f.y))),
+                                    std::fabs(f.uv.v - static_cast<double>(sp.map.v(f.x, f.y)))));
+  }
+  return row;
 }
 
 // The method's coordinate errors in one format, against the projective map.
@@ -422,6 +472,17 @@ StudyCoordsResult measure_study_coords(const StudyCoordsOptions& o, std::ostream
       coords[t * nc + m].push_back(std::move(row));
     }
   });
+  // The lane sweep on the reference tilt's plane.
+  const std::vector<std::string> lane_methods = {"incremental-k4", "incremental-direct"};
+  const size_t rt = static_cast<size_t>(
+      std::find(o.tilts.begin(), o.tilts.end(), reference_tilt(o)) - o.tilts.begin());
+  if (rt < nt) {
+    res.lanes.resize(lane_methods.size() * o.lane_counts.size());
+    parallel_tasks(res.lanes.size(), o.threads, [&](size_t k) {
+      res.lanes[k] = lane_sweep_row(o, planes[rt], lane_methods[k / o.lane_counts.size()],
+                                    o.lane_counts[k % o.lane_counts.size()], tech);
+    });
+  }
   for (size_t t = 0; t < nt; ++t) {
     StudyPlane& sp = planes[t];
     if (log) {
@@ -783,6 +844,23 @@ std::string md_deriv_claims(const CoordsDoc& d) {
 
 }  // namespace
 
+std::string md_lane_sweep(const CoordsDoc& d) {
+  if (d.r.lanes.empty()) return "";
+  StudyTable t({"method", "lanes", "cycles/px, coordinate unit spatial", "shared",
+                "cycles/px with the filter (II 1)", "area (adder eq.)", "float max error (texels)"},
+               "lrrrrrr");
+  for (const LaneSweepRow& l : d.r.lanes) {
+    t.add({l.method, std::to_string(l.lanes), fmt(l.cpp_unit_spatial), fmt(l.cpp_unit_shared),
+           fmt(l.cpp_spatial), fmt(l.area, 1), fmt(l.max_err_float)});
+  }
+  return "\n## Parallel lanes (\"GPU cores\") at " + tilt_name(d.rt) +
+         "°\n\nThe thesis varied the number of parallel lanes: the k-lane (`incremental-k4` with "
+         "its `lanes`) and direct-n (`incremental-direct`) forms, each lane a datapath of its own. "
+         "The coordinate unit alone, then followed by a filter that takes one fragment per "
+         "cycle (which bounds the pair at 1 cycle per pixel).\n\n" +
+         t.markdown();
+}
+
 std::string study_coords_markdown(const StudyCoordsOptions& o, const StudyCoordsResult& r) {
   const CoordsDoc d(o, r);
   return md_conditions(o) + md_planes_and_costs(d) +
@@ -797,7 +875,8 @@ std::string study_coords_markdown(const StudyCoordsOptions& o, const StudyCoords
              "The same errors divided by the pixel's footprint size: how far the sample point "
              "moves, in pixels. Below 1/256 a texture address of 8 sub-texel bits is exact.\n\n",
              &CoordStudyRow::max_err_px, &CoordStudyRow::mean_err_px) +
-         md_deriv_errors(d) + md_deriv_costs(d) + md_coord_claims(d) + md_deriv_claims(d);
+         md_lane_sweep(d) + md_deriv_errors(d) + md_deriv_costs(d) + md_coord_claims(d) +
+         md_deriv_claims(d);
 }
 
 std::string study_coords_csv(const StudyCoordsOptions& o, const StudyCoordsResult& r) {

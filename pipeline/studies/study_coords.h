@@ -27,6 +27,7 @@ struct StudyCoordsOptions {
   // Cycles of the texel fetch + filter stage after the coordinate stage, per pixel (ii) and
   // latency; the first is used in the tables, all of them in the +26 % claim sweep.
   std::vector<uint32_t> filter_ii = {1, 4, 8};
+  std::vector<int> lane_counts = {1, 2, 4, 8, 16};  // the lane sweep (empty: none)
   uint32_t filter_latency = 8;
   uint32_t max_aniso = 16;  // EWA stage: anisotropy clamp of the texel-count model
   int threads = 0;          // worker threads (0: one per core); results do not depend on it
@@ -73,8 +74,20 @@ struct DerivStudyRow {
   double cpp_fused = 0;  // the whole front end on one shared ALU set (a shader-like core)
 };
 
+// The thesis varied the number of parallel lanes ("GPU cores"): the k-lane and direct-n
+// incremental forms at each lane count, on the reference tilt's plane.
+struct LaneSweepRow {
+  std::string method;
+  int lanes = 1;
+  double cpp_unit_spatial = 0, cpp_unit_shared = 0;  // the coordinate stage alone
+  double cpp_spatial = 0;                            // [coords -> filter of II 1]
+  double area = 0;                                   // adder equivalents, spatial datapath
+  double max_err_float = 0;                          // texels, float
+};
+
 struct StudyCoordsResult {
   std::vector<StudyPlane> planes;  // rows/triangles only (maps and counts)
+  std::vector<LaneSweepRow> lanes;
   std::vector<CoordStudyRow> coords;
   std::vector<DerivStudyRow> derivs;
 };

@@ -186,6 +186,36 @@ TEST(StudyCoords, SmallStudyIsConsistent) {
   check_coords_csv(csv, r);
 }
 
+// The lane sweep: more lanes make the coordinate unit itself faster (until the row set-ups
+// bound it) and never slower than one fragment per cycle behind a filter of II 1; the k-lane
+// form's float error falls with its lanes (shorter chains), the direct-n form's does not depend
+// on them; its first row equals the plain incremental form's cost.
+TEST(StudyCoords, LaneSweepScalesTheUnitAndTheKLaneError) {
+  StudyCoordsOptions o = small();
+  o.coord_methods = {"incremental"};
+  o.formats = {"float"};
+  const StudyCoordsResult r = measure_study_coords(o, nullptr);
+  ASSERT_EQ(r.lanes.size(), 2 * o.lane_counts.size());
+  const LaneSweepRow &k1 = r.lanes[0], &k4 = r.lanes[2], &d1 = r.lanes[5], &d8 = r.lanes[8];
+  EXPECT_EQ(k1.method, "incremental-k4");
+  EXPECT_EQ(k1.lanes, 1);
+  EXPECT_EQ(d8.method, "incremental-direct");
+  EXPECT_EQ(d8.lanes, 8);
+  EXPECT_LT(k4.cpp_unit_spatial, 0.6 * k1.cpp_unit_spatial);
+  EXPECT_LT(d8.cpp_unit_spatial, 0.3 * d1.cpp_unit_spatial);
+  EXPECT_GT(k4.area, k1.area);
+  for (const LaneSweepRow& l : r.lanes) EXPECT_GE(l.cpp_spatial, 1.0) << l.method << l.lanes;
+  EXPECT_LT(k4.max_err_float, k1.max_err_float);
+  EXPECT_EQ(d1.max_err_float, d8.max_err_float);
+  const CoordStudyRow* inc = nullptr;
+  for (const auto& c : r.coords) {
+    if (c.tilt == 60) inc = &c;
+  }
+  ASSERT_NE(inc, nullptr);
+  EXPECT_NEAR(k1.cpp_spatial, inc->cpp_spatial.front(), 1e-9);
+  EXPECT_NE(study_coords_markdown(o, r).find("Parallel lanes"), std::string::npos);
+}
+
 // Tasks run on any number of threads give the same tables, byte for byte.
 TEST(StudyCoords, ThreadCountDoesNotChangeTheTables) {
   StudyCoordsOptions o = small();
