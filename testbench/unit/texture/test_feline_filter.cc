@@ -55,6 +55,37 @@ TEST(Feline, ParallelogramUsesTheLongerSide) {
   EXPECT_NEAR(q.lambda, std::log2(13.0), 1e-5);
 }
 
+// Seed 004's geometry claims on the Texram line (the longer side of the parallelogram spanned
+// by the derivative vectors a, b), against the footprint ellipse (the image of the unit pixel
+// circle, semi-axes σ1 ≥ σ2 of J): the line deviates from the major axis by at most 45° — the
+// bound holds and is approached — and it is shorter than the major axis by at most 2√2 (full
+// axis 2σ1 against |longer side| ≥ σ1/√2, since |a|² + |b|² = σ1² + σ2²): not "almost four
+// times" as the seed says, and the bound is approached too.
+TEST(Feline, TexramLineGeometryAgainstTheSeedsClaims) {
+  std::mt19937_64 rng(2024);
+  std::uniform_real_distribution<double> d(-1, 1);
+  double worst_angle = 0, worst_ratio = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const double ux = d(rng), vx = d(rng), uy = d(rng), vy = d(rng);
+    const double la = std::hypot(ux, vx), lb = std::hypot(uy, vy);
+    if (std::fabs(ux * vy - uy * vx) < 1e-9 || la == lb) continue;
+    // J Jᵀ = [[p, q], [q, r]]: its larger eigenvalue is σ1², its eigenvector the major axis.
+    const double p = ux * ux + uy * uy, q = ux * vx + uy * vy, r = vx * vx + vy * vy;
+    const double s1 = std::sqrt((p + r) / 2 + std::hypot((p - r) / 2, q));
+    const double theta = 0.5 * std::atan2(2 * q, p - r);
+    const double lx = la >= lb ? ux : uy, ly = la >= lb ? vx : vy;
+    const double cosang =
+        std::fabs(lx * std::cos(theta) + ly * std::sin(theta)) / std::hypot(lx, ly);
+    worst_angle = std::max(worst_angle, std::acos(std::min(1.0, cosang)) * 180 / M_PI);
+    worst_ratio = std::max(worst_ratio, 2 * s1 / std::max(la, lb));
+  }
+  EXPECT_LE(worst_angle, 45.0 + 1e-9);
+  EXPECT_GT(worst_angle, 44.0);
+  EXPECT_LE(worst_ratio, 2 * std::sqrt(2.0) + 1e-9);
+  EXPECT_GT(worst_ratio, 2.7);
+  EXPECT_LT(worst_ratio, 3.5);  // not "almost four times"
+}
+
 TEST(Feline, EllipseUsesTheMajorAxisAndGaussianWeights) {
   const Texture tex = flat(256, 0.5f);
   const FelineFilter fl;  // ellipse, Gaussian
