@@ -114,6 +114,60 @@ TEST(MultiProbe, TemporalSubsetsAlternate) {
   EXPECT_EQ(odd.n, 7);
 }
 
+// The temporal subsets are meant to be averaged over two frames (the eye, or a temporal
+// filter): on a photograph, against the Gaussian-pixel truth, each frame alone is worse than all
+// probes at once; the two frames' average is better than either frame but does not come back to
+// all probes at once — the centre probe is in both subsets and each frame normalises its own
+// weights, so the average over-weights the centre. Measured (printed): mean squared error per
+// channel of all probes, frame 0, frame 1 and the average, over anisotropic footprints (4:1 and
+// more; docs/derivations/anisotropic-filters.md §4, "Temporal subsets").
+TEST(MultiProbe, TemporalAverageBeatsOneFrameButNotAllProbes) {
+  const Texture tex = load_texture("/usr/share/glmark2/textures/crate-base.png", "");
+  const int w0 = tex.width(0), h0 = tex.height(0);
+  MultiProbeFilter::Config c;
+  const MultiProbeFilter full(c);
+  c.temporal = true;
+  const MultiProbeFilter split(c);
+  std::mt19937 rng(31);
+  double e_full = 0, e0 = 0, e1 = 0, e_avg = 0;
+  int n = 0;
+  FootprintReferenceConfig truth_cfg;
+  truth_cfg.samples_per_texel = 2;
+  while (n < 120) {
+    Fragment f = random_ellipse_footprint(rng, w0, h0);
+    const double ax = std::hypot(f.dudx * w0, f.dvdx * h0),
+                 ay = std::hypot(f.dudy * w0, f.dvdy * h0);
+    const double det = std::fabs(f.dudx * w0 * f.dvdy * h0 - f.dudy * w0 * f.dvdx * h0);
+    const double major = std::max(ax, ay);
+    if (!(det > 0) || major * major / det < 4 || major < 8) continue;  // anisotropic, minified
+    const glm::dvec4 truth = footprint_reference_affine(tex, f, truth_cfg).colour;
+    OpCounts ops;
+    f.frame = 0;
+    const Rgba a = full.filter(tex, f, nullptr, ops).colour;
+    const Rgba b = split.filter(tex, f, nullptr, ops).colour;
+    f.frame = 1;
+    const Rgba d = split.filter(tex, f, nullptr, ops).colour;
+    for (int ch = 0; ch < 3; ++ch) {
+      const double t = truth[ch];
+      e_full += (a[ch] - t) * (a[ch] - t);
+      e0 += (b[ch] - t) * (b[ch] - t);
+      e1 += (d[ch] - t) * (d[ch] - t);
+      const double avg = 0.5 * (static_cast<double>(b[ch]) + static_cast<double>(d[ch]));
+      e_avg += (avg - t) * (avg - t);
+    }
+    ++n;
+  }
+  const double k = 1.0 / (3.0 * n);
+  std::printf(
+      "multi-probe temporal, MSE per channel: all probes %.3g, frame 0 %.3g, frame 1 %.3g, "
+      "two-frame average %.3g\n",
+      e_full * k, e0 * k, e1 * k, e_avg * k);
+  EXPECT_GT(e0, e_full);
+  EXPECT_GT(e1, e_full);
+  EXPECT_LT(e_avg, 0.6 * std::min(e0, e1));
+  EXPECT_GT(e_avg, 1.2 * e_full);
+}
+
 TEST(MultiProbe, ConstantExactSmoothBoundedCountsAgree) {
   std::vector<float> px(size_t{64} * 64 * 4, 0.375f);
   const Texture flat = Texture::from_rgba("c", 64, 64, px, TexelFormat::Rgba32f, true);
