@@ -201,8 +201,8 @@ TEST(DecompressPlacement, BadKeysNameTheSceneLine) {
   EXPECT_NE(unknown.find("unknown compressed format 'bc9'"), std::string::npos) << unknown;
   const std::string wrong = scene_error("compress = { format = \"bc4\", encoder = \"squish\" }");
   EXPECT_NE(wrong.find("encoder 'squish' cannot make 'bc4'"), std::string::npos) << wrong;
-  const std::string none = scene_error("compress = { format = \"etc2_rgb8\" }");
-  EXPECT_NE(none.find("no encoder makes 'etc2_rgb8'"), std::string::npos) << none;
+  const std::string none = scene_error("compress = { format = \"eac_r11_snorm\" }");
+  EXPECT_NE(none.find("no encoder makes 'eac_r11_snorm'"), std::string::npos) << none;
   const std::string quality =
       scene_error("compress = { format = \"astc_4x4\", quality = \"slow\" }");
   EXPECT_NE(quality.find("unknown astcenc quality 'slow'"), std::string::npos) << quality;
@@ -270,7 +270,7 @@ TEST(DecompressPlacement, AnUnknownStorageInATraceNamesTheFileAndTheEntry) {
            {"format=rgb999", "unknown texel format 'rgb999'"},
            {"compress=bc9", "unknown compressed format 'bc9'"},
            {"compress=bc4,squish", "encoder 'squish' cannot make 'bc4'"},
-           {"compress=etc2_rgb8", "no encoder makes 'etc2_rgb8'"},
+           {"compress=eac_r11_snorm", "no encoder makes 'eac_r11_snorm'"},
            {"compress=astc_4x4,astcenc,slow", "unknown astcenc quality 'slow'"},
            {"compress=bc1_rgb,squish,range,x", "more than FORMAT,ENCODER,QUALITY"}}) {
     std::ofstream(trc) << "# texture 0 floor procedural:checker?size=64&cells=8 64 64 " << storage
