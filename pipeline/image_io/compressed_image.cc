@@ -12,6 +12,10 @@ const char* format_name(FileBlockFormat f) {
       return "BC1_UNORM";
     case FileBlockFormat::Bc1Srgb:
       return "BC1_UNORM_SRGB";
+    case FileBlockFormat::Bc1RgbUnorm:
+      return "BC1_RGB_UNORM";
+    case FileBlockFormat::Bc1RgbSrgb:
+      return "BC1_RGB_UNORM_SRGB";
     case FileBlockFormat::Bc2Unorm:
       return "BC2_UNORM";
     case FileBlockFormat::Bc2Srgb:
@@ -64,6 +68,8 @@ int format_block_bytes(FileBlockFormat f) {
   switch (f) {
     case FileBlockFormat::Bc1Unorm:
     case FileBlockFormat::Bc1Srgb:
+    case FileBlockFormat::Bc1RgbUnorm:
+    case FileBlockFormat::Bc1RgbSrgb:
     case FileBlockFormat::Bc4Unorm:
     case FileBlockFormat::Bc4Snorm:
     case FileBlockFormat::Etc2Rgb8:

@@ -10,8 +10,10 @@
 namespace texsim {
 
 enum class FileBlockFormat {
-  Bc1Unorm,
+  Bc1Unorm,  // BC1 with its 1-bit alpha (DDS, GL_COMPRESSED_RGBA_S3TC_DXT1_EXT)
   Bc1Srgb,
+  Bc1RgbUnorm,  // BC1 read as opaque RGB (KTX's GL_COMPRESSED_RGB_S3TC_DXT1_EXT)
+  Bc1RgbSrgb,
   Bc2Unorm,
   Bc2Srgb,
   Bc3Unorm,
@@ -39,7 +41,7 @@ enum class FileBlockFormat {
 // "BC1_UNORM", "BC7_UNORM_SRGB" (the DXGI spelling without the DXGI_FORMAT_ prefix),
 // "ETC2_RGB8", "EAC_R11_SNORM", "ASTC", "ASTC_SRGB".
 const char* format_name(FileBlockFormat f);
-// Bytes per block: 8 for BC1, BC4, ETC2 RGB8 / RGB8A1 and EAC R11, 16 for the others.
+// Bytes per block: 8 for BC1 (either kind), BC4, ETC2 RGB8 / RGB8A1 and EAC R11, 16 for the others.
 int format_block_bytes(FileBlockFormat f);
 // Whether blocks of `f` are ASTC (any footprint, either colour space).
 bool is_astc(FileBlockFormat f);

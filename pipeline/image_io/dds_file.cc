@@ -207,9 +207,10 @@ std::string dds_bytes(const CompressedImage& img, bool dx10, const std::string& 
   check_compressed_image(img, where);
   if (is_astc(img.format))
     throw InputError(where, "cannot write: ASTC is not stored in DDS files here");
-  if (is_etc(img.format))
+  if (is_etc(img.format) || img.format == FileBlockFormat::Bc1RgbUnorm ||
+      img.format == FileBlockFormat::Bc1RgbSrgb)
     throw InputError(where, std::string("cannot write: ") + format_name(img.format) +
-                                " is not stored in DDS files (KTX files hold ETC2 and EAC)");
+                                " is not stored in DDS files (KTX files hold it)");
   std::optional<uint32_t> legacy;
   for (const FourCCFormat& f : kFourCCs)
     if (f.format == img.format && f.code != fourcc("ATI1") && f.code != fourcc("ATI2"))

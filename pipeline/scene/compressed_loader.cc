@@ -10,6 +10,7 @@
 #include "pipeline/image_io/astcenc_encoder.h"
 #include "pipeline/image_io/dds_file.h"
 #include "pipeline/image_io/etc_encoder.h"
+#include "pipeline/image_io/ktx_file.h"
 #include "pipeline/image_io/nvtt_encoder.h"
 #include "pipeline/image_io/squish_encoder.h"
 
@@ -100,14 +101,17 @@ EncodedLevel encode_level(const Rgba8Image& img, const SceneTexture::Compress& c
 // The texsim format of a file's blocks, and whether its colours are sRGB.
 CompressedFormat texsim_format(const CompressedImage& img, bool& srgb, const std::string& path) {
   using F = FileBlockFormat;
-  srgb = img.format == F::Bc1Srgb || img.format == F::Bc2Srgb || img.format == F::Bc3Srgb ||
-         img.format == F::Bc7Srgb || img.format == F::Etc2Rgb8Srgb ||
+  srgb = img.format == F::Bc1Srgb || img.format == F::Bc1RgbSrgb || img.format == F::Bc2Srgb ||
+         img.format == F::Bc3Srgb || img.format == F::Bc7Srgb || img.format == F::Etc2Rgb8Srgb ||
          img.format == F::Etc2Rgb8A1Srgb || img.format == F::Etc2Rgba8Srgb ||
          img.format == F::AstcSrgb;
   switch (img.format) {
     case F::Bc1Unorm:
     case F::Bc1Srgb:
       return CompressedFormat::Bc1Rgba;  // DDS BC1 has the 1-bit alpha of its 3-colour mode
+    case F::Bc1RgbUnorm:
+    case F::Bc1RgbSrgb:
+      return CompressedFormat::Bc1Rgb;
     case F::Bc2Unorm:
     case F::Bc2Srgb:
       return CompressedFormat::Bc2;
@@ -214,14 +218,16 @@ bool is_compressed_file(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-  return ext == ".dds" || ext == ".astc";
+  return ext == ".dds" || ext == ".astc" || ext == ".ktx";
 }
 
 Texture load_compressed_file(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-  const CompressedImage img = ext == ".dds" ? read_dds_file(path) : read_astc_file(path);
+  const CompressedImage img = ext == ".dds"   ? read_dds_file(path)
+                              : ext == ".ktx" ? read_ktx_file(path)
+                                              : read_astc_file(path);
   bool srgb = false;
   auto blocks = std::make_shared<Texture::Blocks>();
   blocks->format = texsim_format(img, srgb, path);

@@ -22,9 +22,9 @@ std::vector<std::string> encoder_qualities(const std::string& encoder);
 // `src` (every level) encoded as `c` says; the result keeps `src` as the truth's texture and
 // the encoder's provenance in its blocks.
 Texture compress_texture(const Texture& src, const SceneTexture::Compress& c);
-// Whether `path` names a compressed texture file (.dds or .astc, by its extension).
+// Whether `path` names a compressed texture file (.dds, .astc or .ktx, by its extension).
 bool is_compressed_file(const std::string& path);
-// The blocks of a DDS or .astc file, decoded once; sRGB formats decoded to linear colours.
+// The blocks of a DDS, .astc or KTX file, decoded once; sRGB formats decoded to linear colours.
 // The file's texels are their own truth. Errors name the file.
 Texture load_compressed_file(const std::string& path);
 
