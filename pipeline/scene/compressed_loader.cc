@@ -8,6 +8,7 @@
 #include "blocks/texture/decode/compressed_texture.h"
 #include "pipeline/image_io/astc_file.h"
 #include "pipeline/image_io/astcenc_encoder.h"
+#include "pipeline/image_io/bc7_encoder.h"
 #include "pipeline/image_io/dds_file.h"
 #include "pipeline/image_io/etc_encoder.h"
 #include "pipeline/image_io/ktx_file.h"
@@ -84,6 +85,9 @@ EncodedLevel encode_level(const Rgba8Image& img, const SceneTexture::Compress& c
                                                       : NvttQuality::Normal;
     return nvtt_encode(img, file_format(c.format), q);
   }
+  if (c.encoder == "texsim" && c.format == CompressedFormat::Bc7)
+    return bc7_encode(img, FileBlockFormat::Bc7Unorm,
+                      c.quality == "fast" ? Bc7Quality::Fast : Bc7Quality::Normal);
   if (c.encoder == "texsim") {
     const EtcEffort effort = c.quality == "fast" ? EtcEffort::Fast : EtcEffort::Normal;
     return etc_encode(img, file_format(c.format), effort);
@@ -167,12 +171,12 @@ bool made_by_squish(CompressedFormat f) {
 bool made_by_nvtt_only(CompressedFormat f) {
   return f == CompressedFormat::Bc4 || f == CompressedFormat::Bc5;
 }
-// texsim's own encoders: ETC2 / EAC (UNORM; the SNORM EAC formats come only from files, as
-// BC4 / BC5 SNORM do: an 8-bit texture has no signed view).
+// texsim's own encoders: BC7, ETC2 / EAC (UNORM; the SNORM EAC formats come only from files,
+// as BC4 / BC5 SNORM do: an 8-bit texture has no signed view).
 bool made_by_texsim(CompressedFormat f) {
-  return f == CompressedFormat::Etc2Rgb8 || f == CompressedFormat::Etc2Rgb8A1 ||
-         f == CompressedFormat::Etc2Rgba8 || f == CompressedFormat::EacR11 ||
-         f == CompressedFormat::EacRg11;
+  return f == CompressedFormat::Bc7 || f == CompressedFormat::Etc2Rgb8 ||
+         f == CompressedFormat::Etc2Rgb8A1 || f == CompressedFormat::Etc2Rgba8 ||
+         f == CompressedFormat::EacR11 || f == CompressedFormat::EacRg11;
 }
 }  // namespace
 

@@ -11,7 +11,7 @@
 namespace texsim {
 
 // The encoder a `compress` spec defaults to: the one Debian has for `f` (squish for BC1-BC3,
-// nvtt for BC4/BC5, astcenc for ASTC), texsim's own for ETC2 / EAC UNORM, or "" when none
+// nvtt for BC4/BC5, astcenc for ASTC), texsim's own for BC7 and ETC2 / EAC UNORM, or "" when none
 // makes it (the SNORM formats: files only).
 std::string default_encoder(CompressedFormat f);
 // Whether `encoder` ("squish", "nvtt", "astcenc", "texsim") makes `f`.

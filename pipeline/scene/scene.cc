@@ -116,7 +116,7 @@ SceneTexture::Compress parse_compress(const ConfigReader& tr, const std::string&
            def.empty() ? "no encoder makes '" + f + "' (load it from a .dds or .ktx file)"
                        : "encoder '" + out.encoder + "' cannot make '" + f +
                              "' (squish: bc1_rgb, bc1_rgba, bc2, bc3; nvtt: those and bc4, bc5; "
-                             "astcenc: astc_*; texsim: etc2_rgb8, etc2_rgb8a1, etc2_rgba8, "
+                             "astcenc: astc_*; texsim: bc7, etc2_rgb8, etc2_rgb8a1, etc2_rgba8, "
                              "eac_r11, eac_rg11)");
   }
   out.quality = c.get_string("quality", "");
