@@ -191,4 +191,55 @@ TEST(Bc7Encoder, OtherFormatsAndBadImagesAreRefused) {
   EXPECT_EQ(odd.provenance, "texsim bc7 encoder (modes 6 and 5, normal)");
 }
 
+// The figures of docs/compressed-files.md#encoders: whole textures, both qualities, against
+// Mesa, and Mesa's own encoder's PSNR (run with --gtest_also_run_disabled_tests).
+TEST(Bc7Encoder, DISABLED_MeasureWholeTextures) {
+  if (!mesa().available()) GTEST_SKIP() << mesa().why_not();
+  std::printf(
+      "| texture | blocks | mismatches | PSNR fast | PSNR normal | PSNR Mesa | s fast | s normal "
+      "|\n");
+  for (const char* name :
+       {"crate-base.png", "jellyfish-caustics-01.png", "desktop-window.png", "glyph-atlas.png"}) {
+    const std::string path = std::string("/usr/share/glmark2/textures/") + name;
+    png_image png{};
+    png.version = PNG_IMAGE_VERSION;
+    ASSERT_TRUE(png_image_begin_read_from_file(&png, path.c_str()));
+    const Rgba8Image src =
+        load_crop(path, static_cast<int>(png.width), static_cast<int>(png.height));
+    png_image_free(&png);
+    std::array<double, 2> p{}, secs{};
+    int blocks = 0, mismatches = 0;
+    for (size_t q = 0; q < 2; ++q) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const EncodedLevel e = bc7_encode(src, FileBlockFormat::Bc7Unorm,
+                                        q == 0 ? Bc7Quality::Fast : Bc7Quality::Normal);
+      secs[q] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const std::vector<uint8_t> mine = texsim_decode(e.bytes, src.width, src.height);
+      const MesaImage m = mesa().decode_blocks(kGlBptcUnorm, src.width, src.height, e.bytes);
+      for (size_t b = 0; b < e.bytes.size() / 16; ++b) {
+        const size_t bx = b % static_cast<size_t>(src.width / 4),
+                     by = b / static_cast<size_t>(src.width / 4);
+        bool same = true;
+        for (size_t t = 0; t < 16; ++t) {
+          const size_t at =
+              ((by * 4 + t / 4) * static_cast<size_t>(src.width) + bx * 4 + t % 4) * 4;
+          same = same && std::memcmp(&mine[at], &m.rgba[at], 4) == 0;
+        }
+        ++blocks;
+        mismatches += same ? 0 : 1;
+      }
+      p[q] = psnr(mine, src.rgba);
+    }
+    MesaImage in;
+    in.width = src.width;
+    in.height = src.height;
+    in.rgba = src.rgba;
+    const double p_mesa = psnr(
+        texsim_decode(mesa().encode_blocks(kGlBptcUnorm, in), src.width, src.height), src.rgba);
+    EXPECT_EQ(mismatches, 0) << name;
+    std::printf("| %s | %d | %d | %.2f | %.2f | %.2f | %.2f | %.2f |\n", name, blocks, mismatches,
+                p[0], p[1], p_mesa, secs[0], secs[1]);
+  }
+}
+
 }  // namespace

@@ -321,4 +321,38 @@ TEST(EtcEncoder, OtherFormatsAndBadImagesAreRefused) {
   EXPECT_EQ(e.provenance, "texsim etc encoder (ETC2_RGBA8, normal)");
 }
 
+// The figures of docs/compressed-files.md#encoders: whole textures, both efforts, against Mesa
+// (run with --gtest_also_run_disabled_tests; seconds of encoding on one thread).
+TEST(EtcEncoder, DISABLED_MeasureWholeTextures) {
+  REQUIRE_MESA(mesa());
+  using F = FileBlockFormat;
+  const std::vector<std::pair<Format, std::vector<const char*>>> runs = {
+      {{F::Etc2Rgb8, kGlRgb8Etc2, 4}, {"crate-base.png", "jellyfish-caustics-01.png"}},
+      {{F::Etc2Rgb8A1, kGlRgb8A1Etc2, 4}, {"desktop-window.png", "glyph-atlas.png"}},
+      {{F::Etc2Rgba8, kGlRgba8Etc2Eac, 4}, {"desktop-window.png", "glyph-atlas.png"}},
+      {{F::EacR11Unorm, kGlR11Eac, 1}, {"crate-base.png"}},
+      {{F::EacRg11Unorm, kGlRg11Eac, 2}, {"crate-base.png"}},
+  };
+  std::printf(
+      "| format | texture | blocks | mismatches | PSNR fast | PSNR normal | s fast | s normal |\n");
+  for (const auto& [f, names] : runs) {
+    for (const char* name : names) {
+      const Rgba8Image src = load_rgba(kDir + name);
+      std::array<Result, 2> r{};
+      std::array<double, 2> secs{};
+      for (size_t q = 0; q < 2; ++q) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const EncodedLevel e =
+            etc_encode(src, f.format, q == 0 ? EtcEffort::Fast : EtcEffort::Normal);
+        secs[q] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        r[q] = validate(f, src, e);
+        EXPECT_EQ(r[q].mismatches, 0) << name;
+      }
+      std::printf("| %s | %s | %d | %d | %.2f | %.2f | %.2f | %.2f |\n", format_name(f.format),
+                  name, r[0].blocks + r[1].blocks, r[0].mismatches + r[1].mismatches, r[0].psnr,
+                  r[1].psnr, secs[0], secs[1]);
+    }
+  }
+}
+
 }  // namespace
