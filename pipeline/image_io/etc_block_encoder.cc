@@ -513,7 +513,7 @@ EtcPixels etc_reconstruct_rgb(const EtcBlock& b, bool punch_through) {
   const bool opaque = !punch_through || field(w, 33, 1) == 1;
   EtcPixels out{};
   const auto set = [&](int x, int y, const Rgb& c, bool clear) {
-    auto& p = out[static_cast<size_t>(y * 4 + x)];
+    auto& p = out[static_cast<size_t>(y) * 4 + static_cast<size_t>(x)];
     for (size_t k = 0; k < 3; ++k) p[k] = static_cast<uint8_t>(clear ? 0 : c[k]);
     p[3] = clear ? 0 : 255;
   };

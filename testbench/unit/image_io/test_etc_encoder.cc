@@ -93,8 +93,8 @@ std::array<std::array<int, 4>, 16> texsim_decode(const Format& f, const uint8_t*
       break;
     default:
       for (int c = 0; c < f.channels; ++c) {
-        const EacDecoder::Values11 v =
-            EacDecoder().decode_r11(std::span<const uint8_t, 8>(b + 8 * c, 8));
+        const EacDecoder::Values11 v = EacDecoder().decode_r11(
+            std::span<const uint8_t, 8>(b + static_cast<ptrdiff_t>(8) * c, 8));
         for (size_t i = 0; i < 16; ++i) out[i][static_cast<size_t>(c)] = unorm16(v[i]);
       }
   }
