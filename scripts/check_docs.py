@@ -127,7 +127,7 @@ def check_line(doc, line, misses, where):
         if c.startswith(TOP) and ' ' not in c and not path_exists(c):
             misses.append(f'{where}: no file {c}')
         s = re.match(r'texsim ([a-z][\w-]*)', c)
-        if s and ':' not in c and s.group(1) not in subcommands():  # a ':' makes it a message
+        if s and not re.search(r'[:(]', c) and s.group(1) not in subcommands():  # a message
             misses.append(f'{where}: no subcommand {c}')
         for k in re.findall(r'--set\s+\'?([\w.]+)=', c):
             if not k.isupper() and k.split('.')[-1] not in literals:  # KEY: a placeholder

@@ -10,8 +10,8 @@
 # conversion, in the import's child process and then in-process; also the child's stream through
 # the parent's reader; seeded with Assimp's known crash too), fuzz_npz (.npz archives and .npy arrays through the DEM reader), fuzz_png (PNG bytes
 # through the libpng reader of reference frames, and what it decodes back through the writer),
-# fuzz_dds and fuzz_astc_file (DDS and .astc bytes through the strict compressed-texture
-# readers, and what they read back through the writers), fuzz_sweep (sweep files
+# fuzz_dds, fuzz_astc_file and fuzz_ktx (DDS, .astc and KTX bytes through the strict
+# compressed-texture readers, and what they read back through the writers), fuzz_sweep (sweep files
 # through the grid's expansion, the job list and the Slurm script), fuzz_merge_json (job.json
 # and report.json through merge), fuzz_tune_shard (tune_shard.json as `tune --merge` reads it)
 # and fuzz_link_host (the input plays the board behind LinkHost; -timeout=5 catches a host
@@ -29,7 +29,7 @@ CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -D
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
   -DTEXSIM_BUILD_BENCH=OFF -DTEXSIM_WERROR=OFF > /dev/null
 cmake --build "$build" -j "$(nproc)" --target fuzz_trace_reader fuzz_draw_trace fuzz_apitrace_dump fuzz_csv_reader fuzz_scene \
-  fuzz_obj fuzz_model fuzz_npz fuzz_png fuzz_dds fuzz_astc_file fuzz_sweep fuzz_merge_json fuzz_tune_shard fuzz_link_host fuzz_cache_entry
+  fuzz_obj fuzz_model fuzz_npz fuzz_png fuzz_dds fuzz_astc_file fuzz_ktx fuzz_sweep fuzz_merge_json fuzz_tune_shard fuzz_link_host fuzz_cache_entry
 run() {  # run NAME CORPUS [ENV=VALUE]
   local name=$1 seeds=$2; shift 2
   local work="$build/corpus/$name${1:+-crc}"
@@ -62,5 +62,6 @@ run fuzz_npz testbench/fuzz/corpus/npz
 run fuzz_png testbench/fuzz/corpus/png
 run fuzz_dds testbench/fuzz/corpus/dds
 run fuzz_astc_file testbench/fuzz/corpus/astc_file
+run fuzz_ktx testbench/fuzz/corpus/ktx
 run fuzz_cache_entry testbench/fuzz/corpus/cache_entry
 echo "fuzz: no findings in ${secs} s per harness"

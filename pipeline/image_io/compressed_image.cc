@@ -12,6 +12,10 @@ const char* format_name(FileBlockFormat f) {
       return "BC1_UNORM";
     case FileBlockFormat::Bc1Srgb:
       return "BC1_UNORM_SRGB";
+    case FileBlockFormat::Bc1RgbUnorm:
+      return "BC1_RGB_UNORM";
+    case FileBlockFormat::Bc1RgbSrgb:
+      return "BC1_RGB_UNORM_SRGB";
     case FileBlockFormat::Bc2Unorm:
       return "BC2_UNORM";
     case FileBlockFormat::Bc2Srgb:
@@ -32,8 +36,30 @@ const char* format_name(FileBlockFormat f) {
       return "BC7_UNORM";
     case FileBlockFormat::Bc7Srgb:
       return "BC7_UNORM_SRGB";
+    case FileBlockFormat::Etc2Rgb8:
+      return "ETC2_RGB8";
+    case FileBlockFormat::Etc2Rgb8Srgb:
+      return "ETC2_RGB8_SRGB";
+    case FileBlockFormat::Etc2Rgb8A1:
+      return "ETC2_RGB8A1";
+    case FileBlockFormat::Etc2Rgb8A1Srgb:
+      return "ETC2_RGB8A1_SRGB";
+    case FileBlockFormat::Etc2Rgba8:
+      return "ETC2_RGBA8";
+    case FileBlockFormat::Etc2Rgba8Srgb:
+      return "ETC2_RGBA8_SRGB";
+    case FileBlockFormat::EacR11Unorm:
+      return "EAC_R11_UNORM";
+    case FileBlockFormat::EacR11Snorm:
+      return "EAC_R11_SNORM";
+    case FileBlockFormat::EacRg11Unorm:
+      return "EAC_RG11_UNORM";
+    case FileBlockFormat::EacRg11Snorm:
+      return "EAC_RG11_SNORM";
     case FileBlockFormat::Astc:
       return "ASTC";
+    case FileBlockFormat::AstcSrgb:
+      return "ASTC_SRGB";
   }
   return "unknown";
 }
@@ -42,17 +68,34 @@ int format_block_bytes(FileBlockFormat f) {
   switch (f) {
     case FileBlockFormat::Bc1Unorm:
     case FileBlockFormat::Bc1Srgb:
+    case FileBlockFormat::Bc1RgbUnorm:
+    case FileBlockFormat::Bc1RgbSrgb:
     case FileBlockFormat::Bc4Unorm:
     case FileBlockFormat::Bc4Snorm:
+    case FileBlockFormat::Etc2Rgb8:
+    case FileBlockFormat::Etc2Rgb8Srgb:
+    case FileBlockFormat::Etc2Rgb8A1:
+    case FileBlockFormat::Etc2Rgb8A1Srgb:
+    case FileBlockFormat::EacR11Unorm:
+    case FileBlockFormat::EacR11Snorm:
       return 8;
     default:
       return 16;
   }
 }
 
+bool is_astc(FileBlockFormat f) {
+  return f == FileBlockFormat::Astc || f == FileBlockFormat::AstcSrgb;
+}
+
+bool is_etc(FileBlockFormat f) {
+  return f >= FileBlockFormat::Etc2Rgb8 && f <= FileBlockFormat::EacRg11Snorm;
+}
+
 std::string CompressedImage::format_label() const {
-  if (format != FileBlockFormat::Astc) return format_name(format);
-  return "ASTC " + std::to_string(block_w) + "x" + std::to_string(block_h);
+  if (!is_astc(format)) return format_name(format);
+  return std::string(format_name(format)) + " " + std::to_string(block_w) + "x" +
+         std::to_string(block_h);
 }
 
 uint64_t level_block_count(uint64_t w, uint64_t h, int bw, int bh) {
@@ -78,11 +121,11 @@ void check_compressed_image(const CompressedImage& img, const std::string& where
   if (img.levels.size() > max_mip_levels(img.width, img.height))
     fail(std::to_string(img.levels.size()) + " levels, more than a " + std::to_string(img.width) +
          " x " + std::to_string(img.height) + " image has");
-  if (img.format == FileBlockFormat::Astc) {
+  if (is_astc(img.format)) {
     if (img.block_w < 4 || img.block_w > 12 || img.block_h < 4 || img.block_h > 12)
       fail("ASTC block footprint out of range");
   } else if (img.block_w != 4 || img.block_h != 4) {
-    fail("BC formats have 4x4 blocks");
+    fail("BC, ETC2 and EAC formats have 4x4 blocks");
   }
   if (img.block_bytes != format_block_bytes(img.format))
     fail("block bytes do not match " + std::string(format_name(img.format)));

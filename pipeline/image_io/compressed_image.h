@@ -1,8 +1,8 @@
 #pragma once
-// A block-compressed texture as the container files hold it (DDS, .astc): the format, the size
-// of level 0, the block footprint and, per mip level, its size and its blocks' bytes (blocks
-// row-major, ceil(w / block_w) x ceil(h / block_h) of them). The readers (dds_file.h,
-// astc_file.h) check every size against the file; the encoders produce one level of it.
+// A block-compressed texture as the container files hold it (DDS, .astc, KTX): the format, the
+// size of level 0, the block footprint and, per mip level, its size and its blocks' bytes
+// (blocks row-major, ceil(w / block_w) x ceil(h / block_h) of them). The readers (dds_file.h,
+// astc_file.h, ktx_file.h) check every size against the file; the encoders produce one level.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -10,8 +10,10 @@
 namespace texsim {
 
 enum class FileBlockFormat {
-  Bc1Unorm,
+  Bc1Unorm,  // BC1 with its 1-bit alpha (DDS, GL_COMPRESSED_RGBA_S3TC_DXT1_EXT)
   Bc1Srgb,
+  Bc1RgbUnorm,  // BC1 read as opaque RGB (KTX's GL_COMPRESSED_RGB_S3TC_DXT1_EXT)
+  Bc1RgbSrgb,
   Bc2Unorm,
   Bc2Srgb,
   Bc3Unorm,
@@ -22,13 +24,31 @@ enum class FileBlockFormat {
   Bc5Snorm,
   Bc7Unorm,
   Bc7Srgb,
-  Astc,  // 2-D ASTC, any of the 14 2-D block footprints (block_w x block_h)
+  Etc2Rgb8,
+  Etc2Rgb8Srgb,
+  Etc2Rgb8A1,
+  Etc2Rgb8A1Srgb,
+  Etc2Rgba8,
+  Etc2Rgba8Srgb,
+  EacR11Unorm,
+  EacR11Snorm,
+  EacRg11Unorm,
+  EacRg11Snorm,
+  Astc,      // 2-D LDR ASTC, any of the 14 2-D block footprints (block_w x block_h)
+  AstcSrgb,  // the same with sRGB colours (KTX files name it; .astc files cannot)
 };
+// The enum's last value: stored formats above it are not formats (encoded_level_cache.cc).
+inline constexpr FileBlockFormat kLastFileBlockFormat = FileBlockFormat::AstcSrgb;
 
-// "BC1_UNORM", "BC7_SRGB", "ASTC" (the DXGI spelling without the DXGI_FORMAT_ prefix).
+// "BC1_UNORM", "BC7_UNORM_SRGB" (the DXGI spelling without the DXGI_FORMAT_ prefix),
+// "ETC2_RGB8", "EAC_R11_SNORM", "ASTC", "ASTC_SRGB".
 const char* format_name(FileBlockFormat f);
-// Bytes per block: 8 for BC1 and BC4, 16 for the others.
+// Bytes per block: 8 for BC1 (either kind), BC4, ETC2 RGB8 / RGB8A1 and EAC R11, 16 for the others.
 int format_block_bytes(FileBlockFormat f);
+// Whether blocks of `f` are ASTC (any footprint, either colour space).
+bool is_astc(FileBlockFormat f);
+// Whether blocks of `f` are ETC2 or EAC (4x4 blocks).
+bool is_etc(FileBlockFormat f);
 
 struct CompressedLevel {
   uint32_t width = 0, height = 0;
@@ -42,7 +62,7 @@ struct CompressedImage {
   int block_bytes = 8;
   std::vector<CompressedLevel> levels;  // level 0 first
 
-  // "BC1_UNORM", or "ASTC 6x6" with the footprint.
+  // "BC1_UNORM", or "ASTC 6x6" / "ASTC_SRGB 6x6" with the footprint.
   std::string format_label() const;
 };
 

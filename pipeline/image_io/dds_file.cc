@@ -205,8 +205,12 @@ CompressedImage read_dds_file(const std::string& path) {
 
 std::string dds_bytes(const CompressedImage& img, bool dx10, const std::string& where) {
   check_compressed_image(img, where);
-  if (img.format == FileBlockFormat::Astc)
+  if (is_astc(img.format))
     throw InputError(where, "cannot write: ASTC is not stored in DDS files here");
+  if (is_etc(img.format) || img.format == FileBlockFormat::Bc1RgbUnorm ||
+      img.format == FileBlockFormat::Bc1RgbSrgb)
+    throw InputError(where, std::string("cannot write: ") + format_name(img.format) +
+                                " is not stored in DDS files (KTX files hold it)");
   std::optional<uint32_t> legacy;
   for (const FourCCFormat& f : kFourCCs)
     if (f.format == img.format && f.code != fourcc("ATI1") && f.code != fourcc("ATI2"))

@@ -80,7 +80,7 @@ MemoryLayer& memory() {
 std::string encoder_library_versions() {
   return std::string("libsquish ") + TEXSIM_SQUISH_VERSION + "; NVIDIA Texture Tools " +
          TEXSIM_NVTT_VERSION + "; libastcenc " + TEXSIM_ASTCENC_VERSION + "; texsim " +
-         TEXSIM_VERSION;
+         TEXSIM_VERSION + "; texsim encoders r" + std::to_string(kTexsimEncoderRevision);
 }
 
 EncodedLevelKey encoded_level_key(const std::string& encoder_identity, const Rgba8Image& img) {
@@ -121,7 +121,7 @@ EncodedLevel decode_level_entry(std::string_view b, const std::string& path,
     throw InputError(path, "entry version " + std::to_string(get_le(b, 8, 4)) + ", expected " +
                                std::to_string(kEncodedLevelEntryVersion));
   const uint64_t format = get_le(b, 12, 4);
-  if (format > static_cast<uint64_t>(FileBlockFormat::Astc))
+  if (format > static_cast<uint64_t>(kLastFileBlockFormat))
     throw InputError(path, "unknown block format " + std::to_string(format));
   EncodedLevelKey key{};
   std::memcpy(key.data(), b.data() + 16, key.size());
@@ -133,7 +133,7 @@ EncodedLevel decode_level_entry(std::string_view b, const std::string& path,
   const uint64_t bw = get_le(b, 56, 4), bh = get_le(b, 60, 4);
   const uint64_t payload = get_le(b, 64, 8), crc = get_le(b, 72, 8);
   const uint64_t prov = get_le(b, 80, 4);
-  const bool astc = l.format == FileBlockFormat::Astc;
+  const bool astc = is_astc(l.format);
   if (w == 0 || h == 0 || w > 65536 || h > 65536 || bw < 4 || bh < 4 || bw > 12 || bh > 12 ||
       (!astc && (bw != 4 || bh != 4)))
     throw InputError(path, "level of " + std::to_string(w) + " x " + std::to_string(h) +

@@ -30,8 +30,13 @@ using EncodedLevelKey = Sha256::Digest;
 // version, and the image's size and texels.
 EncodedLevelKey encoded_level_key(const std::string& encoder_identity, const Rgba8Image& img);
 
-// The libraries' versions the key includes ("libsquish 1.15; NVIDIA Texture Tools 2.0.8; …").
+// The libraries' versions the key includes ("libsquish 1.15; NVIDIA Texture Tools 2.0.8; …;
+// texsim encoders rN").
 std::string encoder_library_versions();
+
+// The revision of texsim's own encoders (etc_encoder.h, bc7_encoder.h), part of every key: raise
+// it with any change that alters their blocks, so that no cache serves the old encoder's levels.
+inline constexpr int kTexsimEncoderRevision = 1;
 
 // The on-disk entry (format version kEncodedLevelEntryVersion, little-endian).
 inline constexpr uint32_t kEncodedLevelEntryVersion = 1;

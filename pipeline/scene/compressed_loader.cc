@@ -8,8 +8,11 @@
 #include "blocks/texture/decode/compressed_texture.h"
 #include "pipeline/image_io/astc_file.h"
 #include "pipeline/image_io/astcenc_encoder.h"
+#include "pipeline/image_io/bc7_encoder.h"
 #include "pipeline/image_io/dds_file.h"
 #include "pipeline/image_io/encoded_level_cache.h"
+#include "pipeline/image_io/etc_encoder.h"
+#include "pipeline/image_io/ktx_file.h"
 #include "pipeline/image_io/nvtt_encoder.h"
 #include "pipeline/image_io/squish_encoder.h"
 
@@ -52,6 +55,18 @@ FileBlockFormat file_format(CompressedFormat f) {
       return FileBlockFormat::Bc4Unorm;
     case CompressedFormat::Bc5:
       return FileBlockFormat::Bc5Unorm;
+    case CompressedFormat::Bc7:
+      return FileBlockFormat::Bc7Unorm;
+    case CompressedFormat::Etc2Rgb8:
+      return FileBlockFormat::Etc2Rgb8;
+    case CompressedFormat::Etc2Rgb8A1:
+      return FileBlockFormat::Etc2Rgb8A1;
+    case CompressedFormat::Etc2Rgba8:
+      return FileBlockFormat::Etc2Rgba8;
+    case CompressedFormat::EacR11:
+      return FileBlockFormat::EacR11Unorm;
+    case CompressedFormat::EacRg11:
+      return FileBlockFormat::EacRg11Unorm;
     default:
       return FileBlockFormat::Astc;
   }
@@ -71,6 +86,13 @@ EncodedLevel encode_level(const Rgba8Image& img, const SceneTexture::Compress& c
                                                       : NvttQuality::Normal;
     return nvtt_encode(img, file_format(c.format), q);
   }
+  if (c.encoder == "texsim" && c.format == CompressedFormat::Bc7)
+    return bc7_encode(img, FileBlockFormat::Bc7Unorm,
+                      c.quality == "fast" ? Bc7Quality::Fast : Bc7Quality::Normal);
+  if (c.encoder == "texsim") {
+    const EtcEffort effort = c.quality == "fast" ? EtcEffort::Fast : EtcEffort::Normal;
+    return etc_encode(img, file_format(c.format), effort);
+  }
   AstcencOptions o;
   o.block_w = info.block_w;
   o.block_h = info.block_h;
@@ -84,12 +106,17 @@ EncodedLevel encode_level(const Rgba8Image& img, const SceneTexture::Compress& c
 // The texsim format of a file's blocks, and whether its colours are sRGB.
 CompressedFormat texsim_format(const CompressedImage& img, bool& srgb, const std::string& path) {
   using F = FileBlockFormat;
-  srgb = img.format == F::Bc1Srgb || img.format == F::Bc2Srgb || img.format == F::Bc3Srgb ||
-         img.format == F::Bc7Srgb;
+  srgb = img.format == F::Bc1Srgb || img.format == F::Bc1RgbSrgb || img.format == F::Bc2Srgb ||
+         img.format == F::Bc3Srgb || img.format == F::Bc7Srgb || img.format == F::Etc2Rgb8Srgb ||
+         img.format == F::Etc2Rgb8A1Srgb || img.format == F::Etc2Rgba8Srgb ||
+         img.format == F::AstcSrgb;
   switch (img.format) {
     case F::Bc1Unorm:
     case F::Bc1Srgb:
       return CompressedFormat::Bc1Rgba;  // DDS BC1 has the 1-bit alpha of its 3-colour mode
+    case F::Bc1RgbUnorm:
+    case F::Bc1RgbSrgb:
+      return CompressedFormat::Bc1Rgb;
     case F::Bc2Unorm:
     case F::Bc2Srgb:
       return CompressedFormat::Bc2;
@@ -107,7 +134,25 @@ CompressedFormat texsim_format(const CompressedImage& img, bool& srgb, const std
     case F::Bc7Unorm:
     case F::Bc7Srgb:
       return CompressedFormat::Bc7;
+    case F::Etc2Rgb8:
+    case F::Etc2Rgb8Srgb:
+      return CompressedFormat::Etc2Rgb8;
+    case F::Etc2Rgb8A1:
+    case F::Etc2Rgb8A1Srgb:
+      return CompressedFormat::Etc2Rgb8A1;
+    case F::Etc2Rgba8:
+    case F::Etc2Rgba8Srgb:
+      return CompressedFormat::Etc2Rgba8;
+    case F::EacR11Unorm:
+      return CompressedFormat::EacR11;
+    case F::EacR11Snorm:
+      return CompressedFormat::EacR11Snorm;
+    case F::EacRg11Unorm:
+      return CompressedFormat::EacRg11;
+    case F::EacRg11Snorm:
+      return CompressedFormat::EacRg11Snorm;
     case F::Astc:
+    case F::AstcSrgb:
       break;
   }
   const std::string name =
@@ -127,11 +172,19 @@ bool made_by_squish(CompressedFormat f) {
 bool made_by_nvtt_only(CompressedFormat f) {
   return f == CompressedFormat::Bc4 || f == CompressedFormat::Bc5;
 }
+// texsim's own encoders: BC7, ETC2 / EAC (UNORM; the SNORM EAC formats come only from files,
+// as BC4 / BC5 SNORM do: an 8-bit texture has no signed view).
+bool made_by_texsim(CompressedFormat f) {
+  return f == CompressedFormat::Bc7 || f == CompressedFormat::Etc2Rgb8 ||
+         f == CompressedFormat::Etc2Rgb8A1 || f == CompressedFormat::Etc2Rgba8 ||
+         f == CompressedFormat::EacR11 || f == CompressedFormat::EacRg11;
+}
 }  // namespace
 
 std::string default_encoder(CompressedFormat f) {
   if (made_by_squish(f)) return "squish";
   if (made_by_nvtt_only(f)) return "nvtt";
+  if (made_by_texsim(f)) return "texsim";
   return format_info(f).family == CodecFamily::Astc ? "astcenc" : "";
 }
 
@@ -139,6 +192,7 @@ bool encoder_makes(const std::string& encoder, CompressedFormat f) {
   if (encoder == "squish") return made_by_squish(f);
   if (encoder == "nvtt") return made_by_squish(f) || made_by_nvtt_only(f);
   if (encoder == "astcenc") return format_info(f).family == CodecFamily::Astc;
+  if (encoder == "texsim") return made_by_texsim(f);
   return false;
 }
 
@@ -146,6 +200,7 @@ std::vector<std::string> encoder_qualities(const std::string& encoder) {
   if (encoder == "squish") return {"range", "cluster", "iterative-cluster"};
   if (encoder == "nvtt") return {"fastest", "normal", "production"};
   if (encoder == "astcenc") return {"fastest", "fast", "medium", "thorough"};
+  if (encoder == "texsim") return {"fast", "normal"};
   return {};
 }
 
@@ -172,14 +227,16 @@ bool is_compressed_file(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-  return ext == ".dds" || ext == ".astc";
+  return ext == ".dds" || ext == ".astc" || ext == ".ktx";
 }
 
 Texture load_compressed_file(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-  const CompressedImage img = ext == ".dds" ? read_dds_file(path) : read_astc_file(path);
+  const CompressedImage img = ext == ".dds"   ? read_dds_file(path)
+                              : ext == ".ktx" ? read_ktx_file(path)
+                                              : read_astc_file(path);
   bool srgb = false;
   auto blocks = std::make_shared<Texture::Blocks>();
   blocks->format = texsim_format(img, srgb, path);

@@ -95,8 +95,8 @@ void parse_camera(const ConfigReader& top, Scene& s, Camera& c) {
 }
 
 // `compress = { format, encoder, quality }`: the encoder defaults to the one Debian has for the
-// format (squish for BC1-BC3, nvtt for BC4/BC5, astcenc for ASTC); formats no encoder makes
-// (BC7, ETC2, EAC) come only from files.
+// format (squish for BC1-BC3, nvtt for BC4/BC5, astcenc for ASTC) or texsim's own (ETC2, EAC,
+// BC7); formats no encoder makes (the SNORM ones) come only from files.
 SceneTexture::Compress parse_compress(const ConfigReader& tr, const std::string& path,
                                       const std::string& name) {
   if (!tr.subtable("compress")) tr.fail("compress", "expected a table { format = \"…\", ... }");
@@ -113,10 +113,11 @@ SceneTexture::Compress parse_compress(const ConfigReader& tr, const std::string&
   out.encoder = c.get_string("encoder", def);
   if (!encoder_makes(out.encoder, *fmt)) {
     c.fail(def.empty() ? "format" : "encoder",
-           def.empty() ? "no encoder makes '" + f + "' (load it from a .dds or .astc file)"
+           def.empty() ? "no encoder makes '" + f + "' (load it from a .dds or .ktx file)"
                        : "encoder '" + out.encoder + "' cannot make '" + f +
                              "' (squish: bc1_rgb, bc1_rgba, bc2, bc3; nvtt: those and bc4, bc5; "
-                             "astcenc: astc_*)");
+                             "astcenc: astc_*; texsim: bc7, etc2_rgb8, etc2_rgb8a1, etc2_rgba8, "
+                             "eac_r11, eac_rg11)");
   }
   out.quality = c.get_string("quality", "");
   const std::vector<std::string> levels = encoder_qualities(out.encoder);

@@ -52,7 +52,7 @@ Texture load_texture(const std::string& source, const std::string& base_dir,
   if (is_procedural_source(source)) return make_procedural_texture(source, source);
   const std::string path = resolve_texture_path(source, base_dir);
   if (is_npz_source(path)) return npz_height_texture(path);         // a DEM height field
-  if (is_compressed_file(path)) return load_compressed_file(path);  // DDS or .astc blocks
+  if (is_compressed_file(path)) return load_compressed_file(path);  // DDS, .astc or KTX blocks
   // Only regular files of at most 2 GiB: a device or FIFO (e.g. /dev/zero) would never end.
   check_input_file(path, "texture file", kMaxFileBytes);
   // Texture files of every format are read by OpenImageIO, loaded here on first use.

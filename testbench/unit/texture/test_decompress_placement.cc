@@ -17,6 +17,8 @@
 #include "blocks/texture/decode/compressed_texture.h"
 #include "pipeline/app/run.h"
 #include "pipeline/image_io/dds_file.h"
+#include "pipeline/image_io/etc_encoder.h"
+#include "pipeline/image_io/ktx_file.h"
 #include "pipeline/image_io/squish_encoder.h"
 #include "pipeline/texture/block_decompressor.h"
 #include "testbench/lib/temp_dir.h"
@@ -201,8 +203,8 @@ TEST(DecompressPlacement, BadKeysNameTheSceneLine) {
   EXPECT_NE(unknown.find("unknown compressed format 'bc9'"), std::string::npos) << unknown;
   const std::string wrong = scene_error("compress = { format = \"bc4\", encoder = \"squish\" }");
   EXPECT_NE(wrong.find("encoder 'squish' cannot make 'bc4'"), std::string::npos) << wrong;
-  const std::string none = scene_error("compress = { format = \"etc2_rgb8\" }");
-  EXPECT_NE(none.find("no encoder makes 'etc2_rgb8'"), std::string::npos) << none;
+  const std::string none = scene_error("compress = { format = \"eac_r11_snorm\" }");
+  EXPECT_NE(none.find("no encoder makes 'eac_r11_snorm'"), std::string::npos) << none;
   const std::string quality =
       scene_error("compress = { format = \"astc_4x4\", quality = \"slow\" }");
   EXPECT_NE(quality.find("unknown astcenc quality 'slow'"), std::string::npos) << quality;
@@ -218,6 +220,45 @@ TEST(DecompressPlacement, BadKeysNameTheSceneLine) {
     return std::string();
   }();
   EXPECT_NE(l2.find("\"after_l2\" needs an L2"), std::string::npos) << l2;
+}
+
+// ETC2, EAC and BC7 are encoded by texsim's own encoders (their default), named in the
+// report's textures[]; a KTX file of ETC2 blocks is a texture of its blocks.
+TEST(DecompressPlacement, TexsimEncodersAndKtxFilesMakeTextures) {
+  TempDir dir("decompress_texsim");
+  const auto with = [](const std::string& compress) {
+    std::string scene = kScene;
+    const size_t at = scene.find("compress =");
+    scene.replace(at, scene.find('\n', at) - at, compress);
+    return scene;
+  };
+  for (const auto& [format, label] : std::vector<std::pair<std::string, std::string>>{
+           {"etc2_rgba8", "(etc2_rgba8,texsim) [texsim etc encoder (ETC2_RGBA8, normal)]"},
+           {"eac_rg11", "[texsim etc encoder (EAC_RG11_UNORM, normal)]"},
+           {"bc7", "(bc7,texsim) [texsim bc7 encoder (modes 6 and 5, normal)]"}}) {
+    const Outcome o = run_scene(with("compress = { format = \"" + format + "\" }"), dir, {});
+    EXPECT_GT(o.report["decompress"]["blocks_by_format"][format].get<uint64_t>(), 0u) << format;
+    const std::string t = o.report["textures"][0].get<std::string>();
+    EXPECT_NE(t.find(label), std::string::npos) << t;
+  }
+  const std::string fast = scene_error("compress = { format = \"bc7\", quality = \"slow\" }");
+  EXPECT_NE(fast.find("unknown texsim quality 'slow' (one of fast, normal)"), std::string::npos)
+      << fast;
+  Rgba8Image img{32, 16, {}};
+  for (int i = 0; i < 32 * 16; ++i) {
+    img.rgba.insert(img.rgba.end(), {static_cast<uint8_t>(i * 7), static_cast<uint8_t>(i),
+                                     static_cast<uint8_t>(255 - i / 2), 255});
+  }
+  write_ktx_file(dir.file("t.ktx"),
+                 as_compressed_image(etc_encode(img, FileBlockFormat::Etc2Rgb8, EtcEffort::Fast)));
+  std::string scene = with("");
+  scene.replace(scene.find("procedural:checker?size=64&cells=8"),
+                std::string("procedural:checker?size=64&cells=8").size(), "t.ktx");
+  const Outcome o = run_scene(scene, dir, {});
+  EXPECT_GT(o.report["decompress"]["blocks_by_format"]["etc2_rgb8"].get<uint64_t>(), 0u);
+  EXPECT_NE(o.report["textures"][0].get<std::string>().find("[file t.ktx (ETC2_RGB8)]"),
+            std::string::npos)
+      << o.report["textures"][0];
 }
 
 // The covered pixels of `img` on its canvas (the buffers of a scene run and a trace run may
@@ -270,7 +311,7 @@ TEST(DecompressPlacement, AnUnknownStorageInATraceNamesTheFileAndTheEntry) {
            {"format=rgb999", "unknown texel format 'rgb999'"},
            {"compress=bc9", "unknown compressed format 'bc9'"},
            {"compress=bc4,squish", "encoder 'squish' cannot make 'bc4'"},
-           {"compress=etc2_rgb8", "no encoder makes 'etc2_rgb8'"},
+           {"compress=eac_r11_snorm", "no encoder makes 'eac_r11_snorm'"},
            {"compress=astc_4x4,astcenc,slow", "unknown astcenc quality 'slow'"},
            {"compress=bc1_rgb,squish,range,x", "more than FORMAT,ENCODER,QUALITY"}}) {
     std::ofstream(trc) << "# texture 0 floor procedural:checker?size=64&cells=8 64 64 " << storage

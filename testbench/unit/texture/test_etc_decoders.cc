@@ -1,8 +1,8 @@
 // ETC2 / EAC decoders (blocks/texture/decode/): directed blocks of every mode with values
 // worked out from the Khronos Data Format Specification 1.3 tables, and every block of real
-// textures (encoded by the test encoder in every mode) and of random bytes decoded by Mesa
-// (llvmpipe's glGetTexImage of glCompressedTexImage2D) as the independent decoder: 0
-// mismatches.
+// textures (encoded in every mode by etc_encode_rgb_mode / eac_encode_mode) and of random bytes
+// decoded by Mesa (llvmpipe's glGetTexImage of glCompressedTexImage2D) as the independent decoder:
+// 0 mismatches.
 #include <gtest/gtest.h>
 #include <png.h>
 
@@ -23,8 +23,8 @@
 #include "blocks/texture/decode/eac_rg_decoder.h"
 #include "blocks/texture/decode/etc2_rgb_decoder.h"
 #include "blocks/texture/decode/etc2_rgba_decoder.h"
+#include "pipeline/image_io/etc_block_encoder.h"
 #include "pipeline/reference/mesa_peer.h"
-#include "testbench/lib/etc_test_encoder.h"
 
 namespace {
 
@@ -491,8 +491,8 @@ const std::vector<Image>& textures() {
   return images;
 }
 
-EtcTestPixels pixels(const Image& img, int bx, int by) {
-  EtcTestPixels px{};
+EtcPixels pixels(const Image& img, int bx, int by) {
+  EtcPixels px{};
   for (int y = 0; y < 4; ++y) {
     for (int x = 0; x < 4; ++x) {
       const size_t i = (static_cast<size_t>(by * 4 + y) * static_cast<size_t>(img.width) +
@@ -521,7 +521,7 @@ struct Compressed {
 
 // The image's blocks, each made of `make(pixels, bx, by)`'s bytes.
 Compressed encode(const Image& img, size_t block_bytes,
-                  const std::function<std::vector<uint8_t>(const EtcTestPixels&, int, int)>& make) {
+                  const std::function<std::vector<uint8_t>(const EtcPixels&, int, int)>& make) {
   Compressed c{img.width / 4, img.height / 4, block_bytes, {}};
   for (int by = 0; by < c.bh; ++by) {
     for (int bx = 0; bx < c.bw; ++bx) {
@@ -540,9 +540,9 @@ Compressed random_blocks(size_t block_bytes, uint64_t seed) {
   return c;
 }
 
-EtcTestMode mode_at(int bx, int by) { return static_cast<EtcTestMode>((bx + by) % 5); }
+EtcMode mode_at(int bx, int by) { return static_cast<EtcMode>((bx + by) % 5); }
 std::vector<uint8_t> vec(const std::array<uint8_t, 8>& a) { return {a.begin(), a.end()}; }
-std::array<int, 16> channel(const EtcTestPixels& px, size_t k, int offset) {
+std::array<int, 16> channel(const EtcPixels& px, size_t k, int offset) {
   std::array<int, 16> v{};
   for (size_t i = 0; i < 16; ++i) v[i] = std::clamp(px[i][k] + offset, -127, 255);
   return v;
@@ -636,8 +636,8 @@ void check_rgb(const Etc2RgbDecoder& dec, uint32_t gl_format) {
   int transparent_blocks = 0;
   ASSERT_FALSE(textures().empty());
   for (const Image& img : textures()) {
-    const Compressed c = encode(img, 8, [&](const EtcTestPixels& px, int bx, int by) {
-      return vec(etc_test_encode_rgb(px, mode_at(bx, by), punch));
+    const Compressed c = encode(img, 8, [&](const EtcPixels& px, int bx, int by) {
+      return vec(etc_encode_rgb_mode(px, mode_at(bx, by), punch));
     });
     const Tally t = compare<uint8_t>(mesa(), c, gl_format, kGlRgba, 4, expect(c));
     EXPECT_EQ(t.mismatches, 0) << dec.name() << " " << img.name << ": " << t.first;
@@ -685,10 +685,10 @@ TEST(EtcMesa, Rgba8EveryBlockOfTexturesAndRandomBlocks) {
     return [&dec, &c](int bx, int by) { return from_rgba8(dec.decode_rgba8(c.block<16>(bx, by))); };
   };
   for (const Image& img : textures()) {
-    const Compressed c = encode(img, 16, [](const EtcTestPixels& px, int bx, int by) {
+    const Compressed c = encode(img, 16, [](const EtcPixels& px, int bx, int by) {
       std::vector<uint8_t> b =
-          vec(etc_test_encode_eac(channel(px, 3, 0), EacTestKind::Alpha8, (bx + by) % 7 == 0));
-      const std::vector<uint8_t> rgb = vec(etc_test_encode_rgb(px, mode_at(bx, by), false));
+          vec(eac_encode_mode(channel(px, 3, 0), EacKind::Alpha8, (bx + by) % 7 == 0));
+      const std::vector<uint8_t> rgb = vec(etc_encode_rgb_mode(px, mode_at(bx, by), false));
       b.insert(b.end(), rgb.begin(), rgb.end());
       return b;
     });
@@ -736,16 +736,15 @@ void check_eac(bool snorm, int channels) {
     std::printf("%s %s: %d blocks, %d mismatches\n", name.c_str(), what.c_str(), t.blocks,
                 t.mismatches);
   };
-  const EacTestKind kind = snorm ? EacTestKind::SignedR11 : EacTestKind::R11;
+  const EacKind kind = snorm ? EacKind::SignedR11 : EacKind::R11;
   const int offset = snorm ? -128 : 0;
   for (const Image& img : textures()) {
     run(encode(img, bytes,
-               [&](const EtcTestPixels& px, int bx, int by) {
+               [&](const EtcPixels& px, int bx, int by) {
                  const bool zero = (bx * 3 + by) % 4 == 0;
-                 std::vector<uint8_t> b =
-                     vec(etc_test_encode_eac(channel(px, 0, offset), kind, zero));
+                 std::vector<uint8_t> b = vec(eac_encode_mode(channel(px, 0, offset), kind, zero));
                  if (channels == 2) {
-                   const auto g = etc_test_encode_eac(channel(px, 1, offset), kind, !zero);
+                   const auto g = eac_encode_mode(channel(px, 1, offset), kind, !zero);
                    b.insert(b.end(), g.begin(), g.end());
                  }
                  return b;
