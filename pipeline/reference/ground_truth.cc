@@ -26,6 +26,12 @@ int address(long long i, int size, AddressMode m) {
       if (r < 0) r += period;
       return static_cast<int>(r < size ? r : period - 1 - r);
     }
+    case AddressMode::Border:  // -1: the border colour
+      return i < 0 || i >= size ? -1 : static_cast<int>(i);
+    case AddressMode::MirrorClamp: {
+      const long long r = i < 0 ? -(i + 1) : i;
+      return static_cast<int>(r < size ? r : size - 1);
+    }
   }
   return 0;
 }
@@ -58,6 +64,8 @@ long long texel_index(double f, int size) {
       return;
     }
     case AddressMode::Clamp:
+    case AddressMode::Border:
+    case AddressMode::MirrorClamp:
       a0 = address(i, size, m);
       a1 = address(i + 1, size, m);
       return;
@@ -94,10 +102,17 @@ const ByteToDouble kByte;
   return {c.r, c.g, c.b, c.a};
 }
 
+// A texel, or the border colour where border addressing left the level (-1).
+[[gnu::always_inline]] inline glm::dvec4 fetch(const Texture& t, int x, int y,
+                                               const glm::dvec4& border) {
+  return x < 0 || y < 0 ? border : fetch(t, x, y);
+}
+
 // reference_bilinear, inlined into the truths' sample loops (most of a run's reference time
 // is this function; the same arithmetic either way).
 [[gnu::always_inline]] inline glm::dvec4 bilinear_sample(const Texture& tex, AddressMode au,
-                                                         AddressMode av, double u, double v) {
+                                                         AddressMode av, double u, double v,
+                                                         const glm::dvec4& border) {
   const int w = tex.width(0), h = tex.height(0);
   if (!std::isfinite(u) || !std::isfinite(v)) return {0, 0, 0, 0};
   const double x = u * w - 0.5, y = v * h - 0.5;
@@ -108,6 +123,11 @@ const ByteToDouble kByte;
   int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
   address_pair(ix, w, au, x0, x1);
   address_pair(iy, h, av, y0, y1);
+  if (au == AddressMode::Border || av == AddressMode::Border) {
+    return (1 - a) * (1 - b) * fetch(tex, x0, y0, border) +
+           a * (1 - b) * fetch(tex, x1, y0, border) + (1 - a) * b * fetch(tex, x0, y1, border) +
+           a * b * fetch(tex, x1, y1, border);
+  }
   return (1 - a) * (1 - b) * fetch(tex, x0, y0) + a * (1 - b) * fetch(tex, x1, y0) +
          (1 - a) * b * fetch(tex, x0, y1) + a * b * fetch(tex, x1, y1);
 }
@@ -115,18 +135,19 @@ const ByteToDouble kByte;
 }  // namespace
 
 glm::dvec4 reference_bilinear(const Texture& tex, AddressMode au, AddressMode av, double u,
-                              double v) {
-  return bilinear_sample(tex, au, av, u, v);
+                              double v, const glm::dvec4& border) {
+  return bilinear_sample(tex, au, av, u, v, border);
 }
 
 namespace {
 
 void exact_points_portable(const Texture& tex, AddressMode au, AddressMode av, const PixelMap& pm,
-                           const double* dx, const double* dy, size_t n, glm::dvec4* out) {
+                           const double* dx, const double* dy, size_t n, glm::dvec4* out,
+                           const glm::dvec4& border) {
   for (size_t k = 0; k < n; ++k) {
     double u = 0, v = 0;
     pm.uv(dx[k], dy[k], u, v);
-    out[k] = bilinear_sample(tex, au, av, u, v);
+    out[k] = bilinear_sample(tex, au, av, u, v, border);
   }
 }
 
@@ -191,7 +212,7 @@ void exact_points_portable(const Texture& tex, AddressMode au, AddressMode av, c
                     _mm256_cvttpd_epi32(_mm256_blendv_pd(zero, fy0, fits)));
     for (int l = 0; l < 4; ++l) {
       if (!(fit_mask & (1 << l))) {
-        out[k + l] = bilinear_sample(tex, au, av, u[l], v[l]);
+        out[k + l] = bilinear_sample(tex, au, av, u[l], v[l], glm::dvec4(0));
         continue;
       }
       int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
@@ -233,15 +254,17 @@ bool exact_points_avx2_available() {
 
 void sample_exact_points(const Texture& tex, AddressMode au, AddressMode av, const PixelMap& pm,
                          const double* dx, const double* dy, size_t n, glm::dvec4* out,
-                         ExactKernel kernel) {
+                         ExactKernel kernel, const glm::dvec4& border) {
+  const bool border_mode = au == AddressMode::Border || av == AddressMode::Border;
 #if defined(__x86_64__)
-  if (tex.format() == TexelFormat::Rgba8 && kernel != ExactKernel::Portable &&
+  // Border addressing is the portable kernel's (the AVX2 kernel reads four texels always).
+  if (tex.format() == TexelFormat::Rgba8 && kernel != ExactKernel::Portable && !border_mode &&
       exact_points_avx2_available()) {
     exact_points_avx2(tex, au, av, pm, dx, dy, n, out);
     return;
   }
 #endif
-  exact_points_portable(tex, au, av, pm, dx, dy, n, out);
+  exact_points_portable(tex, au, av, pm, dx, dy, n, out, border);
 }
 
 PixelSamples PixelSamples::make(TruthPixel p, int n) {
@@ -412,22 +435,25 @@ PixelIntegrator::GridShape PixelIntegrator::grid_shape(glm::dvec2 texels) const 
 
 glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
                               const ProjectiveMap& map, int px, int py,
-                              const PixelIntegrator& integrate, int* samples) {
+                              const PixelIntegrator& integrate, int* samples,
+                              const glm::dvec4& border) {
   const PixelMap pm(map, px, py);
   struct Points {
     const Texture& tex;
     AddressMode au, av;
     const PixelMap& pm;
+    const glm::dvec4& border;
     glm::dvec4 operator()(double dx, double dy) const {
       double u = 0, v = 0;
       pm.uv(dx, dy, u, v);
-      return bilinear_sample(tex, au, av, u, v);
+      return bilinear_sample(tex, au, av, u, v, border);
     }
     void operator()(const double* dx, const double* dy, size_t n, glm::dvec4* out) const {
-      sample_exact_points(tex, au, av, pm, dx, dy, n, out);
+      sample_exact_points(tex, au, av, pm, dx, dy, n, out, ExactKernel::Auto, border);
     }
   };
-  return integrate(Points{tex, au, av, pm}, pm.texels_across(tex.width(0), tex.height(0)), samples);
+  return integrate(Points{tex, au, av, pm, border}, pm.texels_across(tex.width(0), tex.height(0)),
+                   samples);
 }
 
 glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
@@ -446,13 +472,13 @@ glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av
 }
 
 glm::dvec4 ground_truth_footprint(const Texture& tex, AddressMode au, AddressMode av,
-                                  const Fragment& f, const PixelIntegrator& integrate,
-                                  int* samples) {
+                                  const Fragment& f, const PixelIntegrator& integrate, int* samples,
+                                  const glm::dvec4& border) {
   return integrate(
       [&](double dx, double dy) {
         const double sx = dx - 0.5, sy = dy - 0.5;
         return bilinear_sample(tex, au, av, f.u + sx * f.dudx + sy * f.dudy,
-                               f.v + sx * f.dvdx + sy * f.dvdy);
+                               f.v + sx * f.dvdx + sy * f.dvdy, border);
       },
       texels_across(f, tex.width(0), tex.height(0)), samples);
 }

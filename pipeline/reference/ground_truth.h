@@ -141,17 +141,21 @@ glm::dvec2 texels_across(const Fragment& f, int w, int h);
 enum class ExactKernel : uint8_t { Auto, Portable };
 void sample_exact_points(const Texture& tex, AddressMode au, AddressMode av, const PixelMap& pm,
                          const double* dx, const double* dy, size_t n, glm::dvec4* out,
-                         ExactKernel kernel = ExactKernel::Auto);
+                         ExactKernel kernel = ExactKernel::Auto,
+                         const glm::dvec4& border = glm::dvec4(0));
 bool exact_points_avx2_available();
 
-// Level-0 texel lookup with bilinear reconstruction at normalised (u, v), in double.
+// Level-0 texel lookup with bilinear reconstruction at normalised (u, v), in double. Under
+// border addressing a texel outside the level is `border` (the border colour as the texture's
+// format reads it, border_texel()); the other modes never leave the level.
 glm::dvec4 reference_bilinear(const Texture& tex, AddressMode au, AddressMode av, double u,
-                              double v);
+                              double v, const glm::dvec4& border = glm::dvec4(0));
 
 // Exact: sub-pixel positions mapped through the plane's projective map.
 glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
                               const ProjectiveMap& map, int px, int py,
-                              const PixelIntegrator& integrate, int* samples = nullptr);
+                              const PixelIntegrator& integrate, int* samples = nullptr,
+                              const glm::dvec4& border = glm::dvec4(0));
 // The box pixel with n×n samples, every sample through PlaneProjection::at in long double (the
 // evaluation before PixelMap: the yardstick of its test, and the truth of the studies that
 // build their own).
@@ -165,7 +169,7 @@ glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av
 // (first-order approximation of the projective map; used for traces without a scene).
 glm::dvec4 ground_truth_footprint(const Texture& tex, AddressMode au, AddressMode av,
                                   const Fragment& f, const PixelIntegrator& integrate,
-                                  int* samples = nullptr);
+                                  int* samples = nullptr, const glm::dvec4& border = glm::dvec4(0));
 glm::dvec4 ground_truth_footprint(const Texture& tex, AddressMode au, AddressMode av,
                                   const Fragment& f, int n);
 

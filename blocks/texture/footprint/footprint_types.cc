@@ -10,25 +10,7 @@
 
 namespace texsim {
 
-OpCounts address_mode_ops(AddressMode m) {
-  OpCounts o;
-  switch (m) {
-    case AddressMode::Wrap:
-      o.mul = 2;
-      o.add = 1;
-      o.cmp = 1;
-      break;
-    case AddressMode::Clamp:
-      o.cmp = 2;
-      break;
-    case AddressMode::Mirror:
-      o.mul = 2;
-      o.add = 4;
-      o.cmp = 2;
-      break;
-  }
-  return o;
-}
+OpCounts address_mode_ops(AddressMode m) { return TexelAddressGen::ops_address(m); }
 
 OpCounts footprint_setup_ops() {
   OpCounts o;

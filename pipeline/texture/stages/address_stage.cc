@@ -9,6 +9,7 @@ void AddressStage::rows(StageReport& r, std::vector<BlockUse>& out) const {
   const OpCounts ops = addr_.ops_setup(false) * iso + addr_.ops_setup(true) * aniso_fragments_ +
                        addr_.ops_per_item(false) * iso + addr_.ops_per_item(true) * aniso_probes;
   r.add(out, addr_.name(), addr_.arithmetic(), addr_.timing(r.tech), ops, r.taps);
+  out.back().border_taps = border_taps_;
 }
 
 }  // namespace texsim

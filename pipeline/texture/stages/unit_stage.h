@@ -32,6 +32,7 @@ struct BlockUse {
   OpCounts ops;                        // total over the run
   uint64_t texels = 0;                 // texels it fetched through the cache over the run
   std::vector<std::string> materials;  // materials that use it
+  uint64_t border_taps = 0;  // taps that read the border colour instead (no texel, no memory)
 };
 
 // The unit's pipeline slots, in pipeline order.

@@ -40,7 +40,7 @@ const std::set<std::string> kKnownKeys = {
     // blocks
     "blocks", "blocks.*", "blocks.*.ops", "blocks.*.ops.<op>", "blocks.*.ops_per_fragment",
     "blocks.*.latency", "blocks.*.ii", "blocks.*.area", "blocks.*.arithmetic", "blocks.*.materials",
-    "blocks.*.texels", "blocks.*.texels_per_fragment",
+    "blocks.*.texels", "blocks.*.texels_per_fragment", "blocks.*.border_taps",
     // stages
     "stages", "stages.*", "stages.*.latency", "stages.*.busy", "stages.*.utilisation",
     "stages.*.stalls", "stages.*.stalls.starved", "stages.*.stalls.blocked",
