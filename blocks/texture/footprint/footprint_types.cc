@@ -12,6 +12,18 @@ namespace texsim {
 
 OpCounts address_mode_ops(AddressMode m) { return TexelAddressGen::ops_address(m); }
 
+AddressMode footprint_address_mode(const ConfigReader& r, std::string_view key) {
+  const toml::node* n = r.table().get(key);
+  if (n && n->value<std::string>() == "border") {
+    r.fail(key,
+           "border addressing is the lod/filter path's only: a footprint filter has no border "
+           "colour (use wrap, clamp, mirror or mirror_clamp)");
+  }
+  constexpr AddressMode kModes[] = {AddressMode::Wrap, AddressMode::Clamp, AddressMode::Mirror,
+                                    AddressMode::MirrorClamp};
+  return kModes[r.get_choice(key, 0, {"wrap", "clamp", "mirror", "mirror_clamp"})];
+}
+
 OpCounts footprint_setup_ops() {
   OpCounts o;
   // Derivatives to texels (×w0·R, ×h0·R): 4 mul. Σ = J·Jᵀ: 6 mul, 3 add. Eigenvalues:

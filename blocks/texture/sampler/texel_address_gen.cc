@@ -84,13 +84,13 @@ void offset_from_toml(const ConfigReader& r, int& ou, int& ov) {
 }  // namespace
 
 TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r) {
-  r.reject_unknown({"mode", "address", "address_u", "address_v", "sub_texel_bits", "mipmap_bits",
-                    "border", "offset"});
   if (r.table().contains("border_int")) {
     r.fail("border_int",
            "integer border colours need an integer texture format, and texsim has none; give a "
            "float 'border'");
   }
+  r.reject_unknown({"mode", "address", "address_u", "address_v", "sub_texel_bits", "mipmap_bits",
+                    "border", "offset"});
   Config c;
   c.filter = static_cast<FilterMode>(
       r.get_choice("mode", static_cast<int>(c.filter), {"nearest", "bilinear", "trilinear"}));
