@@ -147,6 +147,11 @@ TruthKey truth_key(const TruthKeyInputs& in) {
     if (m.address_u == AddressMode::Border || m.address_v == AddressMode::Border) {
       for (int c = 0; c < 4; ++c) w.u64(std::bit_cast<uint32_t>(m.border[c]));
     }
+    if (m.offset_u != 0 || m.offset_v != 0) {
+      w.tag("offset");
+      w.i64(m.offset_u);
+      w.i64(m.offset_v);
+    }
   }
   return w.finish();
 }

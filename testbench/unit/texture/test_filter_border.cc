@@ -163,9 +163,17 @@ TEST(TexelAddressBorder, OperationCounts) {
 TEST(TexelAddressBorder, TruthReadsTheBorder) {
   const Texture tex = random_texture(8, 8, 4);
   const glm::dvec4 border(0.1, 0.2, 0.3, 0.4);
+  SamplerExtras ex;
+  ex.border = border;
   const glm::dvec4 far =
-      reference_bilinear(tex, AddressMode::Border, AddressMode::Border, -1.0, 0.5, border);
+      reference_bilinear(tex, AddressMode::Border, AddressMode::Border, -1.0, 0.5, ex);
   EXPECT_EQ(far, border);
+  // An offset of (2, −1) texels reads the texel two columns right and one row up.
+  ex.offset_u = 2;
+  ex.offset_v = -1;
+  const glm::dvec4 shifted = reference_bilinear(tex, AddressMode::Border, AddressMode::Border,
+                                                (1 + 0.5) / 8, (4 + 0.5) / 8, ex);
+  EXPECT_EQ(shifted, glm::dvec4(tex.texel(0, 3, 3)));
   // Mirror-clamp one texel beyond the left edge mirrors once: column 0 again.
   const glm::dvec4 mc = reference_bilinear(tex, AddressMode::MirrorClamp, AddressMode::Clamp,
                                            -0.5 / 8, (2 + 0.5) / 8);
