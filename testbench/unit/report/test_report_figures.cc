@@ -1166,6 +1166,7 @@ TEST_F(ReportFigures, BorderTaps) {
     if (name.rfind("filter.", 0) == 0) taps_read += u(b["texels"]);
   }
   EXPECT_GT(border, 0u);
+  EXPECT_EQ(u(r["cache"]["texel_reads"]), taps_read);  // the L1 saw no border tap
   EXPECT_EQ(u(r["blocks"]["blend"]["ops"]["mem"]), taps_read);
   EXPECT_EQ(u(r["blocks"]["blend"]["ops"]["mul"]), 4 * (taps_read + border));
   // Without border addressing the same panels read a texel for every tap.
