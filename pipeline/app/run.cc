@@ -225,10 +225,18 @@ struct GroundTruth {
       return (*surface)[static_cast<size_t>(material)](tex, map_of(f), (*frames)[f.prim], x, y,
                                                        integrate, samples);
     }
-    return exact()
-               ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), map_of(f), x, y, integrate,
-                                    samples)
-               : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, integrate, samples);
+    // The border colour as the unit's texture format reads it (border_texel), and the offset.
+    const Texture& stored = textures[static_cast<int>(g.tex)];
+    SamplerExtras extras;
+    if (!ms.footprint) {
+      extras.border = glm::dvec4(border_texel(stored.storage(), ms.filter.border));
+      extras.offset_u = ms.filter.offset_u;
+      extras.offset_v = ms.filter.offset_v;
+    }
+    return exact() ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), map_of(f), x, y,
+                                        integrate, samples, extras)
+                   : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, integrate,
+                                            samples, extras);
   }
 };
 
@@ -853,7 +861,9 @@ std::unique_ptr<TruthMemo> truth_memo(const RunOptions& opt, const Scene& scene,
   auto memo = std::make_unique<TruthMemo>();
   for (const MaterialSetup& m : mats) {
     const bool surface = m.relief.has_value() || m.lighting.has_value();
-    in.materials.push_back({m.texture, m.address_u(), m.address_v(), surface});
+    in.materials.push_back({m.texture, m.address_u(), m.address_v(), surface, m.filter.border,
+                            m.footprint ? 0 : m.filter.offset_u,
+                            m.footprint ? 0 : m.filter.offset_v});
     memo->cached.push_back(surface ? 0 : 1);
   }
   in.pixel = truth.integrate.pixel();

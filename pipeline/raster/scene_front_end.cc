@@ -9,7 +9,10 @@ namespace {
 
 // Translation by whole periods of an address mode (0: none) that brings c near [0, period).
 long double rebase(long double c, int size, AddressMode m) {
-  if (m == AddressMode::Clamp || !std::isfinite(c)) return 0;
+  // Clamp, border and mirror-clamp are not periodic: no translation keeps their texels.
+  if (m == AddressMode::Clamp || m == AddressMode::Border || m == AddressMode::MirrorClamp ||
+      !std::isfinite(c))
+    return 0;
   const long double period = static_cast<long double>(size) * (m == AddressMode::Mirror ? 2 : 1);
   return std::floor(c / period) * period;
 }

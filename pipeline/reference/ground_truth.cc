@@ -26,6 +26,12 @@ int address(long long i, int size, AddressMode m) {
       if (r < 0) r += period;
       return static_cast<int>(r < size ? r : period - 1 - r);
     }
+    case AddressMode::Border:  // -1: the border colour
+      return i < 0 || i >= size ? -1 : static_cast<int>(i);
+    case AddressMode::MirrorClamp: {
+      const long long r = i < 0 ? -(i + 1) : i;
+      return static_cast<int>(r < size ? r : size - 1);
+    }
   }
   return 0;
 }
@@ -58,6 +64,8 @@ long long texel_index(double f, int size) {
       return;
     }
     case AddressMode::Clamp:
+    case AddressMode::Border:
+    case AddressMode::MirrorClamp:
       a0 = address(i, size, m);
       a1 = address(i + 1, size, m);
       return;
@@ -94,20 +102,35 @@ const ByteToDouble kByte;
   return {c.r, c.g, c.b, c.a};
 }
 
+// A texel, or the border colour where border addressing left the level (-1).
+[[gnu::always_inline]] inline glm::dvec4 fetch(const Texture& t, int x, int y,
+                                               const glm::dvec4& border) {
+  return x < 0 || y < 0 ? border : fetch(t, x, y);
+}
+
 // reference_bilinear, inlined into the truths' sample loops (most of a run's reference time
 // is this function; the same arithmetic either way).
 [[gnu::always_inline]] inline glm::dvec4 bilinear_sample(const Texture& tex, AddressMode au,
-                                                         AddressMode av, double u, double v) {
+                                                         AddressMode av, double u, double v,
+                                                         const SamplerExtras& extras) {
   const int w = tex.width(0), h = tex.height(0);
   if (!std::isfinite(u) || !std::isfinite(v)) return {0, 0, 0, 0};
   const double x = u * w - 0.5, y = v * h - 0.5;
   if (!std::isfinite(x) || !std::isfinite(y)) return {0, 0, 0, 0};  // u·w overflowed
   const double fx0 = std::floor(x), fy0 = std::floor(y);
   const double a = x - fx0, b = y - fy0;
-  const long long ix = texel_index(fx0, w), iy = texel_index(fy0, h);
+  // The offset joins the integer coordinates before addressing (beyond 2^53 texel_index's
+  // value is far outside the level already, where ±8 changes no texel).
+  const long long ix = texel_index(fx0, w) + extras.offset_u;
+  const long long iy = texel_index(fy0, h) + extras.offset_v;
   int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
   address_pair(ix, w, au, x0, x1);
   address_pair(iy, h, av, y0, y1);
+  if (au == AddressMode::Border || av == AddressMode::Border) {
+    const glm::dvec4& bc = extras.border;
+    return (1 - a) * (1 - b) * fetch(tex, x0, y0, bc) + a * (1 - b) * fetch(tex, x1, y0, bc) +
+           (1 - a) * b * fetch(tex, x0, y1, bc) + a * b * fetch(tex, x1, y1, bc);
+  }
   return (1 - a) * (1 - b) * fetch(tex, x0, y0) + a * (1 - b) * fetch(tex, x1, y0) +
          (1 - a) * b * fetch(tex, x0, y1) + a * b * fetch(tex, x1, y1);
 }
@@ -115,18 +138,19 @@ const ByteToDouble kByte;
 }  // namespace
 
 glm::dvec4 reference_bilinear(const Texture& tex, AddressMode au, AddressMode av, double u,
-                              double v) {
-  return bilinear_sample(tex, au, av, u, v);
+                              double v, const SamplerExtras& extras) {
+  return bilinear_sample(tex, au, av, u, v, extras);
 }
 
 namespace {
 
 void exact_points_portable(const Texture& tex, AddressMode au, AddressMode av, const PixelMap& pm,
-                           const double* dx, const double* dy, size_t n, glm::dvec4* out) {
+                           const double* dx, const double* dy, size_t n, glm::dvec4* out,
+                           const SamplerExtras& extras) {
   for (size_t k = 0; k < n; ++k) {
     double u = 0, v = 0;
     pm.uv(dx[k], dy[k], u, v);
-    out[k] = bilinear_sample(tex, au, av, u, v);
+    out[k] = bilinear_sample(tex, au, av, u, v, extras);
   }
 }
 
@@ -191,7 +215,7 @@ void exact_points_portable(const Texture& tex, AddressMode au, AddressMode av, c
                     _mm256_cvttpd_epi32(_mm256_blendv_pd(zero, fy0, fits)));
     for (int l = 0; l < 4; ++l) {
       if (!(fit_mask & (1 << l))) {
-        out[k + l] = bilinear_sample(tex, au, av, u[l], v[l]);
+        out[k + l] = bilinear_sample(tex, au, av, u[l], v[l], SamplerExtras{});
         continue;
       }
       int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
@@ -233,15 +257,19 @@ bool exact_points_avx2_available() {
 
 void sample_exact_points(const Texture& tex, AddressMode au, AddressMode av, const PixelMap& pm,
                          const double* dx, const double* dy, size_t n, glm::dvec4* out,
-                         ExactKernel kernel) {
+                         ExactKernel kernel, const SamplerExtras& extras) {
+  // Border addressing and texel offsets are the portable kernel's (the AVX2 kernel reads four
+  // texels always, at the coordinates' own integer parts).
+  const bool plain = au != AddressMode::Border && av != AddressMode::Border &&
+                     extras.offset_u == 0 && extras.offset_v == 0;
 #if defined(__x86_64__)
-  if (tex.format() == TexelFormat::Rgba8 && kernel != ExactKernel::Portable &&
+  if (tex.format() == TexelFormat::Rgba8 && kernel != ExactKernel::Portable && plain &&
       exact_points_avx2_available()) {
     exact_points_avx2(tex, au, av, pm, dx, dy, n, out);
     return;
   }
 #endif
-  exact_points_portable(tex, au, av, pm, dx, dy, n, out);
+  exact_points_portable(tex, au, av, pm, dx, dy, n, out, extras);
 }
 
 PixelSamples PixelSamples::make(TruthPixel p, int n) {
@@ -412,22 +440,25 @@ PixelIntegrator::GridShape PixelIntegrator::grid_shape(glm::dvec2 texels) const 
 
 glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
                               const ProjectiveMap& map, int px, int py,
-                              const PixelIntegrator& integrate, int* samples) {
+                              const PixelIntegrator& integrate, int* samples,
+                              const SamplerExtras& extras) {
   const PixelMap pm(map, px, py);
   struct Points {
     const Texture& tex;
     AddressMode au, av;
     const PixelMap& pm;
+    const SamplerExtras& extras;
     glm::dvec4 operator()(double dx, double dy) const {
       double u = 0, v = 0;
       pm.uv(dx, dy, u, v);
-      return bilinear_sample(tex, au, av, u, v);
+      return bilinear_sample(tex, au, av, u, v, extras);
     }
     void operator()(const double* dx, const double* dy, size_t n, glm::dvec4* out) const {
-      sample_exact_points(tex, au, av, pm, dx, dy, n, out);
+      sample_exact_points(tex, au, av, pm, dx, dy, n, out, ExactKernel::Auto, extras);
     }
   };
-  return integrate(Points{tex, au, av, pm}, pm.texels_across(tex.width(0), tex.height(0)), samples);
+  return integrate(Points{tex, au, av, pm, extras}, pm.texels_across(tex.width(0), tex.height(0)),
+                   samples);
 }
 
 glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
@@ -446,13 +477,13 @@ glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av
 }
 
 glm::dvec4 ground_truth_footprint(const Texture& tex, AddressMode au, AddressMode av,
-                                  const Fragment& f, const PixelIntegrator& integrate,
-                                  int* samples) {
+                                  const Fragment& f, const PixelIntegrator& integrate, int* samples,
+                                  const SamplerExtras& extras) {
   return integrate(
       [&](double dx, double dy) {
         const double sx = dx - 0.5, sy = dy - 0.5;
         return bilinear_sample(tex, au, av, f.u + sx * f.dudx + sy * f.dudy,
-                               f.v + sx * f.dvdx + sy * f.dvdy);
+                               f.v + sx * f.dvdx + sy * f.dvdy, extras);
       },
       texels_across(f, tex.width(0), tex.height(0)), samples);
 }

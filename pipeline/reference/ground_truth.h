@@ -134,6 +134,16 @@ struct PixelMap {
 // The same from a fragment's derivatives.
 glm::dvec2 texels_across(const Fragment& f, int w, int h);
 
+// What the truth takes of a sampler beyond its address modes: the border colour of border
+// addressing (as the texture's format reads it, border_texel()) and the constant texel offset,
+// added to the integer coordinates before addressing. The truth reconstructs level 0 only, so
+// its offset is in level-0 texels (the unit's, in texels of the level it samples: the same
+// when magnified).
+struct SamplerExtras {
+  glm::dvec4 border{0.0};
+  int offset_u = 0, offset_v = 0;
+};
+
 // The exact truth's points in a batch: out[k] is the level-0 bilinear colour at the offset
 // (dx[k], dy[k]) from the pixel's corner through the map, as ground_truth_exact's integrand.
 // Auto takes the AVX2 kernel where the CPU has it (RGBA8 textures), Portable never; both give
@@ -141,17 +151,20 @@ glm::dvec2 texels_across(const Fragment& f, int w, int h);
 enum class ExactKernel : uint8_t { Auto, Portable };
 void sample_exact_points(const Texture& tex, AddressMode au, AddressMode av, const PixelMap& pm,
                          const double* dx, const double* dy, size_t n, glm::dvec4* out,
-                         ExactKernel kernel = ExactKernel::Auto);
+                         ExactKernel kernel = ExactKernel::Auto, const SamplerExtras& extras = {});
 bool exact_points_avx2_available();
 
-// Level-0 texel lookup with bilinear reconstruction at normalised (u, v), in double.
+// Level-0 texel lookup with bilinear reconstruction at normalised (u, v), in double. Under
+// border addressing a texel outside the level is extras.border; the other modes never leave
+// the level. The offset extras.offset_u/v joins the integer coordinates before addressing.
 glm::dvec4 reference_bilinear(const Texture& tex, AddressMode au, AddressMode av, double u,
-                              double v);
+                              double v, const SamplerExtras& extras = {});
 
 // Exact: sub-pixel positions mapped through the plane's projective map.
 glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
                               const ProjectiveMap& map, int px, int py,
-                              const PixelIntegrator& integrate, int* samples = nullptr);
+                              const PixelIntegrator& integrate, int* samples = nullptr,
+                              const SamplerExtras& extras = {});
 // The box pixel with n×n samples, every sample through PlaneProjection::at in long double (the
 // evaluation before PixelMap: the yardstick of its test, and the truth of the studies that
 // build their own).
@@ -165,7 +178,7 @@ glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av
 // (first-order approximation of the projective map; used for traces without a scene).
 glm::dvec4 ground_truth_footprint(const Texture& tex, AddressMode au, AddressMode av,
                                   const Fragment& f, const PixelIntegrator& integrate,
-                                  int* samples = nullptr);
+                                  int* samples = nullptr, const SamplerExtras& extras = {});
 glm::dvec4 ground_truth_footprint(const Texture& tex, AddressMode au, AddressMode av,
                                   const Fragment& f, int n);
 

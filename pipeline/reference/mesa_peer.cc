@@ -210,6 +210,10 @@ GLint gl_wrap(AddressMode m) {
       return GL_CLAMP_TO_EDGE;
     case AddressMode::Mirror:
       return GL_MIRRORED_REPEAT;
+    case AddressMode::Border:
+      return GL_CLAMP_TO_BORDER;  // GL's default border colour: transparent black
+    case AddressMode::MirrorClamp:
+      return 0x8743;  // GL_MIRROR_CLAMP_TO_EDGE (ARB_texture_mirror_clamp_to_edge, GL 4.4)
   }
   return GL_REPEAT;
 }

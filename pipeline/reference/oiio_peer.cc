@@ -28,6 +28,10 @@ const char* wrap_name(AddressMode m) {
       return "clamp";
     case AddressMode::Mirror:
       return "mirror";
+    case AddressMode::Border:
+      return "black";  // OpenImageIO's border is transparent black
+    case AddressMode::MirrorClamp:
+      return nullptr;  // no OpenImageIO wrap mode: refused below
   }
   return "periodic";
 }
@@ -59,6 +63,7 @@ OiioPeer::OiioPeer(const Texture& tex, const Config& cfg) : impl_(std::make_uniq
   setup.rgba = px.data();
   setup.uint8 = tex.format() == TexelFormat::Rgba8;
   setup.wrap = wrap_name(cfg.address);
+  if (!setup.wrap) throw InputError("OpenImageIO peer", "has no mirror_clamp address mode");
   setup.aniso = cfg.aniso;
   setup.max_aniso = cfg.max_aniso;
   setup.tx_path = path;

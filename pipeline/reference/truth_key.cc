@@ -1,5 +1,6 @@
 #include "pipeline/reference/truth_key.h"
 
+#include <bit>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
@@ -143,6 +144,14 @@ TruthKey truth_key(const TruthKeyInputs& in) {
     w.u64(static_cast<uint64_t>(m.address_u));
     w.u64(static_cast<uint64_t>(m.address_v));
     w.u64(m.surface ? 1 : 0);
+    if (m.address_u == AddressMode::Border || m.address_v == AddressMode::Border) {
+      for (int c = 0; c < 4; ++c) w.u64(std::bit_cast<uint32_t>(m.border[c]));
+    }
+    if (m.offset_u != 0 || m.offset_v != 0) {
+      w.tag("offset");
+      w.i64(m.offset_u);
+      w.i64(m.offset_v);
+    }
   }
   return w.finish();
 }

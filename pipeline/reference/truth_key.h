@@ -30,6 +30,8 @@ struct TruthMaterialKey {
   int texture = 0;  // index into the run's texture set
   AddressMode address_u = AddressMode::Wrap, address_v = AddressMode::Wrap;
   bool surface = false;  // relief or lighting: its fragments' truths are never cached
+  Rgba border{0.0f};     // the sampler's border colour (part of the key under border mode)
+  int offset_u = 0, offset_v = 0;  // constant texel offset (part of the key when not 0)
 };
 
 struct TruthKeyInputs {

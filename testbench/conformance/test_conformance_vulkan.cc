@@ -195,6 +195,9 @@ Rgba other_legal(const Texture& tex, const VkSampleQuery& q, const VkSamplerStat
         return std::clamp(i, 0LL, n - 1);
       case AddressMode::Mirror:
         return r < n ? r : 2 * n - 1 - r;
+      case AddressMode::Border:  // not among the modes this model is run with
+      case AddressMode::MirrorClamp:
+        break;
     }
     return 0LL;
   };

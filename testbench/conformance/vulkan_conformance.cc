@@ -20,7 +20,7 @@ struct Box {
   double a0, a1, b0, b1;  // α, β ranges (nearest: unused)
 };
 
-// Vulkan "Wrapping Operation", stated as in the spec.
+// Vulkan "Wrapping Operation", stated as in the spec; -1 stands for a border texel.
 long long wrap(long long i, long long size, AddressMode m) {
   auto mod = [](long long a, long long b) { return ((a % b) + b) % b; };
   switch (m) {
@@ -33,8 +33,32 @@ long long wrap(long long i, long long size, AddressMode m) {
       const long long mirror = n >= 0 ? n : -(1 + n);
       return (size - 1) - mirror;
     }
+    case AddressMode::Border:
+      return i < 0 || i >= size ? -1 : i;
+    case AddressMode::MirrorClamp: {
+      const long long mirror = i >= 0 ? i : -(1 + i);
+      return std::min(mirror, size - 1);
+    }
   }
   return 0;
+}
+
+// "Texel Replacement": a border texel is the sampler's border colour, then "Conversion to
+// RGBA" as for any texel of the image's format: the channels it lacks are 0 (colour) and 1
+// (alpha); a normalised format's channels hold only its range.
+double border_channel(const Texture& tex, const VkSamplerState& s, int c) {
+  const StorageFormatInfo& f = format_info(tex.storage());
+  if (c >= f.channels) return c == 3 ? 1.0 : 0.0;
+  const double b = s.border[c];
+  switch (f.coding) {
+    case ChannelCoding::Unorm:
+    case ChannelCoding::Srgb:  // the border colour is linear: no sRGB decoding
+      return std::clamp(b, 0.0, 1.0);
+    case ChannelCoding::Snorm:
+      return std::clamp(b, -1.0, 1.0);
+    default:
+      return b;
+  }
 }
 
 // Every texel set and weight range the spec allows on `level`: integer coordinates from both
@@ -45,9 +69,12 @@ void level_boxes(const Texture& tex, int level, const VkSampleQuery& q, const Vk
   out.clear();
   const long long w = tex.width(level), h = tex.height(level);
   const double lsb = std::ldexp(1.0, -p.sub_texel_bits);
+  // The offset joins the unwrapped integer coordinates ("Texel Coordinate Offset"), then wrap.
   auto texel = [&](long long i, long long j, int c) {
-    const Rgba t = tex.texel(level, static_cast<int>(wrap(i, w, s.address_u)),
-                             static_cast<int>(wrap(j, h, s.address_v)));
+    const long long x = wrap(i + s.offset_u, w, s.address_u);
+    const long long y = wrap(j + s.offset_v, h, s.address_v);
+    if (x < 0 || y < 0) return border_channel(tex, s, c);
+    const Rgba t = tex.texel(level, static_cast<int>(x), static_cast<int>(y));
     return static_cast<double>(t[c]);
   };
   const double xs = q.u * static_cast<double>(w), ys = q.v * static_cast<double>(h);
@@ -305,9 +332,12 @@ ConformanceVerdict VulkanConformance::check(const Texture& tex, const VkSampleQu
   CandidateJudge judge(result, p_.color_eps);
   bool ok = false;
   if (s_.mipmap_mode == VkSamplerState::MipmapMode::Nearest) {
-    // nearest(d') = ⌈d' + ½⌉ − 1 (preferred) or ⌊d' + ½⌋ (alternative): take both.
-    v.level_lo = std::clamp(static_cast<int>(std::ceil(dlo + 0.5)) - 1, 0, qmax);
-    v.level_hi = std::clamp(static_cast<int>(std::floor(dhi + 0.5)), 0, qmax);
+    // nearest(d') = ⌈d' + ½⌉ − 1 (preferred) or ⌊d' + ½⌋ (alternative): take both, d' carried
+    // with mipmap_bits fraction bits (±1 LSB: the clamp to [min_lod, max_lod] comes before
+    // that conversion, so a clamped λ is rounded too).
+    const double mip_lsb = std::ldexp(1.0, -p_.mipmap_bits);
+    v.level_lo = std::clamp(static_cast<int>(std::ceil(dlo - mip_lsb + 0.5)) - 1, 0, qmax);
+    v.level_hi = std::clamp(static_cast<int>(std::floor(dhi + mip_lsb + 0.5)), 0, qmax);
     ok = judge_nearest_mip(tex, q, s_, p_, v.level_lo, v.level_hi, judge);
   } else {
     v.level_lo = static_cast<int>(std::floor(dlo));

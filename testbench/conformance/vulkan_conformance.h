@@ -21,6 +21,11 @@ struct VkSamplerState {
   double mip_lod_bias = 0;
   double min_lod = 0;
   double max_lod = 1000;
+  // CLAMP_TO_BORDER's colour (VK_BORDER_COLOR_FLOAT_* or a custom float colour), before the
+  // image format's substitution of the channels it lacks.
+  double border[4] = {0, 0, 0, 0};
+  // ConstOffset of the sample instruction (minTexelOffset..maxTexelOffset = -8..7).
+  int offset_u = 0, offset_v = 0;
 };
 
 // Precision limits and the checker's own tolerances.
@@ -49,7 +54,8 @@ struct ConformanceVerdict {
   double miss = 0;  // distance outside the closest acceptable range (0 when passing)
 };
 
-// Conformance checker for Vulkan isotropic texel filtering (docs/derivations/filters.md §7):
+// Conformance checker for Vulkan isotropic texel filtering (docs/derivations/filters.md §7),
+// with the five address modes, border colours, texel offsets and the LOD clamp:
 // acceptable result set from LOD, sub-texel and mipmap precision rules; not a model of any
 // hardware.
 class VulkanConformance {

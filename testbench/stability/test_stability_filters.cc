@@ -331,7 +331,8 @@ TEST(StabilityFilters, BordersInEachAddressMode) {
     EXPECT_GT(rw - rcl, 0.2f);
     EXPECT_EQ(subjects().size(), 12u);
   }
-  for (AddressMode am : {AddressMode::Wrap, AddressMode::Clamp, AddressMode::Mirror}) {
+  for (AddressMode am :
+       {AddressMode::Wrap, AddressMode::Clamp, AddressMode::Mirror, AddressMode::MirrorClamp}) {
     FootprintReferenceConfig rc;
     rc.address_u = rc.address_v = am;
     for (const Subject& s : subjects(am)) {
@@ -352,7 +353,8 @@ TEST(StabilityFilters, BordersInEachAddressMode) {
 TEST(StabilityFilters, OneTexelTextures) {
   std::vector<float> px = {0.2f, 0.4f, 0.6f, 1.0f};
   const Texture tex = Texture::from_rgba("one", 1, 1, px, TexelFormat::Rgba32f, true);
-  for (AddressMode am : {AddressMode::Wrap, AddressMode::Clamp, AddressMode::Mirror}) {
+  for (AddressMode am :
+       {AddressMode::Wrap, AddressMode::Clamp, AddressMode::Mirror, AddressMode::MirrorClamp}) {
     for (const Subject& s : subjects(am)) {
       for (double d : {0.0, 0.01, 1.0, 50.0, 1e6}) {
         std::vector<TexelRef> fetched;

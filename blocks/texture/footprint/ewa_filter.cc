@@ -59,9 +59,8 @@ EwaFilter::Config EwaFilter::Config::from_toml(const ConfigReader& r) {
   c.mip = static_cast<Mip>(r.get_choice("mip", static_cast<int>(c.mip), {"nearest", "linear"}));
   c.scan = static_cast<Scan>(r.get_choice("scan", static_cast<int>(c.scan), {"box", "row_span"}));
   c.arith = kArith.at(r.get_choice("arith", kArith.index_of(c.arith), kArith.key_list()));
-  const std::vector<std::string_view> modes = {"wrap", "clamp", "mirror"};
-  c.address_u = static_cast<AddressMode>(r.get_choice("address_u", 0, modes));
-  c.address_v = static_cast<AddressMode>(r.get_choice("address_v", 0, modes));
+  c.address_u = footprint_address_mode(r, "address_u");
+  c.address_v = footprint_address_mode(r, "address_v");
   c.lanes = static_cast<int>(r.get_int("lanes", c.lanes, 1, 64));
   if (c.weight != Weight::Map && r.table().contains("weight_map")) {
     r.fail("weight_map", "is only used with weight = \"map\"");

@@ -10,24 +10,18 @@
 
 namespace texsim {
 
-OpCounts address_mode_ops(AddressMode m) {
-  OpCounts o;
-  switch (m) {
-    case AddressMode::Wrap:
-      o.mul = 2;
-      o.add = 1;
-      o.cmp = 1;
-      break;
-    case AddressMode::Clamp:
-      o.cmp = 2;
-      break;
-    case AddressMode::Mirror:
-      o.mul = 2;
-      o.add = 4;
-      o.cmp = 2;
-      break;
+OpCounts address_mode_ops(AddressMode m) { return TexelAddressGen::ops_address(m); }
+
+AddressMode footprint_address_mode(const ConfigReader& r, std::string_view key) {
+  const toml::node* n = r.table().get(key);
+  if (n && n->value<std::string>() == "border") {
+    r.fail(key,
+           "border addressing is the lod/filter path's only: a footprint filter has no border "
+           "colour (use wrap, clamp, mirror or mirror_clamp)");
   }
-  return o;
+  constexpr AddressMode kModes[] = {AddressMode::Wrap, AddressMode::Clamp, AddressMode::Mirror,
+                                    AddressMode::MirrorClamp};
+  return kModes[r.get_choice(key, 0, {"wrap", "clamp", "mirror", "mirror_clamp"})];
 }
 
 OpCounts footprint_setup_ops() {

@@ -7,6 +7,7 @@
 #include <limits>
 #include <vector>
 
+#include "blocks/base/config_reader.h"
 #include "blocks/base/fragment.h"
 #include "blocks/base/op_counts.h"
 #include "blocks/texture/memory/texture_memory.h"
@@ -52,6 +53,11 @@ struct FilterOutput {
 
 // Per-coordinate operations of the addressing modes (the table of docs/derivations/filters.md §3).
 OpCounts address_mode_ops(AddressMode m);
+
+// A footprint filter's `address_u`/`address_v` key: wrap (default), clamp, mirror or
+// mirror_clamp. Border is refused with a message: the footprint filters have no border colour
+// (their taps always read texels).
+AddressMode footprint_address_mode(const ConfigReader& r, std::string_view key);
 
 // Footprint of one fragment in level-0 texels as the covariance Σ = R²·J·Jᵀ of the pixel
 // footprint (J = derivatives in texels per pixel, R = footprint radius in pixels), after the

@@ -36,9 +36,8 @@ MultiProbeFilter::Config MultiProbeFilter::Config::from_toml(const ConfigReader&
   c.temporal = r.get_bool("temporal", c.temporal);
   c.arith =
       kProbeArith.at(r.get_choice("arith", kProbeArith.index_of(c.arith), kProbeArith.key_list()));
-  const std::vector<std::string_view> modes = {"wrap", "clamp", "mirror"};
-  c.address_u = static_cast<AddressMode>(r.get_choice("address_u", 0, modes));
-  c.address_v = static_cast<AddressMode>(r.get_choice("address_v", 0, modes));
+  c.address_u = footprint_address_mode(r, "address_u");
+  c.address_v = footprint_address_mode(r, "address_v");
   return c;
 }
 

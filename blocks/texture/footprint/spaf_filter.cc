@@ -94,9 +94,8 @@ SpafFilter::Config SpafFilter::Config::from_toml(const ConfigReader& r) {
   if (!(c.alpha >= 0) || !(c.alpha <= 64)) r.fail("alpha", "must be in [0, 64]");
   c.texel_budget = static_cast<int>(r.get_int("texel_budget", c.texel_budget, 16, 1 << 20));
   c.lanes = static_cast<int>(r.get_int("lanes", c.lanes, 1, 64));
-  const std::vector<std::string_view> modes = {"wrap", "clamp", "mirror"};
-  c.address_u = static_cast<AddressMode>(r.get_choice("address_u", 0, modes));
-  c.address_v = static_cast<AddressMode>(r.get_choice("address_v", 0, modes));
+  c.address_u = footprint_address_mode(r, "address_u");
+  c.address_v = footprint_address_mode(r, "address_v");
   c.coverage =
       static_cast<Coverage>(r.get_choice("coverage", static_cast<int>(c.coverage), {"mask", "vd"}));
   if (c.coverage == Coverage::Vd) {

@@ -113,6 +113,28 @@ glm::vec4 convert_texel(StorageFormat f, const glm::vec4& in) {
   return out;
 }
 
+glm::vec4 border_texel(StorageFormat f, const glm::vec4& border) {
+  const StorageFormatInfo& info = format_info(f);
+  glm::vec4 out(0.0f, 0.0f, 0.0f, 1.0f);
+  for (int c = 0; c < info.channels; ++c) {
+    const float b = border[c];
+    switch (info.coding) {
+      case ChannelCoding::Unorm:
+      case ChannelCoding::Srgb:
+        out[c] = std::clamp(b, 0.0f, 1.0f);
+        break;
+      case ChannelCoding::Snorm:
+        out[c] = std::clamp(b, -1.0f, 1.0f);
+        break;
+      case ChannelCoding::Float16:
+      case ChannelCoding::Float32:
+        out[c] = b;
+        break;
+    }
+  }
+  return out;
+}
+
 bool decodes_to_bytes(StorageFormat f) {
   return f == StorageFormat::R8Unorm || f == StorageFormat::Rg8Unorm ||
          f == StorageFormat::Rgba8Unorm;

@@ -61,6 +61,11 @@ std::string storage_format_names();
 
 // The value a texel of `f` reads back after loading `in` (encode, then decode).
 glm::vec4 convert_texel(StorageFormat f, const glm::vec4& in);
+// The value a border texel of a texture stored in `f` reads (Vulkan "Texel Replacement", then
+// "Conversion to RGBA"): the sampler's float border colour as given (linear also for sRGB
+// formats: no EOTF), clamped to the range of a normalised format's channels, and the channels
+// the format lacks substituted as for any texel (0 for colour, 1 for alpha).
+glm::vec4 border_texel(StorageFormat f, const glm::vec4& border);
 // True when every value the format decodes to is a multiple of 1/255 in [0, 1] (R8, RG8 and
 // RGBA8 UNORM): the texture keeps its 8-bit store, and the unit's 8-bit kernels serve it.
 bool decodes_to_bytes(StorageFormat f);

@@ -26,6 +26,10 @@ const char* to_string(AddressMode m) {
       return "clamp";
     case AddressMode::Mirror:
       return "mirror";
+    case AddressMode::Border:
+      return "border";
+    case AddressMode::MirrorClamp:
+      return "mirror_clamp";
   }
   return "?";
 }

@@ -18,7 +18,9 @@ using Rgba = glm::vec4;  // colour in [0,1] (RGBA8) or any float (RGBA32F)
 // simulated memory is the texture's StorageFormat (storage_format.h).
 enum class TexelFormat { Rgba8, Rgba32f };
 enum class TexelLayout { Linear, Tiled4x4, Morton };
-enum class AddressMode { Wrap, Clamp, Mirror };  // Vulkan REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT
+// Vulkan REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT, CLAMP_TO_BORDER, MIRROR_CLAMP_TO_EDGE (the
+// order of the scenes' choice lists: "wrap", "clamp", "mirror", "border", "mirror_clamp").
+enum class AddressMode { Wrap, Clamp, Mirror, Border, MirrorClamp };
 
 const char* to_string(TexelFormat f);
 const char* to_string(TexelLayout l);

@@ -109,6 +109,10 @@ HWY_INLINE void address_pair(DI di, VI i, VI size, AddressMode mode, VI& a, VI& 
       b = mirror(hn::Add(i, one));
       return;
     }
+    case AddressMode::Border:
+    case AddressMode::MirrorClamp:
+      a = b = i;  // refused by serves(): the one-by-one kernel's
+      return;
   }
 }
 
@@ -570,6 +574,12 @@ bool LinearBatchSampler::serves(const Texture& tex) const {
   if (tex.format() != TexelFormat::Rgba8 || tex.bytes_per_texel() != 4) return false;
   if (tex.levels() < 1 || tex.levels() > static_cast<int>(linear_batch_detail::kMaxLevels))
     return false;
+  // Border and mirror-clamp addressing and texel offsets are the one-by-one kernel's
+  // (bit-identical results either way; docs/derivations/filters.md §2).
+  for (AddressMode m : {addr_.address_u, addr_.address_v}) {
+    if (m == AddressMode::Border || m == AddressMode::MirrorClamp) return false;
+  }
+  if (addr_.offset_u != 0 || addr_.offset_v != 0) return false;
   uint64_t texels = 0;
   for (int l = 0; l < tex.levels(); ++l) {
     const int w = tex.width(l), h = tex.height(l);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "blocks/base/block.h"
 
@@ -32,12 +33,69 @@ TexelAddressGen::TexelAddressGen(const Config& c) : cfg_(c) {
   }
 }
 
+namespace {
+
+// `border`: a VkBorderColor FLOAT_* name or a custom float colour [r, g, b, a] (finite).
+// Integer border colours (INT_*, INT_CUSTOM_EXT) need an integer format, which texsim has not.
+Rgba border_from_toml(const ConfigReader& r) {
+  const toml::node* n = r.table().get("border");
+  if (!n) return Rgba(0.0f);
+  if (n->is_string()) {
+    const int k = r.get_choice("border", 0, {"transparent_black", "opaque_black", "opaque_white"});
+    return k == 0 ? Rgba(0.0f) : (k == 1 ? Rgba(0.0f, 0.0f, 0.0f, 1.0f) : Rgba(1.0f));
+  }
+  const toml::array* a = n->as_array();
+  if (!a || a->size() != 4) {
+    r.fail("border",
+           "expected \"transparent_black\", \"opaque_black\", \"opaque_white\" or a custom "
+           "float colour [r, g, b, a]");
+  }
+  Rgba c(0.0f);
+  for (size_t k = 0; k < 4; ++k) {
+    const toml::node& e = *a->get(k);
+    const std::optional<double> v = e.value<double>();
+    if (!v || !std::isfinite(*v)) r.fail_at(e, "border: each channel must be a finite number");
+    c[static_cast<int>(k)] = static_cast<float>(*v);
+  }
+  return c;
+}
+
+// `offset`: [i, j], integers in minTexelOffset..maxTexelOffset.
+void offset_from_toml(const ConfigReader& r, int& ou, int& ov) {
+  const toml::node* n = r.table().get("offset");
+  if (!n) return;
+  const toml::array* a = n->as_array();
+  if (!a || a->size() != 2) r.fail("offset", "expected two integers [i, j]");
+  int* out[2] = {&ou, &ov};
+  for (size_t k = 0; k < 2; ++k) {
+    const toml::node& e = *a->get(k);
+    const std::optional<int64_t> v = e.is_integer() ? e.value<int64_t>() : std::nullopt;
+    using C = TexelAddressGen::Config;
+    if (!v || *v < C::kMinTexelOffset || *v > C::kMaxTexelOffset) {
+      r.fail_at(e, "offset: each component must be an integer in [" +
+                       std::to_string(C::kMinTexelOffset) + ", " +
+                       std::to_string(C::kMaxTexelOffset) +
+                       "] (Vulkan minTexelOffset..maxTexelOffset)");
+    }
+    *out[k] = static_cast<int>(*v);
+  }
+}
+
+}  // namespace
+
 TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r) {
-  r.reject_unknown({"mode", "address", "address_u", "address_v", "sub_texel_bits", "mipmap_bits"});
+  if (r.table().contains("border_int")) {
+    r.fail("border_int",
+           "integer border colours need an integer texture format, and texsim has none; give a "
+           "float 'border'");
+  }
+  r.reject_unknown({"mode", "address", "address_u", "address_v", "sub_texel_bits", "mipmap_bits",
+                    "border", "offset"});
   Config c;
   c.filter = static_cast<FilterMode>(
       r.get_choice("mode", static_cast<int>(c.filter), {"nearest", "bilinear", "trilinear"}));
-  const std::vector<std::string_view> modes = {"wrap", "clamp", "mirror"};  // AddressMode order
+  const std::vector<std::string_view> modes = {"wrap", "clamp", "mirror", "border",
+                                               "mirror_clamp"};  // AddressMode order
   if (r.table().contains("address")) {
     // One key for both axes; giving an axis as well would leave it ambiguous which wins.
     for (std::string_view k : {"address_u", "address_v"}) {
@@ -50,7 +108,19 @@ TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r
   }
   c.sub_texel_bits = static_cast<int>(r.get_int("sub_texel_bits", c.sub_texel_bits, 1, 16));
   c.mipmap_bits = static_cast<int>(r.get_int("mipmap_bits", c.mipmap_bits, 1, 16));
+  c.border = border_from_toml(r);
+  offset_from_toml(r, c.offset_u, c.offset_v);
   return c;
+}
+
+void TexelAddressGen::count_border(const Texture& tex, FilterTaps& out) const {
+  int n = 0;
+  for (int k = 0; k < out.count; ++k) {
+    n += out.tap[static_cast<size_t>(k)].x == kBorderTexel ||
+         out.tap[static_cast<size_t>(k)].y == kBorderTexel;
+  }
+  out.border_taps = n;
+  if (n > 0) out.border = border_texel(tex.storage(), cfg_.border);
 }
 
 int TexelAddressGen::taps_per_probe() const {
@@ -85,6 +155,15 @@ OpCounts TexelAddressGen::ops_address(AddressMode m) {
       o.add = 4;
       o.cmp = 2;
       break;
+    case AddressMode::Border:
+      o.cmp = 2;  // 0 ≤ i, i < size: the tap's border flag (no texel read when set)
+      break;
+    case AddressMode::MirrorClamp:
+      // mirror(i): −(1 + i) is the bitwise complement (1 add) selected by the sign (1 cmp);
+      // min(size − 1, ·) (1 cmp).
+      o.add = 1;
+      o.cmp = 2;
+      break;
   }
   return o;
 }
@@ -92,11 +171,12 @@ OpCounts TexelAddressGen::ops_address(AddressMode m) {
 OpCounts TexelAddressGen::ops_level() const {
   OpCounts o;
   const bool linear = cfg_.filter != FilterMode::Nearest;
-  const uint64_t coords = linear ? 2 : 1;  // i0, i1 (and j0, j1) or one i (and j)
-  o.mul += 2;                              // u·width, v·height
-  if (linear) o.add += 2;                  // − ½
-  o.add += 2;                              // round to fixed point
-  if (linear) o.add += 2;                  // i1 = i0 + 1, j1 = j0 + 1
+  const uint64_t coords = linear ? 2 : 1;                    // i0, i1 (and j0, j1) or one i (and j)
+  o.mul += 2;                                                // u·width, v·height
+  if (linear) o.add += 2;                                    // − ½
+  o.add += 2;                                                // round to fixed point
+  if (linear) o.add += 2;                                    // i1 = i0 + 1, j1 = j0 + 1
+  if (cfg_.offset_u != 0 || cfg_.offset_v != 0) o.add += 2;  // i0 + offset, j0 + offset
   o += ops_address(cfg_.address_u) * coords;
   o += ops_address(cfg_.address_v) * coords;
   if (linear) {

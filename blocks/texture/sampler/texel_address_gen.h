@@ -21,7 +21,12 @@
 
 namespace texsim {
 
-// One texel to read: coordinates already addressed (inside the level), and its weight.
+// x or y of a tap that reads the border colour (CLAMP_TO_BORDER, outside the level): no
+// texel is read and no memory is accessed for it.
+inline constexpr int32_t kBorderTexel = -1;
+
+// One texel to read: coordinates already addressed (inside the level, or kBorderTexel in
+// either coordinate for a border tap), and its weight.
 struct TexelTap {
   int32_t level;
   int32_t x, y;
@@ -34,10 +39,13 @@ struct TexelQuad {
   int32_t x0, x1, y0, y1;
   float w[4];
 };
-// All taps of one fragment: up to maxAniso (16) probes × 8 taps.
+// All taps of one fragment: up to maxAniso (16) probes × 8 taps. border_taps counts the taps
+// that read the border colour (then `border` holds it, in the texture's format conversion).
 struct FilterTaps {
   std::array<TexelTap, 128> tap;
   int count = 0;
+  int border_taps = 0;
+  Rgba border{0.0f};
 };
 
 // Nearest = VK_FILTER_NEAREST + VK_SAMPLER_MIPMAP_MODE_NEAREST; Bilinear = VK_FILTER_LINEAR +
@@ -47,7 +55,8 @@ enum class FilterMode { Nearest, Bilinear, Trilinear };
 const char* to_string(FilterMode m);
 
 // Texel address generator (docs/derivations/filters.md §2–§4): levels, texel coordinates,
-// wrap/clamp/mirror and weights of nearest/bilinear/trilinear taps, per anisotropic probe.
+// wrap/clamp/mirror/border/mirror-clamp, texel offsets and weights of nearest/bilinear/trilinear
+// taps, per anisotropic probe.
 class TexelAddressGen {
  public:
   struct Config {
@@ -56,10 +65,20 @@ class TexelAddressGen {
     AddressMode address_v = AddressMode::Wrap;
     int sub_texel_bits = 8;  // fraction bits of texel coordinates (Vulkan subTexelPrecisionBits)
     int mipmap_bits = 8;     // fraction bits of the LOD (Vulkan mipmapPrecisionBits)
-    // Keys: mode ("nearest"|"bilinear"|"trilinear"); address ("wrap"|"clamp"|"mirror") for
-    // both axes, or address_u and address_v separately (not both forms at once);
-    // sub_texel_bits (1..16), mipmap_bits (1..16).
+    // CLAMP_TO_BORDER's colour (VkBorderColor FLOAT_*, or FLOAT_CUSTOM_EXT), linear RGBA.
+    Rgba border{0.0f};
+    // Constant texel offset (OpImageSample*'s ConstOffset), added to the integer texel
+    // coordinates before wrapping; Vulkan's minTexelOffset..maxTexelOffset = -8..7.
+    int offset_u = 0, offset_v = 0;
+    static constexpr int kMinTexelOffset = -8, kMaxTexelOffset = 7;
+    // Keys: mode ("nearest"|"bilinear"|"trilinear"); address ("wrap"|"clamp"|"mirror"|
+    // "border"|"mirror_clamp") for both axes, or address_u and address_v separately (not both
+    // forms at once); sub_texel_bits (1..16), mipmap_bits (1..16); border
+    // ("transparent_black"|"opaque_black"|"opaque_white"|[r, g, b, a]); offset ([i, j]).
     static Config from_toml(const ConfigReader& r);
+    bool uses_border() const {
+      return address_u == AddressMode::Border || address_v == AddressMode::Border;
+    }
   };
 
   // Mip level(s) chosen for one fragment (Vulkan "Image Level(s) Selection").
@@ -93,7 +112,8 @@ class TexelAddressGen {
                                                float w) const;
   // Level selection from λ on a pyramid of `levels` levels.
   [[gnu::always_inline]] LevelSelect select_levels(float lambda, int levels) const;
-  // Vulkan's wrapping of one integer texel coordinate into [0, size).
+  // Vulkan's wrapping of one integer texel coordinate into [0, size), or kBorderTexel
+  // (CLAMP_TO_BORDER outside the level).
   static int32_t address(int64_t i, int32_t size, AddressMode mode);
 
   // The float→fixed converters' rounding: nearest integer, ties to even (= std::llrint in the
@@ -123,17 +143,20 @@ class TexelAddressGen {
   // Per-probe pipeline: latency of the critical path, ii = 1 probe per cycle, area of one
   // probe's datapath (with the anisotropic offset/weight stage).
   TimingSpec timing(const TechTable& tech) const;
+  // Operations of one address mode on one integer coordinate (docs/derivations/filters.md §2).
+  static OpCounts ops_address(AddressMode m);
   // Report name ("filter.<mode>") and number formats.
   std::string name() const;
   std::string arithmetic() const;
 
  private:
-  static OpCounts ops_address(AddressMode m);
   OpCounts ops_level() const;
   OpCounts count_setup(bool anisotropic) const;
   OpCounts count_probe(bool anisotropic) const;
   [[gnu::always_inline]] TexelTap* emit_nearest(const Texture& tex, int32_t level, float u, float v,
                                                 float w, TexelTap* out) const;
+  // Counts the border taps of `out` and gives it the border colour in the texture's format.
+  void count_border(const Texture& tex, FilterTaps& out) const;
   [[gnu::always_inline]] TexelTap* emit_linear(const Texture& tex, int32_t level, float u, float v,
                                                float w, TexelTap* out) const;
   Config cfg_;
@@ -185,6 +208,17 @@ inline int32_t mirror(int64_t i, int32_t size) {
   return static_cast<int32_t>((size - 1) - m);
 }
 
+// Vulkan MIRROR_CLAMP_TO_EDGE: clamp(mirror(i), 0, size − 1).
+inline int32_t mirror_clamp(int64_t i, int32_t size) {
+  const int64_t m = i >= 0 ? i : -(1 + i);
+  return static_cast<int32_t>(std::min<int64_t>(m, size - 1));
+}
+
+// Vulkan CLAMP_TO_BORDER: i itself inside the level, the border texel outside.
+inline int32_t border(int64_t i, int32_t size) {
+  return i >= 0 && i < size ? static_cast<int32_t>(i) : kBorderTexel;
+}
+
 // The two neighbours i and i + 1 of a linear filter, addressed. Wrap derives i + 1 from i
 // (one modulo instead of two), as the hardware's incrementer does.
 [[gnu::always_inline]] inline void address_pair(int64_t i, int32_t size, AddressMode mode,
@@ -202,6 +236,14 @@ inline int32_t mirror(int64_t i, int32_t size) {
       a = mirror(i, size);
       b = mirror(i + 1, size);
       return;
+    case AddressMode::Border:
+      a = border(i, size);
+      b = border(i + 1, size);
+      return;
+    case AddressMode::MirrorClamp:
+      a = mirror_clamp(i, size);
+      b = mirror_clamp(i + 1, size);
+      return;
   }
   a = b = 0;
 }
@@ -216,6 +258,10 @@ inline int32_t TexelAddressGen::address(int64_t i, int32_t size, AddressMode mod
       return texel_address_detail::clamp_edge(i, size);
     case AddressMode::Mirror:
       return texel_address_detail::mirror(i, size);
+    case AddressMode::Border:
+      return texel_address_detail::border(i, size);
+    case AddressMode::MirrorClamp:
+      return texel_address_detail::mirror_clamp(i, size);
   }
   return 0;
 }
@@ -255,7 +301,9 @@ inline TexelTap* TexelAddressGen::emit_nearest(const Texture& tex, int32_t level
   // i = ⌊u·width⌋ on the fixed-point coordinate.
   const int64_t xf = to_fixed(u * static_cast<float>(wl), fix_scale_);
   const int64_t yf = to_fixed(v * static_cast<float>(hl), fix_scale_);
-  *out = {level, address(xf >> b, wl, cfg_.address_u), address(yf >> b, hl, cfg_.address_v), w};
+  // The constant offset joins the integer coordinate before wrapping.
+  *out = {level, address((xf >> b) + cfg_.offset_u, wl, cfg_.address_u),
+          address((yf >> b) + cfg_.offset_v, hl, cfg_.address_v), w};
   return out + 1;
 }
 
@@ -273,8 +321,8 @@ inline TexelQuad TexelAddressGen::linear_quad(const Texture& tex, int32_t level,
   const float be = static_cast<float>(yf & mask) * frac_scale_;
   TexelQuad q;
   q.level = level;
-  address_pair(xf >> b, wl, cfg_.address_u, q.x0, q.x1);
-  address_pair(yf >> b, hl, cfg_.address_v, q.y0, q.y1);
+  address_pair((xf >> b) + cfg_.offset_u, wl, cfg_.address_u, q.x0, q.x1);
+  address_pair((yf >> b) + cfg_.offset_v, hl, cfg_.address_v, q.y0, q.y1);
   const float wi0 = 1.0f - a, wj0 = 1.0f - be;
   q.w[0] = wi0 * wj0 * w;
   q.w[1] = a * wj0 * w;
@@ -338,6 +386,8 @@ inline void TexelAddressGen::taps(const Texture& tex, double u, double v, const 
     }
   }
   out.count = static_cast<int>(t - out.tap.data());
+  out.border_taps = 0;
+  if (cfg_.uses_border()) count_border(tex, out);
 }
 
 }  // namespace texsim

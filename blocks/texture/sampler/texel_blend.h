@@ -34,7 +34,8 @@ class TexelBlend {
   explicit TexelBlend(const Config& c) : cfg_(c) {}
   const Config& config() const { return cfg_; }
 
-  // Σ w_k · texel_k over taps.tap[0 .. count). Counts one memory read, 4 mul and 4 add per tap.
+  // Σ w_k · texel_k over taps.tap[0 .. count); a border tap's texel is taps.border. Counts one
+  // memory read, 4 mul and 4 add per tap.
   Rgba blend(const FilterTaps& taps, const Texture& tex, OpCounts& ops) const {
     ops += ops_per_item() * static_cast<uint64_t>(taps.count > 0 ? taps.count : 0);
     return blend(taps, tex);
@@ -127,15 +128,20 @@ inline F4 tree_sum(F4* prod, int n) {
 }
 
 // w · texel of taps [first, first + n); the level's texels and width are looked up once per
-// run of taps on one level (a probe's taps share a level).
-template <class Fetch>
+// run of taps on one level (a probe's taps share a level). With kBorder, a border tap
+// (kBorderTexel) takes the border colour instead of a texel.
+template <class Fetch, bool kBorder = false>
 struct Products {
   const Texture& tex;
+  F4 border = {0.0f, 0.0f, 0.0f, 0.0f};
   int32_t level = -1;
   decltype(Fetch::data(std::declval<const Texture&>(), 0)) texels = nullptr;
   size_t width = 0;
 
   F4 operator()(const TexelTap& t) {
+    if constexpr (kBorder) {
+      if (t.x == kBorderTexel || t.y == kBorderTexel) return border * t.w;
+    }
     if (t.level != level) {
       level = t.level;
       const Texture::Level& lv = tex.level(level);
@@ -147,10 +153,12 @@ struct Products {
   }
 };
 
-template <class Fetch>
+template <class Fetch, bool kBorder = false>
 inline Rgba blend_taps(const FilterTaps& taps, const Texture& tex, int g) {
   F4 acc = {0.0f, 0.0f, 0.0f, 0.0f};
-  Products<Fetch> product{tex};
+  Products<Fetch, kBorder> product{tex};
+  if constexpr (kBorder)
+    product.border = F4{taps.border.r, taps.border.g, taps.border.b, taps.border.a};
   const TexelTap* t = taps.tap.data();
   if (taps.count == 4 && g >= 4) {
     // One bilinear probe in one group: the tree is ((p0 + p1) + (p2 + p3)).
@@ -206,6 +214,11 @@ template <class Fetch>
 inline Rgba TexelBlend::blend(const FilterTaps& taps, const Texture& tex) const {
   using namespace texel_blend_detail;
   const int g = std::clamp(cfg_.taps_per_cycle, 1, 32);
+  if (taps.border_taps > 0) {
+    // The same sums, the border taps' products taken from the border colour.
+    return tex.format() == TexelFormat::Rgba8 ? blend_taps<FetchRgba8, true>(taps, tex, g)
+                                              : blend_taps<FetchRgba32f, true>(taps, tex, g);
+  }
   return tex.format() == TexelFormat::Rgba8 ? blend_taps<FetchRgba8>(taps, tex, g)
                                             : blend_taps<FetchRgba32f>(taps, tex, g);
 }

@@ -8,7 +8,10 @@ void AddressStage::rows(StageReport& r, std::vector<BlockUse>& out) const {
   r.taps = probes_ * taps_;
   const OpCounts ops = addr_.ops_setup(false) * iso + addr_.ops_setup(true) * aniso_fragments_ +
                        addr_.ops_per_item(false) * iso + addr_.ops_per_item(true) * aniso_probes;
-  r.add(out, addr_.name(), addr_.arithmetic(), addr_.timing(r.tech), ops, r.taps);
+  // Texels fetched: border taps read the sampler's colour, not memory.
+  r.border_taps = border_taps_;
+  r.add(out, addr_.name(), addr_.arithmetic(), addr_.timing(r.tech), ops, r.taps - border_taps_);
+  out.back().border_taps = border_taps_;
 }
 
 }  // namespace texsim

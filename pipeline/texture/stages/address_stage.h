@@ -27,12 +27,14 @@ class AddressStage final : public UnitStage {
     aniso_fragments_ += probes > 1;
     probes_ += probes;
   }
+  void count_border(int taps) { border_taps_ += static_cast<uint64_t>(taps); }
 
  private:
   TexelAddressGen addr_;
   uint32_t taps_;
   uint64_t aniso_fragments_ = 0;  // fragments with N > 1
   uint64_t probes_ = 0;           // Σ N over all fragments
+  uint64_t border_taps_ = 0;      // taps that read the border colour (CLAMP_TO_BORDER)
 };
 
 }  // namespace texsim

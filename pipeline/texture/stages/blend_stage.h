@@ -19,8 +19,10 @@ class BlendStage final : public UnitStage {
   // Blends the taps the address stage's row counted (r.taps).
   void rows(StageReport& r, std::vector<BlockUse>& out) const override {
     if (bypassed_) return;
-    r.add(out, blend_.name(), blend_.arithmetic(), blend_.timing(r.tech),
-          TexelBlend::ops_per_item() * r.taps);
+    // A border tap is multiplied and summed like any other, without its texel read.
+    OpCounts ops = TexelBlend::ops_per_item() * r.taps;
+    ops.mem -= r.border_taps;
+    r.add(out, blend_.name(), blend_.arithmetic(), blend_.timing(r.tech), ops);
   }
   const TexelBlend& blend() const { return blend_; }
   // Extra issue cycles of a fragment of N = 1..16 probes.

@@ -127,6 +127,16 @@ uint64_t FetchStage::lookup_block_quads(const TexelQuad* q, int n, const Texture
 }
 
 uint64_t FetchStage::lookup_taps(const FilterTaps& taps, const Texture& tex, uint64_t start) {
+  if (taps.border_taps > 0) {
+    // Border taps read the sampler's colour: no line, no texel through the cache.
+    FilterTaps read;
+    for (int i = 0; i < taps.count; ++i) {
+      const TexelTap& t = taps.tap[static_cast<size_t>(i)];
+      if (t.x != kBorderTexel && t.y != kBorderTexel)
+        read.tap[static_cast<size_t>(read.count++)] = t;
+    }
+    return lookup_taps(read, tex, start);
+  }
   if (block_latency_ && tex.compressed())
     return lookup_blocks(taps.tap.data(), taps.count, tex, start);
   // Each distinct line of the fragment's taps is one tag look-up.

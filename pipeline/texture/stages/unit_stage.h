@@ -32,6 +32,7 @@ struct BlockUse {
   OpCounts ops;                        // total over the run
   uint64_t texels = 0;                 // texels it fetched through the cache over the run
   std::vector<std::string> materials;  // materials that use it
+  uint64_t border_taps = 0;  // taps that read the border colour instead (no texel, no memory)
 };
 
 // The unit's pipeline slots, in pipeline order.
@@ -76,6 +77,7 @@ struct StageReport {
   const TechTable& tech;
   uint64_t fragments = 0;
   uint64_t taps = 0;
+  uint64_t border_taps = 0;  // of those, the taps that read the border colour (no texel read)
   void add(std::vector<BlockUse>& out, std::string name, std::string arith, const TimingSpec& t,
            const OpCounts& ops, uint64_t texels = 0) const {
     out.push_back({std::move(name), std::move(arith), t, ops, texels, {material}});

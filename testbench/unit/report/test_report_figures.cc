@@ -40,7 +40,7 @@ const std::set<std::string> kKnownKeys = {
     // blocks
     "blocks", "blocks.*", "blocks.*.ops", "blocks.*.ops.<op>", "blocks.*.ops_per_fragment",
     "blocks.*.latency", "blocks.*.ii", "blocks.*.area", "blocks.*.arithmetic", "blocks.*.materials",
-    "blocks.*.texels", "blocks.*.texels_per_fragment",
+    "blocks.*.texels", "blocks.*.texels_per_fragment", "blocks.*.border_taps",
     // stages
     "stages", "stages.*", "stages.*.latency", "stages.*.busy", "stages.*.utilisation",
     "stages.*.stalls", "stages.*.stalls.starved", "stages.*.stalls.blocked",
@@ -284,6 +284,11 @@ void check_blocks(const Json& r) {
     EXPECT_FALSE(b["materials"].empty()) << name;
     for (const Json& m : b["materials"]) EXPECT_TRUE(r["materials"].contains(m)) << name << m;
     if (name != "cache") filter_texels += u(b["texels"]);
+    // Border taps: present only where some tap read the border colour (not counted in texels).
+    if (b.contains("border_taps")) {
+      EXPECT_GT(u(b["border_taps"]), 0u) << name;
+      EXPECT_EQ(name.rfind("filter.", 0), 0u) << name;
+    }
   }
   // The cache serves every filter texel, one `mem` op each.
   ASSERT_TRUE(r["blocks"].contains("cache"));
@@ -1148,6 +1153,28 @@ TEST_F(ReportFigures, CompressedTexture) {
     EXPECT_EQ(r["decompress"]["placement"], at);
     EXPECT_GT(u(r["decompress"]["blocks_decoded"]), 0u) << at;
   }
+}
+
+// Border addressing: the filter rows count the border taps, which fetch nothing: the texels
+// the cache serves are the taps less the border taps, and the blend makes no read for them.
+TEST_F(ReportFigures, BorderTaps) {
+  const Json r = run_scene(kScenes + "border.toml");
+  check_report(r, kW, kH);
+  uint64_t border = 0, taps_read = 0;
+  for (const auto& [name, b] : r["blocks"].items()) {
+    if (b.contains("border_taps")) border += u(b["border_taps"]);
+    if (name.rfind("filter.", 0) == 0) taps_read += u(b["texels"]);
+  }
+  EXPECT_GT(border, 0u);
+  EXPECT_EQ(u(r["cache"]["texel_reads"]), taps_read);  // the L1 saw no border tap
+  EXPECT_EQ(u(r["blocks"]["blend"]["ops"]["mem"]), taps_read);
+  EXPECT_EQ(u(r["blocks"]["blend"]["ops"]["mul"]), 4 * (taps_read + border));
+  // Without border addressing the same panels read a texel for every tap.
+  const Json c =
+      run_scene(kScenes + "border.toml", {"materials.border_white.filter.address=\"clamp\"",
+                                          "materials.border_custom.filter.address_u=\"clamp\""});
+  for (const auto& [name, b] : c["blocks"].items()) EXPECT_FALSE(b.contains("border_taps")) << name;
+  EXPECT_EQ(u(c["blocks"]["blend"]["ops"]["mem"]) * 4, u(c["blocks"]["blend"]["ops"]["mul"]));
 }
 
 // Without a ground truth every accuracy figure is null and there is no error map.

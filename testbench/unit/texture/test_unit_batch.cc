@@ -165,6 +165,39 @@ TEST(UnitBatch, AnisotropicMaterialMixesBatchAndScalarFragments) {
   expect_same(run(m, TexelLayout::Tiled4x4, true, 0), run(m, TexelLayout::Tiled4x4, true, 256));
 }
 
+// Border and mirror-clamp addressing and texel offsets: the batch leaves them to the one-by-one
+// path, so every figure (and the border-tap count) is the same either way; the floor's
+// coordinates run far outside [0, 1], so border taps are many and fetch nothing.
+TEST(UnitBatch, BorderMirrorClampAndOffsetsTakeTheOneByOnePath) {
+  struct Case {
+    AddressMode u, v;
+    int ou, ov;
+  };
+  for (const Case c : {Case{AddressMode::Border, AddressMode::Border, 0, 0},
+                       Case{AddressMode::MirrorClamp, AddressMode::Wrap, 0, 0},
+                       Case{AddressMode::Wrap, AddressMode::Wrap, 3, -8}}) {
+    MaterialSetup m;
+    m.name = "floor";
+    m.filter.filter = FilterMode::Trilinear;
+    m.filter.address_u = c.u;
+    m.filter.address_v = c.v;
+    m.filter.border = Rgba(0.0f, 0.0f, 0.0f, 1.0f);
+    m.filter.offset_u = c.ou;
+    m.filter.offset_v = c.ov;
+    SCOPED_TRACE(std::string(to_string(c.u)) + "/" + to_string(c.v));
+    const Figures one = run(m, TexelLayout::Tiled4x4, true, 0);
+    const Figures batched = run(m, TexelLayout::Tiled4x4, true, LinearBatch::kMax);
+    expect_same(one, batched);
+    uint64_t border = 0, texels = 0;
+    for (const BlockUse& b : batched.blocks) {
+      border += b.border_taps;
+      if (b.name.rfind("filter.", 0) == 0) texels += b.texels;
+    }
+    EXPECT_EQ(border > 0, c.u == AddressMode::Border) << border;
+    EXPECT_EQ(batched.cache.texel_reads, texels);
+  }
+}
+
 TEST(UnitBatch, AnUnloadedTextureFailsAtItsFragment) {
   BenchFloor& fx = floor_fixture();
   std::vector<Fragment> frags(fx.frags.begin(), fx.frags.begin() + 40);
