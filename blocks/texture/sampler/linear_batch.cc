@@ -504,7 +504,13 @@ void FilterLinearBatch(const Input& in, LinearBatch& out) {
   const VI one_fix = hn::Set(di, int32_t{1} << m);
   Columns cols;
   load_columns(in, cols);
+  // The fragments after the batch (in a trace, the next batch) are brought into the cache
+  // while this one computes, a vector's worth at a time: load_columns otherwise waited for
+  // memory. A prefetch past the end of the caller's array does not fault.
+  const char* const next = reinterpret_cast<const char*>(in.frags + in.count);
   for (size_t i = 0; i < in.count; i += lanes) {
+    for (size_t b = i * sizeof(Fragment); b < (i + lanes) * sizeof(Fragment); b += 64)
+      __builtin_prefetch(next + b);
     const Lanes l = load_lanes(in, cols, i);
     MF ok = l.ok;
     const VF rmax2 = lod_rho2(in, l, ok);

@@ -27,6 +27,8 @@ class AddressStage final : public UnitStage {
     aniso_fragments_ += probes > 1;
     probes_ += probes;
   }
+  // count(1) n times.
+  void count_single_probes(uint64_t n) { probes_ += n; }
 
  private:
   TexelAddressGen addr_;
