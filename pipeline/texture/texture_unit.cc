@@ -423,6 +423,10 @@ void TextureUnit::batch_linear(const Fragment* f, size_t n, Path& p, const Textu
   }
   LinearBatch& b = *batch_out_;
   p.batch->filter(f, n, tex, b, kFront >= 0 ? fetch_.line_shift() : 0);
+  if constexpr (kFront < 0) {
+    finish_functional_batch(f, n, p, b, out);
+    return;
+  }
   constexpr int nq = kFilter == FilterMode::Trilinear ? 2 : 1;
   for (size_t i = 0; i < n; ++i) {
     if (!b.done[i]) {
@@ -458,6 +462,41 @@ void TextureUnit::batch_linear(const Fragment* f, size_t n, Path& p, const Textu
     }
     out[i] = b.colour(i);
   }
+}
+
+void TextureUnit::finish_functional_batch(const Fragment* f, size_t n, Path& p,
+                                          const LinearBatch& b, Rgba* out) {
+  // count_fragment per done fragment, with the sums kept in locals: the frame's count is
+  // added when the frame changes or an undone fragment (counted by its own kernel) comes.
+  const bool quad_merge = fetch_.quad_merge();
+  uint64_t done = 0, pending = 0;
+  bool have_frame = !frames_.empty();
+  uint32_t frame = have_frame ? frames_.back().frame : 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (!b.done[i]) {
+      if (pending) frames_.back().fragments += pending;
+      pending = 0;
+      out[i] = filter_fragment(f[i], p, nullptr);  // its own texture, the scalar kernel
+      frame = frames_.back().frame;
+      have_frame = true;
+      continue;
+    }
+    out[i] = b.colour(i);
+    ++done;
+    if (quad_merge) fetch_.note_quad(f[i]);
+    if (!have_frame || frame != f[i].frame) {
+      if (pending) frames_.back().fragments += pending;
+      pending = 0;
+      new_frame(f[i]);
+      frame = f[i].frame;
+      have_frame = true;
+    }
+    ++pending;
+  }
+  if (pending) frames_.back().fragments += pending;
+  p.fragments += done;
+  fragments_ += done;
+  p.stages.address->count_single_probes(done);
 }
 
 template <int kFront>

@@ -180,6 +180,10 @@ class TextureUnit {
   // the fragments it leaves undone through process_linear.
   template <FilterMode kFilter, TexelLayout L, int kFront>
   void batch_linear(const Fragment* f, size_t n, Path& p, const Texture& tex, Rgba* out);
+  // The functional batch's colours out and its done fragments counted as count_fragment
+  // would, in order; the undone ones through the scalar kernel.
+  void finish_functional_batch(const Fragment* f, size_t n, Path& p, const LinearBatch& b,
+                               Rgba* out);
   template <int kFront>
   static BatchKernel pick_batch_kernel(FilterMode filter, TexelLayout layout);
   // Sets p's batched datapath when material m can use one.

@@ -123,11 +123,35 @@ struct Quad {
   MF fits;  // fixed-point coordinates within int32
 };
 
-HWY_INLINE Quad linear_quad(const Input& in, VI level, VF u, VF v, VF w, bool unit_weight) {
+// A level's entries of the per-level tables, per lane. The lanes of a vector are neighbouring
+// fragments and nearly always on one level: then one scalar read each instead of a gather.
+struct LevelInfo {
+  VI level, w, h, first;
+  bool uniform;
+  int32_t l0;  // the level of lane 0
+  VI of(const int32_t* table) const {
+    const DI di;
+    return uniform ? hn::Set(di, table[l0]) : hn::GatherIndex(di, table, level);
+  }
+};
+
+HWY_INLINE LevelInfo level_info(const Input& in, VI level) {
+  const DI di;
+  LevelInfo li;
+  li.level = level;
+  li.l0 = hn::GetLane(level);
+  li.uniform = hn::AllTrue(di, hn::Eq(level, hn::Set(di, li.l0)));
+  li.w = li.of(in.level_w);
+  li.h = li.of(in.level_h);
+  li.first = li.of(in.level_first);
+  return li;
+}
+
+HWY_INLINE Quad linear_quad(const Input& in, const LevelInfo& li, VF u, VF v, VF w,
+                            bool unit_weight) {
   const DF df;
   const DI di;
-  const VI wl = hn::GatherIndex(di, in.level_w, level);
-  const VI hl = hn::GatherIndex(di, in.level_h, level);
+  const VI wl = li.w, hl = li.h;
   const VF half = hn::Set(df, 0.5f), limit = hn::Set(df, 1073741824.0f);  // 2^30
   const VF scale = hn::Set(df, in.fix_scale);
   VF xs = hn::Sub(hn::Mul(u, hn::ConvertTo(df, wl)), half);
@@ -160,11 +184,10 @@ HWY_INLINE Quad linear_quad(const Input& in, VI level, VF u, VF v, VF w, bool un
 struct Texel {
   VF r, g, b, a;
 };
-HWY_INLINE Texel product(const Input& in, VI first, VI wl, VI x, VI y, VF w) {
+// The channels of one texel word per lane, c·(1/255), times w (FetchRgba8::at · w).
+HWY_INLINE Texel product(VI word, VF w) {
   const DF df;
   const DI di;
-  const VI index = hn::Add(first, hn::Add(hn::Mul(y, wl), x));
-  const VI word = hn::GatherIndex(di, in.texels, index);
   const VI byte = hn::Set(di, 0xff);
   const VF k = hn::Set(df, 1.0f / 255.0f);
   const auto channel = [&](int shift) {
@@ -176,15 +199,44 @@ HWY_INLINE Texel product(const Input& in, VI first, VI wl, VI x, VI y, VF w) {
 HWY_INLINE Texel add(const Texel& p, const Texel& q) {
   return {hn::Add(p.r, q.r), hn::Add(p.g, q.g), hn::Add(p.b, q.b), hn::Add(p.a, q.a)};
 }
-// The adder tree of one quad: (p0 + p1) + (p2 + p3).
-HWY_INLINE Texel quad_sum(const Input& in, VI level, const Quad& q) {
+
+// The quad's four RGBA8 words in tap order. A row's two texels are neighbours in the store
+// (x1 = x0 + 1) except at a wrap or a clamped edge, so each row is one 8-byte load per lane:
+// two scalar loads per fragment where gathers took four (and gathers are slow on AMD Zen).
+HWY_INLINE void quad_words(const Input& in, const LevelInfo& li, const Quad& q, VI* word) {
   const DI di;
-  const VI first = hn::GatherIndex(di, in.level_first, level);
-  const VI wl = hn::GatherIndex(di, in.level_w, level);
-  const Texel p0 = product(in, first, wl, q.x0, q.y0, q.w[0]);
-  const Texel p1 = product(in, first, wl, q.x1, q.y0, q.w[1]);
-  const Texel p2 = product(in, first, wl, q.x0, q.y1, q.w[2]);
-  const Texel p3 = product(in, first, wl, q.x1, q.y1, q.w[3]);
+  constexpr size_t kLanes = hn::MaxLanes(DI());
+  HWY_ALIGN int32_t row0[kLanes], row1[kLanes], dx[kLanes];
+  HWY_ALIGN int32_t pair0[2 * kLanes], pair1[2 * kLanes];
+  hn::Store(hn::Add(li.first, hn::Add(hn::Mul(q.y0, li.w), q.x0)), di, row0);
+  hn::Store(hn::Add(li.first, hn::Add(hn::Mul(q.y1, li.w), q.x0)), di, row1);
+  hn::Store(hn::Sub(q.x1, q.x0), di, dx);
+  const int32_t* const t = in.texels;
+  for (size_t k = 0; k < hn::Lanes(di); ++k) {
+    const int32_t* const a = t + row0[k];
+    const int32_t* const b = t + row1[k];
+    if (HWY_LIKELY(dx[k] == 1)) {
+      std::memcpy(pair0 + 2 * k, a, 8);
+      std::memcpy(pair1 + 2 * k, b, 8);
+    } else {
+      pair0[2 * k] = a[0];
+      pair0[2 * k + 1] = a[dx[k]];
+      pair1[2 * k] = b[0];
+      pair1[2 * k + 1] = b[dx[k]];
+    }
+  }
+  hn::LoadInterleaved2(di, pair0, word[0], word[1]);
+  hn::LoadInterleaved2(di, pair1, word[2], word[3]);
+}
+
+// The adder tree of one quad: (p0 + p1) + (p2 + p3).
+HWY_INLINE Texel quad_sum(const Input& in, const LevelInfo& li, const Quad& q) {
+  VI word[4];
+  quad_words(in, li, q, word);
+  const Texel p0 = product(word[0], q.w[0]);
+  const Texel p1 = product(word[1], q.w[1]);
+  const Texel p2 = product(word[2], q.w[2]);
+  const Texel p3 = product(word[3], q.w[3]);
   return add(add(p0, p1), add(p2, p3));
 }
 
@@ -197,13 +249,13 @@ HWY_INLINE VI spread_bits(DI di, VI v) {
 }
 
 // Texture::row_index and col_index of the texture's layout.
-HWY_INLINE VI row_index(const Input& in, VI level, VI y) {
+HWY_INLINE VI row_index(const Input& in, const LevelInfo& li, VI y) {
   const DI di;
   switch (in.layout) {
     case TexelLayout::Linear:
-      return hn::Mul(y, hn::GatherIndex(di, in.level_w, level));
+      return hn::Mul(y, li.w);
     case TexelLayout::Tiled4x4:
-      return hn::Add(hn::Mul(hn::ShiftRight<2>(y), hn::GatherIndex(di, in.level_tile_row, level)),
+      return hn::Add(hn::Mul(hn::ShiftRight<2>(y), li.of(in.level_tile_row)),
                      hn::ShiftLeft<2>(hn::And(y, hn::Set(di, 3))));
     case TexelLayout::Morton:
       return hn::ShiftLeft<1>(spread_bits(di, y));
@@ -225,10 +277,9 @@ HWY_INLINE VI col_index(const Input& in, VI x) {
 
 // The cache lines of a quad's four taps (tap order), as the texture unit's cache model
 // computes them: (level address + texel index · 4) >> line_shift.
-HWY_INLINE void quad_lines(const Input& in, VI level, const Quad& q, VI* line) {
-  const DI di;
-  const VI base = hn::GatherIndex(di, in.level_base, level);
-  const VI r0 = row_index(in, level, q.y0), r1 = row_index(in, level, q.y1);
+HWY_INLINE void quad_lines(const Input& in, const LevelInfo& li, const Quad& q, VI* line) {
+  const VI base = li.of(in.level_base);
+  const VI r0 = row_index(in, li, q.y0), r1 = row_index(in, li, q.y1);
   const VI c0 = col_index(in, q.x0), c1 = col_index(in, q.x1);
   const auto at = [&](VI r, VI c) {
     return hn::ShiftRightSame(hn::Add(base, hn::ShiftLeft<2>(hn::Add(r, c))), in.line_shift);
@@ -259,79 +310,53 @@ struct Lanes {
   MF ok;
 };
 
-// Field at byte `offset` of fragments f[0 .. lanes), a double, as float32 lanes.
-HWY_INLINE VF double_field(const Fragment* f, size_t offset) {
-  const DF df;
-  const char* const base = reinterpret_cast<const char*>(f) + offset;
-#if HWY_TARGET == HWY_SCALAR
-  double d;
-  std::memcpy(&d, base, sizeof d);
-  return hn::Set(df, static_cast<float>(d));
-#else
-  const hn::Half<DF> dh;
-  const hn::Rebind<double, decltype(dh)> dd;
-  const hn::RebindToSigned<decltype(dd)> di64;
-  constexpr int64_t kStride = sizeof(Fragment) / sizeof(double);
-  static_assert(sizeof(Fragment) % sizeof(double) == 0);
-  HWY_ALIGN static constexpr int64_t kIndex[16] = {0,
-                                                   kStride,
-                                                   2 * kStride,
-                                                   3 * kStride,
-                                                   4 * kStride,
-                                                   5 * kStride,
-                                                   6 * kStride,
-                                                   7 * kStride,
-                                                   8 * kStride,
-                                                   9 * kStride,
-                                                   10 * kStride,
-                                                   11 * kStride,
-                                                   12 * kStride,
-                                                   13 * kStride,
-                                                   14 * kStride,
-                                                   15 * kStride};
-  static_assert(hn::MaxLanes(dd) <= 16);
-  const auto index = hn::Load(di64, kIndex);
-  const double* const d = reinterpret_cast<const double*>(base);
-  const auto lo = hn::GatherIndex(dd, d, index);
-  const auto hi = hn::GatherIndex(dd, d + hn::Lanes(dd) * kStride, index);
-  return hn::Combine(df, hn::DemoteTo(dh, hi), hn::DemoteTo(dh, lo));
-#endif
-}
+// The batch's fragments as float32 columns (the scalar blocks' conversions), read in one
+// sequential pass: gathering fields straight from the 88-byte fragments stalled on every new
+// cache line (the hardware prefetchers do not follow gathers), most of the batch's time on
+// AMD Zen 4.
+struct Columns {
+  static constexpr size_t kPadded = LinearBatch::kMax + 16;
+  alignas(64) float u[kPadded], v[kPadded];
+  alignas(64) float dudx[kPadded], dvdx[kPadded], dudy[kPadded], dvdy[kPadded];
+  alignas(64) float bias[kPadded];
+  alignas(64) int32_t tex[kPadded];
+};
 
-// A 32-bit field at byte `offset` of fragments f[0 .. lanes).
-template <class D>
-HWY_INLINE hn::Vec<D> word_field(D d, const Fragment* f, size_t offset) {
-  using T = hn::TFromD<D>;
-  constexpr int32_t kStride = sizeof(Fragment) / sizeof(T);
-  static_assert(sizeof(Fragment) % sizeof(T) == 0);
-  const DI di;
-  const VI index = hn::Mul(hn::Iota(di, 0), hn::Set(di, kStride));
-  return hn::GatherIndex(d, reinterpret_cast<const T*>(reinterpret_cast<const char*>(f) + offset),
-                         index);
-}
-
-HWY_INLINE Lanes load_lanes(const Input& in, size_t i) {
-  const DF df;
-  const DI di;
-  const size_t n = hn::Lanes(df);
-  const Fragment* f = in.frags + i;
-  Fragment tail[hn::MaxLanes(df)];
-  if (i + n > in.count) {
-    // The last, partial vector: the lanes past the end read default fragments, not done.
-    for (size_t k = 0; k < n; ++k) tail[k] = i + k < in.count ? in.frags[i + k] : Fragment{};
-    f = tail;
+// Fills c with fragments 0 .. count and zeros up to the next whole vector (lanes past the end
+// are not done). Not vectorised: a vectorised loop would gather the strided fields again.
+[[gnu::optimize("no-tree-vectorize")]] HWY_NOINLINE void load_columns(const Input& in, Columns& c) {
+  const size_t padded = hwy::RoundUpTo(in.count, hn::Lanes(DF()));
+  for (size_t k = 0; k < in.count; ++k) {
+    const Fragment& f = in.frags[k];
+    c.u[k] = static_cast<float>(f.u);
+    c.v[k] = static_cast<float>(f.v);
+    c.dudx[k] = static_cast<float>(f.dudx);
+    c.dvdx[k] = static_cast<float>(f.dvdx);
+    c.dudy[k] = static_cast<float>(f.dudy);
+    c.dvdy[k] = static_cast<float>(f.dvdy);
+    c.bias[k] = f.lod_bias;
+    c.tex[k] = static_cast<int32_t>(f.tex);
   }
+  for (size_t k = in.count; k < padded; ++k) {
+    c.u[k] = c.v[k] = c.dudx[k] = c.dvdx[k] = c.dudy[k] = c.dvdy[k] = c.bias[k] = 0;
+    c.tex[k] = 0;
+  }
+}
+
+HWY_INLINE Lanes load_lanes(const Input& in, const Columns& c, size_t i) {
+  const DF df;
+  const DI di;
   Lanes l;
-  const VF u = double_field(f, offsetof(Fragment, u));
-  const VF v = double_field(f, offsetof(Fragment, v));
+  const VF u = hn::Load(df, c.u + i);
+  const VF v = hn::Load(df, c.v + i);
   l.u = hn::IfThenElseZero(hn::IsFinite(u), u);  // finite_or_zero
   l.v = hn::IfThenElseZero(hn::IsFinite(v), v);
-  l.dudx = double_field(f, offsetof(Fragment, dudx));
-  l.dvdx = double_field(f, offsetof(Fragment, dvdx));
-  l.dudy = double_field(f, offsetof(Fragment, dudy));
-  l.dvdy = double_field(f, offsetof(Fragment, dvdy));
-  l.bias = hn::Add(hn::Set(df, in.sampler_bias), word_field(df, f, offsetof(Fragment, lod_bias)));
-  const VI tex = word_field(di, f, offsetof(Fragment, tex));
+  l.dudx = hn::Load(df, c.dudx + i);
+  l.dvdx = hn::Load(df, c.dvdx + i);
+  l.dudy = hn::Load(df, c.dudy + i);
+  l.dvdy = hn::Load(df, c.dvdy + i);
+  l.bias = hn::Add(hn::Set(df, in.sampler_bias), hn::Load(df, c.bias + i));
+  const VI tex = hn::Load(di, c.tex + i);
   const VI lane = hn::Add(hn::Iota(di, 0), hn::Set(di, static_cast<int32_t>(i)));
   l.ok = hn::RebindMask(df, hn::And(hn::Eq(tex, hn::Set(di, static_cast<int32_t>(in.tex_id))),
                                     hn::Lt(lane, hn::Set(di, static_cast<int32_t>(in.count)))));
@@ -481,8 +506,16 @@ void FilterLinearBatch(const Input& in, LinearBatch& out) {
   const VI top = hn::Set(di, in.top_level);
   const int m = in.mip_bits;
   const VI one_fix = hn::Set(di, int32_t{1} << m);
+  Columns cols;
+  load_columns(in, cols);
+  // The fragments after the batch (in a trace, the next batch) are brought into the cache
+  // while this one computes, a vector's worth at a time: load_columns otherwise waited for
+  // memory. A prefetch past the end of the caller's array does not fault.
+  const char* const next = reinterpret_cast<const char*>(in.frags + in.count);
   for (size_t i = 0; i < in.count; i += lanes) {
-    const Lanes l = load_lanes(in, i);
+    for (size_t b = i * sizeof(Fragment); b < (i + lanes) * sizeof(Fragment); b += 64)
+      __builtin_prefetch(next + b);
+    const Lanes l = load_lanes(in, cols, i);
     MF ok = l.ok;
     const VF rmax2 = lod_rho2(in, l, ok);
     // TexelAddressGen::select_levels: d' = clamp(λ, 0, q) to fixed point with m fraction bits.
@@ -491,16 +524,19 @@ void FilterLinearBatch(const Input& in, LinearBatch& out) {
     Texel sum;
     VI level_hi, level_lo;
     Quad q0, q1;
+    LevelInfo li0, li1;
     if (in.trilinear) {
-      // (Clamped so lanes left to the scalar path, whose λ may be NaN, gather in range.)
+      // (Clamped so lanes left to the scalar path, whose λ may be NaN, read in range.)
       level_hi = hn::Min(hn::Max(hn::ShiftRightSame(dfix, m), zero_i), top);
       level_lo = hn::Min(hn::Add(level_hi, hn::Set(di, 1)), top);
       const VF delta = hn::Mul(hn::ConvertTo(df, hn::And(dfix, hn::Sub(one_fix, hn::Set(di, 1)))),
                                hn::Set(df, in.mip_frac));
-      q0 = linear_quad(in, level_hi, u, v, hn::Sub(hn::Set(df, 1.0f), delta), false);
-      q1 = linear_quad(in, level_lo, u, v, delta, false);
+      li0 = level_info(in, level_hi);
+      li1 = level_info(in, level_lo);
+      q0 = linear_quad(in, li0, u, v, hn::Sub(hn::Set(df, 1.0f), delta), false);
+      q1 = linear_quad(in, li1, u, v, delta, false);
       ok = hn::And(ok, hn::And(q0.fits, q1.fits));
-      sum = add(quad_sum(in, level_hi, q0), quad_sum(in, level_lo, q1));
+      sum = add(quad_sum(in, li0, q0), quad_sum(in, li1, q1));
     } else {
       // Vulkan's nearest(d') = ⌈d' + ½⌉ − 1, clamped to [0, q].
       const VI half = hn::Set(di, (int32_t{1} << m) >> 1);
@@ -508,9 +544,10 @@ void FilterLinearBatch(const Input& in, LinearBatch& out) {
       level_hi = hn::Sub(hn::ShiftRightSame(up, m), hn::Set(di, 1));
       level_hi = hn::Min(hn::Max(level_hi, zero_i), top);
       level_lo = level_hi;
-      q0 = linear_quad(in, level_hi, u, v, hn::Set(df, 1.0f), true);
+      li0 = level_info(in, level_hi);
+      q0 = linear_quad(in, li0, u, v, hn::Set(df, 1.0f), true);
       ok = hn::And(ok, q0.fits);
-      sum = quad_sum(in, level_hi, q0);
+      sum = quad_sum(in, li0, q0);
     }
     // TexelBlend's accumulator starts at 0.
     const VF z = hn::Zero(df);
@@ -524,8 +561,8 @@ void FilterLinearBatch(const Input& in, LinearBatch& out) {
     hn::Store(q0.y1, di, out.y1[0] + i);
     if (in.line_shift > 0) {
       VI line[8];
-      quad_lines(in, level_hi, q0, line);
-      if (in.trilinear) quad_lines(in, level_lo, q1, line + 4);
+      quad_lines(in, li0, q0, line);
+      if (in.trilinear) quad_lines(in, li1, q1, line + 4);
       const int taps = in.trilinear ? 8 : 4;
       for (int k = 0; k < taps; ++k) hn::Store(line[k], di, out.line[k] + i);
       hn::Store(first_use(di, line, taps), di, out.first_use + i);

@@ -28,6 +28,8 @@ class AddressStage final : public UnitStage {
     probes_ += probes;
   }
   void count_border(int taps) { border_taps_ += static_cast<uint64_t>(taps); }
+  // count(1) n times.
+  void count_single_probes(uint64_t n) { probes_ += n; }
 
  private:
   TexelAddressGen addr_;
