@@ -955,7 +955,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   std::vector<PlaneProjection> maps = plane_maps(scene, use_scene);
   const ImageLayout layout = run_layout(opt, scene, use_scene, trace_sum.get(), maps, textures.set);
   refuse_quad_derivatives_with_coords(setup, mats, scene.path);
-  UnitArray units(textures.set, mats, setup, scene.tech, !opt.functional);
+  UnitArray units(textures.set, mats, setup, scene.tech, !opt.functional, UnitArray::kWindow,
+                  opt.capture && opt.capture->whole_fragments);
   TextureUnit& unit = units.unit(0);
   WorkloadStats workload(workload_textures(textures.set));  // placed by the units: their addresses
   // Materials with `object_space`: drawn first, their pixels then take the resolved colours.

@@ -19,6 +19,13 @@
 // shared levels see the same requests in the same order (the earliest begun of those items
 // first, on the same condition), and each unit's items keep their order, so every result is
 // the same — while most items (texture look-ups that hit the L1) pass without being held.
+//
+// Hooks that also say how early a unit's next item can start its memory stage
+// (`uint64_t next_start_bound(int unit)`, asked when the unit has nothing begun; a unit's
+// stages take items in order, so no later item starts before that cycle) let a begun item be
+// committed before every unit has one: when its key is below every other unit's begun key and
+// every idle unit's bound, no item can come before it in the cycle order. A unit's bound is
+// refreshed only when it holds the least key, so most fragments cost nothing here.
 #include <algorithm>
 #include <cstdint>
 #include <memory>
@@ -38,6 +45,7 @@ class UnitScheduler {
     max_start_ = (~uint64_t{0} >> shift_) - 1;
     // Padded to whole groups of 8 keys (idle), so the scan has no remainder loop.
     key_.assign((units_.size() + 7) / 8 * 8, kIdle);
+    for (size_t u = 0; u < units_.size(); ++u) key_[u] = idle_key(u, 0);
   }
   // The next item of unit u (items of one unit in their order).
   void add(int u, Item item) {
@@ -57,7 +65,7 @@ class UnitScheduler {
         const uint64_t start = hooks_.begin(u, item);
         if (hooks_.local(u)) {
           hooks_.commit(u, item);
-          count_local();
+          count_local(u);
           return;
         }
         add_begun(
@@ -70,7 +78,7 @@ class UnitScheduler {
     if (!l.begun) {
       begin_next(u);
       // Nothing can be committed until every unit has begun an item (or the window is full).
-      if (begun_ < units_.size() && waiting_ <= window_) return;
+      if (!kBound && begun_ < units_.size() && waiting_ <= window_) return;
     } else if (waiting_ <= window_) {
       return;  // the begun items did not change
     }
@@ -81,11 +89,15 @@ class UnitScheduler {
     const Lane& l = units_[static_cast<size_t>(u)];
     return !l.begun && l.queue.empty();
   }
-  // An item of an idle unit that the caller began and committed itself (it stayed in its unit:
-  // Unit::local), without handing it over.
-  void count_local() {
+  // An item of idle unit u that the caller began and committed itself (it stayed in its unit:
+  // Unit::local), without handing it over. Its bound moved on: if it was what held the earliest
+  // begun item back, that item may be committed now.
+  void count_local(int u) {
     ++committed_;
     ++local_;
+    if constexpr (kBound) {
+      if (static_cast<size_t>(u) == blocker_ && begun_ > 0) drain(false);
+    }
   }
   // An item of an idle unit that the caller began (its memory stage starts at `start`) and that
   // did not stay in its unit: it waits, begun, for its turn.
@@ -94,11 +106,17 @@ class UnitScheduler {
     fill(units_[static_cast<size_t>(u)].queue.push_slot());
     ++waiting_;
     mark_begun(u, start);
-    if (begun_ < units_.size() && waiting_ <= window_) return;
+    if (!kBound && begun_ < units_.size() && waiting_ <= window_) return;
     drain(false);
   }
   // No more items: commit everything in cycle order.
-  void finish() { drain(true); }
+  void finish() {
+    finished_ = true;
+    for (size_t u = 0; u < units_.size(); ++u) {
+      if (!units_[u].begun) key_[u] = kIdle;
+    }
+    drain(true);
+  }
   uint64_t forced_commits() const { return forced_; }
   uint64_t late_items() const { return late_; }
   uint64_t committed() const { return committed_; }
@@ -148,6 +166,28 @@ class UnitScheduler {
     bool begun = false;
   };
   static constexpr uint64_t kIdle = ~uint64_t{0};  // key of a unit without a begun item
+  static constexpr bool kBound = requires(Unit & h) { h.next_start_bound(0); };
+  // The key of unit u with nothing begun: its next item's least possible key (with a bound),
+  // else one above every begun key.
+  uint64_t idle_key(size_t u, uint64_t bound) const {
+    if (!kBound || finished_) return kIdle;
+    return std::min(bound, max_start_) << shift_ | static_cast<uint64_t>(u);
+  }
+  uint64_t bound_key(size_t u) {
+    if constexpr (kBound) {
+      return idle_key(u, hooks_.next_start_bound(static_cast<int>(u)));
+    } else {
+      return kIdle;
+    }
+  }
+  // The least key of a unit with a begun item (begun_ > 0).
+  uint64_t least_begun_key() const {
+    uint64_t m = kIdle;
+    for (size_t u = 0; u < units_.size(); ++u) {
+      if (units_[u].begun) m = std::min(m, key_[u]);
+    }
+    return m;
+  }
   // The earliest begun item: the least key, (start << shift_) | unit, so the lower unit index
   // wins a tie. A scan: at most 64 units (PipelineSetup::kMaxUnits).
   uint64_t least_key() const {
@@ -162,7 +202,10 @@ class UnitScheduler {
     Lane& l = units_[static_cast<size_t>(u)];
     uint64_t start = 0;
     for (;;) {
-      if (l.queue.empty()) return;
+      if (l.queue.empty()) {
+        key_[static_cast<size_t>(u)] = bound_key(static_cast<size_t>(u));
+        return;
+      }
       l.queue.prefetch(2);
       start = hooks_.begin(u, l.queue.front());
       if constexpr (requires { hooks_.local(u); }) {
@@ -188,18 +231,33 @@ class UnitScheduler {
     key_[static_cast<size_t>(u)] = start << shift_ | static_cast<uint64_t>(u);
   }
   void drain(bool all) {
+    const uint64_t unit_mask = (uint64_t{1} << shift_) - 1;
     while (begun_ > 0) {
-      const bool exact = all || begun_ == units_.size();
-      if (!exact && waiting_ <= window_) return;
-      const uint64_t key = least_key();
-      const size_t u = key & ((uint64_t{1} << shift_) - 1);
-      if (!exact) ++forced_;
+      uint64_t key = least_key();
+      size_t u = key & unit_mask;
+      // Without bounds, idle units' keys are kIdle: the least key is exact once all have begun.
+      bool exact = all || (kBound ? units_[u].begun : begun_ == units_.size());
+      if (!exact && kBound) {
+        // An idle unit holds the least key: its bound may have moved on since it was set.
+        const uint64_t fresh = bound_key(u);
+        if (fresh != key_[u]) {
+          key_[u] = fresh;
+          continue;
+        }
+        blocker_ = u;
+      }
+      if (!exact) {
+        if (waiting_ <= window_) return;
+        if constexpr (kBound) key = least_begun_key();
+        u = key & unit_mask;
+        ++forced_;
+      }
       Lane& l = units_[u];
       hooks_.commit(static_cast<int>(u), l.queue.front());
       l.queue.pop_front();
       l.begun = false;
       --begun_;
-      key_[u] = kIdle;
+      key_[u] = kIdle;  // set by begin_next
       --waiting_;
       ++committed_;
       last_cycle_ = key >> shift_;
@@ -216,6 +274,8 @@ class UnitScheduler {
   uint64_t max_start_ = 0;  // the latest cycle a key holds
   size_t begun_ = 0;
   size_t waiting_ = 0;
+  size_t blocker_ = 0;  // the idle unit whose bound last held the least key
+  bool finished_ = false;
   uint64_t forced_ = 0, late_ = 0, committed_ = 0, local_ = 0, last_cycle_ = 0;
 };
 

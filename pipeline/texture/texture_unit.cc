@@ -120,7 +120,14 @@ void TextureUnit::choose_batch(Path& p, const MaterialSetup& m) {
 }
 
 void TextureUnit::new_frame(const Fragment& f) {
-  if (!frames_.empty() && pipe_) frames_.back().cycles = pipe_->cycles();
+  // Queued timing: the frame's cycles once the fragments before this one have been issued.
+  if (!frames_.empty() && pipe_) {
+    if (queued_) {
+      frame_end_ = static_cast<int32_t>(frames_.size() - 1);
+    } else {
+      frames_.back().cycles = pipe_->cycles();
+    }
+  }
   frames_.push_back({f.frame, 0, 0});
 }
 
@@ -242,10 +249,14 @@ void TextureUnit::issue_any(CostFn&& cost_at) {
   }
   // Every stage's cost now (only the cache slot's wait depends on the cycle, and its
   // look-ups are recorded, not made); the stages in front of the cache now, the rest at commit.
+  ItemCost* c = queued_ ? scratch_.data() : defer_costs_.data();
   fetch_.begin_recording();
-  for (int s = 0; s < pipe_->stage_count(); ++s)
-    defer_costs_[static_cast<size_t>(s)] = cost_at(s, 0);
+  for (int s = 0; s < pipe_->stage_count(); ++s) c[s] = cost_at(s, 0);
   fetch_.end_recording();
+  if (queued_) {
+    keep_timing(c, pipe_->stage_count());
+    return;
+  }
   const int k = cache_slot_;
   defer_arrival_ = pipe_->issue_head(
       0, k, [&](int s, uint64_t) { return defer_costs_[static_cast<size_t>(s)]; });
@@ -253,8 +264,111 @@ void TextureUnit::issue_any(CostFn&& cost_at) {
 }
 
 void TextureUnit::commit_deferred() {
+  defer_costs_[static_cast<size_t>(cache_slot_)].extra_latency =
+      fetch_.commit_lookups(defer_start_);
+  issue_deferred_tail();
+}
+
+void TextureUnit::set_queued_timing(bool on) {
+  if (on && (!defer_ || fetch_.quad_merge()))
+    throw std::logic_error("queued timing: a unit of several without quad merging only");
+  queued_ = on;
+  fetch_.set_keep_misses(on);
+}
+
+void TextureUnit::keep_timing(const ItemCost* c, int n) {
+  // Only the front-end slots and the cache slot have an extra latency; the cache slot's is
+  // its misses' wait, known at commit.
+  Timing& t = *timing_out_;
+  for (int s = 0; s < n; ++s) t.ii[static_cast<size_t>(s)] = c[s].extra_ii;
+  for (int s = 0; s < front_ && s < kMaxFront; ++s)
+    t.front_latency[static_cast<size_t>(s)] = c[s].extra_latency;
+  t.misses = fetch_.kept_misses();
+  t.local = fetch_.recorded_local();
+  t.frame_end = frame_end_;
+  frame_end_ = -1;
+}
+
+template <int kN>
+uint64_t TextureUnit::begin_fixed(const Timing& t, bool whole) {
+  constexpr int k = kN - kStages + kCache;
+  auto cost = [&t](auto s, uint64_t) __attribute__((always_inline)) {
+    constexpr int i = decltype(s)::value;
+    if constexpr (i < kN - kStages) return ItemCost{t.front_latency[i], t.ii[i]};
+    return ItemCost{0, t.ii[i]};
+  };
+  if (whole) {
+    pipe_->issue_fixed<kN>(0, cost);
+    return 0;
+  }
+  defer_arrival_ = pipe_->issue_head_fixed<k>(0, cost);
+  defer_start_ = pipe_->start_at(k, defer_arrival_);
+  return defer_start_;
+}
+
+template <int kN>
+void TextureUnit::commit_fixed(const Timing& t, uint64_t wait) {
+  constexpr int k = kN - kStages + kCache;
+  pipe_->issue_tail_fixed<k, kN>(defer_arrival_, [&t, wait](auto s, uint64_t) {
+    constexpr int i = decltype(s)::value;
+    return ItemCost{i == k ? wait : 0, t.ii[i]};
+  });
+}
+
+uint64_t TextureUnit::begin_timing(const Timing& t) {
+  // The unit's earlier fragments have all left: the frame before this one ends here.
+  if (t.frame_end >= 0) frames_[static_cast<size_t>(t.frame_end)].cycles = pipe_->cycles();
+  // Its look-ups all hit as they came (the cache slot waits for nothing): the whole way now.
+  const bool whole = early_ && t.local;
+  done_ = whole;
+  if (two_step_fixed_) {
+    switch (front_) {
+      case 0:
+        return begin_fixed<kStages>(t, whole);
+      case 1:
+        return begin_fixed<1 + kStages>(t, whole);
+      default:
+        return begin_fixed<kMaxFront + kStages>(t, whole);
+    }
+  }
+  const int n = pipe_->stage_count();
+  for (int s = 0; s < n; ++s) {
+    const auto i = static_cast<size_t>(s);
+    defer_costs_[i] = {s < front_ && s < kMaxFront ? t.front_latency[i] : 0, t.ii[i]};
+  }
+  const ItemCost* c = defer_costs_.data();
+  auto cost = [c](int s, uint64_t) { return c[s]; };
+  if (whole) {
+    pipe_->issue_with(0, cost);
+    return 0;
+  }
+  defer_arrival_ = pipe_->issue_head(0, cache_slot_, cost);
+  defer_start_ = pipe_->start_at(cache_slot_, defer_arrival_);
+  return defer_start_;
+}
+
+void TextureUnit::commit_timing(const Timing& t) {
+  if (done_) {  // begin_timing() took the whole way
+    done_ = false;
+    return;
+  }
+  const uint64_t wait = fetch_.commit_misses(t.misses, defer_start_);
+  if (two_step_fixed_) {
+    switch (front_) {
+      case 0:
+        return commit_fixed<kStages>(t, wait);
+      case 1:
+        return commit_fixed<1 + kStages>(t, wait);
+      default:
+        return commit_fixed<kMaxFront + kStages>(t, wait);
+    }
+  }
+  defer_costs_[static_cast<size_t>(cache_slot_)].extra_latency = wait;
+  issue_deferred_tail();
+}
+
+void TextureUnit::issue_deferred_tail() {
   const int k = cache_slot_;
-  defer_costs_[static_cast<size_t>(k)].extra_latency = fetch_.commit_lookups(defer_start_);
   if (!two_step_fixed_) {
     pipe_->issue_tail(k, defer_arrival_,
                       [&](int s, uint64_t) { return defer_costs_[static_cast<size_t>(s)]; });
@@ -280,8 +394,8 @@ template <int kFront, class Lookups>
 void TextureUnit::issue_two_step(Path& p, const ItemCost* front, uint32_t probes, uint64_t texels,
                                  Lookups& lookups) {
   // issue_any's first step for the fixed slots: every stage's cost now, the look-ups
-  // recorded, the stages in front of the cache slot issued.
-  ItemCost* c = defer_costs_.data();
+  // recorded, the stages in front of the cache slot issued (queued timing: kept for later).
+  ItemCost* c = queued_ ? scratch_.data() : defer_costs_.data();
   for (int s = 0; s < kFront; ++s) c[s] = front_cost(p, front, s);
   c[kFront + kLod] = {};
   c[kFront + kAddress] = {0, probes - 1};
@@ -290,6 +404,19 @@ void TextureUnit::issue_two_step(Path& p, const ItemCost* front, uint32_t probes
   fetch_.begin_recording();
   lookups(0);
   fetch_.end_recording();
+  if (queued_) {
+    if (issue_now_ && early_ && fetch_.recorded_local()) {
+      if (frame_end_ >= 0) frames_[static_cast<size_t>(frame_end_)].cycles = pipe_->cycles();
+      frame_end_ = -1;
+      pipe_->issue_fixed<kFront + kStages>(
+          0, [c](auto s, uint64_t)
+                 __attribute__((always_inline)) { return c[decltype(s)::value]; });
+      done_ = true;
+      return;
+    }
+    keep_timing(c, kFront + kStages);
+    return;
+  }
   if (early_ && !fetch_.quad_merge() && fetch_.recorded_local()) {
     // Every look-up hit (the cache slot waits for nothing) and nothing behind the L1 is
     // asked: the whole way now, as the unit would take it at commit (done_: commit() has

@@ -6,6 +6,7 @@
 // docs/architecture.md describes the stages; docs/timing-model.md the timing.
 #include <toml++/toml.h>
 
+#include <array>
 #include <map>
 #include <memory>
 #include <string>
@@ -53,6 +54,9 @@ class TextureUnit {
   // fragment starts the cache stage, and the rest of its way (once per processed fragment,
   // before the next one).
   uint64_t pending_start() const { return defer_start_; }
+  // Two-step timing, with no fragment in flight: the earliest cycle the next fragment can start
+  // the cache stage (stages take items in order; drops only add cycles).
+  uint64_t next_start_bound() const { return pipe_->start_at(cache_slot_, 0); }
   void commit() {
     if (done_) {  // the fragment took its whole way in process()
       done_ = false;
@@ -63,6 +67,32 @@ class TextureUnit {
   // Whether the processed fragment's commit() stays in this unit (its look-ups all hit the L1,
   // FetchStage::recorded_local), so it may be committed at once, out of the global order.
   bool pending_local() const { return early_ && (done_ || fetch_.recorded_local()); }
+  // Queued timing (a unit of several without quad merging; UnitArray): process() filters the
+  // fragment and makes its L1 look-ups at once, and only its way through the clocked pipeline
+  // waits, as a Timing, for its turn in the units' cycle order: begin_timing() runs it up to
+  // the cache stage (or, if its look-ups all hit as they came, the whole way: timing_done()), and
+  // commit_timing() sends its misses to the level behind and runs the rest. The L1 sees the
+  // unit's look-ups in the same order as when each fragment waits whole, and the shared levels
+  // the same requests at the same cycles, so every figure is the same; a waiting fragment is
+  // then a few words, not the fragment.
+  struct Timing {
+    std::array<uint32_t, kSlots> ii{};        // extra issue cycles, by pipeline stage
+    std::array<uint64_t, 2> front_latency{};  // extra latency of the front-end stages
+    uint32_t misses = 0;     // its lines that missed the L1 (FetchStage keeps them)
+    int32_t frame_end = -1;  // frames_[frame_end] ends before it (cycles taken then)
+    bool local = false;      // no look-up was recorded (FetchStage::recorded_local): it stays here
+  };
+  void set_queued_timing(bool on);
+  // Where process() writes the fragment's Timing (queued timing): the caller's slot for it, so
+  // it is written once, in place (null: the unit's own).
+  void set_timing_out(Timing* out) { timing_out_ = out ? out : &own_timing_; }
+  // Nothing waits in the unit: a fixed-slot fragment whose look-ups all hit takes its whole way in
+  // process() (timing_done(); commit_timing() then does nothing), as a unit on its own would.
+  void set_issue_now(bool on) { issue_now_ = on; }
+  // The cycle the fragment starts the cache stage (not meaningful if timing_done()).
+  uint64_t begin_timing(const Timing& t);
+  bool timing_done() const { return done_; }
+  void commit_timing(const Timing& t);
   // Whether a fragment that stays in the unit may take its whole way at once, in process()
   // (then commit() does nothing), and be committed out of the global order (pending_local);
   // off when every fragment must be committed in that order (a timeline records the items in
@@ -264,6 +294,21 @@ class TextureUnit {
   bool two_step_fixed_ = false;
   bool early_ = true, done_ = false;  // set_early_commit; the fragment in flight is done
   void commit_deferred();             // commit() of a fragment that waited for its turn
+  void issue_deferred_tail();         // the stages from the cache slot on, with defer_costs_
+  // Queued timing: the costs of the fragment processed (c[0 .. n)) as its Timing.
+  void keep_timing(const ItemCost* c, int n);
+  // begin_timing() and commit_timing() for the fixed slot sequence of kN stages: the costs
+  // read from the Timing as the unrolled stages need them.
+  template <int kN>
+  uint64_t begin_fixed(const Timing& t, bool whole);
+  template <int kN>
+  void commit_fixed(const Timing& t, uint64_t wait);
+  bool queued_ = false, issue_now_ = false;
+  Timing own_timing_;
+  Timing* timing_out_ = &own_timing_;
+  int32_t frame_end_ = -1;  // queued timing: the frame the fragment being processed ended
+  // Queued timing: the costs process() computes (defer_costs_ belong to the begun fragment).
+  std::array<ItemCost, kSlots> scratch_{};
   // Runs the fragment through the pipeline with cost_at(stage, start) — at once, or in two
   // steps in a unit of several.
   template <class CostFn>

@@ -9,7 +9,8 @@
 namespace texsim {
 
 UnitArray::UnitArray(TextureSet& textures, const std::vector<MaterialSetup>& materials,
-                     const PipelineSetup& setup, const TechTable& tech, bool timing, size_t window)
+                     const PipelineSetup& setup, const TechTable& tech, bool timing, size_t window,
+                     bool whole_fragments)
     : setup_(setup) {
   const int n = timing ? static_cast<int>(setup.units) : 1;
   if (n == 1) {
@@ -19,6 +20,12 @@ UnitArray::UnitArray(TextureSet& textures, const std::vector<MaterialSetup>& mat
   memory_ = std::make_unique<MemorySystem>(setup, n);
   for (int u = 0; u < n; ++u)
     units_.push_back(std::make_unique<TextureUnit>(textures, materials, setup, tech, *memory_, u));
+  if (!setup.quad_merge && !whole_fragments) {
+    for (auto& u : units_) u->set_queued_timing(true);
+    timed_ =
+        std::make_unique<UnitScheduler<TextureUnit::Timing, TimedHooks>>(n, timed_hooks_, window);
+    return;
+  }
   lanes_.resize(static_cast<size_t>(n));
   sched_ = std::make_unique<UnitScheduler<Item, Hooks>>(n, hooks_, window);
 }
@@ -78,6 +85,36 @@ bool same_fragment(const Fragment& a, const Fragment& b) {
 void UnitArray::add(const Fragment& f, const Fragment& g, const Fragment& u, int material,
                     uint64_t index, const ItemCost* front) {
   const int unit = setup_.unit_of_pixel(f.x, f.y);
+  if (timed_) {
+    // Filtered now (u is g when it has no derivatives of its own), its timing written in
+    // place into the scheduler's slot.
+    TextureUnit& t = *units_[static_cast<size_t>(unit)];
+    if (timed_->idle(unit)) {
+      // Nothing waits in the unit: a fragment whose look-ups all hit is timed as it is filtered.
+      TextureUnit::Timing timing;
+      t.set_timing_out(&timing);
+      t.set_issue_now(true);
+      const Rgba c = t.process(u, material, front);
+      t.set_issue_now(false);
+      t.set_timing_out(nullptr);
+      record_(f, g, material, &c, index);
+      if (t.timing_done()) {
+        t.commit_timing(timing);
+        timed_->count_local(unit);
+      } else {
+        timed_->add_with(unit, [&timing](TextureUnit::Timing& slot) { slot = timing; });
+      }
+      return;
+    }
+    Rgba c;
+    timed_->add_with(unit, [&](TextureUnit::Timing& slot) {
+      t.set_timing_out(&slot);
+      c = t.process(u, material, front);
+      t.set_timing_out(nullptr);
+    });
+    record_(f, g, material, &c, index);
+    return;
+  }
   Lane& lane = lanes_[static_cast<size_t>(unit)];
   // g differs from f in its texture id only (run.cc's loaded texture), never elsewhere.
   const bool own_u = &u != &g && !same_fragment(u, g);
@@ -106,7 +143,7 @@ void UnitArray::add(const Fragment& f, const Fragment& g, const Fragment& u, int
     record_(f, g, material, &c, index);
     if (hooks_.local(unit)) {  // (never with a commit observer)
       t.commit();
-      sched_->count_local();
+      sched_->count_local(unit);
     } else {
       sched_->add_begun(unit, fill, t.pending_start());
     }
@@ -121,6 +158,10 @@ void UnitArray::drop(int material, const ItemCost* front, bool rejected, int32_t
   Drop d{material, {}, rejected};
   const int n = front ? units_[0]->front_count(material) : 0;
   for (int s = 0; s < n; ++s) d.front[static_cast<size_t>(s)] = front[s];
+  if (timed_) {  // the unit's earlier fragments are all filtered: it takes the drop now
+    units_[static_cast<size_t>(unit)]->drop(d.material, d.front.data(), d.rejected);
+    return;
+  }
   Lane& lane = lanes_[static_cast<size_t>(unit)];
   lane.drops.push_back(d);
   ++lane.new_drops;
@@ -138,6 +179,7 @@ const FrontEndStats& UnitArray::front_end_stats() const {
 
 void UnitArray::finish() {
   if (sched_) sched_->finish();
+  if (timed_) timed_->finish();
   // Drops after a unit's last fragment: counted; their cycles would go to a next fragment.
   for (size_t u = 0; u < lanes_.size(); ++u) {
     for (const Drop& d : lanes_[u].drops) units_[u]->drop(d.material, d.front.data(), d.rejected);

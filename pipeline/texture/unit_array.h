@@ -25,10 +25,13 @@ class UnitArray {
   // Fragments a scheduler may hold before it commits out of cycle order (see UnitScheduler).
   static constexpr size_t kWindow = size_t{1} << 18;
 
-  // Several units only when timed and setup.units > 1; otherwise one unit as today.
+  // Several units only when timed and setup.units > 1; otherwise one unit as today. Without
+  // quad merging a unit filters each fragment as it comes and only its timing waits for its
+  // turn (TextureUnit::Timing); `whole_fragments` holds each waiting fragment whole instead,
+  // as with quad merging (the same figures; for tests).
   UnitArray(TextureSet& textures, const std::vector<MaterialSetup>& materials,
-            const PipelineSetup& setup, const TechTable& tech, bool timing,
-            size_t window = kWindow);
+            const PipelineSetup& setup, const TechTable& tech, bool timing, size_t window = kWindow,
+            bool whole_fragments = false);
   UnitArray(const UnitArray&) = delete;
   UnitArray& operator=(const UnitArray&) = delete;
   ~UnitArray();
@@ -86,11 +89,17 @@ class UnitArray {
   const FrontEndStats& front_end_stats() const;  // summed over the units
   // The scheduler's figures: commits made before every unit had an item (window full) and
   // items that reached the shared levels later than a request of a later cycle.
-  uint64_t forced_commits() const { return sched_ ? sched_->forced_commits() : 0; }
-  uint64_t late_items() const { return sched_ ? sched_->late_items() : 0; }
+  uint64_t forced_commits() const {
+    return timed_ ? timed_->forced_commits() : sched_ ? sched_->forced_commits() : 0;
+  }
+  uint64_t late_items() const {
+    return timed_ ? timed_->late_items() : sched_ ? sched_->late_items() : 0;
+  }
   // Fragments committed at once, without waiting for the other units: their look-ups all hit
   // their unit's L1 (none with a timeline, which records items in the global order).
-  uint64_t local_commits() const { return sched_ ? sched_->local_commits() : 0; }
+  uint64_t local_commits() const {
+    return timed_ ? timed_->local_commits() : sched_ ? sched_->local_commits() : 0;
+  }
   // Every unit's invariants, and the shared DRAM's busy cycles within the run's.
   void check_timing_invariants() const;
 
@@ -125,6 +134,10 @@ class UnitArray {
     // The begun item makes no request behind the L1 (UnitScheduler commits it at once).
     // Never with a commit observer (set_commit_observer turns the units' early commit off).
     bool local(int u) const { return a->units_[static_cast<size_t>(u)]->pending_local(); }
+    // The earliest cycle unit u's next fragment can start its cache stage (nothing begun).
+    uint64_t next_start_bound(int u) const {
+      return a->units_[static_cast<size_t>(u)]->next_start_bound();
+    }
     void commit(int u, Item& /*it*/) {
       TextureUnit& unit = *a->units_[static_cast<size_t>(u)];
       unit.commit();
@@ -132,11 +145,27 @@ class UnitArray {
     }
   };
 
+  // Without quad merging each fragment is filtered as it comes and only its timing waits
+  // (TextureUnit::Timing): the scheduler holds those.
+  struct TimedHooks {
+    UnitArray* a;
+    TextureUnit& unit(int u) const { return *a->units_[static_cast<size_t>(u)]; }
+    uint64_t begin(int u, TextureUnit::Timing& t) { return unit(u).begin_timing(t); }
+    bool local(int u) const { return unit(u).timing_done(); }
+    void commit(int u, TextureUnit::Timing& t) {
+      unit(u).commit_timing(t);
+      if (a->observer_) a->observer_(u, *unit(u).pipeline());
+    }
+    uint64_t next_start_bound(int u) const { return unit(u).next_start_bound(); }
+  };
+
   PipelineSetup setup_;
   std::unique_ptr<MemorySystem> memory_;  // several units: the shared memory
   std::vector<std::unique_ptr<TextureUnit>> units_;
   Hooks hooks_{this};
-  std::unique_ptr<UnitScheduler<Item, Hooks>> sched_;
+  std::unique_ptr<UnitScheduler<Item, Hooks>> sched_;  // with quad merging
+  TimedHooks timed_hooks_{this};
+  std::unique_ptr<UnitScheduler<TextureUnit::Timing, TimedHooks>> timed_;
   Record record_;
   mutable std::vector<FrameStats> frames_;
   mutable FrontEndStats front_stats_;

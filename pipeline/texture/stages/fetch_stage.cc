@@ -167,6 +167,31 @@ uint64_t FetchStage::commit_lookups(uint64_t start) {
   return wait;
 }
 
+void FetchStage::look_up_recorded() {
+  for (const LineGroup& g : rec_groups_) {
+    for (size_t k = 0; k < g.count; ++k) {
+      const uint64_t line = rec_lines_[g.first + k];
+      if (!l1_.access_line(line)) missed_.push_back(line);
+    }
+    l1_.count_texels(g.texels);
+  }
+}
+
+uint64_t FetchStage::commit_misses(uint32_t n, uint64_t start) {
+  const uint64_t hit_ready = start + hit_latency_;
+  uint64_t ready = hit_ready;
+  const uint32_t shift = l1_.line_shift();
+  for (uint32_t k = 0; k < n; ++k) {
+    const uint64_t line = missed_[missed_head_++];
+    ready = std::max(ready, next_.read_line(start, line << shift, line_bytes_, unit_));
+  }
+  if (missed_head_ == missed_.size()) {  // every kept miss committed: start over
+    missed_.clear();
+    missed_head_ = 0;
+  }
+  return ready - hit_ready;
+}
+
 bool FetchStage::recorded_local() const {
   if (!quad_merge_) return rec_groups_.empty();  // the hits were looked up as they came
   for (const uint64_t line : rec_lines_) {

@@ -106,9 +106,13 @@ class FetchStage {
   void begin_recording() {
     rec_groups_.clear();
     rec_lines_.clear();
+    rec_mark_ = missed_.size();
     recording_ = true;
   }
-  void end_recording() { recording_ = false; }
+  void end_recording() {
+    recording_ = false;
+    if (keep_misses_ && !rec_groups_.empty()) look_up_recorded();
+  }
   uint64_t commit_lookups(uint64_t start);
   // Whether the recorded look-ups are sure to stay in this unit: nothing was recorded (without
   // quad merging a group whose lines are all in the L1 is looked up as it comes: each hits, a
@@ -117,6 +121,16 @@ class FetchStage {
   // False may also mean "not sure" (a line the fragment's own earlier group would bring): the
   // caller then treats the fragment as one that misses.
   bool recorded_local() const;
+  // Queued timing (TextureUnit::set_queued_timing; never with quad merging): the recorded
+  // look-ups are made in the L1 at end_recording() (its contents depend on its own look-ups
+  // only, never on the cycle) and only the lines that missed wait, in order, for the level
+  // behind. recorded_local() still says whether any group was recorded.
+  void set_keep_misses(bool on) { keep_misses_ = on; }
+  // Lines missed since begin_recording().
+  uint32_t kept_misses() const { return static_cast<uint32_t>(missed_.size() - rec_mark_); }
+  // The next n kept misses read from the level behind at `start`; returns the fragment's
+  // wait beyond the hit latency (as commit_lookups).
+  uint64_t commit_misses(uint32_t n, uint64_t start);
 
   // The cache's report row: every texel a filter fetched is one read through it.
   BlockUse row(uint64_t texels, std::vector<std::string> materials) const;
@@ -139,6 +153,9 @@ class FetchStage {
     l1_.count_texels(texels);
     return true;
   }
+  // Queued timing: the recorded groups' L1 look-ups, made where commit_lookups() would make
+  // them (after the fragment's other look-ups, before the unit's next fragment's).
+  void look_up_recorded();
   uint64_t record(const uint64_t* lines, int n, uint64_t texels) {
     rec_groups_.push_back({rec_lines_.size(), static_cast<size_t>(n), texels});
     rec_lines_.insert(rec_lines_.end(), lines, lines + n);
@@ -170,6 +187,10 @@ class FetchStage {
   };
   std::vector<LineGroup> rec_groups_;
   std::vector<uint64_t> rec_lines_;
+  // Queued timing: the kept misses of fragments not yet committed, from missed_head_.
+  bool keep_misses_ = false;
+  std::vector<uint64_t> missed_;
+  size_t missed_head_ = 0, rec_mark_ = 0;
   const std::vector<uint64_t>* staged_lines_ = nullptr;
   uint64_t staged_texels_ = 0;
   std::function<uint32_t(CompressedFormat)> block_latency_;  // set: blocks in the L1

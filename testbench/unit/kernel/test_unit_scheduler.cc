@@ -91,12 +91,25 @@ struct LocalKernel : Kernel {
   }
 };
 
-// Items handed to the scheduler interleaved as a stream (unit order shuffled).
+// Either kernel also saying how early each unit's next item can start the memory stage (its
+// stages take items in order): a begun item may then commit before every unit has one.
+template <class K>
+struct BoundKernel : K {
+  using K::K;
+  uint64_t next_start_bound(int u) const {
+    const UnitSpec& s = this->units[static_cast<size_t>(u)];
+    return this->pipes[static_cast<size_t>(u)]->start_at(s.mem_stage, 0);
+  }
+};
+
+// Items handed to the scheduler interleaved as a stream (unit order shuffled). `early`: items
+// committed before finish().
 template <class K = Kernel>
 std::vector<std::vector<uint64_t>> run_kernel(std::vector<UnitSpec>& units, LineMemory& mem,
                                               std::mt19937& rng, size_t window,
                                               uint64_t* forced = nullptr, uint64_t* late = nullptr,
-                                              uint64_t* local = nullptr) {
+                                              uint64_t* local = nullptr,
+                                              uint64_t* early = nullptr) {
   K k(units, mem);
   UnitScheduler<size_t, K> sched(static_cast<int>(units.size()), k, window);
   std::vector<int> order;
@@ -105,6 +118,7 @@ std::vector<std::vector<uint64_t>> run_kernel(std::vector<UnitSpec>& units, Line
   std::shuffle(order.begin(), order.end(), rng);
   std::vector<size_t> next(units.size(), 0);
   for (int u : order) sched.add(u, next[static_cast<size_t>(u)]++);
+  if (early) *early = sched.committed() - sched.local_commits();
   sched.finish();
   if (forced) *forced = sched.forced_commits();
   if (late) *late = sched.late_items();
@@ -181,9 +195,11 @@ std::unique_ptr<LineMemory> random_dram(std::mt19937& rng) {
   return std::make_unique<DramModel>(c);
 }
 
-// Returns the items committed at once (LocalKernel).
+// Returns the items committed at once (LocalKernel); `early`: items with requests committed
+// before the last item was handed over.
 template <class K = Kernel>
-uint64_t expect_same_as_stepped(const MemoryFactory& make, uint32_t seed, int trials) {
+uint64_t expect_same_as_stepped(const MemoryFactory& make, uint32_t seed, int trials,
+                                uint64_t* early = nullptr) {
   std::mt19937 rng(seed);
   uint64_t local_commits = 0;
   for (int trial = 0; trial < trials; ++trial) {
@@ -193,10 +209,12 @@ uint64_t expect_same_as_stepped(const MemoryFactory& make, uint32_t seed, int tr
     std::mt19937 mem_rng2 = mem_rng;
     const std::unique_ptr<LineMemory> a = make ? make() : random_dram(mem_rng);
     const std::unique_ptr<LineMemory> b = make ? make() : random_dram(mem_rng2);
-    uint64_t forced = 0, local = 0;
-    const auto got = run_kernel<K>(units, *a, rng, size_t{1} << 20, &forced, nullptr, &local);
+    uint64_t forced = 0, local = 0, before_end = 0;
+    const auto got =
+        run_kernel<K>(units, *a, rng, size_t{1} << 20, &forced, nullptr, &local, &before_end);
     const auto want = run_stepped(units, *b);
     local_commits += local;
+    if (early) *early += before_end;
     EXPECT_EQ(forced, 0u);
     EXPECT_EQ(got, want) << "trial " << trial << ", " << n_units << " units";
     if (got != want) break;
@@ -271,6 +289,22 @@ TEST(UnitScheduler, ItemsThatStayInTheirUnitCommitAtOnceWithTheSameTimes) {
     EXPECT_GT(expect_same_as_stepped<LocalKernel>(
                   [seed] { return std::make_unique<L2OverBankedDram>(seed); }, 300 + seed, 10),
               0u);
+  }
+}
+
+// With the units' bounds a begun item commits as soon as no other unit can have an earlier
+// one, not only once every unit has begun one: the same times, and items committed early.
+TEST(UnitScheduler, ItemsCommitBeforeEveryUnitHasOneWhenTheOthersCannotComeFirst) {
+  uint64_t early = 0, early_without = 0;
+  expect_same_as_stepped<BoundKernel<Kernel>>(nullptr, 5, 250, &early);
+  expect_same_as_stepped<Kernel>(nullptr, 5, 250, &early_without);
+  EXPECT_GT(early, early_without);
+  uint64_t early_local = 0;
+  EXPECT_GT(expect_same_as_stepped<BoundKernel<LocalKernel>>(nullptr, 7, 250, &early_local), 500u);
+  EXPECT_GT(early_local, 0u);
+  for (uint32_t seed = 1; seed <= 10; ++seed) {
+    expect_same_as_stepped<BoundKernel<LocalKernel>>(
+        [seed] { return std::make_unique<L2OverBankedDram>(seed); }, 400 + seed, 10);
   }
 }
 
