@@ -34,8 +34,7 @@ TerrainRayMarcher::Config TerrainRayMarcher::Config::from_toml(const ConfigReade
 TerrainRayMarcher::Result TerrainRayMarcher::march(const AviationCamera& cam, const TerrainGrid& g,
                                                    double top, double xs, double ys,
                                                    OpCounts& ops) const {
-  const auto& cc = cam.config();
-  Result r = march_ray(g, top, glm::dvec3(cc.x, cc.y, cc.z), cam.view_vector(xs, ys), ops);
+  Result r = march_ray(g, top, cam.eye(), cam.view_vector(xs, ys), ops);
   if (r.hit) {
     r.normal = normal_at(g, r.point.x, r.point.z, r, ops);
     r.fetches = r.evaluations * static_cast<uint32_t>(eval_.fetches_per_item());
