@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <utility>
 
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
@@ -364,6 +365,14 @@ TEST(GroundModels, ConfigAndBlockContract) {
   EXPECT_GE(g.timing(tech).latency, 1u);
   EXPECT_LT(g.timing(tech).latency, s.timing(tech).latency);  // no root
   EXPECT_EQ(g.name(), "geometry.plane_ground");
+  const SphereGround it = sphere(SphereGround::Form::SeedIteration);
+  for (const auto& [name, ts] :
+       {std::pair{"sphere stable", s.timing(tech)},
+        std::pair{"sphere seed iteration (per iteration)", it.timing(tech)},
+        std::pair{"plane element", g.timing(tech)}}) {
+    std::printf("%s: latency %u cycles, II %u, area %.0f adder-equivalents\n", name, ts.latency,
+                ts.ii, ts.area);
+  }
 }
 
 }  // namespace

@@ -175,6 +175,11 @@ TEST(GroundPointAdder, HardCasesAndContract) {
   EXPECT_EQ(rows.row_setup_ops().rcp, 1u);
   const TechTable tech = TechTable::defaults();
   EXPECT_LT(rows.timing(tech).latency, adder.timing(tech).latency);
+  for (const GroundPointAdder* b : {&adder, &rows}) {
+    const TimingSpec t = b->timing(tech);
+    std::printf("%s: latency %u cycles, II %u, area %.0f adder-equivalents\n",
+                b == &adder ? "per pixel" : "constant-depth rows", t.latency, t.ii, t.area);
+  }
   EXPECT_EQ(adder.name(), "coords.ground_point_adder");
   const toml::table t = toml::parse("form = \"constant_depth_rows\"\n");
   EXPECT_EQ(GroundPointAdder::Config::from_toml(ConfigReader(t, "s.toml", "g")).form,
