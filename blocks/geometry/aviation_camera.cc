@@ -17,6 +17,22 @@ glm::dmat3 rotation_about(double deg, const glm::dvec3& axis) {
   return glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(deg), axis));
 }
 
+// `eye_offset = [h_u, h_v, h_w]`: three finite numbers.
+glm::dvec3 read_eye_offset(const ConfigReader& r, std::string_view key, const glm::dvec3& def) {
+  const toml::node* n = r.table().get(key);
+  if (!n) return def;
+  const toml::array* a = n->as_array();
+  if (!a || a->size() != 3) r.fail(key, "expected [h_u, h_v, h_w], three numbers (v frame)");
+  glm::dvec3 h{0.0};
+  for (int i = 0; i < 3; ++i) {
+    const toml::node& e = *a->get(static_cast<size_t>(i));
+    if (auto f = e.value<double>()) h[i] = *f;  // integers convert too
+    if (!e.is_number() || !std::isfinite(h[i]))
+      r.fail_at(e, "eye_offset: each must be a finite number");
+  }
+  return h;
+}
+
 }  // namespace
 
 glm::dmat3 aviation_rotation(double yaw_deg, double pitch_deg, double roll_deg) {
@@ -25,9 +41,10 @@ glm::dmat3 aviation_rotation(double yaw_deg, double pitch_deg, double roll_deg) 
 }
 
 AviationCamera::Config AviationCamera::Config::from_toml(const ConfigReader& r) {
-  r.reject_unknown({"x", "y", "z", "yaw_deg", "pitch_deg", "roll_deg", "screen_distance",
-                    "pixel_size", "width", "height", "near"});
+  r.reject_unknown({"x", "y", "z", "eye_offset", "yaw_deg", "pitch_deg", "roll_deg",
+                    "screen_distance", "pixel_size", "width", "height", "near"});
   Config c;
+  c.eye_offset = read_eye_offset(r, "eye_offset", c.eye_offset);
   c.x = r.get_double("x", c.x);
   c.y = r.get_double("y", c.y);
   c.z = r.get_double("z", c.z);
@@ -49,6 +66,7 @@ AviationCamera::AviationCamera(const Config& c) : cfg_(c) {
   a_ = aviation_rotation(c.yaw_deg, c.pitch_deg, c.roll_deg);
   ye0_ = c.height / 2.0 * c.pixel_size;
   ze0_ = c.width / 2.0 * c.pixel_size;
+  eye_ = glm::dvec3(c.x, c.y, c.z) + a_ * c.eye_offset;  // eq. 2.16, h rotated by A (2.21)
 }
 
 glm::dvec3 AviationCamera::view_vector(double xs, double ys) const {
@@ -58,10 +76,10 @@ glm::dvec3 AviationCamera::view_vector(double xs, double ys) const {
 
 bool AviationCamera::ground_point(double xs, double ys, double& gx, double& gz) const {
   const glm::dvec3 v = view_vector(xs, ys);
-  const double lambda = -cfg_.y / v.y;  // eq. 2.26
+  const double lambda = -eye_.y / v.y;  // eq. 2.14 / 2.26 with the eye's height Y_h
   if (!(lambda > 0) || !std::isfinite(lambda)) return false;
-  gx = cfg_.x + lambda * v.x;  // eq. 2.27: X0 - Y0·Vx/Vy
-  gz = cfg_.z + lambda * v.z;
+  gx = eye_.x + lambda * v.x;  // eq. 2.20 / 2.27: X_h - Y_h·Vx/Vy
+  gz = eye_.z + lambda * v.z;
   return true;
 }
 
@@ -70,14 +88,15 @@ ProjectiveMap AviationCamera::ground_map() const {
   const glm::dvec3 cx = a_[2] * cfg_.pixel_size, cy = -a_[1] * cfg_.pixel_size;
   const glm::dvec3 c0 = a_ * glm::dvec3(cfg_.screen_distance, ye0_ - 0.5 * cfg_.pixel_size,
                                         0.5 * cfg_.pixel_size - ze0_);
-  // ground X = (X0·V_y - Y0·V_x)/V_y, ground Z = (Z0·V_y - Y0·V_z)/V_y.
+  // ground X = (X_h·V_y - Y_h·V_x)/V_y, ground Z = (Z_h·V_y - Y_h·V_z)/V_y (the eye r_h).
+  const glm::dvec3& e = eye_;
   ProjectiveMap m;
-  m.A = cfg_.x * cx.y - cfg_.y * cx.x;
-  m.B = cfg_.x * cy.y - cfg_.y * cy.x;
-  m.C = cfg_.x * c0.y - cfg_.y * c0.x;
-  m.D = cfg_.z * cx.y - cfg_.y * cx.z;
-  m.E = cfg_.z * cy.y - cfg_.y * cy.z;
-  m.F = cfg_.z * c0.y - cfg_.y * c0.z;
+  m.A = e.x * cx.y - e.y * cx.x;
+  m.B = e.x * cy.y - e.y * cy.x;
+  m.C = e.x * c0.y - e.y * c0.x;
+  m.D = e.z * cx.y - e.y * cx.z;
+  m.E = e.z * cy.y - e.y * cy.z;
+  m.F = e.z * c0.y - e.y * c0.z;
   m.G = cx.y;
   m.H = cy.y;
   m.I = c0.y;
@@ -86,7 +105,7 @@ ProjectiveMap AviationCamera::ground_map() const {
 
 bool AviationCamera::project(const glm::dvec3& p, ScreenVertex& out) const {
   // v-components: Aᵀ·(P - r0) (A is orthonormal).
-  const glm::dvec3 d = glm::transpose(a_) * (p - glm::dvec3(cfg_.x, cfg_.y, cfg_.z));
+  const glm::dvec3 d = glm::transpose(a_) * (p - eye_);
   if (!(d.x >= cfg_.near)) return false;
   const double r = cfg_.screen_distance / d.x;
   const double ye = ye0_ - r * d.y, ze = ze0_ + r * d.z;
@@ -120,6 +139,10 @@ OpCounts AviationCamera::setup_ops() const {
   o.lut = 6;   // sin and cos of the three angles
   o.mul = 16;  // the products of eq. 2.38
   o.add = 6;
+  if (cfg_.eye_offset != glm::dvec3(0.0)) {  // the eye r0 + A·h (eq. 2.16, 2.21)
+    o.mul += 9;
+    o.add += 6 + 3;
+  }
   return o;
 }
 

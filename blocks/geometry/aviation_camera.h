@@ -10,6 +10,9 @@
 // down) sits at Ze = (xs + 1/2)·δ, Ye = (ys + 1/2)·δ from the screen's top-left corner, and its
 // view vector is (u1, Ye0 - Ye, Ze - Ze0) in the v frame (eq. 2.34–2.35, Ye0, Ze0 the half
 // sizes): v points up the screen, w to the right.
+//
+// The eye may sit off the vehicle's centre of gravity r0 = (x, y, z) by h, given in the v frame
+// (eq. 2.16): r_h = r0 + A·h + λV (2.20–2.21); every ray and projection starts at eye().
 #include <cstdint>
 #include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
@@ -32,7 +35,8 @@ glm::dmat3 aviation_rotation(double yaw_deg, double pitch_deg, double roll_deg);
 class AviationCamera {
  public:
   struct Config {
-    double x = 0, y = 100, z = 0;  // eye position (X0, Y0, Z0) in the ground frame
+    double x = 0, y = 100, z = 0;  // centre of gravity r0 = (X0, Y0, Z0), ground frame
+    glm::dvec3 eye_offset{0.0};    // h = (h_u, h_v, h_w): the eye from r0, in the v frame
     double yaw_deg = 0, pitch_deg = -20, roll_deg = 0;
     double screen_distance = 256;  // u1, in the units of pixel_size
     double pixel_size = 1;         // δ (δy = δz)
@@ -46,6 +50,8 @@ class AviationCamera {
 
   // A = Aψ·Aϑ·Aγ, built with GLM; column j is the g-frame direction of v-axis j (u, v, w).
   const glm::dmat3& rotation() const { return a_; }
+  // The eye (centre of projection) in the ground frame: r0 + A·h (eq. 2.16, 2.21).
+  const glm::dvec3& eye() const { return eye_; }
   // The g-frame view vector of the pixel at (xs, ys): one matrix-vector multiply.
   glm::dvec3 view_vector(double xs, double ys) const;
   // The point of the ground plane Y = 0 seen at (xs, ys) (eq. 2.26–2.27): false when the ray
@@ -61,7 +67,7 @@ class AviationCamera {
   // Item: one vertex (project): a matrix-vector multiply, one division, the screen mapping.
   OpCounts ops_per_item() const;
   OpCounts ground_point_ops() const;  // per pixel of the ground projection
-  OpCounts setup_ops() const;         // sin/cos of the angles and the 9 products of A
+  OpCounts setup_ops() const;  // sin/cos of the angles, A's products, the eye r0 + A·h (h ≠ 0)
   TimingSpec timing(const TechTable& t) const;
   std::string name() const { return "geometry.aviation_camera"; }
   std::string arithmetic() const { return "double (GLM dmat3/dvec3)"; }
@@ -69,6 +75,7 @@ class AviationCamera {
  private:
   Config cfg_;
   glm::dmat3 a_{1.0};
+  glm::dvec3 eye_{0.0};
   double ye0_ = 0, ze0_ = 0;
 };
 

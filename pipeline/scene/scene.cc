@@ -33,13 +33,15 @@ void parse_output(const ConfigReader& top, Scene& s) {
 }
 
 // The camera's orientation from aviation angles (seed 003 §2.1): the view axis and the screen's
-// up direction are columns u and v of A = Aψ·Aϑ·Aγ.
+// up direction are columns u and v of A = Aψ·Aϑ·Aγ. `eye_offset` h (v frame) moves the eye off
+// `position`, the vehicle's centre of gravity: r_h = r0 + A·h (eq. 2.16, 2.21).
 void aviation_pose(const ConfigReader& cam, Camera& c) {
   for (const char* k : {"look_at", "up"}) {
     if (cam.table().contains(k)) cam.fail(k, "not together with yaw/pitch/roll");
   }
   const glm::dmat3 a = aviation_rotation(cam.get_double("yaw", 0), cam.get_double("pitch", 0),
                                          cam.get_double("roll", 0));
+  if (cam.table().contains("eye_offset")) c.position += a * read_vec<3>(cam, "eye_offset", {});
   c.look_at = c.position + a[0];
   c.up = a[1];
 }
@@ -47,12 +49,12 @@ void aviation_pose(const ConfigReader& cam, Camera& c) {
 // The camera, imaging the output's width × height.
 void parse_camera(const ConfigReader& top, Scene& s, Camera& c) {
   const ConfigReader cam = top.sub("camera");
-  cam.reject_unknown({"position", "look_at", "up", "yaw", "pitch", "roll", "projection", "fov_y",
-                      "height", "near", "path"});
+  cam.reject_unknown({"position", "look_at", "up", "yaw", "pitch", "roll", "eye_offset",
+                      "projection", "fov_y", "height", "near", "path"});
   s.camera_path = read_camera_path(cam);
   if (!s.camera_path.empty()) {
     // Each key was checked on its own; frame 0 takes the first.
-    for (const char* k : {"position", "look_at", "up", "yaw", "pitch", "roll"}) {
+    for (const char* k : {"position", "look_at", "up", "yaw", "pitch", "roll", "eye_offset"}) {
       if (cam.table().contains(k)) cam.fail(k, "not together with path (each key has its pose)");
     }
     c.position = s.camera_path.front().position;
@@ -68,6 +70,8 @@ void parse_camera(const ConfigReader& top, Scene& s, Camera& c) {
         cam.table().contains("roll")) {
       aviation_pose(cam, c);
     } else {
+      if (cam.table().contains("eye_offset"))
+        cam.fail("eye_offset", "needs yaw/pitch/roll (h is given in the vehicle's frame)");
       c.look_at = read_vec<3>(cam, "look_at", c.look_at);
       c.up = read_vec<3>(cam, "up", c.up);
     }

@@ -1,5 +1,6 @@
 #include "blocks/texture/relief/terrain_ray_marcher.h"
 
+#include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
 
@@ -11,8 +12,8 @@ namespace texsim {
 static_assert(Block<TerrainRayMarcher>);
 
 TerrainRayMarcher::Config TerrainRayMarcher::Config::from_toml(const ConfigReader& r) {
-  r.reject_unknown({"function", "deformation", "blend_shift", "step", "max_steps", "refine_steps",
-                    "normal", "normal_epsilon", "datapath"});
+  r.reject_unknown({"function", "deformation", "blend_shift", "step", "altitude_step", "max_steps",
+                    "refine_steps", "normal", "normal_epsilon", "datapath"});
   Config c;
   c.evaluator.basis.kind =
       static_cast<FiniteKind>(r.get_choice("function", 0, {"cosine", "quadratic", "exp2", "tent"}));
@@ -20,12 +21,15 @@ TerrainRayMarcher::Config TerrainRayMarcher::Config::from_toml(const ConfigReade
       static_cast<Deformation>(r.get_choice("deformation", 0, {"none", "widened", "blended"}));
   c.evaluator.basis.blend_shift = static_cast<int32_t>(r.get_int("blend_shift", 1, 0, 30));
   c.step = r.get_double("step", c.step);
+  c.altitude_step = r.get_double("altitude_step", c.altitude_step);
   c.max_steps = static_cast<int32_t>(r.get_int("max_steps", c.max_steps, 1, 1 << 20));
   c.refine_steps = static_cast<int32_t>(r.get_int("refine_steps", c.refine_steps, 0, 52));
   c.normal = static_cast<NormalMode>(r.get_choice("normal", 0, {"gradient", "central"}));
   c.normal_epsilon = r.get_double("normal_epsilon", c.normal_epsilon);
   c.datapath = parse_datapath(r, c.datapath);
   if (!(c.step > 0 && c.step <= 1e6)) r.fail("step", "must be in (0, 1e6]");
+  if (!(c.altitude_step >= 0 && c.altitude_step <= 100))
+    r.fail("altitude_step", "must be in [0, 100] (0: off)");
   if (!(c.normal_epsilon > 0 && c.normal_epsilon <= 1))
     r.fail("normal_epsilon", "must be in (0, 1]");
   return c;
@@ -34,8 +38,7 @@ TerrainRayMarcher::Config TerrainRayMarcher::Config::from_toml(const ConfigReade
 TerrainRayMarcher::Result TerrainRayMarcher::march(const AviationCamera& cam, const TerrainGrid& g,
                                                    double top, double xs, double ys,
                                                    OpCounts& ops) const {
-  const auto& cc = cam.config();
-  Result r = march_ray(g, top, glm::dvec3(cc.x, cc.y, cc.z), cam.view_vector(xs, ys), ops);
+  Result r = march_ray(g, top, cam.eye(), cam.view_vector(xs, ys), ops);
   if (r.hit) {
     r.normal = normal_at(g, r.point.x, r.point.z, r, ops);
     r.fetches = r.evaluations * static_cast<uint32_t>(eval_.fetches_per_item());
@@ -85,12 +88,19 @@ TerrainRayMarcher::Result TerrainRayMarcher::march_ray(const TerrainGrid& g, dou
     ops.mul += 3;
     ops.add += 3;
     ops.cmp += 2;
-    if (height(t) < 0) {
+    const double above = height(t);
+    if (above < 0) {
       r.hit = true;
       break;
     }
     t_prev = t;
-    t += cfg_.step;
+    if (cfg_.altitude_step > 0) {  // step ∝ the height above the ground here
+      t += std::max(cfg_.step, cfg_.altitude_step * above);
+      ops.mul += 1;
+      ops.cmp += 1;
+    } else {
+      t += cfg_.step;
+    }
   }
   if (r.hit) {
     double lo = t_prev, hi = t;  // lo above (or the start), hi below
@@ -143,8 +153,12 @@ double TerrainRayMarcher::top_bound(const TerrainGrid& g) const {
 OpCounts TerrainRayMarcher::ops_per_item() const {
   OpCounts o = eval_.ops_per_item();
   o.mul += 3;
-  o.add += 3 + 1;  // p = eye + t·d, y - h
-  o.cmp += 2;      // below? above the field?
+  o.add += 3 + 1;                // p = eye + t·d, y - h
+  o.cmp += 2;                    // below? above the field?
+  if (cfg_.altitude_step > 0) {  // k·(Y - y) and the max with dt
+    o.mul += 1;
+    o.cmp += 1;
+  }
   return o;
 }
 
@@ -153,6 +167,10 @@ OpCounts TerrainRayMarcher::critical_path() const {
   p.mul += 1;
   p.add += 2;
   p.cmp += 1;
+  if (cfg_.altitude_step > 0) {  // the next t waits for k·(Y - y) and the max
+    p.mul += 1;
+    p.cmp += 1;
+  }
   return p;
 }
 

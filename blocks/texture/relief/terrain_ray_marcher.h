@@ -26,7 +26,11 @@ class TerrainRayMarcher {
   enum class NormalMode { Gradient, CentralDifference };
   struct Config {
     TerrainHeightEvaluator::Config evaluator{};
-    double step = 0.25;         // dt, in grid units along the unit view ray
+    double step = 0.25;  // dt, in grid units along the unit view ray
+    // k of the altitude-dependent step max(dt, k·(Y - y(X, Z))): the ray's height above the
+    // ground where it is, times k (0: off, every step dt). Larger steps high above the ground;
+    // a step can then cross a ridge that rises ahead of the ray (measured, terrain.md §5.1).
+    double altitude_step = 0;
     int32_t max_steps = 4096;   // the iteration cap of the march
     int32_t refine_steps = 10;  // bisections of the last step
     NormalMode normal = NormalMode::Gradient;

@@ -3,6 +3,7 @@
 // as the inverse of the ground projection.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -107,6 +108,71 @@ TEST(AviationCamera, GroundPointMatchesEquation239) {
   EXPECT_GT(checked, 3000);
 }
 
+// The eye offset h (eq. 2.16, 2.20–2.21): h is given in the v frame and turned into the g frame
+// by the seed's explicit rows A_x, A_y, A_z (eq. 2.38); the ground point is then eq. 2.39 with
+// the eye r_h = r0 + A·h in place of r0. Leaving h unrotated (r0 + h) misses by metres.
+TEST(AviationCamera, EyeOffsetMatchesEquation216) {
+  std::mt19937_64 rng(33);
+  std::uniform_real_distribution<double> px(0, 320), py(0, 240), off(-20, 20);
+  int checked = 0;
+  double unrotated_miss = 0;
+  for (int t = 0; t < 300; ++t) {
+    AviationCamera::Config c = random_config(rng);
+    c.y += 25;  // stays above the ground with |h| <= 35
+    c.eye_offset = {off(rng), off(rng), off(rng)};
+    const AviationCamera cam(c);
+    const SeedMatrix s = seed_matrix(c.yaw_deg * kDeg, c.pitch_deg * kDeg, c.roll_deg * kDeg);
+    const glm::dvec3 h = c.eye_offset;
+    const double xh = c.x + s.xu * h.x + s.xv * h.y + s.xw * h.z;  // eq. 2.20–2.21
+    const double yh = c.y + s.yu * h.x + s.yv * h.y + s.yw * h.z;
+    const double zh = c.z + s.zu * h.x + s.zv * h.y + s.zw * h.z;
+    ASSERT_NEAR(cam.eye().x, xh, 1e-12 * (1 + std::abs(xh))) << t;
+    ASSERT_NEAR(cam.eye().y, yh, 1e-12 * (1 + std::abs(yh))) << t;
+    ASSERT_NEAR(cam.eye().z, zh, 1e-12 * (1 + std::abs(zh))) << t;
+    const double u1 = c.screen_distance, ye0 = 120 * c.pixel_size, ze0 = 160 * c.pixel_size;
+    const double c13 = s.zv * ye0 - s.zw * ze0 + s.zu * u1;
+    const double c23 = s.xv * ye0 - s.xw * ze0 + s.xu * u1;
+    const double c33 = s.yv * ye0 - s.yw * ze0 + s.yu * u1;
+    const ProjectiveMap m = cam.ground_map();
+    for (int k = 0; k < 10; ++k) {
+      const double xs = px(rng), ys = py(rng);
+      const double ze = (xs + 0.5) * c.pixel_size, ye = (ys + 0.5) * c.pixel_size;
+      const double den = s.yw * ze - s.yv * ye + c33;
+      const double rx = (s.xw * ze - s.xv * ye + c23) / den,
+                   rz = (s.zw * ze - s.zv * ye + c13) / den;
+      double gx = 0, gz = 0;
+      const bool hit = cam.ground_point(xs, ys, gx, gz);
+      ASSERT_EQ(hit, den < 0 && yh > 0) << t;
+      if (!hit) continue;
+      const double x = xh - yh * rx, z = zh - yh * rz;  // eq. 2.39 from the eye r_h
+      const double scale = std::abs(x - xh) + std::abs(z - zh) + yh;
+      ASSERT_NEAR(gx, x, 1e-12 * scale) << t;
+      ASSERT_NEAR(gz, z, 1e-12 * scale) << t;
+      ASSERT_NEAR(static_cast<double>(m.u(xs, ys)), x, 1e-11 * scale) << t;
+      ASSERT_NEAR(static_cast<double>(m.v(xs, ys)), z, 1e-11 * scale) << t;
+      ScreenVertex sv;  // the vertex projection starts at the same eye
+      ASSERT_TRUE(cam.project({gx, 0, gz}, sv));
+      ASSERT_NEAR(sv.x, xs, 1e-9 * (1 + scale / yh));
+      ASSERT_NEAR(sv.y, ys, 1e-9 * (1 + scale / yh));
+      // The wrong model, h taken as g-frame components.
+      const double wy = c.y + h.y;
+      if (wy > 0) unrotated_miss = std::max(unrotated_miss, std::abs(c.x + h.x - wy * rx - x));
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 1000);
+  EXPECT_GT(unrotated_miss, 1.0);
+  // h = 0 leaves every result of the camera as it was (the eye is r0).
+  AviationCamera::Config c;
+  c.x = 3;
+  c.z = -4;
+  const AviationCamera plain(c);
+  EXPECT_EQ(plain.eye(), glm::dvec3(3, 100, -4));
+  EXPECT_EQ(plain.setup_ops().mul, 16u);
+  c.eye_offset = {1, 0, 0};
+  EXPECT_EQ(AviationCamera(c).setup_ops().mul, 16u + 9u);
+}
+
 TEST(AviationCamera, DirectedCases) {
   AviationCamera::Config c;
   c.yaw_deg = c.pitch_deg = c.roll_deg = 0;
@@ -144,6 +210,15 @@ TEST(AviationCamera, ConfigAndBlockContract) {
   const toml::table bad = toml::parse("screen_distance = 0\n");
   EXPECT_THROW(AviationCamera::Config::from_toml(ConfigReader(bad, "s.toml", "camera")),
                InputError);
+  const toml::table off = toml::parse("eye_offset = [1, -2.5, 3]\n");
+  EXPECT_EQ(AviationCamera::Config::from_toml(ConfigReader(off, "s.toml", "camera")).eye_offset,
+            glm::dvec3(1, -2.5, 3));
+  for (const char* b : {"eye_offset = [1, 2]\n", "eye_offset = [1, \"a\", 3]\n",
+                        "eye_offset = [1, nan, 3]\n", "eye_offset = 2\n"}) {
+    const toml::table e = toml::parse(b);
+    EXPECT_THROW(AviationCamera::Config::from_toml(ConfigReader(e, "s.toml", "camera")), InputError)
+        << b;
+  }
   const toml::table typo = toml::parse("yaw = 3\n");
   EXPECT_THROW(AviationCamera::Config::from_toml(ConfigReader(typo, "s.toml", "camera")),
                InputError);

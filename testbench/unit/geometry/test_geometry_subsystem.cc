@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <glm/geometric.hpp>
 #include <random>
 #include <set>
 
@@ -108,6 +109,59 @@ TEST(SceneCamera, AviationAnglesReproduceTheSeedsGroundProjection) {
   // Angles and look_at are two ways to say one thing: not both.
   EXPECT_NE(error_of(std::string(kHead) + "[camera]\nyaw = 3.0\nlook_at = [0.0, 0.0, 1.0]\n")
                 .find("not together with yaw/pitch/roll"),
+            std::string::npos);
+}
+
+// `eye_offset` (eq. 2.16): the scene camera's eye is position + A·h, h in the vehicle's frame,
+// and sees the ground where AviationCamera with the same h puts it; absent, nothing changes.
+TEST(SceneCamera, EyeOffsetMovesTheEyeByTheRotatedOffset) {
+  const std::string cam =
+      "[camera]\nposition = [3.0, 60.0, -7.0]\nyaw = 30.0\npitch = -12.0\n"
+      "roll = 8.0\nfov_y = 50.0\n";
+  const std::string plane =
+      "[[planes]]\nmaterial = \"m\"\norigin = [0.0, 0.0, 0.0]\n"
+      "edge_u = [1.0, 0.0, 0.0]\nedge_v = [0.0, 0.0, 1.0]\n";
+  const Scene s = parse_scene(std::string(kHead) + cam + "eye_offset = [4.0, -1.5, 2.5]\n" + plane,
+                              "s.toml", "");
+  const Scene s0 = parse_scene(std::string(kHead) + cam + plane, "s.toml", "");
+  const Scene sz =
+      parse_scene(std::string(kHead) + cam + "eye_offset = [0, 0, 0]\n" + plane, "s.toml", "");
+  EXPECT_EQ(s0.camera.position, sz.camera.position);
+  EXPECT_EQ(s0.camera.look_at, sz.camera.look_at);
+  AviationCamera::Config ac;
+  ac.x = 3;
+  ac.y = 60;
+  ac.z = -7;
+  ac.yaw_deg = 30;
+  ac.pitch_deg = -12;
+  ac.roll_deg = 8;
+  ac.eye_offset = {4.0, -1.5, 2.5};
+  ac.width = 200;
+  ac.height = 150;
+  ac.screen_distance = 75 / std::tan(50 * M_PI / 360);
+  const AviationCamera seed(ac);
+  const glm::dvec3 d = s.camera.position - s0.camera.position;
+  EXPECT_NEAR(glm::length(d), glm::length(ac.eye_offset), 1e-12);
+  EXPECT_NEAR(glm::distance(s.camera.position, seed.eye()), 0, 1e-12);
+  const PlaneProjection proj(s, s.primitives[0]);
+  int hits = 0;
+  for (int j = 0; j < 150; j += 7) {
+    for (int i = 0; i < 200; i += 9) {
+      double gx = 0, gz = 0;
+      if (!seed.ground_point(i, j, gx, gz)) continue;
+      const UvSample t = proj.at(i + 0.5, j + 0.5);
+      EXPECT_NEAR(t.u, gx, 1e-9 * (1 + std::fabs(gx))) << i << "," << j;
+      EXPECT_NEAR(t.v, gz, 1e-9 * (1 + std::fabs(gz))) << i << "," << j;
+      ++hits;
+    }
+  }
+  EXPECT_GT(hits, 200);
+  EXPECT_NE(error_of(std::string(kHead) +
+                     "[camera]\nlook_at = [0.0, 0.0, 1.0]\neye_offset = [1.0, 0.0, 0.0]\n")
+                .find("needs yaw/pitch/roll"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(kHead) + "[camera]\nyaw = 1.0\neye_offset = [1.0, 0.0]\n")
+                .find("expected an array of 3 numbers"),
             std::string::npos);
 }
 

@@ -3,9 +3,12 @@
 // terrain against a long double fine-step march, normals, the horizon and the iteration cap.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <glm/geometric.hpp>
 #include <random>
+#include <vector>
 
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
@@ -89,10 +92,10 @@ TerrainGrid smooth_grid(uint64_t seed) {
 long double reference_t(const TerrainRayMarcher& m, const AviationCamera& cam, const TerrainGrid& g,
                         double xs, double ys) {
   const glm::dvec3 v = glm::normalize(cam.view_vector(xs, ys));
-  const auto& cc = cam.config();
+  const glm::dvec3 e = cam.eye();
   OpCounts ops;
   auto below = [&](long double t) {
-    const long double x = cc.x + t * v.x, y = cc.y + t * v.y, z = cc.z + t * v.z;
+    const long double x = e.x + t * v.x, y = e.y + t * v.y, z = e.z + t * v.z;
     return y < m.evaluator().height(g, static_cast<double>(x), static_cast<double>(z), ops);
   };
   const long double dt = m.config().step / 64.0L;
@@ -165,6 +168,84 @@ TEST(TerrainRayMarcher, HorizonAndCap) {
   EXPECT_GE(m.timing(TechTable::defaults()).latency, 1U);
 }
 
+// The altitude-dependent step max(dt, k·(Y - y)): low rolling ground (0–2) with a few peaks of
+// 15 (so the march starts high, at the top bound), seen from 25 up at pitch -20°. Against a
+// march with dt/4 (30 bisections, no cap in reach): the steps saved, the hits on the same
+// surface (|Δt| <= 1e-3), those that crossed a ridge (later), and the rays the 4096-step cap
+// stopped before the ground (dt = 0.05 reaches 205 units).
+TEST(TerrainRayMarcher, AltitudeStepSavesStepsAtMeasuredError) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<float> u(0.0F, 2.0F);
+  TerrainGrid g(96, 96);
+  for (auto& v : g.h) v = u(rng);
+  for (int k = 0; k < 6; ++k) g.h[static_cast<size_t>(rng() % g.h.size())] = 15.0F;
+  const AviationCamera cam = camera(25, -20, 45);
+  TerrainRayMarcher::Config fine;
+  fine.step = 0.05 / 4;
+  fine.refine_steps = 30;
+  fine.max_steps = 1 << 20;
+  const TerrainRayMarcher ref(fine);
+  std::vector<TerrainRayMarcher::Result> refs;
+  for (int ys = 0; ys < 48; ys += 3) {
+    for (int xs = 0; xs < 64; xs += 3) {
+      OpCounts ops;
+      refs.push_back(ref.march(cam, g, ref.top_bound(g), xs, ys, ops));
+    }
+  }
+  uint64_t steps_off = 0;
+  for (double k : {0.0, 0.25, 0.5, 1.0, 2.0}) {
+    TerrainRayMarcher::Config c;
+    c.step = 0.05;
+    c.altitude_step = k;
+    const TerrainRayMarcher m(c);
+    uint64_t steps = 0;
+    int n = 0, same = 0, later = 0, capped = 0;
+    double worst_same = 0;
+    size_t i = 0;
+    for (int ys = 0; ys < 48; ys += 3) {
+      for (int xs = 0; xs < 64; xs += 3) {
+        OpCounts ops;
+        const auto r = m.march(cam, g, m.top_bound(g), xs, ys, ops);
+        const auto& f = refs[i++];
+        steps += r.steps;
+        if (!f.hit) continue;
+        ++n;
+        const double d = r.hit ? std::fabs(r.t - f.t) : 1e9;
+        if (d <= 1e-3) {
+          ++same;
+          worst_same = std::max(worst_same, d);
+        } else {
+          later += r.hit && r.t > f.t;
+          capped += r.capped;
+        }
+      }
+    }
+    if (k == 0) steps_off = steps;
+    std::printf(
+        "k = %.2f: steps %llu (%.2fx fewer), same surface %d / %d (worst |dt| %.1e), "
+        "later %d, capped %d, other %d\n",
+        k, static_cast<unsigned long long>(steps),
+        static_cast<double>(steps_off) / static_cast<double>(steps), same, n, worst_same, later,
+        capped, n - same - later - capped);
+    ASSERT_GT(n, 250);
+    EXPECT_EQ(n, same + later + capped);  // never an earlier hit: a step never lands inside
+    if (k > 0) {
+      EXPECT_LT(steps, steps_off);
+    }
+    if (k == 0.5) {
+      EXPECT_LT(steps * 8, steps_off);
+      EXPECT_GE(same, n * 98 / 100);
+    }
+    if (k == 2.0) {
+      EXPECT_GT(later, n / 4);  // too long: steps cross the rising ground
+    }
+  }
+  // The op counts follow the key: one multiply and one max more per step.
+  TerrainRayMarcher::Config on;
+  on.altitude_step = 0.5;
+  EXPECT_EQ(TerrainRayMarcher(on).ops_per_item().mul, TerrainRayMarcher().ops_per_item().mul + 1);
+}
+
 TEST(TerrainRayMarcher, ConfigsReadAndReject) {
   const toml::table t =
       toml::parse("step = 0.5\nnormal = \"central\"\ndeformation = \"widened\"\n");
@@ -172,7 +253,12 @@ TEST(TerrainRayMarcher, ConfigsReadAndReject) {
   EXPECT_DOUBLE_EQ(c.step, 0.5);
   EXPECT_EQ(c.normal, TerrainRayMarcher::NormalMode::CentralDifference);
   EXPECT_EQ(TerrainRayMarcher(c).evaluator().fetches_per_item(), 9);
-  for (const char* bad : {"step = 0\n", "normal_epsilon = 2\n", "steps = 3\n"}) {
+  const toml::table a = toml::parse("altitude_step = 0.5\n");
+  EXPECT_DOUBLE_EQ(
+      TerrainRayMarcher::Config::from_toml(ConfigReader(a, "s.toml", "terrain")).altitude_step,
+      0.5);
+  for (const char* bad : {"step = 0\n", "normal_epsilon = 2\n", "steps = 3\n",
+                          "altitude_step = -1\n", "altitude_step = nan\n"}) {
     const toml::table b = toml::parse(bad);
     EXPECT_THROW(TerrainRayMarcher::Config::from_toml(ConfigReader(b, "s.toml", "terrain")),
                  InputError);
