@@ -17,6 +17,31 @@ SampleProjection::Config SampleProjection::Config::from_toml(const ConfigReader&
   return c;
 }
 
+glm::dvec3 SampleProjection::thesis_closed_form(const Rotation& rot, const glm::dvec3& p, double r,
+                                                ClosedForm form, OpCounts& ops) {
+  const double ny = rot.normal.y, nz = rot.normal.z;
+  const double sa_sb = rot.sin_a * rot.sin_b, ca_sb = rot.cos_a * rot.sin_b;  // per polygon
+  const double xn = rot.cos_b * p.x + rot.sin_b * p.z;
+  const double yn = rot.cos_a * p.y + ny * p.z - sa_sb * p.x;
+  const double zn = nz * p.z - rot.sin_a * p.y - ca_sb * p.x;
+  ops.mul += 2 + 3 + 3;
+  ops.add += 1 + 2 + 2;
+  double d = 0;
+  if (form == ClosedForm::Corrected) {
+    d = 1 + r * zn;
+    ops.mul += 1;
+    ops.add += 1;
+  } else {
+    d = 1 - r * rot.sin_a * p.y + r * nz * p.z - r * ny * p.x;  // r·sin α etc. per polygon
+    ops.mul += 3;
+    ops.add += 3;
+  }
+  const double k = 1 / d;
+  ops.rcp += 1;
+  ops.mul += 3;
+  return {xn * k, yn * k, zn * k};
+}
+
 SampleProjection::Setup SampleProjection::setup(const Rotation& rot, double z_rot, double focal_px,
                                                 double cx, double cy, OpCounts& ops) {
   Setup s;

@@ -57,6 +57,19 @@ class SampleProjection {
   // Orthographic: 6 mul 6 add (M'), 2 add (centre), 1 cmp (finite).
   static ProjectedSample project(const Setup& s, double xr, double yr, OpCounts& ops);
 
+  // The thesis's closed forms of [M″] = [M][R_xy]⁻¹[P] for one point p = (x′, y′, z′) of the
+  // rotated polygon, in the thesis's frame (P: w = 1 + r z, r = −1/z_c), Ny and Nz the unit
+  // normal's (object-space.md §3.1):
+  //   x″ = (cos β x′ + sin β z′) / D,   y″ = (cos α y′ + Ny z′ − sin α sin β x′) / D,
+  //   z″ = (Nz z′ − sin α y′ − cos α sin β x′) / D,
+  //   Printed:   D = 1 − r sin α y′ + r Nz z′ − r Ny x′ (as the thesis prints it: erratum);
+  //   Corrected: D = 1 + r (Nz z′ − sin α y′ − cos α sin β x′) = 1 + r·(z″'s numerator).
+  // Per point, unfolded (sin α sin β, cos α sin β and the r products once per polygon):
+  // Corrected 12 mul 6 add 1 rcp; Printed 14 mul 8 add 1 rcp.
+  enum class ClosedForm : uint8_t { Printed, Corrected };
+  static glm::dvec3 thesis_closed_form(const Rotation& rot, const glm::dvec3& p, double r,
+                                       ClosedForm form, OpCounts& ops);
+
   OpCounts ops_per_item() const;  // item: one sample
   OpCounts polygon_ops() const;
   TimingSpec timing(const TechTable& t) const;

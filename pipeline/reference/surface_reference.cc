@@ -31,6 +31,26 @@ double terrain_height(const ReliefHeightMap& hm, const FiniteBasis& f, double sc
   return y;
 }
 
+// The gradient (∂y/∂x, ∂y/∂z) of that direct sum: Σ h_ij f'(x - i) f(z - j) and its mirror.
+glm::dvec2 terrain_gradient(const ReliefHeightMap& hm, const FiniteBasis& f, double scale, double x,
+                            double z) {
+  const int r = static_cast<int>(std::ceil(f.radius()));
+  const double fx = std::floor(x), fz = std::floor(z);
+  if (!std::isfinite(fx) || !std::isfinite(fz) || std::fabs(fx) > 1e9 || std::fabs(fz) > 1e9)
+    return {0, 0};
+  const auto i0 = static_cast<int32_t>(fx), j0 = static_cast<int32_t>(fz);
+  glm::dvec2 g(0);
+  for (int32_t j = j0 - r + 1; j <= j0 + r; ++j) {
+    const double wz = f.value(z - j), dz = f.derivative(z - j);
+    for (int32_t i = i0 - r + 1; i <= i0 + r; ++i) {
+      const double h = hm.texel(i, j) * scale;
+      g.x += h * f.derivative(x - i) * wz;
+      g.y += h * f.value(x - i) * dz;
+    }
+  }
+  return g;
+}
+
 // Blinn-Phong in double (docs/derivations/lighting.md §1), each channel clamped to [0, 1].
 glm::dvec3 blinn_phong(const glm::dvec3& base, const glm::dvec3& n, const glm::dvec3& l,
                        const glm::dvec3& v, const BlinnPhongShader::Config& c) {
@@ -53,7 +73,8 @@ SurfaceReference::SurfaceReference(const MaterialSetup& m, const TextureSet& tex
     relief_hm_ = height_map_of(textures[relief_->height_tex].reference());
   if (lighting_ && lighting_->normal_tex >= 0) {
     normal_tex_ = &textures[lighting_->normal_tex].reference();
-    if (lighting_->normal == LightingSetup::Normal::HeightMap)
+    if (lighting_->normal == LightingSetup::Normal::HeightMap ||
+        lighting_->normal == LightingSetup::Normal::Terrain)
       normal_hm_ = height_map_of(*normal_tex_);
   }
 }
@@ -127,6 +148,23 @@ glm::dvec3 SurfaceReference::normal_at(double u, double v) const {
   if (lighting_->normal == LightingSetup::Normal::NormalMap) {
     n = normal_map_rgb(*normal_tex_, u, v) * 2.0 - 1.0;
     n.y = -n.y;  // green up: towards −v
+  } else if (lighting_->normal == LightingSetup::Normal::Terrain) {
+    // The same source in double: the direct sum's analytic gradient, or its central
+    // differences at ±ε; grid x along u, z along v, y up (the tangent frame's z).
+    const ReliefHeightMap& hm = normal_hm_;
+    const double x = (u - std::floor(u)) * hm.width - 0.5,
+                 z = (v - std::floor(v)) * hm.height - 0.5;
+    const FiniteBasis& f = lighting_->terrain.evaluator.basis;
+    const double s = lighting_->terrain_scale;
+    glm::dvec2 g;
+    if (lighting_->terrain.method == TerrainNormalUnit::Method::Gradient) {
+      g = terrain_gradient(hm, f, s, x, z);
+    } else {
+      const double e = lighting_->terrain.epsilon;
+      g = {(terrain_height(hm, f, s, x + e, z) - terrain_height(hm, f, s, x - e, z)) / (2 * e),
+           (terrain_height(hm, f, s, x, z + e) - terrain_height(hm, f, s, x, z - e)) / (2 * e)};
+    }
+    n = {-g.x, -g.y, 1.0};
   } else {
     const ReliefHeightMap& hm = normal_hm_;
     const double x = (u - std::floor(u)) * hm.width - 0.5,

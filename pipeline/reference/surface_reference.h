@@ -7,8 +7,10 @@
 //    v) offset found there; for the terrain method the ray is marched in steps of 1/16 texel
 //    against the finite-function direct sum (40 halvings of the last step);
 //  - lighting: each sample's bilinear colour is lit in double by the same Blinn-Phong model
-//    with the normal at the sample's (shifted) coordinates (bilinear normal map, or central
-//    differences of the bilinear height map) and the pixel's view vector, then averaged.
+//    with the normal at the sample's (shifted) coordinates (bilinear normal map, central
+//    differences of the bilinear height map, or for terrain normals the finite-function direct
+//    sum's analytic gradient or central differences at ±ε) and the pixel's view vector, then
+//    averaged.
 #include <glm/vec4.hpp>
 #include <optional>
 

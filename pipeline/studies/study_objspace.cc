@@ -157,6 +157,7 @@ struct SceneCase {
   double tilt = -1, area = 0;
   std::string image;   // side-by-side image file ("" for none)
   double step = 0.75;  // object space's max_step_px
+  double band_ratio = ObjectSpaceConfig{}.band_ratio;
 };
 
 // Every method on one scene: one row each.
@@ -176,6 +177,7 @@ void measure_case(const SceneCase& sc, const ObjspaceStudyOptions& opt, const st
   proto.tilt_deg = sc.tilt;
   proto.area = sc.area;
   proto.step_px = sc.step;
+  proto.band_ratio = sc.band_ratio;
   proto.primitives = scene.primitives.size();
   // Screen space first: its coverage defines the pixels compared and the reference.
   std::vector<ObjspaceRow> screen_rows;
@@ -199,6 +201,7 @@ void measure_case(const SceneCase& sc, const ObjspaceStudyOptions& opt, const st
   }
   ObjectSpaceConfig cfg;
   cfg.raster.max_step_px = sc.step;
+  cfg.band_ratio = sc.band_ratio;
   const ObjectSpaceResult o = render_object_space(scene, set, base, PipelineSetup{}, cfg);
   ObjspaceRow r = proto;
   r.method = kMethods[0];
@@ -209,6 +212,7 @@ void measure_case(const SceneCase& sc, const ObjspaceStudyOptions& opt, const st
   r.dram_bytes = o.dram_bytes;
   r.buffer_bytes = o.buffer_bytes();
   r.holes = o.resolve.holes;
+  r.bands = o.bands;
   const ImageRgb oimg = masked_image(scene, o.image, prim);
   r.acc = compare_images(oimg, ref);
   r.pixels = r.acc.pixels;
@@ -286,6 +290,10 @@ std::vector<SceneCase> study_cases(const ObjspaceStudyOptions& opt) {
     cases.push_back({"area", "square", square_scene(opt.tilt_size, 60, a, 1), 60, a, ""});
   for (const double st : opt.steps)
     cases.push_back({"density", "floor", default_scene(size_overrides(320)), -1, 0, "", st});
+  for (const double b : opt.band_ratios) {
+    cases.push_back(
+        {"bands", "floor", default_scene(size_overrides(opt.bands_width)), -1, 0, "", 0.75, b});
+  }
   return cases;
 }
 
@@ -298,6 +306,8 @@ StudyTable table(const std::vector<ObjspaceRow>& rows) {
                 "tilt °",
                 "area",
                 "step px",
+                "band ratio",
+                "bands",
                 "primitives",
                 "pixels",
                 "fragments or samples",
@@ -319,7 +329,7 @@ StudyTable table(const std::vector<ObjspaceRow>& rows) {
                 "PSNR dB",
                 "NMSE",
                 "max error"},
-               "lllrrrrrrrrrrrrrrrrrrrrrrrrrr");
+               "lllrrrrrrrrrrrrrrrrrrrrrrrrrrrr");
   for (const ObjspaceRow& r : rows) {
     const double px = r.pixels ? static_cast<double>(r.pixels) : 1;
     t.add({r.sweep,
@@ -330,6 +340,8 @@ StudyTable table(const std::vector<ObjspaceRow>& rows) {
            r.tilt_deg >= 0 ? fmt(r.tilt_deg) : "",
            r.area > 0 ? fmt(r.area) : "",
            r.method == "object-space" ? fmt(r.step_px) : "",
+           r.method == "object-space" ? fmt(r.band_ratio) : "",
+           r.method == "object-space" ? std::to_string(r.bands) : "",
            std::to_string(r.primitives),
            std::to_string(r.pixels),
            std::to_string(r.items),
@@ -393,7 +405,8 @@ std::vector<double> speedups(const std::vector<ObjspaceRow>& rows, const std::st
   for (size_t i = 0; i < rows.size(); ++i) {
     const ObjspaceRow& o = rows[i];
     if (o.method != "object-space" || (!sweep.empty() && o.sweep != sweep)) continue;
-    if (sweep.empty() && o.sweep == "density") continue;  // not the hole-free rule
+    // Not the defaults: a grid step beyond the hole-free rule, or other depth bands.
+    if (sweep.empty() && (o.sweep == "density" || o.sweep == "bands")) continue;
     for (size_t k = i + 1; k < rows.size() && rows[k].method != "object-space"; ++k) {
       if (rows[k].method == method && o.cycles > 0)
         out.push_back(static_cast<double>(rows[k].cycles) / static_cast<double>(o.cycles));
@@ -418,6 +431,14 @@ double spread(const std::vector<ObjspaceRow>& rows, const std::string& sweep,
     hi = std::max(hi, p.y);
   }
   return lo > 0 ? hi / lo : 0;
+}
+
+// The image width of a sweep's rows (0 if it has none).
+int rows_width(const std::vector<ObjspaceRow>& rows, const std::string& sweep) {
+  for (const ObjspaceRow& r : rows) {
+    if (r.sweep == sweep) return r.width;
+  }
+  return 0;
 }
 
 std::string claims(const std::vector<ObjspaceRow>& rows) {
@@ -471,6 +492,26 @@ std::string claims(const std::vector<ObjspaceRow>& rows) {
       << " pixel instead of 3/4 (floor, 320 × 240): " << r.cycles << " cycles, " << r.holes
       << " holes of " << r.pixels << " pixels.\n";
   }
+  const ObjspaceRow* banded = nullptr;
+  for (const ObjspaceRow& r : rows) {
+    if (r.sweep == "resolution" && r.scene == "floor" && r.method == "object-space" &&
+        r.width == rows_width(rows, "bands"))
+      banded = &r;
+  }
+  for (const ObjspaceRow& r : rows) {
+    if (r.sweep != "bands" || r.method != "object-space") continue;
+    s << "- Depth bands: band ratio " << fmt(r.band_ratio)
+      << (r.band_ratio == 0 ? " (the thesis's one LOD and one grid step per polygon)" : "")
+      << " on the floor, " << r.width << " × " << r.height << ": " << r.bands << " band(s), "
+      << r.items << " samples, " << r.cycles << " cycles, PSNR " << fmt(r.acc.psnr_db) << " dB, "
+      << r.holes << " holes";
+    if (banded) {
+      s << "; the default (" << banded->bands << " bands at ratio " << fmt(banded->band_ratio)
+        << "): " << banded->items << " samples, " << banded->cycles << " cycles, PSNR "
+        << fmt(banded->acc.psnr_db) << " dB";
+    }
+    s << ".\n";
+  }
   return s.str();
 }
 
@@ -496,7 +537,8 @@ int run_study_objspace(const std::string& out_dir, std::ostream& log,
   files.csv("objspace.csv", t);
   files.text("objspace.md",
              "# Study objspace: object-space texturing against screen-space filtering\n\n"
-             "Object space: frustum clip, depth bands (far/near <= 2), rotation parallel to the "
+             "Object space: frustum clip, depth bands (far/near <= 2; the bands sweep: other "
+             "ratios, 0 = one band per polygon as in the thesis), rotation parallel to the "
              "screen, the hole-free grid (one step <= 3/4 pixel on the screen), one LOD per band, "
              "trilinear fetch through the texture unit and cache, projection, 4-pixel area splat "
              "with depth visibility, resolve. Screen space: the edge rasteriser and the texture "

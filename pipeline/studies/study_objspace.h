@@ -6,7 +6,8 @@
 // texels fetched, memory traffic, holes and image error against the ground truth. Sweeps:
 // screen resolution (default scene: the oblique floor; the textured cube; the bunny mesh),
 // polygon tilt 0°…85° (one square), polygon count (the same square cut into a grid of
-// triangles) and polygon area. The thesis's claims are re-measured as cycles.
+// triangles), polygon area, grid step, and the depth bands against the thesis's one LOD per
+// polygon. The thesis's claims are re-measured as cycles.
 #include <cstdint>
 #include <ostream>
 #include <string>
@@ -26,6 +27,10 @@ struct ObjspaceStudyOptions {
   // Density sweep (floor, 320 × 240): object space with a coarser grid step than the hole-free
   // 3/4 pixel, to show what the sample density costs and what leaving holes would save.
   std::vector<double> steps = {1.0, 1.5, 2.0, 3.0};
+  // Band sweep (floor, bands_width × 3/4 of it): object space with these band ratios instead of the
+  // default 2; 0 is the thesis's one LOD and one grid step per polygon.
+  std::vector<double> band_ratios = {0.0};
+  int bands_width = 320;                       // its image width (height = 3/4 width)
   bool cube = true, mesh = true;               // scenes/cube.toml, scenes/bunny.toml
   std::string scenes_dir = TEXSIM_SCENES_DIR;  // the source tree's scenes/ (set by the build)
   int reference_supersamples = 4;              // per axis, per pixel
@@ -33,12 +38,14 @@ struct ObjspaceStudyOptions {
 };
 
 struct ObjspaceRow {
-  std::string sweep;   // "resolution", "tilt", "count", "area", "density"
+  std::string sweep;   // "resolution", "tilt", "count", "area", "density", "bands"
   std::string scene;   // "floor", "cube", "bunny", "square"
   std::string method;  // "object-space", "trilinear", "vulkan", "ewa", "feline"
   int width = 0, height = 0;
   double tilt_deg = -1, area = 0;  // -1: not a tilt sweep
   double step_px = 0.75;           // object space's grid step on the screen at most
+  double band_ratio = 2.0;         // object space's far/near depth ratio per band (0: one band)
+  uint64_t bands = 0;              // object space's depth bands (grid steps and LODs)
   uint64_t primitives = 0;
   uint64_t pixels = 0;  // covered pixels (screen-space coverage)
   uint64_t items = 0;   // fragments (screen space) or samples (object space)

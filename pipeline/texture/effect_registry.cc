@@ -125,6 +125,7 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
                                        (m.footprint ? m.footprint->name() : "filter.trilinear") +
                                        " of this material without the derivatives it needs");
   }
+  if (m.lighting) m.lighting->bind_terrain(r.sub("lighting"), m.relief ? &*m.relief : nullptr);
   if (textures && m.relief) {
     m.relief->height_tex =
         bind_texture(r, "relief", "height_texture", m.relief->height_texture, *textures);

@@ -11,8 +11,9 @@ namespace texsim {
 namespace {
 
 // The effect's own keys beside those of the blocks it builds.
-const std::vector<std::string_view> kLightingKeys = {"model", "normal", "normal_texture",
-                                                     "light_dir", "bump_scale"};
+const std::vector<std::string_view> kLightingKeys = {
+    "model",      "normal",         "normal_texture", "light_dir",
+    "bump_scale", "terrain_normal", "terrain_epsilon"};
 
 glm::dvec3 read_vec3(const ConfigReader& r, std::string_view key, glm::dvec3 def) {
   const toml::node* n = r.table().get(key);
@@ -36,12 +37,29 @@ double frac_floor(double x) { return std::isfinite(x) ? std::floor(x) : 0.0; }
 LightingSetup LightingSetup::from_toml(const ConfigReader& r) {
   LightingSetup s;
   (void)r.get_choice("model", 0, {"blinn_phong"});
-  s.normal = static_cast<Normal>(r.get_choice("normal", 0, {"flat", "normal_map", "height_map"}));
+  s.normal = static_cast<Normal>(
+      r.get_choice("normal", 0, {"flat", "normal_map", "height_map", "terrain"}));
   s.normal_texture = r.get_string("normal_texture", "");
-  if (s.normal != Normal::Flat && s.normal_texture.empty())
+  const bool map = s.normal == Normal::NormalMap || s.normal == Normal::HeightMap;
+  if (map && s.normal_texture.empty())
     r.fail("normal", "needs `normal_texture`, the name of the map's texture");
   if (s.normal == Normal::Flat && !s.normal_texture.empty())
     r.fail("normal_texture", "flat normals read no texture");
+  if (s.normal == Normal::Terrain) {
+    if (!s.normal_texture.empty())
+      r.fail("normal_texture", "terrain normals read the relief's height texture");
+    if (r.table().contains("bump_scale"))
+      r.fail("bump_scale", "terrain normals take the relief's `scale`");
+    s.terrain.method = static_cast<TerrainNormalUnit::Method>(
+        r.get_choice("terrain_normal", 0, {"gradient", "central_difference"}));
+    s.terrain.epsilon = r.get_double("terrain_epsilon", s.terrain.epsilon);
+    if (!(s.terrain.epsilon > 0 && s.terrain.epsilon <= 1))
+      r.fail("terrain_epsilon", "must be in (0, 1] texels");
+  } else {
+    for (const char* k : {"terrain_normal", "terrain_epsilon"}) {
+      if (r.table().contains(k)) r.fail(k, "is for `normal = \"terrain\"` only");
+    }
+  }
   s.light_dir = read_vec3(r, "light_dir", glm::normalize(s.light_dir));
   s.normals.source =
       s.normal == Normal::HeightMap ? NormalUnit::Source::HeightMap : NormalUnit::Source::NormalMap;
@@ -49,7 +67,20 @@ LightingSetup LightingSetup::from_toml(const ConfigReader& r) {
   if (!(std::fabs(s.normals.bump_scale) <= 1e6)) r.fail("bump_scale", "must be finite, |s| <= 1e6");
   s.shader =
       BlinnPhongShader::Config::from_toml(r.for_block("lighting.blinn_phong", kLightingKeys));
+  s.terrain.datapath = s.shader.datapath;
   return s;
+}
+
+void LightingSetup::bind_terrain(const ConfigReader& lighting, const ReliefSetup* relief) {
+  if (normal != Normal::Terrain) return;
+  if (!relief || relief->method != ReliefSetup::Method::Terrain)
+    lighting.fail("normal",
+                  "\"terrain\" takes the normal from the surface of the material's "
+                  "`relief = { method = \"terrain\", ... }`, which it does not have");
+  normal_texture = relief->height_texture;
+  terrain_scale = relief->scale;
+  terrain.evaluator = relief->terrain.evaluator;
+  terrain.evaluator.datapath = terrain.datapath;
 }
 
 ReliefSetup ReliefSetup::from_toml(const ConfigReader& r) {
@@ -256,10 +287,17 @@ glm::dvec3 normal_map_rgb(const Texture& t, double u, double v) {
 }
 
 LightingEffect::LightingEffect(const LightingSetup& s, const Texture* normal_tex)
-    : setup_(s), tex_(normal_tex), normals_(s.normals), shader_(s.shader) {
+    : setup_(s), tex_(normal_tex), normals_(s.normals), terrain_(s.terrain), shader_(s.shader) {
   if (s.normal != LightingSetup::Normal::Flat && !tex_)
     throw std::logic_error("lighting: the normal texture '" + s.normal_texture + "' is not bound");
   if (s.normal == LightingSetup::Normal::HeightMap) hm_ = height_map_of(*tex_);
+  if (s.normal == LightingSetup::Normal::Terrain) {
+    // The relief's grid (ReliefEffect): heights h·scale texels, node (i, j) = texel (i, j).
+    hm_ = height_map_of(*tex_);
+    grid_ = TerrainGrid(hm_.width, hm_.height);
+    for (size_t i = 0; i < grid_.h.size(); ++i)
+      grid_.h[i] = static_cast<float>(hm_.h[i] * s.terrain_scale);
+  }
 }
 
 Rgba LightingEffect::shade(const Rgba& c, double u, double v, const glm::dvec3& view_ts,
@@ -280,6 +318,13 @@ Rgba LightingEffect::shade(const Rgba& c, double u, double v, const glm::dvec3& 
             .from_height(hm_, static_cast<int32_t>(std::floor(x)),
                          static_cast<int32_t>(std::floor(y)), normal_ops)
             .n;
+  } else if (setup_.normal == LightingSetup::Normal::Terrain) {
+    // The marched hit's grid position, as the relief's march_terrain placed it (texel centres
+    // at integers); the grid frame's y is the tangent frame's z.
+    const double x = (u - frac_floor(u)) * hm_.width - 0.5,
+                 z = (v - frac_floor(v)) * hm_.height - 0.5;
+    const glm::vec3 g = terrain_.normal(grid_, x, z, normal_ops).n;
+    n = {g.x, g.z, g.y};
   }
   const glm::vec3 lit =
       shader_
@@ -290,8 +335,8 @@ Rgba LightingEffect::shade(const Rgba& c, double u, double v, const glm::dvec3& 
 
 TimingSpec LightingEffect::timing(const TechTable& t) const {
   TimingSpec s = shader_.timing(t);
-  if (!has_normal_unit()) return s;
-  const TimingSpec n = normals_.timing(t);
+  if (!has_normal_unit() && !has_terrain_normal()) return s;
+  const TimingSpec n = has_terrain_normal() ? terrain_.timing(t) : normals_.timing(t);
   s.latency += n.latency;
   s.ii = std::max(s.ii, n.ii);
   s.area += n.area;

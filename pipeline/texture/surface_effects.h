@@ -6,7 +6,8 @@
 //    through the finite-function terrain of the height map (TerrainRayMarcher, method terrain);
 //  - lighting (ПРО, a stage after the blend): the filtered colour lit per fragment by one
 //    directional light (BlinnPhongShader) with a normal that is the plane's, a normal map's or
-//    a height map's (NormalUnit).
+//    a height map's (NormalUnit), or the terrain relief's finite-function surface's at the
+//    marched position (TerrainNormalUnit).
 // Both work in the primitive's tangent frame: x along +u, y along +v, z out of the surface
 // (pipeline/geometry/surface_frame.h). Normal maps use the OpenGL convention (green up, i.e.
 // towards −v): their y is negated into the frame.
@@ -24,6 +25,7 @@
 #include "blocks/base/timing_spec.h"
 #include "blocks/lighting/blinn_phong_shader.h"
 #include "blocks/lighting/normal_unit.h"
+#include "blocks/lighting/terrain_normal_unit.h"
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/relief/distance_map_builder.h"
 #include "blocks/texture/relief/parallax_mapper.h"
@@ -33,15 +35,26 @@
 
 namespace texsim {
 
+struct ReliefSetup;
+
 struct LightingSetup {
-  enum class Normal : uint8_t { Flat, NormalMap, HeightMap };
+  enum class Normal : uint8_t { Flat, NormalMap, HeightMap, Terrain };
   Normal normal = Normal::Flat;
-  std::string normal_texture;           // texture name (normal_map, height_map)
+  // Texture name (normal_map, height_map; terrain: the relief's height texture, set by
+  // bind_terrain).
+  std::string normal_texture;
   int normal_tex = -1;                  // its texture id once bound
   glm::dvec3 light_dir{0.3, 0.5, 1.0};  // world space, towards the light (normalised here)
   BlinnPhongShader::Config shader;
   NormalUnit::Config normals;  // source and bump_scale
+  // Terrain: the method and ε from this table, the finite function and the height scale (in
+  // texels) from the material's terrain relief (bind_terrain).
+  TerrainNormalUnit::Config terrain;
+  double terrain_scale = 0;
   static LightingSetup from_toml(const ConfigReader& r);
+  // Terrain normals take the surface of the material's `relief = { method = "terrain" }`:
+  // its height texture, scale and finite function. Fails (naming `lighting.normal`) without it.
+  void bind_terrain(const ConfigReader& lighting, const ReliefSetup* relief);
 };
 
 struct ReliefSetup {
@@ -129,8 +142,14 @@ class LightingEffect {
   // view_ts, light_ts: unit vectors in the tangent frame. Alpha is kept.
   Rgba shade(const Rgba& c, double u, double v, const glm::dvec3& view_ts,
              const glm::dvec3& light_ts, OpCounts& normal_ops, OpCounts& shader_ops) const;
-  bool has_normal_unit() const { return setup_.normal != LightingSetup::Normal::Flat; }
+  // The normal unit of a normal or height map (none for flat or terrain normals).
+  bool has_normal_unit() const {
+    return setup_.normal == LightingSetup::Normal::NormalMap ||
+           setup_.normal == LightingSetup::Normal::HeightMap;
+  }
   const NormalUnit& normal_unit() const { return normals_; }
+  bool has_terrain_normal() const { return setup_.normal == LightingSetup::Normal::Terrain; }
+  const TerrainNormalUnit& terrain_normal() const { return terrain_; }
   const BlinnPhongShader& shader() const { return shader_; }
   // The stage: the normal unit then the shader.
   TimingSpec timing(const TechTable& t) const;
@@ -141,6 +160,8 @@ class LightingEffect {
   const Texture* tex_ = nullptr;
   ReliefHeightMap hm_;  // height_map normals
   NormalUnit normals_;
+  TerrainGrid grid_;  // terrain normals: heights h·scale in texels, as the relief's
+  TerrainNormalUnit terrain_;
   BlinnPhongShader shader_;
 };
 

@@ -3,10 +3,13 @@
 // xs = cx + f·X/Z of the unrotated points.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <glm/ext/matrix_transform.hpp>
 #include <glm/mat4x4.hpp>
 #include <random>
+#include <tuple>
 
 #include "blocks/geometry/polygon_rotation.h"
 #include "blocks/geometry/sample_projection.h"
@@ -130,6 +133,93 @@ TEST(SampleProjection, BehindTheEyeIsInvalid) {
   OpCounts one;
   (void)SampleProjection::project(z0, 1, 1, one);
   EXPECT_EQ(one, SampleProjection().ops_per_item());
+}
+
+}  // namespace
+}  // namespace texsim
+
+namespace texsim {
+namespace {
+
+// [x″ y″ z″] from the matrices: P·R_xy⁻¹·(x′, y′, z′, 1) with R_xy from the angles (glm's
+// inverse, not a transpose) and P keeping z with w = 1 + r z, then the division by w.
+glm::dvec3 closed_form_by_matrices(double alpha, double beta, double r, const glm::dvec3& p) {
+  const glm::dmat4 rx = glm::rotate(glm::dmat4(1.0), alpha, glm::dvec3(1, 0, 0));
+  const glm::dmat4 ry = glm::rotate(glm::dmat4(1.0), -beta, glm::dvec3(0, 1, 0));
+  glm::dmat4 proj(1.0);
+  proj[2][3] = r;  // column 2, row 3: w = z·r + 1
+  const glm::dvec4 q = proj * glm::inverse(ry * rx) * glm::dvec4(p, 1);
+  return glm::dvec3(q) / q.w;
+}
+
+Rotation rotation_of_angles(double alpha, double beta) {
+  Rotation rot;
+  rot.cos_a = std::cos(alpha);
+  rot.sin_a = std::sin(alpha);
+  rot.cos_b = std::cos(beta);
+  rot.sin_b = std::sin(beta);
+  // The unit normal the rotation turns into the z axis: (sin β, sin α cos β, cos α cos β).
+  rot.normal = {rot.sin_b, rot.sin_a * rot.cos_b, rot.cos_a * rot.cos_b};
+  rot.kind = RotationCase::General;
+  return rot;
+}
+
+TEST(SampleProjection, ThesisClosedFormsAgainstTheMatrixProduct) {
+  std::mt19937_64 rng(27);
+  std::uniform_real_distribution<double> angle(-1.5, 1.5), coord(-5, 5), zc(2, 50);
+  int printed_wrong = 0, points = 0;
+  double worst_corrected = 0;
+  for (int t = 0; t < 2000; ++t) {
+    const double alpha = angle(rng), beta = angle(rng), r = -1 / zc(rng);
+    const Rotation rot = rotation_of_angles(alpha, beta);
+    const glm::dvec3 p{coord(rng), coord(rng), coord(rng)};
+    const glm::dvec3 want = closed_form_by_matrices(alpha, beta, r, p);
+    if (!(std::fabs(1 + r * (rot.normal.z * p.z - rot.sin_a * p.y - rot.cos_a * rot.sin_b * p.x)) >
+          0.05))
+      continue;  // near the eye plane w = 0: the division amplifies rounding
+    ++points;
+    OpCounts ops;
+    const glm::dvec3 c = SampleProjection::thesis_closed_form(
+        rot, p, r, SampleProjection::ClosedForm::Corrected, ops);
+    EXPECT_EQ(ops.mul, 12u);
+    EXPECT_EQ(ops.add, 6u);
+    EXPECT_EQ(ops.rcp, 1u);
+    worst_corrected =
+        std::max(worst_corrected, glm::length(c - want) / std::max(1.0, glm::length(want)));
+    const glm::dvec3 pr =
+        SampleProjection::thesis_closed_form(rot, p, r, SampleProjection::ClosedForm::Printed, ops);
+    if (glm::length(pr - want) > 1e-6 * std::max(1.0, glm::length(want))) ++printed_wrong;
+    // The printed numerators are right; only the denominator's x′ term is not: with x′ = 0 the
+    // printed form equals the product.
+    const glm::dvec3 p0{0, p.y, p.z};
+    EXPECT_LT(glm::length(SampleProjection::thesis_closed_form(
+                              rot, p0, r, SampleProjection::ClosedForm::Printed, ops) -
+                          closed_form_by_matrices(alpha, beta, r, p0)),
+              1e-9 * std::max(1.0, glm::length(closed_form_by_matrices(alpha, beta, r, p0))));
+  }
+  EXPECT_LT(worst_corrected, 1e-11);
+  // The printed D has −r·Ny·x′ where the product gives −r·cos α sin β·x′: wrong almost always.
+  EXPECT_GT(printed_wrong, points * 95 / 100);
+  std::printf("closed forms: %d points, corrected worst relative error %.3g, printed wrong at %d\n",
+              points, worst_corrected, printed_wrong);
+}
+
+TEST(SampleProjection, PrintedDenominatorHoldsOnlyWhereNyEqualsCosAlphaSinBeta) {
+  // Ny = sin α cos β and cos α sin β agree when tan α = tan β (α = β): there the printed form is
+  // right for every point; at α = 0.3, β = −0.2 it is not.
+  OpCounts ops;
+  const glm::dvec3 p{1.7, -0.4, 2.2};
+  const double r = -1.0 / 8;
+  for (const auto& [a, b, right] : {std::tuple{0.4, 0.4, true}, std::tuple{0.3, -0.2, false}}) {
+    const glm::dvec3 pr = SampleProjection::thesis_closed_form(
+        rotation_of_angles(a, b), p, r, SampleProjection::ClosedForm::Printed, ops);
+    const double err = glm::length(pr - closed_form_by_matrices(a, b, r, p));
+    if (right) {
+      EXPECT_LT(err, 1e-12);
+    } else {
+      EXPECT_GT(err, 1e-2);
+    }
+  }
 }
 
 }  // namespace

@@ -25,6 +25,8 @@ ObjspaceStudyOptions small() {
   o.grid_cells = {1, 4};
   o.areas = {1, 2};
   o.steps = {3.0};
+  o.band_ratios = {0.0};
+  o.bands_width = 96;
   o.mesh = false;
   o.scenes_dir = std::string(TEXSIM_SOURCE_DIR) + "/scenes";
   o.reference_supersamples = 2;
@@ -35,8 +37,8 @@ ObjspaceStudyOptions small() {
 TEST(StudyObjspace, EveryMethodOnEveryCaseWithoutHoles) {
   std::ostringstream log;
   const std::vector<ObjspaceRow> rows = measure_objspace_study(small(), "", log);
-  // floor + cube, 3 tilts, 2 counts, 2 areas, 1 density; five methods each.
-  ASSERT_EQ(rows.size(), (2u + 3u + 2u + 2u + 1u) * 5u);
+  // floor + cube, 3 tilts, 2 counts, 2 areas, 1 density, 1 band ratio; five methods each.
+  ASSERT_EQ(rows.size(), (2u + 3u + 2u + 2u + 1u + 1u) * 5u);
   for (size_t i = 0; i < rows.size(); i += 5) {
     const ObjspaceRow& o = rows[i];
     ASSERT_EQ(o.method, "object-space");
@@ -69,6 +71,21 @@ TEST(StudyObjspace, EveryMethodOnEveryCaseWithoutHoles) {
   ASSERT_EQ(tilt.size(), 3u);
   EXPECT_LT(static_cast<double>(tilt[2]->items), 1.6 * static_cast<double>(tilt[0]->items));
   EXPECT_LT(tilt[2]->pixels * 4, tilt[0]->pixels);
+  // The thesis's one LOD and one grid step per polygon (band ratio 0) against the default
+  // bands on the same floor: one band per polygon, its nearest point's step everywhere, so
+  // more samples.
+  const ObjspaceRow *banded = nullptr, *one = nullptr;
+  for (const ObjspaceRow& r : rows) {
+    if (r.method != "object-space" || r.scene != "floor" || r.width != 96) continue;
+    if (r.sweep == "resolution") banded = &r;
+    if (r.sweep == "bands") one = &r;
+  }
+  ASSERT_TRUE(banded && one);
+  EXPECT_DOUBLE_EQ(one->band_ratio, 0.0);
+  EXPECT_EQ(one->bands, one->primitives);  // one band per primitive
+  EXPECT_GT(banded->bands, banded->primitives);
+  EXPECT_GT(one->items, banded->items);
+  EXPECT_EQ(one->pixels, banded->pixels);
 }
 
 // The cells of a CSV line (objspace.csv quotes none).
