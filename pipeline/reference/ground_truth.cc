@@ -295,6 +295,13 @@ std::string TruthSampling::describe(TruthPixel p) const {
          "level-0 texels or 81 points, then one Richardson step; at most 64x64 intervals)";
 }
 
+int TruthSampling::refine_tier(double err) {
+  if (std::isnan(err)) return 0;
+  int k = 0;
+  while (k + 1 < kTiers && !(tolerance_of(k) * kTierRatio <= err)) ++k;
+  return k;
+}
+
 int AdaptiveGrid::shape_index(int ax, int ay) {
   const int a = ay == 1 ? ax : ay;
   int l = 0;
@@ -412,7 +419,7 @@ PixelIntegrator::GridShape PixelIntegrator::grid_shape(glm::dvec2 texels) const 
 
 glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
                               const ProjectiveMap& map, int px, int py,
-                              const PixelIntegrator& integrate, int* samples) {
+                              const PixelIntegrator& integrate, int* samples, int* reach) {
   const PixelMap pm(map, px, py);
   struct Points {
     const Texture& tex;
@@ -427,7 +434,8 @@ glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av
       sample_exact_points(tex, au, av, pm, dx, dy, n, out);
     }
   };
-  return integrate(Points{tex, au, av, pm}, pm.texels_across(tex.width(0), tex.height(0)), samples);
+  return integrate(Points{tex, au, av, pm}, pm.texels_across(tex.width(0), tex.height(0)), samples,
+                   reach);
 }
 
 glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
@@ -446,15 +454,15 @@ glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av
 }
 
 glm::dvec4 ground_truth_footprint(const Texture& tex, AddressMode au, AddressMode av,
-                                  const Fragment& f, const PixelIntegrator& integrate,
-                                  int* samples) {
+                                  const Fragment& f, const PixelIntegrator& integrate, int* samples,
+                                  int* reach) {
   return integrate(
       [&](double dx, double dy) {
         const double sx = dx - 0.5, sy = dy - 0.5;
         return bilinear_sample(tex, au, av, f.u + sx * f.dudx + sy * f.dudy,
                                f.v + sx * f.dvdx + sy * f.dvdy);
       },
-      texels_across(f, tex.width(0), tex.height(0)), samples);
+      texels_across(f, tex.width(0), tex.height(0)), samples, reach);
 }
 
 glm::dvec4 ground_truth_footprint(const Texture& tex, AddressMode au, AddressMode av,

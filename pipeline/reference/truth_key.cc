@@ -118,6 +118,7 @@ TruthKey truth_key(const TruthKeyInputs& in) {
   w.i64(TruthSampling::kMaxAspect);
   w.i64(TruthSampling::kMinPointsCap);
   w.f64(TruthSampling::kTexelsPerPoint);
+  w.i64(TruthSampling::kTiers);
   const PixelModel gauss;
   w.f64(gauss.sigma_px);
   w.f64(gauss.radius_px);
@@ -144,6 +145,15 @@ TruthKey truth_key(const TruthKeyInputs& in) {
     w.u64(static_cast<uint64_t>(m.address_v));
     w.u64(m.surface ? 1 : 0);
   }
+  return w.finish();
+}
+
+TruthKey truth_tier_key(const TruthKey& key, int tier) {
+  KeyWriter w;
+  w.tag("texsim ground truth tier");
+  w.bytes(key.data(), key.size());
+  w.i64(tier);
+  w.f64(TruthSampling::tolerance_of(tier));
   return w.finish();
 }
 
