@@ -612,9 +612,10 @@ class TruthBatch {
     it.truth = it.truth0;
     it.samples = it.samples0;
   }
-  // The tier each textured item needs beside the filter's error: its own error against tier
-  // 0, but not below its material's RMS error so far (this batch included), so that pixels
-  // the filter gets nearly right are not refined beyond what the material's figure needs
+  // The tier each textured item needs beside the filter's error e there (against tier 0):
+  // asked of e, or of E²/e where e is below its material's RMS error E so far (this batch
+  // included), so that every pixel's share |e|·tol stays under E²/kTierRatio and pixels the
+  // filter gets nearly right are not refined beyond what the material's figure needs
   // (docs/architecture.md#reference-generator-and-ground-truth). In item order, one thread:
   // the same tiers with any thread count and with or without the truth cache.
   void decide_tiers() {
@@ -631,9 +632,9 @@ class TruthBatch {
       if (!it.textured) continue;
       const glm::dvec3 e = glm::abs(glm::dvec3(it.colour) - glm::dvec3(it.truth0));
       const auto& [sum, n] = err_sq_[static_cast<size_t>(it.material)];
-      const double floor = std::sqrt(sum / n);
-      const int need =
-          TruthSampling::refine_tier(std::max(std::max(e.r, e.g), std::max(e.b, floor)));
+      const double err = std::max(std::max(e.r, e.g), e.b), rms_sq = sum / n;
+      if (!(err > 0)) continue;  // no share of the cross term (or no figure: NaN)
+      const int need = TruthSampling::refine_tier(err < rms_sq / err ? rms_sq / err : err);
       if (need > it.reach0) it.tier = need;  // else tier 0's value already is that tier's
     }
   }

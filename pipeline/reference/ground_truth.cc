@@ -291,8 +291,9 @@ std::string TruthSampling::describe(TruthPixel p) const {
                          : "weighted over each pixel by the Gaussian pixel model (sigma 0.5 px, "
                            "truncated at 1 px, EWA's pixel model)") +
          " with adaptive samples (nested trapezoid grids shaped by the pixel's footprint, refined "
-         "until two levels agree within 1/1020 per channel, with a point at least every 2 "
-         "level-0 texels or 81 points, then one Richardson step; at most 64x64 intervals)";
+         "until two levels agree within 1/1020 per channel, or 1/4, 1/16 or 1/64 of that where the "
+         "filter's error is small beside it, with a point at least every 2 level-0 texels or 81 "
+         "points, then one Richardson step; at most 64x64 intervals)";
 }
 
 int TruthSampling::refine_tier(double err) {
