@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -214,16 +215,22 @@ struct GroundTruth {
   const PlaneProjection& map_of(const Fragment& f) const {
     return frame_maps ? (*frame_maps)[f.frame][f.prim] : maps[f.prim];
   }
+  // Adaptive sampling: pixels may be refined to finer tiers (TruthSampling).
+  bool tiered() const { return !none && integrate.sampling().adaptive(); }
   // f: the fragment as given; g: the same with its texture id mapped to the loaded texture;
-  // *samples: the points the truth evaluated.
-  glm::dvec4 operator()(const Fragment& f, const Fragment& g, int material, int* samples) const {
+  // tier: the adaptive tolerance's tier; *samples: the points the truth evaluated; *reach: the
+  // finest tier whose value this also is.
+  glm::dvec4 operator()(const Fragment& f, const Fragment& g, int material, int* samples,
+                        int tier = 0, int* reach = nullptr) const {
+    if (reach) *reach = TruthSampling::kTiers - 1;
     if (none) return glm::dvec4(0);
     const Texture& tex = textures[static_cast<int>(g.tex)].reference();
     const MaterialSetup& ms = mats[static_cast<size_t>(material)];
     const int x = static_cast<int>(f.x), y = static_cast<int>(f.y);
+    const PixelIntegrator in = integrate.at_tier(tier);
     if (exact() && surface && (*surface)[static_cast<size_t>(material)].active()) {
-      return (*surface)[static_cast<size_t>(material)](tex, map_of(f), (*frames)[f.prim], x, y,
-                                                       integrate, samples);
+      return (*surface)[static_cast<size_t>(material)](tex, map_of(f), (*frames)[f.prim], x, y, in,
+                                                       samples, reach);
     }
     // The border colour as the unit's texture format reads it (border_texel), and the offset.
     const Texture& stored = textures[static_cast<int>(g.tex)];
@@ -233,10 +240,10 @@ struct GroundTruth {
       extras.offset_u = ms.filter.offset_u;
       extras.offset_v = ms.filter.offset_v;
     }
-    return exact() ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), map_of(f), x, y,
-                                        integrate, samples, extras)
-                   : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, integrate,
-                                            samples, extras);
+    return exact() ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), map_of(f), x, y, in,
+                                        samples, reach, extras)
+                   : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, in, samples,
+                                            reach, extras);
   }
 };
 
@@ -269,21 +276,46 @@ struct TruthMemo {
   std::vector<char> cached;                 // per material: its truths may be cached
   std::vector<TruthRecord> fresh;           // computed by this run
   uint64_t hits = 0;
-  std::future<void> writing;  // the entry being stored (awaited when the run ends)
+  const char* found_in = "";  // where the cache found `table`
+  // The finer tiers (TruthSampling), each its own entry (truth_tier_key), looked up when the
+  // run first needs that tier.
+  struct Tier {
+    TruthKey key{};
+    std::shared_ptr<const TruthTable> table;
+    std::vector<TruthRecord> fresh;
+    bool looked = false;
+  };
+  std::array<Tier, TruthSampling::kTiers> tiers;
+  std::vector<std::future<void>> writing;  // the entries being stored (awaited at the end)
 
   bool covers(int material) const { return cached[static_cast<size_t>(material)] != 0; }
+  // Looks up each tier of `needed` (tiers[k] != 0) not looked up before (one thread).
+  void find_tiers(const std::array<char, TruthSampling::kTiers>& needed) {
+    for (int k = 1; k < TruthSampling::kTiers; ++k) {
+      Tier& t = tiers[static_cast<size_t>(k)];
+      if (!needed[static_cast<size_t>(k)] || t.looked) continue;
+      t.looked = true;
+      t.key = truth_tier_key(key, k);
+      t.table = cache->find(t.key);
+    }
+  }
   // Keeps what the run computed (merged with what the cache had), on a thread of its own: the
-  // entry is written while the run assembles and writes its outputs.
+  // entries are written while the run assembles and writes its outputs.
   void store() {
-    if (fresh.empty()) return;
-    auto t = table ? table->merged(fresh) : std::make_shared<const TruthTable>(std::move(fresh));
-    writing = std::async(std::launch::async,
-                         [c = cache.get(), k = key, t = std::move(t)] { c->store(k, t); });
+    auto keep = [this](const TruthKey& k, const std::shared_ptr<const TruthTable>& old,
+                       std::vector<TruthRecord>& mine) {
+      if (mine.empty()) return;
+      auto t = old ? old->merged(mine) : std::make_shared<const TruthTable>(std::move(mine));
+      writing.push_back(std::async(std::launch::async,
+                                   [c = cache.get(), k, t = std::move(t)] { c->store(k, t); }));
+    };
+    keep(key, table, fresh);
+    for (Tier& t : tiers) keep(t.key, t.table, t.fresh);
   }
   std::string summary() const {
     std::string s = "  truth cache: " + std::to_string(hits) + " of " +
                     std::to_string(hits + fresh.size()) + " fragment truths from ";
-    s += table ? std::string(cache->found_in()) : "nowhere (a miss)";
+    s += table ? std::string(found_in) : "nowhere (a miss)";
     return s + ", key " + Sha256::hex(key).substr(0, 16) + "\n";
   }
 };
@@ -501,8 +533,9 @@ class TruthBatch {
   void add(const Fragment& f, const Fragment& g, int material, const Rgba* colour, uint64_t index) {
     // A cached fragment's likely place in the table: the cache's records are in arrival order.
     const size_t hint = memo_ && memo_->covers(material) ? hint_++ : SIZE_MAX;
-    items_.push_back(
-        {f, g, material, colour != nullptr, colour ? *colour : Rgba(0), index, {}, 0, false, hint});
+    Item it{f, g, material, colour != nullptr, colour ? *colour : Rgba(0), index};
+    it.hint = hint;
+    items_.push_back(it);
     if (items_.size() == kSize) flush();
   }
   void flush() {
@@ -512,10 +545,16 @@ class TruthBatch {
       for (size_t i = c * kChunk; i < std::min(items_.size(), (c + 1) * kChunk); ++i)
         judge(items_[i]);
     });
+    refine_all();
     for (const Item& it : items_) {
       samples_ += static_cast<uint64_t>(it.samples);
-      if (it.cached) ++memo_->hits;
+      refined_ += it.tier > 0 ? 1 : 0;
+      if (memo_ && it.cached) ++memo_->hits;
       if (memo_ && !it.cached && memo_->covers(it.material)) memo_->fresh.push_back(record_of(it));
+      if (memo_ && it.tier > 0 && !it.tier_cached && memo_->covers(it.material)) {
+        memo_->tiers[static_cast<size_t>(it.tier)].fresh.push_back(
+            {id_of(it), {it.truth.r, it.truth.g, it.truth.b, it.truth.a}, it.samples, 0});
+      }
       try {
         images_.set(it.f.frame, static_cast<int>(it.f.x), static_cast<int>(it.f.y),
                     it.textured ? &it.colour : nullptr, it.material, it.truth);
@@ -532,7 +571,8 @@ class TruthBatch {
   void finish(std::ostream& log) {
     flush();
     if (!memo_) return;
-    log << memo_->summary();
+    log << memo_->summary() << "  truth tiers: " << refined_ << " of " << pixels_
+        << " fragment truths refined beside a small filter error\n";
     memo_->store();
   }
   // Mean points evaluated per fragment so far.
@@ -548,28 +588,93 @@ class TruthBatch {
     bool textured;
     Rgba colour;
     uint64_t index;
-    glm::dvec4 truth;
-    int samples;
-    bool cached;  // taken from the truth cache
-    size_t hint;  // where the truth cache's table likely has it
+    glm::dvec4 truth{0};     // the truth compared (tier 0's, or a finer tier's)
+    int samples = 0;         // its points
+    bool cached = false;     // tier 0 taken from the truth cache
+    size_t hint = SIZE_MAX;  // where the truth cache's table likely has it
+    glm::dvec4 truth0{0};    // tier 0: its truth, points and reach
+    int samples0 = 0, reach0 = 0;
+    int tier = 0;              // the tier of `truth`
+    bool tier_cached = false;  // that tier's truth taken from the truth cache
   };
   static TruthId id_of(const Item& it) {
     return {it.f.frame, it.f.prim, it.f.x, it.f.y, static_cast<uint32_t>(it.material), it.g.tex};
   }
   static TruthRecord record_of(const Item& it) {
-    return {id_of(it), {it.truth.r, it.truth.g, it.truth.b, it.truth.a}, it.samples, 0};
+    return {id_of(it),
+            {it.truth0.r, it.truth0.g, it.truth0.b, it.truth0.a},
+            it.samples0,
+            static_cast<uint32_t>(it.reach0)};
   }
-  // The item's truth: the cached one when the cache has it, else computed.
+  // The item's tier-0 truth: the cached one when the cache has it, else computed.
   void judge(Item& it) const {
     if (memo_ && memo_->table && memo_->covers(it.material)) {
       if (const TruthRecord* r = memo_->table->find(id_of(it), it.hint)) {
+        it.truth0 = {r->rgba[0], r->rgba[1], r->rgba[2], r->rgba[3]};
+        it.samples0 = r->samples;
+        it.reach0 = static_cast<int>(r->reach);
+        it.cached = true;
+      }
+    }
+    if (!it.cached) it.truth0 = truth_(it.f, it.g, it.material, &it.samples0, 0, &it.reach0);
+    it.truth = it.truth0;
+    it.samples = it.samples0;
+  }
+  // The tier each textured item needs beside the filter's error e there (against tier 0):
+  // asked of e, or of E²/e where e is below its material's RMS error E so far (this batch
+  // included), so that every pixel's share |e|·tol stays under E²/kTierRatio and pixels the
+  // filter gets nearly right are not refined beyond what the material's figure needs
+  // (docs/architecture.md#reference-generator-and-ground-truth). In item order, one thread:
+  // the same tiers with any thread count and with or without the truth cache.
+  void decide_tiers() {
+    if (!truth_.tiered()) return;
+    for (const Item& it : items_) {
+      if (!it.textured) continue;
+      const glm::dvec3 e = glm::dvec3(it.colour) - glm::dvec3(it.truth0);
+      const auto m = static_cast<size_t>(it.material);
+      if (m >= err_sq_.size()) err_sq_.resize(m + 1, {0, 0});
+      err_sq_[m].first += glm::dot(e, e);
+      err_sq_[m].second += 3;
+    }
+    for (Item& it : items_) {
+      if (!it.textured) continue;
+      const glm::dvec3 e = glm::abs(glm::dvec3(it.colour) - glm::dvec3(it.truth0));
+      const auto& [sum, n] = err_sq_[static_cast<size_t>(it.material)];
+      const double err = std::max(std::max(e.r, e.g), e.b), rms_sq = sum / n;
+      if (!(err > 0)) continue;  // no share of the cross term (or no figure: NaN)
+      const int need = TruthSampling::refine_tier(err < rms_sq / err ? rms_sq / err : err);
+      if (need > it.reach0) it.tier = need;  // else tier 0's value already is that tier's
+    }
+  }
+  // The finer tier's truth of every item that needs one: cached, else computed.
+  void refine_all() {
+    decide_tiers();
+    std::vector<size_t> todo;
+    std::array<char, TruthSampling::kTiers> needed{};
+    for (size_t i = 0; i < items_.size(); ++i) {
+      if (items_[i].tier == 0) continue;
+      todo.push_back(i);
+      needed[static_cast<size_t>(items_[i].tier)] = 1;
+    }
+    if (todo.empty()) return;
+    if (memo_) memo_->find_tiers(needed);
+    constexpr size_t kRefineChunk = 32;
+    parallel_tasks((todo.size() + kRefineChunk - 1) / kRefineChunk, threads_, [&](size_t c) {
+      for (size_t j = c * kRefineChunk; j < std::min(todo.size(), (c + 1) * kRefineChunk); ++j)
+        refine(items_[todo[j]]);
+    });
+  }
+  void refine(Item& it) const {
+    if (memo_ && memo_->covers(it.material)) {
+      const auto& table = memo_->tiers[static_cast<size_t>(it.tier)].table;
+      if (const TruthRecord* r = table ? table->find(id_of(it)) : nullptr) {
         it.truth = {r->rgba[0], r->rgba[1], r->rgba[2], r->rgba[3]};
         it.samples = r->samples;
-        it.cached = true;
+        it.tier_cached = true;
         return;
       }
     }
-    it.truth = truth_(it.f, it.g, it.material, &it.samples);
+    it.truth = truth_(it.f, it.g, it.material, &it.samples, it.tier);
   }
   const GroundTruth& truth_;
   RunImages& images_;
@@ -579,7 +684,8 @@ class TruthBatch {
   std::unique_ptr<TruthMemo> memo_;  // null: no truth cache
   size_t hint_ = 0;                  // cached fragments added so far
   std::vector<Item> items_;
-  uint64_t samples_ = 0, pixels_ = 0;
+  uint64_t samples_ = 0, pixels_ = 0, refined_ = 0;
+  std::vector<std::pair<double, double>> err_sq_;  // per material: Σ err² over R, G, B, and n
 };
 
 // Writes the images and reports to opt.out and a summary to log.
@@ -871,6 +977,7 @@ std::unique_ptr<TruthMemo> truth_memo(const RunOptions& opt, const Scene& scene,
   memo->key = truth_key(in);
   memo->cache = std::make_unique<TruthCache>(TruthCacheConfig::from_env(true));
   memo->table = memo->cache->find(memo->key);
+  memo->found_in = memo->cache->found_in();
   if (!memo->table && trace) memo->fresh.reserve(trace->records);
   return memo;
 }

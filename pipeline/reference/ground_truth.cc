@@ -319,8 +319,16 @@ std::string TruthSampling::describe(TruthPixel p) const {
                          : "weighted over each pixel by the Gaussian pixel model (sigma 0.5 px, "
                            "truncated at 1 px, EWA's pixel model)") +
          " with adaptive samples (nested trapezoid grids shaped by the pixel's footprint, refined "
-         "until two levels agree within 1/1020 per channel, with a point at least every 2 "
-         "level-0 texels or 81 points, then one Richardson step; at most 64x64 intervals)";
+         "until two levels agree within 1/1020 per channel, or 1/4, 1/16 or 1/64 of that where the "
+         "filter's error is small beside it, with a point at least every 2 level-0 texels or 81 "
+         "points, then one Richardson step; at most 64x64 intervals)";
+}
+
+int TruthSampling::refine_tier(double err) {
+  if (std::isnan(err)) return 0;
+  int k = 0;
+  while (k + 1 < kTiers && !(tolerance_of(k) * kTierRatio <= err)) ++k;
+  return k;
 }
 
 int AdaptiveGrid::shape_index(int ax, int ay) {
@@ -440,7 +448,7 @@ PixelIntegrator::GridShape PixelIntegrator::grid_shape(glm::dvec2 texels) const 
 
 glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
                               const ProjectiveMap& map, int px, int py,
-                              const PixelIntegrator& integrate, int* samples,
+                              const PixelIntegrator& integrate, int* samples, int* reach,
                               const SamplerExtras& extras) {
   const PixelMap pm(map, px, py);
   struct Points {
@@ -458,7 +466,7 @@ glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av
     }
   };
   return integrate(Points{tex, au, av, pm, extras}, pm.texels_across(tex.width(0), tex.height(0)),
-                   samples);
+                   samples, reach);
 }
 
 glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av,
@@ -478,14 +486,14 @@ glm::dvec4 ground_truth_exact(const Texture& tex, AddressMode au, AddressMode av
 
 glm::dvec4 ground_truth_footprint(const Texture& tex, AddressMode au, AddressMode av,
                                   const Fragment& f, const PixelIntegrator& integrate, int* samples,
-                                  const SamplerExtras& extras) {
+                                  int* reach, const SamplerExtras& extras) {
   return integrate(
       [&](double dx, double dy) {
         const double sx = dx - 0.5, sy = dy - 0.5;
         return bilinear_sample(tex, au, av, f.u + sx * f.dudx + sy * f.dudy,
                                f.v + sx * f.dvdx + sy * f.dvdy, extras);
       },
-      texels_across(f, tex.width(0), tex.height(0)), samples);
+      texels_across(f, tex.width(0), tex.height(0)), samples, reach);
 }
 
 glm::dvec4 ground_truth_footprint(const Texture& tex, AddressMode au, AddressMode av,

@@ -179,7 +179,8 @@ glm::dvec3 SurfaceReference::normal_at(double u, double v) const {
 
 glm::dvec4 SurfaceReference::operator()(const Texture& tex, const PlaneProjection& map,
                                         const SurfaceFrame& sf, int px, int py,
-                                        const PixelIntegrator& integrate, int* samples) const {
+                                        const PixelIntegrator& integrate, int* samples,
+                                        int* reach) const {
   const glm::dvec3 view_ts = sf.to_tangent(sf.view(px + 0.5, py + 0.5));
   glm::dvec2 shift(0);
   if (relief_) {
@@ -202,7 +203,7 @@ glm::dvec4 SurfaceReference::operator()(const Texture& tex, const PlaneProjectio
         }
         return c;
       },
-      pm.texels_across(tex.width(0), tex.height(0)), samples);
+      pm.texels_across(tex.width(0), tex.height(0)), samples, reach);
 }
 
 }  // namespace texsim

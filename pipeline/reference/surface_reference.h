@@ -29,8 +29,8 @@ class SurfaceReference {
   bool active() const { return relief_.has_value() || lighting_.has_value(); }
   // The box pixel (integrate's pixel must be the box), sampled as `integrate` says.
   glm::dvec4 operator()(const Texture& tex, const PlaneProjection& map, const SurfaceFrame& sf,
-                        int px, int py, const PixelIntegrator& integrate,
-                        int* samples = nullptr) const;
+                        int px, int py, const PixelIntegrator& integrate, int* samples = nullptr,
+                        int* reach = nullptr) const;
   // The reference relief's (u, v) for normalised (u, v) and a unit tangent-space view vector.
   glm::dvec2 relief_uv(double u, double v, const glm::dvec3& view_ts, double u_len,
                        double v_len) const;

@@ -27,6 +27,7 @@
 #include "blocks/base/cache_dir.h"
 #include "blocks/base/input_error.h"
 #include "blocks/base/input_file.h"
+#include "pipeline/reference/ground_truth.h"
 
 namespace texsim {
 
@@ -203,13 +204,17 @@ std::pair<uint64_t, uint64_t> check_header(std::string_view h, uint64_t file_byt
   return {payload, get_le(h, 56, 8)};
 }
 
-// The records' checksum and pads.
+// The records' checksum and reaches.
 void check_records(const std::vector<TruthRecord>& r, uint64_t crc, const std::string& path) {
   if (truth_payload_crc(reinterpret_cast<const char*>(r.data()), r.size() * sizeof(TruthRecord)) !=
       crc)
     throw InputError(path, "payload checksum (CRC-64) does not match: the entry is corrupted");
   for (size_t i = 0; i < r.size(); ++i) {
-    if (r[i].zero != 0) throw InputError(path, "record " + std::to_string(i) + ": non-zero pad");
+    if (r[i].reach >= TruthSampling::kTiers) {
+      throw InputError(path, "record " + std::to_string(i) + ": reach " +
+                                 std::to_string(r[i].reach) + " is not a tier (0 to " +
+                                 std::to_string(TruthSampling::kTiers - 1) + ")");
+    }
   }
 }
 

@@ -41,7 +41,7 @@ struct TruthRecord {
   TruthId id;
   double rgba[4] = {0, 0, 0, 0};
   int32_t samples = 0;  // points the integrator evaluated (the report's mean)
-  uint32_t zero = 0;    // padding, written as 0
+  uint32_t reach = 0;   // the finest tier whose value this also is (< TruthSampling::kTiers)
 };
 
 // An immutable set of records, in the order given, with a hash index over their ids built on
@@ -66,12 +66,12 @@ class TruthTable {
 };
 
 // The on-disk entry (format version kTruthEntryVersion, little-endian).
-inline constexpr uint32_t kTruthEntryVersion = 1;
+inline constexpr uint32_t kTruthEntryVersion = 2;
 inline constexpr size_t kTruthHeaderBytes = 64;
 std::string encode_truth_entry(const TruthKey& key, const std::vector<TruthRecord>& records);
 // The records of an entry; throws InputError naming `path` and what is wrong (bad magic or
 // version, a key other than *expected (when given), a size or checksum that does not match,
-// a record with a non-zero pad).
+// a record whose reach is not a tier).
 std::vector<TruthRecord> decode_truth_entry(std::string_view bytes, const std::string& path,
                                             const TruthKey* expected);
 // The same from the file `path`, read straight into the records.

@@ -119,6 +119,7 @@ TruthKey truth_key(const TruthKeyInputs& in) {
   w.i64(TruthSampling::kMaxAspect);
   w.i64(TruthSampling::kMinPointsCap);
   w.f64(TruthSampling::kTexelsPerPoint);
+  w.i64(TruthSampling::kTiers);
   const PixelModel gauss;
   w.f64(gauss.sigma_px);
   w.f64(gauss.radius_px);
@@ -153,6 +154,15 @@ TruthKey truth_key(const TruthKeyInputs& in) {
       w.i64(m.offset_v);
     }
   }
+  return w.finish();
+}
+
+TruthKey truth_tier_key(const TruthKey& key, int tier) {
+  KeyWriter w;
+  w.tag("texsim ground truth tier");
+  w.bytes(key.data(), key.size());
+  w.i64(tier);
+  w.f64(TruthSampling::tolerance_of(tier));
   return w.finish();
 }
 

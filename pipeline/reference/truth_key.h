@@ -24,7 +24,7 @@ namespace texsim {
 // Bump on ANY change to the truth's arithmetic (ground_truth.{h,cc}, PlaneProjection,
 // PixelMap, the bilinear reconstruction, PixelIntegrator) or to what it reads: cached truths
 // of the old arithmetic then stop matching, instead of being served as the new one's.
-inline constexpr uint32_t kTruthVersion = 1;
+inline constexpr uint32_t kTruthVersion = 2;
 
 struct TruthMaterialKey {
   int texture = 0;  // index into the run's texture set
@@ -47,5 +47,8 @@ struct TruthKeyInputs {
 using TruthKey = Sha256::Digest;
 
 TruthKey truth_key(const TruthKeyInputs& in);
+// The key of the same truth's finer tier `tier` (TruthSampling): its own entry, holding the
+// pixels some run refined to that tier.
+TruthKey truth_tier_key(const TruthKey& key, int tier);
 
 }  // namespace texsim
