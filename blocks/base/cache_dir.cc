@@ -27,7 +27,7 @@ std::string env(const char* name) {
 }  // namespace
 
 std::string cache_root_from_env() {
-  if (const std::string d = env("TEXSIM_CACHE_DIR"); !d.empty()) return d;
+  if (std::string d = env("TEXSIM_CACHE_DIR"); !d.empty()) return d;
   if (const std::string x = env("XDG_CACHE_HOME"); !x.empty() && x[0] == '/')
     return x + "/texsim";  // relative values are invalid (XDG base directory spec)
   if (const std::string h = env("HOME"); !h.empty()) return h + "/.cache/texsim";

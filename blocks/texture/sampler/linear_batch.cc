@@ -324,7 +324,12 @@ struct Columns {
 
 // Fills c with fragments 0 .. count and zeros up to the next whole vector (lanes past the end
 // are not done). Not vectorised: a vectorised loop would gather the strided fields again.
-[[gnu::optimize("no-tree-vectorize")]] HWY_NOINLINE void load_columns(const Input& in, Columns& c) {
+#if defined(__clang__)
+#define TEXSIM_NO_TREE_VECTORIZE
+#else
+#define TEXSIM_NO_TREE_VECTORIZE [[gnu::optimize("no-tree-vectorize")]]
+#endif
+TEXSIM_NO_TREE_VECTORIZE HWY_NOINLINE void load_columns(const Input& in, Columns& c) {
   const size_t padded = hwy::RoundUpTo(in.count, hn::Lanes(DF()));
   for (size_t k = 0; k < in.count; ++k) {
     const Fragment& f = in.frags[k];

@@ -261,9 +261,10 @@ TEST(AstcencEncoder, LibraryGivesTheCommandLineToolsBytes) {
     const EncodedLevel lib = astcenc_encode(img, o);
     SCOPED_TRACE(lib.provenance);
     const std::string out = dir.file("out.astc");
-    const std::string cmd = "/usr/bin/astcenc " + std::string(c.srgb ? "-cs " : "-cl ") + png +
-                            " " + out + " " + std::to_string(c.bw) + "x" + std::to_string(c.bh) +
-                            " -" + astc_preset_name(c.preset) + " -j 1 -silent >/dev/null 2>&1";
+    std::string cmd = "/usr/bin/astcenc ";
+    cmd.append(c.srgb ? "-cs " : "-cl ").append(png).append(" ").append(out).append(" ");
+    cmd.append(std::to_string(c.bw)).append("x").append(std::to_string(c.bh)).append(" -");
+    cmd.append(astc_preset_name(c.preset)).append(" -j 1 -silent >/dev/null 2>&1");
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;  // NOLINT(cert-env33-c): the test's own command
     EXPECT_EQ(read_astc_file(out).levels.at(0).bytes, lib.bytes);
   }

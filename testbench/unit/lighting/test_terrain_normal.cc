@@ -220,8 +220,8 @@ TEST(TerrainNormal, SceneKeysSelectAndCheckTheSource) {
   const std::vector<std::string> bad_inputs = {
       // no terrain relief
       "lighting = { normal = \"terrain\" }\n",
-      "relief = { method = \"steep\", height_texture = \"h\" }\n"
-      "lighting = { normal = \"terrain\" }\n",
+      std::string("relief = { method = \"steep\", height_texture = \"h\" }\n") +
+          "lighting = { normal = \"terrain\" }\n",
       // keys that do not belong
       relief + "lighting = { normal = \"terrain\", normal_texture = \"h\" }\n",
       relief + "lighting = { normal = \"terrain\", bump_scale = 2.0 }\n",
