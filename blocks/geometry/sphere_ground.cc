@@ -60,12 +60,10 @@ OpCounts SphereGround::critical_path() const {
 OpCounts SphereGround::setup_ops() const {
   OpCounts o;
   switch (cfg_.form) {
-    case Form::Stable:  // o_y = Y_h + R; c = X_h² + Z_h² + Y_h(Y_h + 2R)
-      o.mul = 3;
-      o.add = 1 + 3;
-      o.cmp = 1;
-      break;
-    case Form::Textbook:  // o_y; c = X_h² + o_y² + Z_h² - R²
+    // Stable: o_y = Y_h + R; c = X_h² + Z_h² + Y_h(Y_h + 2R). Textbook: o_y;
+    // c = X_h² + o_y² + Z_h² - R². The same counts.
+    case Form::Stable:
+    case Form::Textbook:
       o.mul = 3;
       o.add = 1 + 3;
       o.cmp = 1;
