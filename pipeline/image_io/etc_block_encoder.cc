@@ -6,35 +6,18 @@
 #include <stdexcept>
 #include <vector>
 
+#include "blocks/texture/decode/etc_tables.h"
+
 namespace texsim {
 
 namespace {
 
 using Rgb = std::array<int, 3>;
 
-// The Khronos Data Format Specification's tables: ETC1/ETC2 modifier tables (a, b), the T/H
-// distances and the EAC modifier tables.
-constexpr std::array<std::array<int, 2>, 8> kEtcTables = {
-    {{2, 8}, {5, 17}, {9, 29}, {13, 42}, {18, 60}, {24, 80}, {33, 106}, {47, 183}}};
-constexpr std::array<int, 8> kEtcDistances = {3, 6, 11, 16, 23, 32, 41, 64};
-constexpr std::array<std::array<int, 8>, 16> kEacTables = {{
-    {-3, -6, -9, -15, 2, 5, 8, 14},
-    {-3, -7, -10, -13, 2, 6, 9, 12},
-    {-2, -5, -8, -13, 1, 4, 7, 12},
-    {-2, -4, -6, -13, 1, 3, 5, 12},
-    {-3, -6, -8, -12, 2, 5, 7, 11},
-    {-3, -7, -9, -11, 2, 6, 8, 10},
-    {-4, -7, -8, -11, 3, 6, 7, 10},
-    {-3, -5, -8, -11, 2, 4, 7, 10},
-    {-2, -6, -8, -10, 1, 5, 7, 9},
-    {-2, -5, -8, -10, 1, 4, 7, 9},
-    {-2, -4, -8, -10, 1, 3, 7, 9},
-    {-2, -5, -7, -10, 1, 4, 6, 9},
-    {-3, -4, -7, -10, 2, 3, 6, 9},
-    {-1, -2, -3, -10, 0, 1, 2, 9},
-    {-4, -6, -8, -9, 3, 5, 7, 8},
-    {-3, -5, -7, -9, 2, 4, 6, 8},
-}};
+// The Khronos Data Format Specification's tables, as the decoders read them.
+constexpr const auto& kEtcTables = etc_tables::kModifiers;
+constexpr const auto& kEtcDistances = etc_tables::kDistances;
+constexpr const auto& kEacTables = etc_tables::kEacModifiers;
 
 void put(uint64_t& w, int lo, int n, int v) {
   const uint64_t mask = ((uint64_t{1} << n) - 1) << lo;

@@ -4,6 +4,7 @@
 
 #include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
+#include "blocks/texture/decode/etc_tables.h"
 
 namespace texsim {
 
@@ -11,26 +12,7 @@ static_assert(Block<EacDecoder>);
 
 namespace {
 
-// The spec's 16 modifier tables (Table "Intensity modifier sets for RGBA ETC2 alpha
-// component"), shared by the alpha of RGBA ETC2 and R11 EAC.
-constexpr std::array<std::array<int8_t, 8>, 16> kEacModifiers = {{
-    {-3, -6, -9, -15, 2, 5, 8, 14},
-    {-3, -7, -10, -13, 2, 6, 9, 12},
-    {-2, -5, -8, -13, 1, 4, 7, 12},
-    {-2, -4, -6, -13, 1, 3, 5, 12},
-    {-3, -6, -8, -12, 2, 5, 7, 11},
-    {-3, -7, -9, -11, 2, 6, 8, 10},
-    {-4, -7, -8, -11, 3, 6, 7, 10},
-    {-3, -5, -8, -11, 2, 4, 7, 10},
-    {-2, -6, -8, -10, 1, 5, 7, 9},
-    {-2, -5, -8, -10, 1, 4, 7, 9},
-    {-2, -4, -8, -10, 1, 3, 7, 9},
-    {-2, -5, -7, -10, 1, 4, 6, 9},
-    {-3, -4, -7, -10, 2, 3, 6, 9},
-    {-1, -2, -3, -10, 0, 1, 2, 9},
-    {-4, -6, -8, -9, 3, 5, 7, 8},
-    {-3, -5, -7, -9, 2, 4, 6, 8},
-}};
+using etc_tables::kEacModifiers;
 
 // The block as the spec's int64bit: q0 is the most significant byte.
 uint64_t block_word(EacDecoder::Block b) {

@@ -4,6 +4,7 @@
 
 #include "blocks/base/block.h"
 #include "blocks/base/config_reader.h"
+#include "blocks/texture/decode/etc_tables.h"
 
 namespace texsim {
 
@@ -15,12 +16,8 @@ using Mode = Etc2RgbDecoder::Mode;
 using Texels8 = Etc2RgbDecoder::Texels8;
 using Rgb = std::array<int, 3>;
 
-// The spec's intensity modifier sets of the individual and differential modes: the small and
-// large value (a, b) of each table codeword.
-constexpr std::array<std::array<int, 2>, 8> kModifiers = {
-    {{2, 8}, {5, 17}, {9, 29}, {13, 42}, {18, 60}, {24, 80}, {33, 106}, {47, 183}}};
-// The distance table of the T and H modes.
-constexpr std::array<int, 8> kDistances = {3, 6, 11, 16, 23, 32, 41, 64};
+using etc_tables::kDistances;
+using etc_tables::kModifiers;
 
 // The block as the spec's int64bit: q0 is the most significant byte.
 uint64_t block_word(Etc2RgbDecoder::Block b) {
