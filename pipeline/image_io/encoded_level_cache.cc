@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <iterator>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -18,6 +17,7 @@
 
 #include "blocks/base/cache_dir.h"
 #include "blocks/base/input_error.h"
+#include "blocks/base/input_file.h"
 #include "blocks/base/version.h"
 
 #ifndef TEXSIM_SQUISH_VERSION
@@ -202,9 +202,9 @@ EncodedLevel EncodedLevelCache::get(const EncodedLevelKey& key,
   const std::string path = disk ? entry_path(key) : std::string();
   std::error_code ec;
   if (disk && fs::exists(path, ec)) {
-    std::ifstream in(path, std::ios::binary);
-    const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
     try {
+      // The common opener: a regular file, at most the cache's limit; errors are InputErrors.
+      const std::string bytes = read_input_file(path, "encoded-level cache entry", max_bytes_);
       level = decode_level_entry(bytes, path, &key);
       fs::last_write_time(path, fs::file_time_type::clock::now(), ec);  // recently used
       where = "disk";

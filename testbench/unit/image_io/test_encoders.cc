@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -475,11 +476,19 @@ TEST(EncodedLevelCache, DiskServesLaterProcessesAndDamageIsEncodedAgain) {
   EncodedLevelCache::forget_memory();
   cache.get(key, encode, &where);
   EXPECT_STREQ(where, "disk");
+  // Not a regular file where the entry should be: refused by the common opener, encoded again.
+  std::filesystem::remove(cache.entry_path(key));
+  std::filesystem::create_directory(cache.entry_path(key));
+  EncodedLevelCache::forget_memory();
+  EXPECT_EQ(cache.get(key, encode, &where).bytes, first.bytes);
+  EXPECT_STREQ(where, "");
+  EXPECT_EQ(encodes, 3);
+  EXPECT_TRUE(std::filesystem::is_regular_file(cache.entry_path(key)));
   // No disk layer: every new process encodes.
   EncodedLevelCache none("", 0);
   EncodedLevelCache::forget_memory();
   none.get(key, encode, &where);
   EXPECT_STREQ(where, "");
-  EXPECT_EQ(encodes, 3);
+  EXPECT_EQ(encodes, 4);
   EncodedLevelCache::forget_memory();
 }
