@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "blocks/base/input_error.h"
+#include "blocks/base/shell_quote.h"
 #include "pipeline/image_io/astc_file.h"
 #include "pipeline/image_io/astcenc_encoder.h"
 #include "pipeline/image_io/dds_file.h"
@@ -263,7 +264,8 @@ TEST(AstcencEncoder, LibraryGivesTheCommandLineToolsBytes) {
     SCOPED_TRACE(lib.provenance);
     const std::string out = dir.file("out.astc");
     std::string cmd = "/usr/bin/astcenc ";
-    cmd.append(c.srgb ? "-cs " : "-cl ").append(png).append(" ").append(out).append(" ");
+    cmd.append(c.srgb ? "-cs " : "-cl ").append(shell_quote(png)).append(" ");
+    cmd.append(shell_quote(out)).append(" ");
     cmd.append(std::to_string(c.bw)).append("x").append(std::to_string(c.bh)).append(" -");
     cmd.append(astc_preset_name(c.preset)).append(" -j 1 -silent >/dev/null 2>&1");
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;  // NOLINT(cert-env33-c): the test's own command
