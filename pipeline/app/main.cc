@@ -194,12 +194,13 @@ void add_run_command(CLI::App& app, RunCli& r) {
                     "0.15 µs per fragment)");
   run_cmd
       ->add_option("--timeline", run.timeline,
-                   "Write the clocked pipeline's stage activity as a VCD (GTKWave): per stage "
-                   "busy, items issued and items in flight; one time unit = one cycle")
+                   "Write the clocked pipeline's stage activity: FILE.json as Chrome trace "
+                   "events (Perfetto, chrome://tracing), any other name as a VCD (GTKWave); "
+                   "per stage busy, items issued and items in flight; one time unit = one cycle")
       ->excludes("--functional");
   run_cmd
       ->add_option("--timeline-limit", run.timeline_limit,
-                   "Fragments recorded in the --timeline VCD (the first ones)")
+                   "Fragments recorded in the --timeline (the first ones)")
       ->check(CLI::Range(uint64_t{1}, uint64_t{100000000}))
       ->capture_default_str();
   run_cmd->add_flag("--no-truth-cache{false}", run.truth_cache,

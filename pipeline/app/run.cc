@@ -1155,7 +1155,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     ledger = run_error_ledger(opt, capture_run(images, units, sum), log);
     info.ledger = ledger.ledger;
   }
-  if (timeline) timeline->write_vcd(opt.timeline);  // first: a bad path leaves no report
+  if (timeline) timeline->write(opt.timeline);  // first: a bad path leaves no report
   write_run_outputs(opt, info, images, units, sum, ledger, log);
   if (timeline) log << "  timeline: " << opt.timeline << timeline->summary() << "\n";
   return sum;

@@ -61,9 +61,8 @@ void StageTimeline::record(const ClockedPipeline& pipe, int unit) {
   ++recorded_;
 }
 
-void StageTimeline::write_vcd(const std::string& path) const {
-  AtomicTextFile file(path);
-  std::ostream& o = file.out();
+std::vector<const StageTimeline::Track*> StageTimeline::ordered_tracks(
+    std::vector<Track>& memory) const {
   // Tracks by unit, then stage (a unit's tracks were made together, in stage order), then the
   // memory levels' (their requests sorted: a level's answers do not come in order).
   std::vector<const Track*> order;
@@ -73,7 +72,7 @@ void StageTimeline::write_vcd(const std::string& path) const {
          k < tracks_.size() && tracks_[k].unit == tracks_[static_cast<size_t>(first)].unit; ++k)
       order.push_back(&tracks_[k]);
   }
-  std::vector<Track> memory;
+  memory.clear();
   for (const Track& t : tracks_) {
     if (t.unit >= 0 || t.starts.empty()) continue;
     memory.push_back(t);
@@ -81,9 +80,20 @@ void StageTimeline::write_vcd(const std::string& path) const {
     std::sort(memory.back().leaves.begin(), memory.back().leaves.end());
   }
   for (const Track& t : memory) order.push_back(&t);
+  return order;
+}
+
+bool StageTimeline::several_units() const {
+  return std::count_if(first_track_.begin(), first_track_.end(), [](int f) { return f >= 0; }) > 1;
+}
+
+void StageTimeline::write_vcd(const std::string& path) const {
+  AtomicTextFile file(path);
+  std::ostream& o = file.out();
+  std::vector<Track> memory;
+  const std::vector<const Track*> order = ordered_tracks(memory);
   const size_t n = order.size();
-  const bool units =
-      std::count_if(first_track_.begin(), first_track_.end(), [](int f) { return f >= 0; }) > 1;
+  const bool units = several_units();
   o << "$version texsim run --timeline $end\n"
     << "$comment the clocked pipeline's stages: busy = an item in the stage, items = items "
        "issued to it, inflight = items in it; memory levels: requests made and outstanding; "
@@ -148,6 +158,103 @@ void StageTimeline::write_vcd(const std::string& path) const {
     }
   }
   file.commit();
+}
+
+namespace {
+
+// A JSON string literal of `s` (stage and level names are plain words; escaped to be safe).
+std::string json_string(const std::string& s) {
+  std::string r = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      r += '\\';
+      r += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      r += ' ';
+    } else {
+      r += c;
+    }
+  }
+  return r + "\"";
+}
+
+}  // namespace
+
+void StageTimeline::write_trace_events(const std::string& path) const {
+  AtomicTextFile file(path);
+  std::ostream& o = file.out();
+  std::vector<Track> memory;
+  const std::vector<const Track*> order = ordered_tracks(memory);
+  // One process per unit (pid = unit) and one for the memory levels (pid = the last unit + 1);
+  // one thread per stage or level. 1 µs on the viewer's time axis is one clock cycle.
+  int memory_pid = 0;
+  for (const Track* t : order) memory_pid = std::max(memory_pid, t->unit + 1);
+  const bool units = several_units();
+  o << "{\"displayTimeUnit\":\"ns\",\"otherData\":{\"generator\":\"texsim run --timeline\","
+    << "\"time_unit\":\"1 us = 1 clock cycle\",\"items_recorded\":" << recorded_
+    << ",\"items_seen\":" << seen_ << "},\"traceEvents\":[\n";
+  bool first_event = true;
+  auto event = [&](const std::string& body) {
+    o << (first_event ? "" : ",\n") << "{" << body << "}";
+    first_event = false;
+  };
+  int previous_pid = -1;
+  for (size_t s = 0; s < order.size(); ++s) {
+    const Track& t = *order[s];
+    const int pid = t.unit < 0 ? memory_pid : t.unit;
+    const std::string ids = "\"pid\":" + std::to_string(pid) + ",\"tid\":" + std::to_string(s);
+    if (pid != previous_pid) {
+      const std::string name = t.unit < 0 ? std::string("memory")
+                               : units    ? "unit " + std::to_string(t.unit)
+                                          : std::string("texture unit");
+      event("\"ph\":\"M\",\"name\":\"process_name\",\"pid\":" + std::to_string(pid) +
+            ",\"args\":{\"name\":" + json_string(name) + "}");
+      event("\"ph\":\"M\",\"name\":\"process_sort_index\",\"pid\":" + std::to_string(pid) +
+            ",\"args\":{\"sort_index\":" + std::to_string(pid) + "}");
+      previous_pid = pid;
+    }
+    event("\"ph\":\"M\",\"name\":\"thread_name\"," + ids +
+          ",\"args\":{\"name\":" + json_string(t.stage) + "}");
+    event("\"ph\":\"M\",\"name\":\"thread_sort_index\"," + ids +
+          ",\"args\":{\"sort_index\":" + std::to_string(s) + "}");
+    // Sweep the track's starts and leaves (both sorted): a busy slice while items are in it,
+    // with the items that started in it; a counter sample where the in-flight count changes.
+    size_t started = 0, left = 0, slice_items = 0;
+    uint64_t slice_start = 0;
+    while (started < t.starts.size() || left < t.leaves.size()) {
+      const uint64_t now = left < t.leaves.size() && (started == t.starts.size() ||
+                                                      t.leaves[left] <= t.starts[started])
+                               ? t.leaves[left]
+                               : t.starts[started];
+      const size_t before = started - left;
+      for (; started < t.starts.size() && t.starts[started] <= now; ++started) ++slice_items;
+      while (left < t.leaves.size() && t.leaves[left] <= now) ++left;
+      const size_t inflight = started - left;
+      if (before == 0 && inflight > 0) slice_start = now;
+      if (before > 0 && inflight == 0) {
+        event("\"ph\":\"X\",\"name\":\"busy\",\"cat\":\"stage\"," + ids + ",\"ts\":" +
+              std::to_string(slice_start) + ",\"dur\":" + std::to_string(now - slice_start) +
+              ",\"args\":{\"items\":" + std::to_string(slice_items) + "}");
+        slice_items = 0;
+      }
+      if (inflight != before) {
+        event("\"ph\":\"C\",\"name\":" + json_string(t.stage + " in flight") +
+              ",\"pid\":" + std::to_string(pid) + ",\"ts\":" + std::to_string(now) +
+              ",\"args\":{\"items\":" + std::to_string(inflight) + "}");
+      }
+    }
+  }
+  o << "\n]}\n";
+  file.commit();
+}
+
+void StageTimeline::write(const std::string& path) const {
+  const bool json = path.size() >= 5 && path.compare(path.size() - 5, 5, ".json") == 0;
+  if (json) {
+    write_trace_events(path);
+  } else {
+    write_vcd(path);
+  }
 }
 
 }  // namespace texsim

@@ -1,11 +1,11 @@
 #pragma once
 // The clocked pipeline's stage activity over a run, written as a VCD for GTKWave (`texsim run
-// --timeline FILE.vcd`, docs/cli.md). After each item the caller hands the pipeline to
-// observe(), which copies the item's start and leave cycle in every stage (nothing is recorded
-// when no timeline is asked for: the caller holds no StageTimeline). Per stage the VCD has a
-// wire `busy` (an item is in the stage: issued, in flight or waiting to leave), a vector
-// `items` (items issued to the stage so far) and a vector `inflight` (items in it now); one
-// time unit is one clock cycle.
+// --timeline FILE.vcd`, docs/cli.md) or as Chrome trace events for Perfetto (`FILE.json`). After
+// each item the caller hands the pipeline to observe(), which copies the item's start and leave
+// cycle in every stage (nothing is recorded when no timeline is asked for: the caller holds no
+// StageTimeline). Per stage the VCD has a wire `busy` (an item is in the stage: issued, in flight
+// or waiting to leave), a vector `items` (items issued to the stage so far) and a vector `inflight`
+// (items in it now); one time unit is one clock cycle.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -57,6 +57,13 @@ class StageTimeline {
 
   // Writes the VCD to `path` atomically (throws InputError naming it if it cannot).
   void write_vcd(const std::string& path) const;
+  // Writes the same activity in the Chrome trace-event format (JSON; Perfetto's UI and
+  // chrome://tracing open it): a process per unit and one for the memory levels, a thread per
+  // stage or level with `busy` slices, and an in-flight counter per stage; 1 µs = 1 cycle.
+  void write_trace_events(const std::string& path) const;
+  // Writes the format the file name asks for: trace events for a name ending in `.json`, a VCD
+  // otherwise.
+  void write(const std::string& path) const;
 
  private:
   void record(const ClockedPipeline& pipe, int unit);
@@ -68,6 +75,10 @@ class StageTimeline {
     std::string stage;
     std::vector<uint64_t> starts, leaves;
   };
+
+  // The tracks in the order both writers list them; `memory` holds the levels' sorted copies.
+  std::vector<const Track*> ordered_tracks(std::vector<Track>& memory) const;
+  bool several_units() const;
 
   uint64_t limit_;
   uint64_t seen_ = 0, recorded_ = 0;

@@ -2,6 +2,9 @@
 // per stage, value changes), bounded by --timeline-limit, and nothing else of the run changes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
+
 #include "testbench/lib/cli_harness.h"
 #include "testbench/lib/vcd_reader.h"
 
@@ -47,6 +50,35 @@ TEST_F(Cli, TimelineIsAVcdOfTheStages) {
   EXPECT_EQ(k["cycles"], j["cycles"]);
   EXPECT_EQ(k["stages"], j["stages"]);
   EXPECT_EQ(k["cache"], j["cache"]);
+}
+
+// A name ending in .json: the same activity as Chrome trace events (Perfetto): every stage's
+// busy slices together take in every fragment once, and the last slice ends at the run's end.
+TEST_F(Cli, TimelineJsonIsTraceEvents) {
+  const std::string file = path("t.json");
+  const Result r = sh("run" + kSmall + " --out " + path("a") + " --timeline " + file);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Json t = Json::parse(slurp(file));
+  const Json j = load_json(path("a") + "/report.json");
+  const auto frags = static_cast<uint64_t>(num(j, "fragments"));
+  EXPECT_EQ(t.at("otherData").at("items_recorded").get<uint64_t>(), frags);
+  std::map<int, std::string> stage;  // tid -> name
+  std::map<std::string, uint64_t> items, end;
+  for (const Json& e : t.at("traceEvents")) {
+    if (e.at("ph") == "M" && e.at("name") == "thread_name")
+      stage[e.at("tid").get<int>()] = e.at("args").at("name").get<std::string>();
+  }
+  for (const Json& e : t.at("traceEvents")) {
+    if (e.at("ph") != "X") continue;
+    const std::string s = stage.at(e.at("tid").get<int>());
+    items[s] += e.at("args").at("items").get<uint64_t>();
+    end[s] = std::max(end[s], e.at("ts").get<uint64_t>() + e.at("dur").get<uint64_t>());
+  }
+  for (const char* s : {"lod", "address", "cache", "blend"}) {
+    SCOPED_TRACE(s);
+    EXPECT_EQ(items[s], frags);
+  }
+  EXPECT_EQ(end["blend"], static_cast<uint64_t>(num(j, "cycles")));
 }
 
 TEST_F(Cli, TimelineLimitAndErrors) {
