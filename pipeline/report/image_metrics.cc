@@ -9,6 +9,7 @@
 #include "blocks/base/input_error.h"
 #include "pipeline/image_io/oiio_plugin.h"
 #include "pipeline/image_io/png_file.h"
+#include "pipeline/report/label_font.h"
 
 namespace texsim {
 
@@ -168,7 +169,44 @@ std::array<uint8_t, 3> heat_colour(double t) {
   return {c(3 * t), c(3 * t - 1), c(3 * t - 2)};
 }
 
-int colour_bar_rows(int canvas_height) { return std::max(8, canvas_height / 12); }
+namespace {
+
+int ramp_rows(int canvas_height) { return std::max(8, canvas_height / 12); }
+int label_scale(int canvas_height) { return std::max(1, canvas_height / 240); }
+int label_rows(int canvas_height) { return kLabelGlyphH * label_scale(canvas_height) + 4; }
+
+// Under the ramp, the error at the ticks 0, ¼, ½, ¾ and 1 in 8-bit levels (1 LSB = 1/255 of
+// full scale), the last followed by the unit; a label that would overlap another or leave
+// the image is left out (0 and the scale first, then ½, then ¼ and ¾).
+void draw_bar_labels(std::vector<uint8_t>& out, int w, int h, int top, int s, double scale) {
+  struct Label {
+    std::string text;
+    int x0 = 0, x1 = 0;
+  };
+  std::vector<Label> shown;
+  const auto fits = [&](const Label& l) {
+    if (l.x0 < 0 || l.x1 > w) return false;
+    for (const Label& o : shown)
+      if (l.x0 < o.x1 + 2 * s && o.x0 < l.x1 + 2 * s) return false;
+    return true;
+  };
+  for (const int k : {0, 4, 2, 1, 3}) {
+    Label l;
+    l.text = label_number(scale * 255 * k / 4) + (k == 4 ? " LSB" : "");
+    const int lw = label_width(l.text, s), tick = std::min(w - 1, k * (w - 1) / 4);
+    l.x0 = k == 0 ? 0 : k == 4 ? w - lw : tick - lw / 2;
+    l.x1 = l.x0 + lw;
+    if (!fits(l)) continue;
+    draw_label(out, w, h, l.x0, top + 2, l.text, s, {200, 200, 200});
+    shown.push_back(l);
+  }
+}
+
+}  // namespace
+
+int colour_bar_rows(int canvas_height) {
+  return ramp_rows(canvas_height) + label_rows(canvas_height);
+}
 
 void write_error_heatmap(const std::string& path, const ImageRgb& img, const ImageRgb& ref,
                          double scale) {
@@ -182,22 +220,26 @@ void write_error_heatmap(const std::string& path, const ImageRgb& img, const Ima
     std::copy(rgb.begin(), rgb.end(), &px[i * 3]);
   }
   // The colour bar below the image: two black rows, the ramp from 0 (left) to `scale`
-  // (right), and in its last two rows grey ticks at 0, ¼, ½, ¾ and 1 of the width.
+  // (right), in its last two rows grey ticks at 0, ¼, ½, ¾ and 1 of the width; then the
+  // ticks' values on black.
   const int w = img.canvas_width, bar = colour_bar_rows(img.canvas_height);
+  const int ramp = ramp_rows(img.canvas_height);
   std::vector<uint8_t> out = placed(img, std::move(px), {0, 0, 0}, bar);
   const size_t row = static_cast<size_t>(w) * 3;
-  for (int y = 2; y < bar; ++y) {
+  for (int y = 2; y < ramp; ++y) {
     uint8_t* line = &out[static_cast<size_t>(img.canvas_height + y) * row];
     for (int x = 0; x < w; ++x) {
       const auto rgb = heat_colour(w > 1 ? static_cast<double>(x) / (w - 1) : 1.0);
       std::copy(rgb.begin(), rgb.end(), line + static_cast<size_t>(x) * 3);
     }
-    if (y < bar - 2) continue;
+    if (y < ramp - 2) continue;
     for (int k = 0; k <= 4; ++k) {
       const int x = std::min(w - 1, k * (w - 1) / 4);
       std::fill_n(line + static_cast<size_t>(x) * 3, 3, uint8_t{128});
     }
   }
+  draw_bar_labels(out, w, img.canvas_height + bar, img.canvas_height + ramp,
+                  label_scale(img.canvas_height), scale);
   write_rgb8(path, w, img.canvas_height + bar, out);
 }
 

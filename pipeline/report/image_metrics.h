@@ -62,7 +62,9 @@ void write_image(const std::string& path, const ImageRgb& img);
 // Heat map of max-channel absolute error: black (0) through red and yellow to white (`scale`
 // and above). Below the image (which keeps its size and pixels) a colour bar of
 // colour_bar_rows() rows: two black rows, then the ramp from 0 at the left to `scale` at the
-// right, its last two rows with grey ticks at 0, ¼, ½, ¾ and 1 of the width.
+// right (max(8, height / 12) rows in all), its last two rows with grey ticks at 0, ¼, ½, ¾ and
+// 1 of the width; then the ticks' values in 8-bit levels ("LSB", 1/255 of full scale) as text
+// (label_font.h) on black, 7·s + 4 rows with s = max(1, height / 240).
 std::array<uint8_t, 3> heat_colour(double t);  // t = error / scale
 int colour_bar_rows(int canvas_height);
 void write_error_heatmap(const std::string& path, const ImageRgb& img, const ImageRgb& ref,

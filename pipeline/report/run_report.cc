@@ -519,7 +519,8 @@ std::string report_markdown(const RunInfo& info, const UnitArray& unit, const Ac
      << (info.error_scale_auto ? " = the largest error of the imaged frame" : " (--error-scale)")
      << "; below the image a colour bar of " << info.error_bar_rows
      << " rows from 0 at the left to " << fmt(info.error_scale)
-     << " at the right, ticks at 0, ¼, ½, ¾ and 1 of the width).\n";
+     << " at the right, ticks at 0, ¼, ½, ¾ and 1 of the width, their values below in 8-bit "
+        "levels, LSB = 1/255).\n";
   provenance_markdown(md, info.provenance);
   return md.str();
 }

@@ -206,7 +206,7 @@ TEST_F(Cli, ErrorMapScaleIsRecordedAndFixedOnRequest) {
   const Json b = load_json(path("b/report.json"));
   EXPECT_EQ(num(b, "error_map.scale"), 0.1);
   EXPECT_FALSE(b.at("error_map").at("auto").get<bool>());
-  EXPECT_EQ(num(b, "error_map.bar_rows"), 20);  // 240 / 12 rows below the 320 x 240 image
+  EXPECT_EQ(num(b, "error_map.bar_rows"), 31);  // 240 / 12 ramp rows + 11 label rows (320 x 240)
   EXPECT_NE(slurp(path("b/report.md")).find("white 0.1 (--error-scale)"), std::string::npos);
   EXPECT_EQ(sh("run --no-progress --error-scale 0 --out " + path("c")).code, 2);
 }

@@ -584,7 +584,9 @@ void check_error_map(const Json& r) {
   const double scale = d(e["scale"]);
   ASSERT_EQ(e["ticks"].size(), 5u);
   for (int i = 0; i < 5; ++i) EXPECT_SAME(d(e["ticks"][i]), scale * i / 4.0);
-  EXPECT_EQ(e["bar_rows"].get<int>(), std::max(8, r["image"]["height"].get<int>() / 12));
+  // The ramp's rows, then the labels' (7·s + 4 rows, s = max(1, height / 240)).
+  const int h = r["image"]["height"].get<int>();
+  EXPECT_EQ(e["bar_rows"].get<int>(), std::max(8, h / 12) + 7 * std::max(1, h / 240) + 4);
   if (e["auto"].get<bool>()) {
     // The largest error of the imaged frame.
     const Json* acc = &r["accuracy"];
