@@ -256,6 +256,7 @@ PlotSpec pareto_plot(const std::vector<FormatsStudyRow>& rows) {
   p.title = "PSNR vs DRAM bytes per fragment (16 KB 4-way L1, decoder after the L1)";
   p.xlabel = "DRAM bytes per fragment";
   p.ylabel = "PSNR against the texture as loaded (dB)";
+  p.pareto = ParetoFront::higher_y_better;
   p.logx = true;
   for (const std::string& scene : scene_names(rows)) {
     std::vector<LabelledPoint> pts;

@@ -486,6 +486,7 @@ void write_merged_plot(const std::vector<MergedRow>& rows, const std::string& pa
   spec.title = "Sweep: image error against cost, one point per job";
   spec.xlabel = "cycles per fragment";
   spec.ylabel = "PSNR (dB)";
+  spec.pareto = ParetoFront::higher_y_better;
   for (const MergedRow& r : rows) {
     const Json* cpf = lookup(r.report, "/cycles_per_fragment", "");
     const Json* psnr = lookup(r.report, "/accuracy/psnr_db", "");

@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
 #include "blocks/base/temp_registry.h"
+#include "pipeline/report/label_placer.h"
 
 namespace texsim {
 
@@ -74,20 +76,95 @@ int run_gnuplot(const std::string& script, const std::string& err_path) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-// A point label as a gnuplot data column: double-quoted, inner double quotes made single.
-std::string data_label(std::string s) {
-  for (char& c : s) {
-    if (c == '"') c = '\'';
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
-  }
-  return "\"" + s + "\"";
+bool usable(const PlotSpec& spec, double x, double y) {
+  if (!std::isfinite(x) || !std::isfinite(y)) return false;
+  return !((spec.logx && x <= 0) || (spec.logy && y <= 0));
 }
+
+// The plot area's edges as fractions of the image (fixed, so that labels can be placed in
+// pixels before gnuplot draws): the key sits right of it.
+constexpr double kLeft = 0.09, kRight = 0.74, kBottom = 0.10, kTop = 0.90;
+// Point labels: gnuplot's 7-point font on pngcairo; generous so that a placed label never
+// touches its neighbour.
+constexpr double kLabelCharW = 6.0, kLabelH = 12.0;
+
+struct Axis {
+  double lo = 0, hi = 1;
+  bool log = false;
+  double t(double v) const { return log ? std::log10(v) : v; }
+  double fraction(double v) const { return (t(v) - t(lo)) / (t(hi) - t(lo)); }
+};
+
+// The range of the usable values, padded by 5 % (in log space on a log axis).
+Axis axis_of(const std::vector<double>& v, bool log) {
+  Axis a;
+  a.log = log;
+  if (v.empty()) return log ? Axis{1, 10, true} : a;
+  double lo = v.front(), hi = v.front();
+  for (const double x : v) {
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+  }
+  double tl = log ? std::log10(lo) : lo, th = log ? std::log10(hi) : hi;
+  if (th - tl < 1e-12 * std::max(1.0, std::abs(tl))) {
+    tl -= 0.5;
+    th += 0.5;
+  }
+  const double pad = 0.05 * (th - tl);
+  tl -= pad;
+  th += pad;
+  a.lo = log ? std::pow(10.0, tl) : tl;
+  a.hi = log ? std::pow(10.0, th) : th;
+  return a;
+}
+
 }  // namespace
+
+std::vector<std::pair<double, double>> pareto_points(const PlotSpec& spec) {
+  std::vector<std::pair<double, double>> pts, front;
+  if (spec.pareto == ParetoFront::none) return front;
+  const double sign = spec.pareto == ParetoFront::higher_y_better ? -1 : 1;  // lower is better
+  for (const PlotSeries& ser : spec.series)
+    for (size_t i = 0; i < ser.x.size() && i < ser.y.size(); ++i)
+      if (usable(spec, ser.x[i], ser.y[i])) pts.emplace_back(ser.x[i], ser.y[i]);
+  std::sort(pts.begin(), pts.end(), [sign](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first < b.first : sign * a.second < sign * b.second;
+  });
+  for (const auto& p : pts)
+    if (front.empty() || sign * p.second < sign * front.back().second) front.push_back(p);
+  return front;
+}
 
 void write_plot_png(const std::string& path, const PlotSpec& spec) {
   const std::string tmp_png = temp_path_for(path, ".png");
   const std::string err_path = scratch_path_for(path, ".err");
   const std::string data_path = scratch_path_for(path, ".dat");
+  std::vector<double> xs, ys;
+  for (const PlotSeries& ser : spec.series)
+    for (size_t i = 0; i < ser.x.size() && i < ser.y.size(); ++i)
+      if (usable(spec, ser.x[i], ser.y[i])) {
+        xs.push_back(ser.x[i]);
+        ys.push_back(ser.y[i]);
+      }
+  const Axis ax = axis_of(xs, spec.logx), ay = axis_of(ys, spec.logy);
+  // Point labels placed in pixels, in series order.
+  const double w = spec.width, h = spec.height;
+  std::vector<LabelRequest> req;
+  std::vector<std::pair<size_t, std::string>> text;  // series, label
+  for (size_t s = 0; s < spec.series.size(); ++s) {
+    const PlotSeries& ser = spec.series[s];
+    for (size_t i = 0; i < ser.x.size() && i < ser.y.size() && i < ser.point_labels.size(); ++i) {
+      if (!usable(spec, ser.x[i], ser.y[i]) || ser.point_labels[i].empty()) continue;
+      req.push_back({(kLeft + ax.fraction(ser.x[i]) * (kRight - kLeft)) * w,
+                     (1 - kBottom - ay.fraction(ser.y[i]) * (kTop - kBottom)) * h,
+                     kLabelCharW * static_cast<double>(ser.point_labels[i].size()), kLabelH});
+      text.emplace_back(s, ser.point_labels[i]);
+    }
+  }
+  const std::vector<PlacedLabel> placed =
+      place_labels(req, {kLeft * w, (1 - kTop) * h, kRight * w, (1 - kBottom) * h});
+  size_t left_out = 0;
+  for (const PlacedLabel& p : placed) left_out += p.placed ? 0 : 1;
   std::ostringstream gp;
   {
     std::ofstream data(data_path);
@@ -96,11 +173,28 @@ void write_plot_png(const std::string& path, const PlotSpec& spec) {
        << " enhanced font 'sans,11'\n";
     gp << "set output " << quote(tmp_png) << "\n";
     gp << "set title " << quote(spec.title) << " noenhanced\n";
+    if (left_out > 0) {
+      gp << "set label "
+         << quote(std::to_string(left_out) + " of " + std::to_string(placed.size()) +
+                  " point labels left out where they would overlap")
+         << " at screen 0.01,0.02 left font ',9' noenhanced\n";
+    }
     gp << "set xlabel " << quote(spec.xlabel) << " noenhanced\n";
     gp << "set ylabel " << quote(spec.ylabel) << " noenhanced\n";
     gp << "set grid\nset key outside right top noenhanced\n";
+    gp << "set lmargin at screen " << kLeft << "\nset rmargin at screen " << kRight
+       << "\nset bmargin at screen " << kBottom << "\nset tmargin at screen " << kTop << "\n";
+    gp << "set xrange [" << ax.lo << ":" << ax.hi << "]\nset yrange [" << ay.lo << ":" << ay.hi
+       << "]\n";
     if (spec.logx) gp << "set logscale x\n";
     if (spec.logy) gp << "set logscale y\n";
+    for (size_t k = 0; k < placed.size(); ++k) {
+      if (!placed[k].placed) continue;
+      const LabelBox& b = placed[k].box;
+      gp << "set label " << quote(text[k].second) << " at screen " << b.x0 / w << ","
+         << 1 - (b.y0 + b.y1) / 2 / h << " left font ',7' tc lt " << text[k].first + 1
+         << " noenhanced front\n";
+    }
     gp << "plot ";
     int block = 0;
     for (size_t s = 0; s < spec.series.size(); ++s) {
@@ -108,12 +202,8 @@ void write_plot_png(const std::string& path, const PlotSpec& spec) {
       data << "# " << ser.label << "\n";
       int n = 0;
       for (size_t i = 0; i < ser.x.size() && i < ser.y.size(); ++i) {
-        const double x = ser.x[i], y = ser.y[i];
-        if (!std::isfinite(x) || !std::isfinite(y)) continue;
-        if ((spec.logx && x <= 0) || (spec.logy && y <= 0)) continue;
-        data << x << " " << y;
-        if (i < ser.point_labels.size()) data << " " << data_label(ser.point_labels[i]);
-        data << "\n";
+        if (!usable(spec, ser.x[i], ser.y[i])) continue;
+        data << ser.x[i] << " " << ser.y[i] << "\n";
         ++n;
       }
       if (n == 0) data << "nan nan\n";
@@ -122,14 +212,18 @@ void write_plot_png(const std::string& path, const PlotSpec& spec) {
       gp << quote(data_path) << " index " << block << " using 1:2 with "
          << (ser.lines ? "lines lw 2" : "points pt 7 ps 1.2") << " lt " << s + 1 << " title "
          << quote(ser.label);
-      if (!ser.point_labels.empty() && n > 0) {
-        gp << ", " << quote(data_path) << " index " << block
-           << " using 1:2:3 with labels left offset char 0.6,0.3 font ',7' tc lt " << s + 1
-           << " noenhanced notitle";
-      }
       ++block;
     }
-    if (spec.series.empty()) gp << "0 notitle";
+    const auto front = pareto_points(spec);
+    if (!front.empty()) {
+      data << "# Pareto front\n";
+      for (const auto& [x, y] : front) data << x << " " << y << "\n";
+      data << "\n\n";
+      gp << (spec.series.empty() ? "" : ", ") << quote(data_path) << " index " << block
+         << " using 1:2 with lines dt 2 lw 1.5 lc rgb 'black' title 'Pareto front'";
+    } else if (spec.series.empty()) {
+      gp << "0 notitle";
+    }
     gp << "\n";
   }
   const int rc = run_gnuplot(gp.str(), err_path);

@@ -989,6 +989,7 @@ int run_study_coords(const std::string& out_dir, std::ostream& log, int threads)
                 std::to_string(o.filter_ii.empty() ? 1u : o.filter_ii.front()) + ")";
   spec.ylabel = "max |error| (pixels of footprint)";
   spec.logy = true;
+  spec.pareto = ParetoFront::lower_y_better;
   std::map<std::string, std::vector<LabelledPoint>> by_format;
   std::vector<std::string> formats;
   for (const auto& c : r.coords) {

@@ -350,6 +350,7 @@ PlotSpec pareto_plot(const std::vector<Pooled>& all, bool by_cycles) {
                         "pooled)";
   p.xlabel = by_cycles ? "cycles per fragment" : "texels fetched per fragment";
   p.ylabel = "NMSE vs ground truth";
+  p.pareto = ParetoFront::lower_y_better;
   p.logx = true;
   p.logy = true;
   std::map<std::string, std::vector<LabelledPoint>> fam;

@@ -123,6 +123,7 @@ PlotSpec plot(const std::vector<RasterStudyRow>& rows) {
   p.title = "Digital constant-depth rows: coordinate error against exact Heckbert";
   p.xlabel = "divisions per pixel (Heckbert: 1)";
   p.ylabel = "mean coordinate error, pixels of offset across the rows";
+  p.pareto = ParetoFront::lower_y_better;
   p.logx = true;
   for (double az : {30.0, 100.0}) {
     std::vector<LabelledPoint> pts;

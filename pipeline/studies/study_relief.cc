@@ -430,6 +430,7 @@ PlotSpec plot(const ReliefStudy& st, const std::string& map, double elev) {
             "° above the surface: cost against error";
   p.xlabel = "cycles per fragment (dependent reads: set-up + reads × read latency)";
   p.ylabel = "mean error of the surface point, texels (vs 1024-layer reference)";
+  p.pareto = ParetoFront::lower_y_better;
   p.logx = true;
   p.logy = true;
   std::vector<LabelledPoint> par, sph;

@@ -205,6 +205,7 @@ void write_outputs(const std::string& out_dir, const std::vector<Row>& rows,
                " placer seeds";
   spec.xlabel = "SB_LUT4 cells";
   spec.ylabel = "Fmax (MHz, median over seeds)";
+  spec.pareto = ParetoFront::higher_y_better;
   for (const auto& [block, points] : series) spec.series.push_back(labelled_series(block, points));
   files.plot("rtl.png", spec);
 }
