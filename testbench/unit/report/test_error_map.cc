@@ -94,7 +94,7 @@ TEST(ErrorMap, LabelNumbersAndGlyphs) {
   EXPECT_EQ(label_width("12", 3), 33);
   // '1' at scale 2: its stem is glyph column 2, rows 0-6 -> pixels x 4-5, y 0-13; its foot
   // (row 6) spans columns 1-3 -> x 2-7 at y 12-13.
-  std::vector<uint8_t> rgb(20 * 16 * 3, 0);
+  std::vector<uint8_t> rgb(size_t{20} * 16 * 3, 0);
   draw_label(rgb, 20, 16, 0, 0, "1", 2, {255, 255, 255});
   const auto lit = [&](int x, int y) { return rgb[(static_cast<size_t>(y) * 20 + x) * 3] != 0; };
   for (int y = 0; y < 14; ++y) EXPECT_TRUE(lit(4, y) && lit(5, y)) << y;
