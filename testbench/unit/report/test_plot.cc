@@ -56,8 +56,10 @@ TEST(Plot, NamesAndTextsAreNeverRun) {
 TEST(Plot, LabelsNeverOverlap) {
   const LabelBox area{0, 0, 1000, 600};
   std::vector<LabelRequest> req = {{100, 100, 40, 12}, {500, 300, 40, 12}};
-  for (int k = 0; k < 40; ++k)
-    req.push_back({700.0 + (k % 5) * 3, 300.0 + static_cast<double>(k / 5) * 3, 60, 12});
+  for (int k = 0; k < 40; ++k) {
+    const int col = k % 5, row = k / 5;  // a 5 x 8 cluster of points 3 px apart
+    req.push_back({700.0 + col * 3, 300.0 + row * 3, 60, 12});
+  }
   const std::vector<PlacedLabel> out = place_labels(req, area, 8);
   ASSERT_EQ(out.size(), req.size());
   ASSERT_TRUE(out[0].placed && out[1].placed);
