@@ -50,6 +50,8 @@ const std::vector<Variant>& all_variants() {
                                          {"bc1_rgb", "squish", "cluster"},
                                          {"bc1_rgb", "nvtt", "normal"},
                                          {"bc3", "squish", "cluster"},
+                                         {"bc7", "texsim", "normal"},
+                                         {"etc2_rgb8", "texsim", "normal"},
                                          {"astc_4x4", "astcenc", "fast"},
                                          {"astc_6x6", "astcenc", "fast"},
                                          {"astc_8x8", "astcenc", "fast"},

@@ -3,7 +3,8 @@
 // the ground truth. Each row is one run: a scene and a list of `--set` overrides on top of a
 // fixed base (one unit, 16 KB 4-way L1 of 64-byte lines, tiled4x4 texels, row raster order,
 // flat DRAM). Sweeps: every texture of the scene in one variant (rgba8, rgb565, rgba4444,
-// srgb8_a8 decoded before or after the filter, rgba16f, BC1 and BC3 from squish and nvtt, ASTC 4x4
+// srgb8_a8 decoded before or after the filter, rgba16f, BC1 and BC3 from squish and nvtt, BC7
+// and ETC2 RGB8 from texsim's encoders, ASTC 4x4
 // … 12x12 from astcenc); the decoder's place (before the L1, after the L1, after an L2 of 256 KB)
 // for BC1 and ASTC 6x6. Per row: PSNR against the truth (the texture as loaded), bytes per fragment
 // into the L1, into the L2 and from DRAM, cycles, energy, the decoder's area and energy
