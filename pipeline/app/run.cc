@@ -23,6 +23,7 @@
 #include "pipeline/app/run_object_space.h"
 #include "pipeline/geometry/geometry_unit.h"
 #include "pipeline/geometry/plane_projection.h"
+#include "pipeline/image_io/astcenc_encoder.h"
 #include "pipeline/kernel/parallel_range.h"
 #include "pipeline/kernel/stage_timeline.h"
 #include "pipeline/raster/fragment_generator.h"
@@ -1048,6 +1049,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   // Scene: a file, the built-in default, or (trace only) none.
   const bool use_scene = !opt.scene.empty() || opt.trace.empty();
   set_scene_memory_limit(opt.max_memory);  // meshes and DEMs are refused before allocation
+  set_astcenc_threads(resolve_threads(opt.threads));  // encoding at load uses --threads too
   Scene scene = (opt.scene.empty() || opt.scene == "default")
                     ? default_scene(opt.overrides)
                     : load_scene(opt.scene, opt.overrides);

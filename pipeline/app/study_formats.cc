@@ -31,8 +31,10 @@ struct Variant {
   std::string format;   // storage format, or compressed format
   std::string encoder;  // empty: an uncompressed storage format
   std::string quality;
+  std::string srgb_decode = "";  // [pipeline] srgb_decode when not the default
   bool compressed() const { return !encoder.empty(); }
   std::string label() const {
+    if (!srgb_decode.empty()) return format + " " + srgb_decode;
     return compressed() ? format + " " + encoder + " " + quality : format;
   }
 };
@@ -42,11 +44,14 @@ const std::vector<Variant>& all_variants() {
                                          {"rgb565", "", ""},
                                          {"rgba4444", "", ""},
                                          {"srgb8_a8", "", ""},
+                                         {"srgb8_a8", "", "", "after_filter"},
                                          {"rgba16f", "", ""},
                                          {"bc1_rgb", "squish", "range"},
                                          {"bc1_rgb", "squish", "cluster"},
                                          {"bc1_rgb", "nvtt", "normal"},
                                          {"bc3", "squish", "cluster"},
+                                         {"bc7", "texsim", "normal"},
+                                         {"etc2_rgb8", "texsim", "normal"},
                                          {"astc_4x4", "astcenc", "fast"},
                                          {"astc_6x6", "astcenc", "fast"},
                                          {"astc_8x8", "astcenc", "fast"},
@@ -65,6 +70,7 @@ const std::vector<Variant>& placement_variants() {
 Set variant_set(const Variant& v, const std::vector<std::string>& textures) {
   Set s;
   if (v.format == "rgba8") return s;
+  if (!v.srgb_decode.empty()) s["pipeline.srgb_decode"] = v.srgb_decode;
   for (const std::string& t : textures) {
     if (v.compressed()) {
       s["textures." + t + ".compress"] = "{ format = \"" + v.format + "\", encoder = \"" +
@@ -161,6 +167,14 @@ void read_figures(const nlohmann::json& j, FormatsStudyRow& r) {
   }
   r.dram_bytes = u64(j.at("dram"), "bytes");
   r.energy_pj = j.at("energy").at("per_fragment_pj").get<double>();
+  if (j.contains("srgb_decode")) {
+    const auto& b = j.at("blocks").at("srgb_decode");
+    r.srgb_placement = j.at("srgb_decode").at("placement").get<std::string>();
+    r.srgb_decodes = u64(j.at("srgb_decode"), "decodes");
+    for (const auto& [kind, n] : b.at("ops").items()) r.srgb_ops += n.get<uint64_t>();
+    r.srgb_area = b.at("area").get<double>();
+    r.srgb_pj = r.per_fragment(j.at("energy").at("blocks_pj").at("srgb_decode").get<double>());
+  }
   if (!r.compressed) return;
   const std::string block = "decode." + r.format;
   const auto& b = j.at("blocks").at(block);
@@ -206,11 +220,16 @@ StudyTable table(const std::vector<FormatsStudyRow>& rows, bool csv) {
                                    "decoder ops/block",
                                    "decoder latency/II",
                                    "decoder area",
-                                   "decoder pJ/frag"};
+                                   "decoder pJ/frag",
+                                   "sRGB decodes/frag",
+                                   "sRGB ops/frag",
+                                   "sRGB area",
+                                   "sRGB pJ/frag"};
   if (csv) head.push_back("overrides");
-  StudyTable t(head, "lllllrrrrrrrrrrrrrrl");
+  StudyTable t(head, "lllllrrrrrrrrrrrrrrrrrrl");
   for (const FormatsStudyRow& r : rows) {
     auto pf = [&](uint64_t v) { return fmt(r.per_fragment(static_cast<double>(v)), 4); };
+    const bool srgb = !r.srgb_placement.empty();
     std::vector<std::string> c = {
         r.scene,
         r.sweep,
@@ -230,7 +249,11 @@ StudyTable table(const std::vector<FormatsStudyRow>& rows, bool csv) {
         opt_num(r.compressed, r.decoder_ops_per_block, 4),
         r.compressed ? std::to_string(r.decoder_latency) + "/" + std::to_string(r.decoder_ii) : "",
         opt_num(r.compressed, r.decoder_area, 5),
-        opt_num(r.compressed, r.decoder_pj, 4)};
+        opt_num(r.compressed, r.decoder_pj, 4),
+        srgb ? pf(r.srgb_decodes) : "",
+        srgb ? pf(r.srgb_ops) : "",
+        opt_num(srgb, r.srgb_area, 5),
+        opt_num(srgb, r.srgb_pj, 4)};
     if (csv) {
       std::string o;
       for (const std::string& s : r.overrides()) o += (o.empty() ? "" : " ") + s;

@@ -3,10 +3,11 @@
 // the ground truth. Each row is one run: a scene and a list of `--set` overrides on top of a
 // fixed base (one unit, 16 KB 4-way L1 of 64-byte lines, tiled4x4 texels, row raster order,
 // flat DRAM). Sweeps: every texture of the scene in one variant (rgba8, rgb565, rgba4444,
-// srgb8_a8, rgba16f, BC1 and BC3 from squish and nvtt, ASTC 4x4 … 12x12 from astcenc); the
-// decoder's place (before the L1, after the L1, after an L2 of 256 KB) for BC1 and ASTC 6x6.
-// Per row: PSNR against the truth (the texture as loaded), bytes per fragment into the L1, into
-// the L2 and from DRAM, cycles, energy, the decoder's area and energy
+// srgb8_a8 decoded before or after the filter, rgba16f, BC1 and BC3 from squish and nvtt, BC7
+// and ETC2 RGB8 from texsim's encoders, ASTC 4x4
+// … 12x12 from astcenc); the decoder's place (before the L1, after the L1, after an L2 of 256 KB)
+// for BC1 and ASTC 6x6. Per row: PSNR against the truth (the texture as loaded), bytes per fragment
+// into the L1, into the L2 and from DRAM, cycles, energy, the decoder's area and energy
 // (docs/studies/study-formats.md).
 #include <cstdint>
 #include <map>
@@ -30,7 +31,7 @@ struct FormatsStudyRow {
   std::string scene;  // short name: "photo", "cube", ...
   std::string scene_path;
   std::string sweep;    // "variants" or "placement"
-  std::string variant;  // "rgba8", "rgb565", "bc1_rgb squish range", "astc_6x6 astcenc fast"
+  std::string variant;  // "rgba8", "srgb8_a8 after_filter", "bc1_rgb squish range", ...
   std::string format;   // storage or compressed format name
   bool compressed = false;
   std::string placement;                   // [pipeline] decompress ("" for uncompressed rows)
@@ -51,6 +52,12 @@ struct FormatsStudyRow {
   int decoder_latency = 0, decoder_ii = 0;
   double decoder_area = 0;
   double decoder_pj = 0;  // per fragment
+  // The sRGB decoder (blocks.srgb_decode), srgb8_a8 rows only: its placement ("before_filter",
+  // "after_filter"), decodes (texels or fragments) and operations over the run, area, energy.
+  std::string srgb_placement;
+  uint64_t srgb_decodes = 0, srgb_ops = 0;
+  double srgb_area = 0;
+  double srgb_pj = 0;  // per fragment
 
   std::vector<std::string> overrides() const;  // KEY=VALUE, in key order
   double per_fragment(double v) const { return fragments ? v / static_cast<double>(fragments) : 0; }

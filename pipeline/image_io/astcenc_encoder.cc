@@ -2,11 +2,15 @@
 
 #include <astcenc.h>
 
+#include <algorithm>
+#include <atomic>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <sstream>
+#include <thread>
 #include <tuple>
+#include <vector>
 
 #include "blocks/base/input_error.h"
 #include "pipeline/image_io/astc_file.h"
@@ -21,6 +25,8 @@ namespace {
 
 constexpr int kMaxSide = 16384;
 constexpr const char* kCodec = "astcenc";
+constexpr int kMaxThreads = 64;
+std::atomic<int> g_threads{1};
 
 float preset_quality(AstcPreset p) {
   switch (p) {
@@ -53,14 +59,15 @@ struct Context {
   }
 };
 
-using ContextKey = std::tuple<int, int, AstcPreset, bool>;
+using ContextKey = std::tuple<int, int, AstcPreset, bool, int>;  // ..., threads
 
 // The process's contexts, made on first use (a failed one is not kept).
-Context& context_for(const AstcencOptions& o) {
+Context& context_for(const AstcencOptions& o, int threads) {
   static std::mutex table_lock;
   static std::map<ContextKey, std::unique_ptr<Context>> table;
   const std::lock_guard<std::mutex> lock(table_lock);
-  std::unique_ptr<Context>& slot = table[ContextKey{o.block_w, o.block_h, o.preset, o.srgb}];
+  std::unique_ptr<Context>& slot =
+      table[ContextKey{o.block_w, o.block_h, o.preset, o.srgb, threads}];
   if (!slot) {
     astcenc_config config{};
     check(astcenc_config_init(o.srgb ? ASTCENC_PRF_LDR_SRGB : ASTCENC_PRF_LDR,
@@ -68,13 +75,17 @@ Context& context_for(const AstcencOptions& o) {
                               preset_quality(o.preset), 0, &config),
           "astcenc_config_init");
     auto c = std::make_unique<Context>();
-    check(astcenc_context_alloc(&config, 1, &c->ctx), "astcenc_context_alloc");
+    check(astcenc_context_alloc(&config, static_cast<unsigned>(threads), &c->ctx),
+          "astcenc_context_alloc");
     slot = std::move(c);
   }
   return *slot;
 }
 
 }  // namespace
+
+void set_astcenc_threads(int threads) { g_threads = std::clamp(threads, 1, kMaxThreads); }
+int astcenc_threads() { return g_threads; }
 
 const char* astc_preset_name(AstcPreset p) {
   switch (p) {
@@ -114,11 +125,22 @@ EncodedLevel astcenc_encode(const Rgba8Image& img, const AstcencOptions& o) {
   image.data_type = ASTCENC_TYPE_U8;
   image.data = planes;
   const astcenc_swizzle identity{ASTCENC_SWZ_R, ASTCENC_SWZ_G, ASTCENC_SWZ_B, ASTCENC_SWZ_A};
-  Context& c = context_for(o);
+  const int threads = astcenc_threads();
+  Context& c = context_for(o, threads);
   {
     const std::lock_guard<std::mutex> lock(c.busy);
-    check(astcenc_compress_image(c.ctx, &image, &identity, out.bytes.data(), out.bytes.size(), 0),
-          "astcenc_compress_image");
+    // Every thread of the context joins the one image (astcenc shares the blocks out).
+    std::vector<astcenc_error> err(static_cast<size_t>(threads), ASTCENC_SUCCESS);
+    auto work = [&](int t) {
+      err[static_cast<size_t>(t)] = astcenc_compress_image(
+          c.ctx, &image, &identity, out.bytes.data(), out.bytes.size(), static_cast<unsigned>(t));
+    };
+    {
+      std::vector<std::jthread> helpers;
+      for (int t = 1; t < threads; ++t) helpers.emplace_back(work, t);
+      work(0);
+    }  // the helpers join here
+    for (const astcenc_error e : err) check(e, "astcenc_compress_image");
     check(astcenc_compress_reset(c.ctx), "astcenc_compress_reset");
   }
   std::ostringstream prov;

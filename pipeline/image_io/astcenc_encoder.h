@@ -21,9 +21,13 @@ struct AstcencOptions {
   bool srgb = false;  // the LDR sRGB profile (astcenc -cs) instead of linear LDR (-cl)
 };
 
-// Encodes `img` (padded to whole blocks first, encoder_input.h) on one thread. A footprint
+// Encodes `img` (padded to whole blocks first, encoder_input.h) on astcenc_threads() threads
+// (astcenc's output does not depend on its thread count). A footprint
 // that is not ASTC's, an image too large, or an error from the codec throws InputError naming
 // "astcenc" and the codec's own message.
 EncodedLevel astcenc_encode(const Rgba8Image& img, const AstcencOptions& options);
+// The threads one encode uses, for the whole process (`texsim run --threads`; default 1).
+void set_astcenc_threads(int threads);
+int astcenc_threads();
 
 }  // namespace texsim

@@ -115,6 +115,22 @@ void add_decompress_json(Json& j, const UnitArray& unit) {
   }
 }
 
+// sRGB textures: where they are decoded to linear and the decoder's work (one decode per
+// texel before the filter, per fragment after it).
+void add_srgb_json(Json& j, const UnitArray& unit) {
+  if (!unit.textures().any_srgb()) return;
+  uint64_t fragments = 0, texels = 0;
+  for (int u = 0; u < unit.units(); ++u) {
+    fragments += unit.unit(u).srgb_fragments();
+    texels += unit.unit(u).srgb_texels();
+  }
+  const SrgbDecode where = unit.setup().srgb_decode;
+  j["srgb_decode"] = {{"placement", to_string(where)},
+                      {"fragments", fragments},
+                      {"texels", texels},
+                      {"decodes", where == SrgbDecode::BeforeFilter ? texels : fragments}};
+}
+
 // The texture cache's counters and geometry, then DRAM's.
 void add_memory_json(Json& j, const UnitArray& unit) {
   const TextureCache::Stats cs = unit.l1_totals();
@@ -168,6 +184,7 @@ void add_memory_json(Json& j, const UnitArray& unit) {
                {"slices", l2->config().slices}};
   }
   add_decompress_json(j, unit);
+  add_srgb_json(j, unit);
   if (!unit.several()) return;
   // Several units: each unit's share, and how exactly the scheduler kept cycle order.
   Json units = Json::array();

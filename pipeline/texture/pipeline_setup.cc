@@ -10,7 +10,7 @@ PipelineSetup PipelineSetup::from_toml(const toml::table& t, const std::string& 
   PipelineSetup p;
   ConfigReader r(t, source, "pipeline");
   r.reject_unknown({"fifo_depth", "layout", "units", "unit_tile", "derivatives", "quad_merge",
-                    "cache", "l2", "dram", "blend", "decompress"});
+                    "cache", "l2", "dram", "blend", "decompress", "srgb_decode"});
   p.fifo_depth = static_cast<uint32_t>(r.get_int("fifo_depth", p.fifo_depth, 1, 1 << 16));
   p.layout = static_cast<TexelLayout>(
       r.get_choice("layout", static_cast<int>(p.layout), {"linear", "tiled4x4", "morton"}));
@@ -47,6 +47,8 @@ PipelineSetup PipelineSetup::from_toml(const toml::table& t, const std::string& 
                                                       {"before_l1", "after_l1", "after_l2"}));
   if (p.decompress == Decompress::AfterL2 && !p.has_l2)
     r.fail("decompress", "\"after_l2\" needs an L2 ([pipeline.l2])");
+  p.srgb_decode = static_cast<SrgbDecode>(r.get_choice(
+      "srgb_decode", static_cast<int>(p.srgb_decode), {"before_filter", "after_filter"}));
   return p;
 }
 

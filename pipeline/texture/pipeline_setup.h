@@ -12,6 +12,7 @@
 #include "blocks/texture/memory/l2_cache.h"
 #include "blocks/texture/memory/texture_cache.h"
 #include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/sampler/srgb_decoder.h"
 #include "blocks/texture/sampler/texel_blend.h"
 #include "pipeline/texture/quad_assembler.h"
 
@@ -46,6 +47,9 @@ struct PipelineSetup {
   // L1 and the filter, every cache holds blocks; after_l2: between the L2 and the L1s.
   enum class Decompress { BeforeL1, AfterL1, AfterL2 };
   Decompress decompress = Decompress::AfterL1;
+  // Where srgb8_a8 textures are decoded to linear (docs/formats.md#srgb-decode-placement):
+  // each texel before the filter (the specification's rule), or the filtered colour after it.
+  SrgbDecode srgb_decode = SrgbDecode::BeforeFilter;
   // Reads [pipeline]; errors name file:line:col and the rule broken.
   static PipelineSetup from_toml(const toml::table& t, const std::string& source);
 

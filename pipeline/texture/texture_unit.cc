@@ -33,6 +33,18 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
 
 TextureUnit::~TextureUnit() = default;
 
+uint64_t TextureUnit::srgb_fragments() const {
+  uint64_t n = 0;
+  for (const Path& p : paths_) n += p.srgb_fragments;
+  return n;
+}
+
+uint64_t TextureUnit::srgb_texels() const {
+  uint64_t n = 0;
+  for (const Path& p : paths_) n += p.srgb_texels;
+  return n;
+}
+
 PerCompressedFormat TextureUnit::decoded_blocks() const {
   PerCompressedFormat n = fetch_.decoded_by_format();
   if (const BlockDecompressor* d = mem_->decompressor(); d && unit_ == 0) {
@@ -63,8 +75,10 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
       mem_(shared ? shared : own_memory_.get()),
       fetch_(mem_->l1(unit), mem_->behind_l1(), unit, setup.cache, setup.quad_merge),
       defer_(shared != nullptr),
-      unit_(unit) {
+      unit_(unit),
+      srgb_(setup.srgb_decode, setup.blend.taps_per_cycle) {
   if (mats_.empty()) throw std::invalid_argument("texture unit: no materials");
+  textures_.set_srgb_after_filter(setup.srgb_decode == SrgbDecode::AfterFilter);
   textures_.place(setup.layout);
   if (textures_.any_compressed()) attach_decoders();
   int reliefs = 0;
@@ -188,6 +202,10 @@ void TextureUnit::process_batch(const Fragment* f, size_t n, int material, Rgba*
     const uint32_t t = f[i].tex;
     if (t >= static_cast<uint32_t>(textures_.size()))
       filter_fragment(f[i], p, nullptr);  // throws, naming the texture
+    if (textures_[static_cast<int>(t)].srgb_after_filter()) {
+      for (size_t k = i; k < i + m; ++k) out[k] = process(f[k], material);  // decodes after
+      continue;
+    }
     (this->*p.batch_kernel)(f + i, m, p, textures_[static_cast<int>(t)], out + i);
   }
 }
@@ -219,6 +237,7 @@ Rgba TextureUnit::process_surface(const Fragment& f, Path& p, int material, cons
 Rgba TextureUnit::process_filter(const Fragment& f, Path& p, const Texture& tex,
                                  const ItemCost* front) {
   const FilterStage::Result r = p.stages.filter->filter(f, tex, surface_, pipe_ != nullptr, fetch_);
+  filter_texels_ += r.texels;
   ++p.fragments;
   count_frame(f);
   if (pipe_) {
@@ -238,7 +257,21 @@ Rgba TextureUnit::filter_fragment(const Fragment& f, Path& p, const ItemCost* fr
     throw std::out_of_range("texture unit: fragment texture " + std::to_string(f.tex) +
                             " is not loaded");
   const Texture& tex = textures_[static_cast<int>(f.tex)];
+  if (tex.storage() == StorageFormat::Srgb8A8) return filter_srgb(f, p, tex, front);
   return (this->*p.kernel)(f, p, tex, front);
+}
+
+Rgba TextureUnit::filter_srgb(const Fragment& f, Path& p, const Texture& tex,
+                              const ItemCost* front) {
+  const AddressStage* a = p.stages.address;
+  const uint64_t probes = a ? a->probes() : 0, border = a ? a->border_taps() : 0;
+  const uint64_t texels = filter_texels_;
+  const Rgba c = (this->*p.kernel)(f, p, tex, front);
+  ++p.srgb_fragments;
+  // The texels read (a border tap reads none, and its colour is linear already).
+  p.srgb_texels += a ? (a->probes() - probes) * a->taps_per_probe() - (a->border_taps() - border)
+                     : filter_texels_ - texels;
+  return tex.srgb_after_filter() ? SrgbDecoder::decode_filtered(c) : c;
 }
 
 template <class CostFn>
@@ -719,6 +752,10 @@ std::vector<BlockUse> TextureUnit::material_blocks(int material) const {
   StageReport r{mats_[static_cast<size_t>(material)].name, tech_, p.fragments};
   std::vector<BlockUse> out;
   for (const auto& s : p.stages.all) s->rows(r, out);
+  // The sRGB decoder: per texel read before the filter, per fragment after it.
+  if (p.srgb_fragments > 0)
+    r.add(out, srgb_.name(), srgb_.arithmetic(), srgb_.timing(tech_),
+          srgb_.ops(p.srgb_fragments, p.srgb_texels));
   return out;
 }
 

@@ -154,6 +154,10 @@ class TextureUnit {
   // Blocks of compressed textures decoded: in the fetch stage (decompression after the L1)
   // or, counted by the first unit only, in the shared memory's decompressor.
   PerCompressedFormat decoded_blocks() const;
+  // Fragments filtered on srgb8_a8 textures and the texels they read: what the sRGB decoder
+  // works on (one per texel before the filter, one per fragment after it).
+  uint64_t srgb_fragments() const;
+  uint64_t srgb_texels() const;
   // The blocks material m used, with only its own operations and texels (cache excluded).
   std::vector<BlockUse> material_blocks(int m) const;
   // Fragments material m textured.
@@ -190,6 +194,7 @@ class TextureUnit {
     std::shared_ptr<const LinearBatchSampler> batch;
     MaterialStages stages;
     uint64_t fragments = 0;
+    uint64_t srgb_fragments = 0, srgb_texels = 0;  // on srgb8_a8 textures (filter_srgb)
   };
   // Sizes the pipeline's slots from every material's stages and builds it (timed).
   void plan_pipeline();
@@ -247,6 +252,9 @@ class TextureUnit {
     count_frame(f);
   }
   Rgba filter_fragment(const Fragment& f, Path& p, const ItemCost* front);
+  // filter_fragment on an srgb8_a8 texture: counts the decoder's work, and decodes the filtered
+  // colour when the decoder sits after the filter.
+  Rgba filter_srgb(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
   // The surface stages' enter(), the filter, their leave() for a material with any.
   Rgba process_surface(const Fragment& f, Path& p, int material, const ItemCost* front);
   // Cost of front-end slot s for a fragment of path p (with the dropped fragments' cycles).
@@ -317,6 +325,10 @@ class TextureUnit {
   FilterTaps taps_;
   std::unique_ptr<LinearBatch> batch_out_;  // the batched sampler's results
   uint64_t fragments_ = 0;
+  // The sRGB decoder (its work counted per material, filter_srgb); texels a footprint filter
+  // read, so far.
+  SrgbDecoder srgb_;
+  uint64_t filter_texels_ = 0;
   int front_ = 0;  // front-end slots
   // Pipeline stages of the address, cache and blend slots, and whether the pipeline is the
   // front end and those four sampler slots only (the fixed kernels).

@@ -186,4 +186,26 @@ float srgb_to_linear(uint8_t code) {
   return table.v[code];
 }
 
+float srgb_oetf(float linear) {
+  if (!(linear == linear)) return 0.0f;
+  const double l = std::clamp(static_cast<double>(linear), 0.0, 1.0);
+  return static_cast<float>(l <= 0.0031308 ? l * 12.92 : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055);
+}
+
+uint8_t srgb_code(float linear) {
+  int lo = 0, hi = 255;  // the first code whose value is >= linear, then the nearer neighbour
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    if (srgb_to_linear(static_cast<uint8_t>(mid)) < linear) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  if (lo > 0 && linear - srgb_to_linear(static_cast<uint8_t>(lo - 1)) <
+                    srgb_to_linear(static_cast<uint8_t>(lo)) - linear)
+    --lo;
+  return static_cast<uint8_t>(lo);
+}
+
 }  // namespace texsim

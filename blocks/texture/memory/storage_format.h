@@ -78,5 +78,12 @@ float float_from_half(uint16_t h);
 float srgb_to_linear(uint8_t code);
 // The sRGB EOTF of a value in [0, 1] (clamped; NaN gives 0), in double rounded once to float.
 float srgb_eotf(float c);
+// The inverse: the sRGB OETF of a linear value in [0, 1] (clamped; NaN gives 0), in double
+// rounded once to float (a linear border colour taken to the encoded values an sRGB texture's
+// filter sums when it decodes after filtering).
+float srgb_oetf(float linear);
+// The 8-bit code whose srgb_to_linear() is nearest to `linear` (exact for every value
+// srgb_to_linear() gives: the table is strictly increasing).
+uint8_t srgb_code(float linear);
 
 }  // namespace texsim

@@ -194,6 +194,37 @@ Texture Texture::linearised() const {
   return t;
 }
 
+Texture Texture::srgb_stored(bool decode_after_filter) const {
+  if (storage_ != StorageFormat::Srgb8A8 || decode_after_filter == srgb_after_filter_) return *this;
+  Texture t;
+  t.name_ = name_;
+  t.set_store(decode_after_filter ? TexelFormat::Rgba8 : TexelFormat::Rgba32f);
+  t.storage_ = storage_;
+  t.bytes_per_texel_ = bytes_per_texel_;
+  t.srgb_after_filter_ = decode_after_filter;
+  t.reference_ = reference_;
+  std::vector<float> px;
+  for (int l = 0; l < levels(); ++l) {
+    const int w = width(l), h = height(l);
+    px.resize(static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
+    for (size_t i = 0; i < px.size(); i += 4) {
+      const size_t x = (i / 4) % static_cast<size_t>(w), y = (i / 4) / static_cast<size_t>(w);
+      const Rgba c = texel(l, static_cast<int>(x), static_cast<int>(y));
+      // Codes and linear values map one to one (srgb_code inverts the EOTF's table exactly);
+      // alpha is c / 255 either way.
+      for (int k = 0; k < 3; ++k) {
+        px[i + static_cast<size_t>(k)] =
+            decode_after_filter ? static_cast<float>(srgb_code(c[k])) / 255.0f
+                                : srgb_to_linear(static_cast<uint8_t>(std::lround(c[k] * 255.0f)));
+      }
+      px[i + 3] = c[3];
+    }
+    t.add_level(w, h, px);
+  }
+  t.place(base_, layout_);
+  return t;
+}
+
 void Texture::set_blocks(std::shared_ptr<const Blocks> blocks) {
   blocks_ = std::move(blocks);
   bytes_per_texel_ = format_info(blocks_->format).decoded_bytes;
@@ -301,6 +332,13 @@ int TextureSet::add(Texture t) {
   textures_.push_back(std::move(t));
   place(layout_);
   return size() - 1;
+}
+
+void TextureSet::set_srgb_after_filter(bool after) {
+  for (Texture& t : textures_) {
+    if (t.storage() == StorageFormat::Srgb8A8 && t.srgb_after_filter() != after)
+      t = t.srgb_stored(after);
+  }
 }
 
 void TextureSet::place(TexelLayout layout) {

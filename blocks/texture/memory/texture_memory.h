@@ -52,6 +52,13 @@ class Texture {
   // This texture with every colour channel taken through the sRGB EOTF (alpha kept), in
   // floats: the linear colours an sRGB texture means.
   Texture linearised() const;
+  // An srgb8_a8 texture with its store for the sampler's sRGB decode placement
+  // (docs/formats.md#srgb-decode-placement): the linear colours in floats (before the filter,
+  // the specification's rule), or the 8-bit sRGB codes (after it: the filter sums encoded
+  // values and the unit decodes the result). Same storage, bytes and truth.
+  Texture srgb_stored(bool decode_after_filter) const;
+  // Whether the store holds sRGB codes that the unit decodes after filtering.
+  bool srgb_after_filter() const { return srgb_after_filter_; }
 
   const std::string& name() const { return name_; }
   TexelFormat format() const { return format_; }
@@ -184,6 +191,7 @@ class Texture {
   TexelFormat format_ = TexelFormat::Rgba8;
   StorageFormat storage_ = StorageFormat::Rgba8Unorm;
   int bytes_per_texel_ = 4;
+  bool srgb_after_filter_ = false;
   std::shared_ptr<const Texture> reference_;  // set by converted()
   std::shared_ptr<const Blocks> blocks_;      // set by set_blocks()
   uint64_t block_base_ = 0;
@@ -206,6 +214,13 @@ class TextureSet {
   TexelLayout layout() const { return layout_; }
   // The texture whose texel range starts at or below `addr` (the one holding it, if any).
   const Texture* holding(uint64_t addr) const;
+  // Every srgb8_a8 texture stored for its decode before or after the filter (srgb_stored()).
+  void set_srgb_after_filter(bool after);
+  bool any_srgb() const {
+    for (const auto& t : textures_)
+      if (t.storage() == StorageFormat::Srgb8A8) return true;
+    return false;
+  }
   bool any_compressed() const {
     for (const auto& t : textures_)
       if (t.compressed()) return true;

@@ -120,7 +120,12 @@ void TexelAddressGen::count_border(const Texture& tex, FilterTaps& out) const {
          out.tap[static_cast<size_t>(k)].y == kBorderTexel;
   }
   out.border_taps = n;
-  if (n > 0) out.border = border_texel(tex.storage(), cfg_.border);
+  if (n == 0) return;
+  out.border = border_texel(tex.storage(), cfg_.border);
+  // An sRGB texture decoded after the filter sums encoded values: its (linear) border colour
+  // enters the sum encoded, so a fragment of border taps only decodes back to it.
+  if (tex.srgb_after_filter())
+    for (int k = 0; k < 3; ++k) out.border[k] = srgb_oetf(out.border[k]);
 }
 
 int TexelAddressGen::taps_per_probe() const {

@@ -28,6 +28,8 @@ class AddressStage final : public UnitStage {
     probes_ += probes;
   }
   void count_border(int taps) { border_taps_ += static_cast<uint64_t>(taps); }
+  uint64_t probes() const { return probes_; }
+  uint64_t border_taps() const { return border_taps_; }
   // count(1) n times.
   void count_single_probes(uint64_t n) { probes_ += n; }
 

@@ -273,6 +273,24 @@ TEST(AstcencEncoder, LibraryGivesTheCommandLineToolsBytes) {
   }
 }
 
+// Every thread of the context joins an image (`texsim run --threads`): the blocks are those
+// of one thread.
+TEST(AstcencEncoder, ThreadsGiveTheBytesOfOne) {
+  const Rgba8Image img = crate(40, 60, 96, 64);
+  AstcencOptions o;
+  o.block_w = o.block_h = 4;
+  o.preset = AstcPreset::Fastest;
+  const int before = astcenc_threads();
+  set_astcenc_threads(1);
+  const EncodedLevel one = astcenc_encode(img, o);
+  set_astcenc_threads(3);
+  EXPECT_EQ(astcenc_threads(), 3);
+  const EncodedLevel three = astcenc_encode(img, o);
+  set_astcenc_threads(before);
+  EXPECT_EQ(one.bytes, three.bytes);
+  EXPECT_EQ(one.provenance, three.provenance);
+}
+
 TEST(AstcencEncoder, NotAFootprintIsAClearError) {
   const Rgba8Image img = crate(0, 0, 8, 8);
   AstcencOptions o;

@@ -66,7 +66,8 @@ const std::set<std::string> kKnownKeys = {
     // block-compressed textures
     "decompress", "decompress.placement", "decompress.blocks_decoded",
     "decompress.blocks_by_format", "decompress.blocks_by_format.*", "decompress.decoded_lines",
-    "decompress.compressed_reads",
+    "decompress.compressed_reads", "srgb_decode", "srgb_decode.placement", "srgb_decode.fragments",
+    "srgb_decode.texels", "srgb_decode.decodes",
     // frames and accuracy
     "frames", "frames[].frame", "frames[].fragments", "frames[].cycles_end", "frames[].time_us",
     "frames[].accuracy", "frames[].accuracy.psnr_db", "frames[].accuracy.nmse",
