@@ -99,6 +99,23 @@ class ClockedPipeline {
     return retire(arrival);
   }
 
+  // issue_fixed for n items in a row, item k's costs cost_at(k, stage, start): the same times
+  // and counters, with the stages' running state (last start and leave, counters) held in
+  // locals across the items instead of stored and reloaded per item, which put a store and
+  // its reload on the chain from one item to the next.
+  template <int kStages, class CostFn>
+  void issue_run(size_t n, CostFn&& cost_at) {
+    if (stages_.size() != static_cast<size_t>(kStages))
+      throw std::logic_error("ClockedPipeline::issue_run: wrong stage count");
+    bool one_lane = true;
+    for (const Hot& h : hot_) one_lane = one_lane && h.lanes == 1;
+    if (one_lane) {
+      run_items<kStages, true>(n, cost_at);
+    } else {
+      run_items<kStages, false>(n, cost_at);
+    }
+  }
+
   // Split issue, for a scheduler that orders several pipelines' memory requests by cycle
   // (docs/timing-model.md#several-units): issue_head runs the item through stages [0, k) and
   // returns its arrival at stage k; start_at(k, arrival) is the cycle it will start there;
@@ -183,6 +200,7 @@ class ClockedPipeline {
   struct Hot {
     uint64_t last_leave = 0;
     uint64_t last_start = 0;
+    uint64_t last_free = 0;  // the last item's lane-free cycle (its ring entry's kLaneFree)
     // 64-bit, so each is an operand of the arithmetic that uses it.
     uint64_t latency = 1, ii = 1;
     uint64_t lanes = 1;
@@ -216,12 +234,24 @@ class ClockedPipeline {
   template <class CostFn>
   [[gnu::always_inline]] uint64_t step(const ItemCtx& c, size_t s, uint64_t arrival,
                                        CostFn&& cost_at) {
+    return step_on<false>(c, c.hot[s], s, arrival, cost_at,
+                          [&](uint64_t item) { report_stuck(item, static_cast<int>(s)); });
+  }
+  // step() with stage s's state in `st` (hot_[s], or issue_run's copy); `stuck(item)` throws.
+  // kOneLane: the stage has one lane (its lane is free at st.last_free).
+  template <bool kOneLane, class CostFn, class StuckFn>
+  [[gnu::always_inline]] uint64_t step_on(const ItemCtx& c, Hot& st, size_t s, uint64_t arrival,
+                                          CostFn&& cost_at, StuckFn&& stuck) {
     const uint64_t iw = c.iw, mask = c.mask_w;
-    Hot& st = c.hot[s];
     uint64_t* const e = c.ring + s * c.stage_w;
     // Everything this stage needs is read before the first store (ring and counters are all
     // uint64_t, so a store would make the compiler reload them).
-    const uint64_t free_at = e[((iw - st.lanes_w) & mask) + kLaneFree];
+    uint64_t free_at;
+    if constexpr (kOneLane) {
+      free_at = st.last_free;
+    } else {
+      free_at = e[((iw - st.lanes_w) & mask) + kLaneFree];
+    }
     // The item i − inflight_cap must have left before this one can enter.
     const uint64_t* const old = e + ((iw - st.cap_w) & mask);
     const uint64_t slot_free = old[kLeave], slot_finish = old[kFinish];
@@ -242,16 +272,51 @@ class ClockedPipeline {
     const uint64_t finish = start + st.latency + cost.extra_latency;
     const uint64_t leave = std::max(std::max(finish, last_leave), next_start);  // in order
     uint64_t* const me = e + (iw & mask);
-    me[kLaneFree] = start + st.ii + cost.extra_ii;
-    if (leave - arrival > c.watchdog) report_stuck(iw / kEntry, static_cast<int>(s));
+    const uint64_t lane_free = start + st.ii + cost.extra_ii;
+    me[kLaneFree] = lane_free;
+    if (leave - arrival > c.watchdog) stuck(iw / kEntry);
     me[kStart] = start;
     me[kLeave] = leave;
     me[kFinish] = finish;
     st.last_leave = leave;
     st.last_start = start;
+    st.last_free = lane_free;
     st.starved += avail - free_at;  // start >= arrival: a starved lane waited until arrival
     st.extra += cost.extra_ii;
     return leave;
+  }
+  // issue_run's loop; kOneLane: every stage has one lane, so an item's lane is free when the
+  // previous item's issue slot ends (Hot::last_free), read from a local, not the ring.
+  template <int kStages, bool kOneLane, class CostFn>
+  [[gnu::always_inline]] void run_items(size_t n, CostFn& cost_at) {
+    Hot h[kStages];
+    for (int s = 0; s < kStages; ++s) h[s] = hot_[static_cast<size_t>(s)];
+    ItemCtx c = item_ctx();
+    uint64_t cycles = cycles_;
+    const auto save = [&](uint64_t item) __attribute__((always_inline)) {
+      for (int s = 0; s < kStages; ++s) hot_[static_cast<size_t>(s)] = h[s];
+      items_ = item;
+      cycles_ = cycles;
+    };
+    for (size_t k = 0; k < n; ++k) {
+      uint64_t arrival = 0;
+      [&]<int... kStage>(std::integer_sequence<int, kStage...>) __attribute__((always_inline)) {
+        ((arrival = step_on<kOneLane>(
+              c, h[kStage], static_cast<size_t>(kStage), arrival,
+              [&](int, uint64_t start) __attribute__((always_inline)) {
+                return cost_at(k, std::integral_constant<int, kStage>{}, start);
+              },
+              [&](uint64_t item) __attribute__((always_inline)) {
+                save(item);
+                report_stuck(item, kStage);
+              })),
+         ...);
+      }
+      (std::make_integer_sequence<int, kStages>{});
+      cycles = std::max(cycles, arrival);
+      c.iw += kEntry;
+    }
+    save(c.iw / kEntry);
   }
   template <class CostFn, size_t... kStage>
   uint64_t issue_unrolled(uint64_t ready, CostFn& cost_at, std::index_sequence<kStage...>) {

@@ -43,6 +43,7 @@ struct Input {
   alignas(64) int32_t level_h[kMaxLevels];
   alignas(64) int32_t level_first[kMaxLevels];
   const int32_t* texels = nullptr;  // the texture's RGBA8 store, one 32-bit word per texel
+  float* colours = nullptr;         // count RGBA colours out (LinearBatch::rgba or the caller's)
   // Cache lines (line_shift > 0): each level's byte address and, for the tiled layout, the
   // texels per row of tiles.
   int line_shift = 0;
@@ -556,8 +557,14 @@ void FilterLinearBatch(const Input& in, LinearBatch& out) {
     }
     // TexelBlend's accumulator starts at 0.
     const VF z = hn::Zero(df);
-    hn::StoreInterleaved4(hn::Add(z, sum.r), hn::Add(z, sum.g), hn::Add(z, sum.b),
-                          hn::Add(z, sum.a), df, out.rgba + 4 * i);
+    if (i + lanes <= in.count || in.colours == out.rgba) {
+      hn::StoreInterleaved4(hn::Add(z, sum.r), hn::Add(z, sum.g), hn::Add(z, sum.b),
+                            hn::Add(z, sum.a), df, in.colours + 4 * i);
+    } else {  // the last, partial vector: not past the caller's array
+      hn::StoreInterleaved4(hn::Add(z, sum.r), hn::Add(z, sum.g), hn::Add(z, sum.b),
+                            hn::Add(z, sum.a), df, out.rgba + 4 * i);
+      std::memcpy(in.colours + 4 * i, out.rgba + 4 * i, (in.count - i) * 4 * sizeof(float));
+    }
     hn::Store(hn::VecFromMask(di, hn::RebindMask(di, ok)), di, out.done + i);
     hn::Store(level_hi, di, out.level[0] + i);
     hn::Store(q0.x0, di, out.x0[0] + i);
@@ -633,7 +640,7 @@ bool LinearBatchSampler::serves(const Texture& tex) const {
 }
 
 void LinearBatchSampler::filter(const Fragment* f, size_t n, const Texture& tex, LinearBatch& out,
-                                uint32_t line_shift) const {
+                                uint32_t line_shift, Rgba* colours) const {
   if (n > LinearBatch::kMax) throw std::invalid_argument("LinearBatchSampler: batch too large");
   static_assert(std::endian::native == std::endian::little, "RGBA8 words assume little-endian");
   linear_batch_detail::Input in;
@@ -663,6 +670,8 @@ void LinearBatchSampler::filter(const Fragment* f, size_t n, const Texture& tex,
     in.level_first[l] = static_cast<int32_t>(tex.level(l).first);
   }
   in.texels = reinterpret_cast<const int32_t*>(tex.rgba8(0));
+  static_assert(sizeof(Rgba) == 4 * sizeof(float), "an Rgba is four packed floats");
+  in.colours = colours ? reinterpret_cast<float*>(colours) : out.rgba;
   out.has_lines = line_shift > 0 && lines_fit_int32(tex);
   if (out.has_lines) {
     in.line_shift = static_cast<int>(line_shift);

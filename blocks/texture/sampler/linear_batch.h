@@ -60,8 +60,10 @@ class LinearBatchSampler {
   // With line_shift > 0 also the taps' cache lines of 2^line_shift bytes at the texture's
   // placed addresses (tex.address()), when every address of the texture is below 2^31
   // (out.has_lines says whether they were computed).
+  // With `colours`, the colours go to colours[0 .. n) (done fragments only; the others' are
+  // unspecified) instead of out.rgba: the caller's array, saving a copy per fragment.
   void filter(const Fragment* f, size_t n, const Texture& tex, LinearBatch& out,
-              uint32_t line_shift = 0) const;
+              uint32_t line_shift = 0, Rgba* colours = nullptr) const;
 
   // The instruction set the batch runs on (e.g. "AVX2", "AVX3").
   static const char* target();
