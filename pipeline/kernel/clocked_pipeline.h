@@ -234,21 +234,24 @@ class ClockedPipeline {
   template <class CostFn>
   [[gnu::always_inline]] uint64_t step(const ItemCtx& c, size_t s, uint64_t arrival,
                                        CostFn&& cost_at) {
-    return step_on<false>(c, c.hot[s], s, arrival, cost_at,
+    Hot& st = c.hot[s];
+    return step_on<false>(c, st, st.last_start, st.last_leave, st.last_free, s, arrival, cost_at,
                           [&](uint64_t item) { report_stuck(item, static_cast<int>(s)); });
   }
-  // step() with stage s's state in `st` (hot_[s], or issue_run's copy); `stuck(item)` throws.
-  // kOneLane: the stage has one lane (its lane is free at st.last_free).
+  // step() with stage s's state in `st` (hot_[s], or issue_run's copy) and the last item's
+  // start, leave and lane-free cycles in the last three (st's own, or issue_run's locals);
+  // `stuck(item)` throws. kOneLane: the stage has one lane (free at last_free).
   template <bool kOneLane, class CostFn, class StuckFn>
-  [[gnu::always_inline]] uint64_t step_on(const ItemCtx& c, Hot& st, size_t s, uint64_t arrival,
-                                          CostFn&& cost_at, StuckFn&& stuck) {
+  [[gnu::always_inline]] uint64_t step_on(const ItemCtx& c, Hot& st, uint64_t& last_start_at,
+                                          uint64_t& last_leave_at, uint64_t& last_free_at, size_t s,
+                                          uint64_t arrival, CostFn&& cost_at, StuckFn&& stuck) {
     const uint64_t iw = c.iw, mask = c.mask_w;
     uint64_t* const e = c.ring + s * c.stage_w;
     // Everything this stage needs is read before the first store (ring and counters are all
     // uint64_t, so a store would make the compiler reload them).
     uint64_t free_at;
     if constexpr (kOneLane) {
-      free_at = st.last_free;
+      free_at = last_free_at;
     } else {
       free_at = e[((iw - st.lanes_w) & mask) + kLaneFree];
     }
@@ -257,7 +260,7 @@ class ClockedPipeline {
     const uint64_t slot_free = old[kLeave], slot_finish = old[kFinish];
     // Back-pressure: item i − depth must have left the next stage's input FIFO.
     const uint64_t next_start = e[c.stage_w + ((iw - st.depth_w) & mask) + kStart];
-    const uint64_t last_start = st.last_start, last_leave = st.last_leave;
+    const uint64_t last_start = last_start_at, last_leave = last_leave_at;
     // Items issue in order from the FIFO head, so never before the previous item issued.
     const uint64_t avail = std::max(free_at, arrival);
     const uint64_t start = std::max(std::max(avail, slot_free), last_start);
@@ -278,9 +281,9 @@ class ClockedPipeline {
     me[kStart] = start;
     me[kLeave] = leave;
     me[kFinish] = finish;
-    st.last_leave = leave;
-    st.last_start = start;
-    st.last_free = lane_free;
+    last_leave_at = leave;
+    last_start_at = start;
+    last_free_at = lane_free;
     st.starved += avail - free_at;  // start >= arrival: a starved lane waited until arrival
     st.extra += cost.extra_ii;
     return leave;
@@ -289,12 +292,26 @@ class ClockedPipeline {
   // previous item's issue slot ends (Hot::last_free), read from a local, not the ring.
   template <int kStages, bool kOneLane, class CostFn>
   [[gnu::always_inline]] void run_items(size_t n, CostFn& cost_at) {
+    // The chain from item to item (each stage's last start, leave and lane-free cycle) in
+    // scalars the compiler keeps in registers; constants and counters in a copy of hot_.
     Hot h[kStages];
-    for (int s = 0; s < kStages; ++s) h[s] = hot_[static_cast<size_t>(s)];
+    uint64_t starts[kStages], leaves[kStages], frees[kStages];
+    for (int s = 0; s < kStages; ++s) {
+      h[s] = hot_[static_cast<size_t>(s)];
+      starts[s] = h[s].last_start;
+      leaves[s] = h[s].last_leave;
+      frees[s] = h[s].last_free;
+    }
     ItemCtx c = item_ctx();
     uint64_t cycles = cycles_;
     const auto save = [&](uint64_t item) __attribute__((always_inline)) {
-      for (int s = 0; s < kStages; ++s) hot_[static_cast<size_t>(s)] = h[s];
+      for (int s = 0; s < kStages; ++s) {
+        Hot& to = hot_[static_cast<size_t>(s)];
+        to = h[s];
+        to.last_start = starts[s];
+        to.last_leave = leaves[s];
+        to.last_free = frees[s];
+      }
       items_ = item;
       cycles_ = cycles;
     };
@@ -302,9 +319,10 @@ class ClockedPipeline {
       uint64_t arrival = 0;
       [&]<int... kStage>(std::integer_sequence<int, kStage...>) __attribute__((always_inline)) {
         ((arrival = step_on<kOneLane>(
-              c, h[kStage], static_cast<size_t>(kStage), arrival,
-              [&](int, uint64_t start) __attribute__((always_inline)) {
-                return cost_at(k, std::integral_constant<int, kStage>{}, start);
+              c, h[kStage], starts[kStage], leaves[kStage], frees[kStage],
+              static_cast<size_t>(kStage), arrival,
+              [&](int, uint64_t at) __attribute__((always_inline)) {
+                return cost_at(k, std::integral_constant<int, kStage>{}, at);
               },
               [&](uint64_t item) __attribute__((always_inline)) {
                 save(item);

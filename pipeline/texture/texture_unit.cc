@@ -668,9 +668,17 @@ void TextureUnit::timed_run(const Fragment* f, size_t first, size_t end, Path& p
 
 void TextureUnit::finish_functional_batch(const Fragment* f, size_t n, Path& p,
                                           const LinearBatch& b, Rgba* out) {
+  const bool quad_merge = fetch_.quad_merge();
+  if (b.all_done && b.one_frame && !quad_merge && n > 0) {  // the common case, counted at once
+    if (frames_.empty() || frames_.back().frame != f[0].frame) new_frame(f[0]);
+    frames_.back().fragments += n;
+    p.fragments += n;
+    fragments_ += n;
+    p.stages.address->count_single_probes(n);
+    return;
+  }
   // count_fragment per done fragment, with the sums kept in locals: the frame's count is
   // added when the frame changes or an undone fragment (counted by its own kernel) comes.
-  const bool quad_merge = fetch_.quad_merge();
   uint64_t done = 0, pending = 0;
   bool have_frame = !frames_.empty();
   uint32_t frame = have_frame ? frames_.back().frame : 0;

@@ -321,6 +321,7 @@ struct Columns {
   alignas(64) float dudx[kPadded], dvdx[kPadded], dudy[kPadded], dvdy[kPadded];
   alignas(64) float bias[kPadded];
   alignas(64) int32_t tex[kPadded];
+  bool one_frame = true;  // every fragment on the first one's frame
 };
 
 // Fills c with fragments 0 .. count and zeros up to the next whole vector (lanes past the end
@@ -332,8 +333,11 @@ struct Columns {
 #endif
 TEXSIM_NO_TREE_VECTORIZE HWY_NOINLINE void load_columns(const Input& in, Columns& c) {
   const size_t padded = hwy::RoundUpTo(in.count, hn::Lanes(DF()));
+  const uint32_t frame = in.count > 0 ? in.frags[0].frame : 0;
+  bool one_frame = true;
   for (size_t k = 0; k < in.count; ++k) {
     const Fragment& f = in.frags[k];
+    one_frame &= f.frame == frame;
     c.u[k] = static_cast<float>(f.u);
     c.v[k] = static_cast<float>(f.v);
     c.dudx[k] = static_cast<float>(f.dudx);
@@ -343,6 +347,7 @@ TEXSIM_NO_TREE_VECTORIZE HWY_NOINLINE void load_columns(const Input& in, Columns
     c.bias[k] = f.lod_bias;
     c.tex[k] = static_cast<int32_t>(f.tex);
   }
+  c.one_frame = one_frame;
   for (size_t k = in.count; k < padded; ++k) {
     c.u[k] = c.v[k] = c.dudx[k] = c.dvdx[k] = c.dudy[k] = c.dvdy[k] = c.bias[k] = 0;
     c.tex[k] = 0;
@@ -518,6 +523,7 @@ void FilterLinearBatch(const Input& in, LinearBatch& out) {
   // while this one computes, a vector's worth at a time: load_columns otherwise waited for
   // memory. A prefetch past the end of the caller's array does not fault.
   const char* const next = reinterpret_cast<const char*>(in.frags + in.count);
+  size_t done = 0;
   for (size_t i = 0; i < in.count; i += lanes) {
     for (size_t b = i * sizeof(Fragment); b < (i + lanes) * sizeof(Fragment); b += 64)
       __builtin_prefetch(next + b);
@@ -566,6 +572,7 @@ void FilterLinearBatch(const Input& in, LinearBatch& out) {
       std::memcpy(in.colours + 4 * i, out.rgba + 4 * i, (in.count - i) * 4 * sizeof(float));
     }
     hn::Store(hn::VecFromMask(di, hn::RebindMask(di, ok)), di, out.done + i);
+    done += hn::CountTrue(df, ok);
     hn::Store(level_hi, di, out.level[0] + i);
     hn::Store(q0.x0, di, out.x0[0] + i);
     hn::Store(q0.x1, di, out.x1[0] + i);
@@ -587,6 +594,8 @@ void FilterLinearBatch(const Input& in, LinearBatch& out) {
       hn::Store(q1.y1, di, out.y1[1] + i);
     }
   }
+  out.all_done = done == in.count;  // (lanes past the count are never done)
+  out.one_frame = cols.one_frame;
 }
 
 }  // namespace texsim::HWY_NAMESPACE

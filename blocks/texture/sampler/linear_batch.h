@@ -28,6 +28,10 @@ namespace texsim {
 struct LinearBatch {
   static constexpr size_t kMax = 256;
   alignas(64) int32_t done[kMax];
+  // Whether every fragment is done, and whether they all share one frame (Fragment::frame):
+  // then the caller counts the batch at once.
+  bool all_done = false;
+  bool one_frame = false;
   alignas(64) int32_t level[2][kMax];
   alignas(64) int32_t x0[2][kMax];
   alignas(64) int32_t x1[2][kMax];
