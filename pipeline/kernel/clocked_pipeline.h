@@ -99,6 +99,23 @@ class ClockedPipeline {
     return retire(arrival);
   }
 
+  // issue_fixed for n items in a row, item k's costs cost_at(k, stage, start): the same times
+  // and counters, with the stages' running state (last start and leave, counters) held in
+  // locals across the items instead of stored and reloaded per item, which put a store and
+  // its reload on the chain from one item to the next.
+  template <int kStages, class CostFn>
+  void issue_run(size_t n, CostFn&& cost_at) {
+    if (stages_.size() != static_cast<size_t>(kStages))
+      throw std::logic_error("ClockedPipeline::issue_run: wrong stage count");
+    bool one_lane = true;
+    for (const Hot& h : hot_) one_lane = one_lane && h.lanes == 1;
+    if (one_lane) {
+      run_items<kStages, true>(n, cost_at);
+    } else {
+      run_items<kStages, false>(n, cost_at);
+    }
+  }
+
   // Split issue, for a scheduler that orders several pipelines' memory requests by cycle
   // (docs/timing-model.md#several-units): issue_head runs the item through stages [0, k) and
   // returns its arrival at stage k; start_at(k, arrival) is the cycle it will start there;
@@ -183,6 +200,7 @@ class ClockedPipeline {
   struct Hot {
     uint64_t last_leave = 0;
     uint64_t last_start = 0;
+    uint64_t last_free = 0;  // the last item's lane-free cycle (its ring entry's kLaneFree)
     // 64-bit, so each is an operand of the arithmetic that uses it.
     uint64_t latency = 1, ii = 1;
     uint64_t lanes = 1;
@@ -216,18 +234,33 @@ class ClockedPipeline {
   template <class CostFn>
   [[gnu::always_inline]] uint64_t step(const ItemCtx& c, size_t s, uint64_t arrival,
                                        CostFn&& cost_at) {
-    const uint64_t iw = c.iw, mask = c.mask_w;
     Hot& st = c.hot[s];
+    return step_on<false>(c, st, st.last_start, st.last_leave, st.last_free, s, arrival, cost_at,
+                          [&](uint64_t item) { report_stuck(item, static_cast<int>(s)); });
+  }
+  // step() with stage s's state in `st` (hot_[s], or issue_run's copy) and the last item's
+  // start, leave and lane-free cycles in the last three (st's own, or issue_run's locals);
+  // `stuck(item)` throws. kOneLane: the stage has one lane (free at last_free).
+  template <bool kOneLane, class CostFn, class StuckFn>
+  [[gnu::always_inline]] uint64_t step_on(const ItemCtx& c, Hot& st, uint64_t& last_start_at,
+                                          uint64_t& last_leave_at, uint64_t& last_free_at, size_t s,
+                                          uint64_t arrival, CostFn&& cost_at, StuckFn&& stuck) {
+    const uint64_t iw = c.iw, mask = c.mask_w;
     uint64_t* const e = c.ring + s * c.stage_w;
     // Everything this stage needs is read before the first store (ring and counters are all
     // uint64_t, so a store would make the compiler reload them).
-    const uint64_t free_at = e[((iw - st.lanes_w) & mask) + kLaneFree];
+    uint64_t free_at;
+    if constexpr (kOneLane) {
+      free_at = last_free_at;
+    } else {
+      free_at = e[((iw - st.lanes_w) & mask) + kLaneFree];
+    }
     // The item i − inflight_cap must have left before this one can enter.
     const uint64_t* const old = e + ((iw - st.cap_w) & mask);
     const uint64_t slot_free = old[kLeave], slot_finish = old[kFinish];
     // Back-pressure: item i − depth must have left the next stage's input FIFO.
     const uint64_t next_start = e[c.stage_w + ((iw - st.depth_w) & mask) + kStart];
-    const uint64_t last_start = st.last_start, last_leave = st.last_leave;
+    const uint64_t last_start = last_start_at, last_leave = last_leave_at;
     // Items issue in order from the FIFO head, so never before the previous item issued.
     const uint64_t avail = std::max(free_at, arrival);
     const uint64_t start = std::max(std::max(avail, slot_free), last_start);
@@ -242,16 +275,66 @@ class ClockedPipeline {
     const uint64_t finish = start + st.latency + cost.extra_latency;
     const uint64_t leave = std::max(std::max(finish, last_leave), next_start);  // in order
     uint64_t* const me = e + (iw & mask);
-    me[kLaneFree] = start + st.ii + cost.extra_ii;
-    if (leave - arrival > c.watchdog) report_stuck(iw / kEntry, static_cast<int>(s));
+    const uint64_t lane_free = start + st.ii + cost.extra_ii;
+    me[kLaneFree] = lane_free;
+    if (leave - arrival > c.watchdog) stuck(iw / kEntry);
     me[kStart] = start;
     me[kLeave] = leave;
     me[kFinish] = finish;
-    st.last_leave = leave;
-    st.last_start = start;
+    last_leave_at = leave;
+    last_start_at = start;
+    last_free_at = lane_free;
     st.starved += avail - free_at;  // start >= arrival: a starved lane waited until arrival
     st.extra += cost.extra_ii;
     return leave;
+  }
+  // issue_run's loop; kOneLane: every stage has one lane, so an item's lane is free when the
+  // previous item's issue slot ends (Hot::last_free), read from a local, not the ring.
+  template <int kStages, bool kOneLane, class CostFn>
+  [[gnu::always_inline]] void run_items(size_t n, CostFn& cost_at) {
+    // The chain from item to item (each stage's last start, leave and lane-free cycle) in
+    // scalars the compiler keeps in registers; constants and counters in a copy of hot_.
+    Hot h[kStages];
+    uint64_t starts[kStages], leaves[kStages], frees[kStages];
+    for (int s = 0; s < kStages; ++s) {
+      h[s] = hot_[static_cast<size_t>(s)];
+      starts[s] = h[s].last_start;
+      leaves[s] = h[s].last_leave;
+      frees[s] = h[s].last_free;
+    }
+    ItemCtx c = item_ctx();
+    uint64_t cycles = cycles_;
+    const auto save = [&](uint64_t item) __attribute__((always_inline)) {
+      for (int s = 0; s < kStages; ++s) {
+        Hot& to = hot_[static_cast<size_t>(s)];
+        to = h[s];
+        to.last_start = starts[s];
+        to.last_leave = leaves[s];
+        to.last_free = frees[s];
+      }
+      items_ = item;
+      cycles_ = cycles;
+    };
+    for (size_t k = 0; k < n; ++k) {
+      uint64_t arrival = 0;
+      [&]<int... kStage>(std::integer_sequence<int, kStage...>) __attribute__((always_inline)) {
+        ((arrival = step_on<kOneLane>(
+              c, h[kStage], starts[kStage], leaves[kStage], frees[kStage],
+              static_cast<size_t>(kStage), arrival,
+              [&](int, uint64_t at) __attribute__((always_inline)) {
+                return cost_at(k, std::integral_constant<int, kStage>{}, at);
+              },
+              [&](uint64_t item) __attribute__((always_inline)) {
+                save(item);
+                report_stuck(item, kStage);
+              })),
+         ...);
+      }
+      (std::make_integer_sequence<int, kStages>{});
+      cycles = std::max(cycles, arrival);
+      c.iw += kEntry;
+    }
+    save(c.iw / kEntry);
   }
   template <class CostFn, size_t... kStage>
   uint64_t issue_unrolled(uint64_t ready, CostFn& cost_at, std::index_sequence<kStage...>) {

@@ -1,6 +1,7 @@
 #include "pipeline/texture/texture_unit.h"
 
 #include <algorithm>
+#include <bit>
 #include <glm/geometric.hpp>
 #include <stdexcept>
 
@@ -130,7 +131,11 @@ void TextureUnit::choose_batch(Path& p, const MaterialSetup& m) {
   p.batch = std::make_shared<LinearBatchSampler>(m.lod, m.filter);
   p.batch_kernel = pipe_ ? pick_batch_kernel<0>(filter, textures_.layout())
                          : pick_batch_kernel<-1>(filter, textures_.layout());
-  if (!batch_out_) batch_out_ = std::make_unique<LinearBatch>();
+  if (!batch_out_) {
+    batch_out_ = std::make_unique<LinearBatch>();
+    batch_missed_.resize(8 * LinearBatch::kMax);
+    batch_missed_end_.resize(LinearBatch::kMax + 1);
+  }
 }
 
 void TextureUnit::new_frame(const Fragment& f) {
@@ -582,53 +587,131 @@ void TextureUnit::batch_linear(const Fragment* f, size_t n, Path& p, const Textu
     return;
   }
   LinearBatch& b = *batch_out_;
-  p.batch->filter(f, n, tex, b, kFront >= 0 ? fetch_.line_shift() : 0);
+  // The colours straight into out; the undone fragments' are the scalar kernel's.
+  p.batch->filter(f, n, tex, b, kFront >= 0 ? fetch_.line_shift() : 0, out);
   if constexpr (kFront < 0) {
     finish_functional_batch(f, n, p, b, out);
+  } else {
+    finish_timed_batch<kFilter, L, kFront>(f, n, p, tex, b, out);
+  }
+}
+
+template <FilterMode kFilter, TexelLayout L, int kFront>
+void TextureUnit::finish_timed_batch(const Fragment* f, size_t n, Path& p, const Texture& tex,
+                                     const LinearBatch& b, Rgba* out) {
+  constexpr int nq = kFilter == FilterMode::Trilinear ? 2 : 1;
+  // timed_run clocks the fixed slots without a front end (the batch's only timed kernel).
+  static_assert(kFront == 0);
+  if (b.has_lines && fetch_.looks_up_ahead()) {
+    // Runs of done fragments looked up ahead of the clock; an undone one in between takes the
+    // scalar kernel in its place in the order.
+    for (size_t i = 0; i < n;) {
+      size_t e = i;
+      while (e < n && b.done[e]) ++e;
+      if (e > i) timed_run<nq>(f, i, e, p, b);
+      if (e < n) out[e] = filter_fragment(f[e], p, nullptr);
+      i = e + 1;
+    }
     return;
   }
-  constexpr int nq = kFilter == FilterMode::Trilinear ? 2 : 1;
   for (size_t i = 0; i < n; ++i) {
     if (!b.done[i]) {
       out[i] = filter_fragment(f[i], p, nullptr);  // its own texture, the scalar kernel
       continue;
     }
     count_fragment(f[i], p, 1);
-    if constexpr (kFront >= 0) {
-      if (b.has_lines) {
-        // The batch's distinct lines, in order of first use (as lookup_quads<L> finds them).
-        issue_timed<kFront>(p, nullptr, 1, 4 * nq, [&](uint64_t start) {
-          uint64_t lines[4 * nq];
-          int k = 0;
-          for (int t = 0; t < 4 * nq; ++t) {
-            if (b.first_use[i] & (1 << t)) lines[k++] = static_cast<uint64_t>(b.line[t][i]);
-          }
-          return fetch_.access_lines(lines, k, 4 * nq, start);
-        });
-        out[i] = b.colour(i);
-        continue;
-      }
-      TexelQuad q[nq];
-      for (int j = 0; j < nq; ++j) {
-        q[j].level = b.level[j][i];
-        q[j].x0 = b.x0[j][i];
-        q[j].x1 = b.x1[j][i];
-        q[j].y0 = b.y0[j][i];
-        q[j].y1 = b.y1[j][i];
-      }
+    if (b.has_lines) {
+      // The batch's distinct lines, in order of first use (as lookup_quads<L> finds them).
       issue_timed<kFront>(p, nullptr, 1, 4 * nq, [&](uint64_t start) {
-        return fetch_.lookup_quads<L>(q, nq, tex, start);
+        uint64_t lines[4 * nq];
+        int k = 0;
+        for (int t = 0; t < 4 * nq; ++t) {
+          if (b.first_use[i] & (1 << t)) lines[k++] = static_cast<uint64_t>(b.line[t][i]);
+        }
+        return fetch_.access_lines(lines, k, 4 * nq, start);
       });
+      continue;
     }
-    out[i] = b.colour(i);
+    TexelQuad q[nq];
+    for (int j = 0; j < nq; ++j) {
+      q[j].level = b.level[j][i];
+      q[j].x0 = b.x0[j][i];
+      q[j].x1 = b.x1[j][i];
+      q[j].y0 = b.y0[j][i];
+      q[j].y1 = b.y1[j][i];
+    }
+    issue_timed<kFront>(p, nullptr, 1, 4 * nq,
+                        [&](uint64_t start) { return fetch_.lookup_quads<L>(q, nq, tex, start); });
   }
+}
+
+template <int kQuads>
+void TextureUnit::timed_run(const Fragment* f, size_t first, size_t end, Path& p,
+                            const LinearBatch& b) {
+  // The look-ups of fragments [first, end) in order (each fragment's distinct lines in order
+  // of first use), the lines that missed listed per fragment: missed_[missed_end_[i − 1] ..
+  // missed_end_[i]) for fragment i (missed_end_[first − 1] read as 0).
+  constexpr int kTaps = 4 * kQuads;
+  uint64_t* const missed = batch_missed_.data();
+  uint32_t* const missed_end = batch_missed_end_.data() + 1;
+  missed_end[static_cast<ptrdiff_t>(first) - 1] = 0;
+  {
+    TextureCache::Run run(fetch_.l1());
+    uint32_t m = 0;
+    for (size_t i = first; i < end; ++i) {
+      for (auto bits = static_cast<uint32_t>(b.first_use[i]); bits != 0; bits &= bits - 1) {
+        const auto line = static_cast<uint64_t>(b.line[std::countr_zero(bits)][i]);
+        if (!run.access(line)) missed[m++] = line;
+      }
+      missed_end[i] = m;
+    }
+  }
+  fetch_.count_texels(kTaps * static_cast<uint64_t>(end - first));
+  // Then the clocked pipeline, in runs of one frame (a new frame takes the cycles of the
+  // fragments before it), counted as count_fragment would.
+  const uint32_t cache_ii = fetch_.extra_ii(kTaps);
+  const uint32_t blend_ii = p.stages.blend->extra_ii(1);
+  for (size_t i = first; i < end;) {
+    if (frames_.empty() || frames_.back().frame != f[i].frame) new_frame(f[i]);
+    const uint32_t frame = f[i].frame;
+    size_t e = i + 1;
+    while (e < end && f[e].frame == frame) ++e;
+    frames_.back().fragments += e - i;
+    pipe_->issue_run<kStages>(
+        e - i, [&](size_t k, auto stage, uint64_t start) __attribute__((always_inline)) {
+          constexpr int s = decltype(stage)::value;
+          ItemCost c;
+          if constexpr (s == kCache) {
+            c.extra_ii = cache_ii;
+            const size_t j = i + k;
+            const uint32_t m0 = missed_end[static_cast<ptrdiff_t>(j) - 1], m1 = missed_end[j];
+            if (m1 != m0) c.extra_latency = fetch_.read_misses(missed + m0, m1 - m0, start);
+          } else if constexpr (s == kBlend) {
+            c.extra_ii = blend_ii;
+          }
+          return c;
+        });
+    i = e;
+  }
+  const uint64_t done = end - first;
+  p.fragments += done;
+  fragments_ += done;
+  p.stages.address->count_single_probes(done);
 }
 
 void TextureUnit::finish_functional_batch(const Fragment* f, size_t n, Path& p,
                                           const LinearBatch& b, Rgba* out) {
+  const bool quad_merge = fetch_.quad_merge();
+  if (b.all_done && b.one_frame && !quad_merge && n > 0) {  // the common case, counted at once
+    if (frames_.empty() || frames_.back().frame != f[0].frame) new_frame(f[0]);
+    frames_.back().fragments += n;
+    p.fragments += n;
+    fragments_ += n;
+    p.stages.address->count_single_probes(n);
+    return;
+  }
   // count_fragment per done fragment, with the sums kept in locals: the frame's count is
   // added when the frame changes or an undone fragment (counted by its own kernel) comes.
-  const bool quad_merge = fetch_.quad_merge();
   uint64_t done = 0, pending = 0;
   bool have_frame = !frames_.empty();
   uint32_t frame = have_frame ? frames_.back().frame : 0;
@@ -641,7 +724,6 @@ void TextureUnit::finish_functional_batch(const Fragment* f, size_t n, Path& p,
       have_frame = true;
       continue;
     }
-    out[i] = b.colour(i);
     ++done;
     if (quad_merge) fetch_.note_quad(f[i]);
     if (!have_frame || frame != f[i].frame) {

@@ -215,6 +215,16 @@ class TextureUnit {
   // the fragments it leaves undone through process_linear.
   template <FilterMode kFilter, TexelLayout L, int kFront>
   void batch_linear(const Fragment* f, size_t n, Path& p, const Texture& tex, Rgba* out);
+  // Timed: the cache look-ups and clocked pipeline of a batch the sampler filtered (b), in
+  // order; the fragments it left undone through the scalar kernel.
+  template <FilterMode kFilter, TexelLayout L, int kFront>
+  void finish_timed_batch(const Fragment* f, size_t n, Path& p, const Texture& tex,
+                          const LinearBatch& b, Rgba* out);
+  // Timed, the batch's done fragments [first, end) with their lines (LinearBatch::has_lines):
+  // their L1 look-ups in order first, then the clocked pipeline, the misses read from the level
+  // behind at their fragment's cycle (FetchStage::looks_up_ahead); kQuads quads a fragment.
+  template <int kQuads>
+  void timed_run(const Fragment* f, size_t first, size_t end, Path& p, const LinearBatch& b);
   // The functional batch's colours out and its done fragments counted as count_fragment
   // would, in order; the undone ones through the scalar kernel.
   void finish_functional_batch(const Fragment* f, size_t n, Path& p, const LinearBatch& b,
@@ -324,6 +334,9 @@ class TextureUnit {
   std::unique_ptr<ClockedPipeline> pipe_;
   FilterTaps taps_;
   std::unique_ptr<LinearBatch> batch_out_;  // the batched sampler's results
+  // timed_run's lines that missed the L1, and per fragment where its own end (from index 1).
+  std::vector<uint64_t> batch_missed_;
+  std::vector<uint32_t> batch_missed_end_;
   uint64_t fragments_ = 0;
   // The sRGB decoder (its work counted per material, filter_srgb); texels a footprint filter
   // read, so far.

@@ -43,7 +43,26 @@ TextureCache::TextureCache(const Config& c) : cfg_(c) {
   if (!std::has_single_bit(sets_)) throw std::invalid_argument("texture cache: sets must be 2^n");
   line_shift_ = static_cast<uint32_t>(std::countr_zero(c.line_bytes));
   ways_.assign(static_cast<size_t>(sets_) * c.ways, Way{kInvalid, 0});
-  mru_.assign(sets_, 0);
+  mru_.assign(sets_, Mru{kInvalid, 0, 0});
+}
+
+bool TextureCache::access_slow(uint64_t line) {
+  // A line is in at most one way, and not in the most recent one (touch_mru looked there).
+  const size_t s = static_cast<size_t>(line & (sets_ - 1));
+  Way* const set = ways_.data() + s * cfg_.ways;
+  for (uint32_t w = 0; w < cfg_.ways; ++w) {
+    if (set[w].tag == line) {
+      ++stats_.hits;
+      make_mru(s, w);
+      return true;
+    }
+  }
+  // Every stamp in the set current before the LRU way is chosen.
+  Mru& m = mru_[s];
+  set[m.way].stamp = m.stamp;
+  const uint32_t victim = fill(set, line);
+  m = {line, clock_, victim};
+  return false;
 }
 
 uint32_t TextureCache::fill(Way* set, uint64_t line) {

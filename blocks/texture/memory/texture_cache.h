@@ -41,35 +41,49 @@ class TextureCache {
   bool access_line(uint64_t line) {
     ++stats_.accesses;
     ++clock_;
-    // First the set's most recently used way: neighbouring fragments read the same lines,
-    // each in its own set. A line is in at most one way, so a match there is the hit the
-    // search would find.
-    const size_t set_index = static_cast<size_t>(line & (sets_ - 1));
-    Way* const set = ways_.data() + set_index * cfg_.ways;
-    Way* const mru = set + mru_[set_index];
-    if (mru->tag == line) {
-      mru->stamp = clock_;
+    if (touch_mru(line, clock_)) {
       ++stats_.hits;
       return true;
     }
-    for (uint32_t w = 0; w < cfg_.ways; ++w) {
-      if (set[w].tag == line) {
-        set[w].stamp = clock_;
-        ++stats_.hits;
-        mru_[set_index] = w;
+    return access_slow(line);
+  }
+  // A run of look-ups made together (the batched datapath): access_line() for each line in
+  // order, the counters added once at the end. Lines that hit their set's most recent way
+  // cost a compare and a store; the others take access_line()'s search and fill.
+  class Run {
+   public:
+    explicit Run(TextureCache& c) : c_(c), start_(c.clock_), clock_(c.clock_) {}
+    Run(const Run&) = delete;
+    Run& operator=(const Run&) = delete;
+    ~Run() {
+      c_.stats_.accesses += clock_ - start_;
+      c_.stats_.hits += hits_;
+      c_.clock_ = clock_;
+    }
+    [[gnu::always_inline]] bool access(uint64_t line) {
+      ++clock_;
+      if (c_.touch_mru(line, clock_)) {
+        ++hits_;
         return true;
       }
+      // The slow way (which counts its hits and misses) sees the clock access_line() would.
+      c_.clock_ = clock_;
+      return c_.access_slow(line);
     }
-    mru_[set_index] = fill(set, line);
-    return false;
-  }
+
+   private:
+    TextureCache& c_;
+    const uint64_t start_;
+    uint64_t clock_;
+    uint64_t hits_ = 0;
+  };
   // Where the line is cached: its way's index in the cache (set · ways + way), or -1. No
   // look-up is made: nothing changes, nothing is counted.
   int64_t find(uint64_t line) const {
     const size_t set_index = static_cast<size_t>(line & (sets_ - 1));
     const size_t first = set_index * cfg_.ways;
-    const size_t mru = first + mru_[set_index];  // the likely way first, as access_line()
-    if (ways_[mru].tag == line) return static_cast<int64_t>(mru);
+    const Mru& m = mru_[set_index];  // the likely way first, as access_line()
+    if (m.tag == line) return static_cast<int64_t>(first + m.way);
     for (uint32_t w = 0; w < cfg_.ways; ++w) {
       if (ways_[first + w].tag == line) return static_cast<int64_t>(first + w);
     }
@@ -83,8 +97,7 @@ class TextureCache {
     ++clock_;
     ++stats_.hits;
     const auto w = static_cast<size_t>(way);
-    ways_[w].stamp = clock_;
-    mru_[w / cfg_.ways] = static_cast<uint32_t>(w % cfg_.ways);
+    make_mru(w / cfg_.ways, static_cast<uint32_t>(w % cfg_.ways));
   }
   uint32_t line_shift() const { return line_shift_; }
   uint64_t line_of(uint64_t addr) const { return addr >> line_shift_; }
@@ -107,6 +120,24 @@ class TextureCache {
 
  private:
   struct Way;
+  // A hit on the set's most recent way: its stamp now `clock`.
+  [[gnu::always_inline]] bool touch_mru(uint64_t line, uint64_t clock) {
+    Mru& m = mru_[static_cast<size_t>(line & (sets_ - 1))];
+    if (m.tag != line) return false;
+    m.stamp = clock;
+    return true;
+  }
+  // The rest of a look-up that missed the most recent way: the set searched, the LRU way
+  // refilled on a miss (counted), and the way that served made the most recent.
+  bool access_slow(uint64_t line);
+  // Way w of set s becomes the set's most recent, stamped now; the way it replaces keeps its
+  // stamp in the set.
+  void make_mru(size_t s, uint32_t w) {
+    Mru& m = mru_[s];
+    Way* const set = ways_.data() + s * cfg_.ways;
+    set[m.way].stamp = m.stamp;
+    m = {set[w].tag, clock_, w};
+  }
   uint32_t fill(Way* set, uint64_t line);  // miss: refill the LRU way of `set`; returns it
 
   Config cfg_;
@@ -116,10 +147,19 @@ class TextureCache {
   // One set's ways side by side: a look-up reads one contiguous block.
   struct Way {
     uint64_t tag;    // line number; kInvalid = empty
-    uint64_t stamp;  // last use, for LRU (0 = never used)
+    uint64_t stamp;  // last use, for LRU (0 = never used); not kept for the set's most recent
   };
-  std::vector<Way> ways_;      // sets_ * ways
-  std::vector<uint32_t> mru_;  // per set: the way that hit or was filled last
+  // Per set, the way that hit or was filled last, with its tag and stamp: a hit there (the
+  // common case: neighbouring fragments read the same lines, each in its own set) reads and
+  // writes this record only. Its way's stamp in ways_ is written back when another way
+  // becomes the most recent, before any replacement reads the set's stamps.
+  struct Mru {
+    uint64_t tag;
+    uint64_t stamp;
+    uint32_t way;
+  };
+  std::vector<Way> ways_;  // sets_ * ways
+  std::vector<Mru> mru_;   // sets_
   Stats stats_;
 };
 

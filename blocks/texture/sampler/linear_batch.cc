@@ -43,6 +43,7 @@ struct Input {
   alignas(64) int32_t level_h[kMaxLevels];
   alignas(64) int32_t level_first[kMaxLevels];
   const int32_t* texels = nullptr;  // the texture's RGBA8 store, one 32-bit word per texel
+  float* colours = nullptr;         // count RGBA colours out (LinearBatch::rgba or the caller's)
   // Cache lines (line_shift > 0): each level's byte address and, for the tiled layout, the
   // texels per row of tiles.
   int line_shift = 0;
@@ -320,6 +321,7 @@ struct Columns {
   alignas(64) float dudx[kPadded], dvdx[kPadded], dudy[kPadded], dvdy[kPadded];
   alignas(64) float bias[kPadded];
   alignas(64) int32_t tex[kPadded];
+  bool one_frame = true;  // every fragment on the first one's frame
 };
 
 // Fills c with fragments 0 .. count and zeros up to the next whole vector (lanes past the end
@@ -331,8 +333,11 @@ struct Columns {
 #endif
 TEXSIM_NO_TREE_VECTORIZE HWY_NOINLINE void load_columns(const Input& in, Columns& c) {
   const size_t padded = hwy::RoundUpTo(in.count, hn::Lanes(DF()));
+  const uint32_t frame = in.count > 0 ? in.frags[0].frame : 0;
+  bool one_frame = true;
   for (size_t k = 0; k < in.count; ++k) {
     const Fragment& f = in.frags[k];
+    one_frame &= f.frame == frame;
     c.u[k] = static_cast<float>(f.u);
     c.v[k] = static_cast<float>(f.v);
     c.dudx[k] = static_cast<float>(f.dudx);
@@ -342,6 +347,7 @@ TEXSIM_NO_TREE_VECTORIZE HWY_NOINLINE void load_columns(const Input& in, Columns
     c.bias[k] = f.lod_bias;
     c.tex[k] = static_cast<int32_t>(f.tex);
   }
+  c.one_frame = one_frame;
   for (size_t k = in.count; k < padded; ++k) {
     c.u[k] = c.v[k] = c.dudx[k] = c.dvdx[k] = c.dudy[k] = c.dvdy[k] = c.bias[k] = 0;
     c.tex[k] = 0;
@@ -517,6 +523,7 @@ void FilterLinearBatch(const Input& in, LinearBatch& out) {
   // while this one computes, a vector's worth at a time: load_columns otherwise waited for
   // memory. A prefetch past the end of the caller's array does not fault.
   const char* const next = reinterpret_cast<const char*>(in.frags + in.count);
+  size_t done = 0;
   for (size_t i = 0; i < in.count; i += lanes) {
     for (size_t b = i * sizeof(Fragment); b < (i + lanes) * sizeof(Fragment); b += 64)
       __builtin_prefetch(next + b);
@@ -556,9 +563,16 @@ void FilterLinearBatch(const Input& in, LinearBatch& out) {
     }
     // TexelBlend's accumulator starts at 0.
     const VF z = hn::Zero(df);
-    hn::StoreInterleaved4(hn::Add(z, sum.r), hn::Add(z, sum.g), hn::Add(z, sum.b),
-                          hn::Add(z, sum.a), df, out.rgba + 4 * i);
+    if (i + lanes <= in.count || in.colours == out.rgba) {
+      hn::StoreInterleaved4(hn::Add(z, sum.r), hn::Add(z, sum.g), hn::Add(z, sum.b),
+                            hn::Add(z, sum.a), df, in.colours + 4 * i);
+    } else {  // the last, partial vector: not past the caller's array
+      hn::StoreInterleaved4(hn::Add(z, sum.r), hn::Add(z, sum.g), hn::Add(z, sum.b),
+                            hn::Add(z, sum.a), df, out.rgba + 4 * i);
+      std::memcpy(in.colours + 4 * i, out.rgba + 4 * i, (in.count - i) * 4 * sizeof(float));
+    }
     hn::Store(hn::VecFromMask(di, hn::RebindMask(di, ok)), di, out.done + i);
+    done += hn::CountTrue(df, ok);
     hn::Store(level_hi, di, out.level[0] + i);
     hn::Store(q0.x0, di, out.x0[0] + i);
     hn::Store(q0.x1, di, out.x1[0] + i);
@@ -580,6 +594,8 @@ void FilterLinearBatch(const Input& in, LinearBatch& out) {
       hn::Store(q1.y1, di, out.y1[1] + i);
     }
   }
+  out.all_done = done == in.count;  // (lanes past the count are never done)
+  out.one_frame = cols.one_frame;
 }
 
 }  // namespace texsim::HWY_NAMESPACE
@@ -633,7 +649,7 @@ bool LinearBatchSampler::serves(const Texture& tex) const {
 }
 
 void LinearBatchSampler::filter(const Fragment* f, size_t n, const Texture& tex, LinearBatch& out,
-                                uint32_t line_shift) const {
+                                uint32_t line_shift, Rgba* colours) const {
   if (n > LinearBatch::kMax) throw std::invalid_argument("LinearBatchSampler: batch too large");
   static_assert(std::endian::native == std::endian::little, "RGBA8 words assume little-endian");
   linear_batch_detail::Input in;
@@ -663,6 +679,8 @@ void LinearBatchSampler::filter(const Fragment* f, size_t n, const Texture& tex,
     in.level_first[l] = static_cast<int32_t>(tex.level(l).first);
   }
   in.texels = reinterpret_cast<const int32_t*>(tex.rgba8(0));
+  static_assert(sizeof(Rgba) == 4 * sizeof(float), "an Rgba is four packed floats");
+  in.colours = colours ? reinterpret_cast<float*>(colours) : out.rgba;
   out.has_lines = line_shift > 0 && lines_fit_int32(tex);
   if (out.has_lines) {
     in.line_shift = static_cast<int>(line_shift);

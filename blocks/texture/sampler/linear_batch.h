@@ -28,6 +28,10 @@ namespace texsim {
 struct LinearBatch {
   static constexpr size_t kMax = 256;
   alignas(64) int32_t done[kMax];
+  // Whether every fragment is done, and whether they all share one frame (Fragment::frame):
+  // then the caller counts the batch at once.
+  bool all_done = false;
+  bool one_frame = false;
   alignas(64) int32_t level[2][kMax];
   alignas(64) int32_t x0[2][kMax];
   alignas(64) int32_t x1[2][kMax];
@@ -60,8 +64,10 @@ class LinearBatchSampler {
   // With line_shift > 0 also the taps' cache lines of 2^line_shift bytes at the texture's
   // placed addresses (tex.address()), when every address of the texture is below 2^31
   // (out.has_lines says whether they were computed).
+  // With `colours`, the colours go to colours[0 .. n) (done fragments only; the others' are
+  // unspecified) instead of out.rgba: the caller's array, saving a copy per fragment.
   void filter(const Fragment* f, size_t n, const Texture& tex, LinearBatch& out,
-              uint32_t line_shift = 0) const;
+              uint32_t line_shift = 0, Rgba* colours = nullptr) const;
 
   // The instruction set the batch runs on (e.g. "AVX2", "AVX3").
   static const char* target();

@@ -64,6 +64,26 @@ class FetchStage {
     l1_.count_texels(texels);
     return ready - hit_ready;
   }
+  // Look-ups ahead of the clock (the batched datapath, TextureUnit::process_batch): the L1's
+  // contents depend on its own look-ups only, never on the cycle, so a run of fragments' lines
+  // can be looked up in order first (TextureCache::Run on l1(), count_texels) and only the lines
+  // that missed wait, at their fragment's cycle in the cache slot, for the level behind
+  // (read_misses): the same look-ups, fills and reads, in the same order, as lookup_lines() per
+  // fragment. Not with quad merging (a merged line is ready when the earlier lane's read is) nor
+  // while recording.
+  bool looks_up_ahead() const { return !quad_merge_ && !recording_; }
+  TextureCache& l1() { return l1_; }
+  void count_texels(uint64_t texels) { l1_.count_texels(texels); }
+  // The wait beyond the hit latency of a fragment whose lines[0 .. n) missed the L1, read from
+  // the level behind at `start`.
+  uint64_t read_misses(const uint64_t* lines, size_t n, uint64_t start) {
+    const uint64_t hit_ready = start + hit_latency_;
+    uint64_t ready = hit_ready;
+    const uint32_t shift = l1_.line_shift();
+    for (size_t k = 0; k < n; ++k)
+      ready = std::max(ready, next_.read_line(start, lines[k] << shift, line_bytes_, unit_));
+    return ready - hit_ready;
+  }
   // The distinct lines of a fragment's taps, looked up.
   uint64_t lookup_taps(const FilterTaps& taps, const Texture& tex, uint64_t start);
   // The same for the quads of a linear probe (one or two levels) under layout L: the lines

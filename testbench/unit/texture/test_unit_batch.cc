@@ -42,11 +42,13 @@ struct Figures {
   DramModel::Stats dram;
   std::vector<StageStats> stages;
   std::vector<BlockUse> blocks;
+  std::vector<FrameStats> frames;
 };
 
-Figures run(const MaterialSetup& m, TexelLayout layout, bool timing, size_t batch) {
+Figures run(const MaterialSetup& m, TexelLayout layout, bool timing, size_t batch,
+            const PipelineSetup& base = {}) {
   BenchFloor& fx = floor_fixture();
-  PipelineSetup setup;
+  PipelineSetup setup = base;
   setup.layout = layout;
   TextureUnit unit(fx.textures, {m}, setup, TechTable::defaults(), timing);
   Figures out;
@@ -68,6 +70,7 @@ Figures run(const MaterialSetup& m, TexelLayout layout, bool timing, size_t batc
       out.stages.push_back(unit.pipeline()->stats(s));
   }
   out.blocks = unit.blocks();
+  out.frames = unit.frames();
   return out;
 }
 
@@ -101,6 +104,12 @@ void expect_same(const Figures& a, const Figures& b) {
     EXPECT_TRUE(a.blocks[k].ops == b.blocks[k].ops) << a.blocks[k].name;
     EXPECT_EQ(a.blocks[k].texels, b.blocks[k].texels);
   }
+  ASSERT_EQ(a.frames.size(), b.frames.size());
+  for (size_t k = 0; k < a.frames.size(); ++k) {
+    EXPECT_EQ(a.frames[k].frame, b.frames[k].frame);
+    EXPECT_EQ(a.frames[k].fragments, b.frames[k].fragments);
+    EXPECT_EQ(a.frames[k].cycles, b.frames[k].cycles);
+  }
 }
 
 TEST(UnitBatch, SameFiguresAsOneByOne) {
@@ -121,6 +130,37 @@ TEST(UnitBatch, SameFiguresAsOneByOne) {
       }
     }
   }
+}
+
+// The timed batch looks a run's lines up before it clocks the run: a small cache (many misses,
+// hits on other ways than the most recent, evictions) and frames that change inside a batch
+// must still give the one-by-one figures, each frame's cycles included.
+TEST(UnitBatch, SmallCacheAndFramesInsideABatch) {
+  std::vector<Fragment> saved = floor_fixture().frags;
+  for (size_t i = 0; i < floor_fixture().frags.size(); ++i)
+    floor_fixture().frags[i].frame = static_cast<uint32_t>(i / 300);
+  for (uint32_t ways : {1u, 2u}) {
+    PipelineSetup setup;
+    setup.cache.size_bytes = 1024;
+    setup.cache.ways = ways;
+    for (FilterMode filter : {FilterMode::Bilinear, FilterMode::Trilinear}) {
+      for (bool timing : {false, true}) {
+        MaterialSetup m;
+        m.name = "floor";
+        m.filter.filter = filter;
+        SCOPED_TRACE(std::string(to_string(filter)) + " ways " + std::to_string(ways) +
+                     (timing ? " timed" : " functional"));
+        const Figures one = run(m, TexelLayout::Linear, timing, 0, setup);
+        if (timing) {
+          EXPECT_GT(one.cache.misses, one.cache.accesses / 50);  // the cache is under pressure
+        }
+        EXPECT_GT(one.frames.size(), 10u);
+        for (size_t batch : {size_t{7}, LinearBatch::kMax})
+          expect_same(one, run(m, TexelLayout::Linear, timing, batch, setup));
+      }
+    }
+  }
+  floor_fixture().frags = std::move(saved);
 }
 
 // An R8 or RG8 texture keeps the 8-bit store but takes 1 or 2 bytes a texel in memory: the
