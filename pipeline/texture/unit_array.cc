@@ -5,6 +5,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 namespace texsim {
 
@@ -21,9 +22,16 @@ UnitArray::UnitArray(TextureSet& textures, const std::vector<MaterialSetup>& mat
   for (int u = 0; u < n; ++u)
     units_.push_back(std::make_unique<TextureUnit>(textures, materials, setup, tech, *memory_, u));
   if (!setup.quad_merge && !whole_fragments) {
-    for (auto& u : units_) u->set_queued_timing(true);
-    timed_ =
-        std::make_unique<UnitScheduler<TextureUnit::Timing, TimedHooks>>(n, timed_hooks_, window);
+    for (auto& u : units_) {
+      u->set_queued_timing(true);
+      u->set_timing_out(&scratch_);
+    }
+    current_.resize(static_cast<size_t>(n));
+    unpacked_.resize(static_cast<size_t>(n));
+    stages_ = units_[0]->pipeline()->stage_count();
+    front_ = std::min(units_[0]->front_stages(),
+                      static_cast<int>(std::tuple_size_v<decltype(scratch_.front_latency)>));
+    timed_ = std::make_unique<UnitScheduler<Waiting, TimedHooks>>(n, timed_hooks_, window);
     return;
   }
   lanes_.resize(static_cast<size_t>(n));
@@ -34,6 +42,38 @@ UnitArray::~UnitArray() = default;
 
 void UnitArray::set_surfaces(const std::vector<SurfaceFrame>& frames) {
   for (auto& u : units_) u->set_surfaces(frames);
+}
+
+UnitArray::Waiting UnitArray::pack(int u) {
+  const TextureUnit::Timing& t = scratch_;
+  bool fits = stages_ <= kPackedStages && t.misses <= 0xff && t.frame_end < 0;
+  for (int s = 0; s < front_; ++s) fits = fits && t.front_latency[static_cast<size_t>(s)] == 0;
+  uint64_t bits = uint64_t{t.misses} << kMissShift | (t.local ? kLocal : 0);
+  for (int s = 0; s < stages_ && fits; ++s) {
+    const uint32_t ii = t.ii[static_cast<size_t>(s)];
+    fits = ii <= 0xff;
+    bits |= uint64_t{ii} << (kIiShift + 8 * s);
+  }
+  if (fits) return {bits};
+  unpacked_[static_cast<size_t>(u)].push_back(t);
+  return {kEscaped};
+}
+
+TextureUnit::Timing& UnitArray::unpack(int u, Waiting w) {
+  TextureUnit::Timing& t = current_[static_cast<size_t>(u)];
+  if (w.bits & kEscaped) {
+    std::deque<TextureUnit::Timing>& q = unpacked_[static_cast<size_t>(u)];
+    t = q.front();
+    q.pop_front();
+    return t;
+  }
+  for (int s = 0; s < stages_; ++s)
+    t.ii[static_cast<size_t>(s)] = static_cast<uint32_t>(w.bits >> (kIiShift + 8 * s)) & 0xff;
+  for (int s = 0; s < front_; ++s) t.front_latency[static_cast<size_t>(s)] = 0;
+  t.misses = static_cast<uint32_t>(w.bits >> kMissShift) & 0xff;
+  t.frame_end = -1;
+  t.local = (w.bits & kLocal) != 0;
+  return t;
 }
 
 uint64_t UnitArray::Hooks::begin(int u, Item& it) {
@@ -89,29 +129,25 @@ void UnitArray::add(const Fragment& f, const Fragment& g, const Fragment& u, int
     // Filtered now (u is g when it has no derivatives of its own), its timing written in
     // place into the scheduler's slot.
     TextureUnit& t = *units_[static_cast<size_t>(unit)];
+    // (Every unit writes its timing to scratch_, packed before the next process().)
     if (timed_->idle(unit)) {
       // Nothing waits in the unit: a fragment whose look-ups all hit is timed as it is filtered.
-      TextureUnit::Timing timing;
-      t.set_timing_out(&timing);
       t.set_issue_now(true);
       const Rgba c = t.process(u, material, front);
       t.set_issue_now(false);
-      t.set_timing_out(nullptr);
       record_(f, g, material, &c, index);
       if (t.timing_done()) {
-        t.commit_timing(timing);
+        t.commit_timing(scratch_);
         timed_->count_local(unit);
       } else {
-        timed_->add_with(unit, [&timing](TextureUnit::Timing& slot) { slot = timing; });
+        const Waiting w = pack(unit);
+        timed_->add_with(unit, [w](Waiting& slot) { slot = w; });
       }
       return;
     }
-    Rgba c;
-    timed_->add_with(unit, [&](TextureUnit::Timing& slot) {
-      t.set_timing_out(&slot);
-      c = t.process(u, material, front);
-      t.set_timing_out(nullptr);
-    });
+    const Rgba c = t.process(u, material, front);
+    const Waiting w = pack(unit);
+    timed_->add_with(unit, [w](Waiting& slot) { slot = w; });
     record_(f, g, material, &c, index);
     return;
   }

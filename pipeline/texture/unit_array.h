@@ -146,14 +146,28 @@ class UnitArray {
   };
 
   // Without quad merging each fragment is filtered as it comes and only its timing waits
-  // (TextureUnit::Timing): the scheduler holds those.
+  // (TextureUnit::Timing), packed into one word (a run may hold most fragments for a long
+  // while, and 56 bytes each do not stay in the host's cache): the issue cycles of at most
+  // kPackedStages stages of up to 255 cycles, the misses (up to 255), whether it stayed local.
+  // A timing that does not fit (front-end latencies, a frame's end, longer pipelines or larger
+  // figures) waits whole in its unit's side queue, in order, and its word says so.
+  struct Waiting {
+    uint64_t bits = 0;
+  };
+  static constexpr int kPackedStages = 6;
+  static constexpr uint64_t kEscaped = 1, kLocal = 2;
+  static constexpr int kMissShift = 2, kIiShift = 16;
+  // Unit u's timing written by its last process() (scratch_), packed (or queued whole).
+  Waiting pack(int u);
+  // The waiting timing w of unit u, unpacked into current_[u] (or taken from its side queue).
+  TextureUnit::Timing& unpack(int u, Waiting w);
   struct TimedHooks {
     UnitArray* a;
     TextureUnit& unit(int u) const { return *a->units_[static_cast<size_t>(u)]; }
-    uint64_t begin(int u, TextureUnit::Timing& t) { return unit(u).begin_timing(t); }
+    uint64_t begin(int u, Waiting& w) { return unit(u).begin_timing(a->unpack(u, w)); }
     bool local(int u) const { return unit(u).timing_done(); }
-    void commit(int u, TextureUnit::Timing& t) {
-      unit(u).commit_timing(t);
+    void commit(int u, Waiting& /*w*/) {
+      unit(u).commit_timing(a->current_[static_cast<size_t>(u)]);
       if (a->observer_) a->observer_(u, *unit(u).pipeline());
     }
     uint64_t next_start_bound(int u) const { return unit(u).next_start_bound(); }
@@ -165,7 +179,14 @@ class UnitArray {
   Hooks hooks_{this};
   std::unique_ptr<UnitScheduler<Item, Hooks>> sched_;  // with quad merging
   TimedHooks timed_hooks_{this};
-  std::unique_ptr<UnitScheduler<TextureUnit::Timing, TimedHooks>> timed_;
+  std::unique_ptr<UnitScheduler<Waiting, TimedHooks>> timed_;
+  // Queued timing: where every unit's process() writes a fragment's timing (one at a time),
+  // each unit's begun fragment's timing, and by unit the timings that did not pack.
+  TextureUnit::Timing scratch_;
+  std::vector<TextureUnit::Timing> current_;
+  std::vector<std::deque<TextureUnit::Timing>> unpacked_;
+  int stages_ = 0;  // the units' pipeline stages
+  int front_ = 0;   // of which front-end stages with a latency of their own (at most kMaxFront)
   Record record_;
   mutable std::vector<FrameStats> frames_;
   mutable FrontEndStats front_stats_;
