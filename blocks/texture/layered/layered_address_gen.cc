@@ -92,8 +92,8 @@ void LayeredAddressGen::finish(const Texture& tex, FilterTaps& out, TexelTap* t)
   if (n > 0) out.border = border_texel(tex.storage(), base_.config().border);
 }
 
-void LayeredAddressGen::cube_taps(const Texture& tex, const CubeFaceCoord& c, int cube,
-                                  const LodResult& lod, FilterTaps& out) const {
+int LayeredAddressGen::cube_taps(const Texture& tex, const CubeFaceCoord& c, int cube,
+                                 const LodResult& lod, FilterTaps& out) const {
   const TexelAddressGen::LevelSelect sel = base_.select_levels(lod.lambda, tex.mips());
   const int n = cube_probes(lod);
   const float au = n > 1 && std::isfinite(lod.axis_u) ? lod.axis_u : 0.0f;
@@ -110,6 +110,10 @@ void LayeredAddressGen::cube_taps(const Texture& tex, const CubeFaceCoord& c, in
     if (tri) t = emit(tex, slice, sel.d_lo, s, tt, sel.delta * inv_n, true, t);
   }
   finish(tex, out, t);
+  int edge = 0;
+  const int mips = tex.mips();
+  for (int k = 0; k < out.count; ++k) edge += out.tap[static_cast<size_t>(k)].level / mips != slice;
+  return edge;
 }
 
 void LayeredAddressGen::array_taps(const Texture& tex, double u, double v, int layer,

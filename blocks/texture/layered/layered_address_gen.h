@@ -20,7 +20,8 @@ class LayeredAddressGen {
  public:
   // `seamless` false: each face is addressed on its own with the sampler's address modes
   // (VK_EXT_non_seamless_cube_map); true: taps across an edge read the neighbouring face.
-  LayeredAddressGen(const TexelAddressGen& base, bool seamless) : base_(base), seamless_(seamless) {}
+  LayeredAddressGen(const TexelAddressGen& base, bool seamless)
+      : base_(base), seamless_(seamless) {}
   bool seamless() const { return seamless_; }
 
   // Vulkan "Array Layer Selection": layer = clamp(RNE(a), 0, d − 1), with round-to-nearest-even
@@ -32,8 +33,9 @@ class LayeredAddressGen {
   // stay on the face (their centres clamped to it). A corner tap becomes three taps of a third
   // of its weight. Writes out.count; no border taps (a seamless cube has no border; a
   // non-seamless one with the border mode has them as a 2-D texture does).
-  void cube_taps(const Texture& tex, const CubeFaceCoord& c, int cube, const LodResult& lod,
-                 FilterTaps& out) const;
+  // Returns the taps read from another face than c.face (the edge unit's work).
+  int cube_taps(const Texture& tex, const CubeFaceCoord& c, int cube, const LodResult& lod,
+                FilterTaps& out) const;
   // The taps of an array texture at (u, v) on `layer` (already selected).
   void array_taps(const Texture& tex, double u, double v, int layer, const LodResult& lod,
                   FilterTaps& out) const;
@@ -45,14 +47,13 @@ class LayeredAddressGen {
     return std::min(static_cast<int>(TexelAddressGen::issue_cycles(lod)), kMaxCubeProbes);
   }
 
-  // Taps of the corners met in the last cube_taps (for the report: extra taps the edge unit
-  // made), and operations of the edge unit per tap it resolves across an edge.
+  // Operations of the edge unit per tap it resolves on another face.
   static OpCounts ops_per_edge_tap();
 
  private:
   // One probe on `slice` at (u, v) with weight w (nearest, or a linear quad on one level).
-  TexelTap* emit(const Texture& tex, int slice, int32_t mip, float u, float v, float w,
-                 bool cube, TexelTap* t) const;
+  TexelTap* emit(const Texture& tex, int slice, int32_t mip, float u, float v, float w, bool cube,
+                 TexelTap* t) const;
   TexelTap* emit_cube_linear(const Texture& tex, int cube, int face, int32_t mip, float s, float t,
                              float w, TexelTap* out) const;
   void finish(const Texture& tex, FilterTaps& out, TexelTap* t) const;
