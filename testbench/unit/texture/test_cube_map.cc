@@ -128,6 +128,18 @@ TEST(CubeFaceSelect, DerivativesMatchFiniteDifferences) {
   EXPECT_EQ(z.dtdy, 0.0f);
 }
 
+TEST(CubeFaceSelect, CostsAsDocumented) {
+  // docs/texture-types.md §1: 5 cmp, 1 rcp, 10 mul, 6 add; 18 cycles, area 100.5 by default.
+  const OpCounts o = CubeFaceSelect::ops_per_item();
+  EXPECT_EQ(o.cmp, 5u);
+  EXPECT_EQ(o.rcp, 1u);
+  EXPECT_EQ(o.mul, 10u);
+  EXPECT_EQ(o.add, 6u);
+  const TimingSpec t = CubeFaceSelect::timing(TechTable::defaults());
+  EXPECT_EQ(t.latency, 18u);
+  EXPECT_DOUBLE_EQ(t.area, 100.5);
+}
+
 TEST(CubeSeam, KnownEdge) {
   // +X's s = 1 edge (towards −Z) meets −Z's s = 0 edge, rows aligned (both tc = −ry).
   std::array<CubeTexel, 3> r;
