@@ -19,6 +19,15 @@ struct Fragment {
   // along +v, z out of the surface) that relief uses; all 0 when absent.
   float view_x = 0, view_y = 0, view_z = 0;
   bool has_view() const { return view_x != 0 || view_y != 0 || view_z != 0; }
+  // Optional (trace version 4); the defaults leave an implicit-LOD 2-D sample unchanged.
+  double w = 0, dwdx = 0, dwdy = 0;  // third coordinate: 3-D r, or a cube direction's z
+  float layer = 0;                   // array layer, rounded and clamped by the unit
+  uint8_t op = 0;                    // SampleOp (blocks/base/sample_op.h)
+  uint8_t gather_component = 0;      // 0..3 = r, g, b, a for SampleOp::kGather
+  uint16_t sampler = 0;              // sampler-table index; 0 = the material's own sampler
+  float lod = 0;                     // explicit LOD for SampleOp::kSampleLod
+  float compare_ref = 0;             // depth-comparison reference
+  int8_t offset_u = 0, offset_v = 0, offset_w = 0;  // constant texel offsets
 };
 
 }  // namespace texsim

@@ -91,6 +91,7 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
   plan_pipeline();
   for (size_t m = 0; m < paths_.size(); ++m) {
     paths_[m].kernel = choose_kernel(paths_[m]);
+    paths_[m].layered_kernel = choose_kernel(paths_[m], true);
     choose_batch(paths_[m], mats_[m]);
   }
 }
@@ -262,6 +263,13 @@ Rgba TextureUnit::filter_fragment(const Fragment& f, Path& p, const ItemCost* fr
     throw std::out_of_range("texture unit: fragment texture " + std::to_string(f.tex) +
                             " is not loaded");
   const Texture& tex = textures_[static_cast<int>(f.tex)];
+  if (tex.layered()) {
+    if (!p.layered_kernel)
+      throw std::invalid_argument("texture unit: texture '" + tex.name() + "' is a " +
+                                  to_string(tex.shape().type) +
+                                  " texture, which footprint filters do not sample");
+    return (this->*p.layered_kernel)(f, p, tex, front);
+  }
   if (tex.storage() == StorageFormat::Srgb8A8) return filter_srgb(f, p, tex, front);
   return (this->*p.kernel)(f, p, tex, front);
 }
@@ -549,6 +557,52 @@ Rgba TextureUnit::process_any(const Fragment& f, Path& p, const Texture& tex,
   return process_taps<kFront>(f, p, tex, front, p.stages.lod->eval(f, tex));
 }
 
+template <int kFront>
+Rgba TextureUnit::process_layered(const Fragment& f, Path& p, const Texture& tex,
+                                  const ItemCost* front) {
+  const MaterialStages& st = p.stages;
+  const LayeredAddressGen gen = st.address->layered();
+  LodResult lod;
+  uint32_t probes = 1;
+  if (tex.shape().type == TextureType::Cube) {
+    // The direction (u, v, w) to a face and its coordinates; the LOD unit then works on the
+    // face (level 0 of slice 0 has the face's size).
+    const CubeFaceCoord c = CubeFaceSelect::select(static_cast<float>(f.u), static_cast<float>(f.v),
+                                                   static_cast<float>(f.w));
+    const float dx[3] = {static_cast<float>(f.dudx), static_cast<float>(f.dvdx),
+                         static_cast<float>(f.dwdx)};
+    const float dy[3] = {static_cast<float>(f.dudy), static_cast<float>(f.dvdy),
+                         static_cast<float>(f.dwdy)};
+    const CubeFaceDerivs d = CubeFaceSelect::derivatives(c, dx, dy);
+    Fragment g = f;
+    g.u = c.s;
+    g.v = c.t;
+    g.dudx = d.dsdx;
+    g.dvdx = d.dtdx;
+    g.dudy = d.dsdy;
+    g.dvdy = d.dtdy;
+    lod = st.lod->eval(g, tex);
+    const int cube = LayeredAddressGen::select_layer(f.layer, tex.shape().slices / kCubeFaces);
+    const int edge = gen.cube_taps(tex, c, cube, lod, taps_);
+    st.address->count_cube(edge);
+    probes = static_cast<uint32_t>(LayeredAddressGen::cube_probes(lod));
+  } else {
+    lod = st.lod->eval(f, tex);
+    const int layer = LayeredAddressGen::select_layer(f.layer, tex.shape().slices);
+    gen.array_taps(tex, f.u, f.v, layer, lod, taps_);
+    st.address->count_array();
+    probes = TexelAddressGen::issue_cycles(lod);
+  }
+  const Rgba colour = st.blend->blend().blend(taps_, tex);
+  if (taps_.border_taps > 0) p.stages.address->count_border(taps_.border_taps);
+  count_fragment(f, p, probes);
+  if constexpr (kFront >= 0) {
+    issue_timed<kFront>(p, front, probes, static_cast<uint64_t>(taps_.count),
+                        [&](uint64_t start) { return fetch_.lookup_taps(taps_, tex, start); });
+  }
+  return colour;
+}
+
 template <FilterMode kFilter, TexelLayout L, int kFront>
 Rgba TextureUnit::process_linear(const Fragment& f, Path& p, const Texture& tex,
                                  const ItemCost* front) {
@@ -582,7 +636,7 @@ Rgba TextureUnit::process_linear(const Fragment& f, Path& p, const Texture& tex,
 template <FilterMode kFilter, TexelLayout L, int kFront>
 void TextureUnit::batch_linear(const Fragment* f, size_t n, Path& p, const Texture& tex,
                                Rgba* out) {
-  if (tex.layout() != L || !p.batch->serves(tex)) {
+  if (tex.layout() != L || tex.layered() || !p.batch->serves(tex)) {
     for (size_t i = 0; i < n; ++i) out[i] = filter_fragment(f[i], p, nullptr);
     return;
   }
@@ -760,7 +814,9 @@ TextureUnit::BatchKernel TextureUnit::pick_batch_kernel(FilterMode filter, Texel
 }
 
 template <int kFront>
-TextureUnit::Kernel TextureUnit::pick_kernel(FilterMode filter, TexelLayout layout, bool quads) {
+TextureUnit::Kernel TextureUnit::pick_kernel(FilterMode filter, TexelLayout layout, bool quads,
+                                             bool layered) {
+  if (layered) return &TextureUnit::process_layered<kFront>;
   if (!quads) return &TextureUnit::process_any<kFront>;
   constexpr FilterMode kBi = FilterMode::Bilinear, kTri = FilterMode::Trilinear;
   const bool tri = filter == kTri;
@@ -778,34 +834,34 @@ TextureUnit::Kernel TextureUnit::pick_kernel(FilterMode filter, TexelLayout layo
   return &TextureUnit::process_any<kFront>;
 }
 
-TextureUnit::Kernel TextureUnit::choose_kernel(const Path& p) const {
+TextureUnit::Kernel TextureUnit::choose_kernel(const Path& p, bool layered) const {
   const MaterialStages& st = p.stages;
-  if (st.filter) return &TextureUnit::process_filter;
+  if (st.filter) return layered ? nullptr : &TextureUnit::process_filter;
   const FilterMode filter = st.address->filter();
   const bool linear = filter != FilterMode::Nearest;
   // Border taps read no texel: the quad kernels, which read four, leave them to the taps path.
   const bool quads = linear && !st.address->gen().config().uses_border() &&
                      st.blend->blend().quads_in_one_group(filter == FilterMode::Trilinear ? 2 : 1);
   const TexelLayout layout = textures_.layout();
-  if (!pipe_) return pick_kernel<-1>(filter, layout, quads);
+  if (!pipe_) return pick_kernel<-1>(filter, layout, quads, layered);
   if (two_step_fixed_) {
     switch (front_) {
       case 0:
-        return pick_kernel<kTwoStep>(filter, layout, quads);
+        return pick_kernel<kTwoStep>(filter, layout, quads, layered);
       case 1:
-        return pick_kernel<kTwoStep + 1>(filter, layout, quads);
+        return pick_kernel<kTwoStep + 1>(filter, layout, quads, layered);
       default:
-        return pick_kernel<kTwoStep + kMaxFront>(filter, layout, quads);
+        return pick_kernel<kTwoStep + kMaxFront>(filter, layout, quads, layered);
     }
   }
-  if (!sampler_only_ || defer_) return pick_kernel<kAnyStages>(filter, layout, quads);
+  if (!sampler_only_ || defer_) return pick_kernel<kAnyStages>(filter, layout, quads, layered);
   switch (front_) {
     case 0:
-      return pick_kernel<0>(filter, layout, quads);
+      return pick_kernel<0>(filter, layout, quads, layered);
     case 1:
-      return pick_kernel<1>(filter, layout, quads);
+      return pick_kernel<1>(filter, layout, quads, layered);
     default:
-      return pick_kernel<kMaxFront>(filter, layout, quads);
+      return pick_kernel<kMaxFront>(filter, layout, quads, layered);
   }
 }
 

@@ -189,6 +189,7 @@ class TextureUnit {
   using BatchKernel = void (TextureUnit::*)(const Fragment*, size_t, Path&, const Texture&, Rgba*);
   struct Path {
     Kernel kernel = nullptr;
+    Kernel layered_kernel = nullptr;  // for fragments on a layered texture (null: a filter stage)
     // The batched datapath (null: fragments go one by one) and the sampler it runs.
     BatchKernel batch_kernel = nullptr;
     std::shared_ptr<const LinearBatchSampler> batch;
@@ -211,6 +212,11 @@ class TextureUnit {
   Rgba process_taps(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front,
                     const LodResult& lod);
   Rgba process_filter(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  // A layered texture's fragment (cube, cube array, array): the face or layer selector, the
+  // LOD on the face's derivatives, LayeredAddressGen's taps, then blend and fetch as
+  // process_taps; never batched.
+  template <int kFront>
+  Rgba process_layered(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
   // A batch of fragments on one texture (n <= LinearBatch::kMax) through the batched sampler;
   // the fragments it leaves undone through process_linear.
   template <FilterMode kFilter, TexelLayout L, int kFront>
@@ -234,8 +240,8 @@ class TextureUnit {
   // Sets p's batched datapath when material m can use one.
   void choose_batch(Path& p, const MaterialSetup& m);
   template <int kFront>
-  static Kernel pick_kernel(FilterMode filter, TexelLayout layout, bool quads);
-  Kernel choose_kernel(const Path& p) const;
+  static Kernel pick_kernel(FilterMode filter, TexelLayout layout, bool quads, bool layered);
+  Kernel choose_kernel(const Path& p, bool layered = false) const;
   // Sends a fragment of the LOD → address → blend path through the clocked pipeline;
   // `lookups(start)` does its cache look-ups.
   template <int kFront, class Lookups>

@@ -18,6 +18,18 @@ const char* to_string(TexelLayout l) {
   }
   return "?";
 }
+const char* to_string(TextureType t) {
+  switch (t) {
+    case TextureType::Tex2D:
+      return "2d";
+    case TextureType::Cube:
+      return "cube";
+    case TextureType::Array:
+      return "array";
+  }
+  return "?";
+}
+
 const char* to_string(AddressMode m) {
   switch (m) {
     case AddressMode::Wrap:
@@ -117,6 +129,38 @@ Texture Texture::from_rgba(std::string name, int width, int height, const std::v
   return t;
 }
 
+Texture Texture::from_slices(std::string name, TextureType type, int width, int height,
+                             const std::vector<std::vector<float>>& slices, TexelFormat format,
+                             bool build_mips) {
+  if (width <= 0 || height <= 0) throw std::invalid_argument("texture size must be positive");
+  if (slices.empty()) throw std::invalid_argument("a layered texture needs at least one slice");
+  if (type == TextureType::Cube && (slices.size() % 6 != 0 || width != height))
+    throw std::invalid_argument("a cube texture needs 6 square faces per cube");
+  const size_t texels = static_cast<size_t>(width) * static_cast<size_t>(height) * 4;
+  Texture t;
+  t.name_ = std::move(name);
+  t.set_store(format);
+  int mips = 0;
+  for (const auto& rgba : slices) {
+    if (rgba.size() != texels) throw std::invalid_argument("slice size disagrees");
+    int w = width, h = height, n = 1;
+    t.add_level(w, h, rgba);
+    std::vector<float> cur;
+    while (build_mips && (w > 1 || h > 1)) {
+      int nw = 0, nh = 0;
+      cur = downsample(cur.empty() ? rgba : cur, w, h, nw, nh);
+      w = nw;
+      h = nh;
+      t.add_level(w, h, cur);
+      ++n;
+    }
+    mips = n;
+  }
+  t.shape_ = {type, static_cast<int>(slices.size()), mips};
+  t.place(0, TexelLayout::Linear);
+  return t;
+}
+
 Texture Texture::from_levels(std::string name, const std::vector<int>& widths,
                              const std::vector<int>& heights,
                              const std::vector<std::vector<float>>& levels, TexelFormat format) {
@@ -143,6 +187,7 @@ void Texture::set_store(TexelFormat format) {
 Texture Texture::converted(StorageFormat storage) const {
   Texture t;
   t.name_ = name_;
+  t.shape_ = shape_;
   t.set_store(decodes_to_bytes(storage) ? TexelFormat::Rgba8 : TexelFormat::Rgba32f);
   t.storage_ = storage;
   t.bytes_per_texel_ = format_info(storage).bytes;
@@ -174,6 +219,7 @@ Texture Texture::converted(StorageFormat storage) const {
 Texture Texture::linearised() const {
   Texture t;
   t.name_ = name_;
+  t.shape_ = shape_;
   t.set_store(TexelFormat::Rgba32f);
   std::vector<float> px;
   for (int l = 0; l < levels(); ++l) {

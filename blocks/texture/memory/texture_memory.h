@@ -22,9 +22,22 @@ enum class TexelLayout { Linear, Tiled4x4, Morton };
 // order of the scenes' choice lists: "wrap", "clamp", "mirror", "border", "mirror_clamp").
 enum class AddressMode { Wrap, Clamp, Mirror, Border, MirrorClamp };
 
+// What a texture's levels hold (docs/texture-types.md). A 2-D texture's levels are its mip
+// chain. A layered texture (cube, cube array, 1-D or 2-D array) holds slices, each with its own
+// mip chain, slice after slice: level index = slice · mips + mip, so a slice's chain is
+// contiguous in memory (a cube's slice = 6 · cube + face, faces in Vulkan's order +X −X +Y −Y
+// +Z −Z). A 1-D array is a 2-D array of height-1 slices.
+enum class TextureType : uint8_t { Tex2D, Cube, Array };
+struct TextureShape {
+  TextureType type = TextureType::Tex2D;
+  int slices = 1;  // layers (arrays), 6 × cubes (cube maps)
+  int mips = 0;    // levels per slice; 0: all the texture's levels (a 2-D texture)
+};
+
 const char* to_string(TexelFormat f);
 const char* to_string(TexelLayout l);
 const char* to_string(AddressMode m);
+const char* to_string(TextureType t);
 
 class Texture {
  public:
@@ -40,6 +53,12 @@ class Texture {
   // floor(w/2), as Vulkan); texels are stored in `format` (Rgba8 rounds to nearest).
   static Texture from_rgba(std::string name, int width, int height, const std::vector<float>& rgba,
                            TexelFormat format, bool build_mips);
+  // A layered texture (TextureShape): `slices` images of width × height float RGBA texels, each
+  // given its own mip chain (with `build_mips`, by the same box filter, faces filtered on
+  // their own), stored slice after slice.
+  static Texture from_slices(std::string name, TextureType type, int width, int height,
+                             const std::vector<std::vector<float>>& slices, TexelFormat format,
+                             bool build_mips);
   // Builds a texture from a complete list of float RGBA levels (e.g. a .tx file's MIP chain).
   static Texture from_levels(std::string name, const std::vector<int>& widths,
                              const std::vector<int>& heights,
@@ -61,6 +80,11 @@ class Texture {
   bool srgb_after_filter() const { return srgb_after_filter_; }
 
   const std::string& name() const { return name_; }
+  const TextureShape& shape() const { return shape_; }
+  bool layered() const { return shape_.type != TextureType::Tex2D; }
+  // Levels of one slice (all levels of a 2-D texture), and the level index of a slice's mip.
+  int mips() const { return shape_.mips > 0 ? shape_.mips : levels(); }
+  int slice_level(int slice, int mip) const { return slice * mips() + mip; }
   TexelFormat format() const { return format_; }
   StorageFormat storage() const { return storage_; }
   // The texture the ground truth samples: the one it was converted from, else itself.
@@ -188,6 +212,7 @@ class Texture {
   void add_level(int w, int h, const std::vector<float>& rgba);
 
   std::string name_;
+  TextureShape shape_;
   TexelFormat format_ = TexelFormat::Rgba8;
   StorageFormat storage_ = StorageFormat::Rgba8Unorm;
   int bytes_per_texel_ = 4;

@@ -90,7 +90,7 @@ TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r
            "float 'border'");
   }
   r.reject_unknown({"mode", "address", "address_u", "address_v", "sub_texel_bits", "mipmap_bits",
-                    "border", "offset"});
+                    "border", "offset", "seamless"});
   Config c;
   c.filter = static_cast<FilterMode>(
       r.get_choice("mode", static_cast<int>(c.filter), {"nearest", "bilinear", "trilinear"}));
@@ -110,6 +110,7 @@ TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r
   c.mipmap_bits = static_cast<int>(r.get_int("mipmap_bits", c.mipmap_bits, 1, 16));
   c.border = border_from_toml(r);
   offset_from_toml(r, c.offset_u, c.offset_v);
+  c.seamless_cube = r.get_bool("seamless", c.seamless_cube);
   return c;
 }
 

@@ -71,10 +71,14 @@ class TexelAddressGen {
     // coordinates before wrapping; Vulkan's minTexelOffset..maxTexelOffset = -8..7.
     int offset_u = 0, offset_v = 0;
     static constexpr int kMinTexelOffset = -8, kMaxTexelOffset = 7;
+    // Cube textures: seamless filtering across face edges (Vulkan's default), or each face
+    // addressed on its own with address_u/address_v (VK_EXT_non_seamless_cube_map).
+    bool seamless_cube = true;
     // Keys: mode ("nearest"|"bilinear"|"trilinear"); address ("wrap"|"clamp"|"mirror"|
     // "border"|"mirror_clamp") for both axes, or address_u and address_v separately (not both
     // forms at once); sub_texel_bits (1..16), mipmap_bits (1..16); border
-    // ("transparent_black"|"opaque_black"|"opaque_white"|[r, g, b, a]); offset ([i, j]).
+    // ("transparent_black"|"opaque_black"|"opaque_white"|[r, g, b, a]); offset ([i, j]);
+    // seamless (bool, cube textures).
     static Config from_toml(const ConfigReader& r);
     bool uses_border() const {
       return address_u == AddressMode::Border || address_v == AddressMode::Border;

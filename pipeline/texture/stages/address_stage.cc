@@ -1,5 +1,7 @@
 #include "pipeline/texture/stages/address_stage.h"
 
+#include "blocks/base/derive_timing.h"
+
 namespace texsim {
 
 void AddressStage::rows(StageReport& r, std::vector<BlockUse>& out) const {
@@ -12,6 +14,20 @@ void AddressStage::rows(StageReport& r, std::vector<BlockUse>& out) const {
   r.border_taps = border_taps_;
   r.add(out, addr_.name(), addr_.arithmetic(), addr_.timing(r.tech), ops, r.taps - border_taps_);
   out.back().border_taps = border_taps_;
+  if (cube_fragments_ > 0) {
+    // Face selection per cube fragment, the edge unit per tap it moved to another face.
+    const OpCounts cube = CubeFaceSelect::ops_per_item() * cube_fragments_ +
+                          LayeredAddressGen::ops_per_edge_tap() * edge_taps_;
+    r.add(out, CubeFaceSelect::name(), CubeFaceSelect::arithmetic(), CubeFaceSelect::timing(r.tech),
+          cube);
+  }
+  if (array_fragments_ > 0) {
+    OpCounts layer;  // round half even, clamp to [0, d − 1]
+    layer.add = 1;
+    layer.cmp = 2;
+    r.add(out, "array.layer_select", "float32 to integer",
+          derive_timing(r.tech, layer, layer, Datapath::Spatial), layer * array_fragments_);
+  }
 }
 
 }  // namespace texsim

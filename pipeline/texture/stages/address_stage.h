@@ -5,6 +5,7 @@
 // multiplies the per-fragment and per-probe counts: exact, and two increments per fragment.
 #include <cstdint>
 
+#include "blocks/texture/layered/layered_address_gen.h"
 #include "blocks/texture/sampler/texel_address_gen.h"
 #include "pipeline/texture/stages/unit_stage.h"
 
@@ -30,6 +31,17 @@ class AddressStage final : public UnitStage {
   void count_border(int taps) { border_taps_ += static_cast<uint64_t>(taps); }
   uint64_t probes() const { return probes_; }
   uint64_t border_taps() const { return border_taps_; }
+  // A layered texture's fragment (LayeredAddressGen): a cube fragment through the face
+  // selector, with `edge_taps` taps the edge unit resolved on a neighbouring face; an array
+  // fragment through the layer selector.
+  void count_cube(int edge_taps) {
+    ++cube_fragments_;
+    edge_taps_ += static_cast<uint64_t>(edge_taps);
+  }
+  void count_array() { ++array_fragments_; }
+  LayeredAddressGen layered() const {
+    return LayeredAddressGen(addr_, addr_.config().seamless_cube);
+  }
   // count(1) n times.
   void count_single_probes(uint64_t n) { probes_ += n; }
 
@@ -39,6 +51,7 @@ class AddressStage final : public UnitStage {
   uint64_t aniso_fragments_ = 0;  // fragments with N > 1
   uint64_t probes_ = 0;           // Σ N over all fragments
   uint64_t border_taps_ = 0;      // taps that read the border colour (CLAMP_TO_BORDER)
+  uint64_t cube_fragments_ = 0, edge_taps_ = 0, array_fragments_ = 0;
 };
 
 }  // namespace texsim
