@@ -78,7 +78,12 @@ bool same_fragment(const Fragment& a, const Fragment& b) {
          bits(a.dvdx) == bits(b.dvdx) && bits(a.dudy) == bits(b.dudy) &&
          bits(a.dvdy) == bits(b.dvdy) && fbits(a.lod_bias) == fbits(b.lod_bias) &&
          fbits(a.view_x) == fbits(b.view_x) && fbits(a.view_y) == fbits(b.view_y) &&
-         fbits(a.view_z) == fbits(b.view_z);
+         fbits(a.view_z) == fbits(b.view_z) && bits(a.w) == bits(b.w) &&
+         bits(a.dwdx) == bits(b.dwdx) && bits(a.dwdy) == bits(b.dwdy) &&
+         fbits(a.layer) == fbits(b.layer) && a.op == b.op &&
+         a.gather_component == b.gather_component && a.sampler == b.sampler &&
+         fbits(a.lod) == fbits(b.lod) && fbits(a.compare_ref) == fbits(b.compare_ref) &&
+         a.offset_u == b.offset_u && a.offset_v == b.offset_v && a.offset_w == b.offset_w;
 }
 }  // namespace
 
