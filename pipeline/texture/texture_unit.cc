@@ -7,6 +7,8 @@
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
 #include "blocks/texture/decode/block_decoder.h"
+#include "blocks/texture/memory/storage_format.h"
+#include "blocks/texture/sampler/gather_unit.h"
 #include "pipeline/texture/stages/relief_stage.h"
 
 namespace texsim {
@@ -238,7 +240,65 @@ Rgba TextureUnit::filter_fragment(const Fragment& f, Path& p, const ItemCost* fr
     throw std::out_of_range("texture unit: fragment texture " + std::to_string(f.tex) +
                             " is not loaded");
   const Texture& tex = textures_[static_cast<int>(f.tex)];
+  if (f.op != 0) [[unlikely]]
+    return process_op(f, p, tex, front);
   return (this->*p.kernel)(f, p, tex, front);
+}
+
+Rgba TextureUnit::process_op(const Fragment& f, Path& p, const Texture& tex,
+                             const ItemCost* front) {
+  if (!valid_sample_op(f.op))
+    throw std::invalid_argument("texture unit: fragment operation " + std::to_string(f.op) +
+                                " is not known");
+  const std::string_view op_name = kSampleOpNames[f.op];
+  if (!p.stages.address)
+    throw std::invalid_argument("texture unit: material '" +
+                                mats_[static_cast<size_t>(&p - paths_.data())].name +
+                                "' has a footprint filter, which serves implicit-LOD samples "
+                                "only; operation '" +
+                                std::string(op_name) + "' needs nearest, bilinear or trilinear");
+  OpTally& t = p.op_tallies[f.op];
+  ++t.fragments;
+  if (f.op == static_cast<uint8_t>(SampleOp::kGather)) {
+    t.taps += 4;
+    t.issue_cycles += 1;
+    t.ops += GatherUnit::ops_per_item(p.stages.address->gen().config());
+    return process_gather(f, p, tex, front);
+  }
+  // Explicit LOD or gradients: the material's datapath with the operation's λ.
+  const SampleOp op = static_cast<SampleOp>(f.op);
+  const LodResult lod = p.stages.lod->eval(f, tex);
+  const uint32_t probes = TexelAddressGen::issue_cycles(lod);
+  const TexelAddressGen& addr = p.stages.address->gen();
+  const uint64_t taps = uint64_t{probes} * p.stages.address->taps_per_probe();
+  t.taps += taps;
+  t.issue_cycles += probes;
+  t.ops += p.stages.lod->ops_for(op) + addr.ops_setup(probes > 1) +
+           addr.ops_per_item(probes > 1) * probes + TexelBlend::ops_per_item() * taps;
+  return (this->*p.kernel)(f, p, tex, front);
+}
+
+Rgba TextureUnit::process_gather(const Fragment& f, Path& p, const Texture& tex,
+                                 const ItemCost* front) {
+  const TexelAddressGen::Config& c = p.stages.address->gen().config();
+  const TexelQuad q = GatherUnit::quad(c, tex, f.u, f.v, f.offset_u, f.offset_v);
+  int border = 0;
+  const Rgba out = GatherUnit::gather(
+      q, tex, f.gather_component,
+      c.uses_border() ? border_texel(tex.storage(), c.border) : Rgba(0.0f), &border);
+  if (border > 0) p.stages.address->count_border(border);
+  count_fragment(f, p, 1);
+  if (pipe_) {
+    taps_.tap[0] = {0, q.x0, q.y0, 1.0f};
+    taps_.tap[1] = {0, q.x1, q.y0, 1.0f};
+    taps_.tap[2] = {0, q.x0, q.y1, 1.0f};
+    taps_.tap[3] = {0, q.x1, q.y1, 1.0f};
+    taps_.count = 4;
+    taps_.border_taps = border;
+    issue_general(p, front, 0, fetch_.extra_ii(4), 0,
+                  [&](uint64_t start) { return fetch_.lookup_taps(taps_, tex, start); });
+  }
+  return out;
 }
 
 template <class CostFn>

@@ -246,6 +246,19 @@ uint64_t UnitArray::material_fragments(int m) const {
   for (const auto& u : units_) n += u->material_fragments(m);
   return n;
 }
+TextureUnit::OpTallies UnitArray::material_op_tallies(int m) const {
+  TextureUnit::OpTallies sum{};
+  for (const auto& u : units_) {
+    const TextureUnit::OpTallies& t = u->material_op_tallies(m);
+    for (size_t k = 0; k < sum.size(); ++k) {
+      sum[k].fragments += t[k].fragments;
+      sum[k].taps += t[k].taps;
+      sum[k].issue_cycles += t[k].issue_cycles;
+      sum[k].ops += t[k].ops;
+    }
+  }
+  return sum;
+}
 uint64_t UnitArray::quad_merged_lookups() const {
   uint64_t n = 0;
   for (const auto& u : units_) n += u->quad_merged_lookups();
