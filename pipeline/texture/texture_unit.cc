@@ -9,6 +9,7 @@
 #include "blocks/texture/decode/block_decoder.h"
 #include "blocks/texture/memory/storage_format.h"
 #include "blocks/texture/sampler/gather_unit.h"
+#include "blocks/texture/sampler/texel_reduce.h"
 #include "pipeline/texture/stages/relief_stage.h"
 
 namespace texsim {
@@ -78,6 +79,11 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
   plan_pipeline();
   for (size_t m = 0; m < paths_.size(); ++m) {
     paths_[m].kernel = choose_kernel(paths_[m]);
+    // A min/max reduction or a depth comparison replaces the blend: its own kernel, no batch.
+    if (paths_[m].stages.address && mats_[m].filter.reduces()) {
+      paths_[m].kernel = &TextureUnit::process_reduced;
+      continue;
+    }
     choose_batch(paths_[m], mats_[m]);
   }
 }
@@ -273,9 +279,34 @@ Rgba TextureUnit::process_op(const Fragment& f, Path& p, const Texture& tex,
   const uint64_t taps = uint64_t{probes} * p.stages.address->taps_per_probe();
   t.taps += taps;
   t.issue_cycles += probes;
+  const OpCounts per_tap =
+      addr.config().reduces()
+          ? TexelReduce::ops_per_tap(addr.config().reduction, addr.config().compare)
+          : TexelBlend::ops_per_item();
   t.ops += p.stages.lod->ops_for(op) + addr.ops_setup(probes > 1) +
-           addr.ops_per_item(probes > 1) * probes + TexelBlend::ops_per_item() * taps;
+           addr.ops_per_item(probes > 1) * probes + per_tap * taps;
   return (this->*p.kernel)(f, p, tex, front);
+}
+
+Rgba TextureUnit::process_reduced(const Fragment& f, Path& p, const Texture& tex,
+                                  const ItemCost* front) {
+  const LodResult lod = p.stages.lod->eval(f, tex);
+  const TexelAddressGen& addr = p.stages.address->gen();
+  addr.taps(tex, f.u, f.v, lod, taps_);
+  const TexelAddressGen::Config& c = addr.config();
+  const Rgba colour = c.compare != CompareOp::None
+                          ? TexelReduce::compare(taps_, tex, c.compare, f.compare_ref)
+                          : TexelReduce::minmax(taps_, tex, c.reduction);
+  if (taps_.border_taps > 0) p.stages.address->count_border(taps_.border_taps);
+  const uint32_t probes = TexelAddressGen::issue_cycles(lod);
+  count_fragment(f, p, probes);
+  if (pipe_) {
+    issue_general(p, front, probes - 1,
+                  fetch_.extra_ii(uint64_t{probes} * p.stages.address->taps_per_probe()),
+                  p.stages.blend->extra_ii(probes),
+                  [&](uint64_t start) { return fetch_.lookup_taps(taps_, tex, start); });
+  }
+  return colour;
 }
 
 Rgba TextureUnit::process_gather(const Fragment& f, Path& p, const Texture& tex,
@@ -283,9 +314,14 @@ Rgba TextureUnit::process_gather(const Fragment& f, Path& p, const Texture& tex,
   const TexelAddressGen::Config& c = p.stages.address->gen().config();
   const TexelQuad q = GatherUnit::quad(c, tex, f.u, f.v, f.offset_u, f.offset_v);
   int border = 0;
-  const Rgba out = GatherUnit::gather(
+  Rgba out = GatherUnit::gather(
       q, tex, f.gather_component,
       c.uses_border() ? border_texel(tex.storage(), c.border) : Rgba(0.0f), &border);
+  if (c.compare != CompareOp::None) {
+    // textureGatherCompare: each of the four texels compared with the reference.
+    const float ref = TexelReduce::reference(tex, f.compare_ref);
+    for (int k = 0; k < 4; ++k) out[k] = compare_passes(c.compare, ref, out[k]) ? 1.0f : 0.0f;
+  }
   if (border > 0) p.stages.address->count_border(border);
   count_fragment(f, p, 1);
   if (pipe_) {

@@ -266,6 +266,8 @@ class TextureUnit {
   // gather unit, the others through the material's kernel.
   Rgba process_op(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
   Rgba process_gather(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  // A material whose sampler reduces (min/max) or compares depth: taps, then the reducer.
+  Rgba process_reduced(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
   // The surface stages' enter(), the filter, their leave() for a material with any.
   Rgba process_surface(const Fragment& f, Path& p, int material, const ItemCost* front);
   // Cost of front-end slot s for a fragment of path p (with the dropped fragments' cycles).

@@ -18,6 +18,7 @@
 #include "blocks/base/timing_spec.h"
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/sampler/lod_unit.h"
+#include "blocks/texture/sampler/sampler_modes.h"
 
 namespace texsim {
 
@@ -71,6 +72,14 @@ class TexelAddressGen {
     // coordinates before wrapping; Vulkan's minTexelOffset..maxTexelOffset = -8..7.
     int offset_u = 0, offset_v = 0;
     static constexpr int kMinTexelOffset = -8, kMaxTexelOffset = 7;
+    // Min/max reduction and depth comparison (sampler_modes.h), which the texel reducer
+    // applies in place of the blend. Keys: reduction ("weighted_average"|"min"|"max"),
+    // compare ("none"|"never"|"less"|…|"always"; not with a min/max reduction).
+    Reduction reduction = Reduction::WeightedAverage;
+    CompareOp compare = CompareOp::None;
+    bool reduces() const {
+      return reduction != Reduction::WeightedAverage || compare != CompareOp::None;
+    }
     // Keys: mode ("nearest"|"bilinear"|"trilinear"); address ("wrap"|"clamp"|"mirror"|
     // "border"|"mirror_clamp") for both axes, or address_u and address_v separately (not both
     // forms at once); sub_texel_bits (1..16), mipmap_bits (1..16); border
