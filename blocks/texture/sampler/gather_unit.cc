@@ -5,8 +5,8 @@
 
 namespace texsim {
 
-TexelQuad GatherUnit::quad(const TexelAddressGen::Config& c, const Texture& tex, double u,
-                           double v, int du, int dv) {
+TexelQuad GatherUnit::quad(const TexelAddressGen::Config& c, const Texture& tex, double u, double v,
+                           int du, int dv) {
   using namespace texel_address_detail;
   const Texture::Level& lv = tex.level(0);
   const int32_t wl = lv.width, hl = lv.height;
@@ -25,8 +25,8 @@ TexelQuad GatherUnit::quad(const TexelAddressGen::Config& c, const Texture& tex,
   return q;
 }
 
-Rgba GatherUnit::gather(const TexelQuad& q, const Texture& tex, int component,
-                        const Rgba& border, int* border_taps) {
+Rgba GatherUnit::gather(const TexelQuad& q, const Texture& tex, int component, const Rgba& border,
+                        int* border_taps) {
   if (component < 0 || component > 3)
     throw std::invalid_argument("gather component " + std::to_string(component) +
                                 " is not 0..3 (r, g, b, a)");
@@ -45,14 +45,14 @@ Rgba GatherUnit::gather(const TexelQuad& q, const Texture& tex, int component,
 
 OpCounts GatherUnit::ops_per_item(const TexelAddressGen::Config& c) {
   OpCounts o;
-  o.mul = 2;  // u·width, v·height
-  o.add = 2;  // − ½
-  o.cmp = 2;  // the float→fixed converters' range clamp
-  o.add += 2 + 2;  // the offsets; i1 = i0 + 1
+  o.mul = 2;                                           // u·width, v·height
+  o.add = 2;                                           // − ½
+  o.cmp = 2;                                           // the float→fixed converters' range clamp
+  o.add += 2 + 2;                                      // the offsets; i1 = i0 + 1
   o += TexelAddressGen::ops_address(c.address_u) * 2;  // i0, i1
   o += TexelAddressGen::ops_address(c.address_v) * 2;  // j0, j1
-  o.mem = 4;       // four texel reads
-  o.cmp += 4;      // component select per texel
+  o.mem = 4;                                           // four texel reads
+  o.cmp += 4;                                          // component select per texel
   return o;
 }
 
