@@ -62,6 +62,51 @@ std::string parse_float(std::string_view s, T& out, std::string_view field) {
   return {};
 }
 
+// Parses a whole token as an integer in [lo, hi]; returns an error text or "".
+std::string parse_int(std::string_view s, int64_t lo, int64_t hi, int64_t& out) {
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  if (s.empty()) return "empty value where an integer is expected";
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+  if (ec != std::errc() || ptr != s.data() + s.size()) return shown(s) + " is not an integer";
+  if (out < lo || out > hi)
+    return shown(s) + " is outside " + std::to_string(lo) + ".." + std::to_string(hi);
+  return {};
+}
+
+// Column k of the version-4 operation fields (kOpFieldNames order) into f.
+std::string parse_operation_field(size_t k, std::string_view val, std::string_view fname,
+                                  Fragment& f) {
+  int64_t i = 0;
+  std::string err;
+  switch (k) {
+    case 0:
+      return parse_float(val, f.w, fname);
+    case 1:
+      return parse_float(val, f.dwdx, fname);
+    case 2:
+      return parse_float(val, f.dwdy, fname);
+    case 3:
+      return parse_float(val, f.layer, fname);
+    case 4:
+      return parse_float(val, f.lod, fname);
+    case 5:
+      return parse_float(val, f.compare_ref, fname);
+    case 6:
+      err = parse_int(val, 0, 65535, i);
+      f.sampler = static_cast<uint16_t>(i);
+      return err;
+    case 7:
+    case 8:
+      err = parse_int(val, 0, 255, i);
+      (k == 7 ? f.op : f.gather_component) = static_cast<uint8_t>(i);
+      return err;
+    default:
+      err = parse_int(val, -128, 127, i);
+      (k == 9 ? f.offset_u : (k == 10 ? f.offset_v : f.offset_w)) = static_cast<int8_t>(i);
+      return err;
+  }
+}
+
 struct Token {
   std::string text;
   size_t column;  // 1-based
@@ -278,7 +323,10 @@ void TraceCsvReader::parse_columns(std::string_view line) {
                 std::to_string(views) + " present)");
   }
   header_.has_view = views == 3;
-  header_.version = written_version(header_.has_view, header_.textures);
+  for (size_t k = kFirstOpField; k < specs.size(); ++k)
+    if (seen[k]) header_.op_fields |= 1u << (k - kFirstOpField);
+  header_.has_ops = header_.op_fields != 0;
+  header_.version = written_version(header_.has_view, header_.textures, header_.has_ops);
 }
 
 void TraceCsvReader::parse_record(std::string_view line, Fragment& f) {
@@ -346,8 +394,11 @@ void TraceCsvReader::parse_record(std::string_view line, Fragment& f) {
         case 13:
           err = parse_float(val, f.view_y, fname);
           break;
-        default:
+        case 14:
           err = parse_float(val, f.view_z, fname);
+          break;
+        default:
+          err = parse_operation_field(static_cast<size_t>(idx) - kFirstOpField, val, fname, f);
           break;
       }
       if (!err.empty()) fail(col + 1, "column '" + std::string(fname) + "': " + err);
@@ -365,6 +416,10 @@ void TraceCsvReader::parse_record(std::string_view line, Fragment& f) {
   }
   if (header_.has_view && !f.has_view())
     fail(1, "the view vector (view_x, view_y, view_z) is zero");
+  if (header_.has_ops) {
+    const std::string bad = check_operation(f, header_.op_fields);
+    if (!bad.empty()) fail(1, bad);
+  }
 }
 
 size_t TraceCsvReader::next_chunk(std::vector<Fragment>& out) {
@@ -391,12 +446,13 @@ TraceCsvWriter::TraceCsvWriter(const std::string& path, const TraceHeader& heade
     : path_(path),
       temp_(temp_path_for(path)),
       has_lod_bias_(header.has_lod_bias),
-      has_view_(header.has_view) {
+      has_view_(header.has_view),
+      has_ops_(header.has_ops) {
   check_writable_version(header.version, path_);
   validate_textures(header.textures, path_);
   ids_ = TextureIdSet(header.textures);
   std::string h = "# texsim trace, format v" +
-                  std::to_string(written_version(has_view_, header.textures)) +
+                  std::to_string(written_version(has_view_, header.textures, has_ops_)) +
                   ", CSV form (traces/FORMAT.md)\n";
   for (const TraceTexture& t : header.textures) {
     h += "# texture " + std::to_string(t.id) + " " + csv_quote_token(t.name) + " " +
@@ -405,7 +461,7 @@ TraceCsvWriter::TraceCsvWriter(const std::string& path, const TraceHeader& heade
     h += '\n';
   }
   bool first = true;
-  for (const TraceField& f : canonical_fields(has_lod_bias_, has_view_)) {
+  for (const TraceField& f : canonical_fields(has_lod_bias_, has_view_, has_ops_)) {
     if (!first) h += ',';
     h += f.name;
     first = false;
@@ -439,7 +495,8 @@ void TraceCsvWriter::put(std::string_view s) {
 
 void TraceCsvWriter::write(const Fragment& f) {
   if (closed_) throw InputError(path_, "write after close");
-  const std::string bad = check_fragment(f, ids_, has_lod_bias_, has_view_);
+  std::string bad = check_fragment(f, ids_, has_lod_bias_, has_view_);
+  if (bad.empty() && has_ops_) bad = check_operation(f, kAllOpFields);
   if (!bad.empty()) throw InputError(path_ + ": record " + std::to_string(records_), bad);
   line_.clear();
   // Shortest text that reads back to the same value: exact CSV <-> binary round trips.
@@ -459,12 +516,26 @@ void TraceCsvWriter::write(const Fragment& f) {
   num(f.dudx, ',');
   num(f.dvdx, ',');
   num(f.dudy, ',');
-  num(f.dvdy, has_lod_bias_ || has_view_ ? ',' : '\n');
-  if (has_lod_bias_) num(f.lod_bias, has_view_ ? ',' : '\n');
+  num(f.dvdy, has_lod_bias_ || has_view_ || has_ops_ ? ',' : '\n');
+  if (has_lod_bias_) num(f.lod_bias, has_view_ || has_ops_ ? ',' : '\n');
   if (has_view_) {
     num(f.view_x, ',');
     num(f.view_y, ',');
-    num(f.view_z, '\n');
+    num(f.view_z, has_ops_ ? ',' : '\n');
+  }
+  if (has_ops_) {
+    num(f.w, ',');
+    num(f.dwdx, ',');
+    num(f.dwdy, ',');
+    num(f.layer, ',');
+    num(f.lod, ',');
+    num(f.compare_ref, ',');
+    num(f.sampler, ',');
+    num(static_cast<unsigned>(f.op), ',');
+    num(static_cast<unsigned>(f.gather_component), ',');
+    num(static_cast<int>(f.offset_u), ',');
+    num(static_cast<int>(f.offset_v), ',');
+    num(static_cast<int>(f.offset_w), '\n');
   }
   put(line_);
   ++records_;

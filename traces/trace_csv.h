@@ -73,6 +73,7 @@ class TraceCsvWriter {
   TraceFilePtr file_;
   bool has_lod_bias_ = false;
   bool has_view_ = false;
+  bool has_ops_ = false;
   TextureIdSet ids_;
   std::string line_;
   uint64_t records_ = 0;

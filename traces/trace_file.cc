@@ -13,6 +13,7 @@
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
 #include "blocks/base/input_file.h"
+#include "blocks/base/sample_op.h"
 #include "traces/byte_order.h"
 #include "traces/trace_csv.h"
 
@@ -52,8 +53,21 @@ enum FieldIndex : size_t {
   kLodBias,
   kViewX,
   kViewY,
-  kViewZ
+  kViewZ,
+  kW,  // the version-4 operation fields (kOpFieldNames order)
+  kDwdx,
+  kDwdy,
+  kLayer,
+  kLod,
+  kCompareRef,
+  kSampler,
+  kOp,
+  kGatherComp,
+  kOffsetU,
+  kOffsetV,
+  kOffsetW
 };
+static_assert(kW == kFirstOpField);
 
 uint32_t crc_of(const unsigned char* p, size_t n) { return trace_crc32(p, n); }
 
@@ -140,23 +154,45 @@ const TraceTexture* TraceHeader::find_texture(uint32_t id) const {
 
 const std::vector<TraceFieldSpec>& trace_field_specs() {
   static const std::vector<TraceFieldSpec> specs = {
-      {"frame", TraceType::U32, true},   {"prim", TraceType::U32, true},
-      {"x", TraceType::U32, true},       {"y", TraceType::U32, true},
-      {"tex", TraceType::U32, true},     {"u", TraceType::F64, true},
-      {"v", TraceType::F64, true},       {"dudx", TraceType::F64, true},
-      {"dvdx", TraceType::F64, true},    {"dudy", TraceType::F64, true},
-      {"dvdy", TraceType::F64, true},    {"lod_bias", TraceType::F32, false},
-      {"view_x", TraceType::F32, false}, {"view_y", TraceType::F32, false},
+      {"frame", TraceType::U32, true},
+      {"prim", TraceType::U32, true},
+      {"x", TraceType::U32, true},
+      {"y", TraceType::U32, true},
+      {"tex", TraceType::U32, true},
+      {"u", TraceType::F64, true},
+      {"v", TraceType::F64, true},
+      {"dudx", TraceType::F64, true},
+      {"dvdx", TraceType::F64, true},
+      {"dudy", TraceType::F64, true},
+      {"dvdy", TraceType::F64, true},
+      {"lod_bias", TraceType::F32, false},
+      {"view_x", TraceType::F32, false},
+      {"view_y", TraceType::F32, false},
       {"view_z", TraceType::F32, false},
+      {"w", TraceType::F64, false},
+      {"dwdx", TraceType::F64, false},
+      {"dwdy", TraceType::F64, false},
+      {"layer", TraceType::F32, false},
+      {"lod", TraceType::F32, false},
+      {"compare_ref", TraceType::F32, false},
+      {"sampler", TraceType::U16, false},
+      {"op", TraceType::U8, false},
+      {"gather_comp", TraceType::U8, false},
+      {"offset_u", TraceType::I8, false},
+      {"offset_v", TraceType::I8, false},
+      {"offset_w", TraceType::I8, false},
   };
   return specs;
 }
 
-std::vector<TraceField> canonical_fields(bool has_lod_bias, bool has_view) {
+std::vector<TraceField> canonical_fields(bool has_lod_bias, bool has_view, bool has_ops) {
   std::vector<TraceField> fields;
   uint32_t offset = 0;
-  for (const TraceFieldSpec& s : trace_field_specs()) {
-    const bool wanted = s.required || (s.name == "lod_bias" ? has_lod_bias : has_view);
+  const auto& specs = trace_field_specs();
+  for (size_t k = 0; k < specs.size(); ++k) {
+    const TraceFieldSpec& s = specs[k];
+    const bool wanted =
+        s.required || (k == kLodBias ? has_lod_bias : (k >= kFirstOpField ? has_ops : has_view));
     if (!wanted) continue;
     fields.push_back({std::string(s.name), s.type, offset});
     offset += type_size(s.type);
@@ -164,16 +200,44 @@ std::vector<TraceField> canonical_fields(bool has_lod_bias, bool has_view) {
   return fields;
 }
 
-uint32_t canonical_record_size(bool has_lod_bias, bool has_view) {
+uint32_t canonical_record_size(bool has_lod_bias, bool has_view, bool has_ops) {
   uint32_t size = 0;
-  for (const TraceField& f : canonical_fields(has_lod_bias, has_view)) size += type_size(f.type);
+  for (const TraceField& f : canonical_fields(has_lod_bias, has_view, has_ops))
+    size += type_size(f.type);
   return size;
 }
 
-uint32_t written_version(bool has_view, const std::vector<TraceTexture>& textures) {
+uint32_t written_version(bool has_view, const std::vector<TraceTexture>& textures, bool has_ops) {
   const bool storage = std::any_of(textures.begin(), textures.end(),
                                    [](const TraceTexture& t) { return !t.storage.empty(); });
-  return storage ? 3 : has_view ? 2 : 1;
+  return has_ops ? 4 : storage ? 3 : has_view ? 2 : 1;
+}
+
+std::string check_operation(const Fragment& f, uint32_t present) {
+  auto has = [&](size_t k) { return (present >> (k - kFirstOpField)) & 1u; };
+  const double reals[6] = {f.w, f.dwdx, f.dwdy, f.layer, f.lod, f.compare_ref};
+  for (size_t i = 0; i < 6; ++i) {
+    if (has(kW + i) && !std::isfinite(reals[i])) {
+      return "field '" + std::string(kOpFieldNames[i]) + "' is " + nonfinite_word(reals[i]);
+    }
+  }
+  if (!valid_sample_op(f.op))
+    return "field 'op' is " + std::to_string(f.op) + ", not an operation code 0.." +
+           std::to_string(kSampleOps - 1);
+  if (f.gather_component > 3)
+    return "field 'gather_comp' is " + std::to_string(f.gather_component) + ", not 0..3";
+  const int offsets[3] = {f.offset_u, f.offset_v, f.offset_w};
+  for (size_t i = 0; i < 3; ++i) {
+    if (offsets[i] < -8 || offsets[i] > 7)
+      return "field '" + std::string(kOpFieldNames[kOffsetU - kFirstOpField + i]) + "' is " +
+             std::to_string(offsets[i]) + ", outside the texel offsets -8..7";
+  }
+  const std::string op_name(kSampleOpNames[f.op]);
+  if (f.op == static_cast<uint8_t>(SampleOp::kSampleLod) && !has(kLod))
+    return "operation '" + op_name + "' needs the field 'lod', which the trace lacks";
+  if (f.op == static_cast<uint8_t>(SampleOp::kGather) && !has(kGatherComp))
+    return "operation '" + op_name + "' needs the field 'gather_comp', which the trace lacks";
+  return {};
 }
 
 void check_writable_version(uint32_t version, const std::string& where) {
@@ -305,7 +369,8 @@ TraceWriter::TraceWriter(const std::string& path, const TraceHeader& header,
       temp_(temp_path_for(path)),
       has_lod_bias_(header.has_lod_bias),
       has_view_(header.has_view),
-      record_size_(canonical_record_size(header.has_lod_bias, header.has_view)),
+      has_ops_(header.has_ops),
+      record_size_(canonical_record_size(header.has_lod_bias, header.has_view, header.has_ops)),
       records_per_chunk_(records_per_chunk) {
   check_writable_version(header.version, path_);
   if (records_per_chunk_ < 1 || records_per_chunk_ > kTraceMaxRecordsPerChunk ||
@@ -317,9 +382,9 @@ TraceWriter::TraceWriter(const std::string& path, const TraceHeader& header,
   validate_textures(header.textures, path_);
   ids_ = TextureIdSet(header.textures);
 
-  const std::vector<TraceField> fields = canonical_fields(has_lod_bias_, has_view_);
+  const std::vector<TraceField> fields = canonical_fields(has_lod_bias_, has_view_, has_ops_);
   std::vector<unsigned char> h(kTraceMagic, kTraceMagic + sizeof kTraceMagic);
-  const uint32_t version = written_version(has_view_, header.textures);
+  const uint32_t version = written_version(has_view_, header.textures, has_ops_);
   append_le<uint32_t>(h, version);
   append_le<uint32_t>(h, 0);  // header size, patched below
   append_le<uint32_t>(h, record_size_);
@@ -385,7 +450,8 @@ void TraceWriter::put(const void* data, size_t n) {
 
 void TraceWriter::write(const Fragment& f) {
   if (closed_) throw InputError(path_, "write after close");
-  const std::string bad = check_fragment(f, ids_, has_lod_bias_, has_view_);
+  std::string bad = check_fragment(f, ids_, has_lod_bias_, has_view_);
+  if (bad.empty() && has_ops_) bad = check_operation(f, kAllOpFields);
   if (!bad.empty()) throw InputError(path_ + ": record " + std::to_string(records_), bad);
   // Canonical layout (packed, trace_field_specs() order): 5 x u32, 6 x f64, [f32], [3 x f32].
   unsigned char* p = chunk_.data() + size_t{in_chunk_} * record_size_;
@@ -406,6 +472,21 @@ void TraceWriter::write(const Fragment& f) {
     store_le(q, f.view_x);
     store_le(q + 4, f.view_y);
     store_le(q + 8, f.view_z);
+  }
+  if (has_ops_) {
+    unsigned char* q = p + 68 + (has_lod_bias_ ? 4 : 0) + (has_view_ ? 12 : 0);
+    store_le(q, f.w);
+    store_le(q + 8, f.dwdx);
+    store_le(q + 16, f.dwdy);
+    store_le(q + 24, f.layer);
+    store_le(q + 28, f.lod);
+    store_le(q + 32, f.compare_ref);
+    store_le(q + 36, f.sampler);
+    store_le(q + 38, f.op);
+    store_le(q + 39, f.gather_component);
+    store_le(q + 40, f.offset_u);
+    store_le(q + 41, f.offset_v);
+    store_le(q + 42, f.offset_w);
   }
   ++records_;
   if (++in_chunk_ == records_per_chunk_) flush_chunk();
@@ -626,6 +707,22 @@ std::vector<TraceTexture> parse_textures(const unsigned char*& p, const unsigned
 
 // The record offset of each known field (trace_field_specs() order; -1 = absent). Unknown
 // fields are skipped; a known field of the wrong type or a missing required one is an error.
+// The operation fields the layout has (o[k] >= 0), into f; the others stay 0.
+void load_operation(const unsigned char* p, const int64_t* o, Fragment& f) {
+  if (o[kW] >= 0) f.w = load_le<double>(p + o[kW]);
+  if (o[kDwdx] >= 0) f.dwdx = load_le<double>(p + o[kDwdx]);
+  if (o[kDwdy] >= 0) f.dwdy = load_le<double>(p + o[kDwdy]);
+  if (o[kLayer] >= 0) f.layer = load_le<float>(p + o[kLayer]);
+  if (o[kLod] >= 0) f.lod = load_le<float>(p + o[kLod]);
+  if (o[kCompareRef] >= 0) f.compare_ref = load_le<float>(p + o[kCompareRef]);
+  if (o[kSampler] >= 0) f.sampler = load_le<uint16_t>(p + o[kSampler]);
+  if (o[kOp] >= 0) f.op = load_le<uint8_t>(p + o[kOp]);
+  if (o[kGatherComp] >= 0) f.gather_component = load_le<uint8_t>(p + o[kGatherComp]);
+  if (o[kOffsetU] >= 0) f.offset_u = load_le<int8_t>(p + o[kOffsetU]);
+  if (o[kOffsetV] >= 0) f.offset_v = load_le<int8_t>(p + o[kOffsetV]);
+  if (o[kOffsetW] >= 0) f.offset_w = load_le<int8_t>(p + o[kOffsetW]);
+}
+
 std::vector<int64_t> known_field_offsets(const std::vector<TraceField>& fields, uint32_t version,
                                          const std::string& where) {
   const auto& specs = trace_field_specs();
@@ -633,6 +730,8 @@ std::vector<int64_t> known_field_offsets(const std::vector<TraceField>& fields, 
   for (size_t s = 0; s < specs.size(); ++s) {
     // Version 1 does not know the view vector: fields of those names are skipped there.
     if (version < 2 && s >= kViewX) continue;
+    // Versions before 4 do not know the operation fields either.
+    if (version < 4 && s >= kFirstOpField) continue;
     for (const TraceField& f : fields) {
       if (f.name != specs[s].name) continue;
       if (f.type != specs[s].type) {
@@ -684,6 +783,9 @@ void TraceReader::open_binary() {
   offsets_ = known_field_offsets(header_.fields, fh.version, where);
   header_.has_lod_bias = offsets_[kLodBias] >= 0;
   header_.has_view = offsets_[kViewX] >= 0;
+  for (size_t k = kFirstOpField; k < offsets_.size(); ++k)
+    if (offsets_[k] >= 0) header_.op_fields |= 1u << (k - kFirstOpField);
+  header_.has_ops = header_.op_fields != 0;
 }
 
 std::string TraceReader::chunk_where() const {
@@ -782,6 +884,11 @@ size_t TraceReader::next_binary_chunk(std::vector<Fragment>& out) {
       f.view_y = load_le<float>(p + o[kViewY]);
       f.view_z = load_le<float>(p + o[kViewZ]);
       const std::string bad = check_fragment(f, ids_, lod, view);
+      if (!bad.empty()) throw InputError(record_where(r), bad);
+    }
+    if (header_.has_ops) {
+      load_operation(p, o, f);
+      const std::string bad = check_operation(f, header_.op_fields);
       if (!bad.empty()) throw InputError(record_where(r), bad);
     }
   }

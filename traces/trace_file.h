@@ -15,9 +15,10 @@
 namespace texsim {
 
 // The newest version: 2 adds the optional view vector (view_x, view_y, view_z), 3 each
-// texture's storage. A writer writes the oldest version that holds the trace
-// (written_version), so a trace without either stays a version-1 file.
-inline constexpr uint32_t kTraceVersion = 3;
+// texture's storage, 4 the optional operation fields (op, lod, gather_comp, compare_ref,
+// sampler, offsets, w and its derivatives, layer). A writer writes the oldest version that
+// holds the trace (written_version), so a trace without any stays a version-1 file.
+inline constexpr uint32_t kTraceVersion = 4;
 inline constexpr char kTraceMagic[8] = {'T', 'E', 'X', 'S', 'I', 'M', 'T', 'R'};
 
 // Limits that a header must respect; anything beyond is treated as corruption, so a damaged
@@ -81,7 +82,11 @@ struct TraceTexture {
 struct TraceHeader {
   uint32_t version = kTraceVersion;  // read: the file's; write: ignored unless unknown
   bool has_lod_bias = false;
-  bool has_view = false;  // records carry the view vector (version 2 or 3)
+  bool has_view = false;  // records carry the view vector (version 2 or later)
+  // Records carry the version-4 operation fields: written, all of them; read, some of them
+  // (op_fields, a bit per field of kOpFieldNames).
+  bool has_ops = false;
+  uint32_t op_fields = 0;
   std::vector<TraceTexture> textures;
   // Layout info, filled in by TraceReader. Writers always write the canonical layout for
   // has_lod_bias (canonical_fields()) and ignore these.
@@ -101,11 +106,24 @@ struct TraceFieldSpec {
 };
 const std::vector<TraceFieldSpec>& trace_field_specs();
 // Canonical binary layout written by TraceWriter (packed, in trace_field_specs() order).
-std::vector<TraceField> canonical_fields(bool has_lod_bias, bool has_view = false);
-uint32_t canonical_record_size(bool has_lod_bias, bool has_view = false);
+std::vector<TraceField> canonical_fields(bool has_lod_bias, bool has_view = false,
+                                         bool has_ops = false);
+uint32_t canonical_record_size(bool has_lod_bias, bool has_view = false, bool has_ops = false);
+// The version-4 operation fields, in trace_field_specs() order after the view vector; bit k
+// of TraceHeader::op_fields is kOpFieldNames[k].
+inline constexpr size_t kFirstOpField = 15;
+inline constexpr std::string_view kOpFieldNames[] = {
+    "w",       "dwdx", "dwdy",        "layer",    "lod",      "compare_ref",
+    "sampler", "op",   "gather_comp", "offset_u", "offset_v", "offset_w"};
+inline constexpr uint32_t kAllOpFields = (1u << 12) - 1;
+// Checks a fragment's operation fields, of which `present` (bits as op_fields) are in the
+// trace: finite values, a known op, a gather component 0..3, offsets in −8..7, and the fields
+// the operation needs (op "lod" the lod, op "gather" the gather_comp). Empty when valid.
+std::string check_operation(const Fragment& f, uint32_t present);
 // The version a writer writes: 3 when some texture has a storage, else 2 with the view vector,
 // else 1.
-uint32_t written_version(bool has_view, const std::vector<TraceTexture>& textures);
+uint32_t written_version(bool has_view, const std::vector<TraceTexture>& textures,
+                         bool has_ops = false);
 // Throws InputError(where, ...) unless a writer can write `version` (1..kTraceVersion).
 void check_writable_version(uint32_t version, const std::string& where);
 
@@ -154,6 +172,7 @@ class TraceWriter {
   TraceFilePtr file_;
   bool has_lod_bias_ = false;
   bool has_view_ = false;
+  bool has_ops_ = false;
   uint32_t record_size_ = 0;
   uint32_t records_per_chunk_ = 0;
   TextureIdSet ids_;

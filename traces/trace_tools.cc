@@ -97,6 +97,7 @@ int trace_info(const std::string& path, std::ostream& out) {
   }
   out << "\nlod_bias:   " << (h.has_lod_bias ? "present" : "absent") << "\n";
   if (h.has_view) out << "view:       present (view_x, view_y, view_z)\n";
+  if (h.has_ops) out << "operations: present (version-4 operation fields)\n";
   out << "textures:   " << h.textures.size() << "\n";
   for (const TraceTexture& t : h.textures) {
     out << "  id " << t.id << "  " << t.name << "  " << t.width << "x" << t.height << "  "
@@ -133,6 +134,7 @@ void trace_convert(const std::string& in, const std::string& out) {
   TraceHeader h;
   h.has_lod_bias = reader.header().has_lod_bias;
   h.has_view = reader.header().has_view;
+  h.has_ops = reader.header().has_ops;
   h.textures = reader.header().textures;
   write_trace(out, h, [&](auto& writer) {
     std::vector<Fragment> chunk;

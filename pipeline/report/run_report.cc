@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "blocks/base/atomic_file.h"
+#include "blocks/base/sample_op.h"
 #include "pipeline/report/number_text.h"
 #include "pipeline/report/workload_report.h"
 
@@ -19,6 +20,7 @@ struct MaterialRow {
   std::vector<std::string> blocks;
   OpCounts ops;
   uint64_t texels = 0;
+  TextureUnit::OpTallies op_tallies{};  // explicit operations (Fragment::op)
   bool relief = false;  // relief loop steps and height reads (materials with relief only)
   uint64_t relief_steps = 0, relief_fetches = 0;
   AccuracyMetrics acc;
@@ -33,6 +35,7 @@ std::vector<MaterialRow> material_rows(const RunInfo& info, const UnitArray& uni
     MaterialRow r;
     r.name = unit.material(m).name;
     r.fragments = unit.material_fragments(m);
+    r.op_tallies = unit.material_op_tallies(m);
     for (const BlockUse& b : unit.material_blocks(m)) {
       r.blocks.push_back(b.name);
       r.ops += b.ops;
@@ -228,6 +231,26 @@ Json material_json(const MaterialRow& r) {
                    {"fetches", r.relief_fetches},
                    {"steps_per_fragment", r.per_fragment(static_cast<double>(r.relief_steps))},
                    {"fetches_per_fragment", r.per_fragment(static_cast<double>(r.relief_fetches))}};
+  }
+  // Per operation, when some fragment asked for an explicit one: its fragments, and what each
+  // of them cost (taps, operations, address-slot issue cycles). "sample" is the rest, the
+  // implicit-LOD samples, with the fragment count only (the material's rows hold their costs).
+  uint64_t explicit_fragments = 0;
+  for (const auto& t : r.op_tallies) explicit_fragments += t.fragments;
+  if (explicit_fragments > 0) {
+    Json ops;
+    ops["sample"] = {{"fragments", r.fragments - explicit_fragments}};
+    for (int k = 1; k < kSampleOps; ++k) {
+      const TextureUnit::OpTally& t = r.op_tallies[static_cast<size_t>(k)];
+      if (t.fragments == 0) continue;
+      const double n = static_cast<double>(t.fragments);
+      ops[std::string(kSampleOpNames[k])] = {
+          {"fragments", t.fragments},
+          {"taps_per_fragment", static_cast<double>(t.taps) / n},
+          {"ops_per_fragment", static_cast<double>(t.ops.total()) / n},
+          {"issue_cycles_per_fragment", static_cast<double>(t.issue_cycles) / n}};
+    }
+    e["operations"] = ops;
   }
   e["accuracy"] = accuracy_json(r.acc);
   return e;

@@ -8,6 +8,9 @@
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
 #include "blocks/texture/decode/block_decoder.h"
+#include "blocks/texture/memory/storage_format.h"
+#include "blocks/texture/sampler/gather_unit.h"
+#include "blocks/texture/sampler/texel_reduce.h"
 #include "pipeline/texture/stages/relief_stage.h"
 
 namespace texsim {
@@ -92,6 +95,11 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
   for (size_t m = 0; m < paths_.size(); ++m) {
     paths_[m].kernel = choose_kernel(paths_[m]);
     paths_[m].layered_kernel = choose_kernel(paths_[m], true);
+    // A min/max reduction or a depth comparison replaces the blend: its own kernel, no batch.
+    if (paths_[m].stages.address && mats_[m].filter.reduces()) {
+      paths_[m].kernel = &TextureUnit::process_reduced;
+      continue;
+    }
     choose_batch(paths_[m], mats_[m]);
   }
 }
@@ -270,6 +278,8 @@ Rgba TextureUnit::filter_fragment(const Fragment& f, Path& p, const ItemCost* fr
                                   " texture, which footprint filters do not sample");
     return (this->*p.layered_kernel)(f, p, tex, front);
   }
+  if (f.op != 0) [[unlikely]]
+    return process_op(f, p, tex, front);
   if (tex.storage() == StorageFormat::Srgb8A8) return filter_srgb(f, p, tex, front);
   return (this->*p.kernel)(f, p, tex, front);
 }
@@ -285,6 +295,92 @@ Rgba TextureUnit::filter_srgb(const Fragment& f, Path& p, const Texture& tex,
   p.srgb_texels += a ? (a->probes() - probes) * a->taps_per_probe() - (a->border_taps() - border)
                      : filter_texels_ - texels;
   return tex.srgb_after_filter() ? SrgbDecoder::decode_filtered(c) : c;
+}
+
+Rgba TextureUnit::process_op(const Fragment& f, Path& p, const Texture& tex,
+                             const ItemCost* front) {
+  if (!valid_sample_op(f.op))
+    throw std::invalid_argument("texture unit: fragment operation " + std::to_string(f.op) +
+                                " is not known");
+  const std::string_view op_name = kSampleOpNames[f.op];
+  if (!p.stages.address)
+    throw std::invalid_argument("texture unit: material '" +
+                                mats_[static_cast<size_t>(&p - paths_.data())].name +
+                                "' has a footprint filter, which serves implicit-LOD samples "
+                                "only; operation '" +
+                                std::string(op_name) + "' needs nearest, bilinear or trilinear");
+  OpTally& t = p.op_tallies[f.op];
+  ++t.fragments;
+  if (f.op == static_cast<uint8_t>(SampleOp::kGather)) {
+    t.taps += 4;
+    t.issue_cycles += 1;
+    t.ops += GatherUnit::ops_per_item(p.stages.address->gen().config());
+    return process_gather(f, p, tex, front);
+  }
+  // Explicit LOD or gradients: the material's datapath with the operation's λ.
+  const SampleOp op = static_cast<SampleOp>(f.op);
+  const LodResult lod = p.stages.lod->eval(f, tex);
+  const uint32_t probes = TexelAddressGen::issue_cycles(lod);
+  const TexelAddressGen& addr = p.stages.address->gen();
+  const uint64_t taps = uint64_t{probes} * p.stages.address->taps_per_probe();
+  t.taps += taps;
+  t.issue_cycles += probes;
+  const OpCounts per_tap =
+      addr.config().reduces()
+          ? TexelReduce::ops_per_tap(addr.config().reduction, addr.config().compare)
+          : TexelBlend::ops_per_item();
+  t.ops += p.stages.lod->ops_for(op) + addr.ops_setup(probes > 1) +
+           addr.ops_per_item(probes > 1) * probes + per_tap * taps;
+  return (this->*p.kernel)(f, p, tex, front);
+}
+
+Rgba TextureUnit::process_reduced(const Fragment& f, Path& p, const Texture& tex,
+                                  const ItemCost* front) {
+  const LodResult lod = p.stages.lod->eval(f, tex);
+  const TexelAddressGen& addr = p.stages.address->gen();
+  addr.taps(tex, f.u, f.v, lod, taps_);
+  const TexelAddressGen::Config& c = addr.config();
+  const Rgba colour = c.compare != CompareOp::None
+                          ? TexelReduce::compare(taps_, tex, c.compare, f.compare_ref)
+                          : TexelReduce::minmax(taps_, tex, c.reduction);
+  if (taps_.border_taps > 0) p.stages.address->count_border(taps_.border_taps);
+  const uint32_t probes = TexelAddressGen::issue_cycles(lod);
+  count_fragment(f, p, probes);
+  if (pipe_) {
+    issue_general(p, front, probes - 1,
+                  fetch_.extra_ii(uint64_t{probes} * p.stages.address->taps_per_probe()),
+                  p.stages.blend->extra_ii(probes),
+                  [&](uint64_t start) { return fetch_.lookup_taps(taps_, tex, start); });
+  }
+  return colour;
+}
+
+Rgba TextureUnit::process_gather(const Fragment& f, Path& p, const Texture& tex,
+                                 const ItemCost* front) {
+  const TexelAddressGen::Config& c = p.stages.address->gen().config();
+  const TexelQuad q = GatherUnit::quad(c, tex, f.u, f.v, f.offset_u, f.offset_v);
+  int border = 0;
+  Rgba out = GatherUnit::gather(
+      q, tex, f.gather_component,
+      c.uses_border() ? border_texel(tex.storage(), c.border) : Rgba(0.0f), &border);
+  if (c.compare != CompareOp::None) {
+    // textureGatherCompare: each of the four texels compared with the reference.
+    const float ref = TexelReduce::reference(tex, f.compare_ref);
+    for (int k = 0; k < 4; ++k) out[k] = compare_passes(c.compare, ref, out[k]) ? 1.0f : 0.0f;
+  }
+  if (border > 0) p.stages.address->count_border(border);
+  count_fragment(f, p, 1);
+  if (pipe_) {
+    taps_.tap[0] = {0, q.x0, q.y0, 1.0f};
+    taps_.tap[1] = {0, q.x1, q.y0, 1.0f};
+    taps_.tap[2] = {0, q.x0, q.y1, 1.0f};
+    taps_.tap[3] = {0, q.x1, q.y1, 1.0f};
+    taps_.count = 4;
+    taps_.border_taps = border;
+    issue_general(p, front, 0, fetch_.extra_ii(4), 0,
+                  [&](uint64_t start) { return fetch_.lookup_taps(taps_, tex, start); });
+  }
+  return out;
 }
 
 template <class CostFn>

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "blocks/base/fragment.h"
+#include "blocks/base/sample_op.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/texture/memory/texture_cache.h"
 #include "blocks/texture/memory/texture_memory.h"
@@ -162,6 +163,19 @@ class TextureUnit {
   std::vector<BlockUse> material_blocks(int m) const;
   // Fragments material m textured.
   uint64_t material_fragments(int m) const { return paths_[static_cast<size_t>(m)].fragments; }
+  // What one operation (Fragment::op) cost material m's fragments: tallied for the explicit
+  // operations only (index SampleOp::kSample stays 0; the material's other fragments are its
+  // implicit samples). ops are those the operation's own datapath uses (LodUnit::ops_for, the
+  // address generator's or the gather unit's, the blend's per tap); issue_cycles are the
+  // address slot's (one per probe).
+  struct OpTally {
+    uint64_t fragments = 0, taps = 0, issue_cycles = 0;
+    OpCounts ops;
+  };
+  using OpTallies = std::array<OpTally, kSampleOps>;
+  const OpTallies& material_op_tallies(int m) const {
+    return paths_[static_cast<size_t>(m)].op_tallies;
+  }
   int material_count() const { return static_cast<int>(mats_.size()); }
   const ClockedPipeline* pipeline() const { return pipe_.get(); }
   const TextureCache& cache() const { return fetch_.cache(); }
@@ -196,6 +210,7 @@ class TextureUnit {
     MaterialStages stages;
     uint64_t fragments = 0;
     uint64_t srgb_fragments = 0, srgb_texels = 0;  // on srgb8_a8 textures (filter_srgb)
+    OpTallies op_tallies{};
   };
   // Sizes the pipeline's slots from every material's stages and builds it (timed).
   void plan_pipeline();
@@ -271,6 +286,12 @@ class TextureUnit {
   // filter_fragment on an srgb8_a8 texture: counts the decoder's work, and decodes the filtered
   // colour when the decoder sits after the filter.
   Rgba filter_srgb(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  // A fragment with an explicit operation (f.op != 0): tallied, then a gather through the
+  // gather unit, the others through the material's kernel.
+  Rgba process_op(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  Rgba process_gather(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  // A material whose sampler reduces (min/max) or compares depth: taps, then the reducer.
+  Rgba process_reduced(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
   // The surface stages' enter(), the filter, their leave() for a material with any.
   Rgba process_surface(const Fragment& f, Path& p, int material, const ItemCost* front);
   // Cost of front-end slot s for a fragment of path p (with the dropped fragments' cycles).

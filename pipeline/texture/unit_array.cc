@@ -118,7 +118,12 @@ bool same_fragment(const Fragment& a, const Fragment& b) {
          bits(a.dvdx) == bits(b.dvdx) && bits(a.dudy) == bits(b.dudy) &&
          bits(a.dvdy) == bits(b.dvdy) && fbits(a.lod_bias) == fbits(b.lod_bias) &&
          fbits(a.view_x) == fbits(b.view_x) && fbits(a.view_y) == fbits(b.view_y) &&
-         fbits(a.view_z) == fbits(b.view_z);
+         fbits(a.view_z) == fbits(b.view_z) && bits(a.w) == bits(b.w) &&
+         bits(a.dwdx) == bits(b.dwdx) && bits(a.dwdy) == bits(b.dwdy) &&
+         fbits(a.layer) == fbits(b.layer) && a.op == b.op &&
+         a.gather_component == b.gather_component && a.sampler == b.sampler &&
+         fbits(a.lod) == fbits(b.lod) && fbits(a.compare_ref) == fbits(b.compare_ref) &&
+         a.offset_u == b.offset_u && a.offset_v == b.offset_v && a.offset_w == b.offset_w;
 }
 }  // namespace
 
@@ -276,6 +281,19 @@ uint64_t UnitArray::material_fragments(int m) const {
   uint64_t n = 0;
   for (const auto& u : units_) n += u->material_fragments(m);
   return n;
+}
+TextureUnit::OpTallies UnitArray::material_op_tallies(int m) const {
+  TextureUnit::OpTallies sum{};
+  for (const auto& u : units_) {
+    const TextureUnit::OpTallies& t = u->material_op_tallies(m);
+    for (size_t k = 0; k < sum.size(); ++k) {
+      sum[k].fragments += t[k].fragments;
+      sum[k].taps += t[k].taps;
+      sum[k].issue_cycles += t[k].issue_cycles;
+      sum[k].ops += t[k].ops;
+    }
+  }
+  return sum;
 }
 uint64_t UnitArray::quad_merged_lookups() const {
   uint64_t n = 0;

@@ -67,6 +67,7 @@ class UnitArray {
   std::vector<BlockUse> blocks() const;
   std::vector<BlockUse> material_blocks(int m) const;
   uint64_t material_fragments(int m) const;
+  TextureUnit::OpTallies material_op_tallies(int m) const;
   uint64_t quad_merged_lookups() const;
   uint64_t material_relief_steps(int m) const;
   uint64_t material_relief_fetches(int m) const;

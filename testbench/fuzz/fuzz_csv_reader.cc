@@ -38,11 +38,17 @@ bool same(const texsim::Fragment& a, const texsim::Fragment& b) {
          std::bit_cast<uint32_t>(a.lod_bias) == std::bit_cast<uint32_t>(b.lod_bias) &&
          std::bit_cast<uint32_t>(a.view_x) == std::bit_cast<uint32_t>(b.view_x) &&
          std::bit_cast<uint32_t>(a.view_y) == std::bit_cast<uint32_t>(b.view_y) &&
-         std::bit_cast<uint32_t>(a.view_z) == std::bit_cast<uint32_t>(b.view_z);
+         std::bit_cast<uint32_t>(a.view_z) == std::bit_cast<uint32_t>(b.view_z) &&
+         same_bits(a.w, b.w) && same_bits(a.dwdx, b.dwdx) && same_bits(a.dwdy, b.dwdy) &&
+         std::bit_cast<uint32_t>(a.layer) == std::bit_cast<uint32_t>(b.layer) &&
+         std::bit_cast<uint32_t>(a.lod) == std::bit_cast<uint32_t>(b.lod) &&
+         std::bit_cast<uint32_t>(a.compare_ref) == std::bit_cast<uint32_t>(b.compare_ref) &&
+         a.sampler == b.sampler && a.op == b.op && a.gather_component == b.gather_component &&
+         a.offset_u == b.offset_u && a.offset_v == b.offset_v && a.offset_w == b.offset_w;
 }
 
 bool same(const texsim::TraceHeader& a, const texsim::TraceHeader& b) {
-  if (a.has_lod_bias != b.has_lod_bias || a.has_view != b.has_view ||
+  if (a.has_lod_bias != b.has_lod_bias || a.has_view != b.has_view || a.has_ops != b.has_ops ||
       a.textures.size() != b.textures.size())
     return false;
   for (size_t i = 0; i < a.textures.size(); ++i) {

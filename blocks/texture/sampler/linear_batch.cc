@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 namespace texsim::linear_batch_detail {
@@ -344,7 +345,9 @@ TEXSIM_NO_TREE_VECTORIZE HWY_NOINLINE void load_columns(const Input& in, Columns
     c.dvdx[k] = static_cast<float>(f.dvdx);
     c.dudy[k] = static_cast<float>(f.dudy);
     c.dvdy[k] = static_cast<float>(f.dvdy);
-    c.bias[k] = f.lod_bias;
+    // A fragment with an explicit operation (Fragment::op) is left to the one-by-one path: a
+    // non-finite bias takes its lane out of the batch.
+    c.bias[k] = f.op == 0 ? f.lod_bias : std::numeric_limits<float>::quiet_NaN();
     c.tex[k] = static_cast<int32_t>(f.tex);
   }
   c.one_frame = one_frame;

@@ -57,6 +57,14 @@ OpCounts LodUnit::count_ops(const Config& c) {
   return o;
 }
 
+OpCounts LodUnit::ops_for(SampleOp op) const {
+  if (op != SampleOp::kSampleLod) return ops_;
+  OpCounts o;
+  o.add = 1;  // λ_base + sampler bias
+  o.cmp = 3;  // the select of λ_base, the clamp to [min_lod, max_lod]
+  return o;
+}
+
 TimingSpec LodUnit::timing(const TechTable& tech) const {
   // Common front: scale (mul), square (mul), sum (add), max (cmp).
   OpCounts front;

@@ -11,6 +11,7 @@
 #include "blocks/base/config_reader.h"
 #include "blocks/base/fragment.h"
 #include "blocks/base/op_counts.h"
+#include "blocks/base/sample_op.h"
 #include "blocks/base/tech_table.h"
 #include "blocks/base/timing_spec.h"
 
@@ -49,6 +50,11 @@ class LodUnit {
   // λ, probe count and probe step for fragment `f` on a texture whose level 0 is
   // tex_w × tex_h. Adds this fragment's operations to `ops`. Never returns NaN: non-finite
   // derivatives give λ_base = 0 (then bias and clamp as usual) and one probe.
+  // The fragment's operation (f.op, Vulkan "LOD Operation") picks λ_base: the derivatives
+  // (implicit LOD; explicit gradients, which are the derivative fields), or f.lod (explicit
+  // LOD: one probe, and a NaN lod gives λ_base = 0). The fragment's lod_bias is the shader's
+  // Bias operand, which SPIR-V allows with implicit LOD only; every operation takes the
+  // sampler's bias, then the [min_lod, max_lod] clamp.
   LodResult eval(const Fragment& f, int tex_w, int tex_h, OpCounts& ops) const {
     ops += ops_;
     return eval(f, tex_w, tex_h);
@@ -60,6 +66,9 @@ class LodUnit {
   // Item: one fragment. Operations of the datapath (the same for every fragment: the hardware
   // evaluates every path and selects).
   const OpCounts& ops_per_item() const { return ops_; }
+  // The operations fragment of operation `op` uses of that datapath: an explicit LOD skips the
+  // derivative front (the bias add, the clamp and the select of λ_base remain).
+  OpCounts ops_for(SampleOp op) const;
   // Critical path (latency) and area of a fully pipelined unit (one fragment per cycle).
   TimingSpec timing(const TechTable& tech) const;
   std::string name() const { return "lod"; }
@@ -74,7 +83,14 @@ class LodUnit {
 // In the header so the texture unit inlines it into its per-fragment path.
 inline LodResult LodUnit::eval(const Fragment& f, int tex_w, int tex_h) const {
   LodResult r;
-  const float bias = cfg_.lod_bias + f.lod_bias;
+  const bool implicit = f.op == static_cast<uint8_t>(SampleOp::kSample);
+  const float bias = cfg_.lod_bias + (implicit ? f.lod_bias : 0.0f);
+  if (f.op == static_cast<uint8_t>(SampleOp::kSampleLod)) {
+    float lambda = (std::isnan(f.lod) ? 0.0f : f.lod) + bias;
+    if (std::isnan(lambda)) lambda = 0;  // inf + (-inf) bias
+    r.lambda = std::clamp(lambda, cfg_.min_lod, cfg_.max_lod);
+    return r;
+  }
   const float w = static_cast<float>(tex_w), h = static_cast<float>(tex_h);
 
   float lambda_base = 0;  // fallback for non-finite derivatives: level 0 before bias

@@ -90,7 +90,7 @@ TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r
            "float 'border'");
   }
   r.reject_unknown({"mode", "address", "address_u", "address_v", "sub_texel_bits", "mipmap_bits",
-                    "border", "offset", "seamless"});
+                    "border", "offset", "seamless", "reduction", "compare"});
   Config c;
   c.filter = static_cast<FilterMode>(
       r.get_choice("mode", static_cast<int>(c.filter), {"nearest", "bilinear", "trilinear"}));
@@ -111,6 +111,14 @@ TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r
   c.border = border_from_toml(r);
   offset_from_toml(r, c.offset_u, c.offset_v);
   c.seamless_cube = r.get_bool("seamless", c.seamless_cube);
+  c.reduction = static_cast<Reduction>(
+      r.get_choice("reduction", 0, {kReductionNames[0], kReductionNames[1], kReductionNames[2]}));
+  c.compare = static_cast<CompareOp>(r.get_choice(
+      "compare", 0,
+      std::vector<std::string_view>(std::begin(kCompareOpNames), std::end(kCompareOpNames))));
+  // Vulkan: a comparing sampler's reduction is the weighted average.
+  if (c.compare != CompareOp::None && c.reduction != Reduction::WeightedAverage)
+    r.fail("compare", "a depth comparison needs reduction = \"weighted_average\"");
   return c;
 }
 

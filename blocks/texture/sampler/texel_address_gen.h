@@ -18,6 +18,7 @@
 #include "blocks/base/timing_spec.h"
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/sampler/lod_unit.h"
+#include "blocks/texture/sampler/sampler_modes.h"
 
 namespace texsim {
 
@@ -74,6 +75,14 @@ class TexelAddressGen {
     // Cube textures: seamless filtering across face edges (Vulkan's default), or each face
     // addressed on its own with address_u/address_v (VK_EXT_non_seamless_cube_map).
     bool seamless_cube = true;
+    // Min/max reduction and depth comparison (sampler_modes.h), which the texel reducer
+    // applies in place of the blend. Keys: reduction ("weighted_average"|"min"|"max"),
+    // compare ("none"|"never"|"less"|…|"always"; not with a min/max reduction).
+    Reduction reduction = Reduction::WeightedAverage;
+    CompareOp compare = CompareOp::None;
+    bool reduces() const {
+      return reduction != Reduction::WeightedAverage || compare != CompareOp::None;
+    }
     // Keys: mode ("nearest"|"bilinear"|"trilinear"); address ("wrap"|"clamp"|"mirror"|
     // "border"|"mirror_clamp") for both axes, or address_u and address_v separately (not both
     // forms at once); sub_texel_bits (1..16), mipmap_bits (1..16); border

@@ -23,6 +23,7 @@ class LodStage final : public UnitStage {
     return lod_.eval(f, tex.width(0), tex.height(0));
   }
   const LodUnit::Config& config() const { return lod_.config(); }
+  OpCounts ops_for(SampleOp op) const { return lod_.ops_for(op); }
 
  private:
   LodUnit lod_;

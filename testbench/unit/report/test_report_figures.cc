@@ -77,7 +77,10 @@ const std::set<std::string> kKnownKeys = {
     // materials
     "materials", "materials.*", "materials.*.fragments", "materials.*.blocks", "materials.*.ops",
     "materials.*.ops.<op>", "materials.*.ops_per_fragment", "materials.*.texels_per_fragment",
-    "materials.*.relief", "materials.*.relief.steps", "materials.*.relief.fetches",
+    "materials.*.operations", "materials.*.operations.*", "materials.*.operations.*.fragments",
+    "materials.*.operations.*.taps_per_fragment", "materials.*.operations.*.ops_per_fragment",
+    "materials.*.operations.*.issue_cycles_per_fragment", "materials.*.relief",
+    "materials.*.relief.steps", "materials.*.relief.fetches",
     "materials.*.relief.steps_per_fragment", "materials.*.relief.fetches_per_fragment",
     "materials.*.accuracy", "materials.*.accuracy.psnr_db", "materials.*.accuracy.nmse",
     "materials.*.accuracy.max_abs", "materials.*.accuracy.mean_abs", "materials.*.accuracy.pixels",

@@ -152,6 +152,56 @@ TEST(LodUnit, BiasAndClamp) {
   EXPECT_EQ(lod.eval(frag(s / 64, 0, 0, s / 64), 256, 256, ops).lambda, 0.5f);
 }
 
+// Explicit LOD (textureLod): λ_base is the fragment's lod, the sampler bias is added before the
+// clamp, and the fragment's lod_bias (the shader's Bias, not allowed with Lod) is ignored.
+TEST(LodUnit, ExplicitLodBiasThenClamp) {
+  LodUnit::Config c;
+  c.lod_bias = 1.5f;
+  c.min_lod = 0.0f;
+  c.max_lod = 2.75f;
+  c.aniso = AnisoMode::Vulkan;
+  c.max_aniso = 8;
+  LodUnit lod(c);
+  const double s = 4.0 / 256;
+  Fragment f = frag(8 * s, 0, 0, s, 3.0f);  // anisotropic derivatives, ignored
+  f.op = static_cast<uint8_t>(SampleOp::kSampleLod);
+  f.lod = -1.0f;
+  LodResult r = lod.eval(f, 256, 256);
+  EXPECT_EQ(r.lambda, 0.5f);  // clamp(-1 + 1.5): clamping first would give 1.5
+  EXPECT_EQ(r.probes, 1);
+  f.lod = 2.0f;
+  EXPECT_EQ(lod.eval(f, 256, 256).lambda, 2.75f);
+  f.lod = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(lod.eval(f, 256, 256).lambda, 1.5f);
+  f.lod = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(lod.eval(f, 256, 256).lambda, 2.75f);
+  f.lod = -std::numeric_limits<float>::infinity();
+  EXPECT_EQ(lod.eval(f, 256, 256).lambda, 0.0f);
+  // Its cost: the bias add, the select and the clamp, none of the derivative front.
+  const OpCounts o = lod.ops_for(SampleOp::kSampleLod);
+  EXPECT_EQ(o.add, 1u);
+  EXPECT_EQ(o.cmp, 3u);
+  EXPECT_EQ(o.mul + o.lut + o.div + o.sqrt, 0u);
+  EXPECT_TRUE(lod.ops_for(SampleOp::kSampleGrad) == lod.ops_per_item());
+}
+
+// Explicit gradients (textureGrad): λ from the derivative fields like an implicit sample, with
+// the sampler's bias only.
+TEST(LodUnit, ExplicitGradientsTakeTheSamplerBiasOnly) {
+  LodUnit::Config c;
+  c.lod_bias = 0.25f;
+  LodUnit lod(c);
+  const double s = 4.0 / 256;  // λ_base = 2
+  Fragment f = frag(s, 0, 0, s, 1.0f);
+  EXPECT_EQ(lod.eval(f, 256, 256).lambda, 3.25f);
+  f.op = static_cast<uint8_t>(SampleOp::kSampleGrad);
+  EXPECT_EQ(lod.eval(f, 256, 256).lambda, 2.25f);
+  f.dudx = f.dvdy = 0;  // zero gradients: min_lod
+  EXPECT_EQ(lod.eval(f, 256, 256).lambda, 0.0f);
+  f.dudx = f.dvdy = 1e38;  // overflowing gradients: max_lod
+  EXPECT_EQ(lod.eval(f, 256, 256).lambda, c.max_lod);
+}
+
 TEST(LodUnit, VulkanAnisotropyDirected) {
   LodUnit::Config c;
   c.aniso = AnisoMode::Vulkan;

@@ -10,6 +10,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "blocks/base/sample_op.h"
 #include "testbench/lib/bench_floor.h"
 
 namespace texsim {
@@ -236,6 +237,41 @@ TEST(UnitBatch, BorderMirrorClampAndOffsetsTakeTheOneByOnePath) {
     EXPECT_EQ(border > 0, c.u == AddressMode::Border) << border;
     EXPECT_EQ(batched.cache.texel_reads, texels);
   }
+}
+
+// Explicit LOD and explicit gradients (Fragment::op) take the one-by-one path: the same figures
+// either way, and the explicit LOD changes the colours the implicit sample gave.
+TEST(UnitBatch, ExplicitLodAndGradientsTakeTheOneByOnePath) {
+  BenchFloor& fx = floor_fixture();
+  const std::vector<Fragment> plain = fx.frags;
+  for (size_t i = 0; i < fx.frags.size(); ++i) {
+    Fragment& f = fx.frags[i];
+    if (i % 5 == 1) {
+      f.op = static_cast<uint8_t>(SampleOp::kSampleLod);
+      f.lod = 3.5f;
+    } else if (i % 7 == 2) {
+      f.op = static_cast<uint8_t>(SampleOp::kSampleGrad);
+      f.lod_bias = 4.0f;  // the shader's Bias: not with explicit gradients
+    }
+  }
+  MaterialSetup m;
+  m.name = "floor";
+  m.filter.filter = FilterMode::Trilinear;
+  const Figures one = run(m, TexelLayout::Tiled4x4, true, 0);
+  const Figures batched = run(m, TexelLayout::Tiled4x4, true, LinearBatch::kMax);
+  fx.frags = plain;
+  expect_same(one, batched);
+  const Figures implicit = run(m, TexelLayout::Tiled4x4, true, LinearBatch::kMax);
+  size_t lod_changed = 0, grad_changed = 0;
+  for (size_t i = 0; i < plain.size(); ++i) {
+    const bool same = std::bit_cast<uint32_t>(one.colours[i][0]) ==
+                      std::bit_cast<uint32_t>(implicit.colours[i][0]);
+    if (i % 5 == 1) lod_changed += !same;
+    if (i % 5 != 1 && i % 7 == 2) grad_changed += !same;
+  }
+  EXPECT_GT(lod_changed, plain.size() / 20);
+  // A gradient fragment differs only where the fixture gave it a bias.
+  EXPECT_LT(grad_changed, plain.size() / 50);
 }
 
 TEST(UnitBatch, AnUnloadedTextureFailsAtItsFragment) {

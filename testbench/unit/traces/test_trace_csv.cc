@@ -381,3 +381,39 @@ TEST(TraceCsvWriter, QuotesOnlyWhatNeedsQuoting) {
 
 }  // namespace
 }  // namespace texsim
+
+namespace texsim {
+namespace {
+
+// Version 4: operation columns, each optional; a record whose operation needs a column the
+// trace lacks, and out-of-range values, are errors naming the line and column.
+TEST(TraceCsvVersion4, OperationColumns) {
+  const std::string head =
+      "# texture 0 t p 8 8\nframe,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy,op,lod,offset_u\n";
+  TempDir dir("texsim_trace_csv");
+  const std::string path = dir.file("ops.csv");
+  spit(path, head + "0,0,0,0,0,0.5,0.5,0,0,0,0,1,2.5,-8\n0,0,1,0,0,0.5,0.5,0,0,0,0,2,0,7\n");
+  TraceHeader h;
+  const std::vector<Fragment> got = read_trace(path, &h);
+  EXPECT_EQ(h.version, 4u);
+  EXPECT_TRUE(h.has_ops);
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_EQ(got[0].op, 1);
+  EXPECT_EQ(got[0].lod, 2.5f);
+  EXPECT_EQ(got[0].offset_u, -8);
+  EXPECT_EQ(got[1].op, 2);
+  EXPECT_EQ(got[1].offset_u, 7);
+  expect_csv_error("0,0,0,0,0,0.5,0.5,0,0,0,0,3,0,0\n", "3:1",
+                   "operation 'gather' needs the field 'gather_comp', which the trace lacks", head);
+  expect_csv_error("0,0,0,0,0,0.5,0.5,0,0,0,0,4,0,0\n", "3:1", "field 'op' is 4", head);
+  expect_csv_error("0,0,0,0,0,0.5,0.5,0,0,0,0,1,0,8\n", "3:1", "outside the texel offsets", head);
+  expect_csv_error("0,0,0,0,0,0.5,0.5,0,0,0,0,1,nan,0\n", "3:29", "field 'lod' is NaN", head);
+  expect_csv_error("0,0,0,0,0,0.5,0.5,0,0,0,0,1,0,-129\n", "3:31", "'-129' is outside -128..127",
+                   head);
+  expect_csv_error("0,0,0,0,0,0.5,0.5,0,0,0,0,1\n", "3:1",
+                   "operation 'lod' needs the field 'lod', which the trace lacks",
+                   "# texture 0 t p 8 8\nframe,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy,op\n");
+}
+
+}  // namespace
+}  // namespace texsim

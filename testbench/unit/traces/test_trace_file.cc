@@ -532,8 +532,8 @@ void expect_header_error(const FileSpec& s, const std::vector<std::string>& part
 
 TEST(TraceFileErrors, UnknownVersion) {
   FileSpec s;
-  s.version = 4;
-  expect_header_error(s, {"unknown version 4", "reads versions 1..3"});
+  s.version = 5;
+  expect_header_error(s, {"unknown version 5", "reads versions 1..4"});
   s.version = 0;
   expect_header_error(s, {"unknown version 0"});
 }
@@ -893,8 +893,8 @@ TEST(TraceWriterFailure, BadHeaderOrChunkSizeIsRejectedBeforeWriting) {
   h.textures[1].name = "a\nb";
   expect_input_error([&] { TraceWriter w(path, h); }, {path, "control character"});
   h = sample_header(true);
-  h.version = 4;
-  expect_input_error([&] { TraceWriter w(path, h); }, {path, "version 4"});
+  h.version = 5;
+  expect_input_error([&] { TraceWriter w(path, h); }, {path, "version 5"});
   expect_input_error([&] { TraceWriter w(path, sample_header(true), 0); },
                      {path, "records per chunk 0"});
   EXPECT_EQ(dir.entries(), 0u);
@@ -1120,6 +1120,101 @@ TEST(TraceStorage, BadEntriesNameFileAndEntry) {
   h.textures[2].storage = "compress";
   const std::string out = dir.file("w.trc");
   expect_input_error([&] { TraceWriter w(out, h); }, {out, "texture entry 2", "neither"});
+}
+
+}  // namespace
+}  // namespace texsim
+
+namespace texsim {
+namespace {
+
+// ---- version 4: the operation fields -------------------------------------------------------
+
+std::vector<Fragment> with_operations(std::vector<Fragment> frags) {
+  for (size_t i = 0; i < frags.size(); ++i) {
+    Fragment& f = frags[i];
+    f.op = static_cast<uint8_t>(i % 4);
+    f.lod = 0.25F * static_cast<float>(i % 9) - 1.0F;
+    f.gather_component = static_cast<uint8_t>(i % 4);
+    f.compare_ref = 1.0F / static_cast<float>(i + 3);
+    f.sampler = static_cast<uint16_t>(i * 977 % 65536);
+    f.offset_u = static_cast<int8_t>(static_cast<int>(i % 16) - 8);
+    f.offset_v = static_cast<int8_t>(7 - static_cast<int>(i % 16));
+    f.offset_w = static_cast<int8_t>(i % 3);
+    f.w = 1.0 / static_cast<double>(i + 1);
+    f.dwdx = -1e-300 * static_cast<double>(i);
+    f.dwdy = 3.5;
+    f.layer = static_cast<float>(i % 6) + 0.5F;
+  }
+  return frags;
+}
+
+::testing::AssertionResult same_operation(const Fragment& a, const Fragment& b) {
+  const bool ok = a.op == b.op && same_bits(a.lod, b.lod) &&
+                  a.gather_component == b.gather_component &&
+                  same_bits(a.compare_ref, b.compare_ref) && a.sampler == b.sampler &&
+                  a.offset_u == b.offset_u && a.offset_v == b.offset_v &&
+                  a.offset_w == b.offset_w && same_bits(a.w, b.w) && same_bits(a.dwdx, b.dwdx) &&
+                  same_bits(a.dwdy, b.dwdy) && same_bits(a.layer, b.layer);
+  if (ok) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "operation fields differ: op " << int{a.op} << "/"
+                                       << int{b.op} << " lod " << a.lod << "/" << b.lod;
+}
+
+TEST(TraceVersion4, RoundTripsInBothFormsAndBetweenThem) {
+  for (const bool view : {false, true}) {
+    TempDir dir("texsim_trace_file");
+    TraceHeader h = sample_header(true);
+    h.has_view = view;
+    h.has_ops = true;
+    auto frags = with_operations(random_fragments(300, true, {0, 7}, 11));
+    if (view) frags = with_views(frags);
+    for (const char* name : {"o.trc", "o.csv"}) {
+      SCOPED_TRACE(std::string(name) + (view ? " with the view vector" : ""));
+      const std::string path = dir.file(name);
+      write_trace(path, h, frags);
+      TraceHeader back;
+      const auto got = read_all(path, &back);
+      EXPECT_EQ(back.version, 4u);
+      EXPECT_TRUE(back.has_ops);
+      EXPECT_EQ(back.op_fields, kAllOpFields);
+      if (back.encoding == TraceEncoding::Binary) {
+        EXPECT_EQ(back.record_size, (view ? 84u : 72u) + 43u);
+      }
+      ASSERT_EQ(got.size(), frags.size());
+      for (size_t i = 0; i < got.size(); ++i) {
+        ASSERT_TRUE(same_fragment(got[i], frags[i])) << i;
+        ASSERT_TRUE(same_operation(got[i], frags[i])) << i;
+      }
+    }
+  }
+}
+
+TEST(TraceVersion4, WriterRefusesBadOperationsNamingTheRecord) {
+  TempDir dir("texsim_trace_file");
+  TraceHeader h = sample_header(false);
+  h.has_ops = true;
+  auto frags = with_operations(random_fragments(5, false, {0}, 2));
+  frags[3].op = 9;
+  expect_input_error([&] { write_trace(dir.file("bad.trc"), h, frags); },
+                     {"record 3", "field 'op' is 9"});
+  frags[3].op = 1;
+  frags[2].gather_component = 4;
+  expect_input_error([&] { write_trace(dir.file("bad.csv"), h, frags); },
+                     {"record 2", "'gather_comp' is 4"});
+  frags[2].gather_component = 0;
+  frags[1].layer = std::numeric_limits<float>::infinity();
+  expect_input_error([&] { write_trace(dir.file("bad.trc"), h, frags); },
+                     {"record 1", "'layer' is infinite"});
+  // Without operation fields nothing changes: version 1, 68-byte records, op 0 read back.
+  h.has_ops = false;
+  write_trace(dir.file("v1.trc"), h, random_fragments(5, false, {0}, 2));
+  TraceHeader back;
+  const auto got = read_all(dir.file("v1.trc"), &back);
+  EXPECT_EQ(back.version, 1u);
+  EXPECT_EQ(back.record_size, 68u);
+  EXPECT_FALSE(back.has_ops);
+  EXPECT_EQ(got[0].op, 0);
 }
 
 }  // namespace
