@@ -263,7 +263,7 @@ SurfaceSetup surface_setup(const Scene& scene, const std::vector<MaterialSetup>&
                    [](const MaterialSetup& m) { return m.relief || m.lighting; }))
     return s;
   for (const auto& p : scene.primitives) s.frames.emplace_back(scene, p);
-  for (const auto& m : mats) s.refs.emplace_back(m, set);
+  for (const auto& m : mats) s.refs.emplace_back(m, set, scene.reference_relief_per_sample);
   return s;
 }
 
@@ -811,7 +811,8 @@ ImageLayout run_layout(const RunOptions& opt, const Scene& scene, bool use_scene
 }
 
 std::string reference_text(const GroundTruth& truth, double mean_samples, size_t frames,
-                           bool surface, const std::vector<MaterialSetup>& mats) {
+                           bool surface, const std::vector<MaterialSetup>& mats,
+                           bool relief_per_sample) {
   if (truth.none) {
     return "No ground truth (--reference none): it was not computed, so this report has no "
            "accuracy figures (null in report.json) and the run writes no reference.png or "
@@ -827,7 +828,12 @@ std::string reference_text(const GroundTruth& truth, double mean_samples, size_t
     std::snprintf(buf, sizeof buf, " Mean %.1f samples per fragment.", mean_samples);
     s += buf;
   }
-  if (surface) {
+  if (surface && relief_per_sample) {
+    s += " Materials with relief: every sample is shifted along its own view ray to where it "
+         "meets the height field (1024-layer search, 24 halvings, double; [reference] relief = "
+         "\"per_sample\"). Materials with lighting: every sample is lit (Blinn-Phong in double) "
+         "with the normal at its own coordinates and the pixel's view vector, then averaged.";
+  } else if (surface) {
     s += " Materials with relief: every sample is shifted by the (u, v) offset of the pixel "
          "centre's view ray meeting the height field (1024-layer search, 24 halvings, double). "
          "Materials with lighting: every sample is lit (Blinn-Phong in double) with the normal "
@@ -1136,8 +1142,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   workload.finish();
   if (opt.workload) info.workload = &workload;
   info.scene = use_scene ? scene.path : "(none: trace only)";
-  info.reference =
-      reference_text(truth, batch.mean_samples(), info.frames.size(), surf.active(), mats);
+  info.reference = reference_text(truth, batch.mean_samples(), info.frames.size(), surf.active(),
+                                  mats, scene.reference_relief_per_sample);
   info.reference_pixel = to_string(scene.reference_pixel);
   info.has_truth = opt.reference != "none";
   if (use_scene && !reader) info.subsystems = scene_subsystems(scene, maps, mats, raster);

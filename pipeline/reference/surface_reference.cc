@@ -67,8 +67,13 @@ glm::dvec3 blinn_phong(const glm::dvec3& base, const glm::dvec3& n, const glm::d
 
 }  // namespace
 
-SurfaceReference::SurfaceReference(const MaterialSetup& m, const TextureSet& textures)
-    : au_(m.address_u()), av_(m.address_v()), relief_(m.relief), lighting_(m.lighting) {
+SurfaceReference::SurfaceReference(const MaterialSetup& m, const TextureSet& textures,
+                                   bool per_sample_relief)
+    : au_(m.address_u()),
+      av_(m.address_v()),
+      per_sample_(per_sample_relief),
+      relief_(m.relief),
+      lighting_(m.lighting) {
   if (relief_ && relief_->height_tex >= 0)
     relief_hm_ = height_map_of(textures[relief_->height_tex].reference());
   if (lighting_ && lighting_->normal_tex >= 0) {
@@ -193,8 +198,16 @@ glm::dvec4 SurfaceReference::operator()(const Texture& tex, const PlaneProjectio
       [&](double dx, double dy) {
         double u = 0, v = 0;
         pm.uv(dx, dy, u, v);
-        u += shift.x;
-        v += shift.y;
+        if (relief_ && per_sample_) {
+          // The sample's own ray: from the eye through the sample's point of the pixel.
+          const glm::dvec3 vs = sf.to_tangent(sf.view(px + dx, py + dy));
+          const glm::dvec2 p = relief_uv(u, v, vs, sf.u_length(), sf.v_length());
+          u = p.x;
+          v = p.y;
+        } else {
+          u += shift.x;
+          v += shift.y;
+        }
         glm::dvec4 c = reference_bilinear(tex, au_, av_, u, v);
         if (lighting_) {
           const glm::dvec3 lit = blinn_phong(glm::clamp(glm::dvec3(c), 0.0, 1.0), normal_at(u, v),

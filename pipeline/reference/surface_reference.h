@@ -4,8 +4,9 @@
 //  - relief: the view ray through the pixel's centre is intersected with the height field by a
 //    1024-layer linear search and 24 halvings over bilinear heights, in double; every sample
 //    of the pixel's box filter (fixed or adaptive, as PixelIntegrator says) is shifted by the (u,
-//    v) offset found there; for the terrain method the ray is marched in steps of 1/16 texel
-//    against the finite-function direct sum (40 halvings of the last step);
+//    v) offset found there, or (per sample) along its own view ray to where it meets the field; for
+//    the terrain method the ray is marched in steps of 1/16 texel against the finite-function
+//    direct sum (40 halvings of the last step);
 //  - lighting: each sample's bilinear colour is lit in double by the same Blinn-Phong model
 //    with the normal at the sample's (shifted) coordinates (bilinear normal map, central
 //    differences of the bilinear height map, or for terrain normals the finite-function direct
@@ -25,7 +26,10 @@ namespace texsim {
 
 class SurfaceReference {
  public:
-  SurfaceReference(const MaterialSetup& m, const TextureSet& textures);
+  // per_sample_relief: every sample shifted along its own view ray ([reference] relief =
+  // "per_sample"), else by the pixel centre's offset.
+  SurfaceReference(const MaterialSetup& m, const TextureSet& textures,
+                   bool per_sample_relief = false);
   bool active() const { return relief_.has_value() || lighting_.has_value(); }
   // The box pixel (integrate's pixel must be the box), sampled as `integrate` says.
   glm::dvec4 operator()(const Texture& tex, const PlaneProjection& map, const SurfaceFrame& sf,
@@ -41,6 +45,7 @@ class SurfaceReference {
   // on the polygon meets the surface, in texels.
   glm::dvec2 terrain_xy(double x, double y, const glm::dvec3& d) const;
   AddressMode au_, av_;
+  bool per_sample_ = false;
   std::optional<ReliefSetup> relief_;
   std::optional<LightingSetup> lighting_;
   ReliefHeightMap relief_hm_, normal_hm_;

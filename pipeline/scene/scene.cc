@@ -293,9 +293,10 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   parse_meshes(root, s);
   parse_models(root, s);
   const ConfigReader ref = top.sub("reference");
-  ref.reject_unknown({"samples", "supersamples", "pixel"});
+  ref.reject_unknown({"samples", "supersamples", "pixel", "relief"});
   parse_reference_samples(ref, s);
   s.reference_pixel = static_cast<TruthPixel>(ref.get_choice("pixel", 0, {"box", "gaussian"}));
+  s.reference_relief_per_sample = ref.get_choice("relief", 0, {"pixel_centre", "per_sample"}) == 1;
   s.pipeline = top.subtable("pipeline");
   s.raster = RasterOrder::from_toml(top.sub("raster"));
   if (const toml::table* t = top.subtable("tech")) {

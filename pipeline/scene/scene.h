@@ -110,6 +110,10 @@ struct Scene {
   // The ground truth's samples ([reference] samples): 0 adaptive ("auto"), else n×n per pixel.
   int reference_samples = 0;
   TruthPixel reference_pixel = TruthPixel::Box;
+  // [reference] relief = "per_sample": every sample of a relief material's pixel is shifted
+  // along its own view ray (the deformed footprint); "pixel_centre" (default): by the offset
+  // found at the pixel's centre.
+  bool reference_relief_per_sample = false;
   const toml::table* pipeline = nullptr;  // [pipeline] table (in root), or null
   RasterOrder raster;                     // [raster]: the order fragments are emitted in
   TechTable tech = TechTable::defaults();

@@ -158,7 +158,16 @@ struct SceneCase {
   std::string image;   // side-by-side image file ("" for none)
   double step = 0.75;  // object space's max_step_px
   double band_ratio = ObjectSpaceConfig{}.band_ratio;
+  int lanes = 1;       // object space's lanes per block
+  bool screen = true;  // false: object space only (the screen-space rows are another case's)
 };
+
+// The area of object space's four blocks at a configuration (the texture unit aside).
+double object_space_area(const ObjectSpaceConfig& cfg, const TechTable& t) {
+  return PolygonRotation(cfg.rotation).timing(t).area +
+         ObjectSpaceRaster(cfg.raster).timing(t).area +
+         SampleProjection(cfg.projection).timing(t).area + SplatResolve(cfg.splat).timing(t).area;
+}
 
 // Every method on one scene: one row each.
 void measure_case(const SceneCase& sc, const ObjspaceStudyOptions& opt, const std::string& dir,
@@ -178,10 +187,12 @@ void measure_case(const SceneCase& sc, const ObjspaceStudyOptions& opt, const st
   proto.area = sc.area;
   proto.step_px = sc.step;
   proto.band_ratio = sc.band_ratio;
+  proto.lanes = sc.lanes;
   proto.primitives = scene.primitives.size();
   // Screen space first: its coverage defines the pixels compared and the reference.
   std::vector<ObjspaceRow> screen_rows;
   for (size_t k = 1; k < kMethods.size(); ++k) {
+    if (!sc.screen && k > 1) break;  // the first run still gives the coverage and reference
     const ScreenRun s = run_screen(scene, set, variant_materials(base, kMethods[k]));
     if (k == 1) {
       prim = s.prim;
@@ -202,6 +213,7 @@ void measure_case(const SceneCase& sc, const ObjspaceStudyOptions& opt, const st
   ObjectSpaceConfig cfg;
   cfg.raster.max_step_px = sc.step;
   cfg.band_ratio = sc.band_ratio;
+  cfg.raster.lanes = cfg.splat.lanes = cfg.rotation.lanes = cfg.projection.lanes = sc.lanes;
   const ObjectSpaceResult o = render_object_space(scene, set, base, PipelineSetup{}, cfg);
   ObjspaceRow r = proto;
   r.method = kMethods[0];
@@ -213,11 +225,16 @@ void measure_case(const SceneCase& sc, const ObjspaceStudyOptions& opt, const st
   r.buffer_bytes = o.buffer_bytes();
   r.holes = o.resolve.holes;
   r.bands = o.bands;
+  r.block_area = object_space_area(cfg, scene.tech);
+  r.texture_cycles = o.texture_cycles;
+  r.lane_cycles = std::max({o.raster_cycles, o.projection_cycles, o.splat_cycles});
   const ImageRgb oimg = masked_image(scene, o.image, prim);
   r.acc = compare_images(oimg, ref);
   r.pixels = r.acc.pixels;
   rows.push_back(r);
-  for (ObjspaceRow& s : screen_rows) rows.push_back(std::move(s));
+  if (sc.screen) {
+    for (ObjspaceRow& s : screen_rows) rows.push_back(std::move(s));
+  }
   if (opt.images && !sc.image.empty())
     write_side_by_side(dir + "/" + sc.image, {&ref, &oimg, &images[0], &images[2]});
   log << "  " << sc.sweep << " " << sc.name << " " << scene.width << "x" << scene.height
@@ -294,6 +311,10 @@ std::vector<SceneCase> study_cases(const ObjspaceStudyOptions& opt) {
     cases.push_back(
         {"bands", "floor", default_scene(size_overrides(opt.bands_width)), -1, 0, "", 0.75, b});
   }
+  for (const int k : opt.lane_counts) {
+    cases.push_back({"lanes", "floor", default_scene(size_overrides(opt.lanes_width)), -1, 0, "",
+                     0.75, ObjectSpaceConfig{}.band_ratio, k, false});
+  }
   return cases;
 }
 
@@ -308,6 +329,10 @@ StudyTable table(const std::vector<ObjspaceRow>& rows) {
                 "step px",
                 "band ratio",
                 "bands",
+                "lanes",
+                "block area",
+                "texture cycles",
+                "lane cycles",
                 "primitives",
                 "pixels",
                 "fragments or samples",
@@ -329,7 +354,7 @@ StudyTable table(const std::vector<ObjspaceRow>& rows) {
                 "PSNR dB",
                 "NMSE",
                 "max error"},
-               "lllrrrrrrrrrrrrrrrrrrrrrrrrrrrr");
+               "lllrrrrrrrrrrrrrrrrrrrrrrrrrrrrrrrr");
   for (const ObjspaceRow& r : rows) {
     const double px = r.pixels ? static_cast<double>(r.pixels) : 1;
     t.add({r.sweep,
@@ -342,6 +367,10 @@ StudyTable table(const std::vector<ObjspaceRow>& rows) {
            r.method == "object-space" ? fmt(r.step_px) : "",
            r.method == "object-space" ? fmt(r.band_ratio) : "",
            r.method == "object-space" ? std::to_string(r.bands) : "",
+           r.method == "object-space" ? std::to_string(r.lanes) : "",
+           r.method == "object-space" ? fmt(r.block_area, 5) : "",
+           r.method == "object-space" ? std::to_string(r.texture_cycles) : "",
+           r.method == "object-space" ? std::to_string(r.lane_cycles) : "",
            std::to_string(r.primitives),
            std::to_string(r.pixels),
            std::to_string(r.items),
@@ -406,7 +435,8 @@ std::vector<double> speedups(const std::vector<ObjspaceRow>& rows, const std::st
     const ObjspaceRow& o = rows[i];
     if (o.method != "object-space" || (!sweep.empty() && o.sweep != sweep)) continue;
     // Not the defaults: a grid step beyond the hole-free rule, or other depth bands.
-    if (sweep.empty() && (o.sweep == "density" || o.sweep == "bands")) continue;
+    if (sweep.empty() && (o.sweep == "density" || o.sweep == "bands" || o.sweep == "lanes"))
+      continue;
     for (size_t k = i + 1; k < rows.size() && rows[k].method != "object-space"; ++k) {
       if (rows[k].method == method && o.cycles > 0)
         out.push_back(static_cast<double>(rows[k].cycles) / static_cast<double>(o.cycles));
@@ -515,6 +545,41 @@ std::string claims(const std::vector<ObjspaceRow>& rows) {
   return s.str();
 }
 
+// The lane sweep: cycles per pixel, area and error per lane count.
+std::string lanes_section(const std::vector<ObjspaceRow>& rows) {
+  std::ostringstream s;
+  const ObjspaceRow* one = nullptr;
+  for (const ObjspaceRow& r : rows) {
+    if (r.sweep == "lanes" && r.lanes == 1) one = &r;
+  }
+  bool any = false;
+  for (const ObjspaceRow& r : rows) {
+    if (r.sweep != "lanes") continue;
+    if (!any) {
+      s << "## Parallel lanes (\"GPU cores\") on the floor, " << r.width << " × " << r.height
+        << "\n\nEach block of the variant (rotation, grid walk, projection, splat and resolve) "
+           "`lanes` samples wide; one texture unit (one fragment per cycle at best). Cycles per "
+           "pixel: the frame's; lane stages: the slowest of the grid walk, projection and splat "
+           "per pixel; the frame takes the slower of those and the texture unit, plus the "
+           "polygons' set-up and the resolve; area: the four blocks' (adder equivalents, the "
+           "texture unit aside).\n\n"
+        << "| lanes | cycles/px | lane stages cycles/px | texture unit cycles/px | speed-up | "
+           "area | PSNR dB | NMSE |\n|--:|--:|--:|--:|--:|--:|--:|--:|\n";
+      any = true;
+    }
+    const double px = r.pixels ? static_cast<double>(r.pixels) : 1;
+    const auto lane_stage = static_cast<double>(r.lane_cycles);
+    s << "| " << r.lanes << " | " << fmt(static_cast<double>(r.cycles) / px, 3) << " | "
+      << fmt(lane_stage / px, 3) << " | " << fmt(static_cast<double>(r.texture_cycles) / px, 3)
+      << " | "
+      << (one && r.cycles ? fmt(static_cast<double>(one->cycles) / static_cast<double>(r.cycles), 3)
+                          : "")
+      << " | " << fmt(r.block_area, 5) << " | " << fmt(r.acc.psnr_db) << " | " << fmt(r.acc.nmse, 3)
+      << " |\n";
+  }
+  return any ? s.str() + "\n" : "";
+}
+
 }  // namespace
 
 std::vector<ObjspaceRow> measure_objspace_study(const ObjspaceStudyOptions& opt,
@@ -548,7 +613,7 @@ int run_study_objspace(const std::string& out_dir, std::ostream& log,
                  std::to_string(opt.reference_supersamples) +
                  "² samples per pixel) over the "
                  "pixels screen space covers.\n\n" +
-                 claims(rows) + "\n## All rows\n\n" + t.markdown());
+                 claims(rows) + "\n" + lanes_section(rows) + "## All rows\n\n" + t.markdown());
   files.plot("objspace_tilt.png", plot(rows, "tilt", "square", "polygon tilt (°)", false));
   files.plot("objspace_resolution.png",
              plot(rows, "resolution", "floor", "pixels of the image (floor scene)", true));

@@ -30,7 +30,12 @@ struct ObjspaceStudyOptions {
   // Band sweep (floor, bands_width × 3/4 of it): object space with these band ratios instead of the
   // default 2; 0 is the thesis's one LOD and one grid step per polygon.
   std::vector<double> band_ratios = {0.0};
-  int bands_width = 320;                       // its image width (height = 3/4 width)
+  int bands_width = 320;  // its image width (height = 3/4 width)
+  // Lane sweep (floor, lanes_width × 3/4 of it): object space with each block of the variant
+  // (rotation, grid walk, projection, splat) `lanes` wide — the thesis's number of "GPU
+  // cores"; the texture unit stays one (empty: no sweep).
+  std::vector<int> lane_counts = {1, 2, 4, 8, 16};
+  int lanes_width = 320;
   bool cube = true, mesh = true;               // scenes/cube.toml, scenes/bunny.toml
   std::string scenes_dir = TEXSIM_SCENES_DIR;  // the source tree's scenes/ (set by the build)
   int reference_supersamples = 4;              // per axis, per pixel
@@ -38,7 +43,7 @@ struct ObjspaceStudyOptions {
 };
 
 struct ObjspaceRow {
-  std::string sweep;   // "resolution", "tilt", "count", "area", "density", "bands"
+  std::string sweep;   // "resolution", "tilt", "count", "area", "density", "bands", "lanes"
   std::string scene;   // "floor", "cube", "bunny", "square"
   std::string method;  // "object-space", "trilinear", "vulkan", "ewa", "feline"
   int width = 0, height = 0;
@@ -46,6 +51,11 @@ struct ObjspaceRow {
   double step_px = 0.75;           // object space's grid step on the screen at most
   double band_ratio = 2.0;         // object space's far/near depth ratio per band (0: one band)
   uint64_t bands = 0;              // object space's depth bands (grid steps and LODs)
+  int lanes = 1;                   // object space's lanes per block
+  double block_area = 0;  // object space: its four blocks' area (adder equivalents), else 0
+  // Object space: the texture unit's cycles, and the slowest of the lane-wide stages (grid
+  // walk, projection, splat); the frame is the larger plus set-up and resolve.
+  uint64_t texture_cycles = 0, lane_cycles = 0;
   uint64_t primitives = 0;
   uint64_t pixels = 0;  // covered pixels (screen-space coverage)
   uint64_t items = 0;   // fragments (screen space) or samples (object space)

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <numbers>
 #include <random>
@@ -12,6 +14,7 @@
 #include "blocks/base/tech_table.h"
 #include "blocks/texture/relief/distance_map_builder.h"
 #include "blocks/texture/relief/parallax_mapper.h"
+#include "blocks/texture/relief/relief_footprint.h"
 #include "blocks/texture/relief/sphere_tracer.h"
 #include "blocks/texture/relief/visibility_aware_filter.h"
 #include "pipeline/report/number_text.h"
@@ -335,6 +338,83 @@ ReliefFilterRow run_filter(const StudyMap& map, double elev, int32_t count) {
   return r;
 }
 
+// The footprint after the shift, for one shift method (offset parallax or the default relief
+// mapping) on one map and elevation: pixels of 1.5 texels across the view and 1.5 / sin(e)
+// along it (the filter part's footprints), the view held across the pixel.
+void run_footprint(const StudyMap& map, double elev, int32_t count, bool offset,
+                   std::vector<ReliefFootprintRow>& out) {
+  const TechTable tech = TechTable::defaults();
+  ParallaxMapper::Config mc, rc;
+  mc.depth_texels = rc.depth_texels = kDepthTexels;
+  mc.method = offset ? ParallaxMapper::Method::Offset : ParallaxMapper::Method::Iterative;
+  mc.offset_limiting = false;
+  rc.min_layers = rc.max_layers = 1024;
+  rc.binary_steps = 24;
+  const ParallaxMapper mapper(mc), ref(rc);
+  const char* modes[] = {"unshifted", "analytic", "quad"};
+  std::vector<ReliefFootprintRow> rows(3);
+  for (size_t k = 0; k < 3; ++k) {
+    rows[k].map = map.name;
+    rows[k].method = offset ? "offset parallax" : "relief 8..32 layers + 5 halvings";
+    rows[k].footprint = modes[k];
+    rows[k].elevation_deg = elev;
+    rows[k].fragments = static_cast<uint32_t>(count);
+  }
+  ReliefFootprint::Config fc;
+  fc.mode = ReliefFootprint::Mode::Analytic;
+  const ReliefFootprint analytic(fc);
+  fc.mode = ReliefFootprint::Mode::QuadFine;
+  const ReliefFootprint quad(fc);
+  rows[1].ops = static_cast<double>(analytic.ops_per_item().total());
+  rows[1].latency = analytic.timing(tech).latency;
+  rows[2].ops = static_cast<double>(quad.ops_per_item().total());
+  rows[2].latency = quad.timing(tech).latency;
+  std::mt19937_64 rng(3000 + static_cast<uint64_t>(elev));
+  const double half = map.hm.width / 8.0, mid = map.hm.width / 2.0;
+  std::uniform_real_distribution<double> pos(mid - half, mid + half), az(0, 2 * std::numbers::pi);
+  const double e = elev * std::numbers::pi / 180, s = 1.5;
+  for (int32_t i = 0; i < count; ++i) {
+    const double x = pos(rng), y = pos(rng), a = az(rng), ca = std::cos(a), sa = std::sin(a);
+    const glm::dvec3 v(std::cos(e) * ca, std::cos(e) * sa, std::sin(e));
+    // Pixel axes on the polygon: X across the view, Y along it (away from the eye).
+    const glm::dvec2 dx(-sa * s, ca * s), dy(-ca * s / std::sin(e), -sa * s / std::sin(e));
+    OpCounts ops;
+    const auto hit = [&](const ParallaxMapper& m, glm::dvec2 p) {
+      const auto r = m.map(map.hm, p.x, p.y, v.x, v.y, v.z, ops);
+      return glm::dvec2(r.u, r.v);
+    };
+    const glm::dvec2 p(x, y), h = hit(mapper, p);
+    const glm::dvec2 rx = hit(ref, p + 0.5 * dx) - hit(ref, p - 0.5 * dx),
+                     ry = hit(ref, p + 0.5 * dy) - hit(ref, p - 0.5 * dy);
+    const double sz = v.z;
+    const glm::dvec2 sv(-v.x / sz * kDepthTexels, -v.y / sz * kDepthTexels);
+    const ReliefFootprint::Derivs an = analytic.analytic(
+        map.hm, offset ? ReliefFootprint::Kind::Offset : ReliefFootprint::Kind::RayHit,
+        offset ? x : h.x, offset ? y : h.y, sv.x, sv.y, {dx.x, dx.y, dy.x, dy.y}, ops);
+    const glm::dvec2 got[3][2] = {{dx, dy},
+                                  {{an.xx, an.yx}, {an.xy, an.yy}},
+                                  {hit(mapper, p + dx) - h, hit(mapper, p + dy) - h}};
+    const auto lod = [](glm::dvec2 ax, glm::dvec2 ay) {
+      return std::log2(std::max({glm::length(ax), glm::length(ay), 1e-9}));
+    };
+    const double ref_lod = lod(rx, ry);
+    for (size_t k = 0; k < 3; ++k) {
+      const double le = std::fabs(lod(got[k][0], got[k][1]) - ref_lod);
+      rows[k].lod_err += le;
+      rows[k].lod_far += le > 0.5 ? 1 : 0;
+      rows[k].axis_err += 0.5 * (glm::length(got[k][0] - rx) / std::max(glm::length(rx), 1e-9) +
+                                 glm::length(got[k][1] - ry) / std::max(glm::length(ry), 1e-9));
+    }
+  }
+  const double n = std::max(1, count);
+  for (ReliefFootprintRow& r : rows) {
+    r.lod_err /= n;
+    r.lod_far /= n;
+    r.axis_err /= n;
+    out.push_back(r);
+  }
+}
+
 }  // namespace
 
 ReliefStudy measure_relief_study(const ReliefStudyOptions& opt) {
@@ -351,6 +431,8 @@ ReliefStudy measure_relief_study(const ReliefStudyOptions& opt) {
       const std::vector<Fragment> frags = fragments(map.hm, elev, opt.fragments);
       for (const Method& m : ms) st.rows.push_back(run_method(m, map, elev, frags));
       st.filter.push_back(run_filter(map, elev, opt.filter_fragments));
+      for (const bool offset : {true, false})
+        run_footprint(map, elev, opt.filter_fragments, offset, st.footprint);
     }
   }
   return st;
@@ -424,6 +506,17 @@ StudyTable filter_table(const ReliefStudy& st) {
   return t;
 }
 
+StudyTable footprint_table(const ReliefStudy& st) {
+  StudyTable t({"map", "elevation °", "shift", "footprint", "LOD error levels", "> 0.5 level",
+                "axis error", "ops / frag", "latency"},
+               "lrllrrrrr");
+  for (const auto& f : st.footprint) {
+    t.add({f.map, fmt(f.elevation_deg), f.method, f.footprint, fmt(f.lod_err),
+           fmt(100 * f.lod_far, 3) + " %", fmt(f.axis_err), fmt(f.ops), std::to_string(f.latency)});
+  }
+  return t;
+}
+
 PlotSpec plot(const ReliefStudy& st, const std::string& map, double elev) {
   PlotSpec p;
   p.title = "Relief methods on the " + map + " map, view " + fmt(elev) +
@@ -455,8 +548,9 @@ int run_study_relief(const std::string& out_dir, std::ostream& log, const Relief
   const StudyFiles files(out_dir);
   const ReliefStudy st = measure_relief_study(opt);
   const StudyTable methods_t = methods_table(st), claim_t = distance_claim_table(st),
-                   filter_t = filter_table(st);
+                   filter_t = filter_table(st), footprint_t = footprint_table(st);
   files.csv("relief.csv", methods_t);
+  files.csv("relief_footprint.csv", footprint_t);
   files.csv("relief_filter.csv", filter_t);
   std::string notes;
   for (const auto& n : st.notes) notes += "- " + n + "\n";
@@ -492,14 +586,26 @@ int run_study_relief(const std::string& out_dir, std::ostream& log, const Relief
           " per map and elevation. Reference: the exact classification with traces in "
           "steps of 1/20 texel. Cycles: the filter's latency plus one read per cycle on one "
           "memory port (colour texels and trace heights); speed = plain cycles / cycles − 1.\n\n" +
-          filter_t.markdown());
+          filter_t.markdown() +
+          "\n## The footprint after the shift (derivatives for LOD and the filters)\n\n"
+          "Pixels of 1.5 texels across the view and 1.5 / sin(elevation) along it, " +
+          std::to_string(opt.filter_fragments) +
+          " per map and elevation, the view held across the pixel. Reference: the centred "
+          "difference of the reference surface point across one pixel along each axis. "
+          "Unshifted: the polygon's derivatives; analytic: the chain rule through the shift at "
+          "the method's point (docs/derivations/relief-footprint.md); quad: the difference of "
+          "the method's shifted points one pixel apart (the lanes' own shifts not counted in "
+          "ops). LOD = log2 of the longer axis; axis error = mean relative error of the two "
+          "axis vectors.\n\n" +
+          footprint_t.markdown());
   for (const auto& f : st.filter) {
     files.plot("relief_" + f.map + "_" + fmt(f.elevation_deg) + ".png",
                plot(st, f.map, f.elevation_deg));
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  log << "study relief: wrote " << out_dir << "/relief.csv, relief_filter.csv, relief.md and "
-      << st.filter.size() << " plots in " << fmt(secs, 3) << " s\n";
+  log << "study relief: wrote " << out_dir
+      << "/relief.csv, relief_filter.csv, relief_footprint.csv, relief.md and " << st.filter.size()
+      << " plots in " << fmt(secs, 3) << " s\n";
   return 0;
 }
 

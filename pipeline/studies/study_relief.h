@@ -46,9 +46,24 @@ struct ReliefFilterRow {
   double hidden = 0;                                  // fraction of texels hidden (reference)
 };
 
+// The footprint after the shift (docs/derivations/relief-footprint.md): the derivatives LOD
+// gets — unshifted, analytic or quad differences — against the reference's, which are the
+// centred differences of the reference surface point across one pixel.
+struct ReliefFootprintRow {
+  std::string map, method, footprint;
+  double elevation_deg = 0;
+  uint32_t fragments = 0;
+  double lod_err = 0;    // mean |LOD − reference LOD|, levels (LOD: log2 of the longer axis)
+  double lod_far = 0;    // share of fragments more than half a level off
+  double axis_err = 0;   // mean |J·d − J_ref·d| / |J_ref·d| over the two pixel axes
+  double ops = 0;        // operations per fragment of the derivatives (not the lanes' shifts)
+  uint32_t latency = 0;  // cycles the derivatives add to the relief stage
+};
+
 struct ReliefStudy {
   std::vector<ReliefStudyRow> rows;
   std::vector<ReliefFilterRow> filter;
+  std::vector<ReliefFootprintRow> footprint;
   std::vector<std::string> notes;  // maps and textures used or missing
 };
 

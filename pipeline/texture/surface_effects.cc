@@ -85,7 +85,8 @@ void LightingSetup::bind_terrain(const ConfigReader& lighting, const ReliefSetup
 
 ReliefSetup ReliefSetup::from_toml(const ConfigReader& r) {
   r.reject_unknown({"method", "height_texture", "scale", "parallax", "tracer", "distance_map",
-                    "refined", "terrain", "visibility_filter"});
+                    "refined", "terrain", "visibility_filter", "footprint",
+                    "footprint_max_stretch"});
   ReliefSetup s;
   s.method = static_cast<Method>(
       r.get_choice("method", 1, {"parallax", "steep", "distance_map", "terrain"}));
@@ -104,6 +105,8 @@ ReliefSetup ReliefSetup::from_toml(const ConfigReader& r) {
   s.tracer = SphereTracer::Config::from_toml(r.sub("tracer"));
   s.distance_map = DistanceMapBuilder::Config::from_toml(r.sub("distance_map"));
   s.terrain = TerrainRayMarcher::Config::from_toml(r.sub("terrain"));
+  s.footprint = ReliefFootprint::Config::from_toml(r);
+  s.footprint.datapath = s.parallax.datapath;
   if (r.table().contains("visibility_filter")) {
     const ConfigReader vf = r.sub("visibility_filter");
     if (vf.table().contains("depth_texels"))
@@ -148,6 +151,7 @@ ReliefEffect::ReliefEffect(const ReliefSetup& s, const Texture& height, const Te
     : setup_(s),
       hm_(height_map_of(height)),
       mapper_(s.parallax),
+      footprint_(s.footprint),
       tracer_(s.tracer),
       marcher_(s.terrain),
       vaf_(s.visibility) {
@@ -211,6 +215,7 @@ ReliefEffect::Shift ReliefEffect::march_terrain(double x, double y, const glm::d
   if (r.hit) {  // no hit (capped, or invalid input): the fragment keeps its (u, v)
     s.u = r.point.x;
     s.v = r.point.z;
+    s.moved = true;
   }
   return s;
 }
@@ -223,11 +228,20 @@ ReliefEffect::Shift ReliefEffect::shift(double u, double v, const glm::dvec3& vi
   const double tu = frac_floor(u), tv = frac_floor(v);
   const double x = (u - tu) * hm_.width - 0.5, y = (v - tv) * hm_.height - 0.5;
   const glm::dvec3 vt = view_in_texels(view_ts, u_len, v_len, hm_.width, hm_.height);
+  // The texel shift per unit depth along the ray (the analytic footprint's s), V.z clamped as
+  // the parallax mapper clamps it (the ray marchers: only away from 0).
+  const bool mapper =
+      setup_.method == ReliefSetup::Method::Parallax || setup_.method == ReliefSetup::Method::Steep;
+  const double len = glm::length(vt);
+  const double nz = std::max(vt.z / len, mapper ? setup_.parallax.min_view_z : 1e-3);
+  s.sx = -vt.x / len / nz * setup_.scale;
+  s.sy = -vt.y / len / nz * setup_.scale;
   double sx = x, sy = y;
   if (setup_.method == ReliefSetup::Method::Terrain) {
     const Shift m = march_terrain(x, y, vt, ops, reads);
     s.steps = m.steps;
     s.fetches = m.fetches;
+    s.moved = m.moved;
     sx = m.u;
     sy = m.v;
   } else if (setup_.method == ReliefSetup::Method::DistanceMap) {
@@ -238,6 +252,7 @@ ReliefEffect::Shift ReliefEffect::shift(double u, double v, const glm::dvec3& vi
     s.steps = r.iterations;
     s.fetches = r.fetches;
     if (r.status == SphereTracer::Status::Invalid) return s;
+    s.moved = r.status == SphereTracer::Status::Hit;
     sx = r.pos.x;
     sy = r.pos.y;
   } else {
@@ -245,12 +260,41 @@ ReliefEffect::Shift ReliefEffect::shift(double u, double v, const glm::dvec3& vi
     s.steps = setup_.method == ReliefSetup::Method::Parallax ? 1 : r.linear_steps + r.binary_steps;
     s.fetches = 4 * r.samples;
     if (r.bad_input) return s;
+    s.moved = true;
     sx = r.u;
     sy = r.v;
+    if (setup_.method == ReliefSetup::Method::Parallax) {
+      // x' = x + l·(1 − h(x)): the gradient at the entry point; l is V.xy·depth with offset
+      // limiting, else the shift per unit depth.
+      s.kind = ReliefFootprint::Kind::Offset;
+      if (setup_.parallax.offset_limiting) {
+        s.sx = -vt.x / len * setup_.scale;
+        s.sy = -vt.y / len * setup_.scale;
+      }
+      s.gx = x;
+      s.gy = y;
+    }
+  }
+  if (s.kind == ReliefFootprint::Kind::RayHit) {
+    s.gx = sx;
+    s.gy = sy;
   }
   s.u = tu + (sx + 0.5) / hm_.width;
   s.v = tv + (sy + 0.5) / hm_.height;
   return s;
+}
+
+void ReliefEffect::analytic_derivatives(Fragment& g, const Shift& sh, OpCounts& ops) const {
+  if (!sh.moved) return;
+  // To height-map texels and back: the map spans one unit of u and v.
+  const double w = hm_.width, h = hm_.height;
+  const ReliefFootprint::Derivs in{g.dudx * w, g.dvdx * h, g.dudy * w, g.dvdy * h};
+  const ReliefFootprint::Derivs o =
+      footprint_.analytic(hm_, sh.kind, sh.gx, sh.gy, sh.sx, sh.sy, in, ops);
+  g.dudx = o.xx / w;
+  g.dvdx = o.yx / h;
+  g.dudy = o.xy / w;
+  g.dvdy = o.yy / h;
 }
 
 VisibilityAwareFilter::Result ReliefEffect::filter_visible(const Fragment& g,

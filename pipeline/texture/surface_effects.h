@@ -29,6 +29,7 @@
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/relief/distance_map_builder.h"
 #include "blocks/texture/relief/parallax_mapper.h"
+#include "blocks/texture/relief/relief_footprint.h"
 #include "blocks/texture/relief/sphere_tracer.h"
 #include "blocks/texture/relief/terrain_ray_marcher.h"
 #include "blocks/texture/relief/visibility_aware_filter.h"
@@ -72,6 +73,8 @@ struct ReliefSetup {
   // visibility-aware anisotropic filter at the shifted coordinates, in place of its `filter`.
   bool visibility_filter = false;
   VisibilityAwareFilter::Config visibility;  // depth_texels is `scale`
+  // `footprint`: the derivatives LOD and the filters get after the shift (default: unshifted).
+  ReliefFootprint::Config footprint;
   static ReliefSetup from_toml(const ConfigReader& r);
   std::string block_name() const;
 };
@@ -94,12 +97,21 @@ class ReliefEffect {
     double u = 0, v = 0;   // the shifted normalised coordinates
     uint32_t steps = 0;    // iterations of the method's loop (1 for offset parallax)
     uint32_t fetches = 0;  // height (or distance) reads: bilinear reads count 4
+    // For the analytic footprint: how the shift depends on the entry point, where the height
+    // gradient is read and the texel shift per unit depth (texels; `moved` false: no shift).
+    ReliefFootprint::Kind kind = ReliefFootprint::Kind::RayHit;
+    double gx = 0, gy = 0, sx = 0, sy = 0;
+    bool moved = false;
   };
   // (u, v): normalised coordinates on the polygon; view_ts: unit tangent-space view vector;
   // u_len, v_len: world length of a unit of u and of v on the plane. `reads`, when given, gets
   // the texels or voxels of the height reads (for the texture unit's cache).
   Shift shift(double u, double v, const glm::dvec3& view_ts, double u_len, double v_len,
               OpCounts& ops, std::vector<ReliefRead>* reads = nullptr) const;
+  // The analytic footprint: g's derivatives (of the unshifted coordinates) through the shift
+  // sh found for g; unchanged when sh did not move the point.
+  void analytic_derivatives(Fragment& g, const Shift& sh, OpCounts& ops) const;
+  const ReliefFootprint& footprint() const { return footprint_; }
   bool has_visibility_filter() const { return setup_.visibility_filter; }
   // The visibility-aware filter at the fragment's (shifted) coordinates and derivatives:
   // its colour, counts and (when `reads` is given) its height and colour reads.
@@ -119,6 +131,7 @@ class ReliefEffect {
   ReliefSetup setup_;
   ReliefHeightMap hm_;
   ParallaxMapper mapper_;
+  ReliefFootprint footprint_;
   SphereTracer tracer_;
   DistanceMap dmap_;
   // Method terrain: the height map as a grid of heights h·scale (texel units) under the

@@ -18,13 +18,18 @@ class ReliefStage final : public SurfaceStage {
   ReliefStage(const ReliefSetup& s, const Texture& height, const Texture& colour,
               uint64_t volume_base, const TechTable& tech);
   void declare(SlotPlan& plan, const TechTable& tech) const override {
-    plan.occupy(Slot::Relief, effect_.timing(tech).latency);
+    // The footprint's derivatives follow the shift in the same slot.
+    const ReliefFootprint& fp = effect_.footprint();
+    plan.occupy(Slot::Relief,
+                effect_.timing(tech).latency + (fp.active() ? fp.timing(tech).latency : 0));
   }
   void bind(const SlotPlan& plan, const TechTable& /*tech*/) override {
     slot_ = plan.index(Slot::Relief);
   }
   void rows(StageReport& r, std::vector<BlockUse>& out) const override {
     r.add(out, effect_.name(), effect_.arithmetic(), effect_.timing(r.tech), ops_, fetches_);
+    const ReliefFootprint& fp = effect_.footprint();
+    if (fp.active()) r.add(out, fp.name(), fp.arithmetic(), fp.timing(r.tech), footprint_ops_);
   }
   void enter(SurfaceItem& it, FetchStage& fetch) override;
   Rgba leave(const SurfaceItem& /*it*/, const Rgba& c) override { return c; }
@@ -37,6 +42,13 @@ class ReliefStage final : public SurfaceStage {
   uint64_t steps() const { return steps_; }
   uint64_t fetches() const { return fetches_; }
 
+  // Quad footprint: g's derivatives replaced by the differences of the shifted coordinates
+  // between the lanes of its 2×2 quad (fine: its own row and column; coarse: the top row and
+  // the left column). f: the fragment before the shift, sh its own shift; each other lane is
+  // f's coordinates moved by f's derivatives to that pixel, shifted along that pixel's view.
+  void quad_derivatives(Fragment& g, const Fragment& f, const ReliefEffect::Shift& sh,
+                        const SurfaceItem& it);
+
  private:
   ReliefEffect effect_;
   const Texture& height_;
@@ -45,6 +57,7 @@ class ReliefStage final : public SurfaceStage {
   uint32_t step_ii_;
   int slot_ = -1;
   OpCounts ops_;
+  OpCounts footprint_ops_;  // the footprint's derivatives (not the quad lanes' own shifts)
   uint64_t steps_ = 0, fetches_ = 0;  // loop steps and height reads (data-dependent)
   std::vector<ReliefRead> reads_;     // the current fragment's reads (timed)
   std::vector<uint64_t> lines_;       // their distinct cache lines

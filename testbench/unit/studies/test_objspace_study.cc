@@ -19,14 +19,15 @@ namespace {
 
 ObjspaceStudyOptions small() {
   ObjspaceStudyOptions o;
-  o.widths = {96};
+  o.widths = {64};
   o.tilts = {0, 60, 85};
-  o.tilt_size = 96;
+  o.tilt_size = 64;
   o.grid_cells = {1, 4};
   o.areas = {1, 2};
   o.steps = {3.0};
   o.band_ratios = {0.0};
-  o.bands_width = 96;
+  o.bands_width = 64;
+  o.lane_counts = {};
   o.mesh = false;
   o.scenes_dir = std::string(TEXSIM_SOURCE_DIR) + "/scenes";
   o.reference_supersamples = 2;
@@ -76,7 +77,7 @@ TEST(StudyObjspace, EveryMethodOnEveryCaseWithoutHoles) {
   // more samples.
   const ObjspaceRow *banded = nullptr, *one = nullptr;
   for (const ObjspaceRow& r : rows) {
-    if (r.method != "object-space" || r.scene != "floor" || r.width != 96) continue;
+    if (r.method != "object-space" || r.scene != "floor" || r.width != 64) continue;
     if (r.sweep == "resolution") banded = &r;
     if (r.sweep == "bands") one = &r;
   }
@@ -86,6 +87,43 @@ TEST(StudyObjspace, EveryMethodOnEveryCaseWithoutHoles) {
   EXPECT_GT(banded->bands, banded->primitives);
   EXPECT_GT(one->items, banded->items);
   EXPECT_EQ(one->pixels, banded->pixels);
+}
+
+// The thesis's "GPU cores": object space with 1, 4 and 16 lanes per block on the floor. The
+// lane-wide stages' cycles fall with the lanes, their area grows, the image is the same; the
+// frame cannot go below the one texture unit's cycles.
+TEST(StudyObjspace, LaneSweepScalesTheStagesNotTheImage) {
+  ObjspaceStudyOptions o = small();
+  o.widths = {};
+  o.tilts = {};
+  o.grid_cells = {};
+  o.areas = {};
+  o.steps = {};
+  o.band_ratios = {};
+  o.cube = false;
+  o.lane_counts = {1, 4, 16};
+  o.lanes_width = 64;
+  std::ostringstream log;
+  const std::vector<ObjspaceRow> rows = measure_objspace_study(o, "", log);
+  ASSERT_EQ(rows.size(), 3u);
+  const ObjspaceRow &k1 = rows[0], &k4 = rows[1], &k16 = rows[2];
+  for (const ObjspaceRow& r : rows) {
+    EXPECT_EQ(r.sweep, "lanes");
+    EXPECT_EQ(r.method, "object-space");
+    EXPECT_GE(r.cycles, std::max(r.texture_cycles, r.lane_cycles));
+    EXPECT_EQ(r.acc.mse, k1.acc.mse);  // lanes change the cost, not the arithmetic
+    EXPECT_EQ(r.items, k1.items);
+  }
+  EXPECT_EQ(k4.lanes, 4);
+  EXPECT_NEAR(static_cast<double>(k4.lane_cycles), static_cast<double>(k1.lane_cycles) / 4,
+              0.05 * static_cast<double>(k1.lane_cycles) / 4 + 64);
+  EXPECT_LT(k16.lane_cycles, k4.lane_cycles);
+  // Each lane adds its operators; the set-up units beside the lanes are there once.
+  EXPECT_GT(k4.block_area, 1.8 * k1.block_area);
+  EXPECT_GT(k16.block_area, 2.5 * k4.block_area);
+  EXPECT_LE(k4.cycles, k1.cycles);
+  EXPECT_LE(k16.cycles, k4.cycles);
+  EXPECT_EQ(k16.texture_cycles, k1.texture_cycles);  // one texture unit whatever the lanes
 }
 
 // The cells of a CSV line (objspace.csv quotes none).

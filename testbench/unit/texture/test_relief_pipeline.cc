@@ -190,5 +190,52 @@ TEST(ReliefPipeline, AFragmentsOwnViewVectorReplacesTheCameras) {
   EXPECT_LT(overhead.material_relief_steps(0), camera.material_relief_steps(0));
 }
 
+// relief.footprint: the derivatives LOD gets after the shift. Over a flat height map (one
+// checker cell) the analytic ones are the unshifted ones exactly and the quad ones nearly, so
+// the colours are the same; over relief both change the image, and only they add a block.
+TEST(ReliefPipeline, FootprintAfterTheShiftIsASelectableStage) {
+  const std::string base = R"(method = "steep", height_texture = "h", scale = 4.0)";
+  const std::string flat = "procedural:checker?size=64&cells=1";
+  const UnitRun un = run("{ " + base + " }", flat);
+  const UnitRun an = run("{ " + base + R"(, footprint = "analytic" })", flat);
+  const UnitRun qd = run("{ " + base + R"(, footprint = "quad" })", flat);
+  ASSERT_EQ(un.colours.size(), an.colours.size());
+  ASSERT_EQ(un.colours.size(), qd.colours.size());
+  for (size_t i = 0; i < un.colours.size(); ++i) {
+    ASSERT_EQ(un.colours[i], an.colours[i]) << i;
+    ASSERT_NEAR(un.colours[i].r, qd.colours[i].r, 2e-3) << i;
+  }
+  EXPECT_FALSE(un.blocks.count("relief.footprint[unshifted]"));
+  EXPECT_TRUE(an.blocks.count("relief.footprint[analytic]"));
+  EXPECT_TRUE(qd.blocks.count("relief.footprint[quad]"));
+  EXPECT_EQ(an.relief_fetches, un.relief_fetches);  // the shift itself is the same
+  const UnitRun bump = run("{ " + base + " }");
+  size_t changed_an = 0, changed_qd = 0;
+  const UnitRun bump_an = run("{ " + base + R"(, footprint = "analytic" })");
+  const UnitRun bump_qd = run("{ " + base + R"(, footprint = "quad_coarse" })");
+  for (size_t i = 0; i < bump.colours.size(); ++i) {
+    changed_an += bump.colours[i] != bump_an.colours[i];
+    changed_qd += bump.colours[i] != bump_qd.colours[i];
+  }
+  EXPECT_GT(changed_an, bump.colours.size() / 10);
+  EXPECT_GT(changed_qd, bump.colours.size() / 10);
+}
+
+TEST(ReliefPipeline, FootprintKeyIsValidated) {
+  for (const char* bad : {R"(footprint = "shifted")", R"(footprint = 2)",
+                          R"(footprint = "analytic", footprint_max_stretch = 0.0)"}) {
+    try {
+      (void)build_materials(parse_scene(
+          scene_text(std::string(R"({ method = "steep", height_texture = "h", )") + bad + " }"),
+          "s.toml", ""));
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const InputError& e) {
+      const std::string w = e.what();
+      EXPECT_NE(w.find("footprint"), std::string::npos) << w;
+      EXPECT_NE(w.find("s.toml"), std::string::npos) << w;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace texsim
