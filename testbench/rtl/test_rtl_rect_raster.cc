@@ -96,7 +96,7 @@ void RasterBench::write_memory(const RectScanResult& r, const EdgeRasterizer::Se
   const RectScanFrame& f = r.frame;
   auto write = [&](int32_t cm, int32_t rm, uint8_t w) {
     top.mem_we = 1;
-    top.mem_major = static_cast<uint16_t>(cm);
+    top.mem_major = static_cast<uint8_t>(cm);
     top.mem_minor = static_cast<uint16_t>(rm);
     top.mem_wdata = w;
     clock();

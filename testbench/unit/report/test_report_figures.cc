@@ -212,8 +212,9 @@ void key_patterns(const Json& j, const std::string& path, std::set<std::string>&
   for (const auto& [k, v] : j.items()) {
     std::string seg = k;
     if (named.count(path)) seg = "*";
-    if (is_op_kind(k) && (last == "ops" || last == "latency" || last == "area" || last == "op" ||
-                          path == "materials.*.object_space.ops.*"))
+    if (is_op_kind(k) &&
+        (last == "ops" || last == "coord_ops" || last == "latency" || last == "area" ||
+         last == "op" || path == "materials.*.object_space.ops.*"))
       seg = "<op>";
     std::string sub = path;
     if (!sub.empty()) sub += ".";
