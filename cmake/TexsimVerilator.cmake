@@ -8,7 +8,8 @@ set(TEXSIM_RTL_TESTS ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_vd.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_lerp.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_uv.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_scan.cc
-  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_control.cc)
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_control.cc
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_raster.cc)
 set(TEXSIM_RTL_BENCH ${PROJECT_SOURCE_DIR}/testbench/rtl/bench_rtl_vs_cpp.cc)
 set(TEXSIM_RTL_CC ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc
   ${PROJECT_SOURCE_DIR}/rtl_model/verilator/rtl_harness.cc)
@@ -34,7 +35,7 @@ message(STATUS "Verilator ${verilator_VERSION}: RTL lockstep tests enabled")
 
 # Parameters: rtl_params.h (C++) -> texsim_params.vh and one -G file per block.
 set(TEXSIM_RTL_BLOCKS vd_p2 vd_p1 bilinear_lerp uv_incremental rect_scan_stepper
-  rect_scan_control)
+  rect_scan_control rect_scan_raster)
 add_executable(gen_rtl_params ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc)
 target_link_libraries(gen_rtl_params PRIVATE texsim_blocks)
 texsim_set_warnings(gen_rtl_params)
@@ -95,6 +96,8 @@ texsim_verilate(vd_p1 SOURCES vd_p1.v ${rtl_common})
 texsim_verilate(bilinear_lerp SOURCES bilinear_lerp.v ${rtl_common})
 texsim_verilate(rect_scan_stepper SOURCES rect_scan_stepper.v ${rtl_common})
 texsim_verilate(rect_scan_control SOURCES rect_scan_control.v ${rtl_common})
+texsim_verilate(rect_scan_raster SOURCES rect_scan_raster.v rect_scan_stepper.v
+  rect_scan_control.v ${rtl_common})
 texsim_verilate(uv_incremental SOURCES uv_incremental.v texsim_fixed_div.v texsim_udiv_pipe.v
   ${rtl_common})
 
@@ -124,6 +127,10 @@ if(TEXSIM_BUILD_TESTS)
     texsim_set_warnings(${name})
     gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 600)
   endforeach()
+  # The whole rasteriser's lockstep also draws a shipped scene's faces.
+  target_link_libraries(test_rtl_rect_raster PRIVATE texsim_pipeline)
+  target_compile_definitions(test_rtl_rect_raster PRIVATE
+    TEXSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   add_executable(test_rtl_board ${TEXSIM_RTL_BOARD_TEST})
   target_link_libraries(test_rtl_board PRIVATE texsim_rtl_board GTest::gtest GTest::gtest_main)
   texsim_set_warnings(test_rtl_board)

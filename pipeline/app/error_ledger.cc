@@ -13,7 +13,17 @@ namespace texsim {
 
 namespace {
 
-enum LedgerBit : unsigned { kCoords, kDerivs, kLod, kSubtexel, kVd, kFilterArith, kTexels, kBits };
+enum LedgerBit : unsigned {
+  kCoords,
+  kDerivs,
+  kRasterCoords,
+  kLod,
+  kSubtexel,
+  kVd,
+  kFilterArith,
+  kTexels,
+  kBits
+};
 
 struct BlockDef {
   const char* name;
@@ -23,6 +33,8 @@ struct BlockDef {
 constexpr BlockDef kDefs[kBits] = {
     {"coords", "heckbert division in double", "coords."},
     {"derivs", "analytic derivatives", "derivs."},
+    {"raster_coords", "exact coordinates at the pixel centre (raster.coords = exact)",
+     "raster.rect_scan.coords"},
     {"lod", "unquantised LOD fraction (mipmap_bits 16)", "lod"},
     {"subtexel", "unquantised weights (sub_texel_bits 16)", "filter."},
     {"vd", "exact V(d) in double", "filter."},
@@ -48,6 +60,9 @@ bool has_block(const toml::table& t, unsigned b) {
       return t.contains("coords");
     case kDerivs:
       return t.contains("coords") && str_at(t, "coords.derivs", "analytic") != "none";
+    case kRasterCoords:
+      return str_at(t, "raster.method", "edge") == "rect_scan" &&
+             str_at(t, "raster.coords", "constant_depth") == "constant_depth";
     case kLod:
       return classic(t) && str_at(t, "filter.mode", "bilinear") == "trilinear";
     case kSubtexel:
@@ -121,6 +136,7 @@ toml::table exact_material(const toml::table& orig, unsigned x) {
   for (unsigned b = 0; b < kBits; ++b) have |= has_block(orig, b) ? 1u << b : 0u;
   x &= have;
   if (bit(x, kCoords) || bit(x, kDerivs)) exact_coords(t, x);
+  if (bit(x, kRasterCoords)) sub_table(t, "raster").insert_or_assign("coords", "exact");
   if (bit(x, kLod)) sub_table(t, "filter").insert_or_assign("mipmap_bits", 16);
   if (bit(x, kSubtexel)) sub_table(t, "filter").insert_or_assign("sub_texel_bits", 16);
   exact_footprint(t, x);
@@ -174,7 +190,9 @@ Scene scene_of(const RunOptions& opt) {
 }
 
 void add_cost(LedgerRow& row, const BlockDef& def, const RunCapture& hw) {
-  for (const BlockUse& b : hw.blocks) {
+  std::vector<BlockUse> all = hw.blocks;
+  all.insert(all.end(), hw.raster_blocks.begin(), hw.raster_blocks.end());
+  for (const BlockUse& b : all) {
     if (b.name.rfind(def.prefix, 0) != 0) continue;
     const bool ours = std::any_of(b.materials.begin(), b.materials.end(), [&](const auto& m) {
       return std::find(row.materials.begin(), row.materials.end(), m) != row.materials.end();

@@ -328,8 +328,15 @@ SubsystemsInfo scene_subsystems(const Scene& scene, const std::vector<PlaneProje
                                 const std::vector<RasterCounters>& raster) {
   SubsystemsInfo s;
   s.geometry = run_geometry(scene, maps);
-  for (size_t m = 0; m < raster.size() && m < mats.size(); ++m)
-    s.raster.push_back({mats[m].name, mats[m].raster.block_name(), raster[m]});
+  for (size_t m = 0; m < raster.size() && m < mats.size(); ++m) {
+    const RasterSetup& r = mats[m].raster;
+    const char* coords = r.method == RasterSetup::Method::Edge ? ""
+                         : r.constant_depth()                  ? "constant_depth"
+                                                               : "exact";
+    const bool parity = r.method == RasterSetup::Method::RectScan &&
+                        r.rect_scan.coverage == RectScanCoverage::OutlineParity;
+    s.raster.push_back({mats[m].name, r.block_name(), raster[m], coords, parity});
+  }
   return s;
 }
 
@@ -736,6 +743,23 @@ RunCapture capture_run(const RunImages& images, const UnitArray& unit, const Run
   c.blocks = unit.blocks();
   for (const BlockUse& b : c.blocks) c.area += b.timing.area;
   return c;
+}
+
+// The constant-depth coordinate block of each rect_scan material that drives it (the ledger's
+// `raster_coords` cost).
+std::vector<BlockUse> raster_coord_blocks(const std::vector<MaterialSetup>& mats,
+                                          const std::vector<RasterCounters>& raster) {
+  std::vector<BlockUse> out;
+  for (size_t m = 0; m < raster.size() && m < mats.size(); ++m) {
+    if (!mats[m].raster.constant_depth()) continue;
+    BlockUse b;
+    b.name = "raster.rect_scan.coords";
+    b.arithmetic = "double";
+    b.ops = raster[m].coord_ops;
+    b.materials = {mats[m].name};
+    out.push_back(std::move(b));
+  }
+  return out;
 }
 
 // First pass over a trace: its records are checked, its pixel extent and frames found.
@@ -1156,11 +1180,14 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     const bool write = opt.capture->write_outputs;
     *opt.capture = capture_run(images, units, sum);
     opt.capture->write_outputs = write;
+    opt.capture->raster_blocks = raster_coord_blocks(mats, raster);
     if (!write) return sum;
   }
   LedgerRun ledger;
   if (opt.ledger) {
-    ledger = run_error_ledger(opt, capture_run(images, units, sum), log);
+    RunCapture hw = capture_run(images, units, sum);
+    hw.raster_blocks = raster_coord_blocks(mats, raster);
+    ledger = run_error_ledger(opt, hw, log);
     info.ledger = ledger.ledger;
   }
   if (timeline) timeline->write(opt.timeline);  // first: a bad path leaves no report

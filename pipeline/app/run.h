@@ -22,6 +22,9 @@ struct RunCapture {
   uint64_t cycles = 0;
   double area = 0;               // sum of the unit's blocks' areas
   std::vector<BlockUse> blocks;  // the unit's blocks
+  // The rasterisers' own coordinate blocks (rect_scan's constant-depth rows), one per material
+  // that has one, with their operations over the run (not in `area`: outside the unit).
+  std::vector<BlockUse> raster_blocks;
   // Set by the caller: several units hold each waiting fragment whole (UnitArray's
   // `whole_fragments`), to compare with the usual way.
   bool whole_fragments = false;

@@ -1,5 +1,6 @@
 #include "pipeline/raster/fragment_generator.h"
 
+#include <algorithm>
 #include <limits>
 
 #include "pipeline/geometry/plane_projection.h"
@@ -66,10 +67,15 @@ void generate_fragments(const Scene& scene, uint32_t frame,
   std::vector<int32_t> owner(static_cast<size_t>(r.pixels()), -1);
   std::vector<double> depth(owner.size(), std::numeric_limits<double>::infinity());
   std::vector<RasterCounters> counters(mats.size());
+  // The rasteriser's own coordinates of the kept pixel (rect_scan's constant-depth rows); held
+  // only when some material has them.
+  const bool any_uv = std::any_of(
+      mats.begin(), mats.end(), [](const MaterialSetup& ms) { return ms.raster.constant_depth(); });
+  std::vector<CoordSample> uvs(any_uv ? owner.size() : 0);
   for (size_t p = 0; p < maps.size(); ++p) {
     const auto m = static_cast<size_t>(scene.primitives[p].material);
     rasterize_primitive(maps[p], mats[m].raster, scene.tech, scene.width, scene.height, counters[m],
-                        [&](int32_t x, int32_t y) {
+                        [&](int32_t x, int32_t y, const CoordSample* uv) {
                           if (x < r.x0 || y < r.y0 || x >= r.x1 || y >= r.y1) return;
                           const double d = maps[p].at(x + 0.5, y + 0.5).depth;
                           if (!(d > 0)) return;  // on the horizon line: nothing of it seen there
@@ -77,6 +83,7 @@ void generate_fragments(const Scene& scene, uint32_t frame,
                           if (owner[k] < 0 || d < depth[k]) {
                             owner[k] = static_cast<int32_t>(p);
                             depth[k] = d;
+                            if (any_uv) uvs[k] = uv ? *uv : CoordSample{};
                           }
                         });
   }
@@ -86,6 +93,12 @@ void generate_fragments(const Scene& scene, uint32_t frame,
     const auto b = static_cast<size_t>(best);
     Fragment f =
         maps[b].at(x + 0.5, y + 0.5).fragment(static_cast<uint32_t>(x), static_cast<uint32_t>(y));
+    // Constant-depth rows give u, v; the derivatives stay the exact ones at the pixel centre
+    // (the seed's datapath has none).
+    if (any_uv && uvs[index(x, y)].valid) {
+      f.u = uvs[index(x, y)].u;
+      f.v = uvs[index(x, y)].v;
+    }
     f.frame = frame;
     f.prim = static_cast<uint32_t>(best);
     f.tex = static_cast<uint32_t>(

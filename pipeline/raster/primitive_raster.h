@@ -8,6 +8,7 @@
 
 #include "blocks/base/op_counts.h"
 #include "blocks/base/tech_table.h"
+#include "blocks/texture/coords/coord_types.h"
 #include "pipeline/geometry/plane_projection.h"
 #include "pipeline/texture/effect_registry.h"
 
@@ -30,14 +31,25 @@ struct RasterCounters {
   // their uncovered lanes, which a GPU runs as helper lanes for the quad's derivatives.
   uint64_t quads = 0, helper_lanes = 0;
   OpCounts ops;
+  // Rectangle scan with raster.coords = "constant_depth": the constant-depth coordinate block
+  // on the scan's rows (coords.constant_depth): pixels it gave (u, v), pixels whose line it
+  // rejected (q below its limit: they keep the exact coordinates), and its operations
+  // (triangle set-up with the slope's division, one reciprocal per textured row, 2 adds a pixel).
+  uint64_t coord_pixels = 0, coord_rejected = 0;
+  OpCounts coord_ops;
+  // Rectangle scan with coverage = "outline_parity": the parity rule's hazards.
+  ParityHazards hazards;
   RasterCounters& operator+=(const RasterCounters& o);
 };
 
-// Calls visit(x, y) for every pixel of [0,w)×[0,h) the rasteriser covers (a pixel once per fan
+// A covered pixel; `uv`: its normalised texture coordinates from the rasteriser's own
+// coordinate block (rect_scan with constant-depth coordinates), null otherwise (exact ones).
+using RasterVisit = std::function<void(int32_t x, int32_t y, const CoordSample* uv)>;
+
+// Calls visit for every pixel of [0,w)×[0,h) the rasteriser covers (a pixel once per fan
 // triangle that covers it: the fan's triangles share edges, so once in all), in the
 // rasteriser's order, and adds its counters to `c`. A culled primitive draws nothing.
 void rasterize_primitive(const PlaneProjection& map, const RasterSetup& r, const TechTable& tech,
-                         int width, int height, RasterCounters& c,
-                         const std::function<void(int32_t, int32_t)>& visit);
+                         int width, int height, RasterCounters& c, const RasterVisit& visit);
 
 }  // namespace texsim

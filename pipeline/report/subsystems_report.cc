@@ -45,6 +45,18 @@ void add_subsystems_json(Json& j, const SubsystemsInfo& s) {
           c.triangles ? static_cast<double>(c.divisions) / static_cast<double>(c.triangles) : 0.0;
       e["fast_cycles"] = c.fast_cycles;
       e["memory_cycles"] = c.memory_cycles;
+      // The constant-depth coordinate block on the rows (ops per frame: runs add frames up).
+      e["coords"] = m.coords;
+      e["coord_pixels"] = c.coord_pixels;
+      e["coord_rejected"] = c.coord_rejected;
+      e["coord_ops"] = ops_json(c.coord_ops);
+      if (m.parity) {
+        const ParityHazards& h = c.hazards;
+        e["parity_hazards"] = {
+            {"extra_pixels", h.extra_pixels}, {"missed_pixels", h.missed_pixels},
+            {"vertex_rows", h.vertex_rows},   {"touching_rows", h.touching_rows},
+            {"run_rows", h.run_rows},         {"missed_crossing_rows", h.missed_crossing_rows}};
+      }
     } else {
       e["cycles"] = c.cycles;
     }

@@ -17,6 +17,9 @@ struct MaterialRaster {
   std::string material;
   std::string block;  // raster.edge or raster.rect_scan
   RasterCounters counters;
+  // rect_scan: where its fragments' coordinates came from, "constant_depth" or "exact".
+  std::string coords;
+  bool parity = false;  // rect_scan with coverage = "outline_parity": its hazards reported
 };
 
 struct SubsystemsInfo {

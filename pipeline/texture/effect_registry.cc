@@ -70,8 +70,9 @@ RasterSetup RasterSetup::from_toml(const ConfigReader& r) {
   if (s.method == Method::Edge) {
     s.edge = EdgeRasterizer::Config::from_toml(r.for_block("raster.edge", {"method"}));
   } else {
-    s.rect_scan =
-        RectScanRasterizer::Config::from_toml(r.for_block("raster.rect_scan", {"method"}));
+    s.coords = static_cast<Coords>(r.get_choice("coords", 0, {"constant_depth", "exact"}));
+    s.rect_scan = RectScanRasterizer::Config::from_toml(
+        r.for_block("raster.rect_scan", {"method", "coords"}));
   }
   return s;
 }
@@ -137,7 +138,8 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
   if (m.coords && m.raster.method != RasterSetup::Method::Edge) {
     r.sub("raster").fail("method",
                          "a coordinate unit walks the edge-function rasteriser's rows; "
-                         "rect_scan is for materials without `coords`");
+                         "rect_scan drives its own constant-depth coordinates (raster.coords) "
+                         "and is for materials without `coords`");
   }
   return m;
 }

@@ -31,9 +31,17 @@ struct Scene;
 // edge-function rasteriser with its defaults). The block's own keys sit beside `method`.
 struct RasterSetup {
   enum class Method : uint8_t { Edge, RectScan };
+  // Where a rect_scan material's texture coordinates come from: the constant-depth coordinate
+  // block on the scan's digital rows (one reciprocal per row, the seed's datapath), or the
+  // primitive's exact map at the pixel centre (the reference the ledger makes it exact with).
+  enum class Coords : uint8_t { ConstantDepth, Exact };
   Method method = Method::Edge;
+  Coords coords = Coords::ConstantDepth;
   EdgeRasterizer::Config edge;
   RectScanRasterizer::Config rect_scan;
+  bool constant_depth() const {
+    return method == Method::RectScan && coords == Coords::ConstantDepth;
+  }
   static RasterSetup from_toml(const ConfigReader& r);
   std::string block_name() const {
     return method == Method::Edge ? "raster.edge" : "raster.rect_scan";

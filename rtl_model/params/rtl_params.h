@@ -122,6 +122,18 @@ inline std::vector<Param> rect_scan_control_params() {
   return {{"CW", kRectScanCoordBits}, {"LAT", TexturingControl().timing(tech()).latency}};
 }
 
+// ---- Rectangle-scan rasteriser (rtl_model/rtl/rect_scan_raster.v) -----------------------------
+// The auxiliary memory's window: 2^8 columns by 2^9 rows of 3-bit words.
+inline constexpr int kRectScanMemMajorBits = 8;
+inline constexpr int kRectScanMemMinorBits = 9;
+
+inline std::vector<Param> rect_scan_raster_params() {
+  return {{"SLOPE_BITS", kRectScanLine.slope_bits},
+          {"CW", kRectScanCoordBits},
+          {"MAJ_BITS", kRectScanMemMajorBits},
+          {"MIN_BITS", kRectScanMemMinorBits}};
+}
+
 // A Verilog block, its parameters and the latency the C++ timing model gives it.
 struct RtlBlock {
   std::string module;
@@ -139,7 +151,8 @@ inline std::vector<RtlBlock> rtl_blocks() {
       // Sequential: a pixel leaves at load + rows started + pixels visited (the C++ model's
       // fast-clock cycles), checked per pixel; no pipeline latency of its own.
       {"rect_scan_stepper", rect_scan_stepper_params(), 0},
-      {"rect_scan_control", rect_scan_control_params(), TexturingControl().timing(tech()).latency}};
+      {"rect_scan_control", rect_scan_control_params(), TexturingControl().timing(tech()).latency},
+      {"rect_scan_raster", rect_scan_raster_params(), 0}};
 }
 
 }  // namespace texsim::rtl_params

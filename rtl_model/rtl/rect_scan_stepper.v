@@ -9,6 +9,7 @@
 // Load (in_valid while in_ready): the row line (x_major, neg = sign < 0, delta_minor = ΔY ≤ ΔX),
 // the columns major0..major1 and the rows t_lo..t_hi (signed CW bits).
 // Out per pixel: out_x, out_y (the counters, i.e. the auxiliary-memory address), out_row_start.
+// row_end (from БКТ in rect_scan_raster; 0 alone) ends the current row after this pixel.
 module rect_scan_stepper #(
     parameter int SLOPE_BITS = 12,
     parameter int CW = 16
@@ -24,6 +25,7 @@ module rect_scan_stepper #(
     input  logic [      CW-1:0] major1,
     input  logic [      CW-1:0] t_lo,
     input  logic [      CW-1:0] t_hi,
+    input  logic                row_end,
     output logic                out_valid,
     output logic                out_row_start,
     output logic [      CW-1:0] out_x,
@@ -81,7 +83,7 @@ module rect_scan_stepper #(
         end
         PIXEL: begin  // this pixel is on the outputs; step or end the row
           first <= 1'b0;
-          if (major >= m1) begin
+          if (major >= m1 || row_end) begin
             row_t <= row_t + ONE;
             state <= row_t != TOP && row_t + ONE <= th ? ROW : IDLE;
           end else begin

@@ -41,6 +41,11 @@ class OutlineMemory {
     if (major < major0_ || major > major1_ || minor < minor0_ || minor > minor1_) return 0;
     return words_[index(major, minor)];
   }
+  // A read that is not counted (the parity rule's oracle, beside the datapath).
+  uint8_t peek(int32_t major, int32_t minor) const {
+    if (major < major0_ || major > major1_ || minor < minor0_ || minor > minor1_) return 0;
+    return words_[index(major, minor)];
+  }
   uint64_t reads() const { return reads_; }
   uint64_t words() const { return words_.size(); }
 
@@ -69,6 +74,8 @@ class OutlineComparator {
     if (hit) ++hits_;
     return hit;
   }
+  // The hit planes of `word` without counting a compare.
+  uint8_t planes(uint8_t word) const { return static_cast<uint8_t>(word & foreground_); }
   uint64_t compares() const { return compares_; }
   uint64_t hits() const { return hits_; }
 

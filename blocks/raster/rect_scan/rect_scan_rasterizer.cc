@@ -16,14 +16,7 @@ static_assert(Block<RectScanRasterizer>);
 
 namespace {
 
-// The rectangle in the row frame: columns [m0, m1] of the major axis, rows [t_lo, t_hi], the
-// memory window's minor range and the box's minor range (pixels that can be inside).
-struct Frame {
-  int32_t major0 = 0, major1 = -1;
-  int32_t t_lo = 0, t_hi = -1;
-  int32_t mem_lo = 0, mem_hi = -1;
-  int32_t box_lo = 0, box_hi = -1;
-};
+using Frame = RectScanFrame;
 
 Frame make_frame(const EdgeRasterizer::Setup& st, const RowLine& line) {
   Frame f;
@@ -65,6 +58,22 @@ void emit(RectScanResult& res, const RowLine& line, int32_t t, int32_t major, in
   res.runs.push_back({t, major, 1, h});
 }
 
+// A row's departure from the exact outline convention, put down to its first cause.
+void count_hazards(const ParityControl& pc, uint64_t extra, uint64_t missed, ParityHazards& h) {
+  h.extra_pixels += extra;
+  h.missed_pixels += missed;
+  if (extra + missed == 0) return;
+  if (pc.saw_vertex_run()) {
+    ++h.vertex_rows;
+  } else if (pc.saw_touching_run()) {
+    ++h.touching_rows;
+  } else if (pc.saw_long_run()) {
+    ++h.run_rows;
+  } else {
+    ++h.missed_crossing_rows;
+  }
+}
+
 }  // namespace
 
 RectScanRasterizer::Config RectScanRasterizer::Config::from_toml(const ConfigReader& r) {
@@ -83,7 +92,8 @@ RectScanRasterizer::Config RectScanRasterizer::Config::from_toml(const ConfigRea
   if (!(c.memory_clock_mhz > 0) || c.memory_clock_mhz > TechTable::kMaxClockMhz) {
     r.fail("memory_clock_mhz", "must be in (0, 1e5]");
   }
-  c.coverage = static_cast<RectScanCoverage>(r.get_choice("coverage", 0, {"top_left", "outline"}));
+  c.coverage = static_cast<RectScanCoverage>(
+      r.get_choice("coverage", 0, {"top_left", "outline", "outline_parity"}));
   return c;
 }
 
@@ -100,7 +110,8 @@ RowLine RectScanRasterizer::line_for_slope(bool x_major, double k) const {
 }
 
 RectScanResult RectScanRasterizer::rasterize(const ScreenVertex v[3], const RowLine& line,
-                                             const Scissor& sc) const {
+                                             const Scissor& sc,
+                                             const RectScanEventSink* events) const {
   RectScanResult res;
   res.line = line;
   EdgeRasterizer::Config ec;
@@ -110,9 +121,11 @@ RectScanResult RectScanRasterizer::rasterize(const ScreenVertex v[3], const RowL
   if (!st.ok() || st.box_empty()) return res;
   // Preparation: the rectangle, the outline in the auxiliary memory, the registers.
   const Frame f = make_frame(st, line);
+  res.frame = f;
   res.major_start = f.major0;
   OutlineMemory mem(line, f.major0, f.major1, f.mem_lo, f.mem_hi);
   RectScanStats& s = res.stats;
+  // The per-edge planes; with the parity rule they are only the oracle of its hazards.
   s.outline_marks = mem.draw(st);
   s.memory_words = mem.words();
   LineStepper::Config lc;
@@ -123,8 +136,15 @@ RectScanResult RectScanRasterizer::rasterize(const ScreenVertex v[3], const RowL
   OutlineComparator bp;
   bp.set_foreground(7);
   TexturingControl bkt;
-  bkt.load(st, line, f.box_lo, f.box_hi, cfg_.coverage);
+  // With the parity rule БКТ's per-edge flags (top-left) are the oracle of its hazards.
+  bkt.load(
+      st, line, f.box_lo, f.box_hi,
+      cfg_.coverage == RectScanCoverage::OutlineParity ? RectScanCoverage::TopLeft : cfg_.coverage);
   start.load(f.major0, f.t_lo);
+  const bool parity = cfg_.coverage == RectScanCoverage::OutlineParity;
+  SeedOutlineMemory seed;
+  ParityControl pc;
+  if (parity) s.outline_marks = seed.draw(st, line, f.major0);
   // Rows until БКТ's end of triangle (the row index passes the last row of the rectangle).
   for (; start.minor() <= f.t_hi; start.next_row()) {
     const int32_t t = start.minor();
@@ -133,26 +153,64 @@ RectScanResult RectScanRasterizer::rasterize(const ScreenVertex v[3], const RowL
     ++s.rows_scanned;
     const uint64_t textured_before = s.pixels_textured;
     TexturingControl::Decision d = bkt.start_row(counters.major(), counters.minor());
+    if (parity) pc.start_row();
+    uint64_t extra = 0, missed = 0;
+    uint8_t hits = 0;
     for (;;) {
       ++s.pixels_visited;
-      if (d.texture) {
+      bool texture = d.texture, end = d.end_of_row;
+      if (parity) {
+        const int32_t x = line.x_major ? counters.major() : counters.minor();
+        const int32_t y = line.x_major ? counters.minor() : counters.major();
+        const uint8_t word = seed.read(x, y);
+        const bool in_box = counters.minor() >= f.box_lo && counters.minor() <= f.box_hi;
+        texture = pc.on_pixel(word, seed.is_end_vertex(x, y), seed.is_vertex(x, y)) && in_box;
+        end = pc.end_of_row();
+        // What the seed means: the triangle's inside (top-left) and the outline drawn.
+        const bool meant = d.texture || (word != 0 && in_box);
+        extra += texture && !meant;
+        missed += meant && !texture;
+      }
+      if (events) {
+        const int32_t x = line.x_major ? counters.major() : counters.minor();
+        const int32_t y = line.x_major ? counters.minor() : counters.major();
+        (*events)({x, y, counters.major() == f.major0, texture, end, hits});
+      }
+      if (texture) {
         ++s.pixels_textured;
         emit(res, line, t, counters.major(), counters.minor());
       } else {
         ++s.background_pixels;
       }
-      if (d.end_of_row || counters.major() >= f.major1) break;
+      if (end || counters.major() >= f.major1) break;
       counters.step(li.step(line));
-      const uint8_t hits = bp.compare(mem.read(counters.major(), counters.minor()));
+      hits = bp.compare(mem.read(counters.major(), counters.minor()));
       d = bkt.on_pixel(hits, counters.major(), counters.minor());
     }
     s.rows_textured += s.pixels_textured > textured_before;
+    if (parity) {
+      // The oracle finishes the row on its own (copies: nothing of it is counted as scanned),
+      // for the pixels the parity rule's early end of row missed.
+      LineStepper li2 = li;
+      CoordinateCounters c2 = counters;
+      TexturingControl b2 = bkt;
+      for (TexturingControl::Decision d2 = d; c2.major() < f.major1;) {
+        c2.step(li2.step(line));
+        d2 = b2.on_pixel(bp.planes(mem.peek(c2.major(), c2.minor())), c2.major(), c2.minor());
+        const int32_t x = line.x_major ? c2.major() : c2.minor();
+        const int32_t y = line.x_major ? c2.minor() : c2.major();
+        missed += d2.texture ||
+                  (seed.peek(x, y) != 0 && c2.minor() >= f.box_lo && c2.minor() <= f.box_hi);
+      }
+      count_hazards(pc, extra, missed, s.hazards);
+    }
   }
+  if (parity) s.memory_words = seed.words();
   s.steps = li.steps();
   s.minor_steps = li.minor_steps();
-  s.memory_reads = mem.reads();
+  s.memory_reads = parity ? seed.reads() : mem.reads();
   s.comparator_hits = bp.hits();
-  s.crossings = bkt.crossings();
+  s.crossings = parity ? pc.crossings() : bkt.crossings();
   s.vertex_hits = bkt.vertex_hits();
   s.fast_cycles = s.background_pixels + s.rows_scanned;
   s.memory_cycles = s.pixels_textured;

@@ -16,6 +16,7 @@
 // fast clock; textured pixels run at the memory clock; one reciprocal per textured row feeds the
 // constant-depth coordinate block (UvConstantDepth), so divisions = q rows.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,6 +27,7 @@
 #include "blocks/raster/edge_rasterizer.h"
 #include "blocks/raster/raster_types.h"
 #include "blocks/raster/rect_scan/line_stepper.h"
+#include "blocks/raster/rect_scan/seed_outline.h"
 #include "blocks/raster/rect_scan/texturing_control.h"
 
 namespace texsim {
@@ -46,6 +48,9 @@ struct RectScanStats {
   uint64_t memory_cycles = 0;  // textured pixels, at the memory clock
   uint64_t prep_cycles = 0;    // outline drawing (memory writes), at the memory clock
   double time_ns = 0;
+  // coverage = "outline_parity": where the parity rule departs from what the seed means (the
+  // inside, which БКТ's per-edge flags still compute beside it as the oracle, and the outline).
+  ParityHazards hazards;
 };
 
 // A run of textured pixels: major0 .. major0+n-1 of row t, at minor = t + d(major - start).
@@ -55,9 +60,29 @@ struct RectScanRun {
   double h = 0;
 };
 
+// The rectangle in the row frame: columns [major0, major1], rows [t_lo, t_hi], the auxiliary
+// memory's minor range [mem_lo, mem_hi] and the box's (scissor's) minor range [box_lo, box_hi].
+struct RectScanFrame {
+  int32_t major0 = 0, major1 = -1;
+  int32_t t_lo = 0, t_hi = -1;
+  int32_t mem_lo = 0, mem_hi = -1;
+  int32_t box_lo = 0, box_hi = -1;
+};
+
+// One visited pixel as the datapath sees it (the RTL's transaction): its screen position, the
+// row's first pixel, БКТ's decision and end of row, and БП's hit planes (0 on a row's first
+// pixel, which takes its sides from the edge values instead).
+struct RectScanEvent {
+  int32_t x = 0, y = 0;
+  bool row_start = false, texture = false, end_of_row = false;
+  uint8_t hits = 0;
+};
+using RectScanEventSink = std::function<void(const RectScanEvent&)>;
+
 struct RectScanResult {
   RasterReject reject = RasterReject::None;
   RowLine line{};
+  RectScanFrame frame;
   int32_t major_start = 0;  // the rectangle's side where rows start (РГХп)
   std::vector<RectScanRun> runs;
   std::vector<std::pair<int32_t, int32_t>> pixels;  // textured (x, y) in visiting order
@@ -81,7 +106,9 @@ class RectScanRasterizer {
   // The row line of a plane whose map has denominator q = G·x + H·y + I.
   RowLine line_for_denominator(double g, double h) const;
   RowLine line_for_slope(bool x_major, double k) const;
-  RectScanResult rasterize(const ScreenVertex v[3], const RowLine& line, const Scissor& sc) const;
+  // `events`, if given, receives every visited pixel in order.
+  RectScanResult rasterize(const ScreenVertex v[3], const RowLine& line, const Scissor& sc,
+                           const RectScanEventSink* events = nullptr) const;
 
   // Item: one visited pixel (a step of ЛІ/БКП and the counters, a memory read and compare, a
   // БКТ decision).

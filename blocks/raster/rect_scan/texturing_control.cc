@@ -60,7 +60,7 @@ TexturingControl::Decision TexturingControl::decide(int32_t minor) {
   Decision d;
   const bool in_scissor = minor >= minor_lo_ && minor <= minor_hi_;
   const bool inside = inside_[0] && inside_[1] && inside_[2] && in_scissor;
-  d.texture = inside || (coverage_ == RectScanCoverage::Outline && was_inside_ && in_scissor);
+  d.texture = inside || (coverage_ != RectScanCoverage::TopLeft && was_inside_ && in_scissor);
   was_inside_ = inside;
   for (int e = 0; e < 3; ++e) d.end_of_row = d.end_of_row || (closing_[e] && !inside_[e]);
   return d;

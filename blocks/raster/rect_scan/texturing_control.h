@@ -26,7 +26,9 @@ class ConfigReader;
 //           triangles sharing an edge never share a pixel.
 //  Outline: the seed's convention, the outline included: also the first pixel after each inside
 //           run (where the row crosses out through the outline). Shared edges are drawn twice.
-enum class RectScanCoverage { TopLeft, Outline };
+//  OutlineParity: the seed's datapath taken literally (seed_outline.h): one-colour 8-connected
+//           outline and the parity rule; its pixels differ from Outline's at its hazards.
+enum class RectScanCoverage { TopLeft, Outline, OutlineParity };
 
 class TexturingControl {
  public:

@@ -24,6 +24,7 @@
 #include "blocks/raster/rect_scan/outline_comparator.h"
 #include "blocks/raster/rect_scan/rect_scan_rasterizer.h"
 #include "blocks/raster/rect_scan/row_start_counter.h"
+#include "blocks/raster/rect_scan/seed_outline.h"
 #include "blocks/raster/rect_scan/texturing_control.h"
 #include "blocks/texture/coords/uv_constant_depth.h"
 
@@ -155,22 +156,16 @@ TEST(RectScanRasterizer, CoverageEqualsTheEdgeRasterizerForEveryOrientationAndSl
   EXPECT_GT(pixels, 100000u);
 }
 
-// The seed's 8-connected outline drawn in screen space (Bresenham between rounded vertices).
+// The seed's 8-connected one-colour outline (SeedOutlineMemory, coverage = "outline_parity"),
+// read back pixel by pixel over the screen.
 PixelSet screen_outline_8(const ScreenVertex v[3]) {
+  const EdgeRasterizer::Setup st = EdgeRasterizer().setup(v, kScreen);
+  SeedOutlineMemory mem;
+  mem.draw(st, RowLine{}, 0);
   PixelSet p;
-  for (int e = 0; e < 3; ++e) {
-    int x0 = static_cast<int>(std::lround(v[e].x)), y0 = static_cast<int>(std::lround(v[e].y));
-    const int x1 = static_cast<int>(std::lround(v[(e + 1) % 3].x));
-    const int y1 = static_cast<int>(std::lround(v[(e + 1) % 3].y));
-    const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
-    const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
-    int err = dx + dy;
-    for (;;) {
-      p.insert({x0, y0});
-      if (x0 == x1 && y0 == y1) break;
-      const int e2 = 2 * err;
-      if (e2 >= dy) err += dy, x0 += sx;
-      if (e2 <= dx) err += dx, y0 += sy;
+  for (int32_t y = -1; y <= kH; ++y) {
+    for (int32_t x = -1; x <= kW; ++x) {
+      if (mem.read(x, y) != 0) p.insert({x, y});
     }
   }
   return p;
@@ -404,6 +399,81 @@ TEST(RectScanRasterizer, SeedOutlineConventionMeasured) {
       static_cast<unsigned long long>(top_left), static_cast<unsigned long long>(extra),
       100.0 * static_cast<double>(extra) / static_cast<double>(top_left),
       static_cast<unsigned long long>(dup), static_cast<unsigned long long>(shared_tl));
+}
+
+// The seed's literal datapath (coverage = "outline_parity"): one-colour outline and parity.
+// What it should texture is the inside (top-left) and the outline it drew; every pixel where it
+// does otherwise is counted and its row put down to a cause.
+TEST(RectScanRasterizer, OutlineParityDiffersOnlyAtItsCountedHazards) {
+  std::mt19937_64 rng(28);
+  std::uniform_real_distribution<double> ux(0, kW), uy(0, kH), uk(-1, 1);
+  const RectScanRasterizer parity = rect_scan(RectScanCoverage::OutlineParity);
+  uint64_t pixels = 0, differ = 0, clean = 0;
+  ParityHazards all;
+  for (int t = 0; t < 2000; ++t) {
+    const RowLine line = parity.line_for_slope(t % 2 == 0, uk(rng));
+    const ScreenVertex v[3] = {{ux(rng), uy(rng)}, {ux(rng), uy(rng)}, {ux(rng), uy(rng)}};
+    // The inside and the outline pixels within the scanned box (the scan visits no other).
+    PixelSet meant = edge_pixels(v);
+    const EdgeRasterizer::Setup st = EdgeRasterizer().setup(v, kScreen);
+    for (const auto& px : screen_outline_8(v)) {
+      if (px.first >= st.x0 && px.second >= st.y0 && px.first <= st.x1 && px.second <= st.y1)
+        meant.insert(px);
+    }
+    const RectScanResult r = parity.rasterize(v, line, kScreen);
+    const PixelSet p = scan_pixels(r);
+    uint64_t extra = 0, missed = 0;
+    for (const auto& px : p) extra += !meant.count(px);
+    for (const auto& px : meant) missed += !p.count(px);
+    const ParityHazards& h = r.stats.hazards;
+    ASSERT_EQ(h.extra_pixels, extra) << t;
+    ASSERT_EQ(h.missed_pixels, missed) << t;
+    ASSERT_EQ(h.rows() > 0, extra + missed > 0) << t;
+    pixels += meant.size();
+    differ += extra + missed;
+    clean += extra + missed == 0;
+    all += h;
+  }
+  EXPECT_GT(clean, 0u);
+  EXPECT_GT(all.vertex_rows, 0u);
+  EXPECT_GT(all.run_rows + all.touching_rows, 0u);
+  EXPECT_GT(all.missed_crossing_rows, 0u);
+  std::printf(
+      "outline parity vs inside + outline over 2000 triangles: %llu pixels, %llu extra, "
+      "%llu missed (%.2f%% differ); triangles without a hazard %llu; hazard rows: vertex %llu, "
+      "touching edges %llu, runs along an edge %llu, crossing without a hit %llu\n",
+      static_cast<unsigned long long>(pixels), static_cast<unsigned long long>(all.extra_pixels),
+      static_cast<unsigned long long>(all.missed_pixels),
+      100.0 * static_cast<double>(differ) / static_cast<double>(pixels),
+      static_cast<unsigned long long>(clean), static_cast<unsigned long long>(all.vertex_rows),
+      static_cast<unsigned long long>(all.touching_rows),
+      static_cast<unsigned long long>(all.run_rows),
+      static_cast<unsigned long long>(all.missed_crossing_rows));
+}
+
+// Each hazard on a triangle made for it.
+TEST(RectScanRasterizer, OutlineParityHazardsByCause) {
+  const RectScanRasterizer parity = rect_scan(RectScanCoverage::OutlineParity);
+  // 45° rows against a -45° edge: crossings between two outline pixels on odd rows.
+  const ScreenVertex diag[3] = {{20, 0}, {40, 20}, {0, 20}};
+  const RectScanResult a = parity.rasterize(diag, parity.line_for_slope(true, 1.0), kScreen);
+  EXPECT_GT(a.stats.hazards.missed_crossing_rows + a.stats.hazards.vertex_rows, 0u);
+  EXPECT_GT(a.stats.hazards.extra_pixels + a.stats.hazards.missed_pixels, 0u);
+  // Rows of slope 0.3 along a top edge of slope 0.24: the row zigzags along its outline, runs
+  // of hits that are no crossing.
+  const ScreenVertex along[3] = {{2.3, 2.2}, {30.6, 9.1}, {8.2, 30.7}};
+  const RectScanResult b = parity.rasterize(along, parity.line_for_slope(true, 0.3), kScreen);
+  EXPECT_GT(b.stats.hazards.run_rows, 0u);
+  // A horizontal edge on the first row of horizontal rows: its run holds the end vertices, so
+  // it counts two and the row is right.
+  const ScreenVertex flat[3] = {{4, 10}, {40, 10}, {20, 30}};
+  const RectScanResult f = parity.rasterize(flat, parity.line_for_slope(true, 0.0), kScreen);
+  EXPECT_EQ(f.stats.hazards.run_rows + f.stats.hazards.vertex_rows, 0u);
+  // A sliver whose two long edges touch: one run for two crossings.
+  const ScreenVertex sliver[3] = {{2, 20}, {60, 23}, {60, 24.5}};
+  const RectScanResult c = parity.rasterize(sliver, parity.line_for_slope(true, 0.0), kScreen);
+  EXPECT_GT(c.stats.hazards.rows(), 0u);
+  EXPECT_GT(c.stats.hazards.touching_rows + c.stats.hazards.vertex_rows, 0u);
 }
 
 TEST(RectScanRasterizer, CyclesAtBothClocksAndDivisions) {

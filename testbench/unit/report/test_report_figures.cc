@@ -124,7 +124,12 @@ const std::set<std::string> kKnownKeys = {
     "raster.*.triangles", "raster.*.rejected", "raster.*.rows", "raster.*.pixels_visited",
     "raster.*.pixels_covered", "raster.*.quads", "raster.*.helper_lanes", "raster.*.time_ns",
     "raster.*.ops", "raster.*.ops.<op>", "raster.*.divisions", "raster.*.divisions_per_triangle",
-    "raster.*.fast_cycles", "raster.*.memory_cycles", "raster.*.cycles",
+    "raster.*.fast_cycles", "raster.*.memory_cycles", "raster.*.cycles", "raster.*.coords",
+    "raster.*.coord_pixels", "raster.*.coord_rejected", "raster.*.coord_ops",
+    "raster.*.coord_ops.<op>", "raster.*.parity_hazards", "raster.*.parity_hazards.extra_pixels",
+    "raster.*.parity_hazards.missed_pixels", "raster.*.parity_hazards.vertex_rows",
+    "raster.*.parity_hazards.touching_rows", "raster.*.parity_hazards.run_rows",
+    "raster.*.parity_hazards.missed_crossing_rows",
     // physical
     "area_total", "physical", "physical.clock_mhz", "physical.time_us",
     "physical.fragments_per_second",
@@ -211,8 +216,9 @@ void key_patterns(const Json& j, const std::string& path, std::set<std::string>&
   for (const auto& [k, v] : j.items()) {
     std::string seg = k;
     if (named.count(path)) seg = "*";
-    if (is_op_kind(k) && (last == "ops" || last == "latency" || last == "area" || last == "op" ||
-                          path == "materials.*.object_space.ops.*"))
+    if (is_op_kind(k) &&
+        (last == "ops" || last == "coord_ops" || last == "latency" || last == "area" ||
+         last == "op" || path == "materials.*.object_space.ops.*"))
       seg = "<op>";
     std::string sub = path;
     if (!sub.empty()) sub += ".";
@@ -643,6 +649,15 @@ void check_geometry(const Json& r) {
       EXPECT_SAME(d(c["divisions_per_triangle"]), ratio(d(c["divisions"]), d(c["triangles"])))
           << name;
       EXPECT_FALSE(c.contains("cycles")) << name;
+      // The constant-depth block's reciprocals are the rows' divisions; it covers every pixel
+      // it did not reject.
+      if (c["coords"] == "constant_depth") {
+        EXPECT_EQ(u(c["coord_ops"]["rcp"]), u(c["divisions"])) << name;
+        EXPECT_EQ(u(c["coord_pixels"]) + u(c["coord_rejected"]), u(c["pixels_covered"])) << name;
+      } else {
+        EXPECT_EQ(c["coords"], "exact") << name;
+        EXPECT_EQ(u(c["coord_pixels"]), 0u) << name;
+      }
     } else {
       EXPECT_EQ(c["block"], "raster.edge") << name;
       EXPECT_EQ(u(c["cycles"]), u(c["pixels_visited"])) << name;  // one pixel a cycle
@@ -713,6 +728,15 @@ void check_ledger(const Json& r) {
       {"subtexel", "filter."}, {"vd", "filter."},     {"filter_arith", "filter."},
       {"texels", "cache"}};
   for (const auto& [name, row] : r["ledger"].items()) {
+    if (name == "raster_coords") {
+      // The rasteriser's constant-depth block: its ops are the raster section's coord_ops.
+      uint64_t ops = 0;
+      for (const Json& m : row["materials"])
+        ops += ops_total(r["raster"][m.get<std::string>()]["coord_ops"]);
+      EXPECT_EQ(u(row["ops"]), ops) << name;
+      EXPECT_GT(ops, 0u) << name;
+      continue;
+    }
     ASSERT_TRUE(prefix.count(name)) << name;
     uint64_t ops = 0;
     double area = 0;
