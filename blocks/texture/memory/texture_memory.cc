@@ -69,6 +69,21 @@ std::vector<float> downsample(const std::vector<float>& src, int w, int h, int& 
 
 }  // namespace
 
+int Texture::add_mip_chain(int w, int h, const std::vector<float>& rgba, bool build_mips) {
+  int n = 1;
+  add_level(w, h, rgba);
+  std::vector<float> cur;  // the last level made (level 0 is read from rgba, not copied)
+  while (build_mips && (w > 1 || h > 1)) {
+    int nw = 0, nh = 0;
+    cur = downsample(cur.empty() ? rgba : cur, w, h, nw, nh);
+    w = nw;
+    h = nh;
+    add_level(w, h, cur);
+    ++n;
+  }
+  return n;
+}
+
 void Texture::add_level(int w, int h, const std::vector<float>& rgba) {
   Level lv;
   lv.width = w;
@@ -115,16 +130,7 @@ Texture Texture::from_rgba(std::string name, int width, int height, const std::v
     }
     t.rgba8_.reserve(total);
   }
-  int w = width, h = height;
-  t.add_level(w, h, rgba);
-  std::vector<float> cur;  // the last level made (level 0 is read from rgba, not copied)
-  while (build_mips && (w > 1 || h > 1)) {
-    int nw = 0, nh = 0;
-    cur = downsample(cur.empty() ? rgba : cur, w, h, nw, nh);
-    w = nw;
-    h = nh;
-    t.add_level(w, h, cur);
-  }
+  t.add_mip_chain(width, height, rgba, build_mips);
   t.place(0, TexelLayout::Linear);
   return t;
 }
@@ -143,18 +149,7 @@ Texture Texture::from_slices(std::string name, TextureType type, int width, int 
   int mips = 0;
   for (const auto& rgba : slices) {
     if (rgba.size() != texels) throw std::invalid_argument("slice size disagrees");
-    int w = width, h = height, n = 1;
-    t.add_level(w, h, rgba);
-    std::vector<float> cur;
-    while (build_mips && (w > 1 || h > 1)) {
-      int nw = 0, nh = 0;
-      cur = downsample(cur.empty() ? rgba : cur, w, h, nw, nh);
-      w = nw;
-      h = nh;
-      t.add_level(w, h, cur);
-      ++n;
-    }
-    mips = n;
+    mips = t.add_mip_chain(width, height, rgba, build_mips);
   }
   t.shape_ = {type, static_cast<int>(slices.size()), mips};
   t.place(0, TexelLayout::Linear);

@@ -210,6 +210,9 @@ class Texture {
   void set_store(TexelFormat format);
   // Appends a level of w × h float RGBA texels (row-major) in the texture's format.
   void add_level(int w, int h, const std::vector<float>& rgba);
+  // Level 0 from `rgba` (w × h), then, with build_mips, each box-filtered level down to 1 × 1;
+  // returns the levels added.
+  int add_mip_chain(int w, int h, const std::vector<float>& rgba, bool build_mips);
 
   std::string name_;
   TextureShape shape_;
