@@ -329,6 +329,7 @@ TEST(LayeredAddressGen, LayerRoundsHalfToEvenAndClamps) {
 
 TEST(LayeredAddressGen, ArrayTapsStayOnTheLayersMipChain) {
   std::vector<std::vector<float>> layers;
+  layers.reserve(5);
   for (int l = 0; l < 5; ++l) layers.emplace_back(16 * 8 * 4, static_cast<float>(l));
   const Texture tex =
       Texture::from_slices("arr", TextureType::Array, 16, 8, layers, TexelFormat::Rgba32f, true);

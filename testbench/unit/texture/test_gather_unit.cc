@@ -20,7 +20,8 @@ Texture coded_texture() {
   for (int y = 0; y < 4; ++y)
     for (int x = 0; x < 4; ++x)
       for (int c = 0; c < 4; ++c)
-        px[static_cast<size_t>((y * 4 + x) * 4 + c)] = static_cast<float>(100 * c + x + 10 * y);
+        px[(static_cast<size_t>(y) * 4 + static_cast<size_t>(x)) * 4 + static_cast<size_t>(c)] =
+            static_cast<float>(100 * c + x + 10 * y);
   return Texture::from_rgba("coded", 4, 4, px, TexelFormat::Rgba32f, false);
 }
 

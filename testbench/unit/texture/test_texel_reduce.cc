@@ -24,7 +24,8 @@ Texture ramp(StorageFormat storage = StorageFormat::Rgba32f) {
     for (int x = 0; x < 4; ++x)
       for (int c = 0; c < 4; ++c) {
         const float v = static_cast<float>(x + 10 * y) / 40.0f;
-        px[static_cast<size_t>((y * 4 + x) * 4 + c)] = c == 3 ? 1.0f - v : v;
+        px[(static_cast<size_t>(y) * 4 + static_cast<size_t>(x)) * 4 + static_cast<size_t>(c)] =
+            c == 3 ? 1.0f - v : v;
       }
   const Texture t = Texture::from_rgba("ramp", 4, 4, px, TexelFormat::Rgba32f, false);
   return storage == StorageFormat::Rgba32f ? t : t.converted(storage);
@@ -141,7 +142,8 @@ TEST(TexelReduce, ComparingMaterialThroughTheUnit) {
     Fragment f;
     f.x = static_cast<uint32_t>(i);
     f.u = (i % 8) / 8.0 + 0.03;
-    f.v = (i / 8) / 8.0 + 0.05;
+    const int row = i / 8;
+    f.v = row / 8.0 + 0.05;
     f.compare_ref = 0.4f;
     frags.push_back(f);
   }

@@ -33,6 +33,7 @@ TextureSet layered_set() {
   }
   set.add(Texture::from_slices("sky", TextureType::Cube, 8, 8, faces, TexelFormat::Rgba32f, true));
   std::vector<std::vector<float>> layers;
+  layers.reserve(4);
   for (int l = 0; l < 4; ++l) layers.emplace_back(size_t{8} * 4 * 4, static_cast<float>(l) / 8);
   set.add(
       Texture::from_slices("arr", TextureType::Array, 8, 4, layers, TexelFormat::Rgba32f, true));
