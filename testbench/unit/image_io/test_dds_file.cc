@@ -12,12 +12,15 @@
 
 #include "blocks/base/input_error.h"
 #include "pipeline/image_io/dds_file.h"
+#include "testbench/lib/compressed_image_checks.h"
 #include "testbench/lib/error_of.h"
 #include "testbench/lib/temp_dir.h"
 
 namespace {
 
 using namespace texsim;  // NOLINT(google-build-using-namespace)
+using texsim::test::expect_same;
+using texsim::test::set_u32;
 
 constexpr FileBlockFormat kFormats[] = {
     FileBlockFormat::Bc1Unorm, FileBlockFormat::Bc1Srgb,  FileBlockFormat::Bc2Unorm,
@@ -50,25 +53,6 @@ CompressedImage make_image(FileBlockFormat format, uint32_t w, uint32_t h, uint3
 
 void write_bytes(const std::string& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary) << bytes;
-}
-
-void set_u32(std::string& s, size_t at, uint32_t v) {
-  for (size_t i = 0; i < 4; ++i) s[at + i] = static_cast<char>(v >> (8 * i));
-}
-
-void expect_same(const CompressedImage& a, const CompressedImage& b) {
-  EXPECT_EQ(a.format, b.format);
-  EXPECT_EQ(a.width, b.width);
-  EXPECT_EQ(a.height, b.height);
-  EXPECT_EQ(a.block_w, b.block_w);
-  EXPECT_EQ(a.block_h, b.block_h);
-  EXPECT_EQ(a.block_bytes, b.block_bytes);
-  ASSERT_EQ(a.levels.size(), b.levels.size());
-  for (size_t i = 0; i < a.levels.size(); ++i) {
-    EXPECT_EQ(a.levels[i].width, b.levels[i].width) << "level " << i;
-    EXPECT_EQ(a.levels[i].height, b.levels[i].height) << "level " << i;
-    EXPECT_EQ(a.levels[i].bytes, b.levels[i].bytes) << "level " << i;
-  }
 }
 
 TEST(DdsFile, EveryFormatRoundTripsWithItsMipChain) {
