@@ -14,17 +14,10 @@
 #include "blocks/texture/sampler/texel_address_gen.h"
 #include "blocks/texture/sampler/texel_blend.h"
 #include "pipeline/texture/texture_unit.h"
+#include "testbench/lib/filter_fixtures.h"
 
 namespace texsim {
 namespace {
-
-Texture random_texture(int w, int h, uint64_t seed, TexelFormat fmt = TexelFormat::Rgba32f) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<float> c(0.0f, 1.0f);
-  std::vector<float> px(static_cast<size_t>(w) * h * 4);
-  for (float& p : px) p = c(rng);
-  return Texture::from_rgba("rnd", w, h, px, fmt, true);
-}
 
 TexelAddressGen gen(FilterMode f, AddressMode mu, AddressMode mv, int sub_bits = 8,
                     int mip_bits = 8) {
