@@ -21,6 +21,7 @@
 #include "blocks/texture/sampler/texel_address_gen.h"
 #include "pipeline/texture/coord_method.h"
 #include "pipeline/texture/footprint_filter.h"
+#include "pipeline/texture/layered_lookup.h"
 #include "pipeline/texture/surface_effects.h"
 
 namespace texsim {
@@ -63,6 +64,8 @@ struct MaterialSetup {
   // Relief (in front of LOD) and lighting (after the blend): absent unless the material asks.
   std::optional<ReliefSetup> relief;
   std::optional<LightingSetup> lighting;
+  // Effect `lookup`: a layered texture's direction and layer (fragment generation sets them).
+  std::optional<LayeredLookup> lookup;
   AddressMode address_u() const { return footprint ? footprint->address_u() : filter.address_u; }
   AddressMode address_v() const { return footprint ? footprint->address_v() : filter.address_v; }
 };
