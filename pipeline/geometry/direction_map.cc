@@ -4,8 +4,7 @@
 
 namespace texsim {
 
-DirectionMap DirectionMap::make(const Camera& c, const ScenePrimitive& p,
-                                LayeredLookup::Direction mode) {
+DirectionMap DirectionMap::make(const Camera& c, const ScenePrimitive& p, bool reflect) {
   const glm::dvec3 fwd = glm::normalize(c.look_at - c.position);
   const glm::dvec3 right = glm::normalize(glm::cross(fwd, c.up));
   const glm::dvec3 down = glm::cross(fwd, right);  // the image's +y (camera.h: Y down)
@@ -19,13 +18,13 @@ DirectionMap DirectionMap::make(const Camera& c, const ScenePrimitive& p,
     m.ddy = down / f;
     m.origin = fwd - cx * m.ddx - cy * m.ddy;
   }
-  if (mode == LayeredLookup::Direction::Reflect) {
+  if (reflect) {
     // r = d − 2·(d·n)·n is linear in d: reflect each part of the map.
     const glm::dvec3 n = glm::normalize(glm::cross(p.edge_u, p.edge_v));
-    const auto reflect = [&n](glm::dvec3 d) { return d - 2.0 * glm::dot(d, n) * n; };
-    m.origin = reflect(m.origin);
-    m.ddx = reflect(m.ddx);
-    m.ddy = reflect(m.ddy);
+    const auto mirror = [&n](glm::dvec3 d) { return d - 2.0 * glm::dot(d, n) * n; };
+    m.origin = mirror(m.origin);
+    m.ddx = mirror(m.ddx);
+    m.ddy = mirror(m.ddy);
   }
   return m;
 }

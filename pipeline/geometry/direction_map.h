@@ -9,14 +9,14 @@
 #include "blocks/base/fragment.h"
 #include "blocks/geometry/camera.h"
 #include "pipeline/scene/scene.h"
-#include "pipeline/texture/layered_lookup.h"
 
 namespace texsim {
 
 struct DirectionMap {
   // direction(x, y) = origin + x·ddx + y·ddy at continuous pixel coordinates (centres at +0.5).
   glm::dvec3 origin{0, 0, 1}, ddx{0}, ddy{0};
-  static DirectionMap make(const Camera& c, const ScenePrimitive& p, LayeredLookup::Direction mode);
+  // The view ray through each pixel; with `reflect`, reflected by the primitive's plane.
+  static DirectionMap make(const Camera& c, const ScenePrimitive& p, bool reflect);
   glm::dvec3 at(double x, double y) const { return origin + x * ddx + y * ddy; }
   // The map a fragment's direction and derivatives span (exact for a fragment apply() made:
   // the map is affine); what the truth integrates a cube fragment over.

@@ -65,7 +65,8 @@ void generate_fragments(const Scene& scene, uint32_t frame,
   for (size_t p = 0; p < maps.size(); ++p) {
     const MaterialSetup& ms = mats[static_cast<size_t>(scene.primitives[p].material)];
     if (ms.lookup && ms.lookup->direction != LayeredLookup::Direction::None)
-      dirs[p] = DirectionMap::make(scene.camera, scene.primitives[p], ms.lookup->direction);
+      dirs[p] = DirectionMap::make(scene.camera, scene.primitives[p],
+                                   ms.lookup->direction == LayeredLookup::Direction::Reflect);
   }
   const PixelRect r = scene_extent(scene, maps);
   const int w = r.x1 - r.x0;

@@ -296,6 +296,9 @@ TEST(SceneLayered, EnvmapSceneRendersAndItsTraceReplaysIt) {
   EXPECT_EQ(a["fragments"].get<uint64_t>(), 96u * 72u);
   EXPECT_GT(a["accuracy"]["psnr_db"].get<double>(), 40.0) << a["accuracy"].dump();
   ASSERT_TRUE(a["blocks"].contains("cube.face_select")) << a["blocks"].dump();
+  // The face selector issues in the address slot ahead of each fragment's one probe (no
+  // anisotropy here): two address-slot cycles per fragment.
+  EXPECT_EQ(a["stages"]["address"]["busy"].get<uint64_t>(), 2u * 96u * 72u);
   const std::string trc = dir.file("env.trc");
   ASSERT_EQ(generate_scene_trace(std::string(TEXSIM_SOURCE_DIR) + "/scenes/envmap.toml", trc,
                                  {"output.width=96", "output.height=72"}),
