@@ -40,7 +40,7 @@ Texture layered_stand_in(const SceneTexture& t) {
   const int h = ls.type == SceneTextureType::Array1D ? 1 : 8;
   std::vector<std::vector<float>> slices(n);
   for (size_t k = 0; k < n; ++k) {
-    slices[k].assign(static_cast<size_t>(8 * h * 4), 1.0f);
+    slices[k].assign(size_t{8} * static_cast<size_t>(h) * 4, 1.0f);
     for (size_t i = 0; i < slices[k].size(); i += 4) slices[k][i] = static_cast<float>(k % 7) / 6;
   }
   return Texture::from_slices(t.name, cube ? TextureType::Cube : TextureType::Array, 8, h, slices,

@@ -192,8 +192,12 @@ TEST(SceneLayered, FragmentsCarryTheDirectionAndTheLayer) {
   const std::string cube = "[textures.t]\ntype = \"cube\"\nfaces = " + sky_faces(8) + "\n";
   std::map<std::string, std::vector<Fragment>> by;
   for (const char* mode : {"view", "reflect"}) {
-    const Scene s = parse(cube + "[materials.m]\ntexture = \"t\"\nlookup = { direction = \"" +
-                          mode + "\" }\n" + kPlane);
+    std::string text = cube;
+    text.append("[materials.m]\ntexture = \"t\"\nlookup = { direction = \"")
+        .append(mode)
+        .append("\" }\n")
+        .append(kPlane);
+    const Scene s = parse(text);
     by[mode] = generate_fragments(s);
     ASSERT_GT(by[mode].size(), 100u);
   }
@@ -244,7 +248,7 @@ TEST(SceneLayered, CubeTruthSamplesTheFacesTheUnitSelects) {
   const int n = 4;
   std::vector<std::vector<float>> fs(6);
   for (int k = 0; k < 6; ++k) {
-    fs[static_cast<size_t>(k)].assign(n * n * 4, 1.0f);
+    fs[static_cast<size_t>(k)].assign(static_cast<size_t>(n) * n * 4, 1.0f);
     for (int i = 0; i < n * n; ++i)
       fs[static_cast<size_t>(k)][static_cast<size_t>(i) * 4] = static_cast<float>(k) / 5;
   }
