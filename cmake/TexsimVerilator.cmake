@@ -9,7 +9,8 @@ set(TEXSIM_RTL_TESTS ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_vd.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_uv.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_scan.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_control.cc
-  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_raster.cc)
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_raster.cc
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_sampler.cc)
 set(TEXSIM_RTL_BENCH ${PROJECT_SOURCE_DIR}/testbench/rtl/bench_rtl_vs_cpp.cc)
 set(TEXSIM_RTL_CC ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc
   ${PROJECT_SOURCE_DIR}/rtl_model/verilator/rtl_harness.cc)
@@ -35,11 +36,11 @@ message(STATUS "Verilator ${verilator_VERSION}: RTL lockstep tests enabled")
 
 # Parameters: rtl_params.h (C++) -> texsim_params.vh and one -G file per block.
 set(TEXSIM_RTL_BLOCKS vd_p2 vd_p1 bilinear_lerp uv_incremental rect_scan_stepper
-  rect_scan_control rect_scan_raster)
+  rect_scan_control rect_scan_raster texsim_sampler)
 add_executable(gen_rtl_params ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc)
 target_link_libraries(gen_rtl_params PRIVATE texsim_blocks)
 texsim_set_warnings(gen_rtl_params)
-set(gen_outputs ${TEXSIM_RTL_GEN}/texsim_params.vh)
+set(gen_outputs ${TEXSIM_RTL_GEN}/texsim_params.vh ${TEXSIM_RTL_GEN}/texsim_sampler_log2.vh)
 foreach(b ${TEXSIM_RTL_BLOCKS})
   list(APPEND gen_outputs ${TEXSIM_RTL_GEN}/${b}.vc)
 endforeach()
@@ -70,7 +71,7 @@ target_link_libraries(texsim_verilated PUBLIC Threads::Threads)
 # the static library texsim_rtl_TOP (header <VTOP.h>). Verilator's C++ output has names that
 # depend on the design, so one includer file (VTOP__all.cpp) collects it for the compiler.
 function(texsim_verilate top)
-  cmake_parse_arguments(A "" "" "SOURCES" ${ARGN})
+  cmake_parse_arguments(A "" "" "SOURCES;DEPENDS" ${ARGN})
   list(TRANSFORM A_SOURCES PREPEND ${TEXSIM_RTL_DIR}/)
   set(mdir ${PROJECT_BINARY_DIR}/rtl_model/verilated/${top})
   add_custom_command(OUTPUT ${mdir}/V${top}__all.cpp
@@ -81,7 +82,7 @@ function(texsim_verilate top)
       -f ${TEXSIM_RTL_GEN}/${top}.vc -I${TEXSIM_RTL_GEN} ${A_SOURCES}
     COMMAND ${CMAKE_COMMAND} -DDIR=${mdir} -DPREFIX=V${top}
       -P ${PROJECT_SOURCE_DIR}/cmake/TexsimVerilatorIncluder.cmake
-    DEPENDS ${A_SOURCES} ${TEXSIM_RTL_GEN}/${top}.vc
+    DEPENDS ${A_SOURCES} ${TEXSIM_RTL_GEN}/${top}.vc ${A_DEPENDS}
     COMMENT "Verilating ${top}" VERBATIM)
   add_library(texsim_rtl_${top} STATIC ${mdir}/V${top}__all.cpp)
   target_include_directories(texsim_rtl_${top} SYSTEM PUBLIC ${mdir})
@@ -98,6 +99,9 @@ texsim_verilate(rect_scan_stepper SOURCES rect_scan_stepper.v ${rtl_common})
 texsim_verilate(rect_scan_control SOURCES rect_scan_control.v ${rtl_common})
 texsim_verilate(rect_scan_raster SOURCES rect_scan_raster.v rect_scan_stepper.v
   rect_scan_control.v ${rtl_common})
+texsim_verilate(texsim_sampler SOURCES texsim_sampler.v texsim_sampler_lod.v
+  texsim_sampler_addr.v bilinear_lerp.v ${rtl_common}
+  DEPENDS ${TEXSIM_RTL_GEN}/texsim_sampler_log2.vh)
 texsim_verilate(uv_incremental SOURCES uv_incremental.v texsim_fixed_div.v texsim_udiv_pipe.v
   ${rtl_common})
 
@@ -131,6 +135,9 @@ if(TEXSIM_BUILD_TESTS)
   target_link_libraries(test_rtl_rect_raster PRIVATE texsim_pipeline)
   target_compile_definitions(test_rtl_rect_raster PRIVATE
     TEXSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  # The sampler's lockstep runs the shipped scenes' fragments through the texture unit too.
+  target_link_libraries(test_rtl_sampler PRIVATE texsim_pipeline)
+  target_compile_definitions(test_rtl_sampler PRIVATE TEXSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   add_executable(test_rtl_board ${TEXSIM_RTL_BOARD_TEST})
   target_link_libraries(test_rtl_board PRIVATE texsim_rtl_board GTest::gtest GTest::gtest_main)
   texsim_set_warnings(test_rtl_board)
