@@ -302,15 +302,19 @@ TEST(RtlLockstep, SamplerMatchesCppOnShippedScenes) {
 // Negative controls, one per stage: one LSB of the level fraction (LOD), of one texel address
 // (address generation), of the colour (read and blend), and a latency one cycle off.
 TEST(RtlLockstep, SamplerScoreboardCatchesOneLsbPerStage) {
-  const SceneCounts lod = run_scene("bunny", 400, TexelLayout::Linear, {0, 3, 1, 123, 0});
+  const SceneCounts lod =
+      run_scene("footprint_filters", 400, TexelLayout::Linear, {0, 3, 1, 123, 0});
   EXPECT_EQ(lod.mismatches, 1u) << lod.report;
   EXPECT_NE(lod.report.find("fragment 123)"), std::string::npos) << lod.report;
-  const SceneCounts addr = run_scene("bunny", 400, TexelLayout::Tiled4x4, {1, 5, 1, 200, 0});
+  const SceneCounts addr =
+      run_scene("footprint_filters", 400, TexelLayout::Tiled4x4, {1, 5, 1, 200, 0});
   EXPECT_EQ(addr.mismatches, 1u) << addr.report;
   EXPECT_NE(addr.report.find("fragment 200)"), std::string::npos) << addr.report;
-  const SceneCounts col = run_scene("bunny", 400, TexelLayout::Morton, {0, 0, 1, 321, 0});
+  const SceneCounts col =
+      run_scene("footprint_filters", 400, TexelLayout::Morton, {0, 0, 1, 321, 0});
   EXPECT_EQ(col.mismatches, 1u) << col.report;
-  const SceneCounts lat = run_scene("bunny", 100, TexelLayout::Linear, {-1, 0, 0, 0, 1});
+  const SceneCounts lat =
+      run_scene("footprint_filters", 100, TexelLayout::Linear, {-1, 0, 0, 0, 1});
   EXPECT_EQ(lat.mismatches, lat.fragments) << lat.report;
 }
 
