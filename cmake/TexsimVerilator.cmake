@@ -67,28 +67,33 @@ target_compile_definitions(texsim_verilated PUBLIC VM_TRACE=1 VM_TRACE_VCD=1 VM_
 target_compile_options(texsim_verilated PRIVATE -w)
 target_link_libraries(texsim_verilated PUBLIC Threads::Threads)
 
-# texsim_verilate(TOP SOURCES f.v ...): verilates module TOP with its generated -G file into
-# the static library texsim_rtl_TOP (header <VTOP.h>). Verilator's C++ output has names that
-# depend on the design, so one includer file (VTOP__all.cpp) collects it for the compiler.
+# texsim_verilate(TOP SOURCES f.v ... [DEPENDS files] [NAME name] [ARGS verilator-args]):
+# verilates module TOP with its generated -G file into the static library texsim_rtl_NAME
+# (header <VNAME.h>; NAME defaults to TOP, another NAME builds the same design with other
+# Verilator arguments). Verilator's C++ output has names that depend on the design, so one
+# includer file (VNAME__all.cpp) collects it for the compiler.
 function(texsim_verilate top)
-  cmake_parse_arguments(A "" "" "SOURCES;DEPENDS" ${ARGN})
+  cmake_parse_arguments(A "" "NAME" "SOURCES;DEPENDS;ARGS" ${ARGN})
+  if(NOT A_NAME)
+    set(A_NAME ${top})
+  endif()
   list(TRANSFORM A_SOURCES PREPEND ${TEXSIM_RTL_DIR}/)
-  set(mdir ${PROJECT_BINARY_DIR}/rtl_model/verilated/${top})
-  add_custom_command(OUTPUT ${mdir}/V${top}__all.cpp
+  set(mdir ${PROJECT_BINARY_DIR}/rtl_model/verilated/${A_NAME})
+  add_custom_command(OUTPUT ${mdir}/V${A_NAME}__all.cpp
     COMMAND ${CMAKE_COMMAND} -E rm -rf ${mdir}
     COMMAND ${CMAKE_COMMAND} -E make_directory ${mdir}
     COMMAND ${VERILATOR_BIN} --cc --trace -O3 --x-assign fast --x-initial fast -Wno-fatal
-      -Wno-DECLFILENAME --top-module ${top} --prefix V${top} --Mdir ${mdir}
+      -Wno-DECLFILENAME ${A_ARGS} --top-module ${top} --prefix V${A_NAME} --Mdir ${mdir}
       -f ${TEXSIM_RTL_GEN}/${top}.vc -I${TEXSIM_RTL_GEN} ${A_SOURCES}
-    COMMAND ${CMAKE_COMMAND} -DDIR=${mdir} -DPREFIX=V${top}
+    COMMAND ${CMAKE_COMMAND} -DDIR=${mdir} -DPREFIX=V${A_NAME}
       -P ${PROJECT_SOURCE_DIR}/cmake/TexsimVerilatorIncluder.cmake
     DEPENDS ${A_SOURCES} ${TEXSIM_RTL_GEN}/${top}.vc ${A_DEPENDS}
-    COMMENT "Verilating ${top}" VERBATIM)
-  add_library(texsim_rtl_${top} STATIC ${mdir}/V${top}__all.cpp)
-  target_include_directories(texsim_rtl_${top} SYSTEM PUBLIC ${mdir})
-  target_link_libraries(texsim_rtl_${top} PUBLIC texsim_verilated)
-  target_compile_options(texsim_rtl_${top} PRIVATE -w)
-  add_dependencies(texsim_rtl_${top} texsim_rtl_params)
+    COMMENT "Verilating ${A_NAME}" VERBATIM)
+  add_library(texsim_rtl_${A_NAME} STATIC ${mdir}/V${A_NAME}__all.cpp)
+  target_include_directories(texsim_rtl_${A_NAME} SYSTEM PUBLIC ${mdir})
+  target_link_libraries(texsim_rtl_${A_NAME} PUBLIC texsim_verilated)
+  target_compile_options(texsim_rtl_${A_NAME} PRIVATE -w)
+  add_dependencies(texsim_rtl_${A_NAME} texsim_rtl_params)
 endfunction()
 
 set(rtl_common texsim_pipe.v texsim_round_sat.v texsim_op_counters.v)
@@ -99,8 +104,9 @@ texsim_verilate(rect_scan_stepper SOURCES rect_scan_stepper.v ${rtl_common})
 texsim_verilate(rect_scan_control SOURCES rect_scan_control.v ${rtl_common})
 texsim_verilate(rect_scan_raster SOURCES rect_scan_raster.v rect_scan_stepper.v
   rect_scan_control.v ${rtl_common})
-texsim_verilate(texsim_sampler SOURCES texsim_sampler.v texsim_sampler_lod.v
-  texsim_sampler_addr.v bilinear_lerp.v ${rtl_common}
+set(sampler_sources texsim_sampler.v texsim_sampler_lod.v texsim_sampler_addr.v bilinear_lerp.v
+  ${rtl_common})
+texsim_verilate(texsim_sampler SOURCES ${sampler_sources}
   DEPENDS ${TEXSIM_RTL_GEN}/texsim_sampler_log2.vh)
 texsim_verilate(uv_incremental SOURCES uv_incremental.v texsim_fixed_div.v texsim_udiv_pipe.v
   ${rtl_common})
@@ -145,7 +151,12 @@ if(TEXSIM_BUILD_TESTS)
 endif()
 if(TEXSIM_BUILD_TESTS AND TEXSIM_BUILD_BENCH AND EXISTS ${TEXSIM_RTL_BENCH})
   find_package(benchmark REQUIRED)
+  # The sampler also verilated with --threads 2, for the benchmark only.
+  texsim_verilate(texsim_sampler NAME texsim_sampler_mt SOURCES ${sampler_sources}
+    DEPENDS ${TEXSIM_RTL_GEN}/texsim_sampler_log2.vh ARGS --threads 2)
   add_executable(bench_rtl_vs_cpp ${TEXSIM_RTL_BENCH})
-  target_link_libraries(bench_rtl_vs_cpp PRIVATE ${TEXSIM_RTL_LIBS} benchmark::benchmark)
+  target_link_libraries(bench_rtl_vs_cpp PRIVATE ${TEXSIM_RTL_LIBS} texsim_rtl_texsim_sampler_mt
+    texsim_pipeline benchmark::benchmark)
+  target_compile_definitions(bench_rtl_vs_cpp PRIVATE TEXSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   texsim_set_warnings(bench_rtl_vs_cpp)
 endif()
