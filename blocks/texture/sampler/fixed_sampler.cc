@@ -213,7 +213,7 @@ FixedSampler::Result FixedSampler::sample(const Input& in, const TextureDesc& t,
     std::array<uint64_t, 4> quad{};
     for (size_t n = 0; n < 4; ++n) {
       r.addr[static_cast<size_t>(4 * k) + n] = a[n];
-      quad[n] = mem(a[n]);
+      quad[n] = a[n] < mem.size() ? mem[a[n]] : 0;
     }
     colour[static_cast<size_t>(k)] = static_cast<uint32_t>(lerp.lerp(quad, fx, fy));
   }

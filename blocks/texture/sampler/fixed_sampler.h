@@ -12,7 +12,7 @@
 // layered and compressed textures, texel formats other than RGBA8.
 #include <array>
 #include <cstdint>
-#include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -64,8 +64,8 @@ class FixedSampler {
     std::array<uint32_t, kQuadWords> addr{};  // (x0,y0) (x1,y0) (x0,y1) (x1,y1), hi then lo
     uint32_t rgba = 0;                        // RGBA8, R in the low byte
   };
-  // Texel word at a word address (the memory the RTL reads).
-  using Memory = std::function<uint32_t(uint32_t)>;
+  // The memory the RTL reads, by word address (0 past its end).
+  using Memory = std::span<const uint32_t>;
 
   explicit FixedSampler(const Config& c) : cfg_(c) {}
   const Config& config() const { return cfg_; }
