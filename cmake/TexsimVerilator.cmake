@@ -40,7 +40,7 @@ set(TEXSIM_RTL_BLOCKS vd_p2 vd_p1 bilinear_lerp uv_incremental rect_scan_stepper
 add_executable(gen_rtl_params ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc)
 target_link_libraries(gen_rtl_params PRIVATE texsim_blocks)
 texsim_set_warnings(gen_rtl_params)
-set(gen_outputs ${TEXSIM_RTL_GEN}/texsim_params.vh ${TEXSIM_RTL_GEN}/texsim_sampler_log2.vh)
+set(gen_outputs ${TEXSIM_RTL_GEN}/texsim_params.vh ${TEXSIM_RTL_GEN}/texsim_sampler_log2.v)
 foreach(b ${TEXSIM_RTL_BLOCKS})
   list(APPEND gen_outputs ${TEXSIM_RTL_GEN}/${b}.vc)
 endforeach()
@@ -67,17 +67,19 @@ target_compile_definitions(texsim_verilated PUBLIC VM_TRACE=1 VM_TRACE_VCD=1 VM_
 target_compile_options(texsim_verilated PRIVATE -w)
 target_link_libraries(texsim_verilated PUBLIC Threads::Threads)
 
-# texsim_verilate(TOP SOURCES f.v ... [DEPENDS files] [NAME name] [ARGS verilator-args]):
-# verilates module TOP with its generated -G file into the static library texsim_rtl_NAME
+# texsim_verilate(TOP SOURCES f.v ... [GENERATED paths] [NAME name] [ARGS verilator-args]):
+# verilates module TOP (sources in rtl_model/rtl, and generated ones by their path) with its
+# generated -G file into the static library texsim_rtl_NAME
 # (header <VNAME.h>; NAME defaults to TOP, another NAME builds the same design with other
 # Verilator arguments). Verilator's C++ output has names that depend on the design, so one
 # includer file (VNAME__all.cpp) collects it for the compiler.
 function(texsim_verilate top)
-  cmake_parse_arguments(A "" "NAME" "SOURCES;DEPENDS;ARGS" ${ARGN})
+  cmake_parse_arguments(A "" "NAME" "SOURCES;GENERATED;ARGS" ${ARGN})
   if(NOT A_NAME)
     set(A_NAME ${top})
   endif()
   list(TRANSFORM A_SOURCES PREPEND ${TEXSIM_RTL_DIR}/)
+  list(APPEND A_SOURCES ${A_GENERATED})
   set(mdir ${PROJECT_BINARY_DIR}/rtl_model/verilated/${A_NAME})
   add_custom_command(OUTPUT ${mdir}/V${A_NAME}__all.cpp
     COMMAND ${CMAKE_COMMAND} -E rm -rf ${mdir}
@@ -87,7 +89,7 @@ function(texsim_verilate top)
       -f ${TEXSIM_RTL_GEN}/${top}.vc -I${TEXSIM_RTL_GEN} ${A_SOURCES}
     COMMAND ${CMAKE_COMMAND} -DDIR=${mdir} -DPREFIX=V${A_NAME}
       -P ${PROJECT_SOURCE_DIR}/cmake/TexsimVerilatorIncluder.cmake
-    DEPENDS ${A_SOURCES} ${TEXSIM_RTL_GEN}/${top}.vc ${A_DEPENDS}
+    DEPENDS ${A_SOURCES} ${TEXSIM_RTL_GEN}/${top}.vc
     COMMENT "Verilating ${A_NAME}" VERBATIM)
   add_library(texsim_rtl_${A_NAME} STATIC ${mdir}/V${A_NAME}__all.cpp)
   target_include_directories(texsim_rtl_${A_NAME} SYSTEM PUBLIC ${mdir})
@@ -107,7 +109,7 @@ texsim_verilate(rect_scan_raster SOURCES rect_scan_raster.v rect_scan_stepper.v
 set(sampler_sources texsim_sampler.v texsim_sampler_lod.v texsim_sampler_addr.v bilinear_lerp.v
   ${rtl_common})
 texsim_verilate(texsim_sampler SOURCES ${sampler_sources}
-  DEPENDS ${TEXSIM_RTL_GEN}/texsim_sampler_log2.vh)
+  GENERATED ${TEXSIM_RTL_GEN}/texsim_sampler_log2.v)
 texsim_verilate(uv_incremental SOURCES uv_incremental.v texsim_fixed_div.v texsim_udiv_pipe.v
   ${rtl_common})
 
@@ -153,7 +155,7 @@ if(TEXSIM_BUILD_TESTS AND TEXSIM_BUILD_BENCH AND EXISTS ${TEXSIM_RTL_BENCH})
   find_package(benchmark REQUIRED)
   # The sampler also verilated with --threads 2, for the benchmark only.
   texsim_verilate(texsim_sampler NAME texsim_sampler_mt SOURCES ${sampler_sources}
-    DEPENDS ${TEXSIM_RTL_GEN}/texsim_sampler_log2.vh ARGS --threads 2)
+    GENERATED ${TEXSIM_RTL_GEN}/texsim_sampler_log2.v ARGS --threads 2)
   add_executable(bench_rtl_vs_cpp ${TEXSIM_RTL_BENCH})
   target_link_libraries(bench_rtl_vs_cpp PRIVATE ${TEXSIM_RTL_LIBS} texsim_rtl_texsim_sampler_mt
     texsim_pipeline benchmark::benchmark)

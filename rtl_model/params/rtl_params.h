@@ -150,14 +150,16 @@ inline std::vector<Param> sampler_params() {
           {"MIP_LAT", FixedSampler::mip_latency(tech())}};
 }
 
-// The log2 table of texsim_sampler_lod.v, as a function in texsim_sampler_log2.vh.
-inline std::string sampler_log2_vh() {
+// The log2 table of texsim_sampler_lod.v, as the module texsim_sampler_log2 (a ROM) in the
+// generated texsim_sampler_log2.v.
+inline std::string sampler_log2_v() {
   std::string s =
-      "function automatic logic [20:0] sampler_log2_tab(input logic [8:0] i);\n  case (i)\n";
+      "module texsim_sampler_log2 (\n    input  logic [ 8:0] i,\n    output logic [20:0] v\n);\n"
+      "  always_comb begin\n    case (i)\n";
   const auto& t = FixedSampler::log2_table();
   for (size_t i = 0; i < t.size(); ++i)
-    s += "    9'd" + std::to_string(i) + ": return 21'd" + std::to_string(t[i]) + ";\n";
-  s += "    default: return 21'd0;\n  endcase\nendfunction\n";
+    s += "      9'd" + std::to_string(i) + ": v = 21'd" + std::to_string(t[i]) + ";\n";
+  s += "      default: v = 21'd0;\n    endcase\n  end\nendmodule\n";
   return s;
 }
 

@@ -30,7 +30,7 @@ module texsim_sampler_addr #(
   function automatic logic [15:0] level_size(input logic [15:0] s0, input logic [3:0] l);
     logic [15:0] s;
     s = s0 >> l;
-    return s == 0 ? 16'd1 : s;
+    level_size = s == 0 ? 16'd1 : s;
   endfunction
 
   // Round half to even of c·size − ½ to S fraction bits; floor integer part and fraction.
@@ -41,14 +41,14 @@ module texsim_sampler_addr #(
     t = x >>> K;
     rem = x & ((65'sd1 <<< K) - 65'sd1);
     if (rem > (65'sd1 <<< (K - 1)) || (rem == (65'sd1 <<< (K - 1)) && t[0])) t = t + 65'sd1;
-    return t[47:0];
+    fixed_coord = t[47:0];
   endfunction
 
   function automatic logic signed [48:0] mod_pos(input logic signed [48:0] i,
                                                  input logic signed [48:0] m);
     logic signed [48:0] r;
     r = i % m;
-    return r < 0 ? r + m : r;
+    mod_pos = r < 0 ? r + m : r;
   endfunction
 
   function automatic logic [15:0] address_one(input logic signed [48:0] i, input logic [15:0] size,
@@ -56,18 +56,18 @@ module texsim_sampler_addr #(
     logic signed [48:0] sz, n, m;
     sz = $signed({33'd0, size});
     case (mode)
-      3'd0: return 16'(mod_pos(i, sz));
-      3'd1: return i < 0 ? 16'd0 : (i > sz - 1 ? size - 16'd1 : 16'(i));
+      3'd0: address_one = 16'(mod_pos(i, sz));
+      3'd1: address_one = i < 0 ? 16'd0 : (i > sz - 1 ? size - 16'd1 : 16'(i));
       3'd2: begin
         n = mod_pos(i, sz <<< 1) - sz;
         m = n >= 0 ? n : -(49'sd1 + n);
-        return 16'(sz - 49'sd1 - m);
+        address_one = 16'(sz - 49'sd1 - m);
       end
       3'd4: begin
         m = i >= 0 ? i : -(49'sd1 + i);
-        return m > sz - 1 ? size - 16'd1 : 16'(m);
+        address_one = m > sz - 1 ? size - 16'd1 : 16'(m);
       end
-      default: return 16'd0;
+      default: address_one = 16'd0;
     endcase
   endfunction
 
@@ -77,23 +77,23 @@ module texsim_sampler_addr #(
       s[2*b] = x[b];
       s[2*b+1] = 1'b0;
     end
-    return s;
+    spread = s;
   endfunction
 
   function automatic logic [31:0] row_index(input logic [15:0] y, input logic [15:0] wl,
                                             input logic [1:0] lay);
     case (lay)
-      2'd0: return 32'(y) * 32'(wl);
-      2'd1: return (32'(y) >> 2) * ((32'(wl) + 32'd3) >> 2) * 32'd16 + (32'(y) & 32'd3) * 32'd4;
-      default: return spread(y) << 1;
+      2'd0: row_index = 32'(y) * 32'(wl);
+      2'd1: row_index = (32'(y) >> 2) * ((32'(wl) + 32'd3) >> 2) * 32'd16 + (32'(y) & 32'd3) * 32'd4;
+      default: row_index = spread(y) << 1;
     endcase
   endfunction
 
   function automatic logic [31:0] col_index(input logic [15:0] x, input logic [1:0] lay);
     case (lay)
-      2'd0: return 32'(x);
-      2'd1: return (32'(x) >> 2) * 32'd16 + (32'(x) & 32'd3);
-      default: return spread(x);
+      2'd0: col_index = 32'(x);
+      2'd1: col_index = (32'(x) >> 2) * 32'd16 + (32'(x) & 32'd3);
+      default: col_index = spread(x);
     endcase
   endfunction
 

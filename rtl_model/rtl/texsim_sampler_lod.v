@@ -1,8 +1,8 @@
 // LOD and level selection of the RTL sampler (C++ core FixedSampler::lambda and the level part
 // of FixedSampler::sample, blocks/texture/sampler/fixed_sampler.h). Combinational; the
 // sampler registers its outputs. Formats: derivatives s15.32 in, s15.16 texels of level 0,
-// ρ² u31.32, log2 ρ² and λ s11.20, the level fraction u0.M.
-`include "texsim_sampler_log2.vh"
+// ρ² u31.32, log2 ρ² and λ s11.20, the level fraction u0.M. The log2 table is the generated
+// module texsim_sampler_log2 (build/rtl_model/params/texsim_sampler_log2.v, gen_rtl_params).
 module texsim_sampler_lod #(
     parameter int M = 8
 ) (
@@ -32,7 +32,7 @@ module texsim_sampler_lod #(
     else if (p < -65'sd2147483648) t = 32'sh80000000;
     else t = p[31:0];
     a = t[31] ? 32'(-t) : 32'(t);
-    return 64'(a) * 64'(a);
+    texel_square = 64'(a) * 64'(a);
   endfunction
 
   logic [63:0] px2, py2, r2;
@@ -44,6 +44,8 @@ module texsim_sampler_lod #(
   logic signed [33:0] log2v, lam, lam_c, q20, d;
   logic [11:0] frac;
   logic [7:0] idx;
+  texsim_sampler_log2 u_log2_0 (.i({1'b0, idx}), .v(l0));
+  texsim_sampler_log2 u_log2_1 (.i(9'(idx) + 9'd1), .v(l1));
   always_comb begin
     px2 = texel_square(dudx, w0) + texel_square(dvdx, h0);
     py2 = texel_square(dudy, w0) + texel_square(dvdy, h0);
@@ -53,8 +55,8 @@ module texsim_sampler_lod #(
     norm = r2 << (6'd63 - p);
     idx = norm[62:55];
     frac = norm[54:43];
-    l0 = sampler_log2_tab(9'(idx));
-    l1 = sampler_log2_tab(9'(idx) + 9'd1);
+  end
+  always_comb begin
     if (r2 == 0) log2v = -(34'sd64 <<< 20);
     else
       log2v = ((34'(p) - 34'sd32) <<< 20) + 34'(l0) +
