@@ -261,7 +261,7 @@ OpCounts FixedSampler::ops_per_item(const TexelAddressGen::Config& a,
   o += BilinearLerp::ops_per_item();
   if (cfg_.trilinear) {
     o += BilinearLerp::ops_per_item();
-    o.add += 2 * BilinearLerp::kChannels;
+    o.add += uint64_t{2} * BilinearLerp::kChannels;
     o.mul += BilinearLerp::kChannels;
   }
   return o;
