@@ -18,18 +18,20 @@ void bind_input_error(py::module_& m) {
   // Held for the life of the process: the translator below raises it.
   static py::handle input_error =
       py::exception<texsim::InputError>(m, "InputError", PyExc_ValueError).release();
-  py::register_exception_translator([](std::exception_ptr p) {
-    try {
-      if (p) std::rethrow_exception(p);
-    } catch (const texsim::InputError& e) {
-      const std::string text = e.what();
-      const size_t colon = text.find(": ");
-      py::object err = py::reinterpret_borrow<py::object>(input_error)(text);
-      err.attr("message") = text;
-      err.attr("location") = colon == std::string::npos ? std::string() : text.substr(0, colon);
-      PyErr_SetObject(input_error.ptr(), err.ptr());
-    }
-  });
+  // pybind11 takes translators as void (*)(std::exception_ptr): by value.
+  py::register_exception_translator(
+      [](std::exception_ptr p) {  // NOLINT(performance-unnecessary-value-param)
+        try {
+          if (p) std::rethrow_exception(p);
+        } catch (const texsim::InputError& e) {
+          const std::string text = e.what();
+          const size_t colon = text.find(": ");
+          py::object err = py::reinterpret_borrow<py::object>(input_error)(text);
+          err.attr("message") = text;
+          err.attr("location") = colon == std::string::npos ? std::string() : text.substr(0, colon);
+          PyErr_SetObject(input_error.ptr(), err.ptr());
+        }
+      });
 }
 
 }  // namespace
