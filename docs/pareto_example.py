@@ -56,8 +56,9 @@ def main(argv):
     ax.scatter([p[0] for p in points], [p[1] for p in points], label="settings", color="tab:blue")
     ax.plot([points[i][0] for i in front], [points[i][1] for i in front], color="tab:red",
             marker="o", label="Pareto front")
-    for i in front:
-        ax.annotate(labels[i], points[i], textcoords="offset points", xytext=(4, -10), fontsize=7)
+    for k, i in enumerate(front):  # labels alternately below and above, so neighbours stay apart
+        ax.annotate(labels[i], points[i], textcoords="offset points",
+                    xytext=(4, -10 if k % 2 == 0 else 5), fontsize=7)
     ax.set_xlabel("cycles (texture unit)")
     ax.set_ylabel("PSNR (dB) against the ground truth")
     ax.set_title("scenes/cube.toml: filter mode x max_aniso")
