@@ -5,7 +5,8 @@
 #     (b) the Python module imports from the install and runs a shipped scene,
 #     (c) the installed texsim runs a shipped scene (--functional, small).
 #   scripts/test-install.sh deb BUILD_DIR [python|no-python]      cpack -G DEB into a temporary directory; the
-#     package must hold the binary, man page, module and CMake package.
+#     package must hold the binary, man page, module and CMake package, and its binary and
+#     module must run where it is unpacked.
 # no-python: the build has no Python module (TEXSIM_PYTHON=OFF or no pybind11); not checked.
 set -euo pipefail
 mode=$1
@@ -70,6 +71,19 @@ deb_test() {
   done
   dpkg-deb -f "$deb" Depends | grep -q libopenimageio || {
     echo "test-install: Depends lacks the shared libraries' packages"; exit 1; }
+  # The package's files run where they are unpacked (not installed into this machine's /usr).
+  dpkg-deb -x "$deb" "$tmp/root"
+  step "$tmp/root/usr/bin/texsim" run "$tmp/root/usr/share/texsim/scenes/cube.toml" --functional \
+    --set output.width=64 --set output.height=48 --out "$tmp/deb-run"
+  if [ "$with_python" = python ]; then
+    step env PYTHONPATH="$tmp/root/usr/lib/python3/dist-packages" "$python" -c "
+import texsim
+assert texsim.__file__.startswith('$tmp/root/'), texsim.__file__
+r = texsim.run('$tmp/root/usr/share/texsim/scenes/cube.toml', functional=True,
+               overrides={'output.width': 64, 'output.height': 48})
+assert r.image.shape == (48, 64, 3)
+"
+  fi
   echo "test-install: $(basename "$deb"), $(wc -l < "$tmp/contents") entries"
 }
 
