@@ -24,6 +24,7 @@ layer() {
     pipeline/report/*) echo "9 report" ;;
     pipeline/studies/*) echo "10 studies" ;;
     pipeline/app/*) echo "11 app" ;;
+    python/*) echo "12 python" ;;
     testbench/*) echo "99 testbench" ;;
     *) echo "unknown" ;;
   esac

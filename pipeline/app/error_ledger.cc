@@ -184,11 +184,6 @@ RunCapture run_variant(const RunOptions& opt, const std::vector<std::string>& ex
   return c;
 }
 
-Scene scene_of(const RunOptions& opt) {
-  return (opt.scene.empty() || opt.scene == "default") ? default_scene(opt.overrides)
-                                                       : load_scene(opt.scene, opt.overrides);
-}
-
 void add_cost(LedgerRow& row, const BlockDef& def, const RunCapture& hw) {
   std::vector<BlockUse> all = hw.blocks;
   all.insert(all.end(), hw.raster_blocks.begin(), hw.raster_blocks.end());
@@ -237,7 +232,7 @@ std::vector<std::string> exact_overrides(const Scene& scene, unsigned exact) {
 }
 
 LedgerRun run_error_ledger(const RunOptions& opt, const RunCapture& hw, std::ostream& log) {
-  const Scene scene = scene_of(opt);
+  const Scene scene = load_run_scene(opt);
   const std::vector<LedgerBlock> blocks = ledger_blocks(scene);
   unsigned all = 0;
   for (unsigned b = 0; b < kBits; ++b) all |= blocks[b].materials.empty() ? 0u : 1u << b;

@@ -444,7 +444,7 @@ Provenance run_provenance(const RunOptions& opt, const std::string& scene_path,
   p.version = kTexsimVersion;
   p.command = opt.command;
   if (!scene_path.empty()) {
-    p.inputs.push_back(opt.scene.empty() || opt.scene == "default"
+    p.inputs.push_back(opt.scene.empty() || opt.scene == "default" || !opt.scene_text.empty()
                            ? InputDigest{"scene", scene_path, "", 0}
                            : digest_file("scene", scene_path));
   }
@@ -1097,15 +1097,22 @@ TraceInput open_trace(const RunOptions& opt) {
 
 }  // namespace
 
+Scene load_run_scene(const RunOptions& opt) {
+  if (!opt.scene_text.empty()) {
+    const std::string name = opt.scene.empty() ? "<scene text>" : opt.scene;
+    return parse_scene(opt.scene_text, name, "", opt.overrides);
+  }
+  return (opt.scene.empty() || opt.scene == "default") ? default_scene(opt.overrides)
+                                                       : load_scene(opt.scene, opt.overrides);
+}
+
 RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   ensure_dir(opt.out);  // an unwritable --out is found before the run, not after it
   // Scene: a file, the built-in default, or (trace only) none.
-  const bool use_scene = !opt.scene.empty() || opt.trace.empty();
+  const bool use_scene = !opt.scene.empty() || !opt.scene_text.empty() || opt.trace.empty();
   set_scene_memory_limit(opt.max_memory);  // meshes and DEMs are refused before allocation
   set_astcenc_threads(resolve_threads(opt.threads));  // encoding at load uses --threads too
-  Scene scene = (opt.scene.empty() || opt.scene == "default")
-                    ? default_scene(opt.overrides)
-                    : load_scene(opt.scene, opt.overrides);
+  Scene scene = load_run_scene(opt);
 
   TraceInput trace = open_trace(opt);
   std::unique_ptr<TraceSummary>& trace_sum = trace.summary;

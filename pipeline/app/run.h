@@ -52,6 +52,9 @@ struct RunOptions {
   bool workload = true;
   // Ground truths from and into the truth cache (docs/truth-cache.md; --no-truth-cache: off).
   bool truth_cache = true;
+  // A scene's TOML text instead of a file (the Python module's texsim.run): `scene` is then its
+  // name in messages and relative paths in it are relative to the working directory.
+  std::string scene_text;
 };
 
 struct RunSummary {
@@ -59,6 +62,11 @@ struct RunSummary {
   uint64_t cycles = 0;
   AccuracyMetrics accuracy;
 };
+
+struct Scene;
+
+// The run's scene: opt.scene_text, the file opt.scene or the built-in default, with overrides.
+Scene load_run_scene(const RunOptions& opt);
 
 // Throws InputError on bad input; writes nothing unless the whole run succeeded.
 RunSummary run_simulation(const RunOptions& opt, std::ostream& log);

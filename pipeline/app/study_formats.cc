@@ -12,6 +12,7 @@
 #include "pipeline/kernel/parallel_range.h"
 #include "pipeline/report/number_text.h"
 #include "pipeline/scene/scene.h"
+#include "pipeline/studies/shipped_scenes.h"
 #include "pipeline/studies/study_table.h"
 
 namespace texsim {
@@ -90,8 +91,8 @@ struct SceneRef {
 std::vector<SceneRef> scenes_of(const StudyFormatsOptions& opt) {
   std::vector<std::string> paths = opt.scenes;
   if (paths.empty()) {
-    paths = {std::string(TEXSIM_SCENES_DIR) + "/photo.toml"};
-    if (!opt.quick) paths.push_back(std::string(TEXSIM_SCENES_DIR) + "/cube.toml");
+    paths = {shipped_scenes_dir() + "/photo.toml"};
+    if (!opt.quick) paths.push_back(shipped_scenes_dir() + "/cube.toml");
   }
   std::vector<SceneRef> out;
   out.reserve(paths.size());

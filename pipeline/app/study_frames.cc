@@ -8,6 +8,7 @@
 #include "pipeline/capture/apitrace_import.h"
 #include "pipeline/kernel/parallel_range.h"
 #include "pipeline/report/number_text.h"
+#include "pipeline/studies/shipped_scenes.h"
 #include "pipeline/studies/study_table.h"
 #include "traces/draw_trace.h"
 
@@ -16,7 +17,7 @@ namespace texsim {
 namespace {
 
 std::string default_draws() {
-  return std::string(TEXSIM_SCENES_DIR) + "/../traces/samples/openarena-aggressor.draws";
+  return shipped_scenes_dir() + "/../traces/samples/openarena-aggressor.draws";
 }
 
 // The application's image of frame `number`, or "" when the folder has none.

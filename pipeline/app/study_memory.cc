@@ -13,6 +13,7 @@
 #include "pipeline/kernel/parallel_range.h"
 #include "pipeline/report/number_text.h"
 #include "pipeline/scene/scene.h"
+#include "pipeline/studies/shipped_scenes.h"
 #include "pipeline/studies/study_table.h"
 
 namespace texsim {
@@ -102,7 +103,7 @@ std::vector<SceneRef> scenes_of(const StudyMemoryOptions& opt) {
     paths = {"default"};
     if (!opt.quick) {
       for (const char* s : {"photo", "flight", "bunny"})
-        paths.push_back(std::string(TEXSIM_SCENES_DIR) + "/" + s + ".toml");
+        paths.push_back(shipped_scenes_dir() + "/" + s + ".toml");
     }
   }
   std::vector<SceneRef> out;

@@ -14,6 +14,7 @@
 #include "pipeline/render/draw_renderer.h"
 #include "pipeline/report/number_text.h"
 #include "pipeline/report/workload_report.h"
+#include "pipeline/studies/shipped_scenes.h"
 #include "pipeline/studies/study_table.h"
 
 namespace texsim {
@@ -211,8 +212,7 @@ int run_study_workloads(const std::string& out_dir, std::ostream& log,
   if (scenes.empty()) {
     scenes = {"default"};
     if (!opt.quick)
-      for (const char* s : kScenes)
-        scenes.push_back(std::string(TEXSIM_SCENES_DIR) + "/" + s + ".toml");
+      for (const char* s : kScenes) scenes.push_back(shipped_scenes_dir() + "/" + s + ".toml");
   }
   rows.reserve(rows.size() + scenes.size() + opt.traces.size() + opt.draws.size());
   for (const std::string& s : scenes) {
@@ -222,8 +222,7 @@ int run_study_workloads(const std::string& out_dir, std::ostream& log,
   for (const std::string& t : opt.traces)
     rows.push_back({std::filesystem::path(t).filename().string(), t, "trace", 0, {}});
   std::vector<std::string> draws = opt.draws;
-  const std::string sample =
-      std::string(TEXSIM_SCENES_DIR) + "/../traces/samples/openarena-aggressor.draws";
+  const std::string sample = shipped_scenes_dir() + "/../traces/samples/openarena-aggressor.draws";
   if (draws.empty() && !opt.quick && std::filesystem::exists(sample)) draws.push_back(sample);
   for (const std::string& t : draws)
     rows.push_back({std::filesystem::path(t).stem().string(), t, "draws", 0, {}});

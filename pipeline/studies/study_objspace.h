@@ -15,6 +15,7 @@
 
 #include "blocks/base/op_counts.h"
 #include "pipeline/report/image_metrics.h"
+#include "pipeline/studies/shipped_scenes.h"
 
 namespace texsim {
 
@@ -36,10 +37,10 @@ struct ObjspaceStudyOptions {
   // cores"; the texture unit stays one (empty: no sweep).
   std::vector<int> lane_counts = {1, 2, 4, 8, 16};
   int lanes_width = 320;
-  bool cube = true, mesh = true;               // scenes/cube.toml, scenes/bunny.toml
-  std::string scenes_dir = TEXSIM_SCENES_DIR;  // the source tree's scenes/ (set by the build)
-  int reference_supersamples = 4;              // per axis, per pixel
-  bool images = true;                          // side-by-side images of the scenes
+  bool cube = true, mesh = true;                  // scenes/cube.toml, scenes/bunny.toml
+  std::string scenes_dir = shipped_scenes_dir();  // the shipped scenes (shipped_scenes.h)
+  int reference_supersamples = 4;                 // per axis, per pixel
+  bool images = true;                             // side-by-side images of the scenes
 };
 
 struct ObjspaceRow {

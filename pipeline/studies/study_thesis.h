@@ -12,12 +12,13 @@
 
 #include "blocks/base/fragment.h"
 #include "blocks/texture/memory/texture_memory.h"
+#include "pipeline/studies/shipped_scenes.h"
 
 namespace texsim {
 
 struct StudyThesisOptions {
-  std::vector<std::string> scenes = {TEXSIM_SCENES_DIR "/footprint_filters.toml",
-                                     TEXSIM_SCENES_DIR "/photo.toml"};
+  std::vector<std::string> scenes = {shipped_scenes_dir() + "/footprint_filters.toml",
+                                     shipped_scenes_dir() + "/photo.toml"};
 };
 
 // One method over one source (a scene, or a view in tests): totals.
