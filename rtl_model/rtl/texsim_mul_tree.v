@@ -27,13 +27,18 @@ module texsim_mul_tree #(
   logic [NC*CB-1:0] bx;
   assign bx = (NC * CB)'(b);
 
+  // A chunk's sum is formed at its own width (AW + CB bits, signed), so its carry chain is no
+  // longer than that; it is then sign-extended and shifted into place.
+  localparam int CW = AW + CB;
   for (genvar j = 0; j < NC; j++) begin : g_chunk
-    logic [PW-1:0] c;
+    logic signed [CW-1:0] c;
     always_comb begin
       c = '0;
-      for (int k = 0; k < CB; k++) c = c + ({PW{bx[j*CB+k]}} & (PW'(a) << (j * CB + k)));
+      for (int k = 0; k < CB; k++) c = c + ({CW{bx[j*CB+k]}} & (CW'(a) << k));
     end
-    texsim_pipe #(.W(PW), .N(NR), .RST(0)) u_c (.clk, .rst(1'b0), .d(c), .q(lv[j*PW+:PW]));
+    logic [PW-1:0] placed;
+    assign placed = PW'(c) << (j * CB);
+    texsim_pipe #(.W(PW), .N(NR), .RST(0)) u_c (.clk, .rst(1'b0), .d(placed), .q(lv[j*PW+:PW]));
   end
 
   for (genvar l = 0; l < LEVELS; l++) begin : g_level
@@ -41,7 +46,13 @@ module texsim_mul_tree #(
     for (genvar i = 0; i < NC; i++) begin : g_node
       logic [PW-1:0] s;
       if (2 * i + 1 < NIN) begin : g_add
-        assign s = lv[(l*NC+2*i)*PW+:PW] + lv[(l*NC+2*i+1)*PW+:PW];
+        // The right operand's low K bits are 0: they are the left one's, and only the bits
+        // above need a carry chain.
+        localparam int K = (2 * i + 1) * CB << l;
+        logic [PW-1:0] x, y;
+        assign x = lv[(l*NC+2*i)*PW+:PW];
+        assign y = lv[(l*NC+2*i+1)*PW+:PW];
+        assign s = {x[PW-1:K] + y[PW-1:K], x[K-1:0]};
       end else if (2 * i < NIN) begin : g_pass
         assign s = lv[(l*NC+2*i)*PW+:PW];
       end else begin : g_zero
