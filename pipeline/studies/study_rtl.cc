@@ -130,13 +130,14 @@ std::vector<std::string> cells_of(const Row& row) {
   std::vector<std::string> c = {row.block, row.params, pt.max_error.empty() ? "-" : pt.max_error,
                                 pt.latency.empty() ? "-" : pt.latency};
   if (!r.error.empty()) {
-    c.insert(c.end(), {"-", "-", "-", "-", "-", "-", "-", "-", "-", "-", "0", r.error});
+    c.insert(c.end(), {"-", "-", "-", "-", "-", "-", "-", "-", "-", "-", "-", "-", "0", r.error});
     return c;
   }
   c.push_back(std::to_string(r.generic_cells));
   c.push_back(joined(r.multipliers));
-  for (const int v : {r.lut4, r.dff, r.carry, r.mac16}) c.push_back(std::to_string(v));
+  for (const int v : {r.lut4, r.dff, r.carry, r.mac16, r.ram}) c.push_back(std::to_string(v));
   c.push_back(fallback);
+  c.push_back(synth::up5k_fit(r));
   if (r.fmax_mhz.empty()) {
     c.insert(c.end(), {"-", "-", "-"});
   } else {
@@ -174,9 +175,9 @@ std::string tech_toml(const std::vector<Row>& rows, bool with_counters) {
 void write_outputs(const std::string& out_dir, const std::vector<Row>& rows,
                    const StudyRtlOptions& opt, const std::string& note) {
   StudyTable t({"block", "parameters", "max error (C++)", "latency", "generic cells", "multipliers",
-                "LUT4", "DFF", "carry", "SB_MAC16", "DSP fallback", "Fmax median MHz", "Fmax min",
-                "Fmax max", "seeds routed", "notes"},
-               "llrrrlrrrrlrrrrl");
+                "LUT4", "DFF", "carry", "SB_MAC16", "BRAM", "DSP fallback", "fits UP5K",
+                "Fmax median MHz", "Fmax min", "Fmax max", "seeds routed", "notes"},
+               "llrrrlrrrrrllrrrrl");
   // One plot series per block, a point per parameter set.
   std::vector<std::pair<std::string, std::vector<LabelledPoint>>> series;
   for (const Row& row : rows) {
