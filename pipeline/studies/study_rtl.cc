@@ -269,21 +269,36 @@ int run_study_rtl(const std::string& out_dir, const StudyRtlOptions& opt, std::o
                                                              top) == opt.blocks.end())) {
       continue;
     }
+    // The block, and its earlier form when asked for and there is one.
+    std::vector<std::pair<std::string, fs::path>> forms = {{top, file}};
+    const fs::path earlier =
+        file.parent_path() / "ref" / (top + "_comb" + file.extension().string());
+    std::error_code ec;
+    if (opt.with_earlier && fs::is_regular_file(earlier, ec)) {
+      forms.emplace_back(top + "_comb", earlier);
+    }
     for (const Sweep& p : combinations(slurp(file), opt)) {
-      fs::path work = fs::absolute(out_dir) / "rtl_work" / top;
-      for (const auto& [n, v] : p) work += "_" + n + std::to_string(v);
-      Row row{top, params_text(p), rtl_study_point(top, p), {}};
-      log << "study rtl: " << top << " " << row.params << " ..." << std::flush;
-      if (!row.point.problem.empty()) {
-        row.r.error = row.point.problem;
-      } else {
-        synth::SynthJob job{
-            {fs::absolute(file).string()}, includes, top, row.point.params, work.string(), seeds};
-        job.files.insert(job.files.end(), helpers.begin(), helpers.end());
-        row.r = synth::run_synth(job, tools);
+      for (const auto& [module, source] : forms) {
+        fs::path work = fs::absolute(out_dir) / "rtl_work" / module;
+        for (const auto& [n, v] : p) work += "_" + n + std::to_string(v);
+        Row row{module, params_text(p), rtl_study_point(top, p), {}};
+        log << "study rtl: " << module << " " << row.params << " ..." << std::flush;
+        if (!row.point.problem.empty()) {
+          row.r.error = row.point.problem;
+        } else {
+          synth::SynthJob job{{fs::absolute(source).string()},
+                              includes,
+                              module,
+                              row.point.params,
+                              work.string(),
+                              seeds};
+          job.files.insert(job.files.end(), helpers.begin(), helpers.end());
+          row.r = synth::run_synth(job, tools);
+        }
+        log << (row.r.error.empty() ? " " + std::to_string(row.r.lut4) + " LUT4" : " failed")
+            << "\n";
+        rows.push_back(std::move(row));
       }
-      log << (row.r.error.empty() ? " " + std::to_string(row.r.lut4) + " LUT4" : " failed") << "\n";
-      rows.push_back(std::move(row));
     }
   }
   write_outputs(out_dir, rows, opt, note);

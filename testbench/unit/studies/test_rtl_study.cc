@@ -152,13 +152,13 @@ TEST_F(RtlStudyCli, UnknownBlockIsAnError) {
   EXPECT_NE(r.out.find("no block texsim_pipe"), std::string::npos) << r.out;
 }
 
-// A real block: read with the shared helpers, built with the C++ format's coefficients, placed
-// and routed; about 10 s.
+// A real block and its earlier form: read with the shared helpers, built with the C++ format's
+// coefficients, placed and routed; about 15 s.
 TEST_F(RtlStudyCli, RealBlockThroughTheFlow) {
   const texsim::synth::Tools t = texsim::synth::find_tools();
   if (!t.missing().empty()) GTEST_SKIP() << t.missing();
   const auto r = sh("study rtl --rtl " TEXSIM_SOURCE_DIR
-                    "/rtl_model/rtl --block vd_p1 --param FIN=8 --seeds 2 --out " +
+                    "/rtl_model/rtl --block vd_p1 --param FIN=8 --seeds 2 --with-earlier --out " +
                     path("out"));
   ASSERT_EQ(r.code, 0) << r.out;
   const std::string csv = slurp(path("out/rtl.csv"));
@@ -168,6 +168,8 @@ TEST_F(RtlStudyCli, RealBlockThroughTheFlow) {
   EXPECT_NE(csv.find(",10x9s,"), std::string::npos) << csv;
   EXPECT_NE(csv.find(",1,0,no,yes,"), std::string::npos) << csv;
   EXPECT_NE(csv.find(",2,\n"), std::string::npos) << csv;
+  // --with-earlier: the form the retimed block replaced, at the same parameters.
+  EXPECT_NE(csv.find("\nvd_p1_comb,FIN=8,1.22e-02,6,"), std::string::npos) << csv;
   // FIN = 8 is not the generated build: nothing to feed back.
   const std::string toml = slurp(path("out/rtl_tech.toml"));
   EXPECT_NE(toml.find("[tech.block_area]\n"), std::string::npos) << toml;
