@@ -1,12 +1,11 @@
 // Sequential equivalence of the retimed RTL blocks (rtl_model/rtl/) with the earlier forms they
 // replace (rtl_model/rtl/ref/), proved by yosys (rtl_model/synth/equiv_check.h): vd_p2 and
 // vd_p1 at u0.8 with the multiplier whole and with the operand cut the u0.16 build uses (at
-// DSP_W = 8 instead of 16), and bilinear_lerp at a small width. Each has a negative control:
-// the retimed source with one LSB added to its result must be refuted. Skipped, with the
-// reason, when yosys is not on PATH. (At the generated u0.16 widths SAT does not finish on the
-// 18×16 multipliers; there the lockstep tests, which run every u0.16 code through both forms'
-// C++ model, carry the check.) The proofs take seconds each: CI runs vd_p1's (about 2 s with its
-// mutant); TEXSIM_RTL_EQUIV_ALL=1 adds vd_p2 and bilinear_lerp (about 30 s).
+// DSP_W = 8 instead of 16), bilinear_lerp at a small width, and both V(d) blocks at the
+// generated u0.16 parameters. Each has a negative control: the retimed source with one LSB
+// added to its result must be refuted. Skipped, with the reason, when yosys is not on PATH.
+// The proofs take seconds to a minute each: CI runs vd_p1's at u0.8 (about 2 s with its
+// mutant); TEXSIM_RTL_EQUIV_ALL=1 adds the others (about 2 min 10 s of CPU).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -79,18 +78,27 @@ std::vector<std::string> helpers() {
 }
 
 // The V(d) job at u0.8 (VdFx8's coefficients); dsp_w cuts texsim_mul_rs's operand there.
-EquivJob vd_job(bool p2, int dsp_w, const fs::path& dir, const std::string& gate_file) {
+// The V(d) job at u0.8 (VdFx8's coefficients; dsp_w cuts texsim_mul_rs's operand there) or,
+// with generated = true, at the build's own parameters (rtl_params.h, DSP_W as built).
+EquivJob vd_job(bool p2, int dsp_w, const fs::path& dir, const std::string& gate_file,
+                bool generated = false) {
   EquivJob j;
   j.files = helpers();
   j.files.push_back(kRtl + (p2 ? "ref/vd_p2_comb.v" : "ref/vd_p1_comb.v"));
   j.files.push_back(gate_file);
   j.gold = p2 ? "vd_p2_comb" : "vd_p1_comb";
   j.gate = p2 ? "vd_p2" : "vd_p1";
-  j.params = p2 ? texsim::rtl_params::vd_p2_params<texsim::VdFx8>()
-                : texsim::rtl_params::vd_p1_params<texsim::VdFx8>();
-  j.setup = {"chparam -set DSP_W " + std::to_string(dsp_w) + " texsim_mul_rs"};
-  j.inputs = {{"d", 8}};
-  j.output = {"v", 8};
+  namespace rp = texsim::rtl_params;
+  int fin = 8;
+  if (generated) {
+    j.params = p2 ? rp::vd_p2_params<>() : rp::vd_p1_params<>();
+    fin = rp::kVdFin;
+  } else {
+    j.params = p2 ? rp::vd_p2_params<texsim::VdFx8>() : rp::vd_p1_params<texsim::VdFx8>();
+    j.setup = {"chparam -set DSP_W " + std::to_string(dsp_w) + " texsim_mul_rs"};
+  }
+  j.inputs = {{"d", fin}};
+  j.output = {"v", fin};  // u1.FC with FC = FIN − 1
   j.max_steps = 12;
   j.work_dir = dir.string();
   return j;
@@ -153,6 +161,22 @@ TEST(RtlEquiv, VdP2RetimedEqualsCombinational) {
     const fs::path d = work_dir("vd_p2_" + std::to_string(dsp_w));
     expect_proved(
         texsim::synth::check_equivalence(vd_job(true, dsp_w, d, kRtl + "vd_p2.v"), yosys));
+    clean(d);
+  }
+}
+
+// The build's own u0.16 blocks (18×16 products cut for the DSP against the earlier 18×17
+// $mul): about 30 s (vd_p1) and 70 s (vd_p2) of SAT.
+TEST(RtlEquiv, GeneratedVdBlocksEqualCombinational) {
+  std::string why;
+  const std::string yosys = yosys_or_skip_reason(why, true);
+  if (yosys.empty()) GTEST_SKIP() << why;
+  static_assert(texsim::rtl_params::kVdFc == texsim::rtl_params::kVdFin - 1);
+  for (const bool p2 : {false, true}) {
+    SCOPED_TRACE(p2 ? "vd_p2" : "vd_p1");
+    const fs::path d = work_dir(p2 ? "vd_p2_generated" : "vd_p1_generated");
+    expect_proved(texsim::synth::check_equivalence(
+        vd_job(p2, 16, d, kRtl + (p2 ? "vd_p2.v" : "vd_p1.v"), true), yosys));
     clean(d);
   }
 }
