@@ -5,7 +5,7 @@
 // generated u0.16 parameters. Each has a negative control: the retimed source with one LSB
 // added to its result must be refuted. Skipped, with the reason, when yosys is not on PATH.
 // The proofs take seconds to a minute each: CI runs vd_p1's at u0.8 (about 2 s with its
-// mutant); TEXSIM_RTL_EQUIV_ALL=1 adds the others (about 2 min 10 s of CPU).
+// mutant); TEXSIM_RTL_EQUIV_ALL=1 adds the others (about 1 min 50 s of CPU).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
