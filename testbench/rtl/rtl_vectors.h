@@ -87,7 +87,8 @@ inline std::string vector_line(const std::vector<VectorField>& fields) {
   for (const auto& [value, width] : fields) {
     pos -= width;
     for (int b = 0; b < width; ++b) {
-      bits[static_cast<size_t>(pos + b)] = static_cast<uint8_t>((value >> b) & 1u);
+      const int at = pos + b;
+      bits[static_cast<size_t>(at)] = static_cast<uint8_t>((value >> b) & 1u);
     }
   }
   const int digits = (total + 3) / 4;
@@ -98,7 +99,8 @@ inline std::string vector_line(const std::vector<VectorField>& fields) {
       const int i = 4 * d + b;
       if (i < total && bits[static_cast<size_t>(i)]) nib |= 1 << b;
     }
-    s[static_cast<size_t>(digits - 1 - d)] = "0123456789abcdef"[nib];
+    const int at = digits - 1 - d;
+    s[static_cast<size_t>(at)] = "0123456789abcdef"[nib];
   }
   return s;
 }

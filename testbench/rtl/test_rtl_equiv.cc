@@ -49,7 +49,7 @@ void clean(const fs::path& dir) {
 }
 
 fs::path work_dir(const std::string& name) {
-  const fs::path d =
+  fs::path d =
       fs::temp_directory_path() / ("texsim_equiv_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(d);
   fs::create_directories(d);

@@ -123,7 +123,7 @@ SimResult simulate(const std::string& tb_top, const std::string& tb_file,
 }
 
 fs::path work_dir(const std::string& name) {
-  const fs::path d =
+  fs::path d =
       fs::temp_directory_path() / ("texsim_iverilog_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(d);
   fs::create_directories(d);
