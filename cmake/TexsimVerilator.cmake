@@ -98,7 +98,8 @@ function(texsim_verilate top)
   add_dependencies(texsim_rtl_${A_NAME} texsim_rtl_params)
 endfunction()
 
-set(rtl_common texsim_pipe.v texsim_round_sat.v texsim_op_counters.v)
+set(rtl_common texsim_pipe.v texsim_round_sat.v texsim_op_counters.v texsim_mul_rs.v
+  texsim_add_sat.v texsim_mul_tree.v)
 texsim_verilate(vd_p2 SOURCES vd_p2.v ${rtl_common})
 texsim_verilate(vd_p1 SOURCES vd_p1.v ${rtl_common})
 texsim_verilate(bilinear_lerp SOURCES bilinear_lerp.v ${rtl_common})

@@ -449,6 +449,9 @@ void add_study_commands(CLI::App& app, StudyCli& s) {
   s.rtl->add_option("--block", s.rtl_opt.blocks, "Only this block (module name; repeatable)");
   s.rtl->add_flag("--with-counters", s.rtl_opt.with_counters,
                   "Synthesise the blocks' op counters too (default: a stub replaces them)");
+  s.rtl->add_flag("--with-earlier", s.rtl_opt.with_earlier,
+                  "Also build each block's earlier form (ref/BLOCK_comb.v) at the same "
+                  "parameters: Fmax before and after retiming");
 }
 
 int run_study_command(StudyCli& s) {

@@ -130,13 +130,14 @@ std::vector<std::string> cells_of(const Row& row) {
   std::vector<std::string> c = {row.block, row.params, pt.max_error.empty() ? "-" : pt.max_error,
                                 pt.latency.empty() ? "-" : pt.latency};
   if (!r.error.empty()) {
-    c.insert(c.end(), {"-", "-", "-", "-", "-", "-", "-", "-", "-", "-", "0", r.error});
+    c.insert(c.end(), {"-", "-", "-", "-", "-", "-", "-", "-", "-", "-", "-", "-", "0", r.error});
     return c;
   }
   c.push_back(std::to_string(r.generic_cells));
   c.push_back(joined(r.multipliers));
-  for (const int v : {r.lut4, r.dff, r.carry, r.mac16}) c.push_back(std::to_string(v));
+  for (const int v : {r.lut4, r.dff, r.carry, r.mac16, r.ram}) c.push_back(std::to_string(v));
   c.push_back(fallback);
+  c.push_back(synth::up5k_fit(r));
   if (r.fmax_mhz.empty()) {
     c.insert(c.end(), {"-", "-", "-"});
   } else {
@@ -174,9 +175,9 @@ std::string tech_toml(const std::vector<Row>& rows, bool with_counters) {
 void write_outputs(const std::string& out_dir, const std::vector<Row>& rows,
                    const StudyRtlOptions& opt, const std::string& note) {
   StudyTable t({"block", "parameters", "max error (C++)", "latency", "generic cells", "multipliers",
-                "LUT4", "DFF", "carry", "SB_MAC16", "DSP fallback", "Fmax median MHz", "Fmax min",
-                "Fmax max", "seeds routed", "notes"},
-               "llrrrlrrrrlrrrrl");
+                "LUT4", "DFF", "carry", "SB_MAC16", "BRAM", "DSP fallback", "fits UP5K",
+                "Fmax median MHz", "Fmax min", "Fmax max", "seeds routed", "notes"},
+               "llrrrlrrrrrllrrrrl");
   // One plot series per block, a point per parameter set.
   std::vector<std::pair<std::string, std::vector<LabelledPoint>>> series;
   for (const Row& row : rows) {
@@ -268,21 +269,36 @@ int run_study_rtl(const std::string& out_dir, const StudyRtlOptions& opt, std::o
                                                              top) == opt.blocks.end())) {
       continue;
     }
+    // The block, and its earlier form when asked for and there is one.
+    std::vector<std::pair<std::string, fs::path>> forms = {{top, file}};
+    const fs::path earlier =
+        file.parent_path() / "ref" / (top + "_comb" + file.extension().string());
+    std::error_code ec;
+    if (opt.with_earlier && fs::is_regular_file(earlier, ec)) {
+      forms.emplace_back(top + "_comb", earlier);
+    }
     for (const Sweep& p : combinations(slurp(file), opt)) {
-      fs::path work = fs::absolute(out_dir) / "rtl_work" / top;
-      for (const auto& [n, v] : p) work += "_" + n + std::to_string(v);
-      Row row{top, params_text(p), rtl_study_point(top, p), {}};
-      log << "study rtl: " << top << " " << row.params << " ..." << std::flush;
-      if (!row.point.problem.empty()) {
-        row.r.error = row.point.problem;
-      } else {
-        synth::SynthJob job{
-            {fs::absolute(file).string()}, includes, top, row.point.params, work.string(), seeds};
-        job.files.insert(job.files.end(), helpers.begin(), helpers.end());
-        row.r = synth::run_synth(job, tools);
+      for (const auto& [module, source] : forms) {
+        fs::path work = fs::absolute(out_dir) / "rtl_work" / module;
+        for (const auto& [n, v] : p) work += "_" + n + std::to_string(v);
+        Row row{module, params_text(p), rtl_study_point(top, p), {}};
+        log << "study rtl: " << module << " " << row.params << " ..." << std::flush;
+        if (!row.point.problem.empty()) {
+          row.r.error = row.point.problem;
+        } else {
+          synth::SynthJob job{{fs::absolute(source).string()},
+                              includes,
+                              module,
+                              row.point.params,
+                              work.string(),
+                              seeds};
+          job.files.insert(job.files.end(), helpers.begin(), helpers.end());
+          row.r = synth::run_synth(job, tools);
+        }
+        log << (row.r.error.empty() ? " " + std::to_string(row.r.lut4) + " LUT4" : " failed")
+            << "\n";
+        rows.push_back(std::move(row));
       }
-      log << (row.r.error.empty() ? " " + std::to_string(row.r.lut4) + " LUT4" : " failed") << "\n";
-      rows.push_back(std::move(row));
     }
   }
   write_outputs(out_dir, rows, opt, note);

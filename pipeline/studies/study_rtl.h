@@ -22,6 +22,9 @@ struct StudyRtlOptions {
   // replaces them, so the table measures the datapath. true: synthesise them too.
   bool with_counters = false;
   std::vector<std::string> blocks;  // only these modules; empty: every block of the folder
+  // Also build the earlier form of each block that has one (ref/<block>_comb.v beside it, the
+  // form a retimed block replaced) at the same parameters, as a row named <block>_comb.
+  bool with_earlier = false;
 };
 
 // Parses "NAME=v1,v2,..." (the --param option); throws InputError.

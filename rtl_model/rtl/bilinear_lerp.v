@@ -3,6 +3,10 @@
 //   top = t00·2^S + (t10 − t00)·fx,  bot = t01·2^S + (t11 − t01)·fx    (exact)
 //   out = (top·2^S + (bot − top)·fy + 2^(2S−1)) >> 2S                  (one HalfUp rounding)
 // Per channel 3 multipliers and 6 adders; latency 4·ADD_LAT + 2·MUL_LAT, one item per cycle.
+// Retimed: the 12 multipliers (more than the iCE40 UP5K's 8 DSPs) are pipelined LUT trees
+// (texsim_mul_tree, one adder level per stage), and the rounding half is added to top beside
+// bot − top, so the last stage is one adder: (top + 2^(S−1))·2^S + (bot − top)·fy.
+// ref/bilinear_lerp_comb.v is the earlier form, proved equal to this one (test_rtl_equiv).
 module bilinear_lerp #(
     parameter int T = 8,
     parameter int S = 8,
@@ -33,8 +37,8 @@ module bilinear_lerp #(
 
   // fy is used by the second multiplier: it waits for the first half.
   logic [S-1:0] fx1_q, fy3_q;
-  texsim_pipe #(.W(S), .N(ADD_LAT)) u_fx1 (.clk, .rst, .d(fx), .q(fx1_q));
-  texsim_pipe #(.W(S), .N(3 * ADD_LAT + MUL_LAT)) u_fy3 (.clk, .rst, .d(fy), .q(fy3_q));
+  texsim_pipe #(.W(S), .N(ADD_LAT), .RST(0)) u_fx1 (.clk, .rst, .d(fx), .q(fx1_q));
+  texsim_pipe #(.W(S), .N(3 * ADD_LAT + MUL_LAT), .RST(0)) u_fy3 (.clk, .rst, .d(fy), .q(fy3_q));
 
   for (genvar c = 0; c < 4; c++) begin : g_ch
     logic [T-1:0] a00, a10, a01, a11;
@@ -48,41 +52,43 @@ module bilinear_lerp #(
     logic [T-1:0] a00_q, a01_q;
     assign dx0 = $signed({1'b0, a10}) - $signed({1'b0, a00});
     assign dx1 = $signed({1'b0, a11}) - $signed({1'b0, a01});
-    texsim_pipe #(.W(2 * DW), .N(ADD_LAT)) u_d (.clk, .rst, .d({dx0, dx1}), .q({dx0_q, dx1_q}));
-    texsim_pipe #(.W(2 * T), .N(ADD_LAT + MUL_LAT)) u_a (.clk, .rst, .d({a00, a01}), .q({a00_q, a01_q}));
+    texsim_pipe #(.W(2 * DW), .N(ADD_LAT), .RST(0)) u_d (.clk, .rst, .d({dx0, dx1}),
+                                                        .q({dx0_q, dx1_q}));
+    texsim_pipe #(.W(2 * T), .N(ADD_LAT + MUL_LAT), .RST(0)) u_a (.clk, .rst, .d({a00, a01}),
+                                                                 .q({a00_q, a01_q}));
 
     // Stage 2: ×fx
-    logic signed [XW-1:0] px0, px1, px0_q, px1_q;
-    assign px0 = XW'(dx0_q) * $signed({1'b0, fx1_q});
-    assign px1 = XW'(dx1_q) * $signed({1'b0, fx1_q});
-    texsim_pipe #(.W(2 * XW), .N(MUL_LAT)) u_px (.clk, .rst, .d({px0, px1}), .q({px0_q, px1_q}));
+    logic [DW+S-1:0] px0_q, px1_q;
+    texsim_mul_tree #(.AW(DW), .BW(S), .LAT(MUL_LAT)) u_px0 (.clk, .a(dx0_q), .b(fx1_q), .p(px0_q));
+    texsim_mul_tree #(.AW(DW), .BW(S), .LAT(MUL_LAT)) u_px1 (.clk, .a(dx1_q), .b(fx1_q), .p(px1_q));
 
     // Stage 3: top, bot
     logic signed [XW-1:0] top, bot, top_q, bot_q;
-    assign top = $signed({2'b0, a00_q, S'(0)}) + px0_q;
-    assign bot = $signed({2'b0, a01_q, S'(0)}) + px1_q;
-    texsim_pipe #(.W(2 * XW), .N(ADD_LAT)) u_tb (.clk, .rst, .d({top, bot}), .q({top_q, bot_q}));
+    assign top = $signed({2'b0, a00_q, S'(0)}) + XW'($signed(px0_q));
+    assign bot = $signed({2'b0, a01_q, S'(0)}) + XW'($signed(px1_q));
+    texsim_pipe #(.W(2 * XW), .N(ADD_LAT), .RST(0)) u_tb (.clk, .rst, .d({top, bot}),
+                                                         .q({top_q, bot_q}));
 
-    // Stage 4: bot − top
-    logic signed [XW-1:0] dy, dy_q, top4_q;
+    // Stage 4: bot − top, and beside it top + 2^(S−1) (the rounding half, moved up by S)
+    logic signed [XW-1:0] dy, dy_q, toph, top4_q;
     assign dy = bot_q - top_q;
-    texsim_pipe #(.W(XW), .N(ADD_LAT)) u_dy (.clk, .rst, .d(dy), .q(dy_q));
-    texsim_pipe #(.W(XW), .N(ADD_LAT + MUL_LAT)) u_t4 (.clk, .rst, .d(top_q), .q(top4_q));
+    assign toph = top_q + XW'(1 << (S - 1));
+    texsim_pipe #(.W(XW), .N(ADD_LAT), .RST(0)) u_dy (.clk, .rst, .d(dy), .q(dy_q));
+    texsim_pipe #(.W(XW), .N(ADD_LAT + MUL_LAT), .RST(0)) u_t4 (.clk, .rst, .d(toph),
+                                                               .q(top4_q));
 
     // Stage 5: ×fy
-    logic signed [AW-1:0] py, py_q;
-    assign py = AW'(dy_q) * $signed({1'b0, fy3_q});
-    texsim_pipe #(.W(AW), .N(MUL_LAT)) u_py (.clk, .rst, .d(py), .q(py_q));
+    logic [XW+S-1:0] py_q;
+    texsim_mul_tree #(.AW(XW), .BW(S), .LAT(MUL_LAT)) u_py (.clk, .a(dy_q), .b(fy3_q), .p(py_q));
 
-    // Stage 6: top·2^S + py + half, >> 2S
+    // Stage 6: (top + 2^(S−1))·2^S + py, >> 2S
     /* verilator lint_off UNUSEDSIGNAL */
     logic signed [AW-1:0] acc;
     /* verilator lint_on UNUSEDSIGNAL */
     logic [T-1:0] res;
-    localparam logic signed [AW-1:0] HALF = AW'(1) <<< (2 * S - 1);
-    assign acc = (AW'(top4_q) <<< S) + py_q + HALF;
+    assign acc = (AW'(top4_q) <<< S) + AW'($signed(py_q));
     assign res = acc[2*S+:T];  // the sum never exceeds (2^T - 1)·2^2S + half: high bits unused
-    texsim_pipe #(.W(T), .N(ADD_LAT)) u_o (.clk, .rst, .d(res), .q(out[c*T+:T]));
+    texsim_pipe #(.W(T), .N(ADD_LAT), .RST(0)) u_o (.clk, .rst, .d(res), .q(out[c*T+:T]));
   end
 
   texsim_pipe #(.W(1), .N(LAT)) u_valid (.clk, .rst, .d(in_valid), .q(out_valid));

@@ -1,9 +1,12 @@
 // texsim_pipe: N pipeline registers on a W-bit bus (N = 0: a wire). Every block's latency is
 // made of these, one run per operator, so a block's cycle count is the sum of its operators'
 // latencies from the technology table, as in the C++ timing model (derive_timing).
+// RST = 0 leaves the registers without reset (data that only matters while a valid bit says
+// so): such registers can be packed into the iCE40 DSPs' own input and output registers.
 module texsim_pipe #(
     parameter int W = 1,
-    parameter int N = 1
+    parameter int N = 1,
+    parameter bit RST = 1
 ) (
     input  logic         clk,
     input  logic         rst,
@@ -15,7 +18,7 @@ module texsim_pipe #(
   end else begin : g_regs
     logic [W-1:0] r[N];
     always_ff @(posedge clk) begin
-      if (rst) begin
+      if (RST && rst) begin
         for (int i = 0; i < N; i++) r[i] <= '0;
       end else begin
         r[0] <= d;

@@ -251,6 +251,27 @@ std::string generated_include_dir() {
   return fs::is_directory(dir, ec) ? dir : "";
 }
 
+std::string up5k_fit(const SynthResult& r) {
+  if (!r.error.empty()) return "-";
+  std::string over;
+  const auto check = [&over](const char* what, int used, int limit) {
+    if (used > limit) {
+      over += std::string(over.empty() ? "" : ", ") + what + " " + std::to_string(used) + "/" +
+              std::to_string(limit);
+    }
+  };
+  check("SB_LUT4", r.lut4, kUp5kLogicCells);
+  check("SB_MAC16", r.mac16, kUp5kDsps);
+  check("BRAM", r.ram, kUp5kBrams);
+  const std::string lc = "does not fit the UP5K: ";
+  if (r.pnr_error.rfind(lc, 0) == 0) {
+    over += std::string(over.empty() ? "" : ", ") + r.pnr_error.substr(lc.size());
+  }
+  if (over.empty()) return "yes";
+  if (r.pnr_without_dsp && !r.fmax_mhz.empty()) over += "; fits with LUT multipliers";
+  return "no: " + over;
+}
+
 SynthResult run_synth(const SynthJob& job, const Tools& tools) {
   SynthResult r;
   const fs::path dir = job.work_dir;

@@ -31,9 +31,10 @@ struct SynthJob {
   std::vector<int> seeds = {1, 2, 3, 4, 5};
 };
 
-// iCE40 UP5K (the place-and-route target): logic cells and SB_MAC16 DSPs.
+// iCE40 UP5K (the place-and-route target): logic cells, SB_MAC16 DSPs, 4-kbit block RAMs.
 inline constexpr int kUp5kLogicCells = 5280;
 inline constexpr int kUp5kDsps = 8;
+inline constexpr int kUp5kBrams = 30;
 
 struct SynthResult {
   std::string error;      // empty on success; else what failed and which log says why
@@ -48,6 +49,11 @@ struct SynthResult {
   bool pnr_without_dsp = false;  // more SB_MAC16 than the UP5K has: placed with LUT multipliers
   std::string pnr_error;         // place and route skipped or failed for some seed: why
 };
+
+// Whether a synthesised block fits the UP5K: "yes", or "no: " and each resource over the
+// device's (SB_LUT4 against 5280, SB_MAC16 against 8, block RAM against 30), or the logic cells
+// nextpnr found over-full; a block over the DSPs that placed with LUT multipliers says so.
+std::string up5k_fit(const SynthResult& r);
 
 // Runs the flow (yosys needed; without nextpnr, fmax_mhz stays empty).
 SynthResult run_synth(const SynthJob& job, const Tools& tools);

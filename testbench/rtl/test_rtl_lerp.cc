@@ -17,48 +17,10 @@
 
 #include "rtl_model/params/rtl_params.h"
 #include "testbench/rtl/lockstep.h"
+#include "testbench/rtl/rtl_vectors.h"
 
 namespace texsim::rtl {
 namespace {
-
-struct LerpIn {
-  std::array<uint64_t, 4> quad;
-  uint32_t fx, fy;
-  std::string text() const {
-    std::ostringstream s;
-    s << std::hex << "t " << quad[0] << " " << quad[1] << " " << quad[2] << " " << quad[3] << " fx "
-      << fx << " fy " << fy;
-    return s.str();
-  }
-};
-
-std::vector<LerpIn> lerp_vectors(const BilinearLerp::Config& c, uint64_t n_random, uint64_t seed) {
-  const uint64_t word = (uint64_t{1} << (4 * c.texel_bits)) - 1;
-  const uint32_t wmax = (1u << c.sub_bits) - 1;
-  const uint64_t alt = word / ((uint64_t{1} << (2 * c.texel_bits)) + 1) *
-                       ((uint64_t{1} << c.texel_bits) - 1);  // channels 0, max, 0, max
-  std::vector<LerpIn> v;
-  const std::array<uint64_t, 4> quads[] = {{0},
-                                           {word, word, word, word},
-                                           {0, word, 0, word},
-                                           {word, 0, word, 0},
-                                           {0, 0, word, word},
-                                           {alt, word - alt, word - alt, alt},
-                                           {word, 0, 0, word}};
-  for (const auto& q : quads) {
-    for (uint32_t fx : {0u, 1u, wmax / 2, wmax / 2 + 1, wmax}) {
-      for (uint32_t fy : {0u, 1u, wmax / 2, wmax / 2 + 1, wmax}) v.push_back({q, fx, fy});
-    }
-  }
-  std::mt19937_64 rng(seed);
-  std::uniform_int_distribution<uint64_t> texel(0, word);
-  std::uniform_int_distribution<uint32_t> weight(0, wmax);
-  for (uint64_t i = 0; i < n_random; ++i) {
-    LerpIn in{{texel(rng), texel(rng), texel(rng), texel(rng)}, weight(rng), weight(rng)};
-    v.push_back(in);
-  }
-  return v;
-}
 
 Scoreboard run_lerp(uint64_t n_random, uint32_t latency, int64_t perturb = 0,
                     size_t perturb_at = 0) {

@@ -23,6 +23,7 @@
 #include "blocks/base/input_error.h"
 #include "rtl_model/params/rtl_params.h"
 #include "testbench/rtl/lockstep.h"
+#include "testbench/rtl/rtl_vectors.h"
 
 namespace texsim::rtl {
 namespace {
@@ -30,26 +31,13 @@ namespace {
 using Fmt = rtl_params::VdFormat;
 using In = Fmt::In;
 
-std::vector<uint32_t> vd_vectors(uint64_t n_random, uint64_t seed) {
-  std::vector<uint32_t> v;
-  const auto& c = VdCoefficientsIn<Fmt>::get();
-  for (int64_t b : {c.p1_break[0].raw(), c.p1_break[1].raw()}) {
-    for (int64_t k = b - 2; k <= b + 2; ++k) v.push_back(static_cast<uint32_t>(k));
-  }
-  for (uint32_t d = 0; d <= static_cast<uint32_t>(In::kRawMax); ++d) v.push_back(d);
-  std::mt19937_64 rng(seed);
-  std::uniform_int_distribution<uint32_t> code(0, static_cast<uint32_t>(In::kRawMax));
-  for (uint64_t i = 0; i < n_random; ++i) v.push_back(code(rng));
-  return v;
-}
-
 template <class Model, class Core>
 Scoreboard run_vd(const char* name, const Core& core, uint32_t latency, uint64_t n_random,
                   int64_t perturb = 0, size_t perturb_at = 0) {
   RtlHarness<Model> h(name);
   h.reset();
   Scoreboard sb(name, latency);
-  const std::vector<uint32_t> vectors = vd_vectors(n_random, 12);
+  const std::vector<uint32_t> vectors = vd_vectors<Fmt>(n_random, 12);
   stream_lockstep(
       h, sb, vectors,
       [](Model& top, uint32_t d) {

@@ -29,6 +29,25 @@ TEST(RtlStudy, ParamsAndMedian) {
   EXPECT_DOUBLE_EQ(texsim::median_of({4, 1, 3, 2}), 2.5);
 }
 
+TEST(RtlStudy, FitsTheUp5kSaysWhatIsOver) {
+  texsim::synth::SynthResult r;
+  r.lut4 = 5280;
+  r.mac16 = 8;
+  r.ram = 30;
+  EXPECT_EQ(texsim::synth::up5k_fit(r), "yes");
+  r.lut4 = 59001;
+  r.ram = 31;
+  EXPECT_EQ(texsim::synth::up5k_fit(r), "no: SB_LUT4 59001/5280, BRAM 31/30");
+  r = {};
+  r.mac16 = 16;
+  r.pnr_without_dsp = true;
+  r.fmax_mhz = {40.0};
+  EXPECT_EQ(texsim::synth::up5k_fit(r), "no: SB_MAC16 16/8; fits with LUT multipliers");
+  r = {};
+  r.pnr_error = "does not fit the UP5K: ICESTORM_LC 7564/5280 143%";
+  EXPECT_EQ(texsim::synth::up5k_fit(r), "no: ICESTORM_LC 7564/5280 143%");
+}
+
 int64_t param(const texsim::RtlStudyPoint& p, const std::string& name) {
   for (const auto& [n, v] : p.params) {
     if (n == name) return v;
@@ -114,10 +133,11 @@ TEST_F(RtlStudyCli, ExampleBlockThroughTheFlow) {
                     path("out"));
   ASSERT_EQ(r.code, 0) << r.out;
   const std::string csv = slurp(path("out/rtl.csv"));
-  // block, parameters, error, generic cells, multipliers, LUT4, DFF, carry, SB_MAC16, fallback,
-  // Fmax median/min/max, seeds routed: both multipliers of the example fit the UP5K's DSPs.
+  // block, parameters, error, generic cells, multipliers, LUT4, DFF, carry, SB_MAC16, BRAM,
+  // fallback, fits, Fmax median/min/max, seeds routed: both multipliers of the example fit the
+  // UP5K's DSPs.
   EXPECT_NE(csv.find("\nhorner2,W=8,-,"), std::string::npos) << csv;
-  EXPECT_NE(csv.find(",2,no,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",2,0,no,yes,"), std::string::npos) << csv;
   EXPECT_NE(csv.find(",2,\n"), std::string::npos) << csv;  // two seeds routed
   EXPECT_TRUE(fs::exists(path("out/rtl.md")));
   EXPECT_TRUE(fs::exists(path("out/rtl.png")));
@@ -132,13 +152,13 @@ TEST_F(RtlStudyCli, UnknownBlockIsAnError) {
   EXPECT_NE(r.out.find("no block texsim_pipe"), std::string::npos) << r.out;
 }
 
-// A real block: read with the shared helpers, built with the C++ format's coefficients, placed
-// and routed; about 10 s.
+// A real block and its earlier form: read with the shared helpers, built with the C++ format's
+// coefficients, placed and routed; about 15 s.
 TEST_F(RtlStudyCli, RealBlockThroughTheFlow) {
   const texsim::synth::Tools t = texsim::synth::find_tools();
   if (!t.missing().empty()) GTEST_SKIP() << t.missing();
   const auto r = sh("study rtl --rtl " TEXSIM_SOURCE_DIR
-                    "/rtl_model/rtl --block vd_p1 --param FIN=8 --seeds 2 --out " +
+                    "/rtl_model/rtl --block vd_p1 --param FIN=8 --seeds 2 --with-earlier --out " +
                     path("out"));
   ASSERT_EQ(r.code, 0) << r.out;
   const std::string csv = slurp(path("out/rtl.csv"));
@@ -146,8 +166,10 @@ TEST_F(RtlStudyCli, RealBlockThroughTheFlow) {
   // multiplier (s3.7 slope by u0.8 d) in one SB_MAC16, nothing in LUTs, both seeds routed.
   EXPECT_NE(csv.find("\nvd_p1,FIN=8,1.22e-02,6,"), std::string::npos) << csv;
   EXPECT_NE(csv.find(",10x9s,"), std::string::npos) << csv;
-  EXPECT_NE(csv.find(",1,no,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",1,0,no,yes,"), std::string::npos) << csv;
   EXPECT_NE(csv.find(",2,\n"), std::string::npos) << csv;
+  // --with-earlier: the form the retimed block replaced, at the same parameters.
+  EXPECT_NE(csv.find("\nvd_p1_comb,FIN=8,1.22e-02,6,"), std::string::npos) << csv;
   // FIN = 8 is not the generated build: nothing to feed back.
   const std::string toml = slurp(path("out/rtl_tech.toml"));
   EXPECT_NE(toml.find("[tech.block_area]\n"), std::string::npos) << toml;
