@@ -164,6 +164,7 @@ std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene,
   const bool from_trace = !trace.empty();
   std::vector<MaterialSetup> mats;
   if (use_scene) {
+    const std::shared_ptr<const SamplerTable> samplers = build_samplers(scene);
     for (const auto& m : scene.materials) {
       const std::string& name = scene.textures[static_cast<size_t>(m.texture)].name;
       const auto it = textures.by_name.find(name);
@@ -174,8 +175,8 @@ std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene,
                                     "', which material '" + m.name + "' of " + scene.path +
                                     " uses (the table has " + (have.empty() ? "none" : have) + ")");
       }
-      mats.push_back(
-          material_from_toml(m.name, it->second, *m.effects, scene.path, &textures.by_name));
+      mats.push_back(material_from_toml(m.name, it->second, *m.effects, scene.path,
+                                        &textures.by_name, samplers));
     }
   }
   if (from_trace) {
@@ -904,6 +905,25 @@ uint32_t loaded_texture(const Fragment& f, uint64_t index, const RunTextures& te
   return static_cast<uint32_t>(it->second);
 }
 
+// A record's sampler: 0 (its material's own) or an id of the scene's sampler table; an
+// unnormalised sampler refuses what Vulkan refuses.
+void check_record_sampler(const Fragment& f, uint64_t index, const MaterialSetup& m,
+                          const std::string& input) {
+  const size_t n = m.samplers ? m.samplers->size() : 0;
+  if (f.sampler > n) {
+    throw InputError(input, "record " + std::to_string(index) + ": sampler " +
+                                std::to_string(f.sampler) + " is not in the sampler table (" +
+                                (n == 0 ? std::string("the scene has no [samplers]")
+                                        : "ids 1.." + std::to_string(n) + ", 0 = the material's") +
+                                ")");
+  }
+  const TexelAddressGen::Config& c =
+      f.sampler == 0 ? m.filter : (*m.samplers)[f.sampler - 1u].filter;
+  if (!c.unnormalized) return;
+  if (const std::string why = unnormalized_refusal(f); !why.empty())
+    throw InputError(input, "record " + std::to_string(index) + ": " + why);
+}
+
 // The report's image, texture and accuracy fields of a finished run.
 RunInfo images_info(const RunOptions& opt, const ImageLayout& layout, const RunTextures& textures,
                     const UnitArray& unit, const RunImages& images) {
@@ -1130,6 +1150,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     Fragment g = f;
     g.tex = loaded_texture(f, index, textures, input, opt.trace);
     const int material = truth.exact() ? primitive_material(f, index, scene, opt.trace) : 0;
+    check_record_sampler(f, index, mats[static_cast<size_t>(material)], input);
     // The screen-space texture unit's stream (materials drawn object-space are not in it).
     if (opt.workload && !os.drawn_by(material)) workload.add(f, g.tex);
     if (order) order->emitted(f.frame);
@@ -1215,6 +1236,9 @@ uint64_t generate_scene_trace(const std::string& scene_path, const std::string& 
   const std::vector<MaterialSetup> mats = build_materials(scene);  // checks the effects too
   h.has_view = std::any_of(mats.begin(), mats.end(),
                            [](const MaterialSetup& m) { return m.relief || m.lighting; });
+  // A material's operation: the records carry the operation fields (version 4).
+  h.has_ops = std::any_of(mats.begin(), mats.end(),
+                          [](const MaterialSetup& m) { return m.operation.has_value(); });
   // A camera path: one frame after another, each with its own camera (and view vectors).
   return write_trace(out_path, h, [&](auto& w) {
     for (int k = 0; k < scene.frames; ++k) {
