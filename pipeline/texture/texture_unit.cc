@@ -396,6 +396,10 @@ const TextureUnit::AltSampler& TextureUnit::alt_sampler(const Fragment& f, Path&
 Rgba TextureUnit::process_alt(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front,
                               const AltSampler& s) {
   const TexelAddressGen::Config& c = s.gen.config();
+  if (c.unnormalized) {
+    if (const std::string why = unnormalized_refusal(f); !why.empty())
+      throw std::invalid_argument("texture unit: " + why);
+  }
   OpTally& t = p.op_tallies[f.op];
   if (f.op == static_cast<uint8_t>(SampleOp::kGather)) {
     ++t.fragments;
@@ -407,8 +411,6 @@ Rgba TextureUnit::process_alt(const Fragment& f, Path& p, const Texture& tex, co
   LodResult lod;  // unnormalised: level 0, one probe, no LOD unit
   OpCounts ops;
   if (c.unnormalized) {
-    if (const std::string why = unnormalized_refusal(f); !why.empty())
-      throw std::invalid_argument("texture unit: " + why);
     UnnormalizedTaps::taps(c, tex, f.u, f.v, taps_);
     ops = UnnormalizedTaps::ops_per_item(c);
   } else {
