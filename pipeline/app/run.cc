@@ -924,6 +924,16 @@ void check_record_sampler(const Fragment& f, uint64_t index, const MaterialSetup
     throw InputError(input, "record " + std::to_string(index) + ": " + why);
 }
 
+// A record's material (its primitive's when the scene's planes are known, else 0), with its
+// sampler checked.
+int record_material(const Fragment& f, uint64_t index, bool by_primitive, const Scene& scene,
+                    const std::vector<MaterialSetup>& mats, const std::string& trace,
+                    const std::string& input) {
+  const int material = by_primitive ? primitive_material(f, index, scene, trace) : 0;
+  check_record_sampler(f, index, mats[static_cast<size_t>(material)], input);
+  return material;
+}
+
 // The report's image, texture and accuracy fields of a finished run.
 RunInfo images_info(const RunOptions& opt, const ImageLayout& layout, const RunTextures& textures,
                     const UnitArray& unit, const RunImages& images) {
@@ -1149,8 +1159,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   auto handle = [&](const Fragment& f, uint64_t index) {
     Fragment g = f;
     g.tex = loaded_texture(f, index, textures, input, opt.trace);
-    const int material = truth.exact() ? primitive_material(f, index, scene, opt.trace) : 0;
-    check_record_sampler(f, index, mats[static_cast<size_t>(material)], input);
+    const int material = record_material(f, index, truth.exact(), scene, mats, opt.trace, input);
     // The screen-space texture unit's stream (materials drawn object-space are not in it).
     if (opt.workload && !os.drawn_by(material)) workload.add(f, g.tex);
     if (order) order->emitted(f.frame);
