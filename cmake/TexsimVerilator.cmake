@@ -9,7 +9,8 @@ set(TEXSIM_RTL_TESTS ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_vd.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_uv.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_scan.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_control.cc
-  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_raster.cc)
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_raster.cc
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_sampler.cc)
 set(TEXSIM_RTL_BENCH ${PROJECT_SOURCE_DIR}/testbench/rtl/bench_rtl_vs_cpp.cc)
 set(TEXSIM_RTL_CC ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc
   ${PROJECT_SOURCE_DIR}/rtl_model/verilator/rtl_harness.cc)
@@ -35,11 +36,11 @@ message(STATUS "Verilator ${verilator_VERSION}: RTL lockstep tests enabled")
 
 # Parameters: rtl_params.h (C++) -> texsim_params.vh and one -G file per block.
 set(TEXSIM_RTL_BLOCKS vd_p2 vd_p1 bilinear_lerp uv_incremental rect_scan_stepper
-  rect_scan_control rect_scan_raster)
+  rect_scan_control rect_scan_raster texsim_sampler)
 add_executable(gen_rtl_params ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc)
 target_link_libraries(gen_rtl_params PRIVATE texsim_blocks)
 texsim_set_warnings(gen_rtl_params)
-set(gen_outputs ${TEXSIM_RTL_GEN}/texsim_params.vh)
+set(gen_outputs ${TEXSIM_RTL_GEN}/texsim_params.vh ${TEXSIM_RTL_GEN}/texsim_sampler_log2.v)
 foreach(b ${TEXSIM_RTL_BLOCKS})
   list(APPEND gen_outputs ${TEXSIM_RTL_GEN}/${b}.vc)
 endforeach()
@@ -66,28 +67,35 @@ target_compile_definitions(texsim_verilated PUBLIC VM_TRACE=1 VM_TRACE_VCD=1 VM_
 target_compile_options(texsim_verilated PRIVATE -w)
 target_link_libraries(texsim_verilated PUBLIC Threads::Threads)
 
-# texsim_verilate(TOP SOURCES f.v ...): verilates module TOP with its generated -G file into
-# the static library texsim_rtl_TOP (header <VTOP.h>). Verilator's C++ output has names that
-# depend on the design, so one includer file (VTOP__all.cpp) collects it for the compiler.
+# texsim_verilate(TOP SOURCES f.v ... [GENERATED paths] [NAME name] [ARGS verilator-args]):
+# verilates module TOP (sources in rtl_model/rtl, and generated ones by their path) with its
+# generated -G file into the static library texsim_rtl_NAME
+# (header <VNAME.h>; NAME defaults to TOP, another NAME builds the same design with other
+# Verilator arguments). Verilator's C++ output has names that depend on the design, so one
+# includer file (VNAME__all.cpp) collects it for the compiler.
 function(texsim_verilate top)
-  cmake_parse_arguments(A "" "" "SOURCES" ${ARGN})
+  cmake_parse_arguments(A "" "NAME" "SOURCES;GENERATED;ARGS" ${ARGN})
+  if(NOT A_NAME)
+    set(A_NAME ${top})
+  endif()
   list(TRANSFORM A_SOURCES PREPEND ${TEXSIM_RTL_DIR}/)
-  set(mdir ${PROJECT_BINARY_DIR}/rtl_model/verilated/${top})
-  add_custom_command(OUTPUT ${mdir}/V${top}__all.cpp
+  list(APPEND A_SOURCES ${A_GENERATED})
+  set(mdir ${PROJECT_BINARY_DIR}/rtl_model/verilated/${A_NAME})
+  add_custom_command(OUTPUT ${mdir}/V${A_NAME}__all.cpp
     COMMAND ${CMAKE_COMMAND} -E rm -rf ${mdir}
     COMMAND ${CMAKE_COMMAND} -E make_directory ${mdir}
     COMMAND ${VERILATOR_BIN} --cc --trace -O3 --x-assign fast --x-initial fast -Wno-fatal
-      -Wno-DECLFILENAME --top-module ${top} --prefix V${top} --Mdir ${mdir}
+      -Wno-DECLFILENAME ${A_ARGS} --top-module ${top} --prefix V${A_NAME} --Mdir ${mdir}
       -f ${TEXSIM_RTL_GEN}/${top}.vc -I${TEXSIM_RTL_GEN} ${A_SOURCES}
-    COMMAND ${CMAKE_COMMAND} -DDIR=${mdir} -DPREFIX=V${top}
+    COMMAND ${CMAKE_COMMAND} -DDIR=${mdir} -DPREFIX=V${A_NAME}
       -P ${PROJECT_SOURCE_DIR}/cmake/TexsimVerilatorIncluder.cmake
     DEPENDS ${A_SOURCES} ${TEXSIM_RTL_GEN}/${top}.vc
-    COMMENT "Verilating ${top}" VERBATIM)
-  add_library(texsim_rtl_${top} STATIC ${mdir}/V${top}__all.cpp)
-  target_include_directories(texsim_rtl_${top} SYSTEM PUBLIC ${mdir})
-  target_link_libraries(texsim_rtl_${top} PUBLIC texsim_verilated)
-  target_compile_options(texsim_rtl_${top} PRIVATE -w)
-  add_dependencies(texsim_rtl_${top} texsim_rtl_params)
+    COMMENT "Verilating ${A_NAME}" VERBATIM)
+  add_library(texsim_rtl_${A_NAME} STATIC ${mdir}/V${A_NAME}__all.cpp)
+  target_include_directories(texsim_rtl_${A_NAME} SYSTEM PUBLIC ${mdir})
+  target_link_libraries(texsim_rtl_${A_NAME} PUBLIC texsim_verilated)
+  target_compile_options(texsim_rtl_${A_NAME} PRIVATE -w)
+  add_dependencies(texsim_rtl_${A_NAME} texsim_rtl_params)
 endfunction()
 
 set(rtl_common texsim_pipe.v texsim_round_sat.v texsim_op_counters.v)
@@ -98,6 +106,10 @@ texsim_verilate(rect_scan_stepper SOURCES rect_scan_stepper.v ${rtl_common})
 texsim_verilate(rect_scan_control SOURCES rect_scan_control.v ${rtl_common})
 texsim_verilate(rect_scan_raster SOURCES rect_scan_raster.v rect_scan_stepper.v
   rect_scan_control.v ${rtl_common})
+set(sampler_sources texsim_sampler.v texsim_sampler_lod.v texsim_sampler_addr.v bilinear_lerp.v
+  ${rtl_common})
+texsim_verilate(texsim_sampler SOURCES ${sampler_sources}
+  GENERATED ${TEXSIM_RTL_GEN}/texsim_sampler_log2.v)
 texsim_verilate(uv_incremental SOURCES uv_incremental.v texsim_fixed_div.v texsim_udiv_pipe.v
   ${rtl_common})
 
@@ -131,6 +143,9 @@ if(TEXSIM_BUILD_TESTS)
   target_link_libraries(test_rtl_rect_raster PRIVATE texsim_pipeline)
   target_compile_definitions(test_rtl_rect_raster PRIVATE
     TEXSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  # The sampler's lockstep runs the shipped scenes' fragments through the texture unit too.
+  target_link_libraries(test_rtl_sampler PRIVATE texsim_pipeline)
+  target_compile_definitions(test_rtl_sampler PRIVATE TEXSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   add_executable(test_rtl_board ${TEXSIM_RTL_BOARD_TEST})
   target_link_libraries(test_rtl_board PRIVATE texsim_rtl_board GTest::gtest GTest::gtest_main)
   texsim_set_warnings(test_rtl_board)
@@ -138,7 +153,12 @@ if(TEXSIM_BUILD_TESTS)
 endif()
 if(TEXSIM_BUILD_TESTS AND TEXSIM_BUILD_BENCH AND EXISTS ${TEXSIM_RTL_BENCH})
   find_package(benchmark REQUIRED)
+  # The sampler also verilated with --threads 2, for the benchmark only.
+  texsim_verilate(texsim_sampler NAME texsim_sampler_mt SOURCES ${sampler_sources}
+    GENERATED ${TEXSIM_RTL_GEN}/texsim_sampler_log2.v ARGS --threads 2)
   add_executable(bench_rtl_vs_cpp ${TEXSIM_RTL_BENCH})
-  target_link_libraries(bench_rtl_vs_cpp PRIVATE ${TEXSIM_RTL_LIBS} benchmark::benchmark)
+  target_link_libraries(bench_rtl_vs_cpp PRIVATE ${TEXSIM_RTL_LIBS} texsim_rtl_texsim_sampler_mt
+    texsim_pipeline benchmark::benchmark)
+  target_compile_definitions(bench_rtl_vs_cpp PRIVATE TEXSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   texsim_set_warnings(bench_rtl_vs_cpp)
 endif()

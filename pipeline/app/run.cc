@@ -29,10 +29,12 @@
 #include "pipeline/raster/fragment_generator.h"
 #include "pipeline/raster/scene_front_end.h"
 #include "pipeline/reference/ground_truth.h"
+#include "pipeline/reference/layered_reference.h"
 #include "pipeline/reference/surface_reference.h"
 #include "pipeline/reference/truth_cache.h"
 #include "pipeline/render/draw_fragment_trace.h"
 #include "pipeline/report/run_report.h"
+#include "pipeline/scene/layered_source.h"
 #include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/scene/scene_memory.h"
@@ -84,6 +86,17 @@ InputDigest texture_digest(const std::string& name, const std::string& source,
   return digest_file("texture " + name, resolve_texture_path(source, dir));
 }
 
+// The digests of a texture: one, or for a layered texture with file slices one per slice.
+void add_texture_digests(std::vector<InputDigest>& out, const std::string& name,
+                         const std::string& source, const std::string& dir) {
+  if (!is_layered_source(source)) return out.push_back(texture_digest(name, source, dir));
+  const LayeredSource ls = parse_layered_source(source, source);
+  if (std::all_of(ls.slices.begin(), ls.slices.end(), is_procedural_source))
+    return out.push_back({"texture " + name, source, "", 0});
+  for (size_t k = 0; k < ls.slices.size(); ++k)
+    out.push_back(texture_digest(name + " slice " + std::to_string(k), ls.slices[k], dir));
+}
+
 // The report's "name = source" of a texture, with its storage when it has one.
 // "name = source", with the texture's storage and, for blocks, what produced them (the
 // encoder with its version and options, or the file's format): the report's record of it.
@@ -132,7 +145,7 @@ RunTextures load_trace_textures(const TraceReader& reader, const std::string& tr
     t.by_name[e.name] = id;
     t.names.push_back(texture_label(st, t.set[id]));
     if (!is_draws_source(e.source)) {
-      t.digests.push_back(texture_digest(e.name, e.source, dir));
+      add_texture_digests(t.digests, e.name, e.source, dir);
     } else if (const std::string p = DrawTextureCache::path_of(e.source, dir);
                draw_files.insert(p).second) {
       t.digests.push_back(digest_file("textures of draw trace", p));  // once per file
@@ -150,8 +163,8 @@ RunTextures load_scene_textures(const Scene& scene) {
     t.by_name[scene.textures[i].name] = id;
     const SceneTexture& st = scene.textures[i];
     t.names.push_back(texture_label(st, t.set[id]));
-    t.digests.push_back(
-        texture_digest(scene.textures[i].name, scene.textures[i].source, scene.base_dir));
+    add_texture_digests(t.digests, scene.textures[i].name, scene.textures[i].source,
+                        scene.base_dir);
   }
   return t;
 }
@@ -212,6 +225,8 @@ struct GroundTruth {
   // A camera path: every frame's maps, by frame number (null: `maps` serve every fragment).
   // Several units record a frame's last fragments after the next frame has begun.
   const std::vector<std::vector<PlaneProjection>>* frame_maps = nullptr;
+  // Array layers' level 0 as 2-D textures, made when a fragment first reads them.
+  std::shared_ptr<LayerTextures> layers = std::make_shared<LayerTextures>();
 
   bool exact() const { return !maps.empty(); }
   const PlaneProjection& map_of(const Fragment& f) const {
@@ -242,9 +257,16 @@ struct GroundTruth {
       extras.offset_u = ms.filter.offset_u;
       extras.offset_v = ms.filter.offset_v;
     }
-    return exact() ? ground_truth_exact(tex, ms.address_u(), ms.address_v(), map_of(f), x, y, in,
+    if (tex.shape().type == TextureType::Cube) {  // through the fragment's direction map
+      return ground_truth_cube(tex, reference_layer(f.layer, tex.shape().slices / 6),
+                               ms.filter.seamless_cube, ms.address_u(), ms.address_v(),
+                               extras.border, DirectionMap::of(f), x, y, in, samples, reach);
+    }
+    const Texture& t2d =
+        tex.layered() ? layers->get(tex, reference_layer(f.layer, tex.shape().slices)) : tex;
+    return exact() ? ground_truth_exact(t2d, ms.address_u(), ms.address_v(), map_of(f), x, y, in,
                                         samples, reach, extras)
-                   : ground_truth_footprint(tex, ms.address_u(), ms.address_v(), g, in, samples,
+                   : ground_truth_footprint(t2d, ms.address_u(), ms.address_v(), g, in, samples,
                                             reach, extras);
   }
 };
@@ -1031,7 +1053,8 @@ std::unique_ptr<TruthMemo> truth_memo(const RunOptions& opt, const Scene& scene,
     in.materials.push_back({m.texture, m.address_u(), m.address_v(), surface, m.filter.border,
                             m.footprint ? 0 : m.filter.offset_u,
                             m.footprint ? 0 : m.filter.offset_v});
-    memo->cached.push_back(surface ? 0 : 1);
+    // A layered texture's truth reads the fragment's direction or layer, which the key lacks.
+    memo->cached.push_back(surface || set[m.texture].layered() ? 0 : 1);
   }
   in.pixel = truth.integrate.pixel();
   in.samples = truth.integrate.sampling().fixed;
@@ -1232,9 +1255,19 @@ uint64_t generate_scene_trace(const std::string& scene_path, const std::string& 
   for (size_t i = 0; i < scene.textures.size(); ++i) {
     const Texture t = load_scene_texture(scene, i);
     std::string src = scene.textures[i].source;
-    if (!is_procedural_source(src)) {
-      // Paths in the trace are absolute so the trace can be moved away from the scene.
-      src = std::filesystem::absolute(resolve_texture_path(src, scene.base_dir)).string();
+    // Paths in the trace are absolute so the trace can be moved away from the scene (a layered
+    // texture's, slice by slice).
+    const auto absolute = [&](const std::string& p) {
+      return is_procedural_source(p)
+                 ? p
+                 : std::filesystem::absolute(resolve_texture_path(p, scene.base_dir)).string();
+    };
+    if (is_layered_source(src)) {
+      LayeredSource ls = parse_layered_source(src, scene.textures[i].where);
+      for (auto& slice : ls.slices) slice = absolute(slice);
+      src = layered_source(ls);
+    } else {
+      src = absolute(src);
     }
     // The storage too (version 3): a run of the trace converts or encodes it as the scene does.
     h.textures.push_back({static_cast<uint32_t>(i), scene.textures[i].name, src,
@@ -1245,9 +1278,11 @@ uint64_t generate_scene_trace(const std::string& scene_path, const std::string& 
   const std::vector<MaterialSetup> mats = build_materials(scene);  // checks the effects too
   h.has_view = std::any_of(mats.begin(), mats.end(),
                            [](const MaterialSetup& m) { return m.relief || m.lighting; });
-  // A material's operation: the records carry the operation fields (version 4).
-  h.has_ops = std::any_of(mats.begin(), mats.end(),
-                          [](const MaterialSetup& m) { return m.operation.has_value(); });
+  // Layered textures' fragments carry a direction (w) or a layer, and a material's operation
+  // its fields: the version-4 fields.
+  h.has_ops = std::any_of(mats.begin(), mats.end(), [](const MaterialSetup& m) {
+    return m.lookup.has_value() || m.operation.has_value();
+  });
   // A camera path: one frame after another, each with its own camera (and view vectors).
   return write_trace(out_path, h, [&](auto& w) {
     for (int k = 0; k < scene.frames; ++k) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "pipeline/geometry/direction_map.h"
 #include "pipeline/geometry/plane_projection.h"
 #include "pipeline/geometry/screen_extent.h"
 #include "pipeline/raster/raster_order.h"
@@ -59,6 +60,14 @@ void generate_fragments(const Scene& scene, uint32_t frame,
   std::vector<PlaneProjection> maps;
   maps.reserve(scene.primitives.size());
   for (const auto& p : scene.primitives) maps.emplace_back(scene, p);
+  // Cube materials look up a direction per pixel (effect `lookup`), one map per primitive.
+  std::vector<DirectionMap> dirs(maps.size());
+  for (size_t p = 0; p < maps.size(); ++p) {
+    const MaterialSetup& ms = mats[static_cast<size_t>(scene.primitives[p].material)];
+    if (ms.lookup && ms.lookup->direction != LayeredLookup::Direction::None)
+      dirs[p] = DirectionMap::make(scene.camera, scene.primitives[p],
+                                   ms.lookup->direction == LayeredLookup::Direction::Reflect);
+  }
   const PixelRect r = scene_extent(scene, maps);
   const int w = r.x1 - r.x0;
   const auto index = [&](int32_t x, int32_t y) {
@@ -98,6 +107,10 @@ void generate_fragments(const Scene& scene, uint32_t frame,
     if (any_uv && uvs[index(x, y)].valid) {
       f.u = uvs[index(x, y)].u;
       f.v = uvs[index(x, y)].v;
+    }
+    if (const auto& lk = mats[static_cast<size_t>(scene.primitives[b].material)].lookup) {
+      if (lk->direction != LayeredLookup::Direction::None) dirs[b].apply(f);
+      f.layer = static_cast<float>(lk->layer);
     }
     f.frame = frame;
     f.prim = static_cast<uint32_t>(best);

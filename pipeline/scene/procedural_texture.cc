@@ -1,11 +1,13 @@
 #include "pipeline/scene/procedural_texture.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <map>
 #include <sstream>
 
 #include "blocks/base/input_error.h"
+#include "blocks/texture/layered/cube_face_select.h"
 
 namespace texsim {
 
@@ -37,6 +39,31 @@ float value_noise(double x, double y, int period, uint32_t seed) {
   const double a = lat(x0, y0), b = lat(x0 + 1, y0), c = lat(x0, y0 + 1), d = lat(x0 + 1, y0 + 1);
   const double sx = s(fx), sy = s(fy);
   return static_cast<float>((a * (1 - sx) + b * sx) * (1 - sy) + (c * (1 - sx) + d * sx) * sy);
+}
+
+// The sky's colour in direction d (unit vector, +Y up): above the horizon a gradient from a pale
+// horizon to a deep zenith with a sun disc; below it a checker of `cells` longitude sectors
+// and latitude bands, so that reflections show where they look.
+void sky_colour(const double d[3], int cells, float out[3]) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double sun[3] = {0.48, 0.6, -0.64};  // unit length
+  const double cos_sun = d[0] * sun[0] + d[1] * sun[1] + d[2] * sun[2];
+  if (d[1] >= 0) {
+    const double k = std::sqrt(d[1]);
+    out[0] = static_cast<float>(0.80 - 0.62 * k);
+    out[1] = static_cast<float>(0.87 - 0.45 * k);
+    out[2] = static_cast<float>(0.97 - 0.22 * k);
+    if (cos_sun > 0.995) out[0] = out[1] = out[2] = 1.0f;
+    return;
+  }
+  const double lon = std::atan2(d[2], d[0]) / (2 * kPi) + 0.5;      // [0, 1]
+  const double lat = -std::asin(std::max(-1.0, d[1])) / (kPi / 2);  // (0, 1]
+  const auto a = static_cast<int>(std::floor(lon * cells));
+  const auto b = static_cast<int>(std::floor(lat * cells / 2));
+  const bool on = (a + b) % 2 == 0;
+  out[0] = on ? 0.55f : 0.20f;
+  out[1] = on ? 0.42f : 0.32f;
+  out[2] = on ? 0.25f : 0.12f;
 }
 
 }  // namespace
@@ -97,9 +124,12 @@ ProceduralSpec parse_procedural_source(const std::string& source, const std::str
     spec.seed = get_int("seed", spec.seed, 0, 1 << 30);
     spec.octaves = get_int("octaves", spec.octaves, 1, 12);
     spec.cells = get_int("cells", spec.cells, 1, spec.size);
+  } else if (spec.kind == "sky") {
+    spec.face = get_int("face", spec.face, 0, 5);
+    spec.cells = get_int("cells", spec.cells, 1, 256);
   } else {
     throw InputError(where, "procedural texture '" + source + "': unknown kind '" + spec.kind +
-                                "' (known: checker, grid, noise)");
+                                "' (known: checker, grid, noise, sky)");
   }
   if (!kv.empty()) {
     throw InputError(
@@ -137,6 +167,25 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
           put(x, y, 0.9f, 0.9f, 0.2f);
         else
           put(x, y, 0.1f, 0.3f, 0.1f);
+      }
+  } else if (spec.kind == "sky") {
+    // Face `face` of a sky cube: texel (x, y)'s centre is the direction m + (2s − 1)·S +
+    // (2t − 1)·T of the face's axes (s = ½·sc/|rc| + ½ inverted).
+    const CubeFaceAxes& ax = cube_face_axes(spec.face);
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const double s = 2 * (x + 0.5) / size - 1, t = 2 * (y + 0.5) / size - 1;
+        double d[3];
+        double len2 = 0;
+        for (int k = 0; k < 3; ++k) {
+          d[k] = ax.m[static_cast<size_t>(k)] + s * ax.s[static_cast<size_t>(k)] +
+                 t * ax.t[static_cast<size_t>(k)];
+          len2 += d[k] * d[k];
+        }
+        for (double& c : d) c /= std::sqrt(len2);
+        float c[3];
+        sky_colour(d, cells, c);
+        put(x, y, c[0], c[1], c[2]);
       }
   } else {  // noise
     for (int y = 0; y < size; ++y)

@@ -1,6 +1,6 @@
 #pragma once
-// Procedural textures for built-in scenes: checkerboard, grid, value noise. A texture source
-// string "procedural:KIND?key=value&..." names one exactly, so traces can record it.
+// Procedural textures for built-in scenes: checkerboard, grid, value noise, a sky cube's faces. A
+// texture source string "procedural:KIND?key=value&..." names one exactly, so traces can record it.
 #include <string>
 
 #include "blocks/texture/memory/texture_memory.h"
@@ -9,10 +9,12 @@ namespace texsim {
 
 // A parsed "procedural:KIND?key=value&..." source. Keys (all optional):
 //   size (texels, square, default 256), cells (checker/grid cells per side, default 8),
-//   line (grid line width in texels, default 2), seed and octaves (noise), format (rgba8|rgba32f).
+//   line (grid line width in texels, default 2), seed and octaves (noise), format (rgba8|rgba32f),
+//   face (sky: the cube face 0..5 in Vulkan's order +X −X +Y −Y +Z −Z; cells: the ground's
+//   longitude sectors).
 struct ProceduralSpec {
-  std::string kind;  // checker, grid or noise
-  int size = 256, cells = 8, line = 2, seed = 1, octaves = 5;
+  std::string kind;  // checker, grid, noise or sky (one face of a sky cube)
+  int size = 256, cells = 8, line = 2, seed = 1, octaves = 5, face = 0;
   TexelFormat format = TexelFormat::Rgba8;
 };
 

@@ -136,7 +136,44 @@ SceneTexture::Compress parse_compress(const ConfigReader& tr, const std::string&
   return out;
 }
 
-// Textures: [textures.NAME] source = "...", format = "..." (optional, storage_format.h)
+// A layered texture's `faces` (cube, cube_array) or `layers` (arrays): an array of sources,
+// each checked where it stands, written as one "layered:…" source. Sets t.source, t.where.
+void parse_layered_texture(const ConfigReader& tr, const Scene& s, SceneTexture& t) {
+  const bool cube = t.type == SceneTextureType::Cube || t.type == SceneTextureType::CubeArray;
+  const char* key = cube ? "faces" : "layers";
+  const char* other = cube ? "layers" : "faces";
+  const std::string type = to_string(t.type);
+  if (tr.table().contains("source"))
+    tr.fail("source", "a " + type + " texture takes its images from '" + key + "', not 'source'");
+  if (tr.table().contains(other)) tr.fail(other, "a " + type + " texture has '" + key + "'");
+  if (tr.table().contains("compress"))
+    tr.fail("compress", "layered textures are not compressed (give 'format' instead)");
+  const toml::node* n = tr.table().get(key);
+  if (!n) {
+    throw InputError(at(s.path, tr.table()), "textures." + t.name + ": a " + type +
+                                                 " texture needs '" + key +
+                                                 "' (an array of sources)");
+  }
+  const toml::array* a = n->as_array();
+  if (!a) tr.fail(key, "expected an array of sources");
+  LayeredSource ls;
+  ls.type = t.type;
+  for (const toml::node& e : *a) {
+    const auto v = e.value_exact<std::string>();
+    if (!v || v->empty()) throw InputError(at(s.path, e), std::string(key) + ": expected a source");
+    if (v->find(';') != std::string::npos)
+      throw InputError(at(s.path, e), std::string(key) + ": a source may not contain ';'");
+    const std::string where = at(s.path, e) + ": textures." + t.name + "." + key;
+    if (is_procedural_source(*v)) (void)parse_procedural_source(*v, where);
+    ls.slices.push_back(*v);
+  }
+  t.where = at(s.path, *n) + ": textures." + t.name + "." + key;
+  t.source = layered_source(ls);
+  (void)parse_layered_source(t.source, t.where);  // the slice count the type allows
+}
+
+// Textures: [textures.NAME] source = "...", format = "..." (optional, storage_format.h);
+// a layered texture: type = "...", faces or layers = [...].
 void parse_textures(const ConfigReader& top, Scene& s) {
   const toml::table* t = top.subtable("textures");
   if (!t) return;
@@ -144,7 +181,25 @@ void parse_textures(const ConfigReader& top, Scene& s) {
     const std::string name(k.str());
     if (!v.is_table()) throw InputError(at(s.path, v), "textures." + name + ": expected a table");
     const ConfigReader tr(*v.as_table(), s.path, "textures." + name);
-    tr.reject_unknown({"source", "format", "compress"});
+    tr.reject_unknown({"source", "format", "compress", "type", "faces", "layers"});
+    SceneTexture st;
+    st.name = name;
+    st.type = static_cast<SceneTextureType>(
+        tr.get_choice("type", 0, {"2d", "cube", "cube_array", "1d_array", "2d_array"}));
+    if (st.type != SceneTextureType::Tex2D) {
+      parse_layered_texture(tr, s, st);
+      if (tr.table().contains("format")) {
+        const std::string f = tr.get_string("format", "");
+        st.format = storage_format_from_name(f);
+        if (!st.format)
+          tr.fail("format",
+                  "unknown texel format '" + f + "' (one of " + storage_format_names() + ")");
+      }
+      s.textures.push_back(std::move(st));
+      continue;
+    }
+    for (const char* key : {"faces", "layers"})
+      if (tr.table().contains(key)) tr.fail(key, "only for layered textures (give 'type')");
     const std::string src = tr.get_string("source", "");
     if (src.empty()) throw InputError(at(s.path, v), "textures." + name + ": missing 'source'");
     const std::string where =
@@ -152,6 +207,9 @@ void parse_textures(const ConfigReader& top, Scene& s) {
     // A procedural spec is checked here, where its line:column is known; files are opened
     // only when the textures are loaded (a run with a trace uses the trace's instead).
     if (is_procedural_source(src)) (void)parse_procedural_source(src, where);
+    // The one-string form a trace's texture table records is accepted as well.
+    const SceneTextureType type =
+        is_layered_source(src) ? parse_layered_source(src, where).type : SceneTextureType::Tex2D;
     std::optional<StorageFormat> format;
     if (tr.table().contains("format")) {
       const std::string f = tr.get_string("format", "");
@@ -164,7 +222,9 @@ void parse_textures(const ConfigReader& top, Scene& s) {
     if (tr.table().contains("compress")) compress = parse_compress(tr, s.path, name);
     if (compress && format)
       tr.fail("compress", "a texture is either compressed or stored in a 'format', not both");
-    s.textures.push_back({name, src, where, format, compress});
+    if (compress && type != SceneTextureType::Tex2D)
+      tr.fail("compress", "layered textures are not compressed (give 'format' instead)");
+    s.textures.push_back({name, src, where, format, compress, type});
   }
 }
 
@@ -201,6 +261,24 @@ void parse_samplers(const ConfigReader& top, Scene& s) {
   }
 }
 
+// A material's `lookup` against its texture's type: a cube needs a direction, an array may
+// give a layer, a 2-D texture has no lookup (the table's own keys are the effect's to check).
+void check_lookup(const ConfigReader& mr, const SceneTexture& t) {
+  const toml::table* lk = mr.subtable("lookup");
+  const bool cube = t.type == SceneTextureType::Cube || t.type == SceneTextureType::CubeArray;
+  const toml::node* dir = lk ? lk->get("direction") : nullptr;
+  const bool has_dir = dir && dir->value<std::string>().value_or("none") != "none";
+  if (t.type == SceneTextureType::Tex2D && mr.table().contains("lookup"))
+    mr.fail("lookup", "texture '" + t.name + "' is 2-D: lookup is for layered textures");
+  if (cube && !has_dir) {
+    mr.fail(lk ? "lookup" : "texture",
+            "texture '" + t.name + "' is a " + to_string(t.type) +
+                ": give lookup = { direction = \"reflect\" } or \"view\"");
+  }
+  if (!cube && has_dir)
+    mr.sub("lookup").fail("direction", "texture '" + t.name + "' is not a cube");
+}
+
 // Materials: [materials.NAME] texture = "...", and one table per effect. The effect tables are
 // the texture unit's to check (its effect registry), but for `object_space`, which selects the
 // object-space pipeline for the material and is read here.
@@ -220,6 +298,7 @@ void parse_materials(const ConfigReader& top, Scene& s) {
     if (!tn) throw InputError(at(s.path, v), "materials." + name + ": missing 'texture'");
     if (!tn->is_string()) mr.fail("texture", "expected a texture name");
     m.texture = texture_index(s, *tn->value<std::string>(), *tn);
+    check_lookup(mr, s.textures[static_cast<size_t>(m.texture)]);
     m.budget = parse_material_budget(mr);
     m.effects = &mt;
     if (mt.contains("object_space"))

@@ -17,6 +17,7 @@
 #include "blocks/texture/decode/compressed_format.h"
 #include "blocks/texture/memory/storage_format.h"
 #include "pipeline/scene/camera_path.h"
+#include "pipeline/scene/layered_source.h"
 #include "pipeline/scene/object_space_config.h"
 #include "pipeline/scene/raster_order_config.h"
 
@@ -40,6 +41,9 @@ struct SceneTexture {
     std::string where;    // "file:line:column: textures.NAME.compress"
   };
   std::optional<Compress> compress;
+  // `type = "cube" | "cube_array" | "1d_array" | "2d_array"` with `faces` or `layers`: the
+  // slices, written into `source` as one "layered:…" string (layered_source.h).
+  SceneTextureType type = SceneTextureType::Tex2D;
 };
 
 // A `[samplers.NAME]` table (docs/scenes.md): sampler state a material names as its default

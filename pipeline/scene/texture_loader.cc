@@ -9,6 +9,7 @@
 #include "blocks/base/input_file.h"
 #include "pipeline/image_io/oiio_plugin.h"
 #include "pipeline/scene/compressed_loader.h"
+#include "pipeline/scene/layered_source.h"
 #include "pipeline/scene/npz_height_field.h"
 #include "pipeline/scene/procedural_texture.h"
 
@@ -39,6 +40,55 @@ std::vector<float> to_rgba(const std::vector<float>& src, int w, int h, int nch)
   }
   return out;
 }
+// A layered source's slices, each loaded as a 2-D texture and its level 0 taken, as one
+// layered texture (Texture::from_slices, every slice given its own mip chain). The slices must
+// agree in size; a cube's faces are square, a 1-D array's layers one texel high. RGBA8 when
+// every slice is, else RGBA32F.
+Texture load_layered_texture(const std::string& source, const std::string& base_dir,
+                             TexelFormatChoice format) {
+  const LayeredSource ls = parse_layered_source(source, source);
+  std::vector<std::vector<float>> slices;
+  slices.reserve(ls.slices.size());
+  int w = 0, h = 0;
+  bool eight_bit = true;
+  for (size_t i = 0; i < ls.slices.size(); ++i) {
+    const Texture t = load_texture(ls.slices[i], base_dir, format);
+    const std::string which = "slice " + std::to_string(i) + " ('" + ls.slices[i] + "')";
+    if (t.layered()) throw InputError(source, which + " is itself layered");
+    if (i == 0) {
+      w = t.width(0);
+      h = t.height(0);
+    } else if (t.width(0) != w || t.height(0) != h) {
+      throw InputError(source, which + " is " + std::to_string(t.width(0)) + "x" +
+                                   std::to_string(t.height(0)) + ", slice 0 is " +
+                                   std::to_string(w) + "x" + std::to_string(h));
+    }
+    if (static_cast<uint64_t>(w) * static_cast<uint64_t>(h) * (i + 1) > kMaxTexels) {
+      throw InputError(source, "more than the 8192x8192 texels a texture may have");
+    }
+    eight_bit = eight_bit && t.format() == TexelFormat::Rgba8;
+    std::vector<float> px(static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const Rgba c = t.texel(0, x, y);
+        float* d =
+            &px[(static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * 4];
+        for (int k = 0; k < 4; ++k) d[k] = c[k];
+      }
+    slices.push_back(std::move(px));
+  }
+  const bool cube = ls.type == SceneTextureType::Cube || ls.type == SceneTextureType::CubeArray;
+  if (cube && w != h) {
+    throw InputError(
+        source, "cube faces must be square, not " + std::to_string(w) + "x" + std::to_string(h));
+  }
+  if (ls.type == SceneTextureType::Array1D && h != 1) {
+    throw InputError(source, "a 1-D array's layers are one texel high, not " + std::to_string(h));
+  }
+  return Texture::from_slices(source, cube ? TextureType::Cube : TextureType::Array, w, h, slices,
+                              eight_bit ? TexelFormat::Rgba8 : TexelFormat::Rgba32f, true);
+}
+
 }  // namespace
 
 std::string resolve_texture_path(const std::string& source, const std::string& base_dir) {
@@ -50,6 +100,7 @@ std::string resolve_texture_path(const std::string& source, const std::string& b
 Texture load_texture(const std::string& source, const std::string& base_dir,
                      TexelFormatChoice format) {
   if (is_procedural_source(source)) return make_procedural_texture(source, source);
+  if (is_layered_source(source)) return load_layered_texture(source, base_dir, format);
   const std::string path = resolve_texture_path(source, base_dir);
   if (is_npz_source(path)) return npz_height_texture(path);         // a DEM height field
   if (is_compressed_file(path)) return load_compressed_file(path);  // DDS, .astc or KTX blocks

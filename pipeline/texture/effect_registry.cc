@@ -109,6 +109,10 @@ void build_raster(const ConfigReader& r, std::string_view key, MaterialSetup& m)
   m.raster = RasterSetup::from_toml(r.sub(key));
 }
 
+void build_lookup(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
+  m.lookup = LayeredLookup::from_toml(r.sub(key));
+}
+
 }  // namespace
 
 RasterSetup RasterSetup::from_toml(const ConfigReader& r) {
@@ -133,6 +137,7 @@ const std::vector<Effect>& effect_registry() {
       {"relief", "", build_relief},
       {"lighting", "", build_lighting},
       {"object_space", "", build_object_space},
+      {"lookup", "", build_lookup},
       {"operation", "", build_operation},
       {"ewa", kFootprint, build_ewa},
       {"multi_probe", kFootprint, build_footprint<MultiProbeFilter>},
@@ -187,6 +192,11 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
   if (textures && m.lighting && m.lighting->normal != LightingSetup::Normal::Flat) {
     m.lighting->normal_tex =
         bind_texture(r, "lighting", "normal_texture", m.lighting->normal_texture, *textures);
+  }
+  if (m.lookup && (m.coords || m.relief || effects.contains("object_space"))) {
+    r.fail("lookup",
+           "a layered texture's lookup is not combined with coords, relief or "
+           "object_space (they compute a 2-D texture's coordinates)");
   }
   if (m.coords && m.raster.method != RasterSetup::Method::Edge) {
     r.sub("raster").fail("method",

@@ -21,6 +21,7 @@
 #include "blocks/texture/sampler/texel_address_gen.h"
 #include "pipeline/texture/coord_method.h"
 #include "pipeline/texture/footprint_filter.h"
+#include "pipeline/texture/layered_lookup.h"
 #include "pipeline/texture/sampler_setup.h"
 #include "pipeline/texture/surface_effects.h"
 
@@ -64,6 +65,8 @@ struct MaterialSetup {
   // Relief (in front of LOD) and lighting (after the blend): absent unless the material asks.
   std::optional<ReliefSetup> relief;
   std::optional<LightingSetup> lighting;
+  // Effect `lookup`: a layered texture's direction and layer (fragment generation sets them).
+  std::optional<LayeredLookup> lookup;
   // `sampler = "NAME"`: lod and filter come from that scene sampler, id `sampler` (0: the
   // material's own `lod` and `filter` tables). `samplers`: the scene's whole table, which a
   // fragment's own `sampler` field indexes (null: none).

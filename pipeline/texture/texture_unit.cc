@@ -8,6 +8,7 @@
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
 #include "blocks/texture/decode/block_decoder.h"
+#include "blocks/texture/layered/cube_face_select.h"
 #include "blocks/texture/memory/storage_format.h"
 #include "blocks/texture/sampler/gather_unit.h"
 #include "blocks/texture/sampler/texel_reduce.h"
@@ -93,6 +94,7 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     paths_.push_back(std::move(p));
   }
   plan_pipeline();
+  cube_select_ = CubeFaceSelect::timing(tech_);
   for (size_t m = 0; m < paths_.size(); ++m) {
     paths_[m].kernel = choose_kernel(paths_[m]);
     paths_[m].layered_kernel = choose_kernel(paths_[m], true);
@@ -661,13 +663,17 @@ void TextureUnit::issue_two_step(Path& p, const ItemCost* front, uint32_t probes
 
 template <class Lookups>
 void TextureUnit::issue_general(Path& p, const ItemCost* front, uint32_t address_ii,
-                                uint32_t cache_ii, uint32_t blend_ii, Lookups&& lookups) {
+                                uint32_t cache_ii, uint32_t blend_ii, Lookups&& lookups,
+                                uint64_t address_latency) {
   const int addr = address_, cache = cache_slot_, blend = blend_;
   issue_any([&](int s, uint64_t start) {
     if (s < kMaxFront && s < front_) return front_cost(p, front, s);
     ItemCost c;
     c.extra_ii = item_extra_[s];
-    if (s == addr) c.extra_ii += address_ii;
+    if (s == addr) {
+      c.extra_ii += address_ii;
+      c.extra_latency = address_latency;
+    }
     if (s == cache) {
       c.extra_ii += cache_ii;
       // The reads earlier stages made (relief) first: the cache sees requests in time order.
@@ -777,9 +783,15 @@ Rgba TextureUnit::process_layered(const Fragment& f, Path& p, const Texture& tex
   const Rgba colour = st.blend->blend().blend(taps_, tex);
   if (taps_.border_taps > 0) p.stages.address->count_border(taps_.border_taps);
   count_fragment(f, p, probes);
-  if constexpr (kFront >= 0) {
-    issue_timed<kFront>(p, front, probes, static_cast<uint64_t>(taps_.count),
-                        [&](uint64_t start) { return fetch_.lookup_taps(taps_, tex, start); });
+  const auto lookups = [&](uint64_t start) { return fetch_.lookup_taps(taps_, tex, start); };
+  if (kFront >= 0 && tex.shape().type == TextureType::Cube) {
+    // The face selector issues in the address slot ahead of the probes (its ii, one cycle)
+    // and its result reaches the address generator after its latency.
+    issue_general(p, front, probes - 1 + cube_select_.ii,
+                  fetch_.extra_ii(static_cast<uint64_t>(taps_.count)), st.blend->extra_ii(probes),
+                  lookups, cube_select_.latency);
+  } else if constexpr (kFront >= 0) {
+    issue_timed<kFront>(p, front, probes, static_cast<uint64_t>(taps_.count), lookups);
   }
   return colour;
 }

@@ -15,6 +15,7 @@
 #include "blocks/base/fragment.h"
 #include "blocks/base/sample_op.h"
 #include "blocks/base/tech_table.h"
+#include "blocks/base/timing_spec.h"
 #include "blocks/texture/memory/texture_cache.h"
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/sampler/linear_batch.h"
@@ -284,9 +285,11 @@ class TextureUnit {
                       Lookups& lookups);
   // Any slot sequence, by index: the extra issue cycles of the address, cache and blend slots,
   // those the surface stages added, and the reads they staged before the cache look-ups.
+  // address_latency: added to the address slot's latency for this item (a cube's face
+  // selector, docs/texture-types.md §4).
   template <class Lookups>
   void issue_general(Path& p, const ItemCost* front, uint32_t address_ii, uint32_t cache_ii,
-                     uint32_t blend_ii, Lookups&& lookups);
+                     uint32_t blend_ii, Lookups&& lookups, uint64_t address_latency = 0);
   void count_fragment(const Fragment& f, Path& p, uint32_t probes) {
     ++p.fragments;
     p.stages.address->count(probes);
@@ -339,6 +342,7 @@ class TextureUnit {
   std::vector<Path> paths_;
   PipelineSetup setup_;
   TechTable tech_;
+  TimingSpec cube_select_;  // the face selector's ii and latency (CubeFaceSelect::timing)
   bool timing_;
   // Compressed textures: the decompressor in the memory system, or the blocks in the L1.
   void attach_decoders();

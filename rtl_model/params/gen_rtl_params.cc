@@ -1,8 +1,9 @@
 // gen_rtl_params OUT_DIR: writes the Verilog side of the RTL parameters from rtl_params.h:
 // OUT_DIR/texsim_params.vh (localparams <MODULE>_<NAME> and <MODULE>_LATENCY, for synthesis
-// scripts and hand instantiation) and OUT_DIR/<module>.vc (the module's -G overrides, read by
-// Verilator with -f). Files are rewritten only when their text changes, so an unchanged
-// parameter set does not re-verilate anything.
+// scripts and hand instantiation), OUT_DIR/<module>.vc (the module's -G overrides, read by
+// Verilator with -f) and OUT_DIR/texsim_sampler_log2.v (the sampler's log2 table). Files are
+// rewritten only when their text changes, so an unchanged parameter set does not re-verilate
+// anything.
 #include <cctype>
 #include <fstream>
 #include <iostream>
@@ -57,6 +58,9 @@ int main(int argc, char** argv) {
     }
     vh << "`endif\n";
     ok = write_if_changed(dir + "/texsim_params.vh", vh.str()) && ok;
+    ok = write_if_changed(dir + "/texsim_sampler_log2.v",
+                          std::string(kBanner) + texsim::rtl_params::sampler_log2_v()) &&
+         ok;
     if (!ok) {
       std::cerr << "gen_rtl_params: cannot write into " << dir << "\n";
       return 1;

@@ -18,6 +18,7 @@
 #include "blocks/raster/rect_scan/texturing_control.h"
 #include "blocks/texture/coords/uv_incremental_adder.h"
 #include "blocks/texture/sampler/bilinear_lerp.h"
+#include "blocks/texture/sampler/fixed_sampler.h"
 #include "blocks/texture/subtexel/vd_evaluator_p1.h"
 #include "blocks/texture/subtexel/vd_evaluator_p2.h"
 #include "blocks/texture/subtexel/vd_evaluator_params.h"
@@ -134,6 +135,34 @@ inline std::vector<Param> rect_scan_raster_params() {
           {"MIN_BITS", kRectScanMemMinorBits}};
 }
 
+// ---- Bilinear/trilinear sampler (rtl_model/rtl/texsim_sampler.v) ------------------------------
+// The sub-texel and mipmap bits of the default sampler (TexelAddressGen::Config): u0.8 weights
+// and an u0.8 level fraction; the stage latencies of FixedSampler (LodUnit, TexelAddressGen,
+// the level lerp on the default technology table).
+inline std::vector<Param> sampler_params() {
+  const TexelAddressGen::Config a;
+  return {{"S", a.sub_texel_bits},
+          {"M", a.mipmap_bits},
+          {"LOD_LAT", FixedSampler::lod_latency(tech())},
+          {"ADDR_LAT", FixedSampler::address_latency(tech())},
+          {"MUL_LAT", op_latency(OpKind::Mul)},
+          {"ADD_LAT", op_latency(OpKind::Add)},
+          {"MIP_LAT", FixedSampler::mip_latency(tech())}};
+}
+
+// The log2 table of texsim_sampler_lod.v, as the module texsim_sampler_log2 (a ROM) in the
+// generated texsim_sampler_log2.v.
+inline std::string sampler_log2_v() {
+  std::string s =
+      "module texsim_sampler_log2 (\n    input  logic [ 8:0] i,\n    output logic [20:0] v\n);\n"
+      "  always_comb begin\n    case (i)\n";
+  const auto& t = FixedSampler::log2_table();
+  for (size_t i = 0; i < t.size(); ++i)
+    s += "      9'd" + std::to_string(i) + ": v = 21'd" + std::to_string(t[i]) + ";\n";
+  s += "      default: v = 21'd0;\n    endcase\n  end\nendmodule\n";
+  return s;
+}
+
 // A Verilog block, its parameters and the latency the C++ timing model gives it.
 struct RtlBlock {
   std::string module;
@@ -152,7 +181,8 @@ inline std::vector<RtlBlock> rtl_blocks() {
       // fast-clock cycles), checked per pixel; no pipeline latency of its own.
       {"rect_scan_stepper", rect_scan_stepper_params(), 0},
       {"rect_scan_control", rect_scan_control_params(), TexturingControl().timing(tech()).latency},
-      {"rect_scan_raster", rect_scan_raster_params(), 0}};
+      {"rect_scan_raster", rect_scan_raster_params(), 0},
+      {"texsim_sampler", sampler_params(), FixedSampler::latency(tech())}};
 }
 
 }  // namespace texsim::rtl_params

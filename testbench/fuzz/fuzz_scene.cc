@@ -5,9 +5,9 @@
 // (std::logic_error) is a finding like any other exception.
 //
 // To keep each input fast, and the harness off the disk: texture files are replaced by a small
-// procedural stand-in, procedural textures larger than kMaxTextureSize are too (their spec is
-// still parsed and checked), the image is scaled down to at most kMaxSide pixels per side and
-// the ground truth takes at most 2x2 samples per pixel.
+// procedural stand-in (layered textures by small slices of their type), procedural textures larger
+// than kMaxTextureSize are too (their spec is still parsed and checked), the image is scaled down
+// to at most kMaxSide pixels per side and the ground truth takes at most 2x2 samples per pixel.
 #include <algorithm>
 #include <cstdio>
 #include <vector>
@@ -16,6 +16,8 @@
 #include "pipeline/raster/fragment_generator.h"
 #include "pipeline/raster/scene_front_end.h"
 #include "pipeline/reference/ground_truth.h"
+#include "pipeline/reference/layered_reference.h"
+#include "pipeline/scene/layered_source.h"
 #include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/texture/effect_registry.h"
@@ -29,9 +31,29 @@ using namespace texsim;
 constexpr int kMaxTextureSize = 64;
 constexpr int kMaxSide = 24;
 
+// A layered texture's stand-in: its type and at most two cubes or four layers of 8 × 8 (one
+// texel high for a 1-D array) procedural slices.
+Texture layered_stand_in(const SceneTexture& t) {
+  const LayeredSource ls = parse_layered_source(t.source, t.where);
+  const bool cube = ls.type == SceneTextureType::Cube || ls.type == SceneTextureType::CubeArray;
+  const size_t n = std::min(ls.slices.size(), size_t{cube ? 12u : 4u});
+  const int h = ls.type == SceneTextureType::Array1D ? 1 : 8;
+  std::vector<std::vector<float>> slices(n);
+  for (size_t k = 0; k < n; ++k) {
+    slices[k].assign(size_t{8} * static_cast<size_t>(h) * 4, 1.0f);
+    for (size_t i = 0; i < slices[k].size(); i += 4) slices[k][i] = static_cast<float>(k % 7) / 6;
+  }
+  return Texture::from_slices(t.name, cube ? TextureType::Cube : TextureType::Array, 8, h, slices,
+                              TexelFormat::Rgba8, true);
+}
+
 TextureSet scene_textures(const Scene& scene) {
   TextureSet set;
   for (const SceneTexture& t : scene.textures) {
+    if (is_layered_source(t.source)) {
+      set.add(layered_stand_in(t));
+      continue;
+    }
     const bool small = is_procedural_source(t.source) &&
                        parse_procedural_source(t.source, t.where).size <= kMaxTextureSize;
     set.add(
@@ -71,6 +93,13 @@ void run_scene(const std::string& text) {
       TruthPixel::Box, {scene.reference_samples > 0 ? std::min(scene.reference_samples, 2) : 0});
   auto truth = [&](const Fragment& f, int material) {
     const MaterialSetup& m = mats[static_cast<size_t>(material)];
+    const Texture& tex = textures[static_cast<int>(f.tex)];
+    if (tex.shape().type == TextureType::Cube) {
+      (void)ground_truth_cube(tex, reference_layer(f.layer, tex.shape().slices / 6), true,
+                              m.address_u(), m.address_v(), glm::dvec4(0), DirectionMap::of(f),
+                              static_cast<int>(f.x), static_cast<int>(f.y), integrate);
+      return;
+    }
     (void)ground_truth_exact(textures[static_cast<int>(f.tex)], m.address_u(), m.address_v(),
                              maps[f.prim], static_cast<int>(f.x), static_cast<int>(f.y), integrate);
   };

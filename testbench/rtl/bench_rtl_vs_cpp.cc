@@ -1,8 +1,12 @@
 // C++ block models against their Verilated RTL on the same vectors (docs/rtl/blocks.md):
 // Cpp/<block> runs the functional core, Rtl/<block> clocks the Verilated block one input per
-// cycle (no tracing, no scoreboard). After the runs the speed ratio per block is printed.
+// cycle (no tracing, no scoreboard). After the runs the speed ratio per block is printed. The
+// sampler runs the bunny scene's fragments: FixedSampler, the texture unit's own float path
+// (Cpp/texture_unit), and the Verilated sampler built single-threaded and with --threads 2.
 #include <Vbilinear_lerp.h>
 #include <Vrect_scan_stepper.h>
+#include <Vtexsim_sampler.h>
+#include <Vtexsim_sampler_mt.h>
 #include <Vuv_incremental.h>
 #include <Vvd_p1.h>
 #include <Vvd_p2.h>
@@ -12,12 +16,18 @@
 #include <cstdint>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "blocks/raster/rect_scan/coordinate_counters.h"
 #include "blocks/raster/rect_scan/row_start_counter.h"
+#include "blocks/texture/sampler/fixed_sampler.h"
+#include "pipeline/raster/fragment_generator.h"
+#include "pipeline/scene/scene.h"
+#include "pipeline/scene/texture_loader.h"
+#include "pipeline/texture/texture_unit.h"
 #include "rtl_model/params/rtl_params.h"
 #include "rtl_model/verilator/rtl_harness.h"
 
@@ -193,6 +203,123 @@ void rtl_rect_scan(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * kScanCols * kScanRows);
 }
 
+// An s15.32 raw as the 48-bit port takes it (Verilator expects the bits above the port's
+// width clear).
+uint64_t coord_bits(int64_t x) { return static_cast<uint64_t>(x) & ((uint64_t{1} << 48) - 1); }
+
+// ---- The sampler: bunny's trilinear material, every fragment, in the generator's order ----
+struct SamplerWork {
+  Scene scene;
+  std::vector<MaterialSetup> mats;
+  TextureSet set;
+  std::unique_ptr<TextureUnit> unit;
+  std::vector<Fragment> frags;
+  std::vector<FixedSampler::Input> in;
+  std::vector<uint32_t> mem;
+  FixedSampler::TextureDesc desc;
+  FixedSampler::Config cfg;
+};
+
+const SamplerWork& sampler_work() {
+  static const SamplerWork w = [] {
+    SamplerWork s;
+    s.scene = load_scene(std::string(TEXSIM_SOURCE_DIR) + "/scenes/bunny.toml");
+    s.mats = build_materials(s.scene);
+    for (size_t i = 0; i < s.scene.textures.size(); ++i) s.set.add(load_scene_texture(s.scene, i));
+    s.unit = std::make_unique<TextureUnit>(s.set, s.mats, PipelineSetup{}, s.scene.tech, false);
+    s.frags = generate_fragments(s.scene, 0);
+    s.in.reserve(s.frags.size());
+    for (const Fragment& f : s.frags) s.in.push_back(FixedSampler::to_input(f));
+    const Texture& tex = s.unit->texture_of(0);
+    s.mem = FixedSampler::memory_image(tex);
+    s.desc = FixedSampler::describe(tex);
+    s.cfg = FixedSampler::config_of(s.mats[0].filter, s.mats[0].lod);
+    return s;
+  }();
+  return w;
+}
+
+void cpp_sampler(benchmark::State& state) {
+  const SamplerWork& w = sampler_work();
+  const FixedSampler fs(w.cfg);
+  for (auto _ : state) {
+    uint64_t sum = 0;
+    for (const FixedSampler::Input& in : w.in) sum += fs.sample(in, w.desc, w.mem).rgba;
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * w.in.size()));
+}
+
+// The texture unit's own functional path (float32), fragment by fragment.
+void cpp_texture_unit(benchmark::State& state) {
+  const SamplerWork& w = sampler_work();
+  for (auto _ : state) {
+    float sum = 0;
+    for (const Fragment& f : w.frags) sum += w.unit->process(f, 0).r;
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * w.frags.size()));
+}
+
+// The same through the unit's batched SIMD datapath (TextureUnit::process_batch).
+void cpp_texture_unit_batch(benchmark::State& state) {
+  const SamplerWork& w = sampler_work();
+  std::vector<Rgba> out(w.frags.size());
+  for (auto _ : state) {
+    w.unit->process_batch(w.frags.data(), w.frags.size(), 0, out.data());
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * w.frags.size()));
+}
+
+template <class Model>
+void rtl_sampler(benchmark::State& state, const char* name) {
+  const SamplerWork& w = sampler_work();
+  RtlHarness<Model> h(name);
+  h.reset();
+  Model& top = h.top();
+  top.cfg_trilinear = w.cfg.trilinear;
+  top.cfg_mode_u = static_cast<uint8_t>(w.cfg.address_u);
+  top.cfg_mode_v = static_cast<uint8_t>(w.cfg.address_v);
+  top.cfg_bias = static_cast<uint32_t>(w.cfg.bias);
+  top.cfg_min_lod = static_cast<uint32_t>(w.cfg.min_lod);
+  top.cfg_max_lod = static_cast<uint32_t>(w.cfg.max_lod);
+  top.cfg_w0 = static_cast<uint16_t>(w.desc.w0);
+  top.cfg_h0 = static_cast<uint16_t>(w.desc.h0);
+  top.cfg_levels = static_cast<uint8_t>(w.desc.levels);
+  top.cfg_layout = static_cast<uint8_t>(w.desc.layout);
+  for (int l = 0; l < FixedSampler::kMaxLevels; ++l) {
+    top.cfg_base_we = 1;
+    top.cfg_base_idx = static_cast<uint8_t>(l);
+    top.cfg_base_data = w.desc.base[static_cast<size_t>(l)];
+    h.step();
+  }
+  top.cfg_base_we = 0;
+  top.in_valid = 1;
+  for (auto _ : state) {
+    uint64_t sum = 0;
+    for (const FixedSampler::Input& in : w.in) {
+      top.u = coord_bits(in.u);
+      top.v = coord_bits(in.v);
+      top.dudx = coord_bits(in.dudx);
+      top.dvdx = coord_bits(in.dvdx);
+      top.dudy = coord_bits(in.dudy);
+      top.dvdy = coord_bits(in.dvdy);
+      h.step();
+      for (size_t k = 0; k < 8; ++k) {  // the memory's read, as the lockstep's
+        const uint32_t a = top.rd_addr[k];
+        top.rd_data[k] = a < w.mem.size() ? w.mem[a] : 0;
+      }
+      sum += top.out_rgba;
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * w.in.size()));
+}
+void rtl_sampler_1(benchmark::State& s) { rtl_sampler<Vtexsim_sampler>(s, "texsim_sampler"); }
+// The same design verilated with --threads 2.
+void rtl_sampler_2(benchmark::State& s) { rtl_sampler<Vtexsim_sampler_mt>(s, "texsim_sampler_mt"); }
+
 BENCHMARK(cpp_vd<VdEvaluatorP2>)->Name("Cpp/vd_p2");
 void rtl_vd_p2(benchmark::State& state) { rtl_vd<Vvd_p2>(state, "vd_p2"); }
 void rtl_vd_p1(benchmark::State& state) { rtl_vd<Vvd_p1>(state, "vd_p1"); }
@@ -206,6 +333,11 @@ BENCHMARK(cpp_uv)->Name("Cpp/uv_incremental");
 BENCHMARK(rtl_uv)->Name("Rtl/uv_incremental");
 BENCHMARK(cpp_rect_scan)->Name("Cpp/rect_scan_stepper");
 BENCHMARK(rtl_rect_scan)->Name("Rtl/rect_scan_stepper");
+BENCHMARK(cpp_sampler)->Name("Cpp/texsim_sampler");
+BENCHMARK(cpp_texture_unit)->Name("Cpp/texture_unit");
+BENCHMARK(cpp_texture_unit_batch)->Name("Cpp/texture_unit_batch");
+BENCHMARK(rtl_sampler_1)->Name("Rtl/texsim_sampler");
+BENCHMARK(rtl_sampler_2)->Name("Rtl/texsim_sampler_threads2");
 
 // Console output as usual, plus the time per item of every run for the ratio table.
 class RatioReporter : public benchmark::ConsoleReporter {
@@ -227,6 +359,15 @@ class RatioReporter : public benchmark::ConsoleReporter {
       if (rtl == rate_.end()) continue;
       std::printf("  %-18s C++ %10.3g  RTL %10.3g  ratio %6.1fx\n", name.substr(4).c_str(), cpp,
                   rtl->second, cpp / rtl->second);
+    }
+    // The texture unit's float path and the two-thread model against the sampler RTL.
+    const auto rtl = rate_.find("Rtl/texsim_sampler");
+    for (const char* other :
+         {"Cpp/texture_unit", "Cpp/texture_unit_batch", "Rtl/texsim_sampler_threads2"}) {
+      const auto it = rate_.find(other);
+      if (rtl == rate_.end() || it == rate_.end()) continue;
+      std::printf("  %-27s %10.3g  against Rtl/texsim_sampler %10.3g: %6.2fx\n", other, it->second,
+                  rtl->second, it->second / rtl->second);
     }
   }
 

@@ -114,8 +114,8 @@ TEST(MaterialEffects, UnknownOrMisplacedEffectsNameFileLineAndColumn) {
       error_of(std::string(kTexture) + "[materials.m]\ntexture = \"t\"\nfiltre = {}\n");
   EXPECT_NE(unknown.find("s.toml:5:1"), std::string::npos) << unknown;
   EXPECT_NE(unknown.find("materials.m: unknown key 'filtre' (known: texture, budget, sampler, "
-                         "filter, lod, coords, raster, relief, lighting, object_space, operation, "
-                         "ewa, multi_probe, feline, spaf)"),
+                         "filter, lod, coords, raster, relief, lighting, object_space, lookup, "
+                         "operation, ewa, multi_probe, feline, spaf)"),
             std::string::npos)
       << unknown;
   const std::string scalar =
@@ -132,10 +132,15 @@ TEST(MaterialEffects, UnknownOrMisplacedEffectsNameFileLineAndColumn) {
 
 TEST(MaterialEffects, EveryRegisteredEffectBuilds) {
   for (const Effect& e : effect_registry()) {
-    // Relief needs its height map; every other effect builds from an empty table.
+    // Relief needs its height map, lookup a layered texture; every other effect builds from
+    // an empty table.
     const std::string table = e.key == "relief" ? "{ height_texture = 't' }" : "{}";
-    const std::string text = std::string(kTexture) + "[materials.m]\ntexture = \"t\"\n" +
-                             std::string(e.key) + " = " + table + "\n";
+    const std::string texture =
+        e.key == "lookup"
+            ? "[textures.t]\ntype = \"2d_array\"\nlayers = [\"procedural:checker?size=8\"]\n"
+            : kTexture;
+    const std::string text =
+        texture + "[materials.m]\ntexture = \"t\"\n" + std::string(e.key) + " = " + table + "\n";
     EXPECT_EQ(error_of(text), "") << e.key;
   }
 }

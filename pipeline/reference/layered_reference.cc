@@ -1,0 +1,129 @@
+#include "pipeline/reference/layered_reference.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "blocks/texture/layered/cube_face_select.h"
+#include "blocks/texture/layered/cube_seam.h"
+
+namespace texsim {
+
+namespace {
+
+// One step outside a face under an address mode (non-seamless cubes): i in [−1, n].
+int face_address(int i, int n, AddressMode m) {
+  if (i >= 0 && i < n) return i;
+  switch (m) {
+    case AddressMode::Wrap:
+      return i < 0 ? n - 1 : 0;
+    case AddressMode::Border:
+      return -1;
+    default:  // clamp, mirror and mirror-clamp agree one texel out
+      return i < 0 ? 0 : n - 1;
+  }
+}
+
+glm::dvec4 texel_d(const Texture& tex, int level, int x, int y) {
+  return glm::dvec4(tex.texel(level, x, y));
+}
+
+}  // namespace
+
+ReferenceFace reference_cube_face(glm::dvec3 r) {
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(r[k])) r[k] = 0;
+  const double ax = std::fabs(r.x), ay = std::fabs(r.y), az = std::fabs(r.z);
+  const int axis = az >= ax && az >= ay ? 2 : ay >= ax ? 1 : 0;
+  ReferenceFace f;
+  f.face = 2 * axis + (std::signbit(r[axis]) ? 1 : 0);
+  const double rc = std::fabs(r[axis]);
+  if (rc == 0) return f;  // the face the signs give, at its centre (as the unit)
+  const CubeFaceAxes& a = cube_face_axes(f.face);
+  double sc = 0, tc = 0;
+  for (int k = 0; k < 3; ++k) {
+    sc += a.s[static_cast<size_t>(k)] * r[k];
+    tc += a.t[static_cast<size_t>(k)] * r[k];
+  }
+  f.s = std::clamp(0.5 * sc / rc + 0.5, 0.0, 1.0);
+  f.t = std::clamp(0.5 * tc / rc + 0.5, 0.0, 1.0);
+  return f;
+}
+
+glm::dvec4 reference_cube_bilinear(const Texture& tex, int cube, glm::dvec3 r, bool seamless,
+                                   AddressMode au, AddressMode av, glm::dvec4 border) {
+  const ReferenceFace f = reference_cube_face(r);
+  const int n = tex.width(0);
+  const double x = f.s * n - 0.5, y = f.t * n - 0.5;
+  const double fx = std::floor(x), fy = std::floor(y);
+  const double a = x - fx, b = y - fy;
+  const int i0 = static_cast<int>(fx), j0 = static_cast<int>(fy);
+  const double w[4] = {(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
+  glm::dvec4 sum(0.0);
+  for (int k = 0; k < 4; ++k) {
+    if (w[k] == 0) continue;
+    const int i = i0 + (k & 1), j = j0 + (k >> 1);
+    glm::dvec4 c(0.0);
+    if (seamless) {
+      std::array<CubeTexel, 3> t{};
+      const int m = CubeSeam::resolve(f.face, i, j, n, t);
+      for (int e = 0; e < m; ++e)
+        c += texel_d(tex, tex.slice_level(6 * cube + t[static_cast<size_t>(e)].face, 0),
+                     t[static_cast<size_t>(e)].x, t[static_cast<size_t>(e)].y);
+      c /= static_cast<double>(m);
+    } else {
+      const int ai = face_address(i, n, au), aj = face_address(j, n, av);
+      c = ai < 0 || aj < 0 ? border : texel_d(tex, tex.slice_level(6 * cube + f.face, 0), ai, aj);
+    }
+    sum += w[k] * c;
+  }
+  return sum;
+}
+
+glm::dvec4 ground_truth_cube(const Texture& tex, int cube, bool seamless, AddressMode au,
+                             AddressMode av, glm::dvec4 border, const DirectionMap& map, int px,
+                             int py, const PixelIntegrator& integrate, int* samples, int* reach) {
+  // The footprint in face texels at the pixel's centre: the direction's change across a pixel
+  // relative to its major magnitude, times n/2 (s = ½·sc/|rc| + ½).
+  const glm::dvec3 c = map.at(px + 0.5, py + 0.5);
+  const double rc = std::max({std::fabs(c.x), std::fabs(c.y), std::fabs(c.z)});
+  const double k = rc > 0 ? tex.width(0) / (2 * rc) : 0;
+  const auto len = [](glm::dvec3 v) { return std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z); };
+  const glm::dvec2 texels(len(map.ddx) * k, len(map.ddy) * k);
+  return integrate(
+      [&](double dx, double dy) {
+        return reference_cube_bilinear(tex, cube, map.at(px + dx, py + dy), seamless, au, av,
+                                       border);
+      },
+      texels, samples, reach);
+}
+
+int reference_layer(double a, int layers) {
+  if (!std::isfinite(a) || layers <= 1) return 0;
+  const double r = std::nearbyint(std::clamp(a, -1.0, static_cast<double>(layers)));
+  return static_cast<int>(std::clamp(r, 0.0, static_cast<double>(layers - 1)));
+}
+
+const Texture& LayerTextures::get(const Texture& tex, int slice) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  auto& t = made_[{&tex, slice}];
+  if (!t) t = std::make_unique<const Texture>(layer_texture(tex, slice));
+  return *t;
+}
+
+Texture layer_texture(const Texture& tex, int slice) {
+  const int l = tex.slice_level(slice, 0);
+  const int w = tex.width(l), h = tex.height(l);
+  std::vector<float> px(static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const Rgba c = tex.texel(l, x, y);
+      float* d =
+          &px[(static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * 4];
+      for (int k = 0; k < 4; ++k) d[k] = c[k];
+    }
+  return Texture::from_rgba(tex.name(), w, h, px, TexelFormat::Rgba32f, false);
+}
+
+}  // namespace texsim
