@@ -177,6 +177,7 @@ std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene,
   const bool from_trace = !trace.empty();
   std::vector<MaterialSetup> mats;
   if (use_scene) {
+    const std::shared_ptr<const SamplerTable> samplers = build_samplers(scene);
     for (const auto& m : scene.materials) {
       const std::string& name = scene.textures[static_cast<size_t>(m.texture)].name;
       const auto it = textures.by_name.find(name);
@@ -187,8 +188,8 @@ std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene,
                                     "', which material '" + m.name + "' of " + scene.path +
                                     " uses (the table has " + (have.empty() ? "none" : have) + ")");
       }
-      mats.push_back(
-          material_from_toml(m.name, it->second, *m.effects, scene.path, &textures.by_name));
+      mats.push_back(material_from_toml(m.name, it->second, *m.effects, scene.path,
+                                        &textures.by_name, samplers));
     }
   }
   if (from_trace) {
@@ -926,6 +927,35 @@ uint32_t loaded_texture(const Fragment& f, uint64_t index, const RunTextures& te
   return static_cast<uint32_t>(it->second);
 }
 
+// A record's sampler: 0 (its material's own) or an id of the scene's sampler table; an
+// unnormalised sampler refuses what Vulkan refuses.
+void check_record_sampler(const Fragment& f, uint64_t index, const MaterialSetup& m,
+                          const std::string& input) {
+  const size_t n = m.samplers ? m.samplers->size() : 0;
+  if (f.sampler > n) {
+    throw InputError(input, "record " + std::to_string(index) + ": sampler " +
+                                std::to_string(f.sampler) + " is not in the sampler table (" +
+                                (n == 0 ? std::string("the scene has no [samplers]")
+                                        : "ids 1.." + std::to_string(n) + ", 0 = the material's") +
+                                ")");
+  }
+  const TexelAddressGen::Config& c =
+      f.sampler == 0 ? m.filter : (*m.samplers)[f.sampler - 1u].filter;
+  if (!c.unnormalized) return;
+  if (const std::string why = unnormalized_refusal(f); !why.empty())
+    throw InputError(input, "record " + std::to_string(index) + ": " + why);
+}
+
+// A record's material (its primitive's when the scene's planes are known, else 0), with its
+// sampler checked.
+int record_material(const Fragment& f, uint64_t index, bool by_primitive, const Scene& scene,
+                    const std::vector<MaterialSetup>& mats, const std::string& trace,
+                    const std::string& input) {
+  const int material = by_primitive ? primitive_material(f, index, scene, trace) : 0;
+  check_record_sampler(f, index, mats[static_cast<size_t>(material)], input);
+  return material;
+}
+
 // The report's image, texture and accuracy fields of a finished run.
 RunInfo images_info(const RunOptions& opt, const ImageLayout& layout, const RunTextures& textures,
                     const UnitArray& unit, const RunImages& images) {
@@ -1159,7 +1189,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   auto handle = [&](const Fragment& f, uint64_t index) {
     Fragment g = f;
     g.tex = loaded_texture(f, index, textures, input, opt.trace);
-    const int material = truth.exact() ? primitive_material(f, index, scene, opt.trace) : 0;
+    const int material = record_material(f, index, truth.exact(), scene, mats, opt.trace, input);
     // The screen-space texture unit's stream (materials drawn object-space are not in it).
     if (opt.workload && !os.drawn_by(material)) workload.add(f, g.tex);
     if (order) order->emitted(f.frame);
@@ -1255,9 +1285,11 @@ uint64_t generate_scene_trace(const std::string& scene_path, const std::string& 
   const std::vector<MaterialSetup> mats = build_materials(scene);  // checks the effects too
   h.has_view = std::any_of(mats.begin(), mats.end(),
                            [](const MaterialSetup& m) { return m.relief || m.lighting; });
-  // Layered textures' fragments carry a direction (w) or a layer: the version-4 fields.
-  h.has_ops = std::any_of(mats.begin(), mats.end(),
-                          [](const MaterialSetup& m) { return m.lookup.has_value(); });
+  // Layered textures' fragments carry a direction (w) or a layer, and a material's operation
+  // its fields: the version-4 fields.
+  h.has_ops = std::any_of(mats.begin(), mats.end(), [](const MaterialSetup& m) {
+    return m.lookup.has_value() || m.operation.has_value();
+  });
   // A camera path: one frame after another, each with its own camera (and view vectors).
   return write_trace(out_path, h, [&](auto& w) {
     for (int k = 0; k < scene.frames; ++k) {

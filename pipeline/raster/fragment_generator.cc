@@ -114,8 +114,10 @@ void generate_fragments(const Scene& scene, uint32_t frame,
     }
     f.frame = frame;
     f.prim = static_cast<uint32_t>(best);
-    f.tex = static_cast<uint32_t>(
-        scene.materials[static_cast<size_t>(scene.primitives[b].material)].texture);
+    const auto m = static_cast<size_t>(scene.primitives[b].material);
+    f.tex = static_cast<uint32_t>(scene.materials[m].texture);
+    // The material's operation (docs/scenes.md `operation`); none: an implicit-LOD sample.
+    if (mats[m].operation) mats[m].operation->apply(f);
     emit(f);
   };
   const RasterWalk walk(scene.raster, scene.width, scene.height, r);

@@ -250,6 +250,17 @@ MaterialBudget parse_material_budget(const ConfigReader& mr) {
   return b;
 }
 
+// Samplers: [samplers.NAME], one table each (its keys are the texture unit's to check).
+void parse_samplers(const ConfigReader& top, Scene& s) {
+  const toml::table* t = top.subtable("samplers");
+  if (!t) return;
+  for (const auto& [k, v] : *t) {
+    const std::string name(k.str());
+    if (!v.is_table()) throw InputError(at(s.path, v), "samplers." + name + ": expected a table");
+    s.samplers.push_back({name, v.as_table()});
+  }
+}
+
 // A material's `lookup` against its texture's type: a cube needs a direction, an array may
 // give a layer, a 2-D texture has no lookup (the table's own keys are the effect's to check).
 void check_lookup(const ConfigReader& mr, const SceneTexture& t) {
@@ -363,10 +374,11 @@ Scene parse_scene(const std::string& text, const std::string& source_name,
   const toml::table& root = *s.root;
   const ConfigReader top(root, source_name, "scene");
   top.reject_unknown({"output", "camera", "textures", "materials", "planes", "meshes", "models",
-                      "pipeline", "tech", "reference", "raster"});
+                      "pipeline", "tech", "reference", "raster", "samplers"});
   parse_output(top, s);
   parse_camera(top, s, s.camera);
   parse_textures(top, s);
+  parse_samplers(top, s);
   parse_materials(top, s);
   parse_planes(root, s);
   parse_meshes(root, s);

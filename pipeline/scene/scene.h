@@ -46,6 +46,14 @@ struct SceneTexture {
   SceneTextureType type = SceneTextureType::Tex2D;
 };
 
+// A `[samplers.NAME]` table (docs/scenes.md): sampler state a material names as its default
+// and a trace record's `sampler` field picks (id 1 + its place in name order). Its keys are
+// checked when the materials are built (SamplerSetup::from_toml).
+struct SceneSampler {
+  std::string name;
+  const toml::table* table = nullptr;  // points into Scene::root
+};
+
 // A material's own error budget for `texsim tune` (docs/tune.md): `budget = { psnr = 35 }`
 // (PSNR at least, dB) or `budget = { nmse = 0.002 }` (NMSE at most). `texsim run` ignores it.
 struct MaterialBudget {
@@ -108,6 +116,7 @@ struct Scene {
   int frames = 1;
   std::vector<SceneTexture> textures;
   std::vector<SceneMaterial> materials;
+  std::vector<SceneSampler> samplers;  // in name order
   // [[planes]] first, in order, then every mesh's faces: a fragment's `prim` indexes this.
   std::vector<ScenePrimitive> primitives;
   std::vector<SceneMesh> meshes;

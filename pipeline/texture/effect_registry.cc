@@ -58,6 +58,53 @@ int bind_texture(const ConfigReader& r, std::string_view key, std::string_view f
 void build_object_space(const ConfigReader& /*r*/, std::string_view /*key*/, MaterialSetup& /*m*/) {
 }
 
+void build_operation(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
+  m.operation = OperationSetup::from_toml(r.sub(key));
+}
+
+// `sampler = "NAME"`: the material's lod and filter state from the scene's sampler NAME.
+void bind_sampler(const ConfigReader& r, MaterialSetup& m) {
+  const toml::node* n = r.table().get("sampler");
+  if (!n) return;
+  if (!n->is_string()) r.fail("sampler", "expected the name of a [samplers.NAME] table");
+  const std::string name = *n->value<std::string>();
+  for (std::string_view k : {"filter", "lod"}) {
+    if (r.table().contains(k)) {
+      r.fail(k, "the material takes its filter and LOD state from sampler '" + name +
+                    "'; give these keys there");
+    }
+  }
+  std::string have;
+  for (size_t i = 0; m.samplers && i < m.samplers->size(); ++i) {
+    const SamplerSetup& s = (*m.samplers)[i];
+    if (s.name == name) {
+      m.sampler = static_cast<int>(i) + 1;
+      m.filter = s.filter;
+      m.lod = s.lod;
+      return;
+    }
+    have += (have.empty() ? "'" : ", '") + s.name + "'";
+  }
+  r.fail("sampler", "no sampler named '" + name +
+                        "' (samplers: " + (have.empty() ? std::string("none") : have) + ")");
+}
+
+// The material's operation against its sampler and filter.
+void check_operation(const ConfigReader& r, const MaterialSetup& m) {
+  if (!m.operation) return;
+  if (m.footprint && m.operation->op != SampleOp::kSample) {
+    r.sub("operation")
+        .fail("op", std::string("a footprint filter (") + m.footprint->name() +
+                        ") serves implicit-LOD samples only");
+  }
+  if (m.filter.unnormalized) {
+    Fragment f;
+    m.operation->apply(f);
+    if (const std::string why = unnormalized_refusal(f); !why.empty())
+      r.fail("operation", why + " (the material's sampler is unnormalised)");
+  }
+}
+
 void build_raster(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
   m.raster = RasterSetup::from_toml(r.sub(key));
 }
@@ -91,6 +138,7 @@ const std::vector<Effect>& effect_registry() {
       {"lighting", "", build_lighting},
       {"object_space", "", build_object_space},
       {"lookup", "", build_lookup},
+      {"operation", "", build_operation},
       {"ewa", kFootprint, build_ewa},
       {"multi_probe", kFootprint, build_footprint<MultiProbeFilter>},
       {"feline", kFootprint, build_footprint<FelineFilter>},
@@ -101,18 +149,21 @@ const std::vector<Effect>& effect_registry() {
 
 MaterialSetup material_from_toml(const std::string& name, int texture, const toml::table& effects,
                                  const std::string& source,
-                                 const std::map<std::string, int>* textures) {
+                                 const std::map<std::string, int>* textures,
+                                 const std::shared_ptr<const SamplerTable>& samplers) {
   const ConfigReader r(effects, source, "materials." + name);
-  std::vector<std::string_view> keys = {"texture", "budget"};  // budget: the tuner's
+  // budget: the tuner's; sampler: a scene sampler's name.
+  std::vector<std::string_view> keys = {"texture", "budget", "sampler"};
   for (const Effect& e : effect_registry()) keys.push_back(e.key);
   r.reject_unknown(keys);
   for (const auto& [k, v] : effects) {
-    if (k.str() != "texture" && k.str() != "budget" && !v.is_table())
+    if (k.str() != "texture" && k.str() != "budget" && k.str() != "sampler" && !v.is_table())
       r.fail(k.str(), "expected a table of effect settings");
   }
   MaterialSetup m;
   m.name = name;
   m.texture = texture;
+  m.samplers = samplers;
   std::map<std::string_view, std::string_view> chosen;  // group -> the effect that took it
   for (const Effect& e : effect_registry()) {
     if (!effects.contains(e.key)) continue;
@@ -125,6 +176,8 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
     }
     e.build(r, e.key, m);
   }
+  bind_sampler(r, m);
+  check_operation(r, m);
   if (m.coords && !m.coords->has_derivs() &&
       (m.footprint || m.filter.filter == FilterMode::Trilinear)) {
     r.sub("coords").fail("derivs", std::string("'none' leaves the ") +
@@ -154,13 +207,28 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
   return m;
 }
 
+std::shared_ptr<const SamplerTable> build_samplers(const Scene& scene) {
+  if (scene.samplers.empty()) return nullptr;
+  auto table = std::make_shared<SamplerTable>();
+  table->reserve(scene.samplers.size());
+  for (const SceneSampler& s : scene.samplers) {
+    table->push_back(
+        SamplerSetup::from_toml(s.name, ConfigReader(*s.table, scene.path, "samplers." + s.name)));
+  }
+  return table;
+}
+
 std::vector<MaterialSetup> build_materials(const Scene& scene) {
   std::map<std::string, int> textures;
   for (size_t i = 0; i < scene.textures.size(); ++i)
     textures[scene.textures[i].name] = static_cast<int>(i);
+  const std::shared_ptr<const SamplerTable> samplers = build_samplers(scene);
   std::vector<MaterialSetup> mats;
-  for (const SceneMaterial& m : scene.materials)
-    mats.push_back(material_from_toml(m.name, m.texture, *m.effects, scene.path, &textures));
+  mats.reserve(scene.materials.size());
+  for (const SceneMaterial& m : scene.materials) {
+    mats.push_back(
+        material_from_toml(m.name, m.texture, *m.effects, scene.path, &textures, samplers));
+  }
   return mats;
 }
 

@@ -22,6 +22,7 @@
 #include "pipeline/texture/coord_method.h"
 #include "pipeline/texture/footprint_filter.h"
 #include "pipeline/texture/layered_lookup.h"
+#include "pipeline/texture/sampler_setup.h"
 #include "pipeline/texture/surface_effects.h"
 
 namespace texsim {
@@ -66,6 +67,13 @@ struct MaterialSetup {
   std::optional<LightingSetup> lighting;
   // Effect `lookup`: a layered texture's direction and layer (fragment generation sets them).
   std::optional<LayeredLookup> lookup;
+  // `sampler = "NAME"`: lod and filter come from that scene sampler, id `sampler` (0: the
+  // material's own `lod` and `filter` tables). `samplers`: the scene's whole table, which a
+  // fragment's own `sampler` field indexes (null: none).
+  int sampler = 0;
+  std::shared_ptr<const SamplerTable> samplers;
+  // `operation = { op = … }`: written into every fragment the material draws.
+  std::optional<OperationSetup> operation;
   AddressMode address_u() const { return footprint ? footprint->address_u() : filter.address_u; }
   AddressMode address_v() const { return footprint ? footprint->address_v() : filter.address_v; }
 };
@@ -85,9 +93,13 @@ const std::vector<Effect>& effect_registry();
 // file:line:column. A coordinate unit without derivatives (`derivs = "none"`) is refused for
 // trilinear and footprint filters, which need them. `textures` (name -> texture id) binds the
 // textures that relief and lighting name; an unknown name is an InputError. Null: unbound.
+// `samplers` (null: none) is the scene's sampler table that a `sampler` key names.
 MaterialSetup material_from_toml(const std::string& name, int texture, const toml::table& effects,
                                  const std::string& source,
-                                 const std::map<std::string, int>* textures = nullptr);
+                                 const std::map<std::string, int>* textures = nullptr,
+                                 const std::shared_ptr<const SamplerTable>& samplers = nullptr);
+// The scene's samplers, checked (InputError naming file:line:column).
+std::shared_ptr<const SamplerTable> build_samplers(const Scene& scene);
 // The scene's materials, in order.
 std::vector<MaterialSetup> build_materials(const Scene& scene);
 

@@ -12,6 +12,7 @@
 #include "blocks/texture/memory/storage_format.h"
 #include "blocks/texture/sampler/gather_unit.h"
 #include "blocks/texture/sampler/texel_reduce.h"
+#include "blocks/texture/sampler/unnormalized_taps.h"
 #include "pipeline/texture/stages/relief_stage.h"
 
 namespace texsim {
@@ -98,6 +99,9 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
     paths_[m].kernel = choose_kernel(paths_[m]);
     paths_[m].layered_kernel = choose_kernel(paths_[m], true);
     // A min/max reduction or a depth comparison replaces the blend: its own kernel, no batch.
+    // An unnormalised sampler reads level 0 at texel coordinates: process_op, no batch.
+    paths_[m].unnormalized = paths_[m].stages.address && mats_[m].filter.unnormalized;
+    if (paths_[m].unnormalized) continue;
     if (paths_[m].stages.address && mats_[m].filter.reduces()) {
       paths_[m].kernel = &TextureUnit::process_reduced;
       continue;
@@ -280,7 +284,7 @@ Rgba TextureUnit::filter_fragment(const Fragment& f, Path& p, const ItemCost* fr
                                   " texture, which footprint filters do not sample");
     return (this->*p.layered_kernel)(f, p, tex, front);
   }
-  if (f.op != 0) [[unlikely]]
+  if ((f.op | f.sampler | f.offset_u | f.offset_v) != 0 || p.unnormalized) [[unlikely]]
     return process_op(f, p, tex, front);
   if (tex.storage() == StorageFormat::Srgb8A8) return filter_srgb(f, p, tex, front);
   return (this->*p.kernel)(f, p, tex, front);
@@ -311,13 +315,24 @@ Rgba TextureUnit::process_op(const Fragment& f, Path& p, const Texture& tex,
                                 "' has a footprint filter, which serves implicit-LOD samples "
                                 "only; operation '" +
                                 std::string(op_name) + "' needs nearest, bilinear or trilinear");
+  // The fragment's sampler: its own pick, or its material's; offsets of its own (gather takes
+  // them itself) or an unnormalised sampler need sampler state the material's path lacks.
+  const MaterialSetup& m = mats_[static_cast<size_t>(&p - paths_.data())];
+  const auto sampler = static_cast<uint16_t>(f.sampler == 0 ? m.sampler : f.sampler);
+  const bool gather = f.op == static_cast<uint8_t>(SampleOp::kGather);
+  if (sampler != m.sampler || p.unnormalized || (!gather && (f.offset_u | f.offset_v) != 0))
+    return process_alt(f, p, tex, front, alt_sampler(f, p, sampler, gather));
+  if (f.op == 0) {  // the material's own sampler, picked by its id
+    return tex.storage() == StorageFormat::Srgb8A8 ? filter_srgb(f, p, tex, front)
+                                                   : (this->*p.kernel)(f, p, tex, front);
+  }
   OpTally& t = p.op_tallies[f.op];
   ++t.fragments;
-  if (f.op == static_cast<uint8_t>(SampleOp::kGather)) {
+  if (gather) {
     t.taps += 4;
     t.issue_cycles += 1;
     t.ops += GatherUnit::ops_per_item(p.stages.address->gen().config());
-    return process_gather(f, p, tex, front);
+    return process_gather(f, p, tex, front, p.stages.address->gen().config());
   }
   // Explicit LOD or gradients: the material's datapath with the operation's λ.
   const SampleOp op = static_cast<SampleOp>(f.op);
@@ -357,9 +372,79 @@ Rgba TextureUnit::process_reduced(const Fragment& f, Path& p, const Texture& tex
   return colour;
 }
 
+const TextureUnit::AltSampler& TextureUnit::alt_sampler(const Fragment& f, Path& p,
+                                                        uint16_t sampler, bool gather) {
+  // Gather adds the fragment's offsets itself; the other operations take them folded in.
+  const int ou = gather ? 0 : f.offset_u, ov = gather ? 0 : f.offset_v;
+  const uint32_t key =
+      sampler | static_cast<uint32_t>(ou + 128) << 16 | static_cast<uint32_t>(ov + 128) << 24;
+  auto& slot = p.alt[key];
+  if (slot) return *slot;
+  const MaterialSetup& m = mats_[static_cast<size_t>(&p - paths_.data())];
+  const size_t n = m.samplers ? m.samplers->size() : 0;
+  if (sampler > n) {
+    throw std::invalid_argument("texture unit: sampler " + std::to_string(sampler) +
+                                " is not in the sampler table (" + std::to_string(n) +
+                                " samplers)");
+  }
+  TexelAddressGen::Config c = sampler == 0 ? m.filter : (*m.samplers)[sampler - 1u].filter;
+  const LodUnit::Config l = sampler == 0 ? m.lod : (*m.samplers)[sampler - 1u].lod;
+  c.offset_u += ou;
+  c.offset_v += ov;
+  slot = std::make_unique<const AltSampler>(AltSampler{LodUnit(l), TexelAddressGen(c)});
+  return *slot;
+}
+
+Rgba TextureUnit::process_alt(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front,
+                              const AltSampler& s) {
+  const TexelAddressGen::Config& c = s.gen.config();
+  if (c.unnormalized) {
+    if (const std::string why = unnormalized_refusal(f); !why.empty())
+      throw std::invalid_argument("texture unit: " + why);
+  }
+  OpTally& t = p.op_tallies[f.op];
+  if (f.op == static_cast<uint8_t>(SampleOp::kGather)) {
+    ++t.fragments;
+    t.taps += 4;
+    t.issue_cycles += 1;
+    t.ops += GatherUnit::ops_per_item(c);
+    return process_gather(f, p, tex, front, c);
+  }
+  LodResult lod;  // unnormalised: level 0, one probe, no LOD unit
+  OpCounts ops;
+  if (c.unnormalized) {
+    UnnormalizedTaps::taps(c, tex, f.u, f.v, taps_);
+    ops = UnnormalizedTaps::ops_per_item(c);
+  } else {
+    lod = s.lod.eval(f, tex.width(0), tex.height(0));
+    s.gen.taps(tex, f.u, f.v, lod, taps_, ops);
+    ops += s.lod.ops_for(static_cast<SampleOp>(f.op));
+  }
+  const Rgba colour =
+      c.compare != CompareOp::None ? TexelReduce::compare(taps_, tex, c.compare, f.compare_ref)
+      : c.reduction != Reduction::WeightedAverage ? TexelReduce::minmax(taps_, tex, c.reduction)
+                                                  : p.stages.blend->blend().blend(taps_, tex);
+  const uint32_t probes = TexelAddressGen::issue_cycles(lod);
+  const auto taps = static_cast<uint64_t>(taps_.count);
+  if (f.op != 0) {  // an implicit-LOD sample is counted in the material's rows only
+    ++t.fragments;
+    t.taps += taps;
+    t.issue_cycles += probes;
+    t.ops += ops + (c.reduces() ? TexelReduce::ops_per_tap(c.reduction, c.compare)
+                                : TexelBlend::ops_per_item()) *
+                       taps;
+  }
+  if (taps_.border_taps > 0) p.stages.address->count_border(taps_.border_taps);
+  count_fragment(f, p, probes);
+  if (pipe_) {
+    issue_general(p, front, probes - 1, fetch_.extra_ii(taps), p.stages.blend->extra_ii(probes),
+                  [&](uint64_t start) { return fetch_.lookup_taps(taps_, tex, start); });
+  }
+  return colour;
+}
+
 Rgba TextureUnit::process_gather(const Fragment& f, Path& p, const Texture& tex,
-                                 const ItemCost* front) {
-  const TexelAddressGen::Config& c = p.stages.address->gen().config();
+                                 const ItemCost* front, const TexelAddressGen::Config& c) {
   const TexelQuad q = GatherUnit::quad(c, tex, f.u, f.v, f.offset_u, f.offset_v);
   int border = 0;
   Rgba out = GatherUnit::gather(

@@ -194,6 +194,11 @@ class TextureUnit {
  private:
   // One material: its stages, the kernels chosen for them, and the fragments it textured.
   struct Path;
+  // A sampler's LOD unit and address generator (with a fragment's offsets folded in).
+  struct AltSampler {
+    LodUnit lod;
+    TexelAddressGen gen;
+  };
   TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materials,
               const PipelineSetup& setup, const TechTable& tech, bool timing,
               std::unique_ptr<MemorySystem> own, MemorySystem* shared, int unit);
@@ -209,6 +214,11 @@ class TextureUnit {
     BatchKernel batch_kernel = nullptr;
     std::shared_ptr<const LinearBatchSampler> batch;
     MaterialStages stages;
+    // The material's sampler is unnormalised: every fragment takes process_op.
+    bool unnormalized = false;
+    // Sampler state other than the material's own, for fragments that pick it (a record's
+    // `sampler`, its constant offsets): built on first use, by sampler id and offsets.
+    std::map<uint32_t, std::unique_ptr<const AltSampler>> alt;
     uint64_t fragments = 0;
     uint64_t srgb_fragments = 0, srgb_texels = 0;  // on srgb8_a8 textures (filter_srgb)
     OpTallies op_tallies{};
@@ -292,7 +302,14 @@ class TextureUnit {
   // A fragment with an explicit operation (f.op != 0): tallied, then a gather through the
   // gather unit, the others through the material's kernel.
   Rgba process_op(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
-  Rgba process_gather(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  Rgba process_gather(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front,
+                      const TexelAddressGen::Config& c);
+  // A fragment whose sampler state is not its material's own (another sampler of the table,
+  // an unnormalised sampler, constant offsets of its own): the sampler's LOD unit and taps, then
+  // the blend or the reducer, counted in the material's rows; never batched.
+  Rgba process_alt(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front,
+                   const AltSampler& s);
+  const AltSampler& alt_sampler(const Fragment& f, Path& p, uint16_t sampler, bool gather);
   // A material whose sampler reduces (min/max) or compares depth: taps, then the reducer.
   Rgba process_reduced(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
   // The surface stages' enter(), the filter, their leave() for a material with any.

@@ -77,7 +77,10 @@ void level_boxes(const Texture& tex, int level, const VkSampleQuery& q, const Vk
     const Rgba t = tex.texel(level, static_cast<int>(x), static_cast<int>(y));
     return static_cast<double>(t[c]);
   };
-  const double xs = q.u * static_cast<double>(w), ys = q.v * static_cast<double>(h);
+  // Unnormalised coordinates are texel coordinates already ("Unnormalized Texel Coordinate
+  // Operations").
+  const double xs = s.unnormalized ? q.u : q.u * static_cast<double>(w);
+  const double ys = s.unnormalized ? q.v : q.v * static_cast<double>(h);
   const double ex = std::fabs(xs) * p.coord_rel_eps + 1e-9;
   const double ey = std::fabs(ys) * p.coord_rel_eps + 1e-9;
   if (s.filter == VkSamplerState::Filter::Nearest) {
@@ -289,8 +292,17 @@ bool judge_linear_mip(const Texture& tex, const VkSampleQuery& q, const VkSample
 void VulkanConformance::lod_interval(const Texture& tex, const VkSampleQuery& q, double& lo,
                                      double& hi) const {
   const double bias = s_.mip_lod_bias + q.shader_bias;
-  if (!(std::isfinite(q.dudx) && std::isfinite(q.dvdx) && std::isfinite(q.dudy) &&
-        std::isfinite(q.dvdy))) {
+  if (s_.unnormalized) {  // valid usage: minLod = maxLod = 0, explicit LOD 0
+    lo = hi = 0;
+    return;
+  }
+  if (q.explicit_lod) {
+    // The sampler's bias only (the instruction has no Bias operand), then the clamp.
+    const double acc = std::ldexp(1.0, -p_.mipmap_bits);
+    lo = std::isfinite(q.lod) ? q.lod + s_.mip_lod_bias - acc : -kInf;
+    hi = std::isfinite(q.lod) ? q.lod + s_.mip_lod_bias + acc : kInf;
+  } else if (!(std::isfinite(q.dudx) && std::isfinite(q.dvdx) && std::isfinite(q.dudy) &&
+               std::isfinite(q.dvdy))) {
     lo = -kInf;
     hi = kInf;
   } else {

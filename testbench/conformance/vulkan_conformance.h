@@ -26,6 +26,9 @@ struct VkSamplerState {
   double border[4] = {0, 0, 0, 0};
   // ConstOffset of the sample instruction (minTexelOffset..maxTexelOffset = -8..7).
   int offset_u = 0, offset_v = 0;
+  // unnormalizedCoordinates: u, v are texel coordinates of level_base (not scaled by the size);
+  // the spec's valid usage then leaves LOD 0 only.
+  bool unnormalized = false;
 };
 
 // Precision limits and the checker's own tolerances.
@@ -43,6 +46,10 @@ struct VkSampleQuery {
   double u = 0, v = 0;                            // normalised coordinates
   double dudx = 0, dvdx = 0, dudy = 0, dvdy = 0;  // normalised derivatives
   double shader_bias = 0;                         // the instruction's Bias operand
+  // textureLod: λ_base = lod (the derivatives and shader_bias unused), then the sampler's bias
+  // and the clamp ("LOD Operation").
+  bool explicit_lod = false;
+  double lod = 0;
 };
 
 struct ConformanceVerdict {

@@ -347,7 +347,9 @@ TEXSIM_NO_TREE_VECTORIZE HWY_NOINLINE void load_columns(const Input& in, Columns
     c.dvdy[k] = static_cast<float>(f.dvdy);
     // A fragment with an explicit operation (Fragment::op) is left to the one-by-one path: a
     // non-finite bias takes its lane out of the batch.
-    c.bias[k] = f.op == 0 ? f.lod_bias : std::numeric_limits<float>::quiet_NaN();
+    // So is one that picks a sampler or has constant offsets of its own.
+    const bool own = (f.op | f.sampler | f.offset_u | f.offset_v) == 0;
+    c.bias[k] = own ? f.lod_bias : std::numeric_limits<float>::quiet_NaN();
     c.tex[k] = static_cast<int32_t>(f.tex);
   }
   c.one_frame = one_frame;

@@ -80,6 +80,9 @@ class TexelAddressGen {
     // compare ("none"|"never"|"less"|…|"always"; not with a min/max reduction).
     Reduction reduction = Reduction::WeightedAverage;
     CompareOp compare = CompareOp::None;
+    // Vulkan unnormalizedCoordinates (a scene sampler's `unnormalized`): u, v in texels on
+    // level 0; the texture unit takes such a sampler's taps from UnnormalizedTaps.
+    bool unnormalized = false;
     bool reduces() const {
       return reduction != Reduction::WeightedAverage || compare != CompareOp::None;
     }

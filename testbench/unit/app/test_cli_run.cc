@@ -678,6 +678,87 @@ TEST_F(Cli, UnwritableOutputDirectory) {
   }
 }
 
+// The CSV trace `in` with column `column` of every record set to `value`.
+std::string with_column(const std::string& in, const std::string& column,
+                        const std::string& value) {
+  std::istringstream lines(in);
+  std::string line, out;
+  int index = -1;
+  while (std::getline(lines, line)) {
+    if (line.starts_with('#') || line.empty()) {
+      out += line + "\n";
+      continue;
+    }
+    std::vector<std::string> cells;
+    std::stringstream cs(line);
+    for (std::string c; std::getline(cs, c, ',');) cells.push_back(c);
+    if (index < 0) {
+      index = static_cast<int>(std::find(cells.begin(), cells.end(), column) - cells.begin());
+    } else if (index < static_cast<int>(cells.size())) {
+      cells[static_cast<size_t>(index)] = value;
+    }
+    for (size_t k = 0; k < cells.size(); ++k) out += (k ? "," : "") + cells[k];
+    out += "\n";
+  }
+  return out;
+}
+
+TEST_F(Cli, SamplerOpsSceneReplaysFromItsTraceAndARecordPicksASampler) {
+  // scenes/sampler_ops.toml: trace gen writes the operation fields (version 4); the scene run
+  // from the trace (binary or CSV) gives the scene run's figures; a record's `sampler` picks
+  // another sampler of the scene's table, and an id outside it is an error naming the record.
+  const std::string scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/sampler_ops.toml";
+  const std::string small = " --set output.width=96 --set output.height=60";
+  const std::string trc = path("ops.trc"), csv = path("ops.csv");
+  ASSERT_EQ(sh("trace gen " + scene + small + " -o " + trc).code, 0);
+  ASSERT_EQ(sh("trace gen " + scene + small + " -o " + csv).code, 0);
+  const Result info = sh("trace info " + trc);
+  EXPECT_NE(info.out.find("version 4"), std::string::npos) << info.out;
+  const Result a = sh("run " + scene + small + " --no-progress --out " + path("scene"));
+  const Result b =
+      sh("run " + scene + small + " --trace " + trc + " --no-progress --out " + path("trace"));
+  const Result c =
+      sh("run " + scene + small + " --trace " + csv + " --no-progress --out " + path("csv"));
+  ASSERT_EQ(a.code, 0) << a.out;
+  ASSERT_EQ(b.code, 0) << b.out;
+  ASSERT_EQ(c.code, 0) << c.out;
+  const Json ja = load_json(path("scene") + "/report.json");
+  for (const std::string run : {"trace", "csv"}) {
+    const Json jb = load_json(path(run) + "/report.json");
+    EXPECT_EQ(num(ja, "fragments"), num(jb, "fragments")) << run;
+    EXPECT_EQ(num(ja, "cycles"), num(jb, "cycles")) << run;
+    EXPECT_EQ(ja["materials"], jb["materials"]) << run;
+    EXPECT_EQ(slurp(path("scene") + "/image.png"), slurp(path(run) + "/image.png")) << run;
+  }
+  for (const std::string op : {"gather.gather", "lod.lod", "grad.grad", "texel.lod"})
+    EXPECT_GT(num(ja, "materials." + op.substr(0, op.find('.')) + ".operations" +
+                          op.substr(op.find('.')) + ".fragments"),
+              0)
+        << op;
+  // Every record picks sampler 2 (maxred, in name order): another image, the same fragments.
+  const std::string text = slurp(csv);
+  write("max.csv", with_column(text, "sampler", "2"));
+  const Result d = sh("run " + scene + small + " --trace " + path("max.csv") +
+                      " --no-progress --out " + path("max"));
+  ASSERT_EQ(d.code, 0) << d.out;
+  EXPECT_EQ(num(load_json(path("max") + "/report.json"), "fragments"), num(ja, "fragments"));
+  EXPECT_NE(slurp(path("scene") + "/image.png"), slurp(path("max") + "/image.png"));
+  // An id outside the table, and the unnormalised sampler (5) for a gather: errors naming the
+  // record.
+  write("bad.csv", with_column(text, "sampler", "6"));
+  Result e = sh("run " + scene + small + " --trace " + path("bad.csv") + " --no-progress --out " +
+                path("bad"));
+  EXPECT_EQ(e.code, 2);
+  EXPECT_NE(e.out.find("record 0: sampler 6 is not in the sampler table (ids 1..5"),
+            std::string::npos)
+      << e.out;
+  write("texel.csv", with_column(text, "sampler", "5"));
+  e = sh("run " + scene + small + " --trace " + path("texel.csv") + " --no-progress --out " +
+         path("texel"));
+  EXPECT_EQ(e.code, 2);
+  EXPECT_NE(e.out.find("cannot use an unnormalised sampler"), std::string::npos) << e.out;
+}
+
 TEST_F(Cli, ReliefTraceCarriesTheViewVectorAndRunsLikeTheScene) {
   // trace gen writes a relief scene's view vectors (version 2); the scene run from that trace
   // gives the scene run's figures, and a version-1 trace of the same fragments falls back to

@@ -113,11 +113,10 @@ TEST(MaterialEffects, UnknownOrMisplacedEffectsNameFileLineAndColumn) {
   const std::string unknown =
       error_of(std::string(kTexture) + "[materials.m]\ntexture = \"t\"\nfiltre = {}\n");
   EXPECT_NE(unknown.find("s.toml:5:1"), std::string::npos) << unknown;
-  EXPECT_NE(
-      unknown.find("materials.m: unknown key 'filtre' (known: texture, budget, filter, lod, "
-                   "coords, raster, relief, lighting, object_space, lookup, ewa, multi_probe, "
-                   "feline, spaf)"),
-      std::string::npos)
+  EXPECT_NE(unknown.find("materials.m: unknown key 'filtre' (known: texture, budget, sampler, "
+                         "filter, lod, coords, raster, relief, lighting, object_space, lookup, "
+                         "operation, ewa, multi_probe, feline, spaf)"),
+            std::string::npos)
       << unknown;
   const std::string scalar =
       error_of(std::string(kTexture) + "[materials.m]\ntexture = \"t\"\nlod = 3\n");

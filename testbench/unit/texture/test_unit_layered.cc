@@ -42,7 +42,7 @@ TextureSet layered_set() {
 
 MaterialSetup material(FilterMode f, bool seamless) {
   MaterialSetup m;
-  m.name = "m";
+  m.name.push_back('m');  // (not `= "m"`: GCC 12's false -Wrestrict once inlined)
   m.filter.filter = f;
   m.filter.address_u = m.filter.address_v = AddressMode::Clamp;
   m.filter.seamless_cube = seamless;
