@@ -63,6 +63,9 @@ struct MaterialSetup {
   // Relief (in front of LOD) and lighting (after the blend): absent unless the material asks.
   std::optional<ReliefSetup> relief;
   std::optional<LightingSetup> lighting;
+  // "file:line:column" of `filter.arithmetic` (set when "fixed"): refusals that depend on the
+  // texture (TextureUnit) name it.
+  std::string arithmetic_where;
   AddressMode address_u() const { return footprint ? footprint->address_u() : filter.address_u; }
   AddressMode address_v() const { return footprint ? footprint->address_v() : filter.address_v; }
 };

@@ -17,6 +17,7 @@
 #include "blocks/base/tech_table.h"
 #include "blocks/texture/memory/texture_cache.h"
 #include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/sampler/fixed_sampler.h"
 #include "blocks/texture/sampler/linear_batch.h"
 #include "pipeline/geometry/surface_frame.h"
 #include "pipeline/kernel/clocked_pipeline.h"
@@ -128,6 +129,10 @@ class TextureUnit {
   uint64_t material_relief_fetches(int m) const;
   bool material_has_relief(int m) const;
   const MaterialSetup& material(int m) const { return mats_[static_cast<size_t>(m)]; }
+  // Whether material m's colours come from FixedSampler (`filter.arithmetic = "fixed"`).
+  bool material_fixed(int m) const { return paths_[static_cast<size_t>(m)].fixed != nullptr; }
+  // The last fixed-arithmetic fragment's FixedSampler result: levels, δ, texel addresses.
+  const FixedSampler::Result& last_fixed() const { return fixed_last_; }
   const Texture& texture_of(int m) const {
     return textures_[mats_[static_cast<size_t>(m)].texture];
   }
@@ -207,6 +212,8 @@ class TextureUnit {
     // The batched datapath (null: fragments go one by one) and the sampler it runs.
     BatchKernel batch_kernel = nullptr;
     std::shared_ptr<const LinearBatchSampler> batch;
+    // `filter.arithmetic = "fixed"`: the colour is FixedSampler's (null: the float32 path's).
+    std::shared_ptr<const FixedSampler> fixed;
     MaterialStages stages;
     uint64_t fragments = 0;
     uint64_t srgb_fragments = 0, srgb_texels = 0;  // on srgb8_a8 textures (filter_srgb)
@@ -283,6 +290,17 @@ class TextureUnit {
     count_frame(f);
   }
   Rgba filter_fragment(const Fragment& f, Path& p, const ItemCost* front);
+  // A fixed-arithmetic material's fragment: the float32 kernel counts and times it (its texel
+  // reads are the same but where λ rounds the other way), FixedSampler gives its colour.
+  Rgba filter_fixed(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  // The memory image and description FixedSampler reads of texture t (made on first use).
+  struct FixedTexture {
+    FixedSampler::TextureDesc desc;
+    std::vector<uint32_t> image;
+  };
+  const FixedTexture& fixed_texture(uint32_t t);
+  std::map<uint32_t, FixedTexture> fixed_textures_;
+  FixedSampler::Result fixed_last_;
   // filter_fragment on an srgb8_a8 texture: counts the decoder's work, and decodes the filtered
   // colour when the decoder sits after the filter.
   Rgba filter_srgb(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
