@@ -156,7 +156,7 @@ if(TEXSIM_BUILD_TESTS)
   gtest_discover_tests(test_rtl_board DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 600)
   # A scene's fixed-arithmetic materials through the link to the virtual board's RTL sampler.
   add_executable(test_rtl_sampler_board ${TEXSIM_RTL_SAMPLER_BOARD_TEST})
-  target_link_libraries(test_rtl_sampler_board PRIVATE texsim_rtl_board texsim_pipeline
+  target_link_libraries(test_rtl_sampler_board PRIVATE texsim_rtl_board texsim_app
     GTest::gtest GTest::gtest_main)
   target_compile_definitions(test_rtl_sampler_board PRIVATE
     TEXSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")

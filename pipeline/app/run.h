@@ -52,6 +52,9 @@ struct RunOptions {
   bool workload = true;
   // Ground truths from and into the truth cache (docs/truth-cache.md; --no-truth-cache: off).
   bool truth_cache = true;
+  // --board virtual|hid: the fixed-arithmetic materials' fragments sampled by the RTL sampler
+  // on a board (board_sampler.h); "": in process.
+  std::string board;
 };
 
 struct RunSummary {

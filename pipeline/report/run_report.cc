@@ -355,6 +355,11 @@ Json report_json(const RunInfo& info, const UnitArray& unit, const AccuracyMetri
                    {"pixel", info.reference_pixel}};
   // Accuracy next to cost, material by material (each material is one method variant).
   for (const MaterialRow& r : rows) j["materials"][r.name] = material_json(r);
+  if (!info.board_link.empty()) {
+    j["board"] = {{"link", info.board_link},
+                  {"blocks", info.board_blocks},
+                  {"fragments", info.board_fragments}};
+  }
   if (unit.front_stages() > 0) {
     const FrontEndStats& fe = unit.front_end_stats();
     j["front_end"] = {

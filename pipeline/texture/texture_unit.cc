@@ -318,17 +318,23 @@ Rgba TextureUnit::filter_fixed(const Fragment& f, Path& p, const Texture& tex,
   if (f.lod_bias != 0.0f) why = "a fragment's own LOD bias";
   if (f.offset_u != 0 || f.offset_v != 0) why = "a fragment's own texel offset";
   if (f.sampler != 0) why = "a fragment's own sampler";
+  const size_t m = static_cast<size_t>(&p - paths_.data());
+  if (fixed_board_ && f.tex != static_cast<uint32_t>(mats_[m].texture))
+    why = "on the board, a texture other than the material's";
   if (why.empty()) FixedSampler::covers_texture(tex, &why);
   if (!why.empty()) {
-    const size_t m = static_cast<size_t>(&p - paths_.data());
     throw InputError(mats_[m].arithmetic_where, "materials." + mats_[m].name +
                                                     ".filter.arithmetic: \"fixed\" does not "
                                                     "cover " +
                                                     why + " (texture '" + tex.name() + "')");
   }
   (void)(this->*p.kernel)(f, p, tex, front);
-  const FixedTexture& t = fixed_texture(f.tex);
-  fixed_last_ = p.fixed->sample(FixedSampler::to_input(f), t.desc, t.image);
+  if (fixed_board_) {
+    fixed_last_ = fixed_board_->sample(static_cast<int>(m), FixedSampler::to_input(f));
+  } else {
+    const FixedTexture& t = fixed_texture(f.tex);
+    fixed_last_ = p.fixed->sample(FixedSampler::to_input(f), t.desc, t.image);
+  }
   const FixedSampler::Result& r = fixed_last_;
   const auto channel = [&](int c) {
     return static_cast<float>((r.rgba >> (8 * c)) & 255) / 255.0f;

@@ -31,6 +31,15 @@
 
 namespace texsim {
 
+// Where a fixed-arithmetic material's results come from instead of FixedSampler in process: a
+// board running the RTL sampler (pipeline/app/board_sampler.h), given the material and the
+// fragment's fixed-point input.
+class FixedSamplerBoard {
+ public:
+  virtual ~FixedSamplerBoard() = default;
+  virtual FixedSampler::Result sample(int material, const FixedSampler::Input& in) = 0;
+};
+
 struct FrameStats {
   uint32_t frame = 0;
   uint64_t fragments = 0;
@@ -131,6 +140,9 @@ class TextureUnit {
   const MaterialSetup& material(int m) const { return mats_[static_cast<size_t>(m)]; }
   // Whether material m's colours come from FixedSampler (`filter.arithmetic = "fixed"`).
   bool material_fixed(int m) const { return paths_[static_cast<size_t>(m)].fixed != nullptr; }
+  // Fixed-arithmetic materials' results from `board` (null: FixedSampler in process); its
+  // fragments must use their material's own texture.
+  void set_fixed_board(FixedSamplerBoard* board) { fixed_board_ = board; }
   // The last fixed-arithmetic fragment's FixedSampler result: levels, δ, texel addresses.
   const FixedSampler::Result& last_fixed() const { return fixed_last_; }
   const Texture& texture_of(int m) const {
@@ -301,6 +313,7 @@ class TextureUnit {
   const FixedTexture& fixed_texture(uint32_t t);
   std::map<uint32_t, FixedTexture> fixed_textures_;
   FixedSampler::Result fixed_last_;
+  FixedSamplerBoard* fixed_board_ = nullptr;
   // filter_fragment on an srgb8_a8 texture: counts the decoder's work, and decodes the filtered
   // colour when the decoder sits after the filter.
   Rgba filter_srgb(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);

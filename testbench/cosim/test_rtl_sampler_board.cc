@@ -10,9 +10,12 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "blocks/base/input_error.h"
+#include "pipeline/app/run.h"
 #include "pipeline/raster/fragment_generator.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/scene/texture_loader.h"
@@ -152,6 +155,48 @@ TEST(RtlSamplerBoard, StateOtherThanTheBuildsIsRefused) {
                LinkError);
   std::vector<uint8_t> past = sampler_configuration({}, {}, mem)[1];
   EXPECT_THROW(host.configure(past), LinkError);  // a chunk before any state: no memory yet
+}
+
+// `texsim run SCENE --board virtual`: the trilinear material with fixed arithmetic, sampled by
+// the RTL on the virtual board, gives the image of the same run in process.
+RunCapture run_scene(const std::string& board, std::string* log_out = nullptr) {
+  RunOptions opt;
+  opt.scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/footprint_filters.toml";
+  opt.overrides = {"materials.trilinear.filter.arithmetic=\"fixed\""};
+  opt.functional = true;
+  opt.reference = "none";
+  opt.workload = false;
+  opt.truth_cache = false;
+  opt.board = board;
+  RunCapture cap;
+  opt.capture = &cap;
+  std::ostringstream log;
+  run_simulation(opt, log);
+  if (log_out) *log_out = log.str();
+  return cap;
+}
+
+TEST(RtlSamplerBoard, RunWithVirtualBoardGivesTheCppImage) {
+  std::string log;
+  const RunCapture cpp = run_scene("");
+  const RunCapture rtl = run_scene("virtual", &log);
+  ASSERT_TRUE(cpp.image && rtl.image);
+  EXPECT_NE(log.find("texsim_sampler runs the fixed-arithmetic materials trilinear"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(rtl.image->rgb, cpp.image->rgb);
+  EXPECT_EQ(rtl.image->covered, cpp.image->covered);
+}
+
+TEST(RtlSamplerBoard, RunWithHidWithoutDeviceFailsCleanly) {
+  if (!HidTransport::enumerate(kDefaultVid, kDefaultPid).empty())
+    GTEST_SKIP() << "a board is attached";
+  try {
+    run_scene("hid");
+    ADD_FAILURE() << "--board hid ran without a device";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--board hid"), std::string::npos) << e.what();
+  }
 }
 
 TEST(RtlSamplerBoard, HidWithoutDeviceFailsCleanly) {
