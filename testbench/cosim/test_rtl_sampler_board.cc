@@ -159,10 +159,11 @@ TEST(RtlSamplerBoard, StateOtherThanTheBuildsIsRefused) {
 
 // `texsim run SCENE --board virtual`: the trilinear material with fixed arithmetic, sampled by
 // the RTL on the virtual board, gives the image of the same run in process.
-RunCapture run_scene(const std::string& board, std::string* log_out = nullptr) {
+RunCapture run_scene(const std::string& board, std::string* log_out = nullptr,
+                     const std::string& arithmetic = "fixed") {
   RunOptions opt;
   opt.scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/footprint_filters.toml";
-  opt.overrides = {"materials.trilinear.filter.arithmetic=\"fixed\""};
+  opt.overrides = {"materials.trilinear.filter.arithmetic=\"" + arithmetic + "\""};
   opt.functional = true;
   opt.reference = "none";
   opt.workload = false;
@@ -186,6 +187,9 @@ TEST(RtlSamplerBoard, RunWithVirtualBoardGivesTheCppImage) {
       << log;
   EXPECT_EQ(rtl.image->rgb, cpp.image->rgb);
   EXPECT_EQ(rtl.image->covered, cpp.image->covered);
+  // The key takes effect: the float32 path's image differs (by an LSB on some pixels).
+  const RunCapture fl = run_scene("", nullptr, "float");
+  EXPECT_NE(fl.image->rgb, cpp.image->rgb);
 }
 
 TEST(RtlSamplerBoard, RunWithHidWithoutDeviceFailsCleanly) {
