@@ -17,6 +17,9 @@ int64_t join(uint32_t hi, uint32_t lo) {
   return static_cast<int64_t>(v << 16) >> 16;
 }
 
+// A two's-complement byte (the texel offsets, −8..7).
+int signed_byte(uint8_t b) { return b < 128 ? int{b} : int{b} - 256; }
+
 }  // namespace
 
 std::vector<std::vector<uint8_t>> sampler_configuration(const FixedSampler::Config& c,
@@ -65,8 +68,8 @@ SamplerState read_sampler_state(std::span<const uint8_t> payload) {
   }
   s.config.address_u = static_cast<AddressMode>(mu);
   s.config.address_v = static_cast<AddressMode>(mv);
-  s.config.offset_u = static_cast<int8_t>(r.u8());
-  s.config.offset_v = static_cast<int8_t>(r.u8());
+  s.config.offset_u = signed_byte(r.u8());
+  s.config.offset_v = signed_byte(r.u8());
   s.config.sub_bits = r.u8();
   s.config.mip_bits = r.u8();
   s.config.bias = static_cast<int32_t>(r.u32());
