@@ -19,8 +19,12 @@ set(TEXSIM_RTL_CC ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc
 set(TEXSIM_RTL_BOARD_CC ${PROJECT_SOURCE_DIR}/rtl_model/verilator/vd_rtl_block.cc)
 set(TEXSIM_RTL_BOARD_ABSENT_CC ${PROJECT_SOURCE_DIR}/rtl_model/verilator/vd_rtl_block_absent.cc)
 set(TEXSIM_RTL_BOARD_TEST ${PROJECT_SOURCE_DIR}/testbench/cosim/test_rtl_board.cc)
+# The Verilated sampler behind the virtual board (rtl_model/verilator/sampler_rtl_block.h).
+set(TEXSIM_RTL_SAMPLER_BOARD_CC ${PROJECT_SOURCE_DIR}/rtl_model/verilator/sampler_rtl_block.cc)
+set(TEXSIM_RTL_SAMPLER_BOARD_TEST ${PROJECT_SOURCE_DIR}/testbench/cosim/test_rtl_sampler_board.cc)
 texsim_listed(${TEXSIM_RTL_TESTS} ${TEXSIM_RTL_BENCH} ${TEXSIM_RTL_CC} ${TEXSIM_RTL_BOARD_CC}
-  ${TEXSIM_RTL_BOARD_ABSENT_CC} ${TEXSIM_RTL_BOARD_TEST})
+  ${TEXSIM_RTL_BOARD_ABSENT_CC} ${TEXSIM_RTL_BOARD_TEST} ${TEXSIM_RTL_SAMPLER_BOARD_CC}
+  ${TEXSIM_RTL_SAMPLER_BOARD_TEST})
 
 find_package(verilator 5 QUIET HINTS $ENV{VERILATOR_ROOT} /usr/share/verilator)
 if(NOT verilator_FOUND OR NOT VERILATOR_BIN)
@@ -124,9 +128,9 @@ foreach(b ${TEXSIM_RTL_BLOCKS})
 endforeach()
 
 # The Verilated V(d) blocks behind the virtual board of `texsim cosim --board rtl`.
-add_library(texsim_rtl_board STATIC ${TEXSIM_RTL_BOARD_CC})
+add_library(texsim_rtl_board STATIC ${TEXSIM_RTL_BOARD_CC} ${TEXSIM_RTL_SAMPLER_BOARD_CC})
 target_link_libraries(texsim_rtl_board PUBLIC texsim_link texsim_rtl_harness texsim_rtl_vd_p2
-  texsim_rtl_vd_p1)
+  texsim_rtl_vd_p1 texsim_rtl_texsim_sampler)
 texsim_set_warnings(texsim_rtl_board)
 target_link_libraries(texsim_app PUBLIC texsim_rtl_board)
 
@@ -151,6 +155,14 @@ if(TEXSIM_BUILD_TESTS)
   target_link_libraries(test_rtl_board PRIVATE texsim_rtl_board GTest::gtest GTest::gtest_main)
   texsim_set_warnings(test_rtl_board)
   gtest_discover_tests(test_rtl_board DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 600)
+  # A scene's fixed-arithmetic materials through the link to the virtual board's RTL sampler.
+  add_executable(test_rtl_sampler_board ${TEXSIM_RTL_SAMPLER_BOARD_TEST})
+  target_link_libraries(test_rtl_sampler_board PRIVATE texsim_rtl_board texsim_app
+    GTest::gtest GTest::gtest_main)
+  target_compile_definitions(test_rtl_sampler_board PRIVATE
+    TEXSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  texsim_set_warnings(test_rtl_sampler_board)
+  gtest_discover_tests(test_rtl_sampler_board DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 600)
 endif()
 if(TEXSIM_BUILD_TESTS AND TEXSIM_BUILD_BENCH AND EXISTS ${TEXSIM_RTL_BENCH})
   find_package(benchmark REQUIRED)

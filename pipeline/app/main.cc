@@ -211,6 +211,11 @@ void add_run_command(CLI::App& app, RunCli& r) {
                     "share of the error next to its cost (docs/ledger.md; repeats the run)");
   run_cmd->add_flag("--ledger-maps", run.ledger_maps,
                     "With --ledger: ledger_<block>.png, the pixels each exact block changes");
+  run_cmd
+      ->add_option("--board", run.board,
+                   "virtual|hid: the materials with filter.arithmetic = \"fixed\" sampled by the "
+                   "RTL sampler on a board over the link (docs/rtl/link.md)")
+      ->check(CLI::IsMember({"virtual", "hid"}));
 }
 
 // `sweep` and `merge` and their options.

@@ -17,6 +17,7 @@
 #include "blocks/base/input_error.h"
 #include "blocks/base/output_set.h"
 #include "blocks/base/version.h"
+#include "pipeline/app/board_sampler.h"
 #include "pipeline/app/error_ledger.h"
 #include "pipeline/app/fragment_router.h"
 #include "pipeline/app/run_images.h"
@@ -1157,6 +1158,14 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   UnitArray units(textures.set, mats, setup, scene.tech, !opt.functional, UnitArray::kWindow,
                   opt.capture && opt.capture->whole_fragments);
   TextureUnit& unit = units.unit(0);
+  std::unique_ptr<BoardSampler> board;
+  if (!opt.board.empty()) {
+    board = std::make_unique<BoardSampler>(opt.board, units);
+    units.set_fixed_board(board.get());
+    log << "board (" << opt.board << "): texsim_sampler runs the fixed-arithmetic materials";
+    for (const std::string& m : board->materials()) log << " " << m;
+    log << "\n";
+  }
   WorkloadStats workload(workload_textures(textures.set));  // placed by the units: their addresses
   // Materials with `object_space`: drawn first, their pixels then take the resolved colours.
   ObjectSpaceFrame os =
@@ -1223,6 +1232,11 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   sum.cycles = units.cycles();
   sum.accuracy = images.total();
   RunInfo info = images_info(opt, layout, textures, units, images);
+  if (board) {
+    info.board_link = board->link();
+    info.board_blocks = board->blocks();
+    info.board_fragments = board->fragments();
+  }
   workload.finish();
   if (opt.workload) info.workload = &workload;
   info.scene = use_scene ? scene.path : "(none: trace only)";

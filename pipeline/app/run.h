@@ -55,6 +55,9 @@ struct RunOptions {
   // A scene's TOML text instead of a file (the Python module's texsim.run): `scene` is then its
   // name in messages and relative paths in it are relative to the working directory.
   std::string scene_text;
+  // --board virtual|hid: the fixed-arithmetic materials' fragments sampled by the RTL sampler
+  // on a board (board_sampler.h); "": in process.
+  std::string board;
 };
 
 struct RunSummary {

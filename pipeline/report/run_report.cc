@@ -21,6 +21,8 @@ struct MaterialRow {
   OpCounts ops;
   uint64_t texels = 0;
   TextureUnit::OpTallies op_tallies{};  // explicit operations (Fragment::op)
+  // "fixed" or "float" (filter.arithmetic); empty when no material of the run is fixed.
+  std::string arithmetic;
   bool relief = false;  // relief loop steps and height reads (materials with relief only)
   uint64_t relief_steps = 0, relief_fetches = 0;
   AccuracyMetrics acc;
@@ -31,9 +33,13 @@ struct MaterialRow {
 
 std::vector<MaterialRow> material_rows(const RunInfo& info, const UnitArray& unit) {
   std::vector<MaterialRow> rows;
+  bool any_fixed = false;
+  for (int m = 0; m < unit.material_count(); ++m)
+    any_fixed = any_fixed || unit.material(m).filter.fixed_arithmetic;
   for (int m = 0; m < unit.material_count(); ++m) {
     MaterialRow r;
     r.name = unit.material(m).name;
+    if (any_fixed) r.arithmetic = unit.material(m).filter.fixed_arithmetic ? "fixed" : "float";
     r.fragments = unit.material_fragments(m);
     r.op_tallies = unit.material_op_tallies(m);
     for (const BlockUse& b : unit.material_blocks(m)) {
@@ -226,6 +232,7 @@ Json material_json(const MaterialRow& r) {
   e["ops"] = ops_json(r.ops);
   e["ops_per_fragment"] = r.per_fragment(static_cast<double>(r.ops.total()));
   e["texels_per_fragment"] = r.per_fragment(static_cast<double>(r.texels));
+  if (!r.arithmetic.empty()) e["arithmetic"] = r.arithmetic;
   if (r.relief) {
     e["relief"] = {{"steps", r.relief_steps},
                    {"fetches", r.relief_fetches},
@@ -348,6 +355,11 @@ Json report_json(const RunInfo& info, const UnitArray& unit, const AccuracyMetri
                    {"pixel", info.reference_pixel}};
   // Accuracy next to cost, material by material (each material is one method variant).
   for (const MaterialRow& r : rows) j["materials"][r.name] = material_json(r);
+  if (!info.board_link.empty()) {
+    j["board"] = {{"link", info.board_link},
+                  {"blocks", info.board_blocks},
+                  {"fragments", info.board_fragments}};
+  }
   if (unit.front_stages() > 0) {
     const FrontEndStats& fe = unit.front_end_stats();
     j["front_end"] = {

@@ -29,6 +29,10 @@ struct QuadInfo {
 };
 
 struct RunInfo {
+  // --board: the link, the blocks that ran on the board, and the fragments they sampled.
+  std::string board_link;
+  std::vector<std::string> board_blocks;
+  uint64_t board_fragments = 0;
   std::string scene;                    // scene file or "<built-in default scene>"
   std::string trace;                    // trace file, or "" when fragments came from the scene
   std::string reference;                // how the ground truth was made

@@ -5,6 +5,7 @@
 #include "blocks/texture/footprint/feline_filter.h"
 #include "blocks/texture/footprint/multi_probe_filter.h"
 #include "blocks/texture/footprint/spaf_filter.h"
+#include "blocks/texture/sampler/fixed_sampler.h"
 #include "pipeline/scene/scene.h"
 
 namespace texsim {
@@ -15,6 +16,21 @@ constexpr std::string_view kFootprint = "footprint filter";
 
 void build_filter(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
   m.filter = TexelAddressGen::Config::from_toml(r.sub(key));
+}
+
+// `filter.arithmetic = "fixed"`: the material must be one FixedSampler covers, with the sampler
+// alone in the unit (no footprint filter, coordinate unit, relief or lighting).
+void check_fixed_arithmetic(const ConfigReader& r, MaterialSetup& m) {
+  const ConfigReader f = r.sub("filter");
+  m.arithmetic_where = f.where(f.table().get("arithmetic"));
+  std::string why;
+  if (m.footprint) why = std::string("a footprint filter (") + m.footprint->name() + ")";
+  if (m.coords) why = "a coordinate unit";
+  if (m.relief) why = "relief";
+  if (m.lighting) why = "lighting";
+  if (why.empty() && FixedSampler::covers(m.filter, m.lod, &why)) return;
+  f.fail("arithmetic", "\"fixed\" (FixedSampler, the RTL sampler's arithmetic) does not cover " +
+                           why + "; use \"float\"");
 }
 
 void build_lod(const ConfigReader& r, std::string_view key, MaterialSetup& m) {
@@ -184,6 +200,7 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
                                        (m.footprint ? m.footprint->name() : "filter.trilinear") +
                                        " of this material without the derivatives it needs");
   }
+  if (m.filter.fixed_arithmetic) check_fixed_arithmetic(r, m);
   if (m.lighting) m.lighting->bind_terrain(r.sub("lighting"), m.relief ? &*m.relief : nullptr);
   if (textures && m.relief) {
     m.relief->height_tex =

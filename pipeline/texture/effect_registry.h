@@ -74,6 +74,9 @@ struct MaterialSetup {
   std::shared_ptr<const SamplerTable> samplers;
   // `operation = { op = … }`: written into every fragment the material draws.
   std::optional<OperationSetup> operation;
+  // "file:line:column" of `filter.arithmetic` (set when "fixed"): refusals that depend on the
+  // texture (TextureUnit) name it.
+  std::string arithmetic_where;
   AddressMode address_u() const { return footprint ? footprint->address_u() : filter.address_u; }
   AddressMode address_v() const { return footprint ? footprint->address_v() : filter.address_v; }
 };

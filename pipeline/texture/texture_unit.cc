@@ -106,6 +106,19 @@ TextureUnit::TextureUnit(TextureSet& textures, std::vector<MaterialSetup> materi
       paths_[m].kernel = &TextureUnit::process_reduced;
       continue;
     }
+    if (mats_[m].filter.fixed_arithmetic) {
+      // material_from_toml checked the sampler's settings; the texture is known only here.
+      std::string why;
+      if (!FixedSampler::covers_texture(textures_[mats_[m].texture], &why)) {
+        throw InputError(mats_[m].arithmetic_where,
+                         "materials." + mats_[m].name +
+                             ".filter.arithmetic: \"fixed\" does not cover texture '" +
+                             textures_[mats_[m].texture].name() + "': " + why);
+      }
+      paths_[m].fixed = std::make_shared<const FixedSampler>(
+          FixedSampler::config_of(mats_[m].filter, mats_[m].lod));
+      continue;  // one by one: no batched datapath
+    }
     choose_batch(paths_[m], mats_[m]);
   }
 }
@@ -284,10 +297,55 @@ Rgba TextureUnit::filter_fragment(const Fragment& f, Path& p, const ItemCost* fr
                                   " texture, which footprint filters do not sample");
     return (this->*p.layered_kernel)(f, p, tex, front);
   }
+  if (p.fixed) [[unlikely]]
+    return filter_fixed(f, p, tex, front);
   if ((f.op | f.sampler | f.offset_u | f.offset_v) != 0 || p.unnormalized) [[unlikely]]
     return process_op(f, p, tex, front);
   if (tex.storage() == StorageFormat::Srgb8A8) return filter_srgb(f, p, tex, front);
   return (this->*p.kernel)(f, p, tex, front);
+}
+
+const TextureUnit::FixedTexture& TextureUnit::fixed_texture(uint32_t t) {
+  auto it = fixed_textures_.find(t);
+  if (it == fixed_textures_.end()) {
+    const Texture& tex = textures_[static_cast<int>(t)];
+    it = fixed_textures_
+             .emplace(t, FixedTexture{FixedSampler::describe(tex), FixedSampler::memory_image(tex)})
+             .first;
+  }
+  return it->second;
+}
+
+Rgba TextureUnit::filter_fixed(const Fragment& f, Path& p, const Texture& tex,
+                               const ItemCost* front) {
+  // The fragment's own texture, operation and bias: what a trace may give beyond the material.
+  std::string why;
+  if (f.op != 0) why = "an explicit sample operation";
+  if (f.lod_bias != 0.0f) why = "a fragment's own LOD bias";
+  if (f.offset_u != 0 || f.offset_v != 0) why = "a fragment's own texel offset";
+  if (f.sampler != 0) why = "a fragment's own sampler";
+  const size_t m = static_cast<size_t>(&p - paths_.data());
+  if (fixed_board_ && f.tex != static_cast<uint32_t>(mats_[m].texture))
+    why = "on the board, a texture other than the material's";
+  if (why.empty()) FixedSampler::covers_texture(tex, &why);
+  if (!why.empty()) {
+    throw InputError(mats_[m].arithmetic_where, "materials." + mats_[m].name +
+                                                    ".filter.arithmetic: \"fixed\" does not "
+                                                    "cover " +
+                                                    why + " (texture '" + tex.name() + "')");
+  }
+  (void)(this->*p.kernel)(f, p, tex, front);
+  if (fixed_board_) {
+    fixed_last_ = fixed_board_->sample(static_cast<int>(m), FixedSampler::to_input(f));
+  } else {
+    const FixedTexture& t = fixed_texture(f.tex);
+    fixed_last_ = p.fixed->sample(FixedSampler::to_input(f), t.desc, t.image);
+  }
+  const FixedSampler::Result& r = fixed_last_;
+  const auto channel = [&](int c) {
+    return static_cast<float>((r.rgba >> (8 * c)) & 255) / 255.0f;
+  };
+  return Rgba(channel(0), channel(1), channel(2), channel(3));
 }
 
 Rgba TextureUnit::filter_srgb(const Fragment& f, Path& p, const Texture& tex,

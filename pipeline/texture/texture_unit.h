@@ -18,6 +18,7 @@
 #include "blocks/base/timing_spec.h"
 #include "blocks/texture/memory/texture_cache.h"
 #include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/sampler/fixed_sampler.h"
 #include "blocks/texture/sampler/linear_batch.h"
 #include "pipeline/geometry/surface_frame.h"
 #include "pipeline/kernel/clocked_pipeline.h"
@@ -30,6 +31,15 @@
 #include "pipeline/texture/stages/unit_stage.h"
 
 namespace texsim {
+
+// Where a fixed-arithmetic material's results come from instead of FixedSampler in process: a
+// board running the RTL sampler (pipeline/app/board_sampler.h), given the material and the
+// fragment's fixed-point input.
+class FixedSamplerBoard {
+ public:
+  virtual ~FixedSamplerBoard() = default;
+  virtual FixedSampler::Result sample(int material, const FixedSampler::Input& in) = 0;
+};
 
 struct FrameStats {
   uint32_t frame = 0;
@@ -129,6 +139,13 @@ class TextureUnit {
   uint64_t material_relief_fetches(int m) const;
   bool material_has_relief(int m) const;
   const MaterialSetup& material(int m) const { return mats_[static_cast<size_t>(m)]; }
+  // Whether material m's colours come from FixedSampler (`filter.arithmetic = "fixed"`).
+  bool material_fixed(int m) const { return paths_[static_cast<size_t>(m)].fixed != nullptr; }
+  // Fixed-arithmetic materials' results from `board` (null: FixedSampler in process); its
+  // fragments must use their material's own texture.
+  void set_fixed_board(FixedSamplerBoard* board) { fixed_board_ = board; }
+  // The last fixed-arithmetic fragment's FixedSampler result: levels, δ, texel addresses.
+  const FixedSampler::Result& last_fixed() const { return fixed_last_; }
   const Texture& texture_of(int m) const {
     return textures_[mats_[static_cast<size_t>(m)].texture];
   }
@@ -213,6 +230,8 @@ class TextureUnit {
     // The batched datapath (null: fragments go one by one) and the sampler it runs.
     BatchKernel batch_kernel = nullptr;
     std::shared_ptr<const LinearBatchSampler> batch;
+    // `filter.arithmetic = "fixed"`: the colour is FixedSampler's (null: the float32 path's).
+    std::shared_ptr<const FixedSampler> fixed;
     MaterialStages stages;
     // The material's sampler is unnormalised: every fragment takes process_op.
     bool unnormalized = false;
@@ -296,6 +315,18 @@ class TextureUnit {
     count_frame(f);
   }
   Rgba filter_fragment(const Fragment& f, Path& p, const ItemCost* front);
+  // A fixed-arithmetic material's fragment: the float32 kernel counts and times it (its texel
+  // reads are the same but where λ rounds the other way), FixedSampler gives its colour.
+  Rgba filter_fixed(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  // The memory image and description FixedSampler reads of texture t (made on first use).
+  struct FixedTexture {
+    FixedSampler::TextureDesc desc;
+    std::vector<uint32_t> image;
+  };
+  const FixedTexture& fixed_texture(uint32_t t);
+  std::map<uint32_t, FixedTexture> fixed_textures_;
+  FixedSampler::Result fixed_last_;
+  FixedSamplerBoard* fixed_board_ = nullptr;
   // filter_fragment on an srgb8_a8 texture: counts the decoder's work, and decodes the filtered
   // colour when the decoder sits after the filter.
   Rgba filter_srgb(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);

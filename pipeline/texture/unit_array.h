@@ -73,6 +73,9 @@ class UnitArray {
   uint64_t material_relief_fetches(int m) const;
   bool material_has_relief(int m) const { return units_[0]->material_has_relief(m); }
   const MaterialSetup& material(int m) const { return units_[0]->material(m); }
+  void set_fixed_board(FixedSamplerBoard* board) {
+    for (auto& u : units_) u->set_fixed_board(board);
+  }
   int material_count() const { return units_[0]->material_count(); }
   // Fragments summed, cycles the last unit's (refreshed by each call).
   const std::vector<FrameStats>& frames() const;

@@ -51,6 +51,9 @@ struct SceneCounts {
   uint64_t addr_equal = 0;    // and its eight addresses equal to the taps' (levels equal)
   uint64_t colour_equal = 0;  // RGBA8 equal to the texture unit's colour rounded to 8 bits
   int colour_max_diff = 0;    // largest channel difference, in LSB of 8 bits
+  // The texture unit with `filter.arithmetic = "fixed"`: its result (levels, delta, addresses,
+  // RGBA8) equal to FixedSampler's, and its colour equal to that RGBA8.
+  uint64_t fixed_equal = 0;
   std::string report;
 };
 
@@ -237,6 +240,11 @@ SceneCounts run_scene(const std::string& name, uint64_t most, TexelLayout layout
   PipelineSetup setup;
   setup.layout = layout;
   TextureUnit unit(set, mats, setup, scene.tech, false);
+  // The same materials with fixed arithmetic where it covers them: the unit the RTL must equal.
+  std::vector<MaterialSetup> fixed_mats = mats;
+  for (size_t m = 0; m < mats.size(); ++m)
+    fixed_mats[m].filter.fixed_arithmetic = covered(mats[m], unit.texture_of(static_cast<int>(m)));
+  TextureUnit fixed_unit(set, fixed_mats, setup, scene.tech, false);
   // The covered materials' fragments, per material, in the generator's order.
   std::vector<std::vector<Fragment>> by_mat(mats.size());
   std::vector<bool> ok(mats.size());
@@ -261,7 +269,14 @@ SceneCounts run_scene(const std::string& name, uint64_t most, TexelLayout layout
     for (const Fragment& f : by_mat[m]) {
       const FixedSampler::Input in = FixedSampler::to_input(f);
       const FixedSampler::Result r = fs.sample(in, desc, mem);
-      bench.issue(in, r);
+      // The RTL's expectation is the fixed-arithmetic texture unit's own result.
+      const Rgba fc = fixed_unit.process(f, static_cast<int>(m));
+      const FixedSampler::Result& u = fixed_unit.last_fixed();
+      const uint32_t fc8 = uint32_t{to8(fc.r)} | uint32_t{to8(fc.g)} << 8 |
+                           uint32_t{to8(fc.b)} << 16 | uint32_t{to8(fc.a)} << 24;
+      n.fixed_equal += u.rgba == r.rgba && u.level_hi == r.level_hi && u.level_lo == r.level_lo &&
+                       u.delta == r.delta && u.addr == r.addr && fc8 == u.rgba;
+      bench.issue(in, u);
       compare_with_unit(mats[m], tex, f, unit.process(f, static_cast<int>(m)), r, n);
     }
   }
@@ -269,9 +284,10 @@ SceneCounts run_scene(const std::string& name, uint64_t most, TexelLayout layout
   n.fragments = bench.compared();
   n.report = bench.report();
   std::cout << "texsim_sampler " << name << ": " << n.fragments << " fragments, " << n.mismatches
-            << " mismatches against FixedSampler; against the texture unit: levels equal "
-            << n.level_equal << ", addresses equal " << n.addr_equal << ", RGBA8 equal "
-            << n.colour_equal << ", largest difference " << n.colour_max_diff << " LSB\n"
+            << " mismatches against the texture unit with fixed arithmetic (equal to FixedSampler: "
+            << n.fixed_equal << "); against its float32 path: levels equal " << n.level_equal
+            << ", addresses equal " << n.addr_equal << ", RGBA8 equal " << n.colour_equal
+            << ", largest difference " << n.colour_max_diff << " LSB\n"
             << n.report;
   return n;
 }
@@ -293,6 +309,7 @@ TEST(RtlLockstep, SamplerMatchesCppOnShippedScenes) {
     const auto layout = static_cast<TexelLayout>(i++ % 3);
     const SceneCounts n = run_scene(s, most, layout);
     EXPECT_EQ(n.mismatches, 0u) << s << "\n" << n.report;
+    EXPECT_EQ(n.fixed_equal, n.fragments) << s;
     // Against the float32 texture unit: levels within the rounding of λ (measured: at most
     // 1 in 1000 fragments differ), addresses equal where the levels are, colours within 1 LSB.
     EXPECT_GE(n.level_equal * 1000, n.fragments * 998) << s;

@@ -89,6 +89,17 @@ bool FixedSampler::covers(const TexelAddressGen::Config& a, const LodUnit::Confi
   return w.empty();
 }
 
+bool FixedSampler::covers_texture(const Texture& tex, std::string* why) {
+  std::string w;
+  if (tex.levels() > kMaxLevels) w = "more than " + std::to_string(kMaxLevels) + " levels";
+  if (tex.format() != TexelFormat::Rgba8 || tex.storage() != StorageFormat::Rgba8Unorm)
+    w = "texel storage other than rgba8 unorm";
+  if (tex.compressed()) w = "compressed texture";
+  if (tex.shape().type != TextureType::Tex2D) w = "layered or cube texture";
+  if (why != nullptr) *why = w;
+  return w.empty();
+}
+
 int32_t FixedSampler::to_lod(float x) {
   if (std::isnan(x)) return 0;
   const double s =

@@ -72,6 +72,9 @@ class FixedSampler {
 
   // Whether a material's sampler is one this covers; `why` says what is not.
   static bool covers(const TexelAddressGen::Config& a, const LodUnit::Config& l, std::string* why);
+  // Whether the texture is one this samples (2D, RGBA8 unorm, uncompressed, at most kMaxLevels
+  // levels); `why` says what is not.
+  static bool covers_texture(const Texture& tex, std::string* why);
   // The configuration of a covered material (float LOD values rounded half to even).
   static Config config_of(const TexelAddressGen::Config& a, const LodUnit::Config& l);
   static TextureDesc describe(const Texture& tex);

@@ -90,7 +90,7 @@ TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r
            "float 'border'");
   }
   r.reject_unknown({"mode", "address", "address_u", "address_v", "sub_texel_bits", "mipmap_bits",
-                    "border", "offset", "seamless", "reduction", "compare"});
+                    "border", "offset", "seamless", "reduction", "compare", "arithmetic"});
   Config c;
   c.filter = static_cast<FilterMode>(
       r.get_choice("mode", static_cast<int>(c.filter), {"nearest", "bilinear", "trilinear"}));
@@ -119,6 +119,7 @@ TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r
   // Vulkan: a comparing sampler's reduction is the weighted average.
   if (c.compare != CompareOp::None && c.reduction != Reduction::WeightedAverage)
     r.fail("compare", "a depth comparison needs reduction = \"weighted_average\"");
+  c.fixed_arithmetic = r.get_choice("arithmetic", 0, {"float", "fixed"}) == 1;
   return c;
 }
 

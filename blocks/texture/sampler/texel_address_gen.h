@@ -86,11 +86,14 @@ class TexelAddressGen {
     bool reduces() const {
       return reduction != Reduction::WeightedAverage || compare != CompareOp::None;
     }
+    // The texture unit's functional path: float32 (LodUnit, the taps, TexelBlend) or the
+    // fixed-point sampler the RTL matches (FixedSampler; the material must be one it covers).
+    bool fixed_arithmetic = false;
     // Keys: mode ("nearest"|"bilinear"|"trilinear"); address ("wrap"|"clamp"|"mirror"|
     // "border"|"mirror_clamp") for both axes, or address_u and address_v separately (not both
     // forms at once); sub_texel_bits (1..16), mipmap_bits (1..16); border
     // ("transparent_black"|"opaque_black"|"opaque_white"|[r, g, b, a]); offset ([i, j]);
-    // seamless (bool, cube textures).
+    // seamless (bool, cube textures); arithmetic ("float"|"fixed").
     static Config from_toml(const ConfigReader& r);
     bool uses_border() const {
       return address_u == AddressMode::Border || address_v == AddressMode::Border;

@@ -1,0 +1,41 @@
+#pragma once
+// `texsim run --board virtual|hid`: the fixed-arithmetic materials' fragments go over the link
+// (rtl_model/link/, the sampler's messages in sampler_link.h) to a board that runs the RTL
+// sampler, and its results colour the pixels. The virtual board runs the Verilated sampler in
+// process, one block per fixed material (each holds its texture's memory image, loaded once in
+// CONFIGURE chunks); `hid` opens a USB board and fails cleanly when none is attached.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pipeline/texture/unit_array.h"
+#include "rtl_model/link/link_host.h"
+
+namespace texsim {
+
+class BoardSampler : public FixedSamplerBoard {
+ public:
+  // Opens the link, selects and configures the board's sampler for every fixed material of
+  // `units`. Throws InputError (naming --board) when the board cannot be reached or refuses.
+  BoardSampler(const std::string& link, const UnitArray& units);
+  ~BoardSampler() override;
+  FixedSampler::Result sample(int material, const FixedSampler::Input& in) override;
+
+  const std::string& link() const { return link_; }
+  // The blocks that ran on the board ("texsim_sampler"), and the fragments it sampled.
+  std::vector<std::string> blocks() const { return {"texsim_sampler"}; }
+  uint64_t fragments() const { return fragments_; }
+  const std::vector<std::string>& materials() const { return material_names_; }
+
+ private:
+  void select(int material);
+  std::string link_;
+  std::unique_ptr<link::Transport> transport_;
+  std::unique_ptr<link::LinkHost> host_;
+  std::vector<int> block_of_;  // per material: its block on the virtual board (-1: none)
+  std::vector<std::string> material_names_;
+  int selected_ = -1;
+  uint64_t fragments_ = 0;
+};
+
+}  // namespace texsim
