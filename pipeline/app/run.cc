@@ -258,6 +258,13 @@ struct GroundTruth {
       extras.offset_u = ms.filter.offset_u;
       extras.offset_v = ms.filter.offset_v;
     }
+    if (tex.volume()) {  // level 0 trilinear in space; r from the material's lookup in a scene
+      const AddressMode m3[3] = {ms.filter.address_u, ms.filter.address_v, ms.filter.address_w};
+      const double* r = ms.lookup && ms.lookup->has_r ? ms.lookup->r : nullptr;
+      static constexpr double kZero[3] = {0, 0, 0};
+      return ground_truth_volume(tex, m3, extras.border, f, exact() ? &map_of(f) : nullptr,
+                                 r ? r : kZero, x, y, in, samples, reach);
+    }
     if (tex.shape().type == TextureType::Cube) {  // through the fragment's direction map
       return ground_truth_cube(tex, reference_layer(f.layer, tex.shape().slices / 6),
                                ms.filter.seamless_cube, ms.address_u(), ms.address_v(),

@@ -111,6 +111,7 @@ void generate_fragments(const Scene& scene, uint32_t frame,
     if (const auto& lk = mats[static_cast<size_t>(scene.primitives[b].material)].lookup) {
       if (lk->direction != LayeredLookup::Direction::None) dirs[b].apply(f);
       f.layer = static_cast<float>(lk->layer);
+      lk->apply_r(f);
     }
     f.frame = frame;
     f.prim = static_cast<uint32_t>(best);

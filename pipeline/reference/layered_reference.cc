@@ -7,6 +7,7 @@
 
 #include "blocks/texture/layered/cube_face_select.h"
 #include "blocks/texture/layered/cube_seam.h"
+#include "blocks/texture/volume/volume_address_gen.h"
 
 namespace texsim {
 
@@ -95,6 +96,60 @@ glm::dvec4 ground_truth_cube(const Texture& tex, int cube, bool seamless, Addres
       [&](double dx, double dy) {
         return reference_cube_bilinear(tex, cube, map.at(px + dx, py + dy), seamless, au, av,
                                        border);
+      },
+      texels, samples, reach);
+}
+
+glm::dvec4 reference_volume_trilinear(const Texture& tex, const AddressMode m[3], glm::dvec4 border,
+                                      double u, double v, double r) {
+  const int n[3] = {tex.width(0), tex.height(0), tex.volume_depth(0)};
+  const double c[3] = {u, v, r};
+  int64_t i0[3];
+  double f[3];
+  for (int k = 0; k < 3; ++k) {
+    const double t = std::clamp((std::isfinite(c[k]) ? c[k] : 0.0) * n[k] - 0.5, -0x1p40, 0x1p40);
+    i0[k] = static_cast<int64_t>(std::floor(t));
+    f[k] = t - std::floor(t);
+  }
+  glm::dvec4 sum(0);
+  for (int corner = 0; corner < 8; ++corner) {
+    double w = 1;
+    int a[3];
+    bool outside = false;
+    for (int k = 0; k < 3; ++k) {
+      const int hi = (corner >> k) & 1;
+      w *= hi ? f[k] : 1 - f[k];
+      // The spec's wrap functions on one integer coordinate (−1: the border).
+      a[k] = VolumeAddressGen::address(i0[k] + hi, n[k], m[k]);
+      outside = outside || a[k] < 0;
+    }
+    sum += w * (outside ? border : glm::dvec4(tex.texel(tex.volume_level(0, a[2]), a[0], a[1])));
+  }
+  return sum;
+}
+
+glm::dvec4 ground_truth_volume(const Texture& tex, const AddressMode m[3], glm::dvec4 border,
+                               const Fragment& f, const ProjectiveMap* map, const double* r_of_uv,
+                               int px, int py, const PixelIntegrator& integrate, int* samples,
+                               int* reach) {
+  const glm::dvec2 texels = texels_across(f, tex.width(0), tex.height(0));
+  if (map && r_of_uv) {
+    const PixelMap pm(*map, px, py);
+    return integrate(
+        [&](double dx, double dy) {
+          double u = 0, v = 0;
+          pm.uv(dx, dy, u, v);
+          return reference_volume_trilinear(tex, m, border, u, v,
+                                            r_of_uv[0] * u + r_of_uv[1] * v + r_of_uv[2]);
+        },
+        pm.texels_across(tex.width(0), tex.height(0)), samples, reach);
+  }
+  return integrate(
+      [&](double dx, double dy) {
+        const double sx = dx - 0.5, sy = dy - 0.5;
+        return reference_volume_trilinear(tex, m, border, f.u + sx * f.dudx + sy * f.dudy,
+                                          f.v + sx * f.dvdx + sy * f.dvdy,
+                                          f.w + sx * f.dwdx + sy * f.dwdy);
       },
       texels, samples, reach);
 }

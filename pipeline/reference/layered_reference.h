@@ -40,6 +40,21 @@ glm::dvec4 ground_truth_cube(const Texture& tex, int cube, bool seamless, Addres
                              int py, const PixelIntegrator& integrate, int* samples = nullptr,
                              int* reach = nullptr);
 
+// Level 0 of a 3-D texture (Texture::volume) at (u, v, r), trilinear in double: i0 = ⌊u·w − ½⌋,
+// j0, k0 alike and their +1 neighbours, each axis under its mode m[0..2] (a border texel reads
+// `border`); non-finite coordinates are taken as 0.
+glm::dvec4 reference_volume_trilinear(const Texture& tex, const AddressMode m[3], glm::dvec4 border,
+                                      double u, double v, double r);
+
+// A 3-D texture fragment's truth at pixel (px, py): reference_volume_trilinear integrated over
+// the pixel. With `map` and `r_of_uv` (a scene: r = a·u + b·v + c, the material's lookup.r)
+// (u, v) come from the plane's projective map; otherwise (a trace) (u, v, r) from the fragment
+// and its derivatives (the footprint's parallelogram).
+glm::dvec4 ground_truth_volume(const Texture& tex, const AddressMode m[3], glm::dvec4 border,
+                               const Fragment& f, const ProjectiveMap* map, const double* r_of_uv,
+                               int px, int py, const PixelIntegrator& integrate,
+                               int* samples = nullptr, int* reach = nullptr);
+
 // The layer of array coordinate a among `layers`: round to nearest even, clamped (Vulkan
 // "Array Layer Selection"); a non-finite a selects layer 0.
 int reference_layer(double a, int layers);

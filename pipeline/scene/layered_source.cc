@@ -7,7 +7,7 @@ namespace texsim {
 
 namespace {
 constexpr const char* kPrefix = "layered:";
-constexpr const char* kTypes[] = {"2d", "cube", "cube_array", "1d_array", "2d_array"};
+constexpr const char* kTypes[] = {"2d", "cube", "cube_array", "1d_array", "2d_array", "3d"};
 }  // namespace
 
 const char* to_string(SceneTextureType t) { return kTypes[static_cast<int>(t)]; }
@@ -31,7 +31,7 @@ LayeredSource parse_layered_source(const std::string& source, const std::string&
   }
   LayeredSource s;
   bool known = false;
-  for (int k = 1; k < 5; ++k) {
+  for (int k = 1; k < 6; ++k) {
     if (parts[0] != kTypes[k]) continue;
     s.type = static_cast<SceneTextureType>(k);
     known = true;
@@ -39,7 +39,7 @@ LayeredSource parse_layered_source(const std::string& source, const std::string&
   const std::string bad = "layered texture '" + source + "': ";
   if (!known) {
     throw InputError(where, bad + "unknown type '" + parts[0] +
-                                "' (one of cube, cube_array, 1d_array, 2d_array)");
+                                "' (one of cube, cube_array, 1d_array, 2d_array, 3d)");
   }
   s.slices.assign(parts.begin() + 1, parts.end());
   const auto n = static_cast<int>(s.slices.size());

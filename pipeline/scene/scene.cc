@@ -185,7 +185,7 @@ void parse_textures(const ConfigReader& top, Scene& s) {
     SceneTexture st;
     st.name = name;
     st.type = static_cast<SceneTextureType>(
-        tr.get_choice("type", 0, {"2d", "cube", "cube_array", "1d_array", "2d_array"}));
+        tr.get_choice("type", 0, {"2d", "cube", "cube_array", "1d_array", "2d_array", "3d"}));
     if (st.type != SceneTextureType::Tex2D) {
       parse_layered_texture(tr, s, st);
       if (tr.table().contains("format")) {
@@ -277,6 +277,8 @@ void check_lookup(const ConfigReader& mr, const SceneTexture& t) {
   }
   if (!cube && has_dir)
     mr.sub("lookup").fail("direction", "texture '" + t.name + "' is not a cube");
+  if (lk && lk->contains("r") && t.type != SceneTextureType::Volume3D)
+    mr.sub("lookup").fail("r", "texture '" + t.name + "' is not 3-D: r is a 3-D texture's");
 }
 
 // Materials: [materials.NAME] texture = "...", and one table per effect. The effect tables are

@@ -85,8 +85,11 @@ Texture load_layered_texture(const std::string& source, const std::string& base_
   if (ls.type == SceneTextureType::Array1D && h != 1) {
     throw InputError(source, "a 1-D array's layers are one texel high, not " + std::to_string(h));
   }
+  const TexelFormat f = eight_bit ? TexelFormat::Rgba8 : TexelFormat::Rgba32f;
+  if (ls.type == SceneTextureType::Volume3D)
+    return Texture::from_volume(source, w, h, slices, f, true);
   return Texture::from_slices(source, cube ? TextureType::Cube : TextureType::Array, w, h, slices,
-                              eight_bit ? TexelFormat::Rgba8 : TexelFormat::Rgba32f, true);
+                              f, true);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "blocks/texture/sampler/gather_unit.h"
 #include "blocks/texture/sampler/texel_reduce.h"
 #include "blocks/texture/sampler/unnormalized_taps.h"
+#include "blocks/texture/volume/volume_address_gen.h"
 #include "pipeline/texture/stages/relief_stage.h"
 
 namespace texsim {
@@ -805,6 +806,7 @@ Rgba TextureUnit::process_any(const Fragment& f, Path& p, const Texture& tex,
 template <int kFront>
 Rgba TextureUnit::process_layered(const Fragment& f, Path& p, const Texture& tex,
                                   const ItemCost* front) {
+  if (tex.volume()) return process_volume<kFront>(f, p, tex, front);
   const MaterialStages& st = p.stages;
   const LayeredAddressGen gen = st.address->layered();
   LodResult lod;
@@ -850,6 +852,53 @@ Rgba TextureUnit::process_layered(const Fragment& f, Path& p, const Texture& tex
                   lookups, cube_select_.latency);
   } else if constexpr (kFront >= 0) {
     issue_timed<kFront>(p, front, probes, static_cast<uint64_t>(taps_.count), lookups);
+  }
+  return colour;
+}
+
+template <int kFront>
+Rgba TextureUnit::process_volume(const Fragment& f, Path& p, const Texture& tex,
+                                 const ItemCost* front) {
+  const MaterialStages& st = p.stages;
+  const TexelAddressGen::Config& c = st.address->gen().config();
+  const VolumeAddressGen gen({c.filter, c.address_u, c.address_v, c.address_w});
+  const VolumeSize base{tex.width(0), tex.height(0), tex.shape().slices};
+  const double dx[3] = {f.dudx, f.dvdx, f.dwdx}, dy[3] = {f.dudy, f.dvdy, f.dwdy};
+  const float lambda = VolumeAddressGen::lambda(dx, dy, base) + f.lod_bias;
+  VolumeAddressGen::Taps vt;
+  const int n = gen.taps(base, f.u, f.v, f.w, lambda, vt);
+  // The taps as the blend takes them: level = the z-slice's level, border taps marked.
+  taps_.count = n;
+  taps_.border_taps = 0;
+  uint64_t lines[VolumeAddressGen::kMaxTaps];
+  int distinct = 0;
+  const uint32_t shift = fetch_.line_shift();
+  for (int k = 0; k < n; ++k) {
+    const VolumeTap& v = vt[static_cast<size_t>(k)];
+    TexelTap& t = taps_.tap[static_cast<size_t>(k)];
+    if (v.x < 0) {
+      t = {0, kBorderTexel, kBorderTexel, v.weight};
+      ++taps_.border_taps;
+      continue;
+    }
+    t = {tex.volume_level(v.level, v.z), v.x, v.y, v.weight};
+    const uint64_t line = tex.volume_address(v.level, v.x, v.y, v.z) >> shift;
+    if (std::find(lines, lines + distinct, line) == lines + distinct) lines[distinct++] = line;
+  }
+  if (taps_.border_taps > 0) {
+    taps_.border = border_texel(tex.storage(), c.border);
+    st.address->count_border(taps_.border_taps);
+  }
+  const Rgba colour = st.blend->blend().blend(taps_, tex);
+  const uint32_t per_probe = std::max(st.address->taps_per_probe(), 1u);
+  const uint32_t probes = std::max(1u, (static_cast<uint32_t>(n) + per_probe - 1) / per_probe);
+  st.address->count_volume();
+  count_fragment(f, p, probes);
+  if constexpr (kFront >= 0) {
+    issue_timed<kFront>(p, front, probes, static_cast<uint64_t>(n), [&](uint64_t start) {
+      return fetch_.access_lines(lines, distinct, static_cast<uint64_t>(n - taps_.border_taps),
+                                 start);
+    });
   }
   return colour;
 }

@@ -262,6 +262,12 @@ class TextureUnit {
   // process_taps; never batched.
   template <int kFront>
   Rgba process_layered(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  // A 3-D texture's fragment (one by one): λ from the three derivatives of (u, v, r = f.w),
+  // VolumeAddressGen's eight taps per level, blended as any taps; the cache reads the lines of
+  // the texels' 3-D addresses (Texture::volume_address). Its probes: taps / taps_per_probe
+  // (a 3-D level takes two of the 2-D address slot's cycles).
+  template <int kFront>
+  Rgba process_volume(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
   // A batch of fragments on one texture (n <= LinearBatch::kMax) through the batched sampler;
   // the fragments it leaves undone through process_linear.
   template <FilterMode kFilter, TexelLayout L, int kFront>

@@ -43,6 +43,8 @@ Texture layered_stand_in(const SceneTexture& t) {
     slices[k].assign(size_t{8} * static_cast<size_t>(h) * 4, 1.0f);
     for (size_t i = 0; i < slices[k].size(); i += 4) slices[k][i] = static_cast<float>(k % 7) / 6;
   }
+  if (ls.type == SceneTextureType::Volume3D)
+    return Texture::from_volume(t.name, 8, h, slices, TexelFormat::Rgba8, true);
   return Texture::from_slices(t.name, cube ? TextureType::Cube : TextureType::Array, 8, h, slices,
                               TexelFormat::Rgba8, true);
 }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "blocks/texture/volume/volume_address_gen.h"
+
 namespace texsim {
 
 const char* to_string(TexelFormat f) { return f == TexelFormat::Rgba8 ? "rgba8" : "rgba32f"; }
@@ -26,6 +28,8 @@ const char* to_string(TextureType t) {
       return "cube";
     case TextureType::Array:
       return "array";
+    case TextureType::Volume:
+      return "3d";
   }
   return "?";
 }
@@ -64,6 +68,26 @@ std::vector<float> downsample(const std::vector<float>& src, int w, int h, int& 
       }
     }
   }
+  return dst;
+}
+
+// 2×2×2 box filter of a volume's z-slices to the next 3-D mip (each axis ⌊n/2⌋, at least 1;
+// odd edges clamp); `size` becomes the new size.
+std::vector<std::vector<float>> downsample_volume(const std::vector<std::vector<float>>& src,
+                                                  VolumeSize& size) {
+  const VolumeSize n = VolumeAddressGen::level_size(size, 1);
+  std::vector<std::vector<float>> dst;
+  dst.reserve(static_cast<size_t>(n.depth));
+  for (int z = 0; z < n.depth; ++z) {
+    int nw = 0, nh = 0;
+    const auto z0 = static_cast<size_t>(std::min(2 * z, size.depth - 1));
+    const auto z1 = static_cast<size_t>(std::min(2 * z + 1, size.depth - 1));
+    std::vector<float> a = downsample(src[z0], size.width, size.height, nw, nh);
+    const std::vector<float> b = downsample(src[z1], size.width, size.height, nw, nh);
+    for (size_t i = 0; i < a.size(); ++i) a[i] = 0.5f * (a[i] + b[i]);
+    dst.push_back(std::move(a));
+  }
+  size = n;
   return dst;
 }
 
@@ -156,6 +180,40 @@ Texture Texture::from_slices(std::string name, TextureType type, int width, int 
   return t;
 }
 
+Texture Texture::from_volume(std::string name, int width, int height,
+                             const std::vector<std::vector<float>>& slices, TexelFormat format,
+                             bool build_mips) {
+  if (width <= 0 || height <= 0) throw std::invalid_argument("texture size must be positive");
+  if (slices.empty()) throw std::invalid_argument("a 3-D texture needs at least one slice");
+  const size_t texels = static_cast<size_t>(width) * static_cast<size_t>(height) * 4;
+  for (const auto& rgba : slices)
+    if (rgba.size() != texels) throw std::invalid_argument("slice size disagrees");
+  Texture t;
+  t.name_ = std::move(name);
+  t.set_store(format);
+  VolumeSize size{width, height, static_cast<int>(slices.size())};
+  std::vector<std::vector<float>> cur = slices;
+  for (;;) {
+    t.volume_first_.push_back(t.levels());
+    for (const auto& rgba : cur) t.add_level(size.width, size.height, rgba);
+    if (!build_mips || (size.width == 1 && size.height == 1 && size.depth == 1)) break;
+    cur = downsample_volume(cur, size);
+  }
+  t.shape_ = {TextureType::Volume, static_cast<int>(slices.size()),
+              static_cast<int>(t.volume_first_.size())};
+  t.place(0, TexelLayout::Linear);
+  return t;
+}
+
+uint64_t Texture::volume_address(int mip, int x, int y, int z) const {
+  const auto m = static_cast<size_t>(mip);
+  const Level& lv = levels_[static_cast<size_t>(volume_first_[m])];
+  const VolumeSize s{lv.width, lv.height, volume_depth(mip)};
+  return base_ + volume_offset_[m] +
+         VolumeAddressGen::texel_index(layout_, s, x, y, z) *
+             static_cast<uint64_t>(bytes_per_texel());
+}
+
 Texture Texture::from_levels(std::string name, const std::vector<int>& widths,
                              const std::vector<int>& heights,
                              const std::vector<std::vector<float>>& levels, TexelFormat format) {
@@ -183,6 +241,7 @@ Texture Texture::converted(StorageFormat storage) const {
   Texture t;
   t.name_ = name_;
   t.shape_ = shape_;
+  t.volume_first_ = volume_first_;
   t.set_store(decodes_to_bytes(storage) ? TexelFormat::Rgba8 : TexelFormat::Rgba32f);
   t.storage_ = storage;
   t.bytes_per_texel_ = format_info(storage).bytes;
@@ -215,6 +274,7 @@ Texture Texture::linearised() const {
   Texture t;
   t.name_ = name_;
   t.shape_ = shape_;
+  t.volume_first_ = volume_first_;
   t.set_store(TexelFormat::Rgba32f);
   std::vector<float> px;
   for (int l = 0; l < levels(); ++l) {
@@ -239,6 +299,8 @@ Texture Texture::srgb_stored(bool decode_after_filter) const {
   if (storage_ != StorageFormat::Srgb8A8 || decode_after_filter == srgb_after_filter_) return *this;
   Texture t;
   t.name_ = name_;
+  t.shape_ = shape_;
+  t.volume_first_ = volume_first_;
   t.set_store(decode_after_filter ? TexelFormat::Rgba8 : TexelFormat::Rgba32f);
   t.storage_ = storage_;
   t.bytes_per_texel_ = bytes_per_texel_;
@@ -360,6 +422,21 @@ uint64_t Texture::place(uint64_t base, TexelLayout layout) {
   base_ = base;
   layout_ = layout;
   uint64_t off = 0;
+  if (volume()) {
+    // Each 3-D mip as one block of its layout's texel slots (VolumeAddressGen::level_texels);
+    // a z-slice's level starts where its first texel is (linear) or at its mip (others).
+    volume_offset_.assign(volume_first_.size(), 0);
+    for (size_t m = 0; m < volume_first_.size(); ++m) {
+      const Level& first = levels_[static_cast<size_t>(volume_first_[m])];
+      const VolumeSize s{first.width, first.height, volume_depth(static_cast<int>(m))};
+      volume_offset_[m] = off;
+      for (int z = 0; z < s.depth; ++z)
+        levels_[static_cast<size_t>(volume_first_[m] + z)].offset = off;
+      const uint64_t texels = VolumeAddressGen::level_texels(layout, s);
+      off += (texels * static_cast<uint64_t>(bytes_per_texel()) + 255) & ~uint64_t{255};
+    }
+    return off;
+  }
   for (auto& lv : levels_) {
     lv.offset = off;
     const uint64_t texels =

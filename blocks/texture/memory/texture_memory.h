@@ -26,12 +26,15 @@ enum class AddressMode { Wrap, Clamp, Mirror, Border, MirrorClamp };
 // chain. A layered texture (cube, cube array, 1-D or 2-D array) holds slices, each with its own
 // mip chain, slice after slice: level index = slice · mips + mip, so a slice's chain is
 // contiguous in memory (a cube's slice = 6 · cube + face, faces in Vulkan's order +X −X +Y −Y
-// +Z −Z). A 1-D array is a 2-D array of height-1 slices.
-enum class TextureType : uint8_t { Tex2D, Cube, Array };
+// +Z −Z). A 1-D array is a 2-D array of height-1 slices. A 3-D texture (Volume) holds its
+// 3-D mips one after another, each as its depth's z-slices (levels volume_level(mip, z), each
+// the mip's width × height); a mip halves all three sizes (at least 1), and its texels'
+// addresses follow the layout in 3-D (volume_address(): linear, 4×4×4 bricks, 3-D Morton).
+enum class TextureType : uint8_t { Tex2D, Cube, Array, Volume };
 struct TextureShape {
   TextureType type = TextureType::Tex2D;
-  int slices = 1;  // layers (arrays), 6 × cubes (cube maps)
-  int mips = 0;    // levels per slice; 0: all the texture's levels (a 2-D texture)
+  int slices = 1;  // layers (arrays), 6 × cubes (cube maps), level 0's depth (volumes)
+  int mips = 0;    // levels per slice (3-D mips of a volume); 0: all levels (a 2-D texture)
 };
 
 const char* to_string(TexelFormat f);
@@ -57,6 +60,11 @@ class Texture {
   // given its own mip chain (with `build_mips`, by the same box filter, faces filtered on
   // their own), stored slice after slice.
   static Texture from_slices(std::string name, TextureType type, int width, int height,
+                             const std::vector<std::vector<float>>& slices, TexelFormat format,
+                             bool build_mips);
+  // A 3-D texture of `slices.size()` z-slices of width × height float RGBA texels; with
+  // `build_mips`, its 3-D mip chain by a 2×2×2 box filter (odd edges clamp) down to 1×1×1.
+  static Texture from_volume(std::string name, int width, int height,
                              const std::vector<std::vector<float>>& slices, TexelFormat format,
                              bool build_mips);
   // Builds a texture from a complete list of float RGBA levels (e.g. a .tx file's MIP chain).
@@ -85,6 +93,17 @@ class Texture {
   // Levels of one slice (all levels of a 2-D texture), and the level index of a slice's mip.
   int mips() const { return shape_.mips > 0 ? shape_.mips : levels(); }
   int slice_level(int slice, int mip) const { return slice * mips() + mip; }
+  bool volume() const { return shape_.type == TextureType::Volume; }
+  // A volume's level index of z-slice z of 3-D mip `mip` (its depth: volume_depth(mip)).
+  int volume_level(int mip, int z) const { return volume_first_[static_cast<size_t>(mip)] + z; }
+  int volume_depth(int mip) const {
+    const auto m = static_cast<size_t>(mip);
+    return (m + 1 < volume_first_.size() ? volume_first_[m + 1] : levels()) - volume_first_[m];
+  }
+  // Byte address of texel (x, y, z) of a volume's 3-D mip `mip` under its layout (after
+  // place(); VolumeAddressGen::texel_index). A volume's texels are addressed only so:
+  // address() does not know their z.
+  uint64_t volume_address(int mip, int x, int y, int z) const;
   TexelFormat format() const { return format_; }
   StorageFormat storage() const { return storage_; }
   // The texture the ground truth samples: the one it was converted from, else itself.
@@ -227,8 +246,10 @@ class Texture {
   TexelLayout layout_ = TexelLayout::Linear;
   uint64_t base_ = 0;
   std::vector<Level> levels_;
-  std::vector<uint8_t> rgba8_;  // Rgba8: 4 bytes per texel
-  std::vector<float> rgba32f_;  // Rgba32f: 4 floats per texel
+  std::vector<int> volume_first_;        // a volume's first level of each 3-D mip
+  std::vector<uint64_t> volume_offset_;  // and the mip's byte offset (set by place())
+  std::vector<uint8_t> rgba8_;           // Rgba8: 4 bytes per texel
+  std::vector<float> rgba32f_;           // Rgba32f: 4 floats per texel
 };
 
 // All textures of a scene, placed one after another in one address space.

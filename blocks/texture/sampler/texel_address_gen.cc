@@ -89,8 +89,9 @@ TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r
            "integer border colours need an integer texture format, and texsim has none; give a "
            "float 'border'");
   }
-  r.reject_unknown({"mode", "address", "address_u", "address_v", "sub_texel_bits", "mipmap_bits",
-                    "border", "offset", "seamless", "reduction", "compare", "arithmetic"});
+  r.reject_unknown({"mode", "address", "address_u", "address_v", "address_w", "sub_texel_bits",
+                    "mipmap_bits", "border", "offset", "seamless", "reduction", "compare",
+                    "arithmetic"});
   Config c;
   c.filter = static_cast<FilterMode>(
       r.get_choice("mode", static_cast<int>(c.filter), {"nearest", "bilinear", "trilinear"}));
@@ -98,13 +99,15 @@ TexelAddressGen::Config TexelAddressGen::Config::from_toml(const ConfigReader& r
                                                "mirror_clamp"};  // AddressMode order
   if (r.table().contains("address")) {
     // One key for both axes; giving an axis as well would leave it ambiguous which wins.
-    for (std::string_view k : {"address_u", "address_v"}) {
+    for (std::string_view k : {"address_u", "address_v", "address_w"}) {
       if (r.table().contains(k)) r.fail(k, "cannot be given together with 'address'");
     }
-    c.address_u = c.address_v = static_cast<AddressMode>(r.get_choice("address", 0, modes));
+    c.address_u = c.address_v = c.address_w =
+        static_cast<AddressMode>(r.get_choice("address", 0, modes));
   } else {
     c.address_u = static_cast<AddressMode>(r.get_choice("address_u", 0, modes));
     c.address_v = static_cast<AddressMode>(r.get_choice("address_v", 0, modes));
+    c.address_w = static_cast<AddressMode>(r.get_choice("address_w", 0, modes));
   }
   c.sub_texel_bits = static_cast<int>(r.get_int("sub_texel_bits", c.sub_texel_bits, 1, 16));
   c.mipmap_bits = static_cast<int>(r.get_int("mipmap_bits", c.mipmap_bits, 1, 16));

@@ -64,6 +64,7 @@ class TexelAddressGen {
     FilterMode filter = FilterMode::Bilinear;
     AddressMode address_u = AddressMode::Wrap;
     AddressMode address_v = AddressMode::Wrap;
+    AddressMode address_w = AddressMode::Wrap;  // r of a 3-D texture (no other type reads it)
     int sub_texel_bits = 8;  // fraction bits of texel coordinates (Vulkan subTexelPrecisionBits)
     int mipmap_bits = 8;     // fraction bits of the LOD (Vulkan mipmapPrecisionBits)
     // CLAMP_TO_BORDER's colour (VkBorderColor FLOAT_*, or FLOAT_CUSTOM_EXT), linear RGBA.
@@ -90,8 +91,8 @@ class TexelAddressGen {
     // fixed-point sampler the RTL matches (FixedSampler; the material must be one it covers).
     bool fixed_arithmetic = false;
     // Keys: mode ("nearest"|"bilinear"|"trilinear"); address ("wrap"|"clamp"|"mirror"|
-    // "border"|"mirror_clamp") for both axes, or address_u and address_v separately (not both
-    // forms at once); sub_texel_bits (1..16), mipmap_bits (1..16); border
+    // "border"|"mirror_clamp") for every axis, or address_u, address_v, address_w (3-D r)
+    // separately (not both forms at once); sub_texel_bits (1..16), mipmap_bits (1..16); border
     // ("transparent_black"|"opaque_black"|"opaque_white"|[r, g, b, a]); offset ([i, j]);
     // seamless (bool, cube textures); arithmetic ("float"|"fixed").
     static Config from_toml(const ConfigReader& r);

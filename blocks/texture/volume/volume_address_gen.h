@@ -4,7 +4,8 @@
 // level (i0 = ⌊u·w − ½⌋, j0 = ⌊v·h − ½⌋, k0 = ⌊r·d − ½⌋ and their +1 neighbours, each axis
 // addressed by its own mode), trilinear across 3-D mips (levels halve all three sizes, at
 // least 1), and the texel's place in memory under a linear, 4×4×4-brick or 3-D Morton layout.
-// A standalone block: the texture unit does not yet route 3-D textures through it.
+// The texture unit's 3-D path (TextureUnit::process_volume) takes its taps from here, and the
+// texture store its texels' addresses (Texture::volume_address).
 #include <array>
 #include <cstdint>
 

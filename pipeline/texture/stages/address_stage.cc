@@ -28,6 +28,16 @@ void AddressStage::rows(StageReport& r, std::vector<BlockUse>& out) const {
     r.add(out, "array.layer_select", "float32 to integer",
           derive_timing(r.tech, layer, layer, Datapath::Spatial), layer * array_fragments_);
   }
+  if (volume_fragments_ > 0) {
+    // Per level: r·d − ½ (a multiply-add), its floor and fraction, the two addressed k's
+    // (two compares); λ's third derivative term (two multiply-adds) once per fragment.
+    OpCounts r_axis;
+    r_axis.mul = 4;
+    r_axis.add = 6;
+    r_axis.cmp = 4;
+    r.add(out, "volume.r_axis", "float32", derive_timing(r.tech, r_axis, r_axis, Datapath::Spatial),
+          r_axis * volume_fragments_);
+  }
 }
 
 }  // namespace texsim

@@ -39,6 +39,8 @@ class AddressStage final : public UnitStage {
     edge_taps_ += static_cast<uint64_t>(edge_taps);
   }
   void count_array() { ++array_fragments_; }
+  // A 3-D texture's fragment: the r axis's scale, floor and address mode beside u and v's.
+  void count_volume() { ++volume_fragments_; }
   LayeredAddressGen layered() const {
     return LayeredAddressGen(addr_, addr_.config().seamless_cube);
   }
@@ -51,7 +53,7 @@ class AddressStage final : public UnitStage {
   uint64_t aniso_fragments_ = 0;  // fragments with N > 1
   uint64_t probes_ = 0;           // Σ N over all fragments
   uint64_t border_taps_ = 0;      // taps that read the border colour (CLAMP_TO_BORDER)
-  uint64_t cube_fragments_ = 0, edge_taps_ = 0, array_fragments_ = 0;
+  uint64_t cube_fragments_ = 0, edge_taps_ = 0, array_fragments_ = 0, volume_fragments_ = 0;
 };
 
 }  // namespace texsim
