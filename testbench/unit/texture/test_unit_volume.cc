@@ -43,7 +43,7 @@ Texture ramp_volume(int w, int h, int d, TexelFormat f = TexelFormat::Rgba32f) {
 
 MaterialSetup material(FilterMode f, AddressMode a = AddressMode::Clamp) {
   MaterialSetup m;
-  m.name = "m";
+  m.name.push_back('m');  // (not `= "m"`: GCC 12's false -Wrestrict once inlined)
   m.filter.filter = f;
   m.filter.address_u = m.filter.address_v = m.filter.address_w = a;
   return m;
