@@ -23,6 +23,7 @@
 #include "pipeline/scene/layered_source.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/scene/texture_loader.h"
+#include "testbench/lib/scene_report.h"
 #include "testbench/lib/temp_dir.h"
 #include "traces/trace_file.h"
 
@@ -278,25 +279,11 @@ TEST(SceneLayered, CubeTruthSamplesTheFacesTheUnitSelects) {
   EXPECT_EQ(reference_layer(NAN, 4), 0);
 }
 
-nlohmann::json run_envmap(const TempDir& dir, const std::string& trace, const std::string& out) {
-  RunOptions opt;
-  opt.scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/envmap.toml";
-  opt.trace = trace;
-  opt.threads = 1;
-  opt.truth_cache = false;
-  opt.out = dir.file(out);
-  opt.overrides = {"output.width=96", "output.height=72"};
-  std::ostringstream log;
-  run_simulation(opt, log);
-  std::ifstream in(opt.out + "/report.json");
-  return nlohmann::json::parse(in);
-}
-
 // The shipped envmap scene renders close to its truth, counts its face selections, and
 // replaying its trace (which carries each fragment's direction) gives the same figures.
 TEST(SceneLayered, EnvmapSceneRendersAndItsTraceReplaysIt) {
   TempDir dir("layered_envmap");
-  const nlohmann::json a = run_envmap(dir, "", "scene");
+  const nlohmann::json a = shipped_scene_report(dir, "envmap", "", "scene");
   EXPECT_EQ(a["fragments"].get<uint64_t>(), 96u * 72u);
   EXPECT_GT(a["accuracy"]["psnr_db"].get<double>(), 40.0) << a["accuracy"].dump();
   ASSERT_TRUE(a["blocks"].contains("cube.face_select")) << a["blocks"].dump();
@@ -316,7 +303,7 @@ TEST(SceneLayered, EnvmapSceneRendersAndItsTraceReplaysIt) {
     for (const Fragment& f : fs) any_w = any_w || f.w != 0;
     EXPECT_TRUE(any_w);
   }
-  const nlohmann::json b = run_envmap(dir, trc, "trace");
+  const nlohmann::json b = shipped_scene_report(dir, "envmap", trc, "trace");
   for (const char* key : {"fragments", "cycles", "cache", "dram", "accuracy"})
     EXPECT_EQ(a[key], b[key]) << key;
   EXPECT_EQ(a["blocks"]["cube.face_select"], b["blocks"]["cube.face_select"]);

@@ -17,6 +17,7 @@
 #include "pipeline/scene/scene.h"
 #include "pipeline/scene/texture_loader.h"
 #include "pipeline/texture/effect_registry.h"
+#include "testbench/lib/scene_report.h"
 #include "testbench/lib/temp_dir.h"
 #include "traces/trace_file.h"
 
@@ -138,25 +139,11 @@ TEST(SceneVolume, TruthIsTrilinearInSpace) {
               0.5 * 3 / 4 + 0.5, 1e-12);
 }
 
-nlohmann::json run_volume(const TempDir& dir, const std::string& trace, const std::string& out) {
-  RunOptions opt;
-  opt.scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/volume.toml";
-  opt.trace = trace;
-  opt.threads = 1;
-  opt.truth_cache = false;
-  opt.out = dir.file(out);
-  opt.overrides = {"output.width=96", "output.height=72"};
-  std::ostringstream log;
-  run_simulation(opt, log);
-  std::ifstream in(opt.out + "/report.json");
-  return nlohmann::json::parse(in);
-}
-
 // The shipped volume scene renders close to its truth with the 3-D path's row, and its trace
 // (which carries r and its derivatives in w) replays it with the same figures.
 TEST(SceneVolume, VolumeSceneRendersAndItsTraceReplaysIt) {
   TempDir dir("scene_volume");
-  const nlohmann::json a = run_volume(dir, "", "scene");
+  const nlohmann::json a = shipped_scene_report(dir, "volume", "", "scene");
   ASSERT_GT(a["fragments"].get<uint64_t>(), 1000u);
   // 29.8 dB at 96x72: the oblique floor minifies the volume anisotropically, which a 3-D
   // trilinear sample blurs (an isotropic λ from the longer axis).
@@ -174,7 +161,7 @@ TEST(SceneVolume, VolumeSceneRendersAndItsTraceReplaysIt) {
     for (const Fragment& f : fs) any_w = any_w || (f.w != 0 && f.dwdx != 0);
     EXPECT_TRUE(any_w);
   }
-  const nlohmann::json b = run_volume(dir, trc, "trace");
+  const nlohmann::json b = shipped_scene_report(dir, "volume", trc, "trace");
   for (const char* key : {"fragments", "cycles", "cache", "dram", "accuracy"})
     EXPECT_EQ(a[key], b[key]) << key;
   EXPECT_EQ(a["blocks"]["volume.r_axis"], b["blocks"]["volume.r_axis"]);
