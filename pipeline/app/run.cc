@@ -1144,6 +1144,29 @@ Scene load_run_scene(const RunOptions& opt) {
                                                        : load_scene(opt.scene, opt.overrides);
 }
 
+namespace {
+
+// --board virtual|hid: the fixed-arithmetic materials' fragments go to the RTL sampler on a
+// board (null without --board).
+std::unique_ptr<BoardSampler> attach_board(const std::string& link, UnitArray& units,
+                                           std::ostream& log) {
+  if (link.empty()) return nullptr;
+  auto board = std::make_unique<BoardSampler>(link, units);
+  units.set_fixed_board(board.get());
+  log << "board (" << link << "): texsim_sampler runs the fixed-arithmetic materials";
+  for (const std::string& m : board->materials()) log << " " << m;
+  log << "\n";
+  return board;
+}
+
+void board_info(const BoardSampler& board, RunInfo& info) {
+  info.board_link = board.link();
+  info.board_blocks = board.blocks();
+  info.board_fragments = board.fragments();
+}
+
+}  // namespace
+
 RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   ensure_dir(opt.out);  // an unwritable --out is found before the run, not after it
   // Scene: a file, the built-in default, or (trace only) none.
@@ -1165,14 +1188,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   UnitArray units(textures.set, mats, setup, scene.tech, !opt.functional, UnitArray::kWindow,
                   opt.capture && opt.capture->whole_fragments);
   TextureUnit& unit = units.unit(0);
-  std::unique_ptr<BoardSampler> board;
-  if (!opt.board.empty()) {
-    board = std::make_unique<BoardSampler>(opt.board, units);
-    units.set_fixed_board(board.get());
-    log << "board (" << opt.board << "): texsim_sampler runs the fixed-arithmetic materials";
-    for (const std::string& m : board->materials()) log << " " << m;
-    log << "\n";
-  }
+  const std::unique_ptr<BoardSampler> board = attach_board(opt.board, units, log);
   WorkloadStats workload(workload_textures(textures.set));  // placed by the units: their addresses
   // Materials with `object_space`: drawn first, their pixels then take the resolved colours.
   ObjectSpaceFrame os =
@@ -1239,11 +1255,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   sum.cycles = units.cycles();
   sum.accuracy = images.total();
   RunInfo info = images_info(opt, layout, textures, units, images);
-  if (board) {
-    info.board_link = board->link();
-    info.board_blocks = board->blocks();
-    info.board_fragments = board->fragments();
-  }
+  if (board) board_info(*board, info);
   workload.finish();
   if (opt.workload) info.workload = &workload;
   info.scene = use_scene ? scene.path : "(none: trace only)";

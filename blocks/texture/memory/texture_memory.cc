@@ -431,7 +431,7 @@ uint64_t Texture::place(uint64_t base, TexelLayout layout) {
       const VolumeSize s{first.width, first.height, volume_depth(static_cast<int>(m))};
       volume_offset_[m] = off;
       for (int z = 0; z < s.depth; ++z)
-        levels_[static_cast<size_t>(volume_first_[m] + z)].offset = off;
+        levels_[static_cast<size_t>(volume_first_[m]) + static_cast<size_t>(z)].offset = off;
       const uint64_t texels = VolumeAddressGen::level_texels(layout, s);
       off += (texels * static_cast<uint64_t>(bytes_per_texel()) + 255) & ~uint64_t{255};
     }

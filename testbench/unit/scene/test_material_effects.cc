@@ -139,8 +139,8 @@ TEST(MaterialEffects, EveryRegisteredEffectBuilds) {
         e.key == "lookup"
             ? "[textures.t]\ntype = \"2d_array\"\nlayers = [\"procedural:checker?size=8\"]\n"
             : kTexture;
-    const std::string text =
-        texture + "[materials.m]\ntexture = \"t\"\n" + std::string(e.key) + " = " + table + "\n";
+    std::string text = texture;
+    text += "[materials.m]\ntexture = \"t\"\n" + std::string(e.key) + " = " + table + "\n";
     EXPECT_EQ(error_of(text), "") << e.key;
   }
 }
