@@ -13,4 +13,4 @@ $SUDO apt-get install -y --no-install-recommends \
   clang clang-format clang-tidy libclang-rt-14-dev verilator iverilog yosys nextpnr-ice40 fpga-icestorm gnuplot-nox parallel sqlite3 bc slurm-wlm munge \
   python3 libsquish-dev libnvtt-dev astcenc libastcenc-dev glmark2-data python-matplotlib-data \
   libegl-dev libgl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri \
-  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-matplotlib help2man dpkg-dev
+  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-matplotlib help2man dpkg-dev file
