@@ -24,27 +24,7 @@ struct Sampler {
   TexelAddressGen::Config addr;
 };
 
-VkSamplerState vk_state(const Sampler& s) {
-  VkSamplerState v;
-  const FilterMode f = s.addr.filter;
-  v.filter =
-      f == FilterMode::Nearest ? VkSamplerState::Filter::Nearest : VkSamplerState::Filter::Linear;
-  v.mipmap_mode = f == FilterMode::Trilinear ? VkSamplerState::MipmapMode::Linear
-                                             : VkSamplerState::MipmapMode::Nearest;
-  v.address_u = s.addr.address_u;
-  v.address_v = s.addr.address_v;
-  v.mip_lod_bias = s.lod.lod_bias;
-  v.min_lod = s.lod.min_lod;
-  v.max_lod = s.lod.max_lod;
-  for (int c = 0; c < 4; ++c) v.border[c] = s.addr.border[c];
-  v.offset_u = s.addr.offset_u;
-  v.offset_v = s.addr.offset_v;
-  return v;
-}
-
-VkSampleQuery query_of(const Fragment& f) {
-  return VkSampleQuery{f.u, f.v, f.dudx, f.dvdx, f.dudy, f.dvdy, f.lod_bias};
-}
+VkSamplerState vk_state(const Sampler& s) { return vk_sampler_of(s.addr, s.lod); }
 
 // texsim's sample of one fragment; `taps` receives the taps when not null.
 Rgba sample(const Sampler& s, const Texture& tex, const Fragment& f, FilterTaps* taps = nullptr) {
@@ -126,7 +106,7 @@ TEST(VulkanBorderConformance, TexsimPassesRandomQueries) {
         FilterTaps t;
         const Rgba got = sample(s, tex, fr, &t);
         border_queries += t.border_taps > 0;
-        const ConformanceVerdict v = chk.check(tex, query_of(fr), got);
+        const ConformanceVerdict v = chk.check(tex, vk_query_of(fr), got);
         ++total;
         if (!v.pass && ++failures <= 5) {
           ADD_FAILURE() << tex.width(0) << "x" << tex.height(0) << " " << to_string(s.addr.filter)
@@ -160,9 +140,9 @@ Rejections control(const Sampler& s, const Texture& tex, uint64_t seed, Wrong&& 
     FilterTaps t;
     const Rgba good = sample(s, tex, fr, &t);
     if (!relevant(fr, t)) continue;
-    EXPECT_TRUE(chk.check(tex, query_of(fr), good).pass);
+    EXPECT_TRUE(chk.check(tex, vk_query_of(fr), good).pass);
     ++r.n;
-    if (!chk.check(tex, query_of(fr), wrong(fr, t)).pass) ++r.rejected;
+    if (!chk.check(tex, vk_query_of(fr), wrong(fr, t)).pass) ++r.rejected;
   }
   return r;
 }

@@ -44,24 +44,7 @@ MaterialSetup random_material(std::mt19937_64& rng, bool mips = true) {
   return m;
 }
 
-VkSamplerState vk_state(const MaterialSetup& m) {
-  VkSamplerState v;
-  const FilterMode f = m.filter.filter;
-  v.filter =
-      f == FilterMode::Nearest ? VkSamplerState::Filter::Nearest : VkSamplerState::Filter::Linear;
-  v.mipmap_mode = f == FilterMode::Trilinear ? VkSamplerState::MipmapMode::Linear
-                                             : VkSamplerState::MipmapMode::Nearest;
-  v.address_u = m.filter.address_u;
-  v.address_v = m.filter.address_v;
-  v.mip_lod_bias = m.lod.lod_bias;
-  v.min_lod = m.lod.min_lod;
-  v.max_lod = m.lod.max_lod;
-  for (int c = 0; c < 4; ++c) v.border[c] = m.filter.border[c];
-  v.offset_u = m.filter.offset_u;
-  v.offset_v = m.filter.offset_v;
-  v.unnormalized = m.filter.unnormalized;
-  return v;
-}
+VkSamplerState vk_state(const MaterialSetup& m) { return vk_sampler_of(m.filter, m.lod); }
 
 Fragment random_fragment(std::mt19937_64& rng, int w, int h) {
   std::uniform_real_distribution<double> uv(-1.5, 2.5), sc(-4, 6), ang(0, 6.283185307179586);
@@ -74,13 +57,6 @@ Fragment random_fragment(std::mt19937_64& rng, int w, int h) {
   f.dudy = -len * std::sin(a) / w;
   f.dvdy = len * std::cos(a) / h;
   return f;
-}
-
-VkSampleQuery query_of(const Fragment& f) {
-  VkSampleQuery q{f.u, f.v, f.dudx, f.dvdx, f.dudy, f.dvdy, f.lod_bias};
-  q.explicit_lod = f.op == static_cast<uint8_t>(SampleOp::kSampleLod);
-  q.lod = f.lod;
-  return q;
 }
 
 // One fragment through a functional texture unit with material m.
@@ -138,7 +114,7 @@ TEST(VulkanOpsConformance, DepthComparisonBeforeFiltering) {
     const Rgba got = run(m, depth, f);
     ++t.queries;
     const ConformanceVerdict v =
-        chk.check_compare(depth, query_of(f), m.filter.compare, f.compare_ref, got);
+        chk.check_compare(depth, vk_query_of(f), m.filter.compare, f.compare_ref, got);
     t.accepted += v.pass;
     EXPECT_TRUE(v.pass) << v.reason;
     // Control: the depths filtered first, then the one filtered depth compared.
@@ -154,7 +130,7 @@ TEST(VulkanOpsConformance, DepthComparisonBeforeFiltering) {
     if (!explicit_lod || !differs(wrong, got)) continue;
     ++t.controls;
     t.rejected +=
-        !chk.check_compare(depth, query_of(f), m.filter.compare, f.compare_ref, wrong).pass;
+        !chk.check_compare(depth, vk_query_of(f), m.filter.compare, f.compare_ref, wrong).pass;
   }
   t.print("compare");
   EXPECT_EQ(t.accepted, t.queries);
@@ -180,7 +156,7 @@ TEST(VulkanOpsConformance, GatherOrder) {
     const Rgba got = run(m, tex, f);
     ++t.queries;
     const ConformanceVerdict v =
-        chk.check_gather(tex, query_of(f), f.gather_component, f.offset_u, f.offset_v, got);
+        chk.check_gather(tex, vk_query_of(f), f.gather_component, f.offset_u, f.offset_v, got);
     t.accepted += v.pass;
     EXPECT_TRUE(v.pass) << v.reason;
     // Control: the four texels in row order (i0,j0), (i1,j0), (i0,j1), (i1,j1).
@@ -188,7 +164,8 @@ TEST(VulkanOpsConformance, GatherOrder) {
     if (!differs(wrong, got)) continue;
     ++t.controls;
     t.rejected +=
-        !chk.check_gather(tex, query_of(f), f.gather_component, f.offset_u, f.offset_v, wrong).pass;
+        !chk.check_gather(tex, vk_query_of(f), f.gather_component, f.offset_u, f.offset_v, wrong)
+             .pass;
   }
   t.print("gather");
   EXPECT_EQ(t.accepted, t.queries);
@@ -214,7 +191,7 @@ TEST(VulkanOpsConformance, ExplicitLodBiasThenClamp) {
     const VulkanOpsConformance chk(vk_state(m), VkFilterPrecision{});
     const Rgba got = run(m, tex, f);
     ++t.queries;
-    const ConformanceVerdict v = chk.filter().check(tex, query_of(f), got);
+    const ConformanceVerdict v = chk.filter().check(tex, vk_query_of(f), got);
     t.accepted += v.pass;
     EXPECT_TRUE(v.pass) << v.reason;
     // Control: λ = clamp(lod) + bias, unclamped after.
@@ -226,7 +203,7 @@ TEST(VulkanOpsConformance, ExplicitLodBiasThenClamp) {
     const Rgba wrong = run(wrong_m, tex, g);
     if (!differs(wrong, got)) continue;
     ++t.controls;
-    t.rejected += !chk.filter().check(tex, query_of(f), wrong).pass;
+    t.rejected += !chk.filter().check(tex, vk_query_of(f), wrong).pass;
   }
   t.print("explicit lod");
   EXPECT_EQ(t.accepted, t.queries);
@@ -253,7 +230,7 @@ TEST(VulkanOpsConformance, UnnormalisedCoordinates) {
     const VulkanOpsConformance chk(vk_state(m), VkFilterPrecision{});
     const Rgba got = run(m, tex, f);
     ++t.queries;
-    const ConformanceVerdict v = chk.filter().check(tex, query_of(f), got);
+    const ConformanceVerdict v = chk.filter().check(tex, vk_query_of(f), got);
     t.accepted += v.pass;
     EXPECT_TRUE(v.pass) << v.reason;
     // Control: the texel coordinates taken as normalised (scaled by the size a second time).
@@ -262,7 +239,7 @@ TEST(VulkanOpsConformance, UnnormalisedCoordinates) {
     const Rgba wrong = run(twice, tex, f);
     if (!differs(wrong, got)) continue;
     ++t.controls;
-    t.rejected += !chk.filter().check(tex, query_of(f), wrong).pass;
+    t.rejected += !chk.filter().check(tex, vk_query_of(f), wrong).pass;
   }
   t.print("unnormalized");
   EXPECT_EQ(t.accepted, t.queries);

@@ -57,10 +57,6 @@ Pipe make_pipe(FilterMode f, AddressMode mu, AddressMode mv, int bits, const Lod
   return Pipe{LodUnit(l), TexelAddressGen(g), TexelBlend()};
 }
 
-VkSampleQuery query_of(const Fragment& f) {
-  return VkSampleQuery{f.u, f.v, f.dudx, f.dvdx, f.dudy, f.dvdy, f.lod_bias};
-}
-
 // Random fragment: coordinates over several repeats, footprint from 1/16 to 512 texels with
 // anisotropy up to 4 in a random direction (the isotropic LOD unit takes the major axis).
 Fragment random_fragment(std::mt19937_64& rng, int w, int h, double log2_lo, double log2_hi) {
@@ -144,7 +140,7 @@ TEST(VulkanConformance, FiltersPassAt8And6Bits) {
             for (int it = 0; it < 120; ++it) {
               const Fragment fr = random_fragment(rng, w, h, -4, 9);
               const Rgba got = pipe.sample(tex, fr);
-              const ConformanceVerdict v = chk.check(tex, query_of(fr), got);
+              const ConformanceVerdict v = chk.check(tex, vk_query_of(fr), got);
               ++total;
               if (v.lambda_hi <= 0) ++magnified;
               if (!v.pass && ++failures <= 5) {
@@ -238,7 +234,7 @@ TEST(VulkanConformance, CheckerAcceptsOtherLegalImplementations) {
           prec.mipmap_bits = bits;
           const VulkanConformance chk(s, prec);
           for (int it = 0; it < 150; ++it) {
-            const VkSampleQuery q = query_of(random_fragment(rng, w, h, -4, 9));
+            const VkSampleQuery q = vk_query_of(random_fragment(rng, w, h, -4, 9));
             for (bool high : {false, true}) {
               const ConformanceVerdict v = chk.check(tex, q, other_legal(tex, q, s, bits, high));
               ++total;
@@ -289,7 +285,7 @@ TEST(VulkanConformance, RejectsWeightsOffByTwoLsb) {
         const Fragment fr = random_fragment(rng, 37, 23, -3, 5);
         FilterTaps t;
         const Rgba good = pipe.sample(tex, fr, &t);
-        ASSERT_TRUE(chk.check(tex, query_of(fr), good).pass);
+        ASSERT_TRUE(chk.check(tex, vk_query_of(fr), good).pass);
         // Skip queries where +2 LSB would be clipped at α = 1 (the error would not exist).
         const float s0 = t.tap[0].w + t.tap[1].w + t.tap[2].w + t.tap[3].w;
         if (s0 > 0 && (t.tap[1].w + t.tap[3].w) / s0 > 1 - 2 * two_lsb) continue;
@@ -297,7 +293,7 @@ TEST(VulkanConformance, RejectsWeightsOffByTwoLsb) {
         OpCounts ops;
         const Rgba bad = TexelBlend().blend(t, tex, ops);
         ++r.n;
-        if (!chk.check(tex, query_of(fr), bad).pass) ++r.rejected;
+        if (!chk.check(tex, vk_query_of(fr), bad).pass) ++r.rejected;
       }
       std::printf("%s %d bits, alpha + 2 LSB: %d of %d rejected (%.1f%%)\n", to_string(f), bits,
                   r.rejected, r.n, 100 * r.rate());
@@ -328,7 +324,7 @@ TEST(VulkanConformance, RejectsWrongMipLevel) {
       for (int it = 0; it < 3000; ++it) {
         const Fragment fr = random_fragment(rng, 256, 128, 2.5, 6);  // minified: λ ≈ 2.5..6
         ++r.n;
-        if (!chk.check(tex, query_of(fr), pipe.sample(tex, fr)).pass) ++r.rejected;
+        if (!chk.check(tex, vk_query_of(fr), pipe.sample(tex, fr)).pass) ++r.rejected;
       }
       std::printf("%s, LOD %+.0f level(s): %d of %d rejected (%.1f%%)\n", to_string(f),
                   static_cast<double>(off), r.rejected, r.n, 100 * r.rate());
@@ -351,7 +347,7 @@ TEST(VulkanConformance, RejectsWrongAddressMode) {
       Fragment fr = random_fragment(rng, 32, 32, -3, 0);  // magnified: level 0
       fr.u = edge(rng);                                   // up to 1.6 texels left of the edge
       ++r.n;
-      if (!chk.check(tex, query_of(fr), pipe.sample(tex, fr)).pass) ++r.rejected;
+      if (!chk.check(tex, vk_query_of(fr), pipe.sample(tex, fr)).pass) ++r.rejected;
     }
     std::printf("%s, wrap instead of clamp at the edge: %d of %d rejected (%.1f%%)\n", to_string(f),
                 r.rejected, r.n, 100 * r.rate());

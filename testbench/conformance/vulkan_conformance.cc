@@ -6,6 +6,8 @@
 #include <limits>
 #include <vector>
 
+#include "blocks/base/sample_op.h"
+
 namespace texsim {
 
 namespace {
@@ -371,6 +373,31 @@ ConformanceVerdict VulkanConformance::check(const Texture& tex, const VkSampleQu
                 v.lambda_hi, v.level_lo, v.level_hi, judge.best(), judge.best_desc());
   v.reason = buf;
   return v;
+}
+
+VkSamplerState vk_sampler_of(const TexelAddressGen::Config& a, const LodUnit::Config& l) {
+  VkSamplerState v;
+  v.filter = a.filter == FilterMode::Nearest ? VkSamplerState::Filter::Nearest
+                                             : VkSamplerState::Filter::Linear;
+  v.mipmap_mode = a.filter == FilterMode::Trilinear ? VkSamplerState::MipmapMode::Linear
+                                                    : VkSamplerState::MipmapMode::Nearest;
+  v.address_u = a.address_u;
+  v.address_v = a.address_v;
+  v.mip_lod_bias = l.lod_bias;
+  v.min_lod = l.min_lod;
+  v.max_lod = l.max_lod;
+  for (int c = 0; c < 4; ++c) v.border[c] = a.border[c];
+  v.offset_u = a.offset_u;
+  v.offset_v = a.offset_v;
+  v.unnormalized = a.unnormalized;
+  return v;
+}
+
+VkSampleQuery vk_query_of(const Fragment& f) {
+  VkSampleQuery q{f.u, f.v, f.dudx, f.dvdx, f.dudy, f.dvdy, f.lod_bias};
+  q.explicit_lod = f.op == static_cast<uint8_t>(SampleOp::kSampleLod);
+  q.lod = f.lod;
+  return q;
 }
 
 }  // namespace texsim

@@ -5,7 +5,10 @@
 // AddressMode. Arithmetic: double, with the spec's tolerances made explicit as intervals.
 #include <string>
 
+#include "blocks/base/fragment.h"
 #include "blocks/texture/memory/texture_memory.h"
+#include "blocks/texture/sampler/lod_unit.h"
+#include "blocks/texture/sampler/texel_address_gen.h"
 
 namespace texsim {
 
@@ -85,5 +88,12 @@ class VulkanConformance {
   VkSamplerState s_;
   VkFilterPrecision p_;
 };
+
+// The Vulkan sampler state of texsim's address-generator and LOD configurations (filter,
+// mipmap mode, address modes, bias and LOD range, border colour, offsets, unnormalised).
+VkSamplerState vk_sampler_of(const TexelAddressGen::Config& a, const LodUnit::Config& l);
+// A fragment as a query: its coordinates, derivatives and bias, and its explicit LOD when its
+// operation is SampleOp::kSampleLod.
+VkSampleQuery vk_query_of(const Fragment& f);
 
 }  // namespace texsim
