@@ -23,6 +23,7 @@
 #include "pipeline/scene/layered_source.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/scene/texture_loader.h"
+#include "testbench/lib/error_of.h"
 #include "testbench/lib/scene_report.h"
 #include "testbench/lib/temp_dir.h"
 #include "traces/trace_file.h"
@@ -64,14 +65,11 @@ Scene parse(const std::string& body) { return parse_scene(kHead + body, "s.toml"
 
 // The message of the InputError parsing `body` throws ("" if none).
 std::string error_of(const std::string& body) {
-  try {
+  return texsim::error_of([&] {
     const Scene s = parse(body);
     for (size_t i = 0; i < s.textures.size(); ++i) (void)load_scene_texture(s, i);
     (void)build_materials(s);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  });
 }
 
 TEST(SceneLayered, CubeFacesBecomeOneLayeredTexture) {

@@ -17,6 +17,7 @@
 #include "pipeline/scene/scene.h"
 #include "pipeline/scene/texture_loader.h"
 #include "pipeline/texture/effect_registry.h"
+#include "testbench/lib/error_of.h"
 #include "testbench/lib/scene_report.h"
 #include "testbench/lib/temp_dir.h"
 #include "traces/trace_file.h"
@@ -51,14 +52,11 @@ std::string slices(int n, int size = 16) {
 Scene parse(const std::string& body) { return parse_scene(kHead + body, "s.toml", ""); }
 
 std::string error_of(const std::string& body) {
-  try {
+  return texsim::error_of([&] {
     const Scene s = parse(body);
     for (size_t i = 0; i < s.textures.size(); ++i) (void)load_scene_texture(s, i);
     (void)build_materials(s);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  });
 }
 
 TEST(SceneVolume, LayersBecomeAVolumeWithThreeDMips) {
