@@ -29,7 +29,7 @@ CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -D
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
   -DTEXSIM_BUILD_BENCH=OFF -DTEXSIM_WERROR=OFF > /dev/null
 cmake --build "$build" -j "$(nproc)" --target fuzz_trace_reader fuzz_draw_trace fuzz_apitrace_dump fuzz_csv_reader fuzz_scene \
-  fuzz_obj fuzz_model fuzz_npz fuzz_png fuzz_dds fuzz_astc_file fuzz_ktx fuzz_sweep fuzz_merge_json fuzz_tune_shard fuzz_link_host fuzz_cache_entry
+  fuzz_obj fuzz_model fuzz_npz fuzz_png fuzz_dds fuzz_astc_file fuzz_ktx fuzz_sweep fuzz_merge_json fuzz_tune_shard fuzz_link_host fuzz_sampler_link fuzz_cache_entry
 run() {  # run NAME CORPUS [ENV=VALUE]
   local name=$1 seeds=$2; shift 2
   local work="$build/corpus/$name${1:+-crc}"
@@ -56,6 +56,7 @@ run fuzz_sweep testbench/fuzz/corpus/sweep
 run fuzz_merge_json testbench/fuzz/corpus/merge_json
 run fuzz_tune_shard testbench/fuzz/corpus/tune_shard
 run fuzz_link_host testbench/fuzz/corpus/link_host
+run fuzz_sampler_link testbench/fuzz/corpus/sampler_link
 run fuzz_obj testbench/fuzz/corpus/obj
 run fuzz_model testbench/fuzz/corpus/model
 run fuzz_npz testbench/fuzz/corpus/npz
