@@ -17,6 +17,7 @@
 #include "blocks/base/input_error.h"
 #include "blocks/base/output_set.h"
 #include "blocks/base/version.h"
+#include "blocks/texture/memory/storage_format.h"
 #include "pipeline/app/board_sampler.h"
 #include "pipeline/app/error_ledger.h"
 #include "pipeline/app/fragment_router.h"
@@ -31,6 +32,7 @@
 #include "pipeline/raster/scene_front_end.h"
 #include "pipeline/reference/ground_truth.h"
 #include "pipeline/reference/layered_reference.h"
+#include "pipeline/reference/operation_reference.h"
 #include "pipeline/reference/surface_reference.h"
 #include "pipeline/reference/truth_cache.h"
 #include "pipeline/render/draw_fragment_trace.h"
@@ -235,6 +237,39 @@ struct GroundTruth {
   }
   // Adaptive sampling: pixels may be refined to finer tiers (TruthSampling).
   bool tiered() const { return !none && integrate.sampling().adaptive(); }
+  // The sampler state of fragment f's operation truth (operation_reference.h), or none: a
+  // plain sample, a footprint filter, a 3-D or cube texture (their own truths).
+  std::optional<OperationSampler> operation_sampler(const Fragment& f, int material,
+                                                    const Texture& stored) const {
+    const MaterialSetup& ms = mats[static_cast<size_t>(material)];
+    if (ms.footprint || stored.volume() || stored.shape().type == TextureType::Cube)
+      return std::nullopt;
+    const bool own = f.sampler == 0 || f.sampler == ms.sampler || !ms.samplers ||
+                     f.sampler > ms.samplers->size();
+    const TexelAddressGen::Config& c = own ? ms.filter : (*ms.samplers)[f.sampler - 1u].filter;
+    const LodUnit::Config& l = own ? ms.lod : (*ms.samplers)[f.sampler - 1u].lod;
+    OperationSampler s;
+    s.au = c.address_u;
+    s.av = c.address_v;
+    s.border = glm::dvec4(border_texel(stored.storage(), c.border));
+    s.offset_u = c.offset_u + f.offset_u;  // the record's offsets join the sampler's
+    s.offset_v = c.offset_v + f.offset_v;
+    s.compare = c.compare;
+    s.reduction = c.reduction;
+    s.unnormalized = c.unnormalized;
+    const StorageFormatInfo& fi = format_info(stored.storage());
+    s.unorm_depth = fi.depth && fi.coding == ChannelCoding::Unorm;
+    s.lod_bias = l.lod_bias;
+    s.min_lod = l.min_lod;
+    s.max_lod = l.max_lod;
+    // A record on another sampler than its material's (even a plain one) reads that sampler.
+    if (!operation_truth_applies(f, s) && own) return std::nullopt;
+    return s;
+  }
+  // Whether g's truth is an operation's (it reads fields the truth cache's key lacks).
+  bool by_operation(const Fragment& g, int material) const {
+    return !none && operation_sampler(g, material, textures[static_cast<int>(g.tex)]).has_value();
+  }
   // f: the fragment as given; g: the same with its texture id mapped to the loaded texture;
   // tier: the adaptive tolerance's tier; *samples: the points the truth evaluated; *reach: the
   // finest tier whose value this also is.
@@ -272,6 +307,10 @@ struct GroundTruth {
     }
     const Texture& t2d =
         tex.layered() ? layers->get(tex, reference_layer(f.layer, tex.shape().slices)) : tex;
+    if (const std::optional<OperationSampler> s = operation_sampler(f, material, stored)) {
+      return ground_truth_operation(t2d, *s, g, exact() ? &map_of(f) : nullptr, x, y, in, samples,
+                                    reach);
+    }
     return exact() ? ground_truth_exact(t2d, ms.address_u(), ms.address_v(), map_of(f), x, y, in,
                                         samples, reach, extras)
                    : ground_truth_footprint(t2d, ms.address_u(), ms.address_v(), g, in, samples,
@@ -571,8 +610,9 @@ class TruthBatch {
   // colour null: not textured.
   void add(const Fragment& f, const Fragment& g, int material, const Rgba* colour, uint64_t index) {
     // A cached fragment's likely place in the table: the cache's records are in arrival order.
-    const size_t hint = memo_ && memo_->covers(material) ? hint_++ : SIZE_MAX;
     Item it{f, g, material, colour != nullptr, colour ? *colour : Rgba(0), index};
+    it.cacheable = memo_ && memo_->covers(material) && !truth_.by_operation(g, material);
+    const size_t hint = it.cacheable ? hint_++ : SIZE_MAX;
     it.hint = hint;
     items_.push_back(it);
     if (items_.size() == kSize) flush();
@@ -589,8 +629,8 @@ class TruthBatch {
       samples_ += static_cast<uint64_t>(it.samples);
       refined_ += it.tier > 0 ? 1 : 0;
       if (memo_ && it.cached) ++memo_->hits;
-      if (memo_ && !it.cached && memo_->covers(it.material)) memo_->fresh.push_back(record_of(it));
-      if (memo_ && it.tier > 0 && !it.tier_cached && memo_->covers(it.material)) {
+      if (!it.cached && it.cacheable) memo_->fresh.push_back(record_of(it));
+      if (it.tier > 0 && !it.tier_cached && it.cacheable) {
         memo_->tiers[static_cast<size_t>(it.tier)].fresh.push_back(
             {id_of(it), {it.truth.r, it.truth.g, it.truth.b, it.truth.a}, it.samples, 0});
       }
@@ -635,6 +675,8 @@ class TruthBatch {
     int samples0 = 0, reach0 = 0;
     int tier = 0;              // the tier of `truth`
     bool tier_cached = false;  // that tier's truth taken from the truth cache
+    // Its truth may be kept in the truth cache (not an operation's: see by_operation).
+    bool cacheable = false;
   };
   static TruthId id_of(const Item& it) {
     return {it.f.frame, it.f.prim, it.f.x, it.f.y, static_cast<uint32_t>(it.material), it.g.tex};
@@ -647,7 +689,7 @@ class TruthBatch {
   }
   // The item's tier-0 truth: the cached one when the cache has it, else computed.
   void judge(Item& it) const {
-    if (memo_ && memo_->table && memo_->covers(it.material)) {
+    if (it.cacheable && memo_->table) {
       if (const TruthRecord* r = memo_->table->find(id_of(it), it.hint)) {
         it.truth0 = {r->rgba[0], r->rgba[1], r->rgba[2], r->rgba[3]};
         it.samples0 = r->samples;
@@ -704,7 +746,7 @@ class TruthBatch {
     });
   }
   void refine(Item& it) const {
-    if (memo_ && memo_->covers(it.material)) {
+    if (it.cacheable) {
       const auto& table = memo_->tiers[static_cast<size_t>(it.tier)].table;
       if (const TruthRecord* r = table ? table->find(id_of(it)) : nullptr) {
         it.truth = {r->rgba[0], r->rgba[1], r->rgba[2], r->rgba[3]};

@@ -759,6 +759,29 @@ TEST_F(Cli, SamplerOpsSceneReplaysFromItsTraceAndARecordPicksASampler) {
   EXPECT_NE(e.out.find("cannot use an unnormalised sampler"), std::string::npos) << e.out;
 }
 
+TEST_F(Cli, SamplerOpsSceneMeasuresEachOperationAgainstItsOwnTruth) {
+  // Each material of scenes/sampler_ops.toml is judged against what its operation asks
+  // (docs/texture-types.md §8): a gather is exact (999: no error), the unnormalised fetch
+  // leaves only the fixed-point weights, and the comparison, the reduction, the explicit LOD
+  // and the gradients are closer to it than to a plain filtered sample's truth (at this size
+  // that truth gives floor 6.5, gather 14.5, max 8.9, lod 27.7, grad 23.4 and texel 5.9 dB:
+  // every bound below fails on it).
+  const std::string scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/sampler_ops.toml";
+  const Result a = sh("run " + scene + " --set output.width=160 --set output.height=100" +
+                      " --no-progress --out " + path("ops"));
+  ASSERT_EQ(a.code, 0) << a.out;
+  const Json j = load_json(path("ops") + "/report.json");
+  const auto psnr = [&](const std::string& m) {
+    return num(j, "materials." + m + ".accuracy.psnr_db");
+  };
+  EXPECT_EQ(psnr("gather"), 999.0);
+  EXPECT_GT(psnr("texel"), 60.0);
+  EXPECT_GT(psnr("floor"), 18.0);
+  EXPECT_GT(psnr("max"), 13.5);
+  EXPECT_GT(psnr("lod"), 30.0);
+  EXPECT_GT(psnr("grad"), 40.0);
+}
+
 TEST_F(Cli, ReliefTraceCarriesTheViewVectorAndRunsLikeTheScene) {
   // trace gen writes a relief scene's view vectors (version 2); the scene run from that trace
   // gives the scene run's figures, and a version-1 trace of the same fragments falls back to
