@@ -864,7 +864,12 @@ Rgba TextureUnit::process_volume(const Fragment& f, Path& p, const Texture& tex,
   const VolumeAddressGen gen({c.filter, c.address_u, c.address_v, c.address_w});
   const VolumeSize base{tex.width(0), tex.height(0), tex.shape().slices};
   const double dx[3] = {f.dudx, f.dvdx, f.dwdx}, dy[3] = {f.dudy, f.dvdy, f.dwdy};
-  const float lambda = VolumeAddressGen::lambda(dx, dy, base) + f.lod_bias;
+  // The LOD unit's bias (the sampler's and the fragment's) and [min_lod, max_lod] clamp on
+  // the 3-D λ, as on a 2-D one (Vulkan "LOD Operation"; the volume generator then clamps to
+  // its pyramid).
+  const LodUnit::Config& lc = st.lod->config();
+  float lambda = VolumeAddressGen::lambda(dx, dy, base) + lc.lod_bias + f.lod_bias;
+  if (!std::isnan(lambda)) lambda = std::clamp(lambda, lc.min_lod, lc.max_lod);
   VolumeAddressGen::Taps vt;
   const int n = gen.taps(base, f.u, f.v, f.w, lambda, vt);
   // The taps as the blend takes them: level = the z-slice's level, border taps marked.

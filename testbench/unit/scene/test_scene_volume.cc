@@ -165,5 +165,41 @@ TEST(SceneVolume, VolumeSceneRendersAndItsTraceReplaysIt) {
   EXPECT_EQ(a["blocks"]["volume.r_axis"], b["blocks"]["volume.r_axis"]);
 }
 
+// 3-D fragments on four units behind a shared L2 (the two-step timing of several units):
+// the image, its accuracy and the r axis's operations are one unit's.
+TEST(SceneVolume, FourUnitsWithAnL2GiveOneUnitsImage) {
+  TempDir dir("scene_volume_units");
+  const auto run = [&](const std::string& out, const std::vector<std::string>& extra) {
+    RunOptions opt;
+    opt.scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/volume.toml";
+    opt.threads = 1;
+    opt.truth_cache = false;
+    opt.out = dir.file(out);
+    opt.overrides = {"output.width=96", "output.height=72"};
+    opt.overrides.insert(opt.overrides.end(), extra.begin(), extra.end());
+    std::ostringstream log;
+    run_simulation(opt, log);
+    std::ifstream in(opt.out + "/report.json");
+    return nlohmann::json::parse(in);
+  };
+  const nlohmann::json one = run("one", {});
+  const nlohmann::json four = run("four", {"pipeline.units=4", "pipeline.l2.size_bytes=524288"});
+  EXPECT_EQ(one["fragments"], four["fragments"]);
+  EXPECT_EQ(one["accuracy"], four["accuracy"]);
+  // The same operations (the area is per unit: four times one's).
+  EXPECT_EQ(one["blocks"]["volume.r_axis"]["ops"], four["blocks"]["volume.r_axis"]["ops"]);
+  ASSERT_TRUE(four.contains("l2")) << four.dump();
+  EXPECT_GT(four["l2"]["accesses"].get<uint64_t>(), 0u);
+  const auto slurp = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  const std::string image = slurp(dir.file("one") + "/image.png");
+  EXPECT_FALSE(image.empty());
+  EXPECT_EQ(image, slurp(dir.file("four") + "/image.png"));
+}
+
 }  // namespace
 }  // namespace texsim

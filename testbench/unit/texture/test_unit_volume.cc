@@ -150,6 +150,22 @@ TEST(UnitVolume, LodTakesTheDerivativeOfR) {
   EXPECT_TRUE(row);
 }
 
+TEST(UnitVolume, LodBiasAndClampApplyToTheThreeDLambda) {
+  // As above: a footprint of one slice in r is λ = 0 (A = 0 at slice 2), of two λ = 1 (½).
+  TextureSet set;
+  set.add(ramp_volume(16, 16, 16));
+  MaterialSetup biased = material(FilterMode::Trilinear);
+  biased.lod.lod_bias = 1;
+  MaterialSetup clamped = material(FilterMode::Trilinear);
+  clamped.lod.max_lod = 0;
+  TextureUnit unit(set, {biased, clamped}, PipelineSetup{}, TechTable::defaults(), true);
+  Fragment f = frag(0.5, 0.5, 2.5 / 16, 0);
+  f.dwdx = 1.0 / 16;
+  EXPECT_NEAR(unit.process(f, 0).a, 0.5, 1e-6);  // λ 0 + bias 1: level 1 (unbiased: 0)
+  f.dwdx = 2.0 / 16;
+  EXPECT_NEAR(unit.process(f, 1).a, 0.0, 1e-6);  // λ 1 clamped to 0: slice 2 (unclamped: ½)
+}
+
 TEST(UnitVolume, CacheReadsTheLinesOfThreeDAddresses) {
   // A 2x2x2 footprint at texels 2..3 of each axis of a 16³ RGBA8 volume (4 B a texel, 64 B
   // lines): linear takes 4 lines (2 rows × 2 slices, a row a line), the 4×4×4 brick 2 (16
