@@ -107,6 +107,7 @@ ProceduralSpec parse_procedural_source(const std::string& source, const std::str
   };
   // As for texture files: at most 8192 × 8192 texels (an rgba32f pyramid of that is 1.4 GB).
   spec.size = get_int("size", spec.size, 1, 8192);
+  spec.rows = get_int("rows", spec.size, 1, spec.size);
   if (auto it = kv.find("format"); it != kv.end()) {
     if (it->second == "rgba32f")
       spec.format = TexelFormat::Rgba32f;
@@ -142,6 +143,7 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
   const ProceduralSpec spec = parse_procedural_source(source, where);
   const int size = spec.size, cells = spec.cells;
   std::vector<float> rgba(static_cast<size_t>(size) * size * 4, 1.0f);
+  // Built square, then cut to its first `rows` rows (a 1-D array's layers are one row).
   auto put = [&](int x, int y, float r, float g, float b) {
     float* p = &rgba[(static_cast<size_t>(y) * size + x) * 4];
     p[0] = r;
@@ -203,7 +205,8 @@ Texture make_procedural_texture(const std::string& source, const std::string& wh
         put(x, y, v, 0.6f * v + 0.2f, 1.0f - v);
       }
   }
-  return Texture::from_rgba(source, size, size, rgba, spec.format, true);
+  rgba.resize(static_cast<size_t>(size) * static_cast<size_t>(spec.rows) * 4);
+  return Texture::from_rgba(source, size, spec.rows, rgba, spec.format, true);
 }
 
 }  // namespace texsim

@@ -15,6 +15,7 @@ namespace texsim {
 struct ProceduralSpec {
   std::string kind;  // checker, grid, noise or sky (one face of a sky cube)
   int size = 256, cells = 8, line = 2, seed = 1, octaves = 5, face = 0;
+  int rows = 256;  // texel rows (1..size; the square's first rows): size × rows texels
   TexelFormat format = TexelFormat::Rgba8;
 };
 

@@ -307,5 +307,38 @@ TEST(SceneLayered, EnvmapSceneRendersAndItsTraceReplaysIt) {
   EXPECT_EQ(a["blocks"]["cube.face_select"], b["blocks"]["cube.face_select"]);
 }
 
+// The shipped arrays scene (a 2-D and a 1-D array, a layer per primitive, layers beyond the
+// array clamped) renders close to its truth, and its trace (each fragment's layer in the
+// version-4 field) replays it with the same figures.
+TEST(SceneLayered, ArraysSceneRendersAndItsTraceReplaysIt) {
+  TempDir dir("layered_arrays");
+  const nlohmann::json a = shipped_scene_report(dir, "arrays", "", "scene");
+  ASSERT_GT(a["fragments"].get<uint64_t>(), 1000u);
+  ASSERT_TRUE(a["blocks"].contains("array.layer_select")) << a["blocks"].dump();
+  for (const char* m : {"floor", "layer1", "layer_half", "layer_over", "strip1", "strip_under"}) {
+    ASSERT_TRUE(a["materials"].contains(m)) << m;
+    EXPECT_GT(a["materials"][m]["fragments"].get<uint64_t>(), 50u) << m;
+    // A wrong layer (unrounded, unclamped, or another's) would read another image: ~10 dB.
+    EXPECT_GT(a["materials"][m]["accuracy"]["psnr_db"].get<double>(), 20.0) << m;
+  }
+  const std::string trc = dir.file("arrays.trc");
+  ASSERT_EQ(generate_scene_trace(std::string(TEXSIM_SOURCE_DIR) + "/scenes/arrays.toml", trc,
+                                 {"output.width=96", "output.height=72"}),
+            a["fragments"].get<uint64_t>());
+  {
+    TraceReader r(trc);
+    EXPECT_EQ(r.header().version, 4u);
+    std::vector<Fragment> fs;
+    ASSERT_GT(r.next_chunk(fs), 0u);
+    bool any_layer = false;
+    for (const Fragment& f : fs) any_layer = any_layer || f.layer != 0;
+    EXPECT_TRUE(any_layer);
+  }
+  const nlohmann::json b = shipped_scene_report(dir, "arrays", trc, "trace");
+  for (const char* key : {"fragments", "cycles", "cache", "dram", "accuracy", "materials"})
+    EXPECT_EQ(a[key], b[key]) << key;
+  EXPECT_EQ(a["blocks"]["array.layer_select"], b["blocks"]["array.layer_select"]);
+}
+
 }  // namespace
 }  // namespace texsim

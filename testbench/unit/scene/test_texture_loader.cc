@@ -177,6 +177,13 @@ TEST(Procedural, CheckerNoiseGridAndErrors) {
   EXPECT_THROW(make_procedural_texture("procedural:checker?size=0", "x"), InputError);
   EXPECT_THROW(make_procedural_texture("procedural:checker?colour=red", "x"), InputError);
   EXPECT_THROW(make_procedural_texture("procedural:checker?size", "x"), InputError);
+  // rows: the square's first rows (a 1-D array's layer is one), 1..size.
+  const Texture row = make_procedural_texture("procedural:checker?size=64&cells=4&rows=1", "x");
+  EXPECT_EQ(row.width(0), 64);
+  EXPECT_EQ(row.height(0), 1);
+  EXPECT_EQ(row.texel(0, 16, 0).r, c.texel(0, 16, 0).r);
+  EXPECT_THROW(make_procedural_texture("procedural:checker?size=8&rows=0", "x"), InputError);
+  EXPECT_THROW(make_procedural_texture("procedural:checker?size=8&rows=9", "x"), InputError);
 }
 
 std::string scene_error(const std::string& source, const std::string& base_dir) {
