@@ -84,6 +84,9 @@ class UnitScheduler {
     }
     drain(false);
   }
+  // Asks for the slot unit u's next item would be written to (add_with) in the cache, so that
+  // the write does not wait for the line: called before the work that makes the item.
+  void prefetch_slot(int u) const { units_[static_cast<size_t>(u)].queue.prefetch_tail(); }
   // Whether unit u has nothing begun and nothing waiting: an item of it may begin at once.
   bool idle(int u) const {
     const Lane& l = units_[static_cast<size_t>(u)];
@@ -139,6 +142,12 @@ class UnitScheduler {
       if (i >= tail_) return;
       const char* p = reinterpret_cast<const char*>(&blocks_[i / kBlock][i % kBlock]);
       for (size_t b = 0; b < sizeof(Item); b += 64) __builtin_prefetch(p + b);
+    }
+    // Asks for the slot push_slot() gives next in the cache, for writing (a unit's slots are
+    // written a few at a time, long after its previous ones left the cache).
+    void prefetch_tail() const {
+      if (tail_ < blocks_.size() * kBlock)
+        __builtin_prefetch(&blocks_[tail_ / kBlock][tail_ % kBlock], 1);
     }
     void pop_front() {
       if (++head_ % kBlock == 0) {

@@ -135,6 +135,8 @@ void UnitArray::add(const Fragment& f, const Fragment& g, const Fragment& u, int
     // place into the scheduler's slot.
     TextureUnit& t = *units_[static_cast<size_t>(unit)];
     // (Every unit writes its timing to scratch_, packed before the next process().)
+    // Its slot's line is fetched while the fragment is filtered.
+    timed_->prefetch_slot(unit);
     if (timed_->idle(unit)) {
       // Nothing waits in the unit: a fragment whose look-ups all hit is timed as it is filtered.
       t.set_issue_now(true);
