@@ -819,7 +819,7 @@ TraceSummary first_pass(const RunOptions& opt) {
                      "is not a regular file: a run reads its trace twice (first for the "
                      "pixels and frames it covers)");
   }
-  TraceSummary sum = summarize_trace(opt.trace);
+  TraceSummary sum = summarize_trace(opt.trace, resolve_threads(opt.threads) > 1);
   if (sum.records == 0) throw InputError(opt.trace, "no fragments to render");
   if (opt.frame >= 0 && !sum.frames_overflow &&
       sum.frames.count(static_cast<uint32_t>(opt.frame)) == 0) {
@@ -1145,8 +1145,8 @@ struct TraceInput {
 TraceInput open_trace(const RunOptions& opt) {
   TraceInput t;
   if (opt.trace.empty()) return t;
+  t.digest = trace_digest(opt);  // hashed beside the first pass (with more than one thread)
   t.summary = std::make_unique<TraceSummary>(first_pass(opt));
-  t.digest = trace_digest(opt);
   t.reader = std::make_unique<TraceReader>(opt.trace);
   return t;
 }
