@@ -3,9 +3,11 @@
 #include <cinttypes>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <vector>
 
 #include "traces/draw_trace.h"
+#include "traces/prefetch_reader.h"
 #include "traces/trace_csv.h"
 
 namespace texsim {
@@ -29,7 +31,7 @@ std::string fmt_pixels(const TraceRange& r) {
 
 }  // namespace
 
-TraceSummary summarize_trace(const std::string& path) {
+TraceSummary summarize_trace(const std::string& path, bool read_ahead) {
   TraceSummary s;
   TraceReader reader(path);
   s.header = reader.header();
@@ -37,8 +39,10 @@ TraceSummary summarize_trace(const std::string& path) {
   s.file_bytes = std::filesystem::file_size(path, ec);
   for (const TraceTexture& t : s.header.textures) s.per_texture[t.id] = 0;
   std::vector<Fragment> chunk;
+  std::unique_ptr<PrefetchReader> ahead;
+  if (read_ahead) ahead = std::make_unique<PrefetchReader>(reader);
   // The per-texture map never grows here: the reader has already checked every id is in it.
-  while (reader.next_chunk(chunk) > 0) {
+  while ((ahead ? ahead->next_chunk(chunk) : reader.next_chunk(chunk)) > 0) {
     for (const Fragment& f : chunk) {
       if (s.records == 0) {
         s.frame_min = s.frame_max = f.frame;
@@ -69,6 +73,7 @@ TraceSummary summarize_trace(const std::string& path) {
       ++s.records;
     }
   }
+  ahead.reset();  // its thread stopped: the reader is ours again
   s.chunks = reader.chunks_read();
   return s;
 }

@@ -43,7 +43,9 @@ struct TraceSummary {
   TraceRange u, v, dudx, dvdx, dudy, dvdy, lod_bias;
 };
 
-TraceSummary summarize_trace(const std::string& path);
+// read_ahead: the chunks are read, checked and decoded on a thread of their own
+// (PrefetchReader) while this one summarises them; the same summary and the same errors.
+TraceSummary summarize_trace(const std::string& path, bool read_ahead = false);
 
 // Prints the header, layout, texture table, counts, frames, pixel bbox and coordinate and
 // derivative ranges. Returns 0; bad input throws InputError (the CLI prints it and exits 2).

@@ -37,6 +37,7 @@
 #include "pipeline/reference/truth_cache.h"
 #include "pipeline/render/draw_fragment_trace.h"
 #include "pipeline/report/run_report.h"
+#include "pipeline/report/workload_feed.h"
 #include "pipeline/scene/layered_source.h"
 #include "pipeline/scene/procedural_texture.h"
 #include "pipeline/scene/scene.h"
@@ -609,6 +610,11 @@ class TruthBatch {
   }
   // colour null: not textured.
   void add(const Fragment& f, const Fragment& g, int material, const Rgba* colour, uint64_t index) {
+    if (truth_.none) {  // nothing to compute: the fragment goes to the images at once
+      set_image(f, material, colour, glm::dvec4(0), index);
+      ++pixels_;
+      return;
+    }
     // A cached fragment's likely place in the table: the cache's records are in arrival order.
     Item it{f, g, material, colour != nullptr, colour ? *colour : Rgba(0), index};
     it.cacheable = memo_ && memo_->covers(material) && !truth_.by_operation(g, material);
@@ -634,13 +640,7 @@ class TruthBatch {
         memo_->tiers[static_cast<size_t>(it.tier)].fresh.push_back(
             {id_of(it), {it.truth.r, it.truth.g, it.truth.b, it.truth.a}, it.samples, 0});
       }
-      try {
-        images_.set(it.f.frame, static_cast<int>(it.f.x), static_cast<int>(it.f.y),
-                    it.textured ? &it.colour : nullptr, it.material, it.truth);
-      } catch (const std::invalid_argument& e) {
-        throw InputError(input_, "record " + std::to_string(it.index) + ": " + e.what());
-      }
-      progress_.tick(images_.count());
+      set_image(it.f, it.material, it.textured ? &it.colour : nullptr, it.truth, it.index);
     }
     pixels_ += items_.size();
     items_.clear();
@@ -678,6 +678,15 @@ class TruthBatch {
     // Its truth may be kept in the truth cache (not an operation's: see by_operation).
     bool cacheable = false;
   };
+  void set_image(const Fragment& f, int material, const Rgba* colour, const glm::dvec4& truth,
+                 uint64_t index) {
+    try {
+      images_.set(f.frame, static_cast<int>(f.x), static_cast<int>(f.y), colour, material, truth);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(input_, "record " + std::to_string(index) + ": " + e.what());
+    }
+    progress_.tick(images_.count());
+  }
   static TruthId id_of(const Item& it) {
     return {it.f.frame, it.f.prim, it.f.x, it.f.y, static_cast<uint32_t>(it.material), it.g.tex};
   }
@@ -775,12 +784,21 @@ void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImag
                        std::ostream& log) {
   // Every file is moved into opt.out together, once every one was written.
   OutputSet outputs(opt.out);
-  write_image(outputs.path("image.png"), images.image());
+  // The truth's two images are encoded on threads of their own beside the image's (the same
+  // bytes; each waits for its thread before an error of another leaves).
+  const std::string image_png = outputs.path("image.png");
+  std::future<void> reference, error;
   if (info.has_truth) {
-    write_image(outputs.path("reference.png"), images.reference());
-    write_error_heatmap(outputs.path("error.png"), images.image(), images.reference(),
-                        info.error_scale);
+    reference = std::async(std::launch::async, [&images, p = outputs.path("reference.png")] {
+      write_image(p, images.reference());
+    });
+    error = std::async(std::launch::async, [&images, &info, p = outputs.path("error.png")] {
+      write_error_heatmap(p, images.image(), images.reference(), info.error_scale);
+    });
   }
+  write_image(image_png, images.image());
+  if (reference.valid()) reference.get();
+  if (error.valid()) error.get();
   for (const auto& [file, exact] : ledger.maps)
     write_error_heatmap(outputs.path(file), exact, images.image(), info.error_scale);
   write_run_reports(outputs.staging(), info, unit, sum.accuracy);
@@ -843,7 +861,7 @@ TraceSummary first_pass(const RunOptions& opt) {
                      "is not a regular file: a run reads its trace twice (first for the "
                      "pixels and frames it covers)");
   }
-  TraceSummary sum = summarize_trace(opt.trace);
+  TraceSummary sum = summarize_trace(opt.trace, resolve_threads(opt.threads) > 1);
   if (sum.records == 0) throw InputError(opt.trace, "no fragments to render");
   if (opt.frame >= 0 && !sum.frames_overflow &&
       sum.frames.count(static_cast<uint32_t>(opt.frame)) == 0) {
@@ -1169,8 +1187,8 @@ struct TraceInput {
 TraceInput open_trace(const RunOptions& opt) {
   TraceInput t;
   if (opt.trace.empty()) return t;
+  t.digest = trace_digest(opt);  // hashed beside the first pass (with more than one thread)
   t.summary = std::make_unique<TraceSummary>(first_pass(opt));
-  t.digest = trace_digest(opt);
   t.reader = std::make_unique<TraceReader>(opt.trace);
   return t;
 }
@@ -1216,7 +1234,6 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   set_scene_memory_limit(opt.max_memory);  // meshes and DEMs are refused before allocation
   set_astcenc_threads(resolve_threads(opt.threads));  // encoding at load uses --threads too
   Scene scene = load_run_scene(opt);
-
   TraceInput trace = open_trace(opt);
   std::unique_ptr<TraceSummary>& trace_sum = trace.summary;
   std::unique_ptr<TraceReader>& reader = trace.reader;
@@ -1232,6 +1249,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   TextureUnit& unit = units.unit(0);
   const std::unique_ptr<BoardSampler> board = attach_board(opt.board, units, log);
   WorkloadStats workload(workload_textures(textures.set));  // placed by the units: their addresses
+  WorkloadFeed workload_feed(workload, opt.workload && resolve_threads(opt.threads) > 1);
   // Materials with `object_space`: drawn first, their pixels then take the resolved colours.
   ObjectSpaceFrame os =
       object_space_frame(scene, use_scene && !reader, textures.set, mats, setup, log);
@@ -1265,7 +1283,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     g.tex = loaded_texture(f, index, textures, input, opt.trace);
     const int material = record_material(f, index, truth.exact(), scene, mats, opt.trace, input);
     // The screen-space texture unit's stream (materials drawn object-space are not in it).
-    if (opt.workload && !os.drawn_by(material)) workload.add(f, g.tex);
+    if (opt.workload && !os.drawn_by(material)) workload_feed.add(f, g.tex);
     if (order) order->emitted(f.frame);
     router.add(f, g, material, index);
   };
@@ -1298,7 +1316,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   sum.accuracy = images.total();
   RunInfo info = images_info(opt, layout, textures, units, images);
   if (board) board_info(*board, info);
-  workload.finish();
+  workload_feed.finish();  // and the stats (its last batches ran beside the last truths)
   if (opt.workload) info.workload = &workload;
   info.scene = use_scene ? scene.path : "(none: trace only)";
   info.reference = reference_text(truth, batch.mean_samples(), info.frames.size(), surf.active(),

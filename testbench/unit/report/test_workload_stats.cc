@@ -7,6 +7,7 @@
 #include <set>
 #include <vector>
 
+#include "pipeline/report/workload_feed.h"
 #include "pipeline/report/workload_stats.h"
 
 namespace texsim {
@@ -153,6 +154,53 @@ TEST(ReuseDistance, MatchesADirectCount) {
   uint64_t reuses = 0;
   for (uint64_t n : r.hist) reuses += n;
   EXPECT_EQ(reuses, r.uses - r.first_uses);
+}
+
+// WorkloadFeed: the stats computed on the feed's thread are those of direct add() calls, over
+// several frames and partial batches; a feed without a thread calls add() at once.
+TEST(WorkloadFeed, ThreadGivesTheDirectFigures) {
+  const auto textures = place_workload_textures(Sizes{{64, 32}, {16, 16}}, TexelLayout::Linear);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uv(-1.0, 2.0), d(1.0 / 256, 1.0 / 4);
+  std::vector<std::pair<Fragment, uint32_t>> in;
+  for (uint32_t i = 0; i < 10007; ++i) {
+    Fragment f = frag(i / 3000, i % 64, (i / 64) % 32, uv(rng), uv(rng), d(rng), d(rng));
+    in.emplace_back(f, i % 5 == 0 ? 1u : 0u);
+  }
+  WorkloadStats direct(textures), threaded(textures), inline_feed(textures);
+  for (const auto& [f, t] : in) direct.add(f, t);
+  direct.finish();
+  {
+    WorkloadFeed feed(threaded, true), at_once(inline_feed, false);
+    for (const auto& [f, t] : in) {
+      feed.add(f, t);
+      at_once.add(f, t);
+    }
+    feed.finish();
+    at_once.finish();
+  }
+  for (const WorkloadStats* s : {&threaded, &inline_feed}) {
+    ASSERT_EQ(s->frames().size(), direct.frames().size());
+    for (size_t k = 0; k < direct.frames().size(); ++k) {
+      const FrameWorkload &a = direct.frames()[k], &b = s->frames()[k];
+      EXPECT_EQ(a.fragments, b.fragments) << k;
+      EXPECT_EQ(a.quads, b.quads) << k;
+      EXPECT_EQ(a.texels_level0, b.texels_level0) << k;
+      EXPECT_EQ(a.texels_lod, b.texels_lod) << k;
+      EXPECT_EQ(a.lines, b.lines) << k;
+      EXPECT_EQ(a.lod, b.lod) << k;
+      EXPECT_EQ(a.aniso, b.aniso) << k;
+      EXPECT_EQ(a.reuse, b.reuse) << k;
+      EXPECT_EQ(a.footprint_texels, b.footprint_texels) << k;
+    }
+  }
+}
+
+// A feed destroyed before finish() (a run that failed) stops its thread without hanging.
+TEST(WorkloadFeed, StopsWithoutFinish) {
+  WorkloadStats s(place_workload_textures(Sizes{{8, 8}}, TexelLayout::Linear));
+  WorkloadFeed feed(s, true);
+  for (uint32_t i = 0; i < 20000; ++i) feed.add(frag(0, i % 8, 0, 0.1, 0.1, 0.1, 0.1), 0);
 }
 
 }  // namespace

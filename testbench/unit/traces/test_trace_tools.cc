@@ -164,6 +164,50 @@ TEST(TraceTools, FrameListIsBounded) {
   EXPECT_NE(out.str().find("frames:     more than 65536 distinct"), std::string::npos) << out.str();
 }
 
+// Read ahead (the run's first pass with more than one thread): the same summary over many
+// chunks, and a damaged chunk's error with the same message.
+TEST(TraceTools, ReadAheadGivesTheSameSummaryAndErrors) {
+  TempDir dir("texsim_trace_tools");
+  const std::string path = dir.file("many.trc");
+  TraceHeader h;
+  h.textures = {{0, "t", "p", 8, 8}, {3, "s", "p", 4, 4}};
+  {
+    TraceWriter w(path, h);
+    Fragment f;
+    for (uint32_t i = 0; i < 50000; ++i) {
+      f.frame = i / 7000;
+      f.prim = i % 13;
+      f.x = i % 640;
+      f.y = i / 640;
+      f.tex = i % 3 == 0 ? 3 : 0;
+      f.u = 0.001 * i - 7;
+      f.dvdy = 1.0 / (1 + i);
+      w.write(f);
+    }
+    w.close();
+  }
+  const TraceSummary a = summarize_trace(path), b = summarize_trace(path, true);
+  EXPECT_GT(a.chunks, 2u);
+  EXPECT_EQ(a.records, b.records);
+  EXPECT_EQ(a.chunks, b.chunks);
+  EXPECT_EQ(a.frames, b.frames);
+  EXPECT_EQ(a.per_texture, b.per_texture);
+  EXPECT_EQ(a.prim_max, b.prim_max);
+  EXPECT_EQ(a.x.hi, b.x.hi);
+  EXPECT_EQ(a.y.hi, b.y.hi);
+  EXPECT_EQ(a.u.lo, b.u.lo);
+  EXPECT_EQ(a.u.hi, b.u.hi);
+  EXPECT_EQ(a.dvdy.lo, b.dvdy.lo);
+  // A byte of the last chunk's payload flipped: its CRC fails after every good chunk.
+  std::string bytes = slurp(path);
+  bytes[bytes.size() - 100] = static_cast<char>(bytes[bytes.size() - 100] ^ 0x5a);
+  const std::string bad = dir.file("bad.trc");
+  spit(bad, bytes);
+  const std::string m = message_of([&] { summarize_trace(bad); });
+  EXPECT_NE(m.find("CRC mismatch"), std::string::npos) << m;
+  EXPECT_EQ(message_of([&] { summarize_trace(bad, true); }), m);
+}
+
 // Pixel coordinates of 10^9 and more are printed as the integers they are, not in %g form.
 TEST(TraceTools, InfoPrintsLargePixelCoordinatesExactly) {
   TempDir dir("texsim_trace_tools");
