@@ -191,6 +191,7 @@ std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene,
       }
       mats.push_back(material_from_toml(m.name, it->second, *m.effects, scene.path,
                                         &textures.by_name, samplers));
+      check_unnormalized_texture(scene, m, mats.back());
     }
   }
   if (from_trace) {
@@ -938,7 +939,7 @@ uint32_t loaded_texture(const Fragment& f, uint64_t index, const RunTextures& te
 // A record's sampler: 0 (its material's own) or an id of the scene's sampler table; an
 // unnormalised sampler refuses what Vulkan refuses.
 void check_record_sampler(const Fragment& f, uint64_t index, const MaterialSetup& m,
-                          const std::string& input) {
+                          TextureType type, const std::string& input) {
   const size_t n = m.samplers ? m.samplers->size() : 0;
   if (f.sampler > n) {
     throw InputError(input, "record " + std::to_string(index) + ": sampler " +
@@ -950,17 +951,18 @@ void check_record_sampler(const Fragment& f, uint64_t index, const MaterialSetup
   const TexelAddressGen::Config& c =
       f.sampler == 0 ? m.filter : (*m.samplers)[f.sampler - 1u].filter;
   if (!c.unnormalized) return;
-  if (const std::string why = unnormalized_refusal(f); !why.empty())
-    throw InputError(input, "record " + std::to_string(index) + ": " + why);
+  std::string why = unnormalized_refusal(type);
+  if (why.empty()) why = unnormalized_refusal(f);
+  if (!why.empty()) throw InputError(input, "record " + std::to_string(index) + ": " + why);
 }
 
 // A record's material (its primitive's when the scene's planes are known, else 0), with its
 // sampler checked.
 int record_material(const Fragment& f, uint64_t index, bool by_primitive, const Scene& scene,
-                    const std::vector<MaterialSetup>& mats, const std::string& trace,
-                    const std::string& input) {
+                    const std::vector<MaterialSetup>& mats, TextureType type,
+                    const std::string& trace, const std::string& input) {
   const int material = by_primitive ? primitive_material(f, index, scene, trace) : 0;
-  check_record_sampler(f, index, mats[static_cast<size_t>(material)], input);
+  check_record_sampler(f, index, mats[static_cast<size_t>(material)], type, input);
   return material;
 }
 
@@ -1221,7 +1223,9 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   auto handle = [&](const Fragment& f, uint64_t index) {
     Fragment g = f;
     g.tex = loaded_texture(f, index, textures, input, opt.trace);
-    const int material = record_material(f, index, truth.exact(), scene, mats, opt.trace, input);
+    const int material =
+        record_material(f, index, truth.exact(), scene, mats,
+                        textures.set[static_cast<int>(g.tex)].shape().type, opt.trace, input);
     // The screen-space texture unit's stream (materials drawn object-space are not in it).
     if (opt.workload && !os.drawn_by(material)) workload.add(f, g.tex);
     if (order) order->emitted(f.frame);

@@ -53,6 +53,10 @@ SamplerSetup SamplerSetup::from_toml(const std::string& name, const ConfigReader
 }
 
 std::string unnormalized_refusal(const Fragment& f) {
+  if (f.op == static_cast<uint8_t>(SampleOp::kSample)) {
+    return "operation 'sample' (implicit LOD) cannot use an unnormalised sampler (Vulkan allows "
+           "explicit LOD 0 only: op \"lod\" with lod 0)";
+  }
   if (f.op == static_cast<uint8_t>(SampleOp::kSampleLod) && f.lod != 0)
     return "explicit LOD " + std::to_string(f.lod) + ": an unnormalised sampler reads LOD 0 only";
   if (f.op == static_cast<uint8_t>(SampleOp::kGather) ||
@@ -63,6 +67,13 @@ std::string unnormalized_refusal(const Fragment& f) {
   if (f.offset_u != 0 || f.offset_v != 0 || f.offset_w != 0)
     return "constant offsets cannot be used with an unnormalised sampler";
   return {};
+}
+
+std::string unnormalized_refusal(TextureType type) {
+  if (type == TextureType::Tex2D) return {};
+  return std::string("a ") + to_string(type) +
+         " texture cannot be read with an unnormalised sampler (Vulkan: 1-D or 2-D image views "
+         "of one layer only)";
 }
 
 OperationSetup OperationSetup::from_toml(const ConfigReader& r) {

@@ -10,6 +10,7 @@
 #include "blocks/base/config_reader.h"
 #include "blocks/base/fragment.h"
 #include "blocks/base/sample_op.h"
+#include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/sampler/lod_unit.h"
 #include "blocks/texture/sampler/texel_address_gen.h"
 
@@ -28,10 +29,14 @@ struct SamplerSetup {
 // Sampler id k (1-based, as a trace record names it) is table[k - 1].
 using SamplerTable = std::vector<SamplerSetup>;
 
-// Why an unnormalised sampler cannot serve fragment f ("" if it can): Vulkan allows explicit
-// LOD 0 only (texsim also reads an implicit-LOD sample at level 0), no gather, gradients or
-// constant offsets.
+// Why an unnormalised sampler cannot serve fragment f ("" if it can). Vulkan
+// (VkSamplerCreateInfo, unnormalizedCoordinates) allows no instruction with ImplicitLod, Dref
+// or Proj in its name and no offsets: texsim refuses the implicit-LOD sample, an explicit LOD
+// other than 0, gradients, gather and constant offsets (comparison is refused on the sampler).
 std::string unnormalized_refusal(const Fragment& f);
+// Why an unnormalised sampler cannot read a texture of this type ("" if it can): Vulkan allows
+// 1-D and 2-D views of one layer only (no cube, array or 3-D texture).
+std::string unnormalized_refusal(TextureType type);
 
 // The operation of every fragment of a material (effect `operation`).
 struct OperationSetup {
