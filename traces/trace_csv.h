@@ -1,6 +1,7 @@
 #pragma once
 // CSV form of the trace format (traces/FORMAT.md, "CSV form"): for small hand-written cases.
-// Texture table as `# texture <id> <name> <source> <width> <height> [<storage>]` directives, then a
+// Texture table as `# texture <id> <name> <source> <width> <height> [<storage>]` directives (and
+// the sampler table as `# sampler <name> key=value ...`), then a
 // header line naming the columns, then one fragment per line. Read line by line, never loaded
 // whole.
 #include <cstdint>
@@ -31,7 +32,14 @@ class TraceCsvReader {
 
  private:
   bool next_line(std::string_view& line);  // false at end of file
+  struct Token {
+    std::string text;
+    size_t column;  // 1-based
+  };
   void parse_directive(std::string_view line);
+  std::vector<Token> directive_tokens(std::string_view line, size_t after) const;
+  void parse_texture_directive(const std::vector<Token>& tokens, size_t i);
+  void parse_sampler_directive(const std::vector<Token>& tokens, size_t i);
   void parse_columns(std::string_view line);
   void parse_record(std::string_view line, Fragment& f);
   [[noreturn]] void fail(size_t column, const std::string& what) const;
@@ -80,6 +88,8 @@ class TraceCsvWriter {
   bool closed_ = false;
 };
 
+// The `# sampler <name> key=value ...` directive of a sampler table entry, every key written.
+std::string csv_sampler_directive(const TraceSampler& s);
 // Quotes a directive token when it is empty or holds whitespace, '"' or '\\'.
 std::string csv_quote_token(std::string_view s);
 
