@@ -12,6 +12,7 @@
 #include <map>
 #include <ostream>
 #include <set>
+#include <sstream>
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
@@ -43,6 +44,7 @@
 #include "pipeline/texture/texture_unit.h"
 #include "pipeline/texture/unit_array.h"
 #include "traces/prefetch_reader.h"
+#include "traces/trace_csv.h"
 #include "traces/trace_file.h"
 #include "traces/trace_tools.h"
 
@@ -170,15 +172,54 @@ RunTextures load_scene_textures(const Scene& scene) {
   return t;
 }
 
+// A trace's sampler table against its scene's [samplers]: the same entries in the same order,
+// or an InputError naming the first sampler that differs and how.
+void check_same_samplers(const SamplerTable& scene_table, const std::vector<TraceSampler>& trace,
+                         const std::string& scene_path, const std::string& trace_path) {
+  if (scene_table.size() != trace.size()) {
+    throw InputError(trace_path, "the sampler table has " + std::to_string(trace.size()) +
+                                     " entries and the [samplers] of " + scene_path + " " +
+                                     std::to_string(scene_table.size()) +
+                                     "; a record's sampler id must mean the same in both");
+  }
+  for (size_t k = 0; k < trace.size(); ++k) {
+    const TraceSampler mine = to_trace_sampler(scene_table[k]);
+    if (mine == trace[k]) continue;
+    // The first key=value of the CSV directive form that differs.
+    std::istringstream a(csv_sampler_directive(trace[k])), b(csv_sampler_directive(mine));
+    std::string ta, tb, diff;
+    while (a >> ta && b >> tb) {
+      if (ta != tb) {
+        diff = "the trace has " + ta + ", the scene " + tb;
+        break;
+      }
+    }
+    throw InputError(trace_path, "sampler table entry " + std::to_string(k + 1) + " ('" +
+                                     trace[k].name + "') differs from sampler '" + mine.name +
+                                     "' (id " + std::to_string(k + 1) + ") of " + scene_path +
+                                     ": " + diff);
+  }
+}
+
 // The scene's materials (a fragment's material is that of plane `prim`), or one default. Each
-// material's texture is bound by name to the loaded textures (with a trace: its table's).
+// material's texture is bound by name to the loaded textures (with a trace: its table's). The
+// sampler table a record's `sampler` indexes: the scene's, which a trace's own table must
+// equal, else the trace's.
 std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene,
                                          const RunTextures& textures, const std::string& trace,
+                                         const std::vector<TraceSampler>& trace_samplers,
                                          std::ostream& log) {
   const bool from_trace = !trace.empty();
   std::vector<MaterialSetup> mats;
+  std::shared_ptr<const SamplerTable> samplers = use_scene ? build_samplers(scene) : nullptr;
+  if (from_trace && !trace_samplers.empty()) {
+    if (samplers) {
+      check_same_samplers(*samplers, trace_samplers, scene.path, trace);
+    } else {
+      samplers = sampler_table_of(trace_samplers, trace);
+    }
+  }
   if (use_scene) {
-    const std::shared_ptr<const SamplerTable> samplers = build_samplers(scene);
     for (const auto& m : scene.materials) {
       const std::string& name = scene.textures[static_cast<size_t>(m.texture)].name;
       const auto it = textures.by_name.find(name);
@@ -207,6 +248,7 @@ std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene,
     MaterialSetup d;
     d.name = "default";
     d.filter.filter = FilterMode::Trilinear;
+    d.samplers = samplers;
     mats.push_back(d);
   }
   return mats;
@@ -1182,7 +1224,9 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   std::unique_ptr<TraceReader>& reader = trace.reader;
   RunTextures textures =
       reader ? load_trace_textures(*reader, opt.trace) : load_scene_textures(scene);
-  const std::vector<MaterialSetup> mats = run_materials(scene, use_scene, textures, opt.trace, log);
+  const std::vector<MaterialSetup> mats =
+      run_materials(scene, use_scene, textures, opt.trace,
+                    reader ? reader->header().samplers : std::vector<TraceSampler>{}, log);
   const PipelineSetup setup = pipeline_setup(scene);
   std::vector<PlaneProjection> maps = plane_maps(scene, use_scene);
   const ImageLayout layout = run_layout(opt, scene, use_scene, trace_sum.get(), maps, textures.set);
@@ -1327,6 +1371,10 @@ uint64_t generate_scene_trace(const std::string& scene_path, const std::string& 
   h.has_ops = std::any_of(mats.begin(), mats.end(), [](const MaterialSetup& m) {
     return m.lookup.has_value() || m.operation.has_value();
   });
+  // The scene's [samplers] (version 5): a record's sampler id means the same without the scene.
+  if (const auto table = build_samplers(scene)) {
+    for (const SamplerSetup& s : *table) h.samplers.push_back(to_trace_sampler(s));
+  }
   // A camera path: one frame after another, each with its own camera (and view vectors).
   return write_trace(out_path, h, [&](auto& w) {
     for (int k = 0; k < scene.frames; ++k) {

@@ -13,6 +13,7 @@
 #include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/sampler/lod_unit.h"
 #include "blocks/texture/sampler/texel_address_gen.h"
+#include "traces/trace_file.h"
 
 namespace texsim {
 
@@ -28,6 +29,17 @@ struct SamplerSetup {
 };
 // Sampler id k (1-based, as a trace record names it) is table[k - 1].
 using SamplerTable = std::vector<SamplerSetup>;
+
+// A sampler as a trace's sampler table carries it (traces/FORMAT.md "Sampler table"), and
+// back. from_trace_sampler takes an entry the trace reader checked (codes in range, finite
+// values) and checks the sampler's own rules as a scene's are: an unnormalised sampler's
+// restrictions, a comparison only with the weighted average; throws InputError(where,
+// "sampler table entry <id> ('<name>'): …").
+TraceSampler to_trace_sampler(const SamplerSetup& s);
+SamplerSetup from_trace_sampler(const TraceSampler& t, size_t id, const std::string& where);
+// The trace's table as the unit's (null when it has none).
+std::shared_ptr<const SamplerTable> sampler_table_of(const std::vector<TraceSampler>& table,
+                                                     const std::string& where);
 
 // Why an unnormalised sampler cannot serve fragment f ("" if it can). Vulkan
 // (VkSamplerCreateInfo, unnormalizedCoordinates) allows no instruction with ImplicitLod, Dref
