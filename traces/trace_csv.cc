@@ -392,11 +392,9 @@ void TraceCsvReader::parse_sampler_directive(const std::vector<Token>& tokens, s
   const std::string id = std::to_string(header_.samplers.size() + 1);
   if (const std::string e = check_sampler(s); !e.empty())
     fail(tokens[0].column, "sampler table entry " + id + ": " + e);
-  for (const TraceSampler& o : header_.samplers) {
-    if (o.name == s.name)
-      fail(tokens[0].column, "sampler table entry " + id + ": the name '" + s.name +
-                                 "' appears twice in the sampler table");
-  }
+  if (!sampler_names_.insert(s.name).second)
+    fail(tokens[0].column, "sampler table entry " + id + ": the name '" + s.name +
+                               "' appears twice in the sampler table");
   header_.samplers.push_back(std::move(s));
 }
 

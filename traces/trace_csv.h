@@ -6,6 +6,7 @@
 // whole.
 #include <cstdint>
 #include <cstdio>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -54,6 +55,7 @@ class TraceCsvReader {
   uint64_t line_no_ = 0;
   std::string long_line_;  // a line that straddles the read buffer
   TextureIdSet ids_;
+  std::set<std::string> sampler_names_;  // the sampler directives' names, each once
   // For each column, the index into trace_field_specs() or -1 for a skipped column.
   std::vector<int> column_field_;
   size_t required_columns_ = 0;

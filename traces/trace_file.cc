@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <map>
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
@@ -283,6 +284,8 @@ void validate_samplers(const std::vector<TraceSampler>& samplers, const std::str
                                 " entries, more than the limit " +
                                 std::to_string(kTraceMaxSamplers));
   }
+  // Names seen, with their ids: a table of 65535 entries is checked in n log n, not n².
+  std::map<std::string_view, size_t> names;
   for (size_t i = 0; i < samplers.size(); ++i) {
     const TraceSampler& s = samplers[i];
     const std::string entry =
@@ -291,10 +294,9 @@ void validate_samplers(const std::vector<TraceSampler>& samplers, const std::str
       throw InputError(where, has_control_char(s.name)
                                   ? "sampler table entry " + std::to_string(i + 1) + ": " + why
                                   : entry + why);
-    for (size_t j = 0; j < i; ++j) {
-      if (samplers[j].name == s.name)
-        throw InputError(where, entry + "the name is that of entry " + std::to_string(j + 1));
-    }
+    const auto [it, added] = names.emplace(s.name, i + 1);
+    if (!added)
+      throw InputError(where, entry + "the name is that of entry " + std::to_string(it->second));
   }
 }
 

@@ -1385,7 +1385,7 @@ TEST(TraceSamplers, CorruptTablesNeverCrash) {
   std::uniform_int_distribution<size_t> at(1, table);
   std::uniform_int_distribution<int> byte(0, 255);
   int refused = 0;
-  for (int k = 0; k < 120; ++k) {
+  for (int k = 0; k < 60; ++k) {
     auto b = bytes;
     for (int n = 0; n < 1 + k % 3; ++n)
       patch_header(b, at(rng), static_cast<unsigned char>(byte(rng)));
@@ -1398,7 +1398,7 @@ TEST(TraceSamplers, CorruptTablesNeverCrash) {
       ++refused;
     }
   }
-  EXPECT_GT(refused, 30);
+  EXPECT_GT(refused, 15);
 }
 
 TEST(TraceSamplers, CsvDirectivesAreCheckedAtLineAndColumn) {
