@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer harnesses (testbench/fuzz/) with clang, ASan and UBSan, and runs each
-# for SECONDS (default 60) on its seed corpus: fuzz_trace_reader (binary traces; also in the
-# mode that recomputes CRCs so mutations reach the parser), fuzz_draw_trace (draw traces, also
+# for SECONDS (default 60) on its seed corpus: fuzz_trace_reader (binary traces, with the
+# version-5 sampler table among the seeds; also in the mode that recomputes CRCs so mutations
+# reach the parser), fuzz_draw_trace (draw traces, also
 # with the CRCs recomputed), fuzz_apitrace_dump (apitrace dump text, and blobs, through the
-# importer of `texsim import apitrace`), fuzz_csv_reader (CSV traces, and
-# their round trip through both writers), fuzz_scene (scene TOML through the materials, the
+# importer of `texsim import apitrace`), fuzz_csv_reader (CSV traces with their texture and
+# sampler directives, and their round trip through both writers), fuzz_scene (scene TOML through the materials, the
 # texture unit and a tiny render), fuzz_obj (OBJ text and an MTL through the mesh loader),
 # fuzz_model (OBJ, 3DS, glTF, MD3, PLY and STL bytes through Assimp and texsim's model
 # conversion, in the import's child process and then in-process; also the child's stream through

@@ -107,11 +107,6 @@ std::string parse_operation_field(size_t k, std::string_view val, std::string_vi
   }
 }
 
-struct Token {
-  std::string text;
-  size_t column;  // 1-based
-};
-
 }  // namespace
 
 std::string csv_quote_token(std::string_view s) {
@@ -210,17 +205,31 @@ bool TraceCsvReader::next_line(std::string_view& line) {
 }
 
 void TraceCsvReader::parse_directive(std::string_view line) {
-  // "# texture <id> <name> <source> <width> <height> [<storage>]"; any other '#' line is a
-  // comment. The storage (version 3) is optional: without it, the texture is as loaded.
+  // "# texture <id> <name> <source> <width> <height> [<storage>]" or "# sampler <name>
+  // [key=value ...]"; any other '#' line is a comment. The storage (version 3) is optional:
+  // without it, the texture is as loaded.
   size_t i = line.find('#') + 1;
   while (i < line.size() && is_space(line[i])) ++i;
-  constexpr std::string_view kWord = "texture";
-  if (line.substr(i, kWord.size()) != kWord) return;
-  const size_t after = i + kWord.size();
-  if (after < line.size() && !is_space(line[after])) return;  // e.g. "# textures are ..."
-  if (!column_field_.empty()) {
-    fail(i + 1, "texture directive after the column header line (directives must come first)");
+  for (const std::string_view word : {"texture", "sampler"}) {
+    if (line.substr(i, word.size()) != word) continue;
+    const size_t after = i + word.size();
+    if (after < line.size() && !is_space(line[after])) return;  // e.g. "# textures are ..."
+    if (!column_field_.empty()) {
+      fail(i + 1, std::string(word) +
+                      " directive after the column header line (directives must come first)");
+    }
+    const std::vector<Token> tokens = directive_tokens(line, after);
+    if (word == "texture") {
+      parse_texture_directive(tokens, i);
+    } else {
+      parse_sampler_directive(tokens, i);
+    }
+    return;
   }
+}
+
+std::vector<TraceCsvReader::Token> TraceCsvReader::directive_tokens(std::string_view line,
+                                                                    size_t after) const {
   std::vector<Token> tokens;
   size_t p = after;
   for (;;) {
@@ -250,6 +259,10 @@ void TraceCsvReader::parse_directive(std::string_view line) {
     }
     tokens.push_back(std::move(tok));
   }
+  return tokens;
+}
+
+void TraceCsvReader::parse_texture_directive(const std::vector<Token>& tokens, size_t i) {
   if (tokens.size() != 5 && tokens.size() != 6) {
     fail(i + 1,
          "texture directive needs 5 or 6 values <id> <name> <source> <width> <height> "
@@ -284,6 +297,139 @@ void TraceCsvReader::parse_directive(std::string_view line) {
                     (colon == std::string::npos ? msg : msg.substr(colon + 3)));
   }
   header_.textures.push_back(std::move(t));
+}
+
+namespace {
+
+// The code of `value` in names (as TraceSampler stores it), or an error text.
+template <size_t N>
+std::string sampler_code(std::string_view key, std::string_view value,
+                         const std::string_view (&names)[N], uint8_t& out) {
+  for (size_t k = 0; k < N; ++k) {
+    if (names[k] == value) {
+      out = static_cast<uint8_t>(k);
+      return {};
+    }
+  }
+  std::string list;
+  for (size_t k = 0; k < N; ++k) list += (k ? ", " : "") + std::string(names[k]);
+  return std::string(key) + ": " + shown(value) + " is not one of " + list;
+}
+
+// One `key=value` of a sampler directive into s; an error text or "".
+std::string sampler_key(std::string_view key, std::string_view value, TraceSampler& s) {
+  if (key == "mode") return sampler_code(key, value, kTraceFilterNames, s.mode);
+  if (key == "address_u") return sampler_code(key, value, kTraceAddressNames, s.address_u);
+  if (key == "address_v") return sampler_code(key, value, kTraceAddressNames, s.address_v);
+  if (key == "address_w") return sampler_code(key, value, kTraceAddressNames, s.address_w);
+  if (key == "compare") return sampler_code(key, value, kTraceCompareNames, s.compare);
+  if (key == "reduction") return sampler_code(key, value, kTraceReductionNames, s.reduction);
+  if (key == "aniso") return sampler_code(key, value, kTraceAnisoNames, s.aniso);
+  if (key == "border") {
+    size_t start = 0;
+    for (int c = 0; c < 4; ++c) {
+      const size_t next = value.find(',', start);
+      if ((c < 3) == (next == std::string_view::npos))
+        return "border: expected four numbers r,g,b,a";
+      const size_t comma = c < 3 ? next : value.size();
+      if (std::string e = parse_float(value.substr(start, comma - start), s.border[c], "border");
+          !e.empty())
+        return "border: " + e;
+      start = comma + 1;
+    }
+    return {};
+  }
+  if (key == "border_int")
+    return "border_int: an integer border colour needs an integer texture format, which texsim "
+           "has not";
+  if (key == "lod_bias") return parse_float(value, s.lod_bias, key);
+  if (key == "min_lod") return parse_float(value, s.min_lod, key);
+  if (key == "max_lod") return parse_float(value, s.max_lod, key);
+  const std::pair<std::string_view, std::pair<uint8_t*, int64_t>> ints[] = {
+      {"max_aniso", {&s.max_aniso, 16}},
+      {"unnormalized", {&s.unnormalized, 1}},
+      {"seamless", {&s.seamless, 1}},
+      {"sub_texel_bits", {&s.sub_texel_bits, 16}},
+      {"mipmap_bits", {&s.mipmap_bits, 16}}};
+  for (const auto& [name, slot] : ints) {
+    if (key != name) continue;
+    int64_t v = 0;
+    const int64_t lo = slot.second == 1 ? 0 : 1;
+    if (std::string e = parse_int(value, lo, slot.second, v); !e.empty())
+      return std::string(key) + ": " + e;
+    *slot.first = static_cast<uint8_t>(v);
+    return {};
+  }
+  return "unknown sampler key " + shown(key) +
+         " (mode, address_u, address_v, address_w, border, compare, reduction, aniso, "
+         "max_aniso, lod_bias, min_lod, max_lod, unnormalized, seamless, sub_texel_bits, "
+         "mipmap_bits)";
+}
+
+}  // namespace
+
+void TraceCsvReader::parse_sampler_directive(const std::vector<Token>& tokens, size_t i) {
+  // "# sampler <name> [key=value ...]": the next entry of the sampler table (ids from 1, in
+  // the order of the directives); a key left out keeps the scene's default.
+  if (tokens.empty()) fail(i + 1, "sampler directive needs a name, then key=value pairs");
+  if (header_.samplers.size() >= kTraceMaxSamplers)
+    fail(i + 1, "more than " + std::to_string(kTraceMaxSamplers) + " samplers");
+  TraceSampler s;
+  s.name = tokens[0].text;
+  std::vector<std::string_view> seen;
+  for (size_t k = 1; k < tokens.size(); ++k) {
+    const std::string_view t = tokens[k].text;
+    const size_t eq = t.find('=');
+    if (eq == std::string_view::npos || eq == 0)
+      fail(tokens[k].column, "expected key=value, found " + shown(t));
+    const std::string_view key = t.substr(0, eq);
+    if (std::find(seen.begin(), seen.end(), key) != seen.end())
+      fail(tokens[k].column, "sampler key '" + std::string(key) + "' appears twice");
+    seen.push_back(key);
+    if (const std::string e = sampler_key(key, t.substr(eq + 1), s); !e.empty())
+      fail(tokens[k].column, "sampler '" + s.name + "': " + e);
+  }
+  const std::string id = std::to_string(header_.samplers.size() + 1);
+  if (const std::string e = check_sampler(s); !e.empty())
+    fail(tokens[0].column, "sampler table entry " + id + ": " + e);
+  if (!sampler_names_.insert(s.name).second)
+    fail(tokens[0].column, "sampler table entry " + id + ": the name '" + s.name +
+                               "' appears twice in the sampler table");
+  header_.samplers.push_back(std::move(s));
+}
+
+std::string csv_sampler_directive(const TraceSampler& s) {
+  std::string d = "# sampler " + csv_quote_token(s.name);
+  const auto num = [&d](std::string_view key, auto v) {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    d.append(" ").append(key).append("=").append(buf, r.ptr);
+  };
+  const auto name = [&d](std::string_view key, std::string_view v) {
+    d.append(" ").append(key).append("=").append(v);
+  };
+  name("mode", kTraceFilterNames[s.mode]);
+  name("address_u", kTraceAddressNames[s.address_u]);
+  name("address_v", kTraceAddressNames[s.address_v]);
+  name("address_w", kTraceAddressNames[s.address_w]);
+  d += " border=";
+  for (int c = 0; c < 4; ++c) {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, s.border[c]);
+    d.append(c ? "," : "").append(buf, r.ptr);
+  }
+  name("compare", kTraceCompareNames[s.compare]);
+  name("reduction", kTraceReductionNames[s.reduction]);
+  name("aniso", kTraceAnisoNames[s.aniso]);
+  num("max_aniso", int{s.max_aniso});
+  num("lod_bias", s.lod_bias);
+  num("min_lod", s.min_lod);
+  num("max_lod", s.max_lod);
+  num("unnormalized", int{s.unnormalized});
+  num("seamless", int{s.seamless});
+  num("sub_texel_bits", int{s.sub_texel_bits});
+  num("mipmap_bits", int{s.mipmap_bits});
+  return d;
 }
 
 void TraceCsvReader::parse_columns(std::string_view line) {
@@ -326,7 +472,8 @@ void TraceCsvReader::parse_columns(std::string_view line) {
   for (size_t k = kFirstOpField; k < specs.size(); ++k)
     if (seen[k]) header_.op_fields |= 1u << (k - kFirstOpField);
   header_.has_ops = header_.op_fields != 0;
-  header_.version = written_version(header_.has_view, header_.textures, header_.has_ops);
+  header_.version = written_version(header_.has_view, header_.textures, header_.has_ops,
+                                    !header_.samplers.empty());
 }
 
 void TraceCsvReader::parse_record(std::string_view line, Fragment& f) {
@@ -450,9 +597,11 @@ TraceCsvWriter::TraceCsvWriter(const std::string& path, const TraceHeader& heade
       has_ops_(header.has_ops) {
   check_writable_version(header.version, path_);
   validate_textures(header.textures, path_);
+  validate_samplers(header.samplers, path_);
   ids_ = TextureIdSet(header.textures);
   std::string h = "# texsim trace, format v" +
-                  std::to_string(written_version(has_view_, header.textures, has_ops_)) +
+                  std::to_string(written_version(has_view_, header.textures, has_ops_,
+                                                 !header.samplers.empty())) +
                   ", CSV form (traces/FORMAT.md)\n";
   for (const TraceTexture& t : header.textures) {
     h += "# texture " + std::to_string(t.id) + " " + csv_quote_token(t.name) + " " +
@@ -460,6 +609,7 @@ TraceCsvWriter::TraceCsvWriter(const std::string& path, const TraceHeader& heade
     if (!t.storage.empty()) h.append(" ").append(csv_quote_token(t.storage));
     h += '\n';
   }
+  for (const TraceSampler& s : header.samplers) h += csv_sampler_directive(s) + '\n';
   bool first = true;
   for (const TraceField& f : canonical_fields(has_lod_bias_, has_view_, has_ops_)) {
     if (!first) h += ',';

@@ -1,10 +1,12 @@
 #pragma once
 // CSV form of the trace format (traces/FORMAT.md, "CSV form"): for small hand-written cases.
-// Texture table as `# texture <id> <name> <source> <width> <height> [<storage>]` directives, then a
+// Texture table as `# texture <id> <name> <source> <width> <height> [<storage>]` directives (and
+// the sampler table as `# sampler <name> key=value ...`), then a
 // header line naming the columns, then one fragment per line. Read line by line, never loaded
 // whole.
 #include <cstdint>
 #include <cstdio>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,7 +33,14 @@ class TraceCsvReader {
 
  private:
   bool next_line(std::string_view& line);  // false at end of file
+  struct Token {
+    std::string text;
+    size_t column;  // 1-based
+  };
   void parse_directive(std::string_view line);
+  std::vector<Token> directive_tokens(std::string_view line, size_t after) const;
+  void parse_texture_directive(const std::vector<Token>& tokens, size_t i);
+  void parse_sampler_directive(const std::vector<Token>& tokens, size_t i);
   void parse_columns(std::string_view line);
   void parse_record(std::string_view line, Fragment& f);
   [[noreturn]] void fail(size_t column, const std::string& what) const;
@@ -46,6 +55,7 @@ class TraceCsvReader {
   uint64_t line_no_ = 0;
   std::string long_line_;  // a line that straddles the read buffer
   TextureIdSet ids_;
+  std::set<std::string> sampler_names_;  // the sampler directives' names, each once
   // For each column, the index into trace_field_specs() or -1 for a skipped column.
   std::vector<int> column_field_;
   size_t required_columns_ = 0;
@@ -80,6 +90,8 @@ class TraceCsvWriter {
   bool closed_ = false;
 };
 
+// The `# sampler <name> key=value ...` directive of a sampler table entry, every key written.
+std::string csv_sampler_directive(const TraceSampler& s);
 // Quotes a directive token when it is empty or holds whitespace, '"' or '\\'.
 std::string csv_quote_token(std::string_view s);
 

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <map>
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
@@ -207,10 +208,96 @@ uint32_t canonical_record_size(bool has_lod_bias, bool has_view, bool has_ops) {
   return size;
 }
 
-uint32_t written_version(bool has_view, const std::vector<TraceTexture>& textures, bool has_ops) {
+uint32_t written_version(bool has_view, const std::vector<TraceTexture>& textures, bool has_ops,
+                         bool has_samplers) {
   const bool storage = std::any_of(textures.begin(), textures.end(),
                                    [](const TraceTexture& t) { return !t.storage.empty(); });
-  return has_ops ? 4 : storage ? 3 : has_view ? 2 : 1;
+  return has_samplers ? 5 : has_ops ? 4 : storage ? 3 : has_view ? 2 : 1;
+}
+
+namespace {
+
+bool has_control_char(std::string_view s) {
+  return std::any_of(s.begin(), s.end(), [](char c) {
+    const auto u = static_cast<unsigned char>(c);
+    return u < 0x20 || u == 0x7f;
+  });
+}
+
+template <size_t N>
+std::string code_error(const char* key, uint8_t code, const std::string_view (&names)[N]) {
+  if (code < N) return {};
+  std::string list;
+  for (size_t k = 0; k < N; ++k)
+    list += (k ? ", " : "") + std::to_string(k) + " " + std::string(names[k]);
+  return std::string(key) + " code " + std::to_string(code) + " is not one of " + list;
+}
+
+}  // namespace
+
+std::string check_sampler(const TraceSampler& s) {
+  if (s.name.empty() || s.name.size() > kTraceMaxNameBytes)
+    return "name length " + std::to_string(s.name.size()) + " is outside 1.." +
+           std::to_string(kTraceMaxNameBytes);
+  if (has_control_char(s.name)) return "name contains a control character";
+  for (const std::string& e : {code_error("mode", s.mode, kTraceFilterNames),
+                               code_error("address_u", s.address_u, kTraceAddressNames),
+                               code_error("address_v", s.address_v, kTraceAddressNames),
+                               code_error("address_w", s.address_w, kTraceAddressNames),
+                               code_error("compare", s.compare, kTraceCompareNames),
+                               code_error("reduction", s.reduction, kTraceReductionNames),
+                               code_error("aniso", s.aniso, kTraceAnisoNames)}) {
+    if (!e.empty()) return e;
+  }
+  if (s.border_kind == 1)
+    return "an integer border colour (border kind 1) needs an integer texture format, which "
+           "texsim has not";
+  if (s.border_kind != 0)
+    return "border kind " + std::to_string(s.border_kind) + " is not 0 (float) or 1 (integer)";
+  for (int c = 0; c < 4; ++c) {
+    if (!std::isfinite(s.border[c]))
+      return "border channel " + std::to_string(c) + " is " + nonfinite_word(s.border[c]);
+  }
+  if (s.max_aniso < 1 || s.max_aniso > 16)
+    return "max_aniso " + std::to_string(s.max_aniso) + " is outside 1..16";
+  const std::pair<const char*, float> lods[3] = {
+      {"lod_bias", s.lod_bias}, {"min_lod", s.min_lod}, {"max_lod", s.max_lod}};
+  for (const auto& [key, v] : lods) {
+    if (!std::isfinite(v)) return std::string(key) + " is " + nonfinite_word(v);
+  }
+  if (s.min_lod > s.max_lod)
+    return "min_lod " + std::to_string(s.min_lod) + " is above max_lod " +
+           std::to_string(s.max_lod);
+  if (s.unnormalized > 1)
+    return "unnormalized is " + std::to_string(s.unnormalized) + ", not 0 or 1";
+  if (s.seamless > 1) return "seamless is " + std::to_string(s.seamless) + ", not 0 or 1";
+  if (s.sub_texel_bits < 1 || s.sub_texel_bits > 16)
+    return "sub_texel_bits " + std::to_string(s.sub_texel_bits) + " is outside 1..16";
+  if (s.mipmap_bits < 1 || s.mipmap_bits > 16)
+    return "mipmap_bits " + std::to_string(s.mipmap_bits) + " is outside 1..16";
+  return {};
+}
+
+void validate_samplers(const std::vector<TraceSampler>& samplers, const std::string& where) {
+  if (samplers.size() > kTraceMaxSamplers) {
+    throw InputError(where, "sampler table has " + std::to_string(samplers.size()) +
+                                " entries, more than the limit " +
+                                std::to_string(kTraceMaxSamplers));
+  }
+  // Names seen, with their ids: a table of 65535 entries is checked in n log n, not n².
+  std::map<std::string_view, size_t> names;
+  for (size_t i = 0; i < samplers.size(); ++i) {
+    const TraceSampler& s = samplers[i];
+    const std::string entry =
+        "sampler table entry " + std::to_string(i + 1) + " ('" + s.name + "'): ";
+    if (const std::string why = check_sampler(s); !why.empty())
+      throw InputError(where, has_control_char(s.name)
+                                  ? "sampler table entry " + std::to_string(i + 1) + ": " + why
+                                  : entry + why);
+    const auto [it, added] = names.emplace(s.name, i + 1);
+    if (!added)
+      throw InputError(where, entry + "the name is that of entry " + std::to_string(it->second));
+  }
 }
 
 std::string check_operation(const Fragment& f, uint32_t present) {
@@ -363,6 +450,28 @@ bool has_csv_extension(const std::string& path) {
 // ---------------------------------------------------------------------------------------------
 // Writer
 
+namespace {
+
+// The state of a sampler entry after its name (FORMAT.md "Sampler table").
+constexpr uint32_t kSamplerStateBytes = 41;
+
+void append_samplers(std::vector<unsigned char>& h, const std::vector<TraceSampler>& samplers) {
+  append_le<uint32_t>(h, static_cast<uint32_t>(samplers.size()));
+  for (const TraceSampler& s : samplers) {
+    append_le<uint32_t>(h, static_cast<uint32_t>(s.name.size()));
+    h.insert(h.end(), s.name.begin(), s.name.end());
+    for (const uint8_t b : {s.mode, s.address_u, s.address_v, s.address_w, s.border_kind})
+      h.push_back(b);
+    for (const float c : s.border) append_le<float>(h, c);
+    for (const uint8_t b : {s.compare, s.reduction, s.aniso, s.max_aniso}) h.push_back(b);
+    for (const float v : {s.lod_bias, s.min_lod, s.max_lod}) append_le<float>(h, v);
+    for (const uint8_t b : {s.unnormalized, s.seamless, s.sub_texel_bits, s.mipmap_bits})
+      h.push_back(b);
+  }
+}
+
+}  // namespace
+
 TraceWriter::TraceWriter(const std::string& path, const TraceHeader& header,
                          uint32_t records_per_chunk)
     : path_(path),
@@ -380,11 +489,13 @@ TraceWriter::TraceWriter(const std::string& path, const TraceHeader& header,
                                 std::to_string(kTraceMaxChunkBytes / record_size_));
   }
   validate_textures(header.textures, path_);
+  validate_samplers(header.samplers, path_);
   ids_ = TextureIdSet(header.textures);
 
   const std::vector<TraceField> fields = canonical_fields(has_lod_bias_, has_view_, has_ops_);
   std::vector<unsigned char> h(kTraceMagic, kTraceMagic + sizeof kTraceMagic);
-  const uint32_t version = written_version(has_view_, header.textures, has_ops_);
+  const uint32_t version =
+      written_version(has_view_, header.textures, has_ops_, !header.samplers.empty());
   append_le<uint32_t>(h, version);
   append_le<uint32_t>(h, 0);  // header size, patched below
   append_le<uint32_t>(h, record_size_);
@@ -412,6 +523,7 @@ TraceWriter::TraceWriter(const std::string& path, const TraceHeader& header,
       h.insert(h.end(), t.storage.begin(), t.storage.end());
     }
   }
+  if (version >= 5) append_samplers(h, header.samplers);
   const auto header_size = static_cast<uint32_t>(h.size() + 4);
   if (header_size > kTraceMaxHeaderBytes) {
     throw InputError(path_, "header would be " + std::to_string(header_size) +
@@ -601,7 +713,8 @@ FixedHeader parse_fixed_header(const unsigned char* h, const std::string& where)
   }
   const uint32_t entry_bytes = kTextureEntryBytes + (fh.version >= 3 ? kStorageLenBytes : 0);
   const uint64_t least = uint64_t{kFixedHeaderBytes} + uint64_t{fh.field_count} * kFieldEntryBytes +
-                         uint64_t{fh.texture_count} * entry_bytes + 4;
+                         uint64_t{fh.texture_count} * entry_bytes + 4 +
+                         (fh.version >= 5 ? 4 : 0);  // version 5: the sampler count
   if (fh.header_size < least || fh.header_size > kTraceMaxHeaderBytes) {
     throw InputError(where, "header size " + std::to_string(fh.header_size) + " is outside " +
                                 std::to_string(least) + ".." +
@@ -699,10 +812,62 @@ std::vector<TraceTexture> parse_textures(const unsigned char*& p, const unsigned
     }
     textures.push_back(std::move(t));
   }
-  if (p != end) {
+  if (version < 5 && p != end) {
     throw InputError(where, std::to_string(end - p) + " unexplained bytes after the texture table");
   }
   return textures;
+}
+
+// Reads the sampler table (version 5) from p to end, which it must fill exactly; each entry
+// checked (check_sampler) and named by its id.
+std::vector<TraceSampler> parse_samplers(const unsigned char* p, const unsigned char* end,
+                                         const std::string& where) {
+  if (static_cast<size_t>(end - p) < 4)
+    throw InputError(where, "the sampler count runs past the end of the header");
+  const auto count = load_le<uint32_t>(p);
+  p += 4;
+  if (count > kTraceMaxSamplers) {
+    throw InputError(where, "sampler count " + std::to_string(count) + " exceeds the limit " +
+                                std::to_string(kTraceMaxSamplers));
+  }
+  std::vector<TraceSampler> samplers;
+  for (uint32_t i = 0; i < count; ++i) {
+    const std::string sw = where + ", sampler entry " + std::to_string(i + 1);
+    if (static_cast<size_t>(end - p) < 4)
+      throw InputError(sw, "entry runs past the end of the header");
+    const auto name_len = load_le<uint32_t>(p);
+    p += 4;
+    if (name_len < 1 || name_len > kTraceMaxNameBytes) {
+      throw InputError(sw, "name length " + std::to_string(name_len) + " is outside 1.." +
+                               std::to_string(kTraceMaxNameBytes));
+    }
+    if (static_cast<size_t>(end - p) < size_t{name_len} + kSamplerStateBytes)
+      throw InputError(sw, "name and state run past the end of the header");
+    TraceSampler s;
+    s.name.assign(reinterpret_cast<const char*>(p), name_len);
+    p += name_len;
+    uint8_t* const head[5] = {&s.mode, &s.address_u, &s.address_v, &s.address_w, &s.border_kind};
+    for (uint8_t* b : head) *b = *p++;
+    for (float& c : s.border) {
+      c = load_le<float>(p);
+      p += 4;
+    }
+    uint8_t* const mid[4] = {&s.compare, &s.reduction, &s.aniso, &s.max_aniso};
+    for (uint8_t* b : mid) *b = *p++;
+    float* const lods[3] = {&s.lod_bias, &s.min_lod, &s.max_lod};
+    for (float* v : lods) {
+      *v = load_le<float>(p);
+      p += 4;
+    }
+    uint8_t* const tail[4] = {&s.unnormalized, &s.seamless, &s.sub_texel_bits, &s.mipmap_bits};
+    for (uint8_t* b : tail) *b = *p++;
+    samplers.push_back(std::move(s));
+  }
+  if (p != end) {
+    throw InputError(where, std::to_string(end - p) + " unexplained bytes after the sampler table");
+  }
+  validate_samplers(samplers, where);
+  return samplers;
 }
 
 // The record offset of each known field (trace_field_specs() order; -1 = absent). Unknown
@@ -778,6 +943,7 @@ void TraceReader::open_binary() {
   header_.fields = parse_fields(p, fh, where);
   header_.textures =
       parse_textures(p, h.data() + header_size - 4, fh.texture_count, fh.version, where);
+  if (fh.version >= 5) header_.samplers = parse_samplers(p, h.data() + header_size - 4, where);
   validate_textures(header_.textures, where);
   ids_ = TextureIdSet(header_.textures);
   offsets_ = known_field_offsets(header_.fields, fh.version, where);

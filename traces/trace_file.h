@@ -1,5 +1,5 @@
 #pragma once
-// Trace files, format v3 (traces/FORMAT.md; v1 and v2 files are read too): the binary writer and
+// Trace files, format v5 (traces/FORMAT.md; v1 to v4 files are read too): the binary writer and
 // the streaming reader that also opens the CSV form. The reader holds one chunk at a time, so its
 // memory does not depend on the length of the trace; every defect of the input is an InputError
 // naming file and record.
@@ -18,7 +18,8 @@ namespace texsim {
 // texture's storage, 4 the optional operation fields (op, lod, gather_comp, compare_ref,
 // sampler, offsets, w and its derivatives, layer). A writer writes the oldest version that
 // holds the trace (written_version), so a trace without any stays a version-1 file.
-inline constexpr uint32_t kTraceVersion = 4;
+// 5 adds the optional sampler table after the texture table (TraceSampler).
+inline constexpr uint32_t kTraceVersion = 5;
 inline constexpr char kTraceMagic[8] = {'T', 'E', 'X', 'S', 'I', 'M', 'T', 'R'};
 
 // Limits that a header must respect; anything beyond is treated as corruption, so a damaged
@@ -30,6 +31,7 @@ inline constexpr uint32_t kTraceMaxTextureSize = 65536;
 inline constexpr uint32_t kTraceMaxNameBytes = 256;
 inline constexpr uint32_t kTraceMaxSourceBytes = 4096;
 inline constexpr uint32_t kTraceMaxStorageBytes = 256;
+inline constexpr uint32_t kTraceMaxSamplers = 65535;  // a record's `sampler` is a u16
 inline constexpr uint32_t kTraceMaxHeaderBytes = 16u << 20;
 inline constexpr uint32_t kTraceMaxRecordsPerChunk = 1u << 24;
 inline constexpr uint64_t kTraceMaxChunkBytes = 256u << 20;
@@ -79,6 +81,44 @@ struct TraceTexture {
   std::string storage = {};
 };
 
+// One entry of the sampler table (version 5; FORMAT.md "Sampler table"): the state of a
+// scene's `[samplers.NAME]` as codes in the order of the name tables below. Entry k has the id
+// k + 1 that a record's `sampler` field names (0 = the record's material's own sampler).
+struct TraceSampler {
+  std::string name;
+  uint8_t mode = 1;                                     // kTraceFilterNames
+  uint8_t address_u = 0, address_v = 0, address_w = 0;  // kTraceAddressNames
+  // Border colour kind: 0 float (border, linear RGBA; the named VkBorderColor FLOAT_* are
+  // (0,0,0,0), (0,0,0,1), (1,1,1,1)); 1 integer (INT_*), which the reader refuses: texsim has
+  // no integer texture format.
+  uint8_t border_kind = 0;
+  float border[4] = {0, 0, 0, 0};
+  uint8_t compare = 0;    // kTraceCompareNames
+  uint8_t reduction = 0;  // kTraceReductionNames
+  uint8_t aniso = 0;      // kTraceAnisoNames
+  uint8_t max_aniso = 16;
+  float lod_bias = 0, min_lod = 0, max_lod = 1000;
+  uint8_t unnormalized = 0, seamless = 1;
+  uint8_t sub_texel_bits = 8, mipmap_bits = 8;
+  bool operator==(const TraceSampler&) const = default;
+};
+inline constexpr std::string_view kTraceFilterNames[] = {"nearest", "bilinear", "trilinear"};
+inline constexpr std::string_view kTraceAddressNames[] = {"wrap", "clamp", "mirror", "border",
+                                                          "mirror_clamp"};
+inline constexpr std::string_view kTraceCompareNames[] = {
+    "none",  "never", "less", "equal", "less_or_equal", "greater", "not_equal", "greater_or_equal",
+    "always"};
+inline constexpr std::string_view kTraceReductionNames[] = {"weighted_average", "min", "max"};
+inline constexpr std::string_view kTraceAnisoNames[] = {"isotropic", "vulkan"};
+// What is wrong with sampler entry s (codes in range, finite LOD values, min_lod <= max_lod,
+// flags 0/1, bits 1..16, max_aniso 1..16, a float border; name 1..256 bytes without control
+// characters); "" when valid. The sampler's own rules (unnormalised restrictions, comparison
+// with a min/max reduction) are checked where it becomes the unit's state.
+std::string check_sampler(const TraceSampler& s);
+// Checks a header's sampler table; throws InputError(where, "sampler table entry <id> ('<name>'):
+// …").
+void validate_samplers(const std::vector<TraceSampler>& samplers, const std::string& where);
+
 struct TraceHeader {
   uint32_t version = kTraceVersion;  // read: the file's; write: ignored unless unknown
   bool has_lod_bias = false;
@@ -88,6 +128,8 @@ struct TraceHeader {
   bool has_ops = false;
   uint32_t op_fields = 0;
   std::vector<TraceTexture> textures;
+  // The sampler table (version 5); empty: the trace carries none (ids index the scene's).
+  std::vector<TraceSampler> samplers;
   // Layout info, filled in by TraceReader. Writers always write the canonical layout for
   // has_lod_bias (canonical_fields()) and ignore these.
   TraceEncoding encoding = TraceEncoding::Binary;
@@ -120,10 +162,10 @@ inline constexpr uint32_t kAllOpFields = (1u << 12) - 1;
 // trace: finite values, a known op, a gather component 0..3, offsets in −8..7, and the fields
 // the operation needs (op "lod" the lod, op "gather" the gather_comp). Empty when valid.
 std::string check_operation(const Fragment& f, uint32_t present);
-// The version a writer writes: 3 when some texture has a storage, else 2 with the view vector,
-// else 1.
+// The version a writer writes: 5 with a sampler table, 4 with the operation fields, 3 when
+// some texture has a storage, else 2 with the view vector, else 1.
 uint32_t written_version(bool has_view, const std::vector<TraceTexture>& textures,
-                         bool has_ops = false);
+                         bool has_ops = false, bool has_samplers = false);
 // Throws InputError(where, ...) unless a writer can write `version` (1..kTraceVersion).
 void check_writable_version(uint32_t version, const std::string& where);
 

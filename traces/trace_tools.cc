@@ -110,6 +110,14 @@ int trace_info(const std::string& path, std::ostream& out) {
         << (t.storage.empty() ? "" : "  stored " + t.storage) << "  fragments "
         << s.per_texture.at(t.id) << "\n";
   }
+  if (!h.samplers.empty()) {
+    // The sampler table (version 5), one entry a line as its CSV directive says it.
+    out << "samplers:   " << h.samplers.size() << " (a record's sampler id; 0 = its material's)\n";
+    for (size_t k = 0; k < h.samplers.size(); ++k) {
+      const std::string d = csv_sampler_directive(h.samplers[k]);
+      out << "  id " << k + 1 << "  " << d.substr(sizeof "# sampler " - 1) << "\n";
+    }
+  }
   out << "records:    " << s.records << " in " << s.chunks << " chunks\n";
   if (s.records == 0) return 0;
   out << "frames:     " << (s.frames_overflow ? "more than " : "") << s.frames.size()
@@ -141,6 +149,7 @@ void trace_convert(const std::string& in, const std::string& out) {
   h.has_view = reader.header().has_view;
   h.has_ops = reader.header().has_ops;
   h.textures = reader.header().textures;
+  h.samplers = reader.header().samplers;
   write_trace(out, h, [&](auto& writer) {
     std::vector<Fragment> chunk;
     while (reader.next_chunk(chunk) > 0) {

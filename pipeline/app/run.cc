@@ -12,6 +12,7 @@
 #include <map>
 #include <ostream>
 #include <set>
+#include <sstream>
 
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
@@ -46,6 +47,7 @@
 #include "pipeline/texture/texture_unit.h"
 #include "pipeline/texture/unit_array.h"
 #include "traces/prefetch_reader.h"
+#include "traces/trace_csv.h"
 #include "traces/trace_file.h"
 #include "traces/trace_tools.h"
 
@@ -173,15 +175,54 @@ RunTextures load_scene_textures(const Scene& scene) {
   return t;
 }
 
+// A trace's sampler table against its scene's [samplers]: the same entries in the same order,
+// or an InputError naming the first sampler that differs and how.
+void check_same_samplers(const SamplerTable& scene_table, const std::vector<TraceSampler>& trace,
+                         const std::string& scene_path, const std::string& trace_path) {
+  if (scene_table.size() != trace.size()) {
+    throw InputError(trace_path, "the sampler table has " + std::to_string(trace.size()) +
+                                     " entries and the [samplers] of " + scene_path + " " +
+                                     std::to_string(scene_table.size()) +
+                                     "; a record's sampler id must mean the same in both");
+  }
+  for (size_t k = 0; k < trace.size(); ++k) {
+    const TraceSampler mine = to_trace_sampler(scene_table[k]);
+    if (mine == trace[k]) continue;
+    // The first key=value of the CSV directive form that differs.
+    std::istringstream a(csv_sampler_directive(trace[k])), b(csv_sampler_directive(mine));
+    std::string ta, tb, diff;
+    while (a >> ta && b >> tb) {
+      if (ta != tb) {
+        diff = "the trace has " + ta + ", the scene " + tb;
+        break;
+      }
+    }
+    throw InputError(trace_path, "sampler table entry " + std::to_string(k + 1) + " ('" +
+                                     trace[k].name + "') differs from sampler '" + mine.name +
+                                     "' (id " + std::to_string(k + 1) + ") of " + scene_path +
+                                     ": " + diff);
+  }
+}
+
 // The scene's materials (a fragment's material is that of plane `prim`), or one default. Each
-// material's texture is bound by name to the loaded textures (with a trace: its table's).
+// material's texture is bound by name to the loaded textures (with a trace: its table's). The
+// sampler table a record's `sampler` indexes: the scene's, which a trace's own table must
+// equal, else the trace's.
 std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene,
                                          const RunTextures& textures, const std::string& trace,
+                                         const std::vector<TraceSampler>& trace_samplers,
                                          std::ostream& log) {
   const bool from_trace = !trace.empty();
   std::vector<MaterialSetup> mats;
+  std::shared_ptr<const SamplerTable> samplers = use_scene ? build_samplers(scene) : nullptr;
+  if (from_trace && !trace_samplers.empty()) {
+    if (samplers) {
+      check_same_samplers(*samplers, trace_samplers, scene.path, trace);
+    } else {
+      samplers = sampler_table_of(trace_samplers, trace);
+    }
+  }
   if (use_scene) {
-    const std::shared_ptr<const SamplerTable> samplers = build_samplers(scene);
     for (const auto& m : scene.materials) {
       const std::string& name = scene.textures[static_cast<size_t>(m.texture)].name;
       const auto it = textures.by_name.find(name);
@@ -194,6 +235,7 @@ std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene,
       }
       mats.push_back(material_from_toml(m.name, it->second, *m.effects, scene.path,
                                         &textures.by_name, samplers));
+      check_unnormalized_texture(scene, m, mats.back());
     }
   }
   if (from_trace) {
@@ -209,6 +251,7 @@ std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene,
     MaterialSetup d;
     d.name = "default";
     d.filter.filter = FilterMode::Trilinear;
+    d.samplers = samplers;
     mats.push_back(d);
   }
   return mats;
@@ -998,7 +1041,7 @@ uint32_t loaded_texture(const Fragment& f, uint64_t index, const RunTextures& te
 // A record's sampler: 0 (its material's own) or an id of the scene's sampler table; an
 // unnormalised sampler refuses what Vulkan refuses.
 void check_record_sampler(const Fragment& f, uint64_t index, const MaterialSetup& m,
-                          const std::string& input) {
+                          TextureType type, const std::string& input) {
   const size_t n = m.samplers ? m.samplers->size() : 0;
   if (f.sampler > n) {
     throw InputError(input, "record " + std::to_string(index) + ": sampler " +
@@ -1010,17 +1053,18 @@ void check_record_sampler(const Fragment& f, uint64_t index, const MaterialSetup
   const TexelAddressGen::Config& c =
       f.sampler == 0 ? m.filter : (*m.samplers)[f.sampler - 1u].filter;
   if (!c.unnormalized) return;
-  if (const std::string why = unnormalized_refusal(f); !why.empty())
-    throw InputError(input, "record " + std::to_string(index) + ": " + why);
+  std::string why = unnormalized_refusal(type);
+  if (why.empty()) why = unnormalized_refusal(f);
+  if (!why.empty()) throw InputError(input, "record " + std::to_string(index) + ": " + why);
 }
 
 // A record's material (its primitive's when the scene's planes are known, else 0), with its
 // sampler checked.
 int record_material(const Fragment& f, uint64_t index, bool by_primitive, const Scene& scene,
-                    const std::vector<MaterialSetup>& mats, const std::string& trace,
-                    const std::string& input) {
+                    const std::vector<MaterialSetup>& mats, TextureType type,
+                    const std::string& trace, const std::string& input) {
   const int material = by_primitive ? primitive_material(f, index, scene, trace) : 0;
-  check_record_sampler(f, index, mats[static_cast<size_t>(material)], input);
+  check_record_sampler(f, index, mats[static_cast<size_t>(material)], type, input);
   return material;
 }
 
@@ -1239,7 +1283,9 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   std::unique_ptr<TraceReader>& reader = trace.reader;
   RunTextures textures =
       reader ? load_trace_textures(*reader, opt.trace) : load_scene_textures(scene);
-  const std::vector<MaterialSetup> mats = run_materials(scene, use_scene, textures, opt.trace, log);
+  const std::vector<MaterialSetup> mats =
+      run_materials(scene, use_scene, textures, opt.trace,
+                    reader ? reader->header().samplers : std::vector<TraceSampler>{}, log);
   const PipelineSetup setup = pipeline_setup(scene);
   std::vector<PlaneProjection> maps = plane_maps(scene, use_scene);
   const ImageLayout layout = run_layout(opt, scene, use_scene, trace_sum.get(), maps, textures.set);
@@ -1281,7 +1327,9 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   auto handle = [&](const Fragment& f, uint64_t index) {
     Fragment g = f;
     g.tex = loaded_texture(f, index, textures, input, opt.trace);
-    const int material = record_material(f, index, truth.exact(), scene, mats, opt.trace, input);
+    const int material =
+        record_material(f, index, truth.exact(), scene, mats,
+                        textures.set[static_cast<int>(g.tex)].shape().type, opt.trace, input);
     // The screen-space texture unit's stream (materials drawn object-space are not in it).
     if (opt.workload && !os.drawn_by(material)) workload_feed.add(f, g.tex);
     if (order) order->emitted(f.frame);
@@ -1383,6 +1431,10 @@ uint64_t generate_scene_trace(const std::string& scene_path, const std::string& 
   h.has_ops = std::any_of(mats.begin(), mats.end(), [](const MaterialSetup& m) {
     return m.lookup.has_value() || m.operation.has_value();
   });
+  // The scene's [samplers] (version 5): a record's sampler id means the same without the scene.
+  if (const auto table = build_samplers(scene)) {
+    for (const SamplerSetup& s : *table) h.samplers.push_back(to_trace_sampler(s));
+  }
   // A camera path: one frame after another, each with its own camera (and view vectors).
   return write_trace(out_path, h, [&](auto& w) {
     for (int k = 0; k < scene.frames; ++k) {

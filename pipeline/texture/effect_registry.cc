@@ -107,7 +107,16 @@ void bind_sampler(const ConfigReader& r, MaterialSetup& m) {
 
 // The material's operation against its sampler and filter.
 void check_operation(const ConfigReader& r, const MaterialSetup& m) {
-  if (!m.operation) return;
+  if (!m.operation) {
+    // The material's fragments ask the implicit-LOD sample, which Vulkan refuses there.
+    if (m.filter.unnormalized) {
+      r.fail("sampler",
+             "the sampler is unnormalised, which serves explicit LOD 0 only; the material "
+             "asks the implicit-LOD sample (give operation = { op = \"lod\", "
+             "lod = 0.0 })");
+    }
+    return;
+  }
   if (m.footprint && m.operation->op != SampleOp::kSample) {
     r.sub("operation")
         .fail("op", std::string("a footprint filter (") + m.footprint->name() +
@@ -235,6 +244,19 @@ std::shared_ptr<const SamplerTable> build_samplers(const Scene& scene) {
   return table;
 }
 
+void check_unnormalized_texture(const Scene& scene, const SceneMaterial& sm,
+                                const MaterialSetup& m) {
+  if (!m.filter.unnormalized) return;
+  const SceneTextureType type = scene.textures[static_cast<size_t>(sm.texture)].type;
+  if (type == SceneTextureType::Tex2D) return;
+  ConfigReader(*sm.effects, scene.path, "materials." + sm.name)
+      .fail("sampler", std::string("the sampler is unnormalised, and texture '") +
+                           scene.textures[static_cast<size_t>(sm.texture)].name + "' is a " +
+                           to_string(type) +
+                           " texture (Vulkan: unnormalised coordinates read 1-D or 2-D image "
+                           "views of one layer only)");
+}
+
 std::vector<MaterialSetup> build_materials(const Scene& scene) {
   std::map<std::string, int> textures;
   for (size_t i = 0; i < scene.textures.size(); ++i)
@@ -245,6 +267,7 @@ std::vector<MaterialSetup> build_materials(const Scene& scene) {
   for (const SceneMaterial& m : scene.materials) {
     mats.push_back(
         material_from_toml(m.name, m.texture, *m.effects, scene.path, &textures, samplers));
+    check_unnormalized_texture(scene, m, mats.back());
   }
   return mats;
 }

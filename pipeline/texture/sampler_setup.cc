@@ -1,6 +1,10 @@
 #include "pipeline/texture/sampler_setup.h"
 
 #include <cmath>
+#include <iterator>
+
+#include "blocks/base/input_error.h"
+#include "blocks/texture/sampler/sampler_modes.h"
 
 namespace texsim {
 
@@ -53,6 +57,10 @@ SamplerSetup SamplerSetup::from_toml(const std::string& name, const ConfigReader
 }
 
 std::string unnormalized_refusal(const Fragment& f) {
+  if (f.op == static_cast<uint8_t>(SampleOp::kSample)) {
+    return "operation 'sample' (implicit LOD) cannot use an unnormalised sampler (Vulkan allows "
+           "explicit LOD 0 only: op \"lod\" with lod 0)";
+  }
   if (f.op == static_cast<uint8_t>(SampleOp::kSampleLod) && f.lod != 0)
     return "explicit LOD " + std::to_string(f.lod) + ": an unnormalised sampler reads LOD 0 only";
   if (f.op == static_cast<uint8_t>(SampleOp::kGather) ||
@@ -63,6 +71,93 @@ std::string unnormalized_refusal(const Fragment& f) {
   if (f.offset_u != 0 || f.offset_v != 0 || f.offset_w != 0)
     return "constant offsets cannot be used with an unnormalised sampler";
   return {};
+}
+
+std::string unnormalized_refusal(TextureType type) {
+  if (type == TextureType::Tex2D) return {};
+  return std::string("a ") + to_string(type) +
+         " texture cannot be read with an unnormalised sampler (Vulkan: 1-D or 2-D image views "
+         "of one layer only)";
+}
+
+TraceSampler to_trace_sampler(const SamplerSetup& s) {
+  const TexelAddressGen::Config& f = s.filter;
+  TraceSampler t;
+  t.name = s.name;
+  t.mode = static_cast<uint8_t>(f.filter);
+  t.address_u = static_cast<uint8_t>(f.address_u);
+  t.address_v = static_cast<uint8_t>(f.address_v);
+  t.address_w = static_cast<uint8_t>(f.address_w);
+  for (int c = 0; c < 4; ++c) t.border[c] = f.border[c];
+  t.compare = static_cast<uint8_t>(f.compare);
+  t.reduction = static_cast<uint8_t>(f.reduction);
+  t.aniso = static_cast<uint8_t>(s.lod.aniso);
+  t.max_aniso = static_cast<uint8_t>(s.lod.max_aniso);
+  t.lod_bias = s.lod.lod_bias;
+  t.min_lod = s.lod.min_lod;
+  t.max_lod = s.lod.max_lod;
+  t.unnormalized = f.unnormalized ? 1 : 0;
+  t.seamless = f.seamless_cube ? 1 : 0;
+  t.sub_texel_bits = static_cast<uint8_t>(f.sub_texel_bits);
+  t.mipmap_bits = static_cast<uint8_t>(f.mipmap_bits);
+  return t;
+}
+
+SamplerSetup from_trace_sampler(const TraceSampler& t, size_t id, const std::string& where) {
+  // The trace codes are the enums' orders (the name tables of trace_file.h and the scene's).
+  static_assert(std::size(kTraceCompareNames) == std::size(kCompareOpNames));
+  static_assert(std::size(kTraceReductionNames) == std::size(kReductionNames));
+  const auto fail = [&](const std::string& why) {
+    throw InputError(where,
+                     "sampler table entry " + std::to_string(id) + " ('" + t.name + "'): " + why);
+  };
+  if (const std::string why = check_sampler(t); !why.empty()) fail(why);
+  SamplerSetup s;
+  s.name = t.name;
+  TexelAddressGen::Config& f = s.filter;
+  f.filter = static_cast<FilterMode>(t.mode);
+  f.address_u = static_cast<AddressMode>(t.address_u);
+  f.address_v = static_cast<AddressMode>(t.address_v);
+  f.address_w = static_cast<AddressMode>(t.address_w);
+  f.border = Rgba(t.border[0], t.border[1], t.border[2], t.border[3]);
+  f.compare = static_cast<CompareOp>(t.compare);
+  f.reduction = static_cast<Reduction>(t.reduction);
+  f.unnormalized = t.unnormalized != 0;
+  f.seamless_cube = t.seamless != 0;
+  f.sub_texel_bits = t.sub_texel_bits;
+  f.mipmap_bits = t.mipmap_bits;
+  s.lod.aniso = static_cast<AnisoMode>(t.aniso);
+  s.lod.max_aniso = t.max_aniso;
+  s.lod.lod_bias = t.lod_bias;
+  s.lod.min_lod = t.min_lod;
+  s.lod.max_lod = t.max_lod;
+  if (f.compare != CompareOp::None && f.reduction != Reduction::WeightedAverage)
+    fail("a depth comparison needs the reduction weighted_average");
+  if (f.unnormalized) {
+    const std::string vk = " (Vulkan unnormalizedCoordinates)";
+    if (f.filter == FilterMode::Trilinear)
+      fail("unnormalized coordinates need mode nearest or bilinear" + vk);
+    for (const AddressMode a : {f.address_u, f.address_v}) {
+      if (a != AddressMode::Clamp && a != AddressMode::Border)
+        fail("unnormalized coordinates need address clamp or border" + vk);
+    }
+    if (s.lod.aniso != AnisoMode::Isotropic)
+      fail("unnormalized coordinates need aniso isotropic" + vk);
+    if (f.compare != CompareOp::None) fail("unnormalized coordinates need compare none" + vk);
+    if (s.lod.min_lod != 0 || s.lod.max_lod != 0)
+      fail("unnormalized coordinates need min_lod = 0 and max_lod = 0" + vk);
+  }
+  return s;
+}
+
+std::shared_ptr<const SamplerTable> sampler_table_of(const std::vector<TraceSampler>& table,
+                                                     const std::string& where) {
+  if (table.empty()) return nullptr;
+  auto out = std::make_shared<SamplerTable>();
+  out->reserve(table.size());
+  for (size_t k = 0; k < table.size(); ++k)
+    out->push_back(from_trace_sampler(table[k], k + 1, where));
+  return out;
 }
 
 OperationSetup OperationSetup::from_toml(const ConfigReader& r) {

@@ -10,8 +10,10 @@
 #include "blocks/base/config_reader.h"
 #include "blocks/base/fragment.h"
 #include "blocks/base/sample_op.h"
+#include "blocks/texture/memory/texture_memory.h"
 #include "blocks/texture/sampler/lod_unit.h"
 #include "blocks/texture/sampler/texel_address_gen.h"
+#include "traces/trace_file.h"
 
 namespace texsim {
 
@@ -28,10 +30,25 @@ struct SamplerSetup {
 // Sampler id k (1-based, as a trace record names it) is table[k - 1].
 using SamplerTable = std::vector<SamplerSetup>;
 
-// Why an unnormalised sampler cannot serve fragment f ("" if it can): Vulkan allows explicit
-// LOD 0 only (texsim also reads an implicit-LOD sample at level 0), no gather, gradients or
-// constant offsets.
+// A sampler as a trace's sampler table carries it (traces/FORMAT.md "Sampler table"), and
+// back. from_trace_sampler takes an entry the trace reader checked (codes in range, finite
+// values) and checks the sampler's own rules as a scene's are: an unnormalised sampler's
+// restrictions, a comparison only with the weighted average; throws InputError(where,
+// "sampler table entry <id> ('<name>'): …").
+TraceSampler to_trace_sampler(const SamplerSetup& s);
+SamplerSetup from_trace_sampler(const TraceSampler& t, size_t id, const std::string& where);
+// The trace's table as the unit's (null when it has none).
+std::shared_ptr<const SamplerTable> sampler_table_of(const std::vector<TraceSampler>& table,
+                                                     const std::string& where);
+
+// Why an unnormalised sampler cannot serve fragment f ("" if it can). Vulkan
+// (VkSamplerCreateInfo, unnormalizedCoordinates) allows no instruction with ImplicitLod, Dref
+// or Proj in its name and no offsets: texsim refuses the implicit-LOD sample, an explicit LOD
+// other than 0, gradients, gather and constant offsets (comparison is refused on the sampler).
 std::string unnormalized_refusal(const Fragment& f);
+// Why an unnormalised sampler cannot read a texture of this type ("" if it can): Vulkan allows
+// 1-D and 2-D views of one layer only (no cube, array or 3-D texture).
+std::string unnormalized_refusal(TextureType type);
 
 // The operation of every fragment of a material (effect `operation`).
 struct OperationSetup {

@@ -803,12 +803,29 @@ Rgba TextureUnit::process_any(const Fragment& f, Path& p, const Texture& tex,
   return process_taps<kFront>(f, p, tex, front, p.stages.lod->eval(f, tex));
 }
 
+const TextureUnit::AltSampler* TextureUnit::layered_sampler(const Fragment& f, Path& p,
+                                                            const Texture& tex) {
+  const MaterialSetup& m = mats_[static_cast<size_t>(&p - paths_.data())];
+  const auto sampler = static_cast<uint16_t>(f.sampler == 0 ? m.sampler : f.sampler);
+  // The layered paths take no constant offsets of a record (as with the material's sampler).
+  const AltSampler* s = sampler != m.sampler ? &alt_sampler(f, p, sampler, true) : nullptr;
+  if ((s ? s->gen.config() : m.filter).unnormalized)
+    throw std::invalid_argument("texture unit: " + unnormalized_refusal(tex.shape().type));
+  return s;
+}
+
 template <int kFront>
 Rgba TextureUnit::process_layered(const Fragment& f, Path& p, const Texture& tex,
                                   const ItemCost* front) {
-  if (tex.volume()) return process_volume<kFront>(f, p, tex, front);
+  // The record's sampler when it names one other than its material's.
+  const AltSampler* alt = f.sampler != 0 || p.unnormalized ? layered_sampler(f, p, tex) : nullptr;
+  if (tex.volume()) return process_volume<kFront>(f, p, tex, front, alt);
   const MaterialStages& st = p.stages;
-  const LayeredAddressGen gen = st.address->layered();
+  const LayeredAddressGen gen =
+      alt ? LayeredAddressGen(alt->gen, alt->gen.config().seamless_cube) : st.address->layered();
+  const auto eval_lod = [&](const Fragment& g) {
+    return alt ? alt->lod.eval(g, tex.width(0), tex.height(0)) : st.lod->eval(g, tex);
+  };
   LodResult lod;
   uint32_t probes = 1;
   if (tex.shape().type == TextureType::Cube) {
@@ -828,13 +845,13 @@ Rgba TextureUnit::process_layered(const Fragment& f, Path& p, const Texture& tex
     g.dvdx = d.dtdx;
     g.dudy = d.dsdy;
     g.dvdy = d.dtdy;
-    lod = st.lod->eval(g, tex);
+    lod = eval_lod(g);
     const int cube = LayeredAddressGen::select_layer(f.layer, tex.shape().slices / kCubeFaces);
     const int edge = gen.cube_taps(tex, c, cube, lod, taps_);
     st.address->count_cube(edge);
     probes = static_cast<uint32_t>(LayeredAddressGen::cube_probes(lod));
   } else {
-    lod = st.lod->eval(f, tex);
+    lod = eval_lod(f);
     const int layer = LayeredAddressGen::select_layer(f.layer, tex.shape().slices);
     gen.array_taps(tex, f.u, f.v, layer, lod, taps_);
     st.address->count_array();
@@ -858,9 +875,10 @@ Rgba TextureUnit::process_layered(const Fragment& f, Path& p, const Texture& tex
 
 template <int kFront>
 Rgba TextureUnit::process_volume(const Fragment& f, Path& p, const Texture& tex,
-                                 const ItemCost* front) {
+                                 const ItemCost* front, const AltSampler* alt) {
   const MaterialStages& st = p.stages;
-  const TexelAddressGen::Config& c = st.address->gen().config();
+  // The record's sampler's filter, address modes and border (null: the material's).
+  const TexelAddressGen::Config& c = alt ? alt->gen.config() : st.address->gen().config();
   const VolumeAddressGen gen({c.filter, c.address_u, c.address_v, c.address_w});
   const VolumeSize base{tex.width(0), tex.height(0), tex.shape().slices};
   const double dx[3] = {f.dudx, f.dvdx, f.dwdx}, dy[3] = {f.dudy, f.dvdy, f.dwdy};

@@ -267,7 +267,11 @@ class TextureUnit {
   // the texels' 3-D addresses (Texture::volume_address). Its probes: taps / taps_per_probe
   // (a 3-D level takes two of the 2-D address slot's cycles).
   template <int kFront>
-  Rgba process_volume(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);
+  Rgba process_volume(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front,
+                      const AltSampler* alt);
+  // A layered fragment's sampler state other than its material's (null: the material's);
+  // throws when its sampler is unnormalised.
+  const AltSampler* layered_sampler(const Fragment& f, Path& p, const Texture& tex);
   // A batch of fragments on one texture (n <= LinearBatch::kMax) through the batched sampler;
   // the fragments it leaves undone through process_linear.
   template <FilterMode kFilter, TexelLayout L, int kFront>

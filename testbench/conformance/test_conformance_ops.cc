@@ -227,6 +227,8 @@ TEST(VulkanOpsConformance, UnnormalisedCoordinates) {
     Fragment f = random_fragment(rng, 16, 8);
     f.u = x(rng);
     f.v = x(rng) / 2;
+    f.op = static_cast<uint8_t>(SampleOp::kSampleLod);  // explicit LOD 0: all Vulkan allows
+    f.lod = 0;
     const VulkanOpsConformance chk(vk_state(m), VkFilterPrecision{});
     const Rgba got = run(m, tex, f);
     ++t.queries;
@@ -294,6 +296,7 @@ TEST(VulkanOpsStability, NonFiniteReferencesHugeGradientsAndFarTexels) {
   Fragment h;
   h.u = 1e30;
   h.v = -1e30;
+  h.op = static_cast<uint8_t>(SampleOp::kSampleLod);
   EXPECT_EQ(run(u, tex, h), tex.texel(0, 15, 0));
   u.filter.address_u = u.filter.address_v = AddressMode::Border;
   u.filter.border = Rgba(0.0f, 0.0f, 0.0f, 1.0f);

@@ -1,7 +1,7 @@
 // libFuzzer harness: the streaming trace reader on arbitrary bytes, as a binary trace and as
-// CSV, and the draw-trace texture sources of its texture table. With TEXSIM_FUZZ_FIX_CRC=1 in the
-// environment, the binary form first gets every CRC it can locate recomputed, so mutations reach
-// the parser behind the checksums.
+// CSV, the draw-trace texture sources of its texture table and its sampler table. With
+// TEXSIM_FUZZ_FIX_CRC=1 in the environment, the binary form first gets every CRC it can locate
+// recomputed, so mutations reach the parser behind the checksums.
 #include <zlib.h>
 
 #include <cstring>
@@ -10,6 +10,7 @@
 #include "testbench/fuzz/fuzz_crc.h"
 #include "testbench/fuzz/fuzz_input.h"
 #include "traces/draw_trace.h"
+#include "traces/trace_csv.h"
 #include "traces/trace_file.h"
 
 namespace {
@@ -40,10 +41,13 @@ void read_all(const std::string& path) {
   // A texture table source "draws:PATH#ID" (trace gen --draws) is parsed as a run of the trace
   // parses it; the draw trace it names has a harness of its own (fuzz_draw_trace).
   for (const texsim::TraceTexture& t : r.header().textures) {
-    std::string path;
+    std::string draws;
     uint32_t id = 0;
-    if (texsim::is_draws_source(t.source)) texsim::split_draws_source(t.source, path, id);
+    if (texsim::is_draws_source(t.source)) texsim::split_draws_source(t.source, draws, id);
   }
+  // The sampler table (version 5) as `trace info` prints it: every code the reader let through
+  // indexes its name table.
+  for (const texsim::TraceSampler& s : r.header().samplers) (void)texsim::csv_sampler_directive(s);
   std::vector<texsim::Fragment> chunk;
   while (r.next_chunk(chunk) > 0) {
   }

@@ -232,6 +232,33 @@ class Traces(unittest.TestCase):
                 np.testing.assert_array_equal(b, a)
                 self.assertEqual(textures, self.TEXTURES)
 
+    def test_sampler_table_round_trips(self):
+        a = self.records()
+        a["sampler"][3] = 2
+        samplers = [{"name": "pcf", "mode": "bilinear", "address_u": "clamp",
+                     "address_v": "clamp", "compare": "less_or_equal"},
+                    {"name": "texel", "mode": "nearest", "address_u": "border",
+                     "address_v": "clamp", "border": (0.0, 0.0, 0.0, 1.0), "unnormalized": True,
+                     "max_lod": 0.0}]
+        with tempfile.TemporaryDirectory() as d:
+            for name in ("t.trc", "t.csv"):
+                path = os.path.join(d, name)
+                texsim.write_trace(path, a, self.TEXTURES, samplers)
+                b, textures, back = texsim.read_trace(path, samplers=True)
+                np.testing.assert_array_equal(b, a)
+                self.assertEqual([s["name"] for s in back], ["pcf", "texel"])
+                self.assertEqual(back[0]["compare"], "less_or_equal")
+                self.assertEqual(back[0]["address_w"], "wrap")  # left out: the default
+                self.assertEqual(back[1]["border"], (0.0, 0.0, 0.0, 1.0))
+                self.assertTrue(back[1]["unnormalized"])
+                self.assertEqual(back[1]["max_lod"], 0.0)
+            with self.assertRaises(texsim.InputError):
+                texsim.write_trace(os.path.join(d, "u.trc"), a, self.TEXTURES,
+                                   [{"name": "x", "min_lod": 2.0, "max_lod": 1.0}])
+            with self.assertRaises(ValueError):
+                texsim.write_trace(os.path.join(d, "v.trc"), a, self.TEXTURES,
+                                   [{"name": "x", "mode": "cubic"}])
+
     def test_fields_by_name_from_another_dtype(self):
         a = self.records(4)
         fields = ["frame", "prim", "x", "y", "tex", "u", "v", "dudx", "dvdx", "dudy", "dvdy"]

@@ -713,7 +713,7 @@ TEST_F(Cli, SamplerOpsSceneReplaysFromItsTraceAndARecordPicksASampler) {
   ASSERT_EQ(sh("trace gen " + scene + small + " -o " + trc).code, 0);
   ASSERT_EQ(sh("trace gen " + scene + small + " -o " + csv).code, 0);
   const Result info = sh("trace info " + trc);
-  EXPECT_NE(info.out.find("version 4"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("version 5"), std::string::npos) << info.out;
   const Result a = sh("run " + scene + small + " --no-progress --out " + path("scene"));
   const Result b =
       sh("run " + scene + small + " --trace " + trc + " --no-progress --out " + path("trace"));
@@ -756,7 +756,66 @@ TEST_F(Cli, SamplerOpsSceneReplaysFromItsTraceAndARecordPicksASampler) {
   e = sh("run " + scene + small + " --trace " + path("texel.csv") + " --no-progress --out " +
          path("texel"));
   EXPECT_EQ(e.code, 2);
-  EXPECT_NE(e.out.find("cannot use an unnormalised sampler"), std::string::npos) << e.out;
+  EXPECT_NE(e.out.find("texel.csv: record 0: operation 'sample' (implicit LOD) cannot use an "
+                       "unnormalised sampler"),
+            std::string::npos)
+      << e.out;
+}
+
+TEST_F(Cli, TraceCarriesTheScenesSamplerTable) {
+  // trace gen writes the scene's [samplers] (version 5); info lists them; a run without the
+  // scene resolves a record's sampler id in the trace's own table; a scene whose table differs
+  // is an error naming the sampler.
+  const std::string scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/sampler_ops.toml";
+  const std::string small = " --set output.width=96 --set output.height=60";
+  const std::string trc = path("ops.trc"), csv = path("ops.csv");
+  ASSERT_EQ(sh("trace gen " + scene + small + " -o " + trc).code, 0);
+  ASSERT_EQ(sh("trace convert " + trc + " " + csv).code, 0);
+  const Result info = sh("trace info " + trc);
+  EXPECT_NE(info.out.find("version 5"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("samplers:   5"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("id 5  texel mode=bilinear address_u=clamp"), std::string::npos)
+      << info.out;
+  EXPECT_NE(slurp(csv).find("# sampler pcf mode=bilinear address_u=clamp"), std::string::npos);
+  // Without the scene: the default material, and sampler 4 (maxred) from the trace's table.
+  const std::string text = slurp(csv);
+  write("max.csv", with_column(text, "sampler", "4"));
+  const Result a = sh("run --trace " + path("max.csv") + " --no-progress --out " + path("a"));
+  ASSERT_EQ(a.code, 0) << a.out;
+  write("max0.csv", with_column(text, "sampler", "0"));
+  const Result b = sh("run --trace " + path("max0.csv") + " --no-progress --out " + path("b"));
+  ASSERT_EQ(b.code, 0) << b.out;
+  EXPECT_NE(slurp(path("a") + "/image.png"), slurp(path("b") + "/image.png"));
+  write("bad.csv", with_column(text, "sampler", "6"));
+  Result e = sh("run --trace " + path("bad.csv") + " --no-progress --out " + path("bad"));
+  EXPECT_EQ(e.code, 2);
+  EXPECT_NE(e.out.find("sampler 6 is not in the sampler table (ids 1..5"), std::string::npos)
+      << e.out;
+  // A scene whose sampler differs from the trace's: an error naming both.
+  std::string changed = text;
+  const size_t at = changed.find("# sampler mip ");
+  ASSERT_NE(at, std::string::npos);
+  changed.replace(changed.find("lod_bias=0.5", at), 12, "lod_bias=0.25");
+  write("changed.csv", changed);
+  e = sh("run " + scene + small + " --trace " + path("changed.csv") + " --no-progress --out " +
+         path("changed"));
+  EXPECT_EQ(e.code, 2);
+  EXPECT_NE(e.out.find("changed.csv: sampler table entry 3 ('mip') differs from sampler 'mip' "
+                       "(id 3) of "),
+            std::string::npos)
+      << e.out;
+  EXPECT_NE(e.out.find("the trace has lod_bias=0.25, the scene lod_bias=0.5"), std::string::npos)
+      << e.out;
+  // A bad entry in the trace's table: the file and the entry.
+  std::string bad = text;
+  bad.replace(bad.find("mode=", bad.find("# sampler texel ")), 13, "mode=trilinear");
+  write("badtable.csv", bad);
+  e = sh("run --trace " + path("badtable.csv") + " --no-progress --out " + path("bt"));
+  EXPECT_EQ(e.code, 2);
+  EXPECT_NE(e.out.find("badtable.csv: sampler table entry 5 ('texel'): unnormalized coordinates "
+                       "need mode nearest or bilinear"),
+            std::string::npos)
+      << e.out;
 }
 
 TEST_F(Cli, SamplerOpsSceneMeasuresEachOperationAgainstItsOwnTruth) {

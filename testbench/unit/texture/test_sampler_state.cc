@@ -97,6 +97,23 @@ TEST(SamplerState, BadSamplerKeysNameFileLineAndColumn) {
   e = error_of(head + "[samplers.c]\nunnormalized = true\naddress = \"border\"\nmax_lod = 0.0\n" +
                m + "sampler = \"c\"\noperation = { op = \"gather\" }\n");
   EXPECT_NE(e.find("unnormalised"), std::string::npos) << e;
+  // An unnormalised sampler with the implicit-LOD sample, asked by default or by name: refused
+  // at the material's key (Vulkan allows no ImplicitLod instruction there).
+  const std::string texel =
+      "[samplers.c]\nunnormalized = true\naddress = \"clamp\"\nmax_lod = 0.0\n";
+  e = error_of(head + texel + m + "sampler = \"c\"\n");
+  EXPECT_NE(e.find("s.toml:16:11:"), std::string::npos) << e;
+  EXPECT_NE(e.find("implicit-LOD"), std::string::npos) << e;
+  e = error_of(head + texel + m + "sampler = \"c\"\noperation = { op = \"sample\" }\n");
+  EXPECT_NE(e.find("s.toml:17:13:"), std::string::npos) << e;
+  EXPECT_NE(e.find("operation 'sample' (implicit LOD)"), std::string::npos) << e;
+  // ... and on a layered texture, whatever the operation.
+  e = error_of(head + texel +
+               "[textures.arr]\ntype = \"2d_array\"\nlayers = [\"procedural:checker?size=8\"]\n" +
+               "[materials.m]\ntexture = \"arr\"\nsampler = \"c\"\n"
+               "operation = { op = \"lod\", lod = 0.0 }\n");
+  EXPECT_NE(e.find("s.toml:19:11:"), std::string::npos) << e;
+  EXPECT_NE(e.find("2d_array"), std::string::npos) << e;
   // A good unnormalised sampler is accepted.
   EXPECT_EQ(error_of(head +
                      "[samplers.c]\nunnormalized = true\naddress = \"clamp\"\n"
@@ -245,9 +262,13 @@ TEST(SamplerState, AnUnnormalisedSamplerReadsLevelZeroAtTexelCoordinates) {
   Fragment n = f;
   n.u = f.u / 8;
   n.v = f.v / 8;
-  EXPECT_EQ(unit.process(f, 0), unit.process(n, 1));
+  // Vulkan refuses the implicit-LOD sample on an unnormalised sampler; explicit LOD 0 reads.
+  EXPECT_THROW(unit.process(f, 0), std::invalid_argument);
   f.op = static_cast<uint8_t>(SampleOp::kSampleLod);
   EXPECT_EQ(unit.process(f, 0), unit.process(n, 1));
+  f.lod = 1;
+  EXPECT_THROW(unit.process(f, 0), std::invalid_argument);
+  f.lod = 0;
   f.op = static_cast<uint8_t>(SampleOp::kGather);
   EXPECT_THROW(unit.process(f, 0), std::invalid_argument);
   f.op = 0;

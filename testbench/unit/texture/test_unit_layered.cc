@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "pipeline/texture/texture_unit.h"
 
@@ -121,6 +122,47 @@ TEST(UnitLayered, ArrayLayersRoundHalfToEven) {
   bool row = false;
   for (const BlockUse& b : unit.blocks()) row = row || b.name == "array.layer_select";
   EXPECT_TRUE(row);
+}
+
+// A record's sampler (Fragment::sampler, an id of the material's sampler table) is the one a
+// layered fragment is read with: a non-seamless sampler keeps a cube's edge on one face, a
+// border sampler reads the border colour off an array layer, an unnormalised one is refused.
+TEST(UnitLayered, RecordsSamplerIsHonoured) {
+  TextureSet set = layered_set();
+  MaterialSetup m = material(FilterMode::Bilinear, true);
+  auto table = std::make_shared<SamplerTable>(3);
+  (*table)[0].name = "flat_faces";
+  (*table)[0].filter = m.filter;
+  (*table)[0].filter.seamless_cube = false;
+  (*table)[1].name = "edge";
+  (*table)[1].filter = m.filter;
+  (*table)[1].filter.address_u = (*table)[1].filter.address_v = AddressMode::Border;
+  (*table)[1].filter.border = Rgba(1.0f, 0.5f, 0.0f, 1.0f);
+  (*table)[2].name = "texel";
+  (*table)[2].filter = m.filter;
+  (*table)[2].filter.unnormalized = true;
+  (*table)[2].lod.max_lod = 0;
+  m.samplers = table;
+  TextureUnit unit(set, {m}, PipelineSetup{}, TechTable::defaults(), true);
+  Fragment e = cube_frag(1, 1, 0.2);
+  EXPECT_NEAR(unit.process(e, 0).x, (0.0f + 2.0f) / 16, 1e-5f);  // seamless: half +X, half +Y
+  e.sampler = 1;
+  EXPECT_FLOAT_EQ(unit.process(e, 0).x, 2.0f / 8);  // its own sampler: +Y only
+  Fragment a;
+  a.tex = 2;
+  a.u = -0.5;
+  a.v = 0.5;
+  a.dudx = a.dvdy = 0.01;
+  a.layer = 2;
+  EXPECT_FLOAT_EQ(unit.process(a, 0).x, 2.0f / 8);  // clamp: the layer's edge texels
+  a.sampler = 2;
+  EXPECT_FLOAT_EQ(unit.process(a, 0).x, 1.0f);  // border: the sampler's colour
+  EXPECT_FLOAT_EQ(unit.process(a, 0).y, 0.5f);
+  a.sampler = 3;
+  a.op = 1;  // explicit LOD 0, which a 2-D texture would serve
+  EXPECT_THROW(unit.process(a, 0), std::invalid_argument);
+  a.sampler = 4;
+  EXPECT_THROW(unit.process(a, 0), std::invalid_argument);
 }
 
 TEST(UnitLayered, BatchedPathLeavesLayeredFragmentsToTheScalarPath) {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <set>
 
 #include "blocks/texture/volume/volume_address_gen.h"
@@ -184,6 +185,26 @@ TEST(UnitVolume, CacheReadsTheLinesOfThreeDAddresses) {
     EXPECT_EQ(unit.cache().stats().texel_reads, 8u);
     ++i;
   }
+}
+
+// A record's sampler picks the volume's address modes and border: outside in r, the
+// material's clamp reads the edge slice, the record's border sampler its border colour.
+TEST(UnitVolume, RecordsSamplerIsHonoured) {
+  TextureSet set;
+  set.add(ramp_volume(4, 4, 4));
+  MaterialSetup m = material(FilterMode::Bilinear);
+  auto table = std::make_shared<SamplerTable>(1);
+  (*table)[0].name = "border";
+  (*table)[0].filter = m.filter;
+  (*table)[0].filter.address_w = AddressMode::Border;
+  (*table)[0].filter.border = Rgba(0.0f, 0.0f, 0.0f, 1.0f);
+  m.samplers = table;
+  TextureUnit unit(set, {m}, PipelineSetup{}, TechTable::defaults(), false);
+  Fragment f = frag(0.5, 0.5, 1.5);
+  EXPECT_FLOAT_EQ(unit.process(f, 0).x, 3.5f / 4);  // clamp: the last slice
+  f.sampler = 1;
+  EXPECT_FLOAT_EQ(unit.process(f, 0).x, 0.0f);  // border
+  EXPECT_FLOAT_EQ(unit.process(f, 0).w, 1.0f);
 }
 
 TEST(UnitVolume, HardCasesStayFinite) {

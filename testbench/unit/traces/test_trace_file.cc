@@ -532,8 +532,8 @@ void expect_header_error(const FileSpec& s, const std::vector<std::string>& part
 
 TEST(TraceFileErrors, UnknownVersion) {
   FileSpec s;
-  s.version = 5;
-  expect_header_error(s, {"unknown version 5", "reads versions 1..4"});
+  s.version = 6;
+  expect_header_error(s, {"unknown version 6", "reads versions 1..5"});
   s.version = 0;
   expect_header_error(s, {"unknown version 0"});
 }
@@ -893,8 +893,8 @@ TEST(TraceWriterFailure, BadHeaderOrChunkSizeIsRejectedBeforeWriting) {
   h.textures[1].name = "a\nb";
   expect_input_error([&] { TraceWriter w(path, h); }, {path, "control character"});
   h = sample_header(true);
-  h.version = 5;
-  expect_input_error([&] { TraceWriter w(path, h); }, {path, "version 5"});
+  h.version = 6;
+  expect_input_error([&] { TraceWriter w(path, h); }, {path, "version 6"});
   expect_input_error([&] { TraceWriter w(path, sample_header(true), 0); },
                      {path, "records per chunk 0"});
   EXPECT_EQ(dir.entries(), 0u);
@@ -1215,6 +1215,232 @@ TEST(TraceVersion4, WriterRefusesBadOperationsNamingTheRecord) {
   EXPECT_EQ(back.record_size, 68u);
   EXPECT_FALSE(back.has_ops);
   EXPECT_EQ(got[0].op, 0);
+}
+
+// The sampler table (version 5): two entries with every field away from its default.
+std::vector<TraceSampler> sample_samplers() {
+  TraceSampler a;
+  a.name = "pcf";
+  a.mode = 2;
+  a.address_u = 3;
+  a.address_v = 4;
+  a.address_w = 1;
+  a.border[0] = 0.25f;
+  a.border[1] = -1.5f;
+  a.border[2] = 1e-3f;
+  a.border[3] = 1;
+  a.compare = 4;
+  a.aniso = 1;
+  a.max_aniso = 8;
+  a.lod_bias = -0.75f;
+  a.min_lod = 0.5f;
+  a.max_lod = 6;
+  a.seamless = 0;
+  a.sub_texel_bits = 4;
+  a.mipmap_bits = 12;
+  TraceSampler b;
+  b.name = "texel fetch";  // quoted in CSV
+  b.address_u = b.address_v = 1;
+  b.reduction = 2;
+  b.unnormalized = 1;
+  b.max_lod = 0;
+  return {a, b};
+}
+
+TEST(TraceSamplers, RoundTripAsVersion5InBothForms) {
+  TempDir dir("texsim_trace_file");
+  TraceHeader h = sample_header(true);
+  h.has_ops = true;
+  h.samplers = sample_samplers();
+  auto frags = with_operations(random_fragments(40, true, {0, 7}, 5));
+  for (const char* name : {"s.trc", "s.csv"}) {
+    SCOPED_TRACE(name);
+    write_trace(dir.file(name), h, frags);
+    TraceHeader back;
+    const auto got = read_all(dir.file(name), &back);
+    EXPECT_EQ(back.version, 5u);
+    ASSERT_EQ(back.samplers.size(), 2u);
+    EXPECT_TRUE(back.samplers == h.samplers);
+    ASSERT_EQ(got.size(), frags.size());
+    for (size_t i = 0; i < got.size(); ++i) ASSERT_TRUE(same_operation(got[i], frags[i])) << i;
+  }
+  // Without a sampler table the writer writes what it wrote before: version 4 here.
+  h.samplers.clear();
+  write_trace(dir.file("v4.trc"), h, frags);
+  TraceHeader back;
+  read_all(dir.file("v4.trc"), &back);
+  EXPECT_EQ(back.version, 4u);
+  EXPECT_TRUE(back.samplers.empty());
+}
+
+TEST(TraceSamplers, WrittenAsFormatSays) {
+  // The table ends the header: u32 count, then per entry u32 name_len, the name and 41 bytes of
+  // state in FORMAT.md's order; built here by hand.
+  TempDir dir("texsim_trace_file");
+  TraceHeader h = sample_header(false);
+  h.samplers = sample_samplers();
+  write_trace(dir.file("s.trc"), h, random_fragments(3, false, {0}, 2));
+  const auto bytes = slurp(dir.file("s.trc"));
+  std::vector<unsigned char> want;
+  const auto u32 = [&](uint32_t v) {
+    for (int k = 0; k < 4; ++k) want.push_back(static_cast<unsigned char>(v >> (8 * k)));
+  };
+  const auto f32 = [&](float v) { u32(std::bit_cast<uint32_t>(v)); };
+  u32(2);
+  for (const TraceSampler& s : h.samplers) {
+    u32(static_cast<uint32_t>(s.name.size()));
+    want.insert(want.end(), s.name.begin(), s.name.end());
+    want.insert(want.end(), {s.mode, s.address_u, s.address_v, s.address_w, s.border_kind});
+    for (const float c : s.border) f32(c);
+    want.insert(want.end(), {s.compare, s.reduction, s.aniso, s.max_aniso});
+    f32(s.lod_bias);
+    f32(s.min_lod);
+    f32(s.max_lod);
+    want.insert(want.end(), {s.unnormalized, s.seamless, s.sub_texel_bits, s.mipmap_bits});
+  }
+  uint32_t header_size = 0;
+  std::memcpy(&header_size, bytes.data() + 12, 4);
+  ASSERT_GE(header_size, want.size() + 4);
+  EXPECT_EQ(bytes[8], 5);  // version
+  const std::vector<unsigned char> table(bytes.begin() + header_size - 4 - want.size(),
+                                         bytes.begin() + header_size - 4);
+  EXPECT_EQ(table, want);
+}
+
+// Rewrites byte `at` of the sampler table's region (counted back from the header CRC) and
+// fixes the header CRC, so the reader sees a well-formed header with one bad value.
+void patch_header(std::vector<unsigned char>& bytes, size_t back, unsigned char value) {
+  uint32_t header_size = 0;
+  std::memcpy(&header_size, bytes.data() + 12, 4);
+  bytes[header_size - 4 - back] = value;
+  const auto crc = static_cast<uint32_t>(crc32(0, bytes.data(), header_size - 4));
+  std::memcpy(bytes.data() + header_size - 4, &crc, 4);
+}
+
+TEST(TraceSamplers, BadEntriesNameFileEntryAndField) {
+  TempDir dir("texsim_trace_file");
+  TraceHeader h = sample_header(false);
+  h.samplers = {sample_samplers()[0]};  // 'pcf', the last entry: its state is the last 41 bytes
+  const std::string good = dir.file("good.trc"), path = dir.file("bad.trc");
+  write_trace(good, h, random_fragments(3, false, {0}, 2));
+  const auto bytes = slurp(good);
+  const auto expect_bad = [&](size_t back, unsigned char v, const std::vector<std::string>& parts) {
+    auto b = bytes;
+    patch_header(b, back, v);
+    spit(path, b);
+    std::vector<std::string> all = {path, "header", "sampler table entry 1 ('pcf')"};
+    all.insert(all.end(), parts.begin(), parts.end());
+    expect_input_error([&] { read_all(path); }, all);
+  };
+  expect_bad(41, 7, {"mode code 7 is not one of 0 nearest"});
+  expect_bad(39, 5, {"address_v code 5"});
+  expect_bad(37, 1, {"integer border colour"});
+  expect_bad(37, 2, {"border kind 2"});
+  expect_bad(33, 0xff, {"border channel 0 is infinite"});  // border r's top byte: -inf
+  expect_bad(20, 9, {"compare code 9"});
+  expect_bad(19, 3, {"reduction code 3"});
+  expect_bad(17, 0, {"max_aniso 0 is outside 1..16"});
+  expect_bad(5, 0xff, {"max_lod is NaN"});
+  expect_bad(4, 2, {"unnormalized is 2"});
+  expect_bad(3, 9, {"seamless is 9"});
+  expect_bad(2, 0, {"sub_texel_bits 0"});
+  expect_bad(1, 17, {"mipmap_bits 17"});
+  // min_lod above max_lod: min_lod's top byte 0x7f0... gives a huge finite value.
+  expect_bad(9, 0x7e, {"min_lod", "is above max_lod"});
+  // A name length past the header, and a count past the header: no read beyond it.
+  auto b = bytes;
+  uint32_t header_size = 0;
+  std::memcpy(&header_size, b.data() + 12, 4);
+  const size_t entry = header_size - 4 - 41 - 3 - 4;  // u32 name_len of 'pcf'
+  patch_header(b, header_size - 4 - entry, 200);
+  spit(path, b);
+  expect_input_error([&] { read_all(path); }, {path, "sampler entry 1", "past the end"});
+  b = bytes;
+  patch_header(b, header_size - 4 - (entry - 4), 9);  // the count: 9 entries
+  spit(path, b);
+  expect_input_error([&] { read_all(path); }, {path, "past the end of the header"});
+  // The writer refuses what the reader would.
+  h.samplers[0].max_aniso = 0;
+  expect_input_error([&] { write_trace(path, h, {}); },
+                     {path, "sampler table entry 1 ('pcf')", "max_aniso 0"});
+  h.samplers = sample_samplers();
+  h.samplers[1].name = "pcf";
+  expect_input_error([&] { write_trace(dir.file("bad.csv"), h, {}); },
+                     {"sampler table entry 2 ('pcf')", "name is that of entry 1"});
+}
+
+TEST(TraceSamplers, CorruptTablesNeverCrash) {
+  // Random bytes anywhere in the sampler table, the header CRC fixed: an InputError or a table
+  // that passed every check, never anything else.
+  TempDir dir("texsim_trace_file");
+  TraceHeader h = sample_header(false);
+  h.samplers = sample_samplers();
+  const std::string good = dir.file("good.trc"), path = dir.file("bad.trc");
+  write_trace(good, h, random_fragments(2, false, {0}, 2));
+  const auto bytes = slurp(good);
+  uint32_t header_size = 0;
+  std::memcpy(&header_size, bytes.data() + 12, 4);
+  const size_t table = 4 + 2 * (4 + 41) + 3 + 11;  // the count and both entries
+  std::mt19937 rng(27);
+  std::uniform_int_distribution<size_t> at(1, table);
+  std::uniform_int_distribution<int> byte(0, 255);
+  int refused = 0;
+  for (int k = 0; k < 60; ++k) {
+    auto b = bytes;
+    for (int n = 0; n < 1 + k % 3; ++n)
+      patch_header(b, at(rng), static_cast<unsigned char>(byte(rng)));
+    spit(path, b);
+    try {
+      TraceHeader back;
+      read_all(path, &back);
+      for (const TraceSampler& s : back.samplers) EXPECT_EQ(check_sampler(s), "");
+    } catch (const InputError&) {
+      ++refused;
+    }
+  }
+  EXPECT_GT(refused, 15);
+}
+
+TEST(TraceSamplers, CsvDirectivesAreCheckedAtLineAndColumn) {
+  TempDir dir("texsim_trace_file");
+  const std::string path = dir.file("s.csv");
+  const std::string head = "# texture 0 t procedural:checker?size=64 64 64\n";
+  const std::string cols =
+      "frame,prim,x,y,tex,u,v,dudx,dvdx,dudy,dvdy\n0,0,1,2,0,0.5,0.5,0,0,0,0\n";
+  // Keys left out keep the defaults.
+  std::ofstream(path) << head << "# sampler a mode=nearest address_u=clamp\n" << cols;
+  TraceHeader back;
+  read_all(path, &back);
+  ASSERT_EQ(back.samplers.size(), 1u);
+  EXPECT_EQ(back.version, 5u);
+  EXPECT_EQ(back.samplers[0].mode, 0);
+  EXPECT_EQ(back.samplers[0].address_u, 1);
+  EXPECT_EQ(back.samplers[0].address_v, 0);
+  EXPECT_EQ(back.samplers[0].max_lod, 1000.0f);
+  const std::pair<std::string, std::vector<std::string>> bad[] = {
+      {"# sampler a mode=cubic", {":2:13:", "sampler 'a': mode: 'cubic' is not one of nearest"}},
+      {"# sampler a mdoe=nearest", {":2:13:", "unknown sampler key 'mdoe'"}},
+      {"# sampler a mode=nearest mode=bilinear", {":2:26:", "'mode' appears twice"}},
+      {"# sampler a border=1,2,3", {":2:13:", "four numbers"}},
+      {"# sampler a border=1,2,3,nan", {":2:13:", "NaN"}},
+      {"# sampler a border_int=1,2,3,4", {":2:13:", "integer border colour"}},
+      {"# sampler a max_aniso=17", {":2:13:", "max_aniso: '17' is outside 1..16"}},
+      {"# sampler a seamless=2", {":2:13:", "outside 0..1"}},
+      {"# sampler a min_lod=3 max_lod=1", {":2:11:", "entry 1: min_lod", "above max_lod"}},
+      {"# sampler a nokey", {":2:13:", "expected key=value"}},
+      {"# sampler", {":2:3:", "needs a name"}},
+  };
+  for (const auto& [line, parts] : bad) {
+    SCOPED_TRACE(line);
+    std::ofstream(path) << head << line << "\n" << cols;
+    std::vector<std::string> all = {path};
+    all.insert(all.end(), parts.begin(), parts.end());
+    expect_input_error([&] { read_all(path); }, all);
+  }
+  std::ofstream(path) << head << "# sampler a\n# sampler a\n" << cols;
+  expect_input_error([&] { read_all(path); }, {":3:11:", "'a' appears twice"});
+  std::ofstream(path) << head << cols << "# sampler b\n";
+  expect_input_error([&] { read_all(path); }, {":4:3:", "sampler directive after the column"});
 }
 
 }  // namespace
