@@ -109,7 +109,6 @@ TEST(RtlStudy, SamplerErrorFollowsTheWidths) {
   EXPECT_EQ(w8.pixels, 23575U);
   EXPECT_GT(w8.psnr_db, w1.psnr_db + 0.5);
   EXPECT_GT(w8.psnr_vs_float_db, w1.psnr_vs_float_db + 6);
-  EXPECT_NE(e.cell(8, 8).find("vs float32 (bunny.toml fur)"), std::string::npos) << e.cell(8, 8);
   EXPECT_THROW(
       texsim::SamplerSceneErrors(TEXSIM_SOURCE_DIR "/scenes/bunny.toml", "nothing").measure(8, 8),
       texsim::InputError);
