@@ -10,7 +10,8 @@ set(TEXSIM_RTL_TESTS ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_vd.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_scan.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_control.cc
   ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_rect_raster.cc
-  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_sampler.cc)
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_sampler.cc
+  ${PROJECT_SOURCE_DIR}/testbench/rtl/test_rtl_iverilog_trace.cc)
 set(TEXSIM_RTL_BENCH ${PROJECT_SOURCE_DIR}/testbench/rtl/bench_rtl_vs_cpp.cc)
 set(TEXSIM_RTL_CC ${PROJECT_SOURCE_DIR}/rtl_model/params/gen_rtl_params.cc
   ${PROJECT_SOURCE_DIR}/rtl_model/verilator/rtl_harness.cc)
@@ -151,6 +152,9 @@ if(TEXSIM_BUILD_TESTS)
   # The sampler's lockstep runs the shipped scenes' fragments through the texture unit too.
   target_link_libraries(test_rtl_sampler PRIVATE texsim_pipeline)
   target_compile_definitions(test_rtl_sampler PRIVATE TEXSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  # Icarus Verilog replays the Verilated blocks' cycle traces (testbench/rtl/iverilog/).
+  target_compile_definitions(test_rtl_iverilog_trace PRIVATE
+    TEXSIM_SOURCE_DIR="${PROJECT_SOURCE_DIR}" TEXSIM_RTL_PARAMS_DIR="${TEXSIM_RTL_GEN}")
   add_executable(test_rtl_board ${TEXSIM_RTL_BOARD_TEST})
   target_link_libraries(test_rtl_board PRIVATE texsim_rtl_board GTest::gtest GTest::gtest_main)
   texsim_set_warnings(test_rtl_board)

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <new>
 #include <string>
 
@@ -20,6 +21,7 @@
 #include "pipeline/app/study_formats.h"
 #include "pipeline/app/study_frames.h"
 #include "pipeline/app/study_memory.h"
+#include "pipeline/app/study_rtl_sampler.h"
 #include "pipeline/app/study_workloads.h"
 #include "pipeline/app/sweep.h"
 #include "pipeline/app/tuner.h"
@@ -28,6 +30,7 @@
 #include "pipeline/render/draw_fragment_trace.h"
 #include "pipeline/report/provenance.h"
 #include "pipeline/report/workload_report.h"
+#include "pipeline/studies/shipped_scenes.h"
 #include "pipeline/studies/study_coords.h"
 #include "pipeline/studies/study_filters.h"
 #include "pipeline/studies/study_objspace.h"
@@ -345,6 +348,9 @@ struct StudyCli {
   int threads = 0;
   texsim::StudyRtlOptions rtl_opt;
   std::vector<std::string> rtl_params;
+  std::string rtl_sampler_scene = texsim::shipped_scenes_dir() + "/bunny.toml";
+  std::string rtl_sampler_material = "fur";
+  bool rtl_no_generic = false;
   texsim::StudyThesisOptions thesis_opt;
   texsim::StudyMemoryOptions memory_opt;
   texsim::StudyFormatsOptions formats_opt;
@@ -457,12 +463,27 @@ void add_study_commands(CLI::App& app, StudyCli& s) {
   s.rtl->add_flag("--with-earlier", s.rtl_opt.with_earlier,
                   "Also build each block's earlier form (ref/BLOCK_comb.v) at the same "
                   "parameters: Fmax before and after retiming");
+  s.rtl->add_flag("--no-generic", s.rtl_no_generic,
+                  "Leave out yosys' generic synthesis (the generic cell count)");
+  s.rtl
+      ->add_option("--sampler-scene", s.rtl_sampler_scene,
+                   "Scene whose fragments give the sampler's error (C++ FixedSampler vs truth)")
+      ->capture_default_str();
+  s.rtl
+      ->add_option("--sampler-material", s.rtl_sampler_material,
+                   "Material of --sampler-scene run with filter.arithmetic = \"fixed\"")
+      ->capture_default_str();
 }
 
 int run_study_command(StudyCli& s) {
   using namespace texsim;  // NOLINT(google-build-using-namespace)
   if (*s.rtl) {
     for (const std::string& p : s.rtl_params) s.rtl_opt.params.push_back(parse_rtl_param(p));
+    s.rtl_opt.generic_cells = !s.rtl_no_generic;
+    auto errors = std::make_shared<SamplerSceneErrors>(s.rtl_sampler_scene, s.rtl_sampler_material);
+    s.rtl_opt.sampler_error = [errors](int sub_bits, int mip_bits) {
+      return errors->cell(sub_bits, mip_bits);
+    };
     return run_study_rtl(s.out, s.rtl_opt, std::cout);
   }
   ensure_dir(s.out);

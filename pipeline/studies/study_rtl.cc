@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 
@@ -27,8 +28,12 @@ std::string fmt(double v, const char* f = "%.1f") {
 }
 
 // Shared helper modules (texsim_pipe, texsim_round_sat, ...) are named texsim_*: they are
-// read with every block but are not blocks of their own.
-bool is_helper(const fs::path& file) { return file.stem().string().rfind("texsim_", 0) == 0; }
+// read with every block but are not blocks of their own. The sampler (texsim_sampler) is named
+// like them but is a block of rtl_params.h.
+bool is_helper(const fs::path& file) {
+  const std::string stem = file.stem().string();
+  return stem.rfind("texsim_", 0) == 0 && !rtl_study_known_block(stem);
+}
 
 std::vector<fs::path> verilog_files(const std::string& dir) {
   std::vector<fs::path> files;
@@ -99,6 +104,13 @@ std::vector<std::string> helper_files(const std::vector<fs::path>& files,
       helpers.push_back(fs::absolute(file).string());
     }
   }
+  // The sampler's log2 table is generated (gen_rtl_params); unused modules are dropped by
+  // `hierarchy -top`, so it is read with every block.
+  const std::string gen = synth::generated_include_dir();
+  std::error_code ec;
+  if (!gen.empty() && fs::is_regular_file(fs::path(gen) / "texsim_sampler_log2.v", ec)) {
+    helpers.push_back((fs::path(gen) / "texsim_sampler_log2.v").string());
+  }
   return helpers;
 }
 
@@ -107,6 +119,19 @@ std::string slurp(const fs::path& p) {
   std::stringstream s;
   s << f.rdbuf();
   return s.str();
+}
+
+// The other blocks that `block` instantiates (the sampler's bilinear_lerp), read with it.
+std::vector<fs::path> blocks_inside(const std::vector<fs::path>& files, const fs::path& block) {
+  const std::string source = slurp(block);
+  std::vector<fs::path> inside;
+  for (const fs::path& f : files) {
+    if (f == block || is_helper(f)) continue;
+    // An instance: NAME #( or NAME instance_name (.
+    const std::regex inst("\\b" + f.stem().string() + "\\s*(#\\s*\\(|[A-Za-z_]\\w*\\s*\\()");
+    if (std::regex_search(source, inst)) inside.push_back(fs::absolute(f));
+  }
+  return inside;
 }
 
 struct Row {
@@ -133,7 +158,7 @@ std::vector<std::string> cells_of(const Row& row) {
     c.insert(c.end(), {"-", "-", "-", "-", "-", "-", "-", "-", "-", "-", "-", "-", "0", r.error});
     return c;
   }
-  c.push_back(std::to_string(r.generic_cells));
+  c.push_back(r.generic_cells > 0 ? std::to_string(r.generic_cells) : "-");
   c.push_back(joined(r.multipliers));
   for (const int v : {r.lut4, r.dff, r.carry, r.mac16, r.ram}) c.push_back(std::to_string(v));
   c.push_back(fallback);
@@ -211,6 +236,21 @@ void write_outputs(const std::string& out_dir, const std::vector<Row>& rows,
   files.plot("rtl.png", spec);
 }
 
+// The sampler's error cell at the point's S and M, computed once per (S, M).
+std::string sampler_error_of(const RtlStudyPoint& pt, const StudyRtlOptions& opt,
+                             std::map<std::pair<int64_t, int64_t>, std::string>& errors,
+                             std::ostream& log) {
+  int64_t s = 0, m = 0;
+  for (const auto& [n, v] : pt.params) {
+    if (n == "S") s = v;
+    if (n == "M") m = v;
+  }
+  const auto key = std::make_pair(s, m);
+  if (const auto it = errors.find(key); it != errors.end()) return it->second;
+  log << " (C++ error at S=" << s << " M=" << m << ")" << std::flush;
+  return errors[key] = opt.sampler_error(static_cast<int>(s), static_cast<int>(m));
+}
+
 }  // namespace
 
 std::pair<std::string, std::vector<int>> parse_rtl_param(const std::string& text) {
@@ -263,6 +303,7 @@ int run_study_rtl(const std::string& out_dir, const StudyRtlOptions& opt, std::o
   std::vector<std::string> includes = {opt.rtl_dir};
   if (!synth::generated_include_dir().empty()) includes.push_back(synth::generated_include_dir());
   std::vector<Row> rows;
+  std::map<std::pair<int64_t, int64_t>, std::string> errors;  // sampler (S, M) -> error cell
   for (const fs::path& file : files) {
     const std::string top = file.stem().string();
     if (is_helper(file) || (!opt.blocks.empty() && std::find(opt.blocks.begin(), opt.blocks.end(),
@@ -283,6 +324,9 @@ int run_study_rtl(const std::string& out_dir, const StudyRtlOptions& opt, std::o
         for (const auto& [n, v] : p) work += "_" + n + std::to_string(v);
         Row row{module, params_text(p), rtl_study_point(top, p), {}};
         log << "study rtl: " << module << " " << row.params << " ..." << std::flush;
+        if (top == "texsim_sampler" && opt.sampler_error) {
+          row.point.max_error = sampler_error_of(row.point, opt, errors, log);
+        }
         if (!row.point.problem.empty()) {
           row.r.error = row.point.problem;
         } else {
@@ -292,7 +336,9 @@ int run_study_rtl(const std::string& out_dir, const StudyRtlOptions& opt, std::o
                               row.point.params,
                               work.string(),
                               seeds};
+          job.generic_cells = opt.generic_cells;
           job.files.insert(job.files.end(), helpers.begin(), helpers.end());
+          for (const fs::path& sub : blocks_inside(files, file)) job.files.push_back(sub.string());
           row.r = synth::run_synth(job, tools);
         }
         log << (row.r.error.empty() ? " " + std::to_string(row.r.lut4) + " LUT4" : " failed")

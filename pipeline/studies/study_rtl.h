@@ -5,6 +5,7 @@
 // with the shared helpers (texsim_*.v, not blocks themselves) read alongside,
 // and placed and routed with nextpnr-ice40 at several seeds (median, min and max Fmax). Writes
 // rtl.csv, rtl.md and rtl.png; missing tools or no Verilog files: says so and writes nothing.
+#include <functional>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -25,6 +26,12 @@ struct StudyRtlOptions {
   // Also build the earlier form of each block that has one (ref/<block>_comb.v beside it, the
   // form a retimed block replaced) at the same parameters, as a row named <block>_comb.
   bool with_earlier = false;
+  // The generic cell count (yosys `synth`); false: "-" in that column, half the sampler's time.
+  bool generic_cells = true;
+  // The sampler's (texsim_sampler) error column at sub-texel bits S and mipmap bits M: the C++
+  // FixedSampler, bit-exact with the RTL, on a shipped scene against its ground truth (set by
+  // the application, which runs scenes; unset: no error figure).
+  std::function<std::string(int sub_bits, int mip_bits)> sampler_error;
 };
 
 // Parses "NAME=v1,v2,..." (the --param option); throws InputError.

@@ -100,6 +100,12 @@ double bilinear_weight_error_lsb(int texel_bits, int sub_bits) {
   return worst;
 }
 
+bool rtl_study_known_block(const std::string& module) {
+  const auto blocks = rtl_params::rtl_blocks();
+  return std::any_of(blocks.begin(), blocks.end(),
+                     [&](const rtl_params::RtlBlock& b) { return b.module == module; });
+}
+
 bool rtl_study_is_generated(const std::string& module, const Params& params) {
   for (const rtl_params::RtlBlock& b : rtl_params::rtl_blocks()) {
     if (b.module != module) continue;

@@ -23,6 +23,10 @@ struct RtlStudyPoint {
 RtlStudyPoint rtl_study_point(const std::string& module,
                               const std::vector<std::pair<std::string, int>>& sweep);
 
+// True for the modules of rtl_params::rtl_blocks() (texsim_sampler is one, although named like
+// the shared helpers texsim_*).
+bool rtl_study_known_block(const std::string& module);
+
 // True when `params` are exactly the generated ones of `module` (the RTL the lockstep tests
 // verify against the C++ model).
 bool rtl_study_is_generated(const std::string& module,

@@ -16,15 +16,19 @@ module texsim_pipe #(
   if (N == 0) begin : g_wire
     assign q = d;
   end else begin : g_regs
-    logic [W-1:0] r[N];
-    always_ff @(posedge clk) begin
-      if (RST && rst) begin
-        for (int i = 0; i < N; i++) r[i] <= '0;
-      end else begin
-        r[0] <= d;
-        for (int i = 1; i < N; i++) r[i] <= r[i-1];
-      end
+    // One flat vector, stage i in bits [i·W +: W]: Icarus Verilog 11 gave x for q = r[N-1] of
+    // an unpacked array in the sampler, and yosys 0.23 reads no multi-dimensional packed one.
+    logic [N*W-1:0] r;
+    logic [N*W-1:0] next;
+    if (N == 1) begin : g_one
+      assign next = d;
+    end else begin : g_more
+      assign next = {r[(N-1)*W-1:0], d};
     end
-    assign q = r[N-1];
+    always_ff @(posedge clk) begin
+      if (RST && rst) r <= '0;
+      else r <= next;
+    end
+    assign q = r[N*W-1-:W];
   end
 endmodule

@@ -19,34 +19,38 @@ module texsim_udiv_pipe #(
 );
   localparam int BPS = (NW + LAT - 1) / LAT;  // quotient bits per stage
 
-  // Stage s input: partial remainder, the numerator bits not yet used (MSB aligned), the
-  // quotient so far, the divisor and the tag.
-  logic [DW:0] rem[LAT+1];
-  logic [NW-1:0] num[LAT+1];
-  logic [NW-1:0] quo[LAT+1];
-  logic [DW-1:0] den[LAT+1];
-  logic [TW-1:0] tg[LAT+1];
-  assign rem[0] = '0;
-  assign num[0] = n;
-  assign quo[0] = '0;
-  assign den[0] = d;
-  assign tg[0]  = tag;
+  // Register s: the output of stage s − 1, i.e. stage s's partial remainder, the numerator bits
+  // not yet used (MSB aligned), the quotient so far, the divisor and the tag. Stage 0 reads the
+  // ports instead (a register array with its element 0 continuously assigned is not accepted
+  // by Icarus Verilog).
+  logic [DW:0] rem[1:LAT];
+  logic [NW-1:0] num[1:LAT];
+  logic [NW-1:0] quo[1:LAT];
+  logic [DW-1:0] den[1:LAT];
+  logic [TW-1:0] tg[1:LAT];
 
   for (genvar s = 0; s < LAT; s++) begin : g_stage
     localparam int FIRST = s * BPS;
     localparam int BITS = FIRST >= NW ? 0 : (NW - FIRST < BPS ? NW - FIRST : BPS);
-    logic [DW:0] r;
-    logic [NW-1:0] nm, qu;
+    logic [DW:0] r, rem_i;
+    logic [NW-1:0] nm, qu, num_i, quo_i;
+    logic [DW-1:0] den_i;
+    logic [TW-1:0] tg_i;
+    if (s == 0) begin : g_ports
+      assign {rem_i, num_i, quo_i, den_i, tg_i} = {(DW + 1)'(0), n, NW'(0), d, tag};
+    end else begin : g_regs
+      assign {rem_i, num_i, quo_i, den_i, tg_i} = {rem[s], num[s], quo[s], den[s], tg[s]};
+    end
     always_comb begin
-      r  = rem[s];
-      nm = num[s];
-      qu = quo[s];
+      r  = rem_i;
+      nm = num_i;
+      qu = quo_i;
       for (int b = 0; b < BITS; b++) begin
         r  = {r[DW-1:0], nm[NW-1]};
         nm = nm << 1;
         qu = qu << 1;
-        if (r >= {1'b0, den[s]}) begin
-          r = r - {1'b0, den[s]};
+        if (r >= {1'b0, den_i}) begin
+          r = r - {1'b0, den_i};
           qu[0] = 1'b1;
         end
       end
@@ -62,8 +66,8 @@ module texsim_udiv_pipe #(
         rem[s+1] <= r;
         num[s+1] <= nm;
         quo[s+1] <= qu;
-        den[s+1] <= den[s];
-        tg[s+1]  <= tg[s];
+        den[s+1] <= den_i;
+        tg[s+1]  <= tg_i;
       end
     end
   end

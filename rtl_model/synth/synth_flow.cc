@@ -101,8 +101,10 @@ std::string generic_script(const SynthJob& job) {
          "techmap -map +/mul2dsp.v -map +/ice40/dsp_map.v -D DSP_A_MAXWIDTH=16 "
          "-D DSP_B_MAXWIDTH=16 -D DSP_A_MINWIDTH=2 -D DSP_B_MINWIDTH=2 -D DSP_Y_MINWIDTH=11 "
          "-D DSP_NAME=$__MUL16X16\n"
-         "tee -q -o dsp_split.json stat -json\n"
-         "design -load pre\nsynth -top study_top\ntee -q -o generic.json stat -json\n";
+         "tee -q -o dsp_split.json stat -json\n" +
+         (job.generic_cells
+              ? "design -load pre\nsynth -top study_top\ntee -q -o generic.json stat -json\n"
+              : "");
 }
 
 long long json_int(const json& v) {
@@ -261,6 +263,7 @@ std::string up5k_fit(const SynthResult& r) {
     }
   };
   check("SB_LUT4", r.lut4, kUp5kLogicCells);
+  check("DFF", r.dff, kUp5kLogicCells);
   check("SB_MAC16", r.mac16, kUp5kDsps);
   check("BRAM", r.ram, kUp5kBrams);
   const std::string lc = "does not fit the UP5K: ";
@@ -312,8 +315,12 @@ SynthResult run_synth(const SynthJob& job, const Tools& tools) {
   r.mac16 = count_prefix(ice, "SB_MAC16");
   r.ram = count_prefix(ice, "SB_RAM") + count_prefix(ice, "SB_SPRAM");
   if (tools.nextpnr.empty()) return r;
-  if (r.lut4 > kUp5kLogicCells) {
-    r.pnr_error = "not placed: " + std::to_string(r.lut4) + " SB_LUT4 > the UP5K's " +
+  // A logic cell holds one LUT4 and one flip-flop: more of either than the device's cells
+  // cannot be placed, whatever the multipliers become.
+  if (r.lut4 > kUp5kLogicCells || r.dff > kUp5kLogicCells) {
+    const bool luts = r.lut4 > kUp5kLogicCells;
+    r.pnr_error = "not placed: " + std::to_string(luts ? r.lut4 : r.dff) +
+                  (luts ? " SB_LUT4" : " flip-flops") + " > the UP5K's " +
                   std::to_string(kUp5kLogicCells) + " logic cells";
     return r;
   }

@@ -29,6 +29,9 @@ struct SynthJob {
   std::vector<std::pair<std::string, int64_t>> params;  // overrides; each must fit 32 bits
   std::string work_dir;                                 // scripts, netlists and logs go here
   std::vector<int> seeds = {1, 2, 3, 4, 5};
+  // yosys' generic `synth` for the generic cell count; false leaves it out (0 cells): on the
+  // sampler it takes as long as the iCE40 synthesis (about 5 min).
+  bool generic_cells = true;
 };
 
 // iCE40 UP5K (the place-and-route target): logic cells, SB_MAC16 DSPs, 4-kbit block RAMs.
@@ -51,7 +54,8 @@ struct SynthResult {
 };
 
 // Whether a synthesised block fits the UP5K: "yes", or "no: " and each resource over the
-// device's (SB_LUT4 against 5280, SB_MAC16 against 8, block RAM against 30), or the logic cells
+// device's (SB_LUT4 and flip-flops against its 5280 logic cells, SB_MAC16 against 8, block RAM
+// against 30), or the logic cells
 // nextpnr found over-full; a block over the DSPs that placed with LUT multipliers says so.
 std::string up5k_fit(const SynthResult& r);
 

@@ -7,6 +7,8 @@
 #include "blocks/base/config_reader.h"
 #include "blocks/base/input_error.h"
 #include "blocks/base/tech_table.h"
+#include "blocks/texture/sampler/fixed_sampler.h"
+#include "pipeline/app/study_rtl_sampler.h"
 #include "pipeline/studies/study_rtl.h"
 #include "pipeline/studies/study_rtl_params.h"
 #include "rtl_model/synth/synth_flow.h"
@@ -44,6 +46,9 @@ TEST(RtlStudy, FitsTheUp5kSaysWhatIsOver) {
   r.fmax_mhz = {40.0};
   EXPECT_EQ(texsim::synth::up5k_fit(r), "no: SB_MAC16 16/8; fits with LUT multipliers");
   r = {};
+  r.dff = 9000;  // one flip-flop per logic cell
+  EXPECT_EQ(texsim::synth::up5k_fit(r), "no: DFF 9000/5280");
+  r = {};
   r.pnr_error = "does not fit the UP5K: ICESTORM_LC 7564/5280 143%";
   EXPECT_EQ(texsim::synth::up5k_fit(r), "no: ICESTORM_LC 7564/5280 143%");
 }
@@ -78,6 +83,35 @@ TEST(RtlStudy, PointsFollowTheCppFormats) {
   const auto other = texsim::rtl_study_point("horner2", {{"W", 8}});
   ASSERT_EQ(other.params.size(), 1U);
   EXPECT_EQ(other.latency, "");
+}
+
+TEST(RtlStudy, SamplerIsABlockAtItsWidths) {
+  // Named like the shared helpers (texsim_*), but a block of rtl_params.h.
+  EXPECT_TRUE(texsim::rtl_study_known_block("texsim_sampler"));
+  EXPECT_FALSE(texsim::rtl_study_known_block("texsim_pipe"));
+  const auto g = texsim::rtl_study_point("texsim_sampler", {});
+  EXPECT_TRUE(texsim::rtl_study_is_generated("texsim_sampler", g.params));
+  const auto p = texsim::rtl_study_point("texsim_sampler", {{"S", 4}, {"M", 4}});
+  EXPECT_EQ(param(p, "S"), 4);
+  EXPECT_EQ(param(p, "M"), 4);
+  EXPECT_EQ(param(p, "LOD_LAT"), param(g, "LOD_LAT"));  // latencies stay the C++ model's
+  EXPECT_EQ(p.latency,
+            std::to_string(texsim::FixedSampler::latency(texsim::TechTable::defaults())));
+  EXPECT_FALSE(texsim::rtl_study_is_generated("texsim_sampler", p.params));
+}
+
+TEST(RtlStudy, SamplerErrorFollowsTheWidths) {
+  // The sampler's error column: FixedSampler on the bunny's fragments. Against the truth the
+  // trilinear filter's own error dominates (a fraction of a dB between widths); against the
+  // float32 sampler the width shows.
+  texsim::SamplerSceneErrors e(TEXSIM_SOURCE_DIR "/scenes/bunny.toml", "fur");
+  const texsim::SamplerSceneError w8 = e.measure(8, 8), w1 = e.measure(1, 1);
+  EXPECT_EQ(w8.pixels, 23575U);
+  EXPECT_GT(w8.psnr_db, w1.psnr_db + 0.5);
+  EXPECT_GT(w8.psnr_vs_float_db, w1.psnr_vs_float_db + 6);
+  EXPECT_THROW(
+      texsim::SamplerSceneErrors(TEXSIM_SOURCE_DIR "/scenes/bunny.toml", "nothing").measure(8, 8),
+      texsim::InputError);
 }
 
 TEST(RtlStudy, BilinearWeightError) {
