@@ -1,5 +1,6 @@
 #include "pipeline/app/board_sampler.h"
 
+#include <algorithm>
 #include <array>
 
 #include "blocks/base/input_error.h"
@@ -34,7 +35,34 @@ class NamedBlock : public link::BoardBlock {
 
 std::string block_name(int k) { return "texsim_sampler:" + std::to_string(k); }
 
+// HID reports of a message with `payload` bytes (framing.h: INIT, then CONTs, CRC at the end).
+size_t reports_of(size_t payload) {
+  const size_t bytes = payload + link::kCrcSize;
+  return bytes <= link::kInitData
+             ? 1
+             : 1 + (bytes - link::kInitData + link::kContData - 1) / link::kContData;
+}
+
+// Over USB, hidraw queues at most 64 input reports per device: two responses in flight must fit.
+constexpr int kHidWindow = 2;
+constexpr size_t kHidQueue = 64;
+
 }  // namespace
+
+namespace board {
+size_t fragments_per_stream(size_t max_payload, size_t max_reports) {
+  const size_t payload = std::min(max_payload, link::kMaxPayload);
+  size_t k = 1;
+  for (;;) {
+    const size_t next = (k + 1) * link::kSamplerWords;
+    // The response: status byte, index and count, the results.
+    if (next > link::kMaxStreamVectors || link::kStreamHeader + 4 * next > payload ||
+        reports_of(1 + link::kStreamHeader + 4 * next) > max_reports)
+      return k;
+    ++k;
+  }
+}
+}  // namespace board
 
 BoardSampler::BoardSampler(const std::string& link, const UnitArray& units) : link_(link) {
   const TextureUnit& unit = units.unit(0);
@@ -67,8 +95,18 @@ BoardSampler::BoardSampler(const std::string& link, const UnitArray& units) : li
       throw InputError("--board", "'" + link + "' is not virtual or hid");
     }
     link::LinkOptions opt;
-    opt.batch = link::kSamplerWords;
+    if (link == "hid") opt.window = kHidWindow;
+    const size_t max_reports = link == "hid" ? kHidQueue / kHidWindow : link::kMaxReportsPerMessage;
+    per_stream_ = board::fragments_per_stream(link::kMaxPayload, max_reports);
+    opt.batch = static_cast<uint16_t>(per_stream_ * link::kSamplerWords);
     host_ = std::make_unique<link::LinkHost>(*transport_, opt);
+    // A board that takes smaller messages: fewer fragments per STREAM, never a split fragment.
+    const size_t fit = board::fragments_per_stream(host_->capabilities().max_payload, max_reports);
+    if (fit < per_stream_) {
+      per_stream_ = fit;
+      opt.batch = static_cast<uint16_t>(per_stream_ * link::kSamplerWords);
+      host_ = std::make_unique<link::LinkHost>(*transport_, opt);
+    }
     for (int m = 0; m < unit.material_count(); ++m) {
       if (block_of_[static_cast<size_t>(m)] < 0) continue;
       select(m);
@@ -101,8 +139,30 @@ FixedSampler::Result BoardSampler::sample(int material, const FixedSampler::Inpu
     link::encode_fragment(in, w);
     const std::vector<uint32_t> back = host_->stream(w);
     ++fragments_;
+    ++streams_;
     return link::decode_result(
         std::span<const uint32_t, link::kSamplerWords>(back.data(), link::kSamplerWords));
+  } catch (const link::LinkError& e) {
+    throw InputError("--board " + link_, e.what());
+  }
+}
+
+void BoardSampler::sample_batch(int material, std::span<const FixedSampler::Input> in,
+                                std::span<FixedSampler::Result> out) {
+  if (in.empty()) return;
+  try {
+    select(material);
+    std::vector<uint32_t> w(in.size() * link::kSamplerWords);
+    for (size_t i = 0; i < in.size(); ++i)
+      link::encode_fragment(in[i], std::span<uint32_t, link::kSamplerWords>(
+                                       w.data() + i * link::kSamplerWords, link::kSamplerWords));
+    const std::vector<uint32_t> back = host_->stream(w);
+    for (size_t i = 0; i < in.size(); ++i) {
+      out[i] = link::decode_result(std::span<const uint32_t, link::kSamplerWords>(
+          back.data() + i * link::kSamplerWords, link::kSamplerWords));
+    }
+    fragments_ += in.size();
+    streams_ += (in.size() + per_stream_ - 1) / per_stream_;
   } catch (const link::LinkError& e) {
     throw InputError("--board " + link_, e.what());
   }

@@ -5,6 +5,7 @@
 // process, one block per fixed material (each holds its texture's memory image, loaded once in
 // CONFIGURE chunks); `hid` opens a USB board and fails cleanly when none is attached.
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -20,11 +21,18 @@ class BoardSampler : public FixedSamplerBoard {
   BoardSampler(const std::string& link, const UnitArray& units);
   ~BoardSampler() override;
   FixedSampler::Result sample(int material, const FixedSampler::Input& in) override;
+  // Packs the fragments into STREAMs of fragments_per_stream() each, all sent in one call
+  // (the link keeps several in flight); results in order.
+  void sample_batch(int material, std::span<const FixedSampler::Input> in,
+                    std::span<FixedSampler::Result> out) override;
 
   const std::string& link() const { return link_; }
   // The blocks that ran on the board ("texsim_sampler"), and the fragments it sampled.
   std::vector<std::string> blocks() const { return {"texsim_sampler"}; }
   uint64_t fragments() const { return fragments_; }
+  // STREAM messages sent for them (one round trip each, several in flight).
+  uint64_t streams() const { return streams_; }
+  size_t fragments_per_stream() const { return per_stream_; }
   const std::vector<std::string>& materials() const { return material_names_; }
 
  private:
@@ -36,6 +44,14 @@ class BoardSampler : public FixedSamplerBoard {
   std::vector<std::string> material_names_;
   int selected_ = -1;
   uint64_t fragments_ = 0;
+  uint64_t streams_ = 0;
+  size_t per_stream_ = 1;
 };
+
+namespace board {
+// Fragments per STREAM: as many as a message carries (at most kMaxStreamVectors words and the
+// payload limit), and no more than makes a response of at most `max_reports` HID reports.
+size_t fragments_per_stream(size_t max_payload, size_t max_reports);
+}  // namespace board
 
 }  // namespace texsim

@@ -1155,7 +1155,7 @@ std::unique_ptr<BoardSampler> attach_board(const std::string& link, UnitArray& u
   units.set_fixed_board(board.get());
   log << "board (" << link << "): texsim_sampler runs the fixed-arithmetic materials";
   for (const std::string& m : board->materials()) log << " " << m;
-  log << "\n";
+  log << " (up to " << board->fragments_per_stream() << " fragments per STREAM)\n";
   return board;
 }
 
@@ -1163,6 +1163,7 @@ void board_info(const BoardSampler& board, RunInfo& info) {
   info.board_link = board.link();
   info.board_blocks = board.blocks();
   info.board_fragments = board.fragments();
+  info.board_streams = board.streams();
 }
 
 }  // namespace
@@ -1274,6 +1275,8 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     *opt.capture = capture_run(images, units, sum);
     opt.capture->write_outputs = write;
     opt.capture->raster_blocks = raster_coord_blocks(mats, raster);
+    opt.capture->board_fragments = info.board_fragments;
+    opt.capture->board_streams = info.board_streams;
     if (!write) return sum;
   }
   LedgerRun ledger;

@@ -358,7 +358,8 @@ Json report_json(const RunInfo& info, const UnitArray& unit, const AccuracyMetri
   if (!info.board_link.empty()) {
     j["board"] = {{"link", info.board_link},
                   {"blocks", info.board_blocks},
-                  {"fragments", info.board_fragments}};
+                  {"fragments", info.board_fragments},
+                  {"streams", info.board_streams}};
   }
   if (unit.front_stages() > 0) {
     const FrontEndStats& fe = unit.front_end_stats();

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "blocks/base/input_error.h"
+#include "pipeline/app/board_sampler.h"
 #include "pipeline/app/run.h"
 #include "pipeline/raster/fragment_generator.h"
 #include "pipeline/scene/scene.h"
@@ -136,6 +137,16 @@ TEST(RtlSamplerBoard, SceneThroughTheLinkEqualsTheUnit) {
   }
 }
 
+TEST(RtlSamplerBoard, FragmentsPerStreamFitTheMessageAndTheHidQueue) {
+  // 83 fragments: 996 words, the most under kMaxStreamVectors (1000).
+  EXPECT_EQ(board::fragments_per_stream(kMaxPayload, kMaxReportsPerMessage), 83u);
+  // Over USB two responses in flight must fit hidraw's 64-report queue: 38 fragments make a
+  // response of 32 reports, 39 of 33.
+  EXPECT_EQ(board::fragments_per_stream(kMaxPayload, 32), 38u);
+  // A board that takes 64-byte payloads: one fragment (6 + 48 bytes) per STREAM.
+  EXPECT_EQ(board::fragments_per_stream(64, kMaxReportsPerMessage), 1u);
+}
+
 TEST(RtlSamplerBoard, CorruptedTexelIsCaught) {
   const BoardRun r = run_on_board("footprint_filters", 300, true);
   EXPECT_GT(r.fragments, 0u);
@@ -187,6 +198,11 @@ TEST(RtlSamplerBoard, RunWithVirtualBoardGivesTheCppImage) {
       << log;
   EXPECT_EQ(rtl.image->rgb, cpp.image->rgb);
   EXPECT_EQ(rtl.image->covered, cpp.image->covered);
+  // Several fragments per round trip: the unit's batches go out in STREAMs of up to 83.
+  EXPECT_NE(log.find("(up to 83 fragments per STREAM)"), std::string::npos) << log;
+  EXPECT_GT(rtl.board_fragments, 0u);
+  EXPECT_LT(rtl.board_streams * 10, rtl.board_fragments)
+      << rtl.board_streams << " STREAMs for " << rtl.board_fragments << " fragments";
   // The key takes effect: the float32 path's image differs (by an LSB on some pixels).
   const RunCapture fl = run_scene("", nullptr, "float");
   EXPECT_NE(fl.image->rgb, cpp.image->rgb);
