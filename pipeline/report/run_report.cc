@@ -359,7 +359,8 @@ Json report_json(const RunInfo& info, const UnitArray& unit, const AccuracyMetri
     j["board"] = {{"link", info.board_link},
                   {"blocks", info.board_blocks},
                   {"fragments", info.board_fragments},
-                  {"streams", info.board_streams}};
+                  {"streams", info.board_streams},
+                  {"lerps", info.board_lerps}};
   }
   if (unit.front_stages() > 0) {
     const FrontEndStats& fe = unit.front_end_stats();

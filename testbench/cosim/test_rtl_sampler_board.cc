@@ -293,6 +293,9 @@ TEST(RtlSamplerBoard, RunWithVirtualBoardGivesTheCppImage) {
   EXPECT_GT(rtl.board_fragments, 0u);
   EXPECT_LT(rtl.board_streams * 10, rtl.board_fragments)
       << rtl.board_streams << " STREAMs for " << rtl.board_fragments << " fragments";
+  // The board's bilinear_lerp ran both lerps of every fragment, each equal to the C++ model's.
+  EXPECT_EQ(rtl.board_lerps, 2 * rtl.board_fragments);
+  EXPECT_NE(log.find("each equal to BilinearLerp"), std::string::npos) << log;
   // The key takes effect: the float32 path's image differs (by an LSB on some pixels).
   const RunCapture fl = run_scene("", nullptr, "float");
   EXPECT_NE(fl.image->rgb, cpp.image->rgb);

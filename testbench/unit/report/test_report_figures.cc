@@ -78,7 +78,7 @@ const std::set<std::string> kKnownKeys = {
     "materials", "materials.*", "materials.*.fragments", "materials.*.blocks", "materials.*.ops",
     "materials.*.ops.<op>", "materials.*.ops_per_fragment", "materials.*.texels_per_fragment",
     "materials.*.arithmetic", "board", "board.link", "board.blocks", "board.fragments",
-    "board.streams", "materials.*.operations", "materials.*.operations.*",
+    "board.streams", "board.lerps", "materials.*.operations", "materials.*.operations.*",
     "materials.*.operations.*.fragments", "materials.*.operations.*.taps_per_fragment",
     "materials.*.operations.*.ops_per_fragment",
     "materials.*.operations.*.issue_cycles_per_fragment", "materials.*.relief",
