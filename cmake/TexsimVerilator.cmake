@@ -21,7 +21,8 @@ set(TEXSIM_RTL_BOARD_CC ${PROJECT_SOURCE_DIR}/rtl_model/verilator/vd_rtl_block.c
 set(TEXSIM_RTL_BOARD_ABSENT_CC ${PROJECT_SOURCE_DIR}/rtl_model/verilator/vd_rtl_block_absent.cc)
 set(TEXSIM_RTL_BOARD_TEST ${PROJECT_SOURCE_DIR}/testbench/cosim/test_rtl_board.cc)
 # The Verilated sampler behind the virtual board (rtl_model/verilator/sampler_rtl_block.h).
-set(TEXSIM_RTL_SAMPLER_BOARD_CC ${PROJECT_SOURCE_DIR}/rtl_model/verilator/sampler_rtl_block.cc)
+set(TEXSIM_RTL_SAMPLER_BOARD_CC ${PROJECT_SOURCE_DIR}/rtl_model/verilator/sampler_rtl_block.cc
+  ${PROJECT_SOURCE_DIR}/rtl_model/verilator/lerp_rtl_block.cc)
 set(TEXSIM_RTL_SAMPLER_BOARD_TEST ${PROJECT_SOURCE_DIR}/testbench/cosim/test_rtl_sampler_board.cc)
 texsim_listed(${TEXSIM_RTL_TESTS} ${TEXSIM_RTL_BENCH} ${TEXSIM_RTL_CC} ${TEXSIM_RTL_BOARD_CC}
   ${TEXSIM_RTL_BOARD_ABSENT_CC} ${TEXSIM_RTL_BOARD_TEST} ${TEXSIM_RTL_SAMPLER_BOARD_CC}
@@ -131,7 +132,7 @@ endforeach()
 # The Verilated V(d) blocks behind the virtual board of `texsim cosim --board rtl`.
 add_library(texsim_rtl_board STATIC ${TEXSIM_RTL_BOARD_CC} ${TEXSIM_RTL_SAMPLER_BOARD_CC})
 target_link_libraries(texsim_rtl_board PUBLIC texsim_link texsim_rtl_harness texsim_rtl_vd_p2
-  texsim_rtl_vd_p1 texsim_rtl_texsim_sampler)
+  texsim_rtl_vd_p1 texsim_rtl_texsim_sampler texsim_rtl_bilinear_lerp)
 texsim_set_warnings(texsim_rtl_board)
 target_link_libraries(texsim_app PUBLIC texsim_rtl_board)
 

@@ -1259,14 +1259,22 @@ std::unique_ptr<BoardSampler> attach_board(const std::string& link, UnitArray& u
   units.set_fixed_board(board.get());
   log << "board (" << link << "): texsim_sampler runs the fixed-arithmetic materials";
   for (const std::string& m : board->materials()) log << " " << m;
-  log << "\n";
+  log << " (up to " << board->fragments_per_stream() << " fragments per STREAM)\n";
   return board;
 }
 
-void board_info(const BoardSampler& board, RunInfo& info) {
+void board_info(BoardSampler& board, RunInfo& info, std::ostream& log) {
+  board.finish();
   info.board_link = board.link();
   info.board_blocks = board.blocks();
   info.board_fragments = board.fragments();
+  info.board_streams = board.streams();
+  info.board_lerps = board.lerps();
+  log << "board (" << info.board_link << "): texsim_sampler sampled " << info.board_fragments
+      << " fragments in " << info.board_streams << " STREAMs";
+  if (info.board_lerps > 0)
+    log << "; bilinear_lerp ran their " << info.board_lerps << " lerps, each equal to BilinearLerp";
+  log << "\n";
 }
 
 }  // namespace
@@ -1363,7 +1371,7 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   sum.cycles = units.cycles();
   sum.accuracy = images.total();
   RunInfo info = images_info(opt, layout, textures, units, images);
-  if (board) board_info(*board, info);
+  if (board) board_info(*board, info, log);
   workload_feed.finish();  // and the stats (its last batches ran beside the last truths)
   if (opt.workload) info.workload = &workload;
   info.scene = use_scene ? scene.path : "(none: trace only)";
@@ -1382,6 +1390,9 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
     *opt.capture = capture_run(images, units, sum);
     opt.capture->write_outputs = write;
     opt.capture->raster_blocks = raster_coord_blocks(mats, raster);
+    opt.capture->board_fragments = info.board_fragments;
+    opt.capture->board_streams = info.board_streams;
+    opt.capture->board_lerps = info.board_lerps;
     if (!write) return sum;
   }
   LedgerRun ledger;

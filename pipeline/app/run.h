@@ -28,6 +28,8 @@ struct RunCapture {
   // Set by the caller: several units hold each waiting fragment whole (UnitArray's
   // `whole_fragments`), to compare with the usual way.
   bool whole_fragments = false;
+  // --board: the fragments the board sampled and the STREAM messages that carried them.
+  uint64_t board_fragments = 0, board_streams = 0, board_lerps = 0;
 };
 
 struct RunOptions {

@@ -358,7 +358,9 @@ Json report_json(const RunInfo& info, const UnitArray& unit, const AccuracyMetri
   if (!info.board_link.empty()) {
     j["board"] = {{"link", info.board_link},
                   {"blocks", info.board_blocks},
-                  {"fragments", info.board_fragments}};
+                  {"fragments", info.board_fragments},
+                  {"streams", info.board_streams},
+                  {"lerps", info.board_lerps}};
   }
   if (unit.front_stages() > 0) {
     const FrontEndStats& fe = unit.front_end_stats();

@@ -33,6 +33,8 @@ struct RunInfo {
   std::string board_link;
   std::vector<std::string> board_blocks;
   uint64_t board_fragments = 0;
+  uint64_t board_streams = 0;           // STREAM messages that carried them
+  uint64_t board_lerps = 0;             // through the board's bilinear_lerp, each checked
   std::string scene;                    // scene file or "<built-in default scene>"
   std::string trace;                    // trace file, or "" when fragments came from the scene
   std::string reference;                // how the ground truth was made

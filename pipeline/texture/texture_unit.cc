@@ -225,6 +225,23 @@ Rgba TextureUnit::process(const Fragment& f, int material, const ItemCost* front
 
 void TextureUnit::process_batch(const Fragment* f, size_t n, int material, Rgba* out) {
   Path& p = paths_[static_cast<size_t>(material)];
+  if (p.fixed && fixed_board_ && n > 1) {
+    // The board's results for the whole batch in one call (few round trips), then each
+    // fragment on its way as one by one.
+    fixed_ahead_in_.resize(n);
+    fixed_ahead_.resize(n);
+    for (size_t i = 0; i < n; ++i) fixed_ahead_in_[i] = FixedSampler::to_input(f[i]);
+    fixed_board_->sample_batch(material, fixed_ahead_in_, fixed_ahead_);
+    fixed_ahead_at_ = 0;
+    try {
+      for (size_t i = 0; i < n; ++i) out[i] = process(f[i], material);
+    } catch (...) {
+      fixed_ahead_.clear();
+      throw;
+    }
+    fixed_ahead_.clear();
+    return;
+  }
   if (!p.batch_kernel) {
     for (size_t i = 0; i < n; ++i) out[i] = process(f[i], material);
     return;
@@ -317,6 +334,13 @@ const TextureUnit::FixedTexture& TextureUnit::fixed_texture(uint32_t t) {
   return it->second;
 }
 
+namespace {
+bool same_input(const FixedSampler::Input& a, const FixedSampler::Input& b) {
+  return a.u == b.u && a.v == b.v && a.dudx == b.dudx && a.dvdx == b.dvdx && a.dudy == b.dudy &&
+         a.dvdy == b.dvdy;
+}
+}  // namespace
+
 Rgba TextureUnit::filter_fixed(const Fragment& f, Path& p, const Texture& tex,
                                const ItemCost* front) {
   // The fragment's own texture, operation and bias: what a trace may give beyond the material.
@@ -337,7 +361,12 @@ Rgba TextureUnit::filter_fixed(const Fragment& f, Path& p, const Texture& tex,
   }
   (void)(this->*p.kernel)(f, p, tex, front);
   if (fixed_board_) {
-    fixed_last_ = fixed_board_->sample(static_cast<int>(m), FixedSampler::to_input(f));
+    const FixedSampler::Input in = FixedSampler::to_input(f);
+    if (fixed_ahead_at_ < fixed_ahead_.size() && same_input(fixed_ahead_in_[fixed_ahead_at_], in)) {
+      fixed_last_ = fixed_ahead_[fixed_ahead_at_++];
+    } else {
+      fixed_last_ = fixed_board_->sample(static_cast<int>(m), in);
+    }
   } else {
     const FixedTexture& t = fixed_texture(f.tex);
     fixed_last_ = p.fixed->sample(FixedSampler::to_input(f), t.desc, t.image);

@@ -9,6 +9,7 @@
 #include <array>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,12 @@ class FixedSamplerBoard {
  public:
   virtual ~FixedSamplerBoard() = default;
   virtual FixedSampler::Result sample(int material, const FixedSampler::Input& in) = 0;
+  // Several fragments of one material at once, results in order (a board packs them into few
+  // round trips); by default one sample() each.
+  virtual void sample_batch(int material, std::span<const FixedSampler::Input> in,
+                            std::span<FixedSampler::Result> out) {
+    for (size_t i = 0; i < in.size(); ++i) out[i] = sample(material, in[i]);
+  }
 };
 
 struct FrameStats {
@@ -337,6 +344,11 @@ class TextureUnit {
   std::map<uint32_t, FixedTexture> fixed_textures_;
   FixedSampler::Result fixed_last_;
   FixedSamplerBoard* fixed_board_ = nullptr;
+  // process_batch() on a board: the batch's results fetched in one call, taken in order by
+  // filter_fixed() while its inputs match (a fragment that does not match asks the board alone).
+  std::vector<FixedSampler::Input> fixed_ahead_in_;
+  std::vector<FixedSampler::Result> fixed_ahead_;
+  size_t fixed_ahead_at_ = 0;
   // filter_fragment on an srgb8_a8 texture: counts the decoder's work, and decodes the filtered
   // colour when the decoder sits after the filter.
   Rgba filter_srgb(const Fragment& f, Path& p, const Texture& tex, const ItemCost* front);

@@ -15,15 +15,18 @@
 #include <vector>
 
 #include "blocks/base/input_error.h"
+#include "pipeline/app/board_sampler.h"
 #include "pipeline/app/run.h"
 #include "pipeline/raster/fragment_generator.h"
 #include "pipeline/scene/scene.h"
 #include "pipeline/scene/texture_loader.h"
 #include "pipeline/texture/texture_unit.h"
 #include "rtl_model/link/hid_transport.h"
+#include "rtl_model/link/lerp_link.h"
 #include "rtl_model/link/link_host.h"
 #include "rtl_model/link/sampler_link.h"
 #include "rtl_model/link/virtual_board.h"
+#include "rtl_model/verilator/lerp_rtl_block.h"
 #include "rtl_model/verilator/sampler_rtl_block.h"
 
 namespace texsim::link {
@@ -136,10 +139,108 @@ TEST(RtlSamplerBoard, SceneThroughTheLinkEqualsTheUnit) {
   }
 }
 
+TEST(RtlSamplerBoard, FragmentsPerStreamFitTheMessageAndTheHidQueue) {
+  // 83 fragments: 996 words, the most under kMaxStreamVectors (1000).
+  EXPECT_EQ(board::fragments_per_stream(kMaxPayload, kMaxReportsPerMessage), 83u);
+  // Over USB two responses in flight must fit hidraw's 64-report queue: 38 fragments make a
+  // response of 32 reports, 39 of 33.
+  EXPECT_EQ(board::fragments_per_stream(kMaxPayload, 32), 38u);
+  // A board that takes 64-byte payloads: one fragment (6 + 48 bytes) per STREAM.
+  EXPECT_EQ(board::fragments_per_stream(64, kMaxReportsPerMessage), 1u);
+}
+
 TEST(RtlSamplerBoard, CorruptedTexelIsCaught) {
   const BoardRun r = run_on_board("footprint_filters", 300, true);
   EXPECT_GT(r.fragments, 0u);
   EXPECT_LT(r.colour_equal, r.fragments);
+}
+
+// The bilinear lerp on the board: the scene's own lerp operands (both levels of each fragment
+// of its fixed materials, the texels FixedSampler read and its weights) streamed through the
+// Verilated bilinear_lerp; returns the results equal to BilinearLerp's. With `flip`, lerp
+// `flip` has the red and blue channels of its four texels inverted on the way.
+struct LerpRun {
+  uint64_t lerps = 0, equal = 0, board_vectors = 0, requests = 0;
+};
+LerpRun lerps_on_board(const std::string& name, uint64_t most, uint64_t flip = UINT64_MAX) {
+  const Scene scene = load_scene(std::string(TEXSIM_SOURCE_DIR) + "/scenes/" + name + ".toml");
+  std::vector<MaterialSetup> mats = build_materials(scene);
+  TextureSet set;
+  for (size_t i = 0; i < scene.textures.size(); ++i) set.add(load_scene_texture(scene, i));
+  std::vector<LerpOperands> ops;
+  std::vector<uint32_t> want;
+  const BilinearLerp cpp({8, 8});
+  std::vector<std::vector<uint32_t>> images(set.size());
+  generate_fragments(scene, 0, [&](const Fragment& f) {
+    const auto m = static_cast<size_t>(scene.primitives[f.prim].material);
+    if (ops.size() >= most || !covered(mats[m], set[mats[m].texture]) ||
+        f.tex != static_cast<uint32_t>(mats[m].texture))
+      return;
+    const Texture& tex = set[mats[m].texture];
+    std::vector<uint32_t>& mem = images[static_cast<size_t>(mats[m].texture)];
+    if (mem.empty()) mem = FixedSampler::memory_image(tex);
+    const FixedSampler fs(FixedSampler::config_of(mats[m].filter, mats[m].lod));
+    std::array<FixedSampler::LerpInput, 2> in{};
+    fs.sample(FixedSampler::to_input(f), FixedSampler::describe(tex), mem, &in);
+    for (const FixedSampler::LerpInput& l : in) {
+      LerpOperands op;
+      for (size_t k = 0; k < 4; ++k) op.quad[k] = static_cast<uint32_t>(l.quad[k]);
+      op.fx = l.fx;
+      op.fy = l.fy;
+      ops.push_back(op);
+      want.push_back(static_cast<uint32_t>(cpp.lerp(l.quad, l.fx, l.fy)));
+    }
+  });
+  std::vector<std::unique_ptr<BoardBlock>> blocks;
+  blocks.push_back(make_rtl_lerp_block());
+  VirtualBoard board(std::move(blocks));
+  LinkOptions opt;
+  opt.batch = 200 * kLerpWords;
+  LinkHost host(board, opt);
+  host.select("bilinear_lerp");
+  host.configure(lerp_configuration({8, 8}));
+  std::vector<uint32_t> words(ops.size() * kLerpWords);
+  for (size_t i = 0; i < ops.size(); ++i) {
+    LerpOperands op = ops[i];
+    if (i == flip)
+      for (uint32_t& t : op.quad) t ^= 0x00FF00FFu;
+    encode_lerp(op, std::span<uint32_t, kLerpWords>(words.data() + i * kLerpWords, kLerpWords));
+  }
+  const std::vector<uint32_t> back = host.stream(words);
+  LerpRun r;
+  for (size_t i = 0; i < ops.size(); ++i) r.equal += back[i * kLerpWords] == want[i];
+  r.lerps = ops.size();
+  r.board_vectors = host.counters().vectors;
+  r.requests = host.stats().requests;
+  std::cout << "bilinear_lerp on the virtual board, " << name << ": " << r.lerps << " lerps, "
+            << r.equal << " equal to BilinearLerp, " << r.requests << " requests\n";
+  return r;
+}
+
+TEST(RtlSamplerBoard, SceneLerpsThroughTheLinkEqualBilinearLerp) {
+  for (const char* s : {"footprint_filters", "bunny"}) {
+    const LerpRun r = lerps_on_board(s, 4000);
+    EXPECT_EQ(r.lerps, 4000u) << s;
+    EXPECT_EQ(r.equal, r.lerps) << s;
+    EXPECT_EQ(r.board_vectors, r.lerps * kLerpWords) << s;
+  }
+  // Texels changed on the way: that lerp, and only it, differs.
+  for (uint64_t at : {5u, 77u, 1234u}) {
+    const LerpRun r = lerps_on_board("bunny", 2000, at);
+    EXPECT_EQ(r.equal + 1, r.lerps) << at;
+  }
+}
+
+TEST(RtlSamplerBoard, LerpConfigurationOtherThanTheBuildsIsRefused) {
+  std::vector<std::unique_ptr<BoardBlock>> blocks;
+  blocks.push_back(make_rtl_lerp_block());
+  VirtualBoard board(std::move(blocks));
+  LinkHost host(board, LinkOptions{});
+  host.select("bilinear_lerp");
+  host.configure(lerp_configuration({8, 8}));
+  EXPECT_THROW(host.configure(lerp_configuration({8, 6})), LinkError);
+  EXPECT_THROW(host.configure({8}), LinkError);
+  EXPECT_THROW(host.configure({0, 8}), LinkError);
 }
 
 TEST(RtlSamplerBoard, StateOtherThanTheBuildsIsRefused) {
@@ -187,6 +288,14 @@ TEST(RtlSamplerBoard, RunWithVirtualBoardGivesTheCppImage) {
       << log;
   EXPECT_EQ(rtl.image->rgb, cpp.image->rgb);
   EXPECT_EQ(rtl.image->covered, cpp.image->covered);
+  // Several fragments per round trip: the unit's batches go out in STREAMs of up to 83.
+  EXPECT_NE(log.find("(up to 83 fragments per STREAM)"), std::string::npos) << log;
+  EXPECT_GT(rtl.board_fragments, 0u);
+  EXPECT_LT(rtl.board_streams * 10, rtl.board_fragments)
+      << rtl.board_streams << " STREAMs for " << rtl.board_fragments << " fragments";
+  // The board's bilinear_lerp ran both lerps of every fragment, each equal to the C++ model's.
+  EXPECT_EQ(rtl.board_lerps, 2 * rtl.board_fragments);
+  EXPECT_NE(log.find("each equal to BilinearLerp"), std::string::npos) << log;
   // The key takes effect: the float32 path's image differs (by an LSB on some pixels).
   const RunCapture fl = run_scene("", nullptr, "float");
   EXPECT_NE(fl.image->rgb, cpp.image->rgb);

@@ -30,6 +30,7 @@
 #include "pipeline/texture/texture_unit.h"
 #include "rtl_model/params/rtl_params.h"
 #include "rtl_model/verilator/rtl_harness.h"
+#include "rtl_model/verilator/sampler_driver.h"
 
 namespace texsim::rtl {
 namespace {
@@ -203,10 +204,6 @@ void rtl_rect_scan(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * kScanCols * kScanRows);
 }
 
-// An s15.32 raw as the 48-bit port takes it (Verilator expects the bits above the port's
-// width clear).
-uint64_t coord_bits(int64_t x) { return static_cast<uint64_t>(x) & ((uint64_t{1} << 48) - 1); }
-
 // ---- The sampler: bunny's trilinear material, every fragment, in the generator's order ----
 struct SamplerWork {
   Scene scene;
@@ -275,41 +272,15 @@ void cpp_texture_unit_batch(benchmark::State& state) {
 template <class Model>
 void rtl_sampler(benchmark::State& state, const char* name) {
   const SamplerWork& w = sampler_work();
-  RtlHarness<Model> h(name);
-  h.reset();
-  Model& top = h.top();
-  top.cfg_trilinear = w.cfg.trilinear;
-  top.cfg_mode_u = static_cast<uint8_t>(w.cfg.address_u);
-  top.cfg_mode_v = static_cast<uint8_t>(w.cfg.address_v);
-  top.cfg_bias = static_cast<uint32_t>(w.cfg.bias);
-  top.cfg_min_lod = static_cast<uint32_t>(w.cfg.min_lod);
-  top.cfg_max_lod = static_cast<uint32_t>(w.cfg.max_lod);
-  top.cfg_w0 = static_cast<uint16_t>(w.desc.w0);
-  top.cfg_h0 = static_cast<uint16_t>(w.desc.h0);
-  top.cfg_levels = static_cast<uint8_t>(w.desc.levels);
-  top.cfg_layout = static_cast<uint8_t>(w.desc.layout);
-  for (int l = 0; l < FixedSampler::kMaxLevels; ++l) {
-    top.cfg_base_we = 1;
-    top.cfg_base_idx = static_cast<uint8_t>(l);
-    top.cfg_base_data = w.desc.base[static_cast<size_t>(l)];
-    h.step();
-  }
-  top.cfg_base_we = 0;
-  top.in_valid = 1;
+  SamplerDriver<Model> d(name);
+  d.configure(w.cfg, w.desc);
+  d.set_memory(w.mem);
+  Model& top = d.top();
   for (auto _ : state) {
     uint64_t sum = 0;
     for (const FixedSampler::Input& in : w.in) {
-      top.u = coord_bits(in.u);
-      top.v = coord_bits(in.v);
-      top.dudx = coord_bits(in.dudx);
-      top.dvdx = coord_bits(in.dvdx);
-      top.dudy = coord_bits(in.dudy);
-      top.dvdy = coord_bits(in.dvdy);
-      h.step();
-      for (size_t k = 0; k < 8; ++k) {  // the memory's read, as the lockstep's
-        const uint32_t a = top.rd_addr[k];
-        top.rd_data[k] = a < w.mem.size() ? w.mem[a] : 0;
-      }
+      d.input(in);
+      d.clock();
       sum += top.out_rgba;
     }
     benchmark::DoNotOptimize(sum);

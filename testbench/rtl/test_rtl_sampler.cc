@@ -24,16 +24,13 @@
 #include "pipeline/scene/texture_loader.h"
 #include "pipeline/texture/texture_unit.h"
 #include "rtl_model/params/rtl_params.h"
+#include "rtl_model/verilator/sampler_driver.h"
 #include "testbench/rtl/lockstep.h"
 
 namespace texsim::rtl {
 namespace {
 
 using Model = Vtexsim_sampler;
-
-// An s15.32 raw as the 48-bit port takes it (Verilator expects the bits above the port's
-// width clear).
-uint64_t coord_bits(int64_t x) { return static_cast<uint64_t>(x) & ((uint64_t{1} << 48) - 1); }
 
 uint64_t fragments_per_scene(uint64_t def) {
   const char* s = std::getenv("TEXSIM_RTL_SAMPLER_FRAGMENTS");  // NOLINT(concurrency-mt-unsafe)
@@ -75,49 +72,22 @@ class SamplerBench {
                  FixedSampler::latency(rtl_params::tech()) + static_cast<uint32_t>(p.latency)),
         reads_("texsim_sampler reads", FixedSampler::lod_latency(rtl_params::tech()) +
                                            FixedSampler::address_latency(rtl_params::tech())),
-        h_("texsim_sampler") {
-    h_.reset();
-  }
+        d_("texsim_sampler") {}
 
   // Configures the sampler for one material and texture (pipeline empty).
   void configure(const FixedSampler& fs, const FixedSampler::TextureDesc& t, const OpCounts& ops,
                  std::vector<uint32_t> mem) {
-    Model& top = h_.top();
-    const FixedSampler::Config& c = fs.config();
-    top.cfg_trilinear = c.trilinear;
-    top.cfg_mode_u = static_cast<uint8_t>(c.address_u);
-    top.cfg_mode_v = static_cast<uint8_t>(c.address_v);
-    top.cfg_offset_u = static_cast<uint8_t>(c.offset_u & 31);
-    top.cfg_offset_v = static_cast<uint8_t>(c.offset_v & 31);
-    top.cfg_bias = static_cast<uint32_t>(c.bias);
-    top.cfg_min_lod = static_cast<uint32_t>(c.min_lod);
-    top.cfg_max_lod = static_cast<uint32_t>(c.max_lod);
-    top.cfg_w0 = static_cast<uint16_t>(t.w0);
-    top.cfg_h0 = static_cast<uint16_t>(t.h0);
-    top.cfg_levels = static_cast<uint8_t>(t.levels);
-    top.cfg_layout = static_cast<uint8_t>(t.layout);
-    top.cfg_add_n = static_cast<uint16_t>(ops.add);
-    top.cfg_mul_n = static_cast<uint16_t>(ops.mul);
-    top.cfg_div_n = static_cast<uint16_t>(ops.div);
-    top.cfg_cmp_n = static_cast<uint16_t>(ops.cmp);
     // The RTL counts the four kinds it has counters for.
     item_ops_ = OpCounts{};
     item_ops_.add = ops.add;
     item_ops_.mul = ops.mul;
     item_ops_.div = ops.div;
     item_ops_.cmp = ops.cmp;
-    for (int l = 0; l < FixedSampler::kMaxLevels; ++l) {
-      top.cfg_base_we = 1;
-      top.cfg_base_idx = static_cast<uint8_t>(l);
-      top.cfg_base_data = t.base[static_cast<size_t>(l)];
-      clock();
-    }
-    top.cfg_base_we = 0;
-    mem_ = std::move(mem);
+    d_.configure(fs.config(), t, item_ops_);
+    d_.set_memory(std::move(mem));
   }
 
   void issue(const FixedSampler::Input& in, const FixedSampler::Result& r) {
-    Model& top = h_.top();
     OutWords col{r.rgba, r.level_hi, r.level_lo, r.delta};
     OutWords rd{};
     for (size_t k = 0; k < 8; ++k) rd[k] = r.addr[k];
@@ -125,17 +95,11 @@ class SamplerBench {
     if (issued_ == p_.at && p_.stage == 1) rd[p_.word] += p_.delta;
     ops_ += item_ops_;
     const std::string text = "fragment " + std::to_string(issued_);
-    colours_.expect(text, h_.cycle(), col, ops_);
-    reads_.expect(text, h_.cycle(), rd, {});
-    top.in_valid = 1;
-    top.u = coord_bits(in.u);
-    top.v = coord_bits(in.v);
-    top.dudx = coord_bits(in.dudx);
-    top.dvdx = coord_bits(in.dvdx);
-    top.dudy = coord_bits(in.dudy);
-    top.dvdy = coord_bits(in.dvdy);
+    colours_.expect(text, d_.cycle(), col, ops_);
+    reads_.expect(text, d_.cycle(), rd, {});
+    d_.input(in);
     clock();
-    top.in_valid = 0;
+    d_.no_input();
     ++issued_;
   }
 
@@ -156,28 +120,23 @@ class SamplerBench {
 
  private:
   void clock() {
-    h_.step();
-    Model& top = h_.top();
+    d_.clock();
+    Model& top = d_.top();
     if (top.rd_valid) {
       OutWords rd{};
       for (size_t k = 0; k < 8; ++k) rd[k] = top.rd_addr[k];
-      reads_.observe(h_.cycle(), rd, {});
-    }
-    // The memory's registered read: the data of this cycle's addresses at the next edge.
-    for (size_t k = 0; k < 8; ++k) {
-      const uint32_t a = top.rd_addr[k];
-      top.rd_data[k] = a < mem_.size() ? mem_[a] : 0;
+      reads_.observe(d_.cycle(), rd, {});
     }
     if (top.out_valid) {
-      colours_.observe(h_.cycle(),
-                       {top.out_rgba, top.out_level_hi, top.out_level_lo, top.out_delta}, h_.ops());
+      colours_.observe(d_.cycle(),
+                       {top.out_rgba, top.out_level_hi, top.out_level_lo, top.out_delta},
+                       d_.harness().ops());
     }
   }
 
   Perturb p_;
   Scoreboard colours_, reads_;
-  RtlHarness<Model> h_;
-  std::vector<uint32_t> mem_;
+  SamplerDriver<Model> d_;
   OpCounts ops_, item_ops_;
   uint64_t issued_ = 0;
 };

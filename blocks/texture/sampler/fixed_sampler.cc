@@ -187,6 +187,11 @@ int32_t FixedSampler::lambda(const Input& in, const TextureDesc& t) const {
 
 FixedSampler::Result FixedSampler::sample(const Input& in, const TextureDesc& t,
                                           const Memory& mem) const {
+  return sample(in, t, mem, nullptr);
+}
+
+FixedSampler::Result FixedSampler::sample(const Input& in, const TextureDesc& t, const Memory& mem,
+                                          std::array<LerpInput, 2>* lerps) const {
   Result r;
   const int m = cfg_.mip_bits;
   const int64_t q = std::max(t.levels, 1) - 1;
@@ -227,6 +232,7 @@ FixedSampler::Result FixedSampler::sample(const Input& in, const TextureDesc& t,
       quad[n] = a[n] < mem.size() ? mem[a[n]] : 0;
     }
     colour[static_cast<size_t>(k)] = static_cast<uint32_t>(lerp.lerp(quad, fx, fy));
+    if (lerps) (*lerps)[static_cast<size_t>(k)] = {quad, fx, fy};
   }
   if (!cfg_.trilinear) {
     r.rgba = colour[0];

@@ -89,6 +89,16 @@ class FixedSampler {
   // λ after bias and the [min_lod, max_lod] clamp (s11.20).
   int32_t lambda(const Input& in, const TextureDesc& t) const;
   Result sample(const Input& in, const TextureDesc& t, const Memory& mem) const;
+  // The operands of one level's bilinear lerp (BilinearLerp::lerp): the four texels as read,
+  // (x0,y0) (x1,y0) (x0,y1) (x1,y1), and the u0.sub_bits weights of the +1 texels.
+  struct LerpInput {
+    std::array<uint64_t, 4> quad{};
+    uint32_t fx = 0, fy = 0;
+  };
+  // As sample(), and the finer and coarser level's lerp operands into `lerps` (the coarser one
+  // equal to the finer when bilinear).
+  Result sample(const Input& in, const TextureDesc& t, const Memory& mem,
+                std::array<LerpInput, 2>* lerps) const;
 
   // The log2 table: round(log2(1 + i/256)·2^20), i = 0..256.
   static const std::array<uint32_t, 257>& log2_table();
