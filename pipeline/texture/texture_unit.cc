@@ -864,11 +864,16 @@ Rgba TextureUnit::process_volume(const Fragment& f, Path& p, const Texture& tex,
   const VolumeAddressGen gen({c.filter, c.address_u, c.address_v, c.address_w});
   const VolumeSize base{tex.width(0), tex.height(0), tex.shape().slices};
   const double dx[3] = {f.dudx, f.dvdx, f.dwdx}, dy[3] = {f.dudy, f.dvdy, f.dwdy};
-  // The LOD unit's bias (the sampler's and the fragment's) and [min_lod, max_lod] clamp on
-  // the 3-D λ, as on a 2-D one (Vulkan "LOD Operation"; the volume generator then clamps to
-  // its pyramid).
+  // The operation picks λ_base (Vulkan "LOD Operation"): an explicit LOD's f.lod, else the
+  // 3-D footprint of the derivative fields (an explicit-gradient fragment's gradients, ∂r
+  // included). Then the sampler's bias (and the fragment's, the shader's Bias operand, with
+  // implicit LOD only) and the [min_lod, max_lod] clamp, as on a 2-D λ; the volume generator
+  // then clamps to its pyramid.
   const LodUnit::Config& lc = st.lod->config();
-  float lambda = VolumeAddressGen::lambda(dx, dy, base) + lc.lod_bias + f.lod_bias;
+  const auto op = static_cast<SampleOp>(f.op);
+  float lambda = op == SampleOp::kSampleLod ? (std::isnan(f.lod) ? 0.0f : f.lod)
+                                            : VolumeAddressGen::lambda(dx, dy, base);
+  lambda += lc.lod_bias + (op == SampleOp::kSample ? f.lod_bias : 0.0f);
   if (!std::isnan(lambda)) lambda = std::clamp(lambda, lc.min_lod, lc.max_lod);
   VolumeAddressGen::Taps vt;
   const int n = gen.taps(base, f.u, f.v, f.w, lambda, vt);
@@ -898,6 +903,17 @@ Rgba TextureUnit::process_volume(const Fragment& f, Path& p, const Texture& tex,
   const uint32_t per_probe = std::max(st.address->taps_per_probe(), 1u);
   const uint32_t probes = std::max(1u, (static_cast<uint32_t>(n) + per_probe - 1) / per_probe);
   st.address->count_volume();
+  if (op == SampleOp::kSampleLod || op == SampleOp::kSampleGrad) {
+    // The operation's own row, as a 2-D one's (process_op): its LOD datapath, the address
+    // generator's per probe (the r axis's operations stay in the volume.r_axis row), the blend.
+    const TexelAddressGen& addr = st.address->gen();
+    OpTally& t = p.op_tallies[f.op];
+    ++t.fragments;
+    t.taps += static_cast<uint64_t>(n);
+    t.issue_cycles += probes;
+    t.ops += st.lod->ops_for(op) + addr.ops_setup(false) + addr.ops_per_item(false) * probes +
+             TexelBlend::ops_per_item() * static_cast<uint64_t>(n);
+  }
   count_fragment(f, p, probes);
   if constexpr (kFront >= 0) {
     issue_timed<kFront>(p, front, probes, static_cast<uint64_t>(n), [&](uint64_t start) {

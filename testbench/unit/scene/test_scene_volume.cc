@@ -165,6 +165,50 @@ TEST(SceneVolume, VolumeSceneRendersAndItsTraceReplaysIt) {
   EXPECT_EQ(a["blocks"]["volume.r_axis"], b["blocks"]["volume.r_axis"]);
 }
 
+// An explicit LOD on a volume material (`operation`): the image moves with it (an ignored
+// operation would give the plain scene's), the report carries the operation's row, and the
+// scene's trace (its records' op and lod) replays the same figures.
+TEST(SceneVolume, ExplicitLodOnAVolumeMaterialRendersAndReplays) {
+  TempDir dir("scene_volume_ops");
+  std::ifstream in(std::string(TEXSIM_SOURCE_DIR) + "/scenes/volume.toml");
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::string scene = text.str();
+  const std::string lookup = "lookup = { r = [0.25, 0.75, 0.0] }";
+  const size_t at = scene.find(lookup);
+  ASSERT_NE(at, std::string::npos);
+  scene.insert(at + lookup.size(), "\noperation = { op = \"lod\", lod = 2.5 }");
+  const std::string path = dir.file("volume_lod.toml");
+  std::ofstream(path) << scene;
+  const auto run = [&](const std::string& out, const std::string& trace) {
+    RunOptions opt;
+    opt.scene = path;
+    opt.trace = trace;
+    opt.threads = 1;
+    opt.truth_cache = false;
+    opt.out = dir.file(out);
+    opt.overrides = {"output.width=96", "output.height=72"};
+    std::ostringstream log;
+    run_simulation(opt, log);
+    std::ifstream r(opt.out + "/report.json");
+    return nlohmann::json::parse(r);
+  };
+  const nlohmann::json a = run("scene", "");
+  const nlohmann::json plain = shipped_scene_report(dir, "volume", "", "plain");
+  const nlohmann::json& row = a["materials"]["slice"]["operations"]["lod"];
+  ASSERT_TRUE(row.is_object()) << a["materials"].dump();
+  EXPECT_EQ(row["fragments"], a["fragments"]);
+  EXPECT_EQ(row["taps_per_fragment"].get<double>(), 16.0);  // trilinear 3-D: 2 levels × 8
+  EXPECT_NE(a["accuracy"]["psnr_db"], plain["accuracy"]["psnr_db"]);
+  const std::string trc = dir.file("vol_lod.trc");
+  ASSERT_EQ(generate_scene_trace(path, trc, {"output.width=96", "output.height=72"}),
+            a["fragments"].get<uint64_t>());
+  const nlohmann::json b = run("trace", trc);
+  for (const char* key : {"fragments", "cycles", "cache", "accuracy"})
+    EXPECT_EQ(a[key], b[key]) << key;
+  EXPECT_EQ(b["materials"]["slice"]["operations"]["lod"], row);
+}
+
 // 3-D fragments on four units behind a shared L2 (the two-step timing of several units):
 // the image, its accuracy and the r axis's operations are one unit's.
 TEST(SceneVolume, FourUnitsWithAnL2GiveOneUnitsImage) {
