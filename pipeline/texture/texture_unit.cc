@@ -863,18 +863,16 @@ Rgba TextureUnit::process_volume(const Fragment& f, Path& p, const Texture& tex,
   const TexelAddressGen::Config& c = st.address->gen().config();
   const VolumeAddressGen gen({c.filter, c.address_u, c.address_v, c.address_w});
   const VolumeSize base{tex.width(0), tex.height(0), tex.shape().slices};
-  const double dx[3] = {f.dudx, f.dvdx, f.dwdx}, dy[3] = {f.dudy, f.dvdy, f.dwdy};
-  // The operation picks λ_base (Vulkan "LOD Operation"): an explicit LOD's f.lod, else the
-  // 3-D footprint of the derivative fields (an explicit-gradient fragment's gradients, ∂r
-  // included). Then the sampler's bias (and the fragment's, the shader's Bias operand, with
-  // implicit LOD only) and the [min_lod, max_lod] clamp, as on a 2-D λ; the volume generator
-  // then clamps to its pyramid.
-  const LodUnit::Config& lc = st.lod->config();
+  // The LOD unit's λ on the 3-D footprint (its float32 arithmetic; the operation's λ_base, the
+  // bias and the clamp as on a 2-D λ), then the address generator's level selection: the
+  // level and its fraction in fixed point (mipmap_bits), as a 2-D sample's.
   const auto op = static_cast<SampleOp>(f.op);
-  float lambda = op == SampleOp::kSampleLod ? (std::isnan(f.lod) ? 0.0f : f.lod)
-                                            : VolumeAddressGen::lambda(dx, dy, base);
-  lambda += lc.lod_bias + (op == SampleOp::kSample ? f.lod_bias : 0.0f);
-  if (!std::isnan(lambda)) lambda = std::clamp(lambda, lc.min_lod, lc.max_lod);
+  if (op == SampleOp::kGather)
+    throw std::invalid_argument("texture unit: gather on the 3-D texture '" + tex.name() +
+                                "' (a gather reads 2-D and cube images only)");
+  const TexelAddressGen::LevelSelect sel = st.address->gen().select_levels(
+      st.lod->eval_volume(f, tex).lambda, VolumeAddressGen::level_count(base));
+  const float lambda = static_cast<float>(sel.d_hi) + sel.delta;  // exact: delta is k·2^-m
   VolumeAddressGen::Taps vt;
   const int n = gen.taps(base, f.u, f.v, f.w, lambda, vt);
   // The taps as the blend takes them: level = the z-slice's level, border taps marked.

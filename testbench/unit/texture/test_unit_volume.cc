@@ -220,6 +220,33 @@ TEST(UnitVolume, ExplicitGradientsIncludeDwAndSkipTheFragmentsBias) {
   EXPECT_EQ(unit.material_op_tallies(0)[static_cast<size_t>(SampleOp::kSampleGrad)].fragments, 3u);
 }
 
+TEST(UnitVolume, LevelFractionIsTheAddressGeneratorsFixedPoint) {
+  // λ = ½ + 2^-10 reads levels 0 (A = 0 at slice 2) and 1 (A = ½) at the fraction rounded to
+  // mipmap_bits = 8 (½: A = ¼ exactly); a float fraction would read ¼ + 2^-11.
+  TextureSet set;
+  set.add(ramp_volume(16, 16, 16));
+  TextureUnit unit(set, {material(FilterMode::Trilinear)}, PipelineSetup{}, TechTable::defaults(),
+                   true);
+  Fragment f = frag(0.5, 0.5, 2.5 / 16, 0);
+  f.op = static_cast<uint8_t>(SampleOp::kSampleLod);
+  f.lod = 0.5f + 0x1p-10f;
+  EXPECT_EQ(unit.process(f, 0).a, 0.25f);
+  // The same λ from derivatives: ρ = 2^(½ + 2^-10) slices in r.
+  f.op = static_cast<uint8_t>(SampleOp::kSample);
+  f.dwdx = std::exp2(0.5 + 0x1p-10) / 16;
+  EXPECT_EQ(unit.process(f, 0).a, 0.25f);
+}
+
+TEST(UnitVolume, GatherIsRefused) {
+  TextureSet set;
+  set.add(ramp_volume(4, 4, 4));
+  TextureUnit unit(set, {material(FilterMode::Bilinear)}, PipelineSetup{}, TechTable::defaults(),
+                   true);
+  Fragment f = frag(0.5, 0.5, 0.5);
+  f.op = static_cast<uint8_t>(SampleOp::kGather);
+  EXPECT_THROW((void)unit.process(f, 0), std::invalid_argument);
+}
+
 TEST(UnitVolume, CacheReadsTheLinesOfThreeDAddresses) {
   // A 2x2x2 footprint at texels 2..3 of each axis of a 16³ RGBA8 volume (4 B a texel, 64 B
   // lines): linear takes 4 lines (2 rows × 2 slices, a row a line), the 4×4×4 brick 2 (16
