@@ -312,7 +312,14 @@ struct GroundTruth {
   }
   // Whether g's truth is an operation's (it reads fields the truth cache's key lacks).
   bool by_operation(const Fragment& g, int material) const {
-    return !none && operation_sampler(g, material, textures[static_cast<int>(g.tex)]).has_value();
+    const Texture& stored = textures[static_cast<int>(g.tex)];
+    return !none && (operation_sampler(g, material, stored).has_value() ||
+                     (stored.volume() && volume_operation(g)));
+  }
+  // A 3-D fragment with its operation's truth: an explicit LOD or explicit gradients.
+  static bool volume_operation(const Fragment& f) {
+    return f.op == static_cast<uint8_t>(SampleOp::kSampleLod) ||
+           f.op == static_cast<uint8_t>(SampleOp::kSampleGrad);
   }
   // f: the fragment as given; g: the same with its texture id mapped to the loaded texture;
   // tier: the adaptive tolerance's tier; *samples: the points the truth evaluated; *reach: the
@@ -341,6 +348,13 @@ struct GroundTruth {
       const AddressMode m3[3] = {ms.filter.address_u, ms.filter.address_v, ms.filter.address_w};
       const double* r = ms.lookup && ms.lookup->has_r ? ms.lookup->r : nullptr;
       static constexpr double kZero[3] = {0, 0, 0};
+      if (volume_operation(f)) {
+        OperationSampler s;
+        s.lod_bias = ms.lod.lod_bias;
+        s.min_lod = ms.lod.min_lod;
+        s.max_lod = ms.lod.max_lod;
+        return ground_truth_volume_operation(tex, m3, extras.border, s, f, in, samples, reach);
+      }
       return ground_truth_volume(tex, m3, extras.border, f, exact() ? &map_of(f) : nullptr,
                                  r ? r : kZero, x, y, in, samples, reach);
     }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <vector>
 
 #include "blocks/texture/layered/cube_face_select.h"
@@ -152,6 +153,57 @@ glm::dvec4 ground_truth_volume(const Texture& tex, const AddressMode m[3], glm::
                                           f.w + sx * f.dwdx + sy * f.dwdy);
       },
       texels, samples, reach);
+}
+
+glm::dvec4 ground_truth_volume_operation(const Texture& tex, const AddressMode m[3],
+                                         glm::dvec4 border, const OperationSampler& s,
+                                         const Fragment& f, const PixelIntegrator& integrate,
+                                         int* samples, int* reach) {
+  if (reach) *reach = TruthSampling::kTiers - 1;
+  const glm::dvec3 size(tex.width(0), tex.height(0), tex.shape().slices);
+  const glm::dvec3 c(std::isfinite(f.u) ? f.u : 0.0, std::isfinite(f.v) ? f.v : 0.0,
+                     std::isfinite(f.w) ? f.w : 0.0);
+  glm::dvec3 a(f.dudx, f.dvdx, f.dwdx), b(f.dudy, f.dvdy, f.dwdy);
+  double cube = -1;  // the cube's side in level-0 texels, or < 0: the parallelogram a, b
+  if (f.op == static_cast<uint8_t>(SampleOp::kSampleLod)) {
+    cube = std::exp2(operation_lod(f.lod, s));
+  } else {
+    const double rho = std::max(glm::length(a * size), glm::length(b * size));
+    if (std::isfinite(rho) && rho > 0) {
+      const double lambda = std::log2(rho);
+      const double k = std::exp2(operation_lod(lambda, s) - lambda);
+      a *= k;
+      b *= k;
+    } else {
+      cube = std::exp2(operation_lod(std::isfinite(rho) ? -INFINITY : INFINITY, s));
+    }
+  }
+  if (cube < 0) {
+    return integrate(
+        [&](double dx, double dy) {
+          const glm::dvec3 p = c + (dx - 0.5) * a + (dy - 0.5) * b;
+          return reference_volume_trilinear(tex, m, border, p.x, p.y, p.z);
+        },
+        {glm::length(a * size), glm::length(b * size)}, samples, reach);
+  }
+  // The cube: u and v by the integrator, r by the midpoint rule (the trilinear reconstruction
+  // is linear in r between texel centres).
+  const double side = std::min(cube, 1e9);
+  const int n = static_cast<int>(std::clamp(std::ceil(4 * side), 1.0, 64.0));
+  const glm::dvec3 e = side / size;  // the side in normalised coordinates
+  const glm::dvec4 sum = integrate(
+      [&](double dx, double dy) {
+        glm::dvec4 acc(0.0);
+        for (int k = 0; k < n; ++k) {
+          const double r = c.z + ((k + 0.5) / n - 0.5) * e.z;
+          acc += reference_volume_trilinear(tex, m, border, c.x + (dx - 0.5) * e.x,
+                                            c.y + (dy - 0.5) * e.y, r);
+        }
+        return acc / static_cast<double>(n);
+      },
+      {side, side}, samples, reach);
+  if (samples) *samples *= n;
+  return sum;
 }
 
 int reference_layer(double a, int layers) {

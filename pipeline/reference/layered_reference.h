@@ -15,6 +15,7 @@
 #include "blocks/texture/memory/texture_memory.h"
 #include "pipeline/geometry/direction_map.h"
 #include "pipeline/reference/ground_truth.h"
+#include "pipeline/reference/operation_reference.h"
 
 namespace texsim {
 
@@ -54,6 +55,17 @@ glm::dvec4 ground_truth_volume(const Texture& tex, const AddressMode m[3], glm::
                                const Fragment& f, const ProjectiveMap* map, const double* r_of_uv,
                                int px, int py, const PixelIntegrator& integrate,
                                int* samples = nullptr, int* reach = nullptr);
+
+// An explicit LOD's or explicit gradients' truth on a 3-D texture (docs/texture-types.md §8,
+// extended to the 3-D footprint), reference_volume_trilinear integrated over: for `lod` the
+// axis-aligned cube of 2^λ' level-0 texels on each axis at (u, v, r), λ' = operation_lod(lod)
+// (integrate over u, v; r by the midpoint rule, four points a texel, at most 64); for `grad`
+// the parallelogram the gradients (∂r included) span, scaled by 2^(λ' − λ), λ = log2 ρ of
+// the 3-D gradients (no direction to scale: the cube of the clamped λ).
+glm::dvec4 ground_truth_volume_operation(const Texture& tex, const AddressMode m[3],
+                                         glm::dvec4 border, const OperationSampler& s,
+                                         const Fragment& f, const PixelIntegrator& integrate,
+                                         int* samples = nullptr, int* reach = nullptr);
 
 // The layer of array coordinate a among `layers`: round to nearest even, clamped (Vulkan
 // "Array Layer Selection"); a non-finite a selects layer 0.

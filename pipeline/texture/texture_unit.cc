@@ -910,13 +910,16 @@ Rgba TextureUnit::process_volume(const Fragment& f, Path& p, const Texture& tex,
   const TexelAddressGen::Config& c = alt ? alt->gen.config() : st.address->gen().config();
   const VolumeAddressGen gen({c.filter, c.address_u, c.address_v, c.address_w});
   const VolumeSize base{tex.width(0), tex.height(0), tex.shape().slices};
-  const double dx[3] = {f.dudx, f.dvdx, f.dwdx}, dy[3] = {f.dudy, f.dvdy, f.dwdy};
-  // The LOD unit's bias (the sampler's and the fragment's) and [min_lod, max_lod] clamp on
-  // the 3-D λ, as on a 2-D one (Vulkan "LOD Operation"; the volume generator then clamps to
-  // its pyramid).
-  const LodUnit::Config& lc = st.lod->config();
-  float lambda = VolumeAddressGen::lambda(dx, dy, base) + lc.lod_bias + f.lod_bias;
-  if (!std::isnan(lambda)) lambda = std::clamp(lambda, lc.min_lod, lc.max_lod);
+  // The LOD unit's λ on the 3-D footprint (its float32 arithmetic; the operation's λ_base, the
+  // bias and the clamp as on a 2-D λ), then the address generator's level selection: the
+  // level and its fraction in fixed point (mipmap_bits), as a 2-D sample's.
+  const auto op = static_cast<SampleOp>(f.op);
+  if (op == SampleOp::kGather)
+    throw std::invalid_argument("texture unit: gather on the 3-D texture '" + tex.name() +
+                                "' (a gather reads 2-D and cube images only)");
+  const TexelAddressGen::LevelSelect sel = st.address->gen().select_levels(
+      st.lod->eval_volume(f, tex).lambda, VolumeAddressGen::level_count(base));
+  const float lambda = static_cast<float>(sel.d_hi) + sel.delta;  // exact: delta is k·2^-m
   VolumeAddressGen::Taps vt;
   const int n = gen.taps(base, f.u, f.v, f.w, lambda, vt);
   // The taps as the blend takes them: level = the z-slice's level, border taps marked.
@@ -945,6 +948,17 @@ Rgba TextureUnit::process_volume(const Fragment& f, Path& p, const Texture& tex,
   const uint32_t per_probe = std::max(st.address->taps_per_probe(), 1u);
   const uint32_t probes = std::max(1u, (static_cast<uint32_t>(n) + per_probe - 1) / per_probe);
   st.address->count_volume();
+  if (op == SampleOp::kSampleLod || op == SampleOp::kSampleGrad) {
+    // The operation's own row, as a 2-D one's (process_op): its LOD datapath, the address
+    // generator's per probe (the r axis's operations stay in the volume.r_axis row), the blend.
+    const TexelAddressGen& addr = st.address->gen();
+    OpTally& t = p.op_tallies[f.op];
+    ++t.fragments;
+    t.taps += static_cast<uint64_t>(n);
+    t.issue_cycles += probes;
+    t.ops += st.lod->ops_for(op) + addr.ops_setup(false) + addr.ops_per_item(false) * probes +
+             TexelBlend::ops_per_item() * static_cast<uint64_t>(n);
+  }
   count_fragment(f, p, probes);
   if constexpr (kFront >= 0) {
     issue_timed<kFront>(p, front, probes, static_cast<uint64_t>(n), [&](uint64_t start) {

@@ -62,6 +62,11 @@ class LodUnit {
   // The same without counting: a caller that counts fragments multiplies ops_per_item()
   // by their number instead (the count does not depend on the data).
   LodResult eval(const Fragment& f, int tex_w, int tex_h) const;
+  // λ of a fragment on a 3-D texture whose level 0 is tex_w × tex_h × tex_d (docs/texture-
+  // types.md §7): eval's isotropic arithmetic (float32 squares, log2, the operation's λ_base,
+  // bias and clamp) on the footprint's three-dimensional extent, ρ = max(|(∂u, ∂v, ∂r)/∂x ⊙
+  // (w, h, d)|, the same along y), ∂r in f.dwdx, f.dwdy. One probe: the 3-D path is isotropic.
+  LodResult eval_volume(const Fragment& f, int tex_w, int tex_h, int tex_d) const;
 
   // Item: one fragment. Operations of the datapath (the same for every fragment: the hardware
   // evaluates every path and selects).
@@ -134,6 +139,33 @@ inline LodResult LodUnit::eval(const Fragment& f, int tex_w, int tex_h) const {
   }
   float lambda = lambda_base + bias;
   if (std::isnan(lambda)) lambda = 0;  // only if bias itself is non-finite
+  r.lambda = std::clamp(lambda, cfg_.min_lod, cfg_.max_lod);
+  return r;
+}
+
+inline LodResult LodUnit::eval_volume(const Fragment& f, int tex_w, int tex_h, int tex_d) const {
+  if (f.op == static_cast<uint8_t>(SampleOp::kSampleLod)) return eval(f, tex_w, tex_h);
+  LodResult r;
+  const float bias =
+      cfg_.lod_bias + (f.op == static_cast<uint8_t>(SampleOp::kSample) ? f.lod_bias : 0.0f);
+  float lambda_base = 0;  // non-finite derivatives: level 0 before bias, as eval
+  const double dx[3] = {f.dudx, f.dvdx, f.dwdx}, dy[3] = {f.dudy, f.dvdy, f.dwdy};
+  const float size[3] = {static_cast<float>(tex_w), static_cast<float>(tex_h),
+                         static_cast<float>(tex_d)};
+  bool finite = true;
+  for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(dx[k]) && std::isfinite(dy[k]);
+  if (finite) {
+    float px2 = 0, py2 = 0;  // in texels of level 0, float32 from here on
+    for (int k = 0; k < 3; ++k) {
+      const float a = static_cast<float>(dx[k]) * size[k], b = static_cast<float>(dy[k]) * size[k];
+      px2 += a * a;
+      py2 += b * b;
+    }
+    // ρ = 0 gives −∞ (min_lod wins the clamp); a float32 overflow +∞ (the most minified λ).
+    lambda_base = 0.5f * std::log2(std::max(px2, py2));
+  }
+  float lambda = lambda_base + bias;
+  if (std::isnan(lambda)) lambda = 0;
   r.lambda = std::clamp(lambda, cfg_.min_lod, cfg_.max_lod);
   return r;
 }

@@ -22,6 +22,9 @@ class LodStage final : public UnitStage {
   [[gnu::always_inline]] LodResult eval(const Fragment& f, const Texture& tex) const {
     return lod_.eval(f, tex.width(0), tex.height(0));
   }
+  LodResult eval_volume(const Fragment& f, const Texture& tex) const {
+    return lod_.eval_volume(f, tex.width(0), tex.height(0), tex.shape().slices);
+  }
   const LodUnit::Config& config() const { return lod_.config(); }
   OpCounts ops_for(SampleOp op) const { return lod_.ops_for(op); }
 

@@ -137,6 +137,33 @@ TEST(SceneVolume, TruthIsTrilinearInSpace) {
               0.5 * 3 / 4 + 0.5, 1e-12);
 }
 
+// The truth of an explicit LOD on a volume is the cube of its level's texels, of explicit
+// gradients their 3-D parallelogram: on slices alternately 1 and 0, a magnified pixel's plain
+// truth keeps its slice (1); LOD 1 (a cube of 2 texels) and gradients of 2 slices in r
+// average them (½).
+TEST(SceneVolume, OperationTruthsTakeTheThreeDFootprint) {
+  std::vector<std::vector<float>> z(8);
+  for (size_t k = 0; k < 8; ++k) z[k].assign(size_t{8} * 8 * 4, k % 2 == 0 ? 1.0f : 0.0f);
+  const Texture t = Texture::from_volume("v", 8, 8, z, TexelFormat::Rgba32f, true);
+  const AddressMode wrap[3] = {AddressMode::Wrap, AddressMode::Wrap, AddressMode::Wrap};
+  const PixelIntegrator grid(TruthPixel::Box, TruthSampling{16});
+  Fragment f;
+  f.u = f.v = 0.5;
+  f.w = 2.5 / 8;  // slice 2's centre
+  f.dudx = f.dvdy = 0.01 / 8;
+  f.op = static_cast<uint8_t>(SampleOp::kSampleLod);
+  f.lod = 1;
+  OperationSampler s;
+  EXPECT_NEAR(reference_volume_trilinear(t, wrap, {}, f.u, f.v, f.w).r, 1.0, 1e-12);
+  EXPECT_NEAR(ground_truth_volume_operation(t, wrap, {}, s, f, grid).r, 0.5, 1e-9);
+  s.max_lod = 0;  // a cube of one texel: the tent's mean over ±½ slice, ¾
+  EXPECT_NEAR(ground_truth_volume_operation(t, wrap, {}, s, f, grid).r, 0.75, 1e-9);
+  s = {};
+  f.op = static_cast<uint8_t>(SampleOp::kSampleGrad);
+  f.dwdx = 2.0 / 8;  // two slices along x: ½ (a 2-D parallelogram, dw left out, would give 1)
+  EXPECT_NEAR(ground_truth_volume_operation(t, wrap, {}, s, f, grid).r, 0.5, 1e-3);
+}
+
 // The shipped volume scene renders close to its truth with the 3-D path's row, and its trace
 // (which carries r and its derivatives in w) replays it with the same figures.
 TEST(SceneVolume, VolumeSceneRendersAndItsTraceReplaysIt) {
@@ -163,6 +190,53 @@ TEST(SceneVolume, VolumeSceneRendersAndItsTraceReplaysIt) {
   for (const char* key : {"fragments", "cycles", "cache", "dram", "accuracy"})
     EXPECT_EQ(a[key], b[key]) << key;
   EXPECT_EQ(a["blocks"]["volume.r_axis"], b["blocks"]["volume.r_axis"]);
+}
+
+// An explicit LOD on a volume material (`operation`): the image moves with it (an ignored
+// operation would give the plain scene's), the report carries the operation's row, and the
+// scene's trace (its records' op and lod) replays the same figures.
+TEST(SceneVolume, ExplicitLodOnAVolumeMaterialRendersAndReplays) {
+  TempDir dir("scene_volume_ops");
+  std::ifstream in(std::string(TEXSIM_SOURCE_DIR) + "/scenes/volume.toml");
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::string scene = text.str();
+  const std::string lookup = "lookup = { r = [0.25, 0.75, 0.0] }";
+  const size_t at = scene.find(lookup);
+  ASSERT_NE(at, std::string::npos);
+  scene.insert(at + lookup.size(), "\noperation = { op = \"lod\", lod = 1.0 }");
+  const std::string path = dir.file("volume_lod.toml");
+  std::ofstream(path) << scene;
+  // 48 × 36: the operation's truth integrates a cube per fragment.
+  const std::vector<std::string> size = {"output.width=48", "output.height=36"};
+  const auto run = [&](const std::string& out, const std::string& trace,
+                       const std::string& scene_path) {
+    RunOptions opt;
+    opt.scene = scene_path;
+    opt.trace = trace;
+    opt.threads = 1;
+    opt.truth_cache = false;
+    opt.out = dir.file(out);
+    opt.overrides = size;
+    std::ostringstream log;
+    run_simulation(opt, log);
+    std::ifstream r(opt.out + "/report.json");
+    return nlohmann::json::parse(r);
+  };
+  const nlohmann::json a = run("scene", "", path);
+  const nlohmann::json plain =
+      run("plain", "", std::string(TEXSIM_SOURCE_DIR) + "/scenes/volume.toml");
+  const nlohmann::json& row = a["materials"]["slice"]["operations"]["lod"];
+  ASSERT_TRUE(row.is_object()) << a["materials"].dump();
+  EXPECT_EQ(row["fragments"], a["fragments"]);
+  EXPECT_EQ(row["taps_per_fragment"].get<double>(), 16.0);  // trilinear 3-D: 2 levels × 8
+  EXPECT_NE(a["accuracy"]["psnr_db"], plain["accuracy"]["psnr_db"]);
+  const std::string trc = dir.file("vol_lod.trc");
+  ASSERT_EQ(generate_scene_trace(path, trc, size), a["fragments"].get<uint64_t>());
+  const nlohmann::json b = run("trace", trc, path);
+  for (const char* key : {"fragments", "cycles", "cache", "accuracy"})
+    EXPECT_EQ(a[key], b[key]) << key;
+  EXPECT_EQ(b["materials"]["slice"]["operations"]["lod"], row);
 }
 
 // 3-D fragments on four units behind a shared L2 (the two-step timing of several units):

@@ -167,6 +167,87 @@ TEST(UnitVolume, LodBiasAndClampApplyToTheThreeDLambda) {
   EXPECT_NEAR(unit.process(f, 1).a, 0.0, 1e-6);  // λ 1 clamped to 0: slice 2 (unclamped: ½)
 }
 
+TEST(UnitVolume, ExplicitLodPicksTheThreeDLevel) {
+  // A magnified footprint (λ of the derivatives −∞: A = 0 at slice 2) asked for LOD 1 reads
+  // level 1 (A = ½); the sampler's bias adds, the fragment's own bias does not (implicit LOD
+  // only), the clamp bounds it. Ignoring the operation would read 0 throughout.
+  TextureSet set;
+  set.add(ramp_volume(16, 16, 16));
+  MaterialSetup clamped = material(FilterMode::Trilinear);
+  clamped.lod.max_lod = 0.5f;
+  MaterialSetup biased = material(FilterMode::Trilinear);
+  biased.lod.lod_bias = 1;
+  TextureUnit unit(set, {material(FilterMode::Trilinear), clamped, biased}, PipelineSetup{},
+                   TechTable::defaults(), true);
+  Fragment f = frag(0.5, 0.5, 2.5 / 16, 0);
+  f.op = static_cast<uint8_t>(SampleOp::kSampleLod);
+  f.lod = 1;
+  EXPECT_NEAR(unit.process(f, 0).a, 0.5, 1e-6);
+  f.lod = 0.5f;
+  EXPECT_NEAR(unit.process(f, 0).a, 0.25, 1e-6);  // half level 0 (0), half level 1 (½)
+  f.lod = 1;
+  EXPECT_NEAR(unit.process(f, 1).a, 0.25, 1e-6);  // clamped to 0.5
+  f.lod = 0;
+  f.lod_bias = 5;  // not applied to an explicit LOD
+  EXPECT_NEAR(unit.process(f, 0).a, 0.0, 1e-6);
+  EXPECT_NEAR(unit.process(f, 2).a, 0.5, 1e-6);  // the sampler's bias 1 is
+  f.lod = std::nanf("");
+  EXPECT_NEAR(unit.process(f, 0).a, 0.0, 1e-6);  // a NaN LOD reads as 0
+  const TextureUnit::OpTally& t =
+      unit.material_op_tallies(0)[static_cast<size_t>(SampleOp::kSampleLod)];
+  EXPECT_EQ(t.fragments, 4u);
+  EXPECT_EQ(t.taps, 4u * 16u);  // trilinear: eight taps on each of two levels
+}
+
+TEST(UnitVolume, ExplicitGradientsIncludeDwAndSkipTheFragmentsBias) {
+  // Gradients of one slice in r (λ 0: A = 0 at slice 2) and of two (λ 1: ½); a 2-D λ from the
+  // gradients (dw left out) would read 0 for both. The fragment's bias applies only to an
+  // implicit sample.
+  TextureSet set;
+  set.add(ramp_volume(16, 16, 16));
+  TextureUnit unit(set, {material(FilterMode::Trilinear)}, PipelineSetup{}, TechTable::defaults(),
+                   true);
+  Fragment f = frag(0.5, 0.5, 2.5 / 16, 0);
+  f.op = static_cast<uint8_t>(SampleOp::kSampleGrad);
+  f.dwdy = 1.0 / 16;
+  EXPECT_NEAR(unit.process(f, 0).a, 0.0, 1e-6);
+  f.dwdy = 2.0 / 16;
+  EXPECT_NEAR(unit.process(f, 0).a, 0.5, 1e-6);
+  f.dwdy = 1.0 / 16;
+  f.lod_bias = 1;
+  EXPECT_NEAR(unit.process(f, 0).a, 0.0, 1e-6);  // grad: bias ignored
+  f.op = static_cast<uint8_t>(SampleOp::kSample);
+  EXPECT_NEAR(unit.process(f, 0).a, 0.5, 1e-6);  // implicit: λ 0 + 1
+  EXPECT_EQ(unit.material_op_tallies(0)[static_cast<size_t>(SampleOp::kSampleGrad)].fragments, 3u);
+}
+
+TEST(UnitVolume, LevelFractionIsTheAddressGeneratorsFixedPoint) {
+  // λ = ½ + 2^-10 reads levels 0 (A = 0 at slice 2) and 1 (A = ½) at the fraction rounded to
+  // mipmap_bits = 8 (½: A = ¼ exactly); a float fraction would read ¼ + 2^-11.
+  TextureSet set;
+  set.add(ramp_volume(16, 16, 16));
+  TextureUnit unit(set, {material(FilterMode::Trilinear)}, PipelineSetup{}, TechTable::defaults(),
+                   true);
+  Fragment f = frag(0.5, 0.5, 2.5 / 16, 0);
+  f.op = static_cast<uint8_t>(SampleOp::kSampleLod);
+  f.lod = 0.5f + 0x1p-10f;
+  EXPECT_EQ(unit.process(f, 0).a, 0.25f);
+  // The same λ from derivatives: ρ = 2^(½ + 2^-10) slices in r.
+  f.op = static_cast<uint8_t>(SampleOp::kSample);
+  f.dwdx = std::exp2(0.5 + 0x1p-10) / 16;
+  EXPECT_EQ(unit.process(f, 0).a, 0.25f);
+}
+
+TEST(UnitVolume, GatherIsRefused) {
+  TextureSet set;
+  set.add(ramp_volume(4, 4, 4));
+  TextureUnit unit(set, {material(FilterMode::Bilinear)}, PipelineSetup{}, TechTable::defaults(),
+                   true);
+  Fragment f = frag(0.5, 0.5, 0.5);
+  f.op = static_cast<uint8_t>(SampleOp::kGather);
+  EXPECT_THROW((void)unit.process(f, 0), std::invalid_argument);
+}
+
 TEST(UnitVolume, CacheReadsTheLinesOfThreeDAddresses) {
   // A 2x2x2 footprint at texels 2..3 of each axis of a 16³ RGBA8 volume (4 B a texel, 64 B
   // lines): linear takes 4 lines (2 rows × 2 slices, a row a line), the 4×4×4 brick 2 (16
