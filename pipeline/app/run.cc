@@ -842,10 +842,19 @@ void write_run_outputs(const RunOptions& opt, const RunInfo& info, const RunImag
   // Every file is moved into opt.out together, once every one was written.
   OutputSet outputs(opt.out);
   // The truth's two images are encoded on threads of their own beside the image's (the same
-  // bytes; each waits for its thread before an error of another leaves).
+  // bytes; each waits for its thread before an error of another leaves) — but one at a time
+  // on a large canvas, where each holds an 8-bit copy of the whole canvas (768 MiB at 16384²).
   const std::string image_png = outputs.path("image.png");
+  const ImageRgb& img = images.image();
+  constexpr int64_t kParallelCanvasPixels = int64_t{1} << 25;  // 96 MiB per 8-bit canvas
+  const bool parallel = resolve_threads(opt.threads) > 1 &&
+                        int64_t{img.canvas_width} * img.canvas_height <= kParallelCanvasPixels;
   std::future<void> reference, error;
-  if (info.has_truth) {
+  if (info.has_truth && !parallel) {
+    write_image(outputs.path("reference.png"), images.reference());
+    write_error_heatmap(outputs.path("error.png"), images.image(), images.reference(),
+                        info.error_scale);
+  } else if (info.has_truth) {
     reference = std::async(std::launch::async, [&images, p = outputs.path("reference.png")] {
       write_image(p, images.reference());
     });
