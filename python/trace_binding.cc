@@ -92,7 +92,8 @@ std::vector<texsim::TraceSampler> sampler_table(const py::iterable& samplers) {
   for (const py::handle& h : samplers) {
     const py::dict d = py::reinterpret_borrow<py::dict>(h);
     texsim::TraceSampler s;
-    for (const auto& [k, v] : d) {
+    for (const auto& item : d) {
+      const py::handle k = item.first, v = item.second;
       const auto key = k.cast<std::string>();
       const auto small = [&](int hi) {
         const int x = v.cast<int>();

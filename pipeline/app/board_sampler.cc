@@ -238,7 +238,7 @@ void BoardSampler::stream_lerps() {
                     "--board %s: bilinear_lerp on the board gave 0x%08x for lerp %llu, "
                     "BilinearLerp 0x%08x",
                     link_.c_str(), back[i * link::kLerpWords],
-                    static_cast<unsigned long long>(lerps_ + i), lerp_want_[i]);
+                    static_cast<unsigned long long>(lerps_) + i, lerp_want_[i]);
       throw std::runtime_error(text);
     }
   }

@@ -193,14 +193,20 @@ void check_same_samplers(const SamplerTable& scene_table, const std::vector<Trac
     std::string ta, tb, diff;
     while (a >> ta && b >> tb) {
       if (ta != tb) {
-        diff = "the trace has " + ta + ", the scene " + tb;
+        diff = "the trace has ";
+        diff += ta;
+        diff += ", the scene ";
+        diff += tb;
         break;
       }
     }
-    throw InputError(trace_path, "sampler table entry " + std::to_string(k + 1) + " ('" +
-                                     trace[k].name + "') differs from sampler '" + mine.name +
-                                     "' (id " + std::to_string(k + 1) + ") of " + scene_path +
-                                     ": " + diff);
+    std::string what = "sampler table entry " + std::to_string(k + 1);
+    what += " ('" + trace[k].name;
+    what += "') differs from sampler '" + mine.name;
+    what += "' (id " + std::to_string(k + 1);
+    what += ") of " + scene_path;
+    what += ": " + diff;
+    throw InputError(trace_path, what);
   }
 }
 
@@ -1300,6 +1306,30 @@ void board_info(BoardSampler& board, RunInfo& info, std::ostream& log) {
   log << "\n";
 }
 
+// Hands the run to opt.capture and runs the error ledger if asked; false: a capture that writes
+// no outputs (the caller returns).
+bool capture_and_ledger(const RunOptions& opt, const RunImages& images, const UnitArray& units,
+                        const RunSummary& sum, const std::vector<BlockUse>& raster_blocks,
+                        RunInfo& info, LedgerRun& ledger, std::ostream& log) {
+  if (opt.capture) {
+    const bool write = opt.capture->write_outputs;
+    *opt.capture = capture_run(images, units, sum);
+    opt.capture->write_outputs = write;
+    opt.capture->raster_blocks = raster_blocks;
+    opt.capture->board_fragments = info.board_fragments;
+    opt.capture->board_streams = info.board_streams;
+    opt.capture->board_lerps = info.board_lerps;
+    if (!write) return false;
+  }
+  if (opt.ledger) {
+    RunCapture hw = capture_run(images, units, sum);
+    hw.raster_blocks = raster_blocks;
+    ledger = run_error_ledger(opt, hw, log);
+    info.ledger = ledger.ledger;
+  }
+  return true;
+}
+
 }  // namespace
 
 RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
@@ -1408,23 +1438,10 @@ RunSummary run_simulation(const RunOptions& opt, std::ostream& log) {
   info.provenance =
       run_provenance(opt, use_scene ? scene.path : "", textures, setup, scene.tech, trace.digest);
   info.provenance.energy = scene.energy;
-  if (opt.capture) {
-    const bool write = opt.capture->write_outputs;
-    *opt.capture = capture_run(images, units, sum);
-    opt.capture->write_outputs = write;
-    opt.capture->raster_blocks = raster_coord_blocks(mats, raster);
-    opt.capture->board_fragments = info.board_fragments;
-    opt.capture->board_streams = info.board_streams;
-    opt.capture->board_lerps = info.board_lerps;
-    if (!write) return sum;
-  }
   LedgerRun ledger;
-  if (opt.ledger) {
-    RunCapture hw = capture_run(images, units, sum);
-    hw.raster_blocks = raster_coord_blocks(mats, raster);
-    ledger = run_error_ledger(opt, hw, log);
-    info.ledger = ledger.ledger;
-  }
+  if (!capture_and_ledger(opt, images, units, sum, raster_coord_blocks(mats, raster), info, ledger,
+                          log))
+    return sum;
   if (timeline) timeline->write(opt.timeline);  // first: a bad path leaves no report
   write_run_outputs(opt, info, images, units, sum, ledger, log);
   if (timeline) log << "  timeline: " << opt.timeline << timeline->summary() << "\n";

@@ -19,7 +19,11 @@ RunCapture run_material(const std::string& scene, const std::string& material,
   o.functional = true;
   o.threads = 1;
   for (const std::string& k : filter_keys) {
-    o.overrides.push_back("materials." + material + ".filter." + k);
+    std::string key = "materials.";
+    key += material;
+    key += ".filter.";
+    key += k;
+    o.overrides.push_back(key);
   }
   RunCapture c;  // write_outputs false
   o.capture = &c;

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <limits>
 #include <vector>
 
 #include "blocks/texture/layered/cube_face_select.h"
@@ -175,7 +176,9 @@ glm::dvec4 ground_truth_volume_operation(const Texture& tex, const AddressMode m
       a *= k;
       b *= k;
     } else {
-      cube = std::exp2(operation_lod(std::isfinite(rho) ? -INFINITY : INFINITY, s));
+      cube = std::exp2(operation_lod(std::isfinite(rho) ? -std::numeric_limits<double>::infinity()
+                                                        : std::numeric_limits<double>::infinity(),
+                                     s));
     }
   }
   if (cube < 0) {

@@ -490,7 +490,7 @@ TEST(RtlIverilogTrace, SamplerEqualsVerilator) {
         wide_in(f, m.rd_data, 256);
         return f;
       },
-      [mb](const M& m) {
+      [](const M& m) {
         const bool v = m.out_valid;
         std::vector<OutField> f = {{m.rd_valid, 1, true, false}};
         wide_out(f, m.rd_addr, 256, m.rd_valid);

@@ -1302,8 +1302,9 @@ TEST(TraceSamplers, WrittenAsFormatSays) {
   std::memcpy(&header_size, bytes.data() + 12, 4);
   ASSERT_GE(header_size, want.size() + 4);
   EXPECT_EQ(bytes[8], 5);  // version
-  const std::vector<unsigned char> table(bytes.begin() + header_size - 4 - want.size(),
-                                         bytes.begin() + header_size - 4);
+  const auto end = static_cast<std::ptrdiff_t>(header_size) - 4;
+  const std::vector<unsigned char> table(
+      bytes.begin() + (end - static_cast<std::ptrdiff_t>(want.size())), bytes.begin() + end);
   EXPECT_EQ(table, want);
 }
 
