@@ -241,7 +241,7 @@ std::vector<MaterialSetup> run_materials(const Scene& scene, bool use_scene,
       }
       mats.push_back(material_from_toml(m.name, it->second, *m.effects, scene.path,
                                         &textures.by_name, samplers));
-      check_unnormalized_texture(scene, m, mats.back());
+      check_sampler_texture(scene, m, mats.back());
     }
   }
   if (from_trace) {
@@ -1068,7 +1068,8 @@ uint32_t loaded_texture(const Fragment& f, uint64_t index, const RunTextures& te
 }
 
 // A record's sampler: 0 (its material's own) or an id of the scene's sampler table; an
-// unnormalised sampler refuses what Vulkan refuses.
+// unnormalised sampler refuses what Vulkan refuses, and one that compares or reduces a texture
+// other than 2-D.
 void check_record_sampler(const Fragment& f, uint64_t index, const MaterialSetup& m,
                           TextureType type, const std::string& input) {
   const size_t n = m.samplers ? m.samplers->size() : 0;
@@ -1081,6 +1082,12 @@ void check_record_sampler(const Fragment& f, uint64_t index, const MaterialSetup
   }
   const TexelAddressGen::Config& c =
       f.sampler == 0 ? m.filter : (*m.samplers)[f.sampler - 1u].filter;
+  if (c.reduces() && type != TextureType::Tex2D) {
+    throw InputError(input, "record " + std::to_string(index) + ": texture " +
+                                std::to_string(f.tex) + " (" + to_string(type) +
+                                ") cannot be read with a sampler that compares or reduces (the "
+                                "cube, array and 3-D paths have no texel reducer)");
+  }
   if (!c.unnormalized) return;
   std::string why = unnormalized_refusal(type);
   if (why.empty()) why = unnormalized_refusal(f);

@@ -244,17 +244,21 @@ std::shared_ptr<const SamplerTable> build_samplers(const Scene& scene) {
   return table;
 }
 
-void check_unnormalized_texture(const Scene& scene, const SceneMaterial& sm,
-                                const MaterialSetup& m) {
-  if (!m.filter.unnormalized) return;
+void check_sampler_texture(const Scene& scene, const SceneMaterial& sm, const MaterialSetup& m) {
+  if (!m.filter.unnormalized && !m.filter.reduces()) return;
   const SceneTextureType type = scene.textures[static_cast<size_t>(sm.texture)].type;
   if (type == SceneTextureType::Tex2D) return;
-  ConfigReader(*sm.effects, scene.path, "materials." + sm.name)
-      .fail("sampler", std::string("the sampler is unnormalised, and texture '") +
-                           scene.textures[static_cast<size_t>(sm.texture)].name + "' is a " +
-                           to_string(type) +
-                           " texture (Vulkan: unnormalised coordinates read 1-D or 2-D image "
-                           "views of one layer only)");
+  const ConfigReader r(*sm.effects, scene.path, "materials." + sm.name);
+  const std::string tex = "texture '" + scene.textures[static_cast<size_t>(sm.texture)].name +
+                          "' is a " + to_string(type) + " texture";
+  const std::string_view key = sm.effects->contains("sampler") ? "sampler" : "filter";
+  if (m.filter.unnormalized) {
+    r.fail(key, "the sampler is unnormalised, and " + tex +
+                    " (Vulkan: unnormalised coordinates read 1-D or 2-D image views of one "
+                    "layer only)");
+  }
+  r.fail(key, "the sampler compares or reduces (compare/reduction), and " + tex +
+                  ": the cube, array and 3-D paths blend their taps and have no texel reducer");
 }
 
 std::vector<MaterialSetup> build_materials(const Scene& scene) {
@@ -267,7 +271,7 @@ std::vector<MaterialSetup> build_materials(const Scene& scene) {
   for (const SceneMaterial& m : scene.materials) {
     mats.push_back(
         material_from_toml(m.name, m.texture, *m.effects, scene.path, &textures, samplers));
-    check_unnormalized_texture(scene, m, mats.back());
+    check_sampler_texture(scene, m, mats.back());
   }
   return mats;
 }

@@ -104,10 +104,9 @@ MaterialSetup material_from_toml(const std::string& name, int texture, const tom
                                  const std::shared_ptr<const SamplerTable>& samplers = nullptr);
 // The scene's samplers, checked (InputError naming file:line:column).
 std::shared_ptr<const SamplerTable> build_samplers(const Scene& scene);
-// A material on an unnormalised sampler must sample a 2-D texture: otherwise an InputError at
-// the material's `sampler` key.
-void check_unnormalized_texture(const Scene& scene, const SceneMaterial& sm,
-                                const MaterialSetup& m);
+// A material on an unnormalised sampler, or on one that compares or reduces, must sample a 2-D
+// texture: otherwise an InputError at the material's `sampler` (or `filter`) key.
+void check_sampler_texture(const Scene& scene, const SceneMaterial& sm, const MaterialSetup& m);
 // The scene's materials, in order.
 std::vector<MaterialSetup> build_materials(const Scene& scene);
 

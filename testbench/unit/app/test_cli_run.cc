@@ -762,6 +762,28 @@ TEST_F(Cli, SamplerOpsSceneReplaysFromItsTraceAndARecordPicksASampler) {
       << e.out;
 }
 
+TEST_F(Cli, ARecordsComparingSamplerOnALayeredTextureIsRefused) {
+  // The array paths blend their taps (no texel reducer): a record that asks a comparing sampler
+  // of a 2-D array is an error naming the record, not a sample that ignores the comparison.
+  const std::string scene = std::string(TEXSIM_SOURCE_DIR) + "/scenes/arrays.toml";
+  const std::string csv = path("arr.csv");
+  ASSERT_EQ(
+      sh("trace gen " + scene + " --set output.width=16 --set output.height=12 -o " + csv).code, 0);
+  std::string text = slurp(csv);
+  const size_t at = text.find("frame,prim");
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at, "# sampler pcf compare=less\n");
+  write("ok.csv", with_column(text, "sampler", "0"));
+  EXPECT_EQ(sh("run --trace " + path("ok.csv") + " --no-progress --out " + path("ok")).code, 0);
+  write("cmp.csv", with_column(text, "sampler", "1"));
+  const Result e = sh("run --trace " + path("cmp.csv") + " --no-progress --out " + path("cmp"));
+  EXPECT_EQ(e.code, 2) << e.out;
+  EXPECT_NE(e.out.find("cmp.csv: record 0: texture 0 (array) cannot be read with a sampler that "
+                       "compares or reduces"),
+            std::string::npos)
+      << e.out;
+}
+
 TEST_F(Cli, TraceCarriesTheScenesSamplerTable) {
   // trace gen writes the scene's [samplers] (version 5); info lists them; a run without the
   // scene resolves a record's sampler id in the trace's own table; a scene whose table differs

@@ -114,6 +114,17 @@ TEST(SamplerState, BadSamplerKeysNameFileLineAndColumn) {
                "operation = { op = \"lod\", lod = 0.0 }\n");
   EXPECT_NE(e.find("s.toml:19:11:"), std::string::npos) << e;
   EXPECT_NE(e.find("2d_array"), std::string::npos) << e;
+  // A sampler that compares or reduces cannot read a layered texture (its paths have no
+  // reducer): refused at the material's key, not ignored.
+  const std::string arr =
+      "[textures.arr]\ntype = \"2d_array\"\nlayers = [\"procedural:checker?size=8\"]\n";
+  e = error_of(head + "[samplers.c]\ncompare = \"less\"\n" + arr +
+               "[materials.m]\ntexture = \"arr\"\nsampler = \"c\"\n");
+  EXPECT_NE(e.find("s.toml:17:11:"), std::string::npos) << e;
+  EXPECT_NE(e.find("compares or reduces"), std::string::npos) << e;
+  e = error_of(head + arr + "[materials.m]\ntexture = \"arr\"\nfilter = { reduction = \"max\" }\n");
+  EXPECT_NE(e.find("s.toml:15:"), std::string::npos) << e;
+  EXPECT_NE(e.find("2d_array"), std::string::npos) << e;
   // A good unnormalised sampler is accepted.
   EXPECT_EQ(error_of(head +
                      "[samplers.c]\nunnormalized = true\naddress = \"clamp\"\n"
