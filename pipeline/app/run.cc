@@ -17,6 +17,7 @@
 #include "blocks/base/atomic_file.h"
 #include "blocks/base/input_error.h"
 #include "blocks/base/output_set.h"
+#include "blocks/base/sample_op.h"
 #include "blocks/base/version.h"
 #include "blocks/texture/memory/storage_format.h"
 #include "pipeline/app/board_sampler.h"
@@ -1082,6 +1083,11 @@ void check_record_sampler(const Fragment& f, uint64_t index, const MaterialSetup
   }
   const TexelAddressGen::Config& c =
       f.sampler == 0 ? m.filter : (*m.samplers)[f.sampler - 1u].filter;
+  if (type == TextureType::Volume && f.op == static_cast<uint8_t>(SampleOp::kGather)) {
+    throw InputError(input, "record " + std::to_string(index) + ": texture " +
+                                std::to_string(f.tex) +
+                                " is a 3-D texture: op 'gather' reads 2-D and cube images only");
+  }
   if (c.reduces() && type != TextureType::Tex2D) {
     throw InputError(input, "record " + std::to_string(index) + ": texture " +
                                 std::to_string(f.tex) + " (" + to_string(type) +

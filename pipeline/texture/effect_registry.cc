@@ -2,6 +2,7 @@
 
 #include <map>
 
+#include "blocks/base/sample_op.h"
 #include "blocks/texture/footprint/feline_filter.h"
 #include "blocks/texture/footprint/multi_probe_filter.h"
 #include "blocks/texture/footprint/spaf_filter.h"
@@ -245,12 +246,14 @@ std::shared_ptr<const SamplerTable> build_samplers(const Scene& scene) {
 }
 
 void check_sampler_texture(const Scene& scene, const SceneMaterial& sm, const MaterialSetup& m) {
-  if (!m.filter.unnormalized && !m.filter.reduces()) return;
   const SceneTextureType type = scene.textures[static_cast<size_t>(sm.texture)].type;
   if (type == SceneTextureType::Tex2D) return;
   const ConfigReader r(*sm.effects, scene.path, "materials." + sm.name);
   const std::string tex = "texture '" + scene.textures[static_cast<size_t>(sm.texture)].name +
                           "' is a " + to_string(type) + " texture";
+  if (type == SceneTextureType::Volume3D && m.operation && m.operation->op == SampleOp::kGather)
+    r.fail("operation", "a gather reads 2-D and cube images only, and " + tex);
+  if (!m.filter.unnormalized && !m.filter.reduces()) return;
   const std::string_view key = sm.effects->contains("sampler") ? "sampler" : "filter";
   if (m.filter.unnormalized) {
     r.fail(key, "the sampler is unnormalised, and " + tex +

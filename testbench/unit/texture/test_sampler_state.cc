@@ -125,6 +125,13 @@ TEST(SamplerState, BadSamplerKeysNameFileLineAndColumn) {
   e = error_of(head + arr + "[materials.m]\ntexture = \"arr\"\nfilter = { reduction = \"max\" }\n");
   EXPECT_NE(e.find("s.toml:15:"), std::string::npos) << e;
   EXPECT_NE(e.find("2d_array"), std::string::npos) << e;
+  // A gather of a 3-D texture: refused at the material's operation, not at run time.
+  e = error_of(head +
+               "[textures.vol]\ntype = \"3d\"\nlayers = [\"procedural:checker?size=8\", "
+               "\"procedural:checker?size=8\"]\n[materials.m]\ntexture = \"vol\"\n"
+               "operation = { op = \"gather\" }\n");
+  EXPECT_NE(e.find("s.toml:15:"), std::string::npos) << e;
+  EXPECT_NE(e.find("a gather reads 2-D and cube images only"), std::string::npos) << e;
   // A good unnormalised sampler is accepted.
   EXPECT_EQ(error_of(head +
                      "[samplers.c]\nunnormalized = true\naddress = \"clamp\"\n"
