@@ -1083,6 +1083,12 @@ void check_record_sampler(const Fragment& f, uint64_t index, const MaterialSetup
   }
   const TexelAddressGen::Config& c =
       f.sampler == 0 ? m.filter : (*m.samplers)[f.sampler - 1u].filter;
+  if (m.footprint && type != TextureType::Tex2D) {
+    throw InputError(input, "record " + std::to_string(index) + ": texture " +
+                                std::to_string(f.tex) + " is a " + to_string(type) +
+                                " texture, which the material's footprint filter (" +
+                                m.footprint->name() + ") does not sample");
+  }
   if (type == TextureType::Volume && f.op == static_cast<uint8_t>(SampleOp::kGather)) {
     throw InputError(input, "record " + std::to_string(index) + ": texture " +
                                 std::to_string(f.tex) +

@@ -251,6 +251,10 @@ void check_sampler_texture(const Scene& scene, const SceneMaterial& sm, const Ma
   const ConfigReader r(*sm.effects, scene.path, "materials." + sm.name);
   const std::string tex = "texture '" + scene.textures[static_cast<size_t>(sm.texture)].name +
                           "' is a " + to_string(type) + " texture";
+  if (m.footprint) {
+    r.fail("texture", std::string("a footprint filter (") + m.footprint->name() +
+                          ") samples 2-D textures only, and " + tex);
+  }
   if (type == SceneTextureType::Volume3D && m.operation && m.operation->op == SampleOp::kGather)
     r.fail("operation", "a gather reads 2-D and cube images only, and " + tex);
   if (!m.filter.unnormalized && !m.filter.reduces()) return;

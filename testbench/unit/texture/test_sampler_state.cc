@@ -132,6 +132,10 @@ TEST(SamplerState, BadSamplerKeysNameFileLineAndColumn) {
                "operation = { op = \"gather\" }\n");
   EXPECT_NE(e.find("s.toml:15:"), std::string::npos) << e;
   EXPECT_NE(e.find("a gather reads 2-D and cube images only"), std::string::npos) << e;
+  // A footprint filter on a layered texture: refused at the material's texture key.
+  e = error_of(head + arr + "[materials.m]\ntexture = \"arr\"\newa = { weight = \"lut\" }\n");
+  EXPECT_NE(e.find("s.toml:14:"), std::string::npos) << e;
+  EXPECT_NE(e.find("samples 2-D textures only"), std::string::npos) << e;
   // A good unnormalised sampler is accepted.
   EXPECT_EQ(error_of(head +
                      "[samplers.c]\nunnormalized = true\naddress = \"clamp\"\n"
