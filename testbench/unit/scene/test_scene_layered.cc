@@ -307,15 +307,17 @@ TEST(SceneLayered, EnvmapSceneRendersAndItsTraceReplaysIt) {
   EXPECT_EQ(a["blocks"]["cube.face_select"], b["blocks"]["cube.face_select"]);
 }
 
-// The shipped arrays scene (a 2-D and a 1-D array, a layer per primitive, layers beyond the
-// array clamped) renders close to its truth, and its trace (each fragment's layer in the
+// The shipped arrays scene (a 2-D, a 1-D and a cube array, a layer per primitive, layers
+// beyond the array clamped) renders close to its truth, and its trace (each fragment's layer in the
 // version-4 field) replays it with the same figures.
 TEST(SceneLayered, ArraysSceneRendersAndItsTraceReplaysIt) {
   TempDir dir("layered_arrays");
   const nlohmann::json a = shipped_scene_report(dir, "arrays", "", "scene");
   ASSERT_GT(a["fragments"].get<uint64_t>(), 1000u);
   ASSERT_TRUE(a["blocks"].contains("array.layer_select")) << a["blocks"].dump();
-  for (const char* m : {"floor", "layer1", "layer_half", "layer_over", "strip1", "strip_under"}) {
+  ASSERT_TRUE(a["blocks"].contains("cube.face_select")) << a["blocks"].dump();
+  for (const char* m :
+       {"floor", "layer1", "layer_half", "layer_over", "strip1", "strip_under", "cube0", "cube1"}) {
     ASSERT_TRUE(a["materials"].contains(m)) << m;
     EXPECT_GT(a["materials"][m]["fragments"].get<uint64_t>(), 50u) << m;
     // A wrong layer (unrounded, unclamped, or another's) would read another image: ~10 dB.
@@ -338,6 +340,7 @@ TEST(SceneLayered, ArraysSceneRendersAndItsTraceReplaysIt) {
   for (const char* key : {"fragments", "cycles", "cache", "dram", "accuracy", "materials"})
     EXPECT_EQ(a[key], b[key]) << key;
   EXPECT_EQ(a["blocks"]["array.layer_select"], b["blocks"]["array.layer_select"]);
+  EXPECT_EQ(a["blocks"]["cube.face_select"], b["blocks"]["cube.face_select"]);
 }
 
 }  // namespace
